@@ -1,0 +1,21 @@
+//! Integration engines. Every result is an [`Estimate`]: value, error, evaluations.
+//!
+//! - [`mc`]: Monte Carlo with importance sampling and MIS (balance heuristic), rayon,
+//!   bit-identical per seed at any thread count.
+//! - [`qmc`]: randomised QMC (Owen-scrambled Sobol, replicates for the error).
+//! - [`quad`]: Gauss–Legendre (1D, 2D tensor), adaptive Gauss–Kronrod, substitutions.
+//! - [`sphere`]: adaptive quadrature over the sphere with a peak-following substitution.
+//! - [`auto`]: tolerance-driven entry point.
+//! - [`preset`]: quick / default / precise.
+
+pub mod auto;
+pub mod estimate;
+pub mod mc;
+pub mod preset;
+pub mod qmc;
+pub mod quad;
+pub mod sphere;
+
+pub use estimate::{ErrorKind, Estimate};
+pub use preset::Preset;
+pub use quad::Tol;

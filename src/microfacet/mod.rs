@@ -1,0 +1,11 @@
+//! Microfacet core: roughness matrices, Beckmann/GGX slope distributions (P22, D),
+//! Smith Λ (exact and Walter's approximation), G1/G2, sampling, and f32 shading forms.
+
+pub mod lambda;
+pub mod roughness;
+pub mod sampling;
+pub mod shading;
+pub mod surface;
+
+pub use roughness::Roughness;
+pub use surface::{unit, LambdaKind, Microsurface, NdfKind};

@@ -1,0 +1,140 @@
+//! Integration engines against closed forms (expected values are analytic, not produced
+//! by the engines).
+
+use nalgebra::Vector3;
+use ndfbench::integrate::mc::{mis, CosineHemisphere, Strategy, UniformHemisphere, UniformSphere};
+use ndfbench::integrate::qmc::{qmc_mis, MAX_POINTS};
+use ndfbench::integrate::quad::{gauss_legendre, gk15, gl_1d, gl_2d, integrate_1d, Subst, Tol};
+use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
+use ndfbench::Error;
+use std::f64::consts::PI;
+
+#[test]
+fn gauss_legendre_is_exact_for_degree_2n_minus_1() {
+    for n in [1usize, 2, 3, 5, 8, 17, 64] {
+        let deg = 2 * n - 1;
+        // ∫_{-1}^{1} x^k dx = 2/(k+1) for even k, 0 for odd k
+        for k in 0..=deg {
+            let e = gl_1d(&|x: f64| x.powi(k as i32), -1.0, 1.0, n);
+            let exact = if k % 2 == 0 { 2.0 / (k as f64 + 1.0) } else { 0.0 };
+            assert!((e.value - exact).abs() < 1e-13, "n={n} k={k}: {} vs {exact}", e.value);
+        }
+    }
+    let (x, w) = gauss_legendre(200);
+    assert!((w.iter().sum::<f64>() - 2.0).abs() < 1e-13);
+    assert!(x.windows(2).all(|p| p[0] < p[1]));
+}
+
+#[test]
+fn gl_2d_tensor_product() {
+    // ∫_0^1∫_0^2 x² e^y dy dx = (1/3)(e² − 1)
+    let e = gl_2d(&|x: f64, y: f64| x * x * y.exp(), [0.0, 1.0], [0.0, 2.0], 8, 16);
+    let exact = (2f64.exp() - 1.0) / 3.0;
+    assert!((e.value - exact).abs() < 1e-13);
+    assert!(e.error < 1e-5);
+}
+
+#[test]
+fn adaptive_gk_reports_honest_errors() {
+    let tol = Tol::new(1e-12, 1e-12, 1_000_000);
+    let e = gk15(&|x: f64| x.sin(), 0.0, PI, tol);
+    assert!(e.converged && (e.value - 2.0).abs() < 1e-12 && (e.value - 2.0).abs() <= e.error.max(1e-15));
+    // a sharp peak: ∫ ε/(π(x² + ε²)) over [-1, 1] = (2/π) atan(1/ε)
+    let eps = 1e-6;
+    let e = gk15(&|x: f64| eps / (PI * (x * x + eps * eps)), -1.0, 0.7, tol);
+    let exact = ((0.7 / eps).atan() + (1.0 / eps).atan()) / PI;
+    assert!(e.converged, "{e}");
+    assert!((e.value - exact).abs() < 1e-10, "{e} vs {exact}");
+}
+
+#[test]
+fn substitutions_handle_endpoint_singularities_and_infinite_ranges() {
+    let tol = Tol::new(1e-12, 1e-12, 1_000_000);
+    let e = integrate_1d(&|x: f64| 1.0 / x.sqrt(), 0.0, 1.0, Subst::Smoothstep, tol);
+    assert!((e.value - 2.0).abs() < 1e-10, "{e}");
+    let e = integrate_1d(&|x: f64| x.ln(), 0.0, 1.0, Subst::Smoothstep, tol);
+    assert!((e.value + 1.0).abs() < 1e-10, "{e}");
+    let e = integrate_1d(&|x: f64| (-x).exp(), 0.0, 0.0, Subst::SemiInfinite { scale: 1.0 }, tol);
+    assert!((e.value - 1.0).abs() < 1e-12, "{e}");
+    // Cauchy tail with tiny scale
+    let a = 1e-4;
+    let e = integrate_1d(
+        &|x: f64| 2.0 * a / (PI * (x * x + a * a)),
+        0.0,
+        0.0,
+        Subst::SemiInfinite { scale: a },
+        tol,
+    );
+    assert!((e.value - 1.0).abs() < 1e-10, "{e}");
+}
+
+#[test]
+fn sphere_quadrature_of_peaked_lobes() {
+    // normalised vMF-like lobe κ/(2π(1 − e^{−2κ})) e^{κ(cos θ − 1)} around an off-axis pole
+    let kappa: f64 = 1e7; // width ~ 3e-4 rad
+    let pole = Vector3::new(0.3, -0.2, 0.9).normalize();
+    let f = |w: &Vector3<f64>| {
+        // cos θ − 1 = −|w − pole|²/2, without cancellation
+        kappa / (2.0 * PI * (1.0 - (-2.0 * kappa).exp())) * (-0.5 * kappa * (w - pole).norm_squared()).exp()
+    };
+    let e = integrate_sphere(&f, &SphereRule::sphere(pole, kappa.powf(-0.5)), Tol::new(1e-11, 1e-11, 50_000_000));
+    assert!(e.converged, "{e}");
+    assert!((e.value - 1.0).abs() < 1e-10, "{e}");
+}
+
+#[test]
+fn mc_is_bit_identical_across_thread_counts() {
+    let f = |w: &Vector3<f64>| w.z * w.z + w.x;
+    let s: [&dyn Strategy<Vector3<f64>>; 2] = [&UniformHemisphere, &CosineHemisphere];
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| mis(&f, &s, 100_003, 42))
+    };
+    let a = run(1);
+    let b = run(2);
+    let c = run(7);
+    assert_eq!(a.value.to_bits(), b.value.to_bits());
+    assert_eq!(a.value.to_bits(), c.value.to_bits());
+    assert_eq!(a.error.to_bits(), c.error.to_bits());
+    // ∫_{H²} z² dω = 2π/3; ∫ x dω = 0
+    let exact = 2.0 * PI / 3.0;
+    assert!(a.agrees_with(exact, 4.0, 0.0), "{a} vs {exact}");
+    let q = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| qmc_mis(&f, &s, 4096, 8, 7).unwrap())
+    };
+    assert_eq!(q(1).value.to_bits(), q(3).value.to_bits());
+}
+
+#[test]
+fn mc_standard_error_is_calibrated() {
+    // 40 independent seeds: the fraction within 2 s.e. should be near 95 % (loose bounds).
+    let f = |w: &Vector3<f64>| (3.0 * w.z).exp();
+    let exact = 2.0 * PI * ((3f64).exp() - (-3f64).exp()) / 3.0; // ∫_{S²} e^{3z} dω
+    let s: [&dyn Strategy<Vector3<f64>>; 1] = [&UniformSphere];
+    let inside = (0..40)
+        .filter(|&seed| mis(&f, &s, 20_000, seed).agrees_with(exact, 2.0, 0.0))
+        .count();
+    assert!((30..=40).contains(&inside), "{inside}/40 within 2 s.e.");
+}
+
+#[test]
+fn qmc_beats_mc_and_respects_crate_limit() {
+    let f = |w: &Vector3<f64>| w.z.powi(3);
+    let exact = PI / 2.0; // ∫_{H²} z³ dω = 2π/4
+    let s: [&dyn Strategy<Vector3<f64>>; 1] = [&UniformHemisphere];
+    let q = qmc_mis(&f, &s, 1 << 14, 16, 3).unwrap();
+    let m = mis(&f, &s, (1 << 14) * 16, 3);
+    assert!(q.agrees_with(exact, 4.0, 1e-15), "{q}");
+    assert!(q.error < 0.1 * m.error, "QMC {q} vs MC {m}");
+    match qmc_mis(&f, &s, MAX_POINTS + 1, 4, 0) {
+        Err(Error::QmcTooManyPoints { .. }) => {}
+        other => panic!("expected QmcTooManyPoints, got {other:?}"),
+    }
+}
