@@ -322,7 +322,7 @@ pub fn step_study<M: DirMap + ?Sized>(map: &M, w: &V3) -> StepStudy {
     let mut order = f64::NAN;
     for i in 0..rows.len().saturating_sub(2) {
         let (a, b) = (rows[i], rows[i + 2]);
-        if a.rel_error < 1e-1 && b.rel_error > 1e3 * best.rel_error && b.rel_error > 0.0 {
+        if a.rel_error < 1e-1 && a.rel_error > b.rel_error && b.rel_error > 1e3 * best.rel_error {
             order = (a.rel_error / b.rel_error).log10() / (a.h / b.h).log10();
             break;
         }

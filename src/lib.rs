@@ -9,6 +9,9 @@ pub mod error;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;
+pub mod verify;
+pub mod cli;
 pub mod microfacet;
+pub mod report;
 
 pub use error::{Error, Result};

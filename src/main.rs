@@ -1,1 +1,114 @@
-fn main(){}
+//! Command-line front end of the workbench. See README.md for the reference.
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use ndfbench::integrate::Preset;
+use ndfbench::{cli, verify};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "ndfbench", version, about = "Numerical verification and fitting workbench for microfacet NDF prefiltering and specular antialiasing.\n\nWith no subcommand: verify every proof and write results/ at the default preset.")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+    /// Directory that receives results (with no subcommand).
+    #[arg(long, default_value = "results", global = true)]
+    results: PathBuf,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Check every identity of proofs/ numerically; write results/proofs.md; exit 1 on failure.
+    Verify {
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+        /// Run only the checks whose id contains this text.
+        #[arg(long)]
+        only: Option<String>,
+    },
+    /// Convergence study of the engines (error vs evaluations) → results/convergence.{md,svg}.
+    Convergence {
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
+    /// Evaluate one model quantity and print JSON (for scripting). See `eval --help`.
+    Eval(cli::EvalArgs),
+    /// Turn criterion output (target/criterion) into results/performance.md.
+    BenchReport {
+        /// criterion output directory
+        #[arg(long, default_value = "target/criterion")]
+        criterion: PathBuf,
+    },
+}
+
+fn bar(len: u64, msg: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed} {wide_msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    pb.set_message(msg.to_string());
+    pb
+}
+
+fn run_verify(preset: Preset, only: Option<&str>, results: &std::path::Path) -> Result<bool, ndfbench::Error> {
+    let n = verify::all().iter().filter(|c| only.is_none_or(|f| c.id.contains(f))).count();
+    let pb = bar(n as u64, "verify");
+    let outcomes = verify::run(preset, only, |o| {
+        pb.inc(1);
+        pb.suspend(|| println!(
+            "{:<5} {:<28} worst {:.3e} ({}) tol {:.1e}  {:.1}s",
+            if o.passed { "pass" } else { "FAIL" },
+            o.id,
+            o.worst_error,
+            o.error_kind,
+            o.tolerance,
+            o.seconds
+        ));
+    });
+    pb.finish_and_clear();
+    let ok = outcomes.iter().all(|o| o.passed);
+    if only.is_none() {
+        verify::write_results(&outcomes, preset, results)?;
+        eprintln!("wrote {}/proofs.md", results.display());
+    }
+    println!("{} of {} proofs pass", outcomes.iter().filter(|o| o.passed).count(), outcomes.len());
+    Ok(ok)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let res: Result<bool, ndfbench::Error> = match cli.cmd {
+        None => (|| {
+            let ok = run_verify(Preset::Default, None, &cli.results)?;
+            let conv = ndfbench::report::convergence::run(Preset::Default, &cli.results)?;
+            println!("{conv}");
+            Ok(ok)
+        })(),
+        Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
+        Some(Cmd::Convergence { preset }) => ndfbench::report::convergence::run(preset, &cli.results).map(|s| {
+            println!("{s}");
+            true
+        }),
+        Some(Cmd::Eval(args)) => cli::eval(&args).map(|json| {
+            println!("{json}");
+            true
+        }),
+        Some(Cmd::BenchReport { criterion }) => {
+            ndfbench::report::performance::run(&criterion, &cli.results).map(|s| {
+                println!("{s}");
+                true
+            })
+        }
+    };
+    match res {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

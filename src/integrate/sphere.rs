@@ -40,6 +40,13 @@ pub struct SphereRule {
     pub phi_segments: usize,
     /// Extra initial t break points in (0, 1) (e.g. where the integrand has a kink).
     pub t_breaks: usize,
+    /// Elongated lobes: (major-axis direction in the pole's tangent frame, axis ratio
+    /// ≥ 1). At polar angle θ the azimuth is stretched by r(θ) = clamp(θ/scale, 1,
+    /// ratio): directions ∝ r cos ψ·e_major + sin ψ·e_minor with dφ/dψ =
+    /// r/(r² cos²ψ + sin²ψ), which turns a lobe of minor width `scale` into an O(1)-wide
+    /// function of ψ at every radius (an elliptic stretch; nodes are not wasted on the
+    /// empty sides of a needle-like lobe).
+    pub stretch: Option<(nalgebra::Vector2<f64>, f64)>,
 }
 
 impl SphereRule {
@@ -50,6 +57,7 @@ impl SphereRule {
             theta_max: PI / 2.0,
             phi_segments: 8,
             t_breaks: 4,
+            stretch: None,
         }
     }
     pub fn sphere(pole: Vector3<f64>, scale: f64) -> Self {
@@ -59,10 +67,47 @@ impl SphereRule {
             theta_max: PI,
             phi_segments: 8,
             t_breaks: 4,
+            stretch: None,
         }
     }
 
-    fn theta(&self, t: f64) -> (f64, f64) {
+    /// Layout for a lobe centred on `pole` whose angular covariance, in the basis
+    /// `frame(pole)`, is ≈ `c` (2×2 SPD): scale = minor width, stretch along the major axis
+    /// (the major width is capped at 1 rad: a linearised covariance means nothing beyond).
+    pub fn from_covariance(pole: Vector3<f64>, c: nalgebra::Matrix2<f64>, theta_max: f64) -> Self {
+        let e = nalgebra::SymmetricEigen::new(c);
+        let (i_min, i_max) = if e.eigenvalues[0] <= e.eigenvalues[1] { (0, 1) } else { (1, 0) };
+        let lmin = e.eigenvalues[i_min].max(1e-300);
+        let lmax = e.eigenvalues[i_max].min(1.0).max(lmin);
+        let major = e.eigenvectors.column(i_max).into_owned();
+        let ratio = (lmax / lmin).sqrt();
+        SphereRule {
+            pole: pole.normalize(),
+            scale: lmin.sqrt().clamp(1e-9, 1.0),
+            theta_max,
+            phi_segments: 8,
+            t_breaks: 4,
+            stretch: (ratio > 1.5).then_some((major, ratio)),
+        }
+    }
+
+    /// Tangent direction and dφ/dψ at azimuth parameter ψ and polar angle θ.
+    fn azimuth(&self, th: f64, psi: f64) -> (nalgebra::Vector2<f64>, f64) {
+        let (sp, cp) = psi.sin_cos();
+        match self.stretch {
+            None => (nalgebra::Vector2::new(cp, sp), 1.0),
+            Some((major, ratio)) => {
+                let r = (th / self.scale).clamp(1.0, ratio);
+                let minor = nalgebra::Vector2::new(-major.y, major.x);
+                let v = major * (r * cp) + minor * sp;
+                let n2 = r * r * cp * cp + sp * sp;
+                (v / n2.sqrt(), r / n2)
+            }
+        }
+    }
+
+    /// θ(t) and dθ/dt of the radial substitution.
+    pub fn theta(&self, t: f64) -> (f64, f64) {
         let c = 2.0 * self.theta_max / PI;
         let s = self.scale;
         let om = 1.0 - t;
@@ -73,6 +118,18 @@ impl SphereRule {
         };
         let dth = c * s / (om * om + s * s * t * t);
         (th, dth)
+    }
+}
+
+impl SphereRule {
+    /// The direction at (t, φ) and the measure factor sin θ·dθ/dt of the substitution.
+    pub fn point(&self, t: f64, psi: f64) -> (Vector3<f64>, f64) {
+        let pole = self.pole.normalize();
+        let (t1, t2) = frame(&pole);
+        let (th, dth) = self.theta(t);
+        let (st, ct) = th.sin_cos();
+        let (a, dphi) = self.azimuth(th, psi);
+        ((t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize(), st * dth * dphi)
     }
 }
 
@@ -102,10 +159,10 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
                 converged: true,
             };
         }
-        let g = |phi: f64| {
-            let (sp, cp) = phi.sin_cos();
-            let dir = (t1 * (st * cp) + t2 * (st * sp) + pole * ct).normalize();
-            f(&dir) * w
+        let g = |psi: f64| {
+            let (a, dphi) = rule.azimuth(th, psi);
+            let dir = (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize();
+            f(&dir) * w * dphi
         };
         gk15_breaks(&g, &phi_breaks, inner_tol)
     };

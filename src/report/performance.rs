@@ -1,0 +1,156 @@
+//! `bench-report`: read criterion's estimates (target/criterion/**/new/) and write
+//! results/performance.md with time per call next to the error each configuration
+//! reaches (recomputed deterministically, same seed as the bench).
+
+use super::convergence::{integrands, run_engine, Engine};
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+struct BenchId {
+    group_id: String,
+    function_id: Option<String>,
+    value_str: Option<String>,
+}
+
+#[derive(Deserialize)]
+struct Interval {
+    lower_bound: f64,
+    upper_bound: f64,
+}
+#[derive(Deserialize)]
+struct Stat {
+    point_estimate: f64,
+    confidence_interval: Interval,
+}
+#[derive(Deserialize)]
+struct Estimates {
+    mean: Stat,
+}
+
+/// One timed benchmark.
+pub struct Timed {
+    pub group: String,
+    pub function: String,
+    pub param: String,
+    pub mean_ns: f64,
+    pub lo_ns: f64,
+    pub hi_ns: f64,
+}
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+    if let Ok(rd) = std::fs::read_dir(dir) {
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.file_name().is_some_and(|n| n == "benchmark.json") && p.parent().is_some_and(|d| d.ends_with("new")) {
+                out.push(p);
+            }
+        }
+    }
+}
+
+/// All benchmarks criterion has results for.
+pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
+    let mut files = Vec::new();
+    walk(dir, &mut files);
+    if files.is_empty() {
+        return Err(Error::InvalidArgument(format!(
+            "no criterion results under '{}': run `cargo bench` first",
+            dir.display()
+        )));
+    }
+    let io = |p: &Path, e: String| Error::Io { path: p.display().to_string(), msg: e };
+    let mut out = Vec::new();
+    for f in files {
+        let id: BenchId = serde_json::from_str(&std::fs::read_to_string(&f).map_err(|e| io(&f, e.to_string()))?).map_err(|e| io(&f, e.to_string()))?;
+        let ef = f.with_file_name("estimates.json");
+        let est: Estimates = serde_json::from_str(&std::fs::read_to_string(&ef).map_err(|e| io(&ef, e.to_string()))?).map_err(|e| io(&ef, e.to_string()))?;
+        out.push(Timed {
+            group: id.group_id,
+            function: id.function_id.unwrap_or_default(),
+            param: id.value_str.unwrap_or_default(),
+            mean_ns: est.mean.point_estimate,
+            lo_ns: est.mean.confidence_interval.lower_bound,
+            hi_ns: est.mean.confidence_interval.upper_bound,
+        });
+    }
+    out.sort_by(|a, b| (&a.group, &a.function, &a.param).cmp(&(&b.group, &b.function, &b.param)));
+    Ok(out)
+}
+
+fn fmt_time(ns: f64) -> String {
+    if ns >= 1e9 {
+        format!("{:.3} s", ns / 1e9)
+    } else if ns >= 1e6 {
+        format!("{:.3} ms", ns / 1e6)
+    } else if ns >= 1e3 {
+        format!("{:.3} µs", ns / 1e3)
+    } else {
+        format!("{ns:.1} ns")
+    }
+}
+
+/// Write results/performance.md.
+pub fn run(criterion: &Path, results: &Path) -> Result<String> {
+    let timed = read_criterion(criterion)?;
+    let igs = integrands();
+    let mut md = String::from("# Performance\n\n");
+    md.push_str(
+        "Written by `cargo bench --bench engines && cargo run --release -- bench-report`. Times are criterion's mean \
+with its 95 % confidence interval, on the machine that ran the benches (see the machine line). The error columns \
+are recomputed deterministically for the same configuration and seed, so every cost stands next to the accuracy \
+it buys.\n\n",
+    );
+    md.push_str(&format!(
+        "Machine: {} logical cores reported by the OS.\n\n",
+        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0)
+    ));
+    md.push_str("## Engines: time and error per integral\n\n| integrand | engine | setting | evals | time per integral (95 % CI) | ns/eval | \\|error\\| | reported error |\n|---|---|---|---|---|---|---|---|\n");
+    for t in timed.iter().filter(|t| t.group.starts_with("engines/")) {
+        let key = t.group.trim_start_matches("engines/");
+        let (Some(ig), Some(e), Ok(level)) = (igs.iter().find(|i| i.key == key), Engine::from_name(&t.function), t.param.parse::<u64>()) else {
+            continue;
+        };
+        let est = run_engine(ig, e, level, 7);
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} ({} – {}) | {:.1} | {:.2e} | {:.2e} |\n",
+            ig.title,
+            e.name(),
+            level,
+            est.evals,
+            fmt_time(t.mean_ns),
+            fmt_time(t.lo_ns),
+            fmt_time(t.hi_ns),
+            t.mean_ns / est.evals as f64,
+            (est.value - ig.exact).abs(),
+            est.error
+        ));
+    }
+    let scaling: Vec<&Timed> = timed.iter().filter(|t| t.group.starts_with("rayon-scaling")).collect();
+    if !scaling.is_empty() {
+        md.push_str("\n## Rayon scaling (MC, MIS, 2^20 tuples, same result bit for bit at every thread count)\n\n| threads | time (95 % CI) | speed-up vs 1 thread |\n|---|---|---|\n");
+        let base = scaling.iter().find(|t| t.param == "1").map(|t| t.mean_ns);
+        for t in &scaling {
+            md.push_str(&format!(
+                "| {} | {} ({} – {}) | {} |\n",
+                t.param,
+                fmt_time(t.mean_ns),
+                fmt_time(t.lo_ns),
+                fmt_time(t.hi_ns),
+                base.map(|b| format!("{:.2}×", b / t.mean_ns)).unwrap_or_else(|| "–".into())
+            ));
+        }
+    }
+    let other: Vec<&Timed> = timed.iter().filter(|t| !t.group.starts_with("engines/") && !t.group.starts_with("rayon-scaling")).collect();
+    if !other.is_empty() {
+        md.push_str("\n## Other benchmarks\n\n| group | function | parameter | time (95 % CI) |\n|---|---|---|---|\n");
+        for t in other {
+            md.push_str(&format!("| {} | {} | {} | {} ({} – {}) |\n", t.group, t.function, t.param, fmt_time(t.mean_ns), fmt_time(t.lo_ns), fmt_time(t.hi_ns)));
+        }
+    }
+    crate::io::write_atomic(&results.join("performance.md"), md.as_bytes())?;
+    Ok(format!("wrote {}/performance.md ({} benchmarks)", results.display(), timed.len()))
+}

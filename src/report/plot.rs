@@ -1,0 +1,79 @@
+//! Log–log line plots as SVG (plotters, SVG backend: no system fonts needed).
+
+use crate::error::{Error, Result};
+use plotters::prelude::*;
+
+/// One series of (x, y) points.
+pub struct Series {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel.
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+}
+
+fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v.filter(|x| x.is_finite() && *x > 0.0).fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x), a.1.max(x)));
+    if lo.is_finite() {
+        (lo / 2.0, hi * 2.0)
+    } else {
+        (1e-16, 1.0)
+    }
+}
+
+/// Render panels side by side into an SVG string.
+pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (width, height)).into_drawing_area();
+        let err = |e: String| Error::InvalidArgument(format!("plot: {e}"));
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let areas = root.split_evenly((1, panels.len().max(1)));
+        let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK, RGBColor(255, 140, 0)];
+        for (area, p) in areas.iter().zip(panels) {
+            let (x0, x1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0)));
+            let (y0, y1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)));
+            let mut chart = ChartBuilder::on(area)
+                .caption(&p.title, ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(55)
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(|e| err(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_desc(p.x_label.as_str())
+                .y_desc(p.y_label.as_str())
+                .x_label_formatter(&|x| format!("{x:.0e}"))
+                .y_label_formatter(&|y| format!("{y:.0e}"))
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+            for (k, s) in p.series.iter().enumerate() {
+                let c = palette[k % palette.len()];
+                let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|q| q.0 > 0.0 && q.1 > 0.0).collect();
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                    .map_err(|e| err(e.to_string()))?
+                    .label(s.name.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+                chart
+                    .draw_series(pts.iter().map(|q| Circle::new(*q, 3, c.filled())))
+                    .map_err(|e| err(e.to_string()))?;
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::LowerLeft)
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+        }
+        root.present().map_err(|e| err(e.to_string()))?;
+    }
+    Ok(buf)
+}

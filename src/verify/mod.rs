@@ -1,0 +1,150 @@
+//! Numerical proofs: each identity in proofs/*.md has a check here that evaluates it by
+//! independent methods (closed form vs adaptive quadrature vs Monte Carlo) over a stated
+//! parameter set, and reports its worst error against a stated tolerance.
+//!
+//! `cargo run --release -- verify` runs them all, writes results/proofs.md and exits
+//! non-zero if any fails. tests/proofs.rs runs the same checks at the quick preset.
+
+pub mod cases;
+pub mod jacobians;
+pub mod ndf;
+pub mod tokuyoshi;
+
+use crate::error::Result;
+use crate::integrate::Preset;
+use serde::Serialize;
+use std::time::Instant;
+
+/// What one check found.
+#[derive(Clone, Debug, Serialize)]
+pub struct Outcome {
+    /// Stem of the proof file in proofs/ that states the identity.
+    pub id: &'static str,
+    pub title: &'static str,
+    pub source: &'static str,
+    /// Parameter ranges actually tried.
+    pub ranges: String,
+    pub cases: usize,
+    /// Worst error found (meaning given by `error_kind`).
+    pub worst_error: f64,
+    pub error_kind: &'static str,
+    /// Where the worst error occurred.
+    pub worst_case: String,
+    pub tolerance: f64,
+    pub passed: bool,
+    pub seconds: f64,
+    /// Measured findings worth reading (numbers with their errors).
+    pub notes: Vec<String>,
+}
+
+/// Running maximum with the case that produced it.
+#[derive(Clone, Debug, Default)]
+pub struct Worst {
+    pub err: f64,
+    pub case: String,
+    pub n: usize,
+}
+
+impl Worst {
+    pub fn update(&mut self, err: f64, case: impl FnOnce() -> String) {
+        self.n += 1;
+        // NaN counts as the worst possible error
+        let e = if err.is_nan() { f64::INFINITY } else { err };
+        if e > self.err || self.case.is_empty() {
+            self.err = e.max(self.err);
+            self.case = case();
+        }
+    }
+}
+
+/// A registered check.
+pub struct Check {
+    pub id: &'static str,
+    pub run: fn(Preset) -> Outcome,
+}
+
+/// Every check, in report order.
+pub fn all() -> Vec<Check> {
+    vec![
+        Check { id: "ndf-normalization", run: ndf::normalization },
+        Check { id: "smith-projected-area", run: ndf::smith_projected_area },
+        Check { id: "weak-white-furnace", run: ndf::weak_white_furnace },
+        Check { id: "weak-white-furnace-walter", run: ndf::weak_white_furnace_walter },
+        Check { id: "smith-lambda-closed-forms", run: ndf::lambda_closed_forms },
+        Check { id: "walter-lambda-error", run: ndf::walter_error },
+        Check { id: "vndf-sampling", run: ndf::vndf_sampling },
+        Check { id: "jacobian-normal-to-slope", run: jacobians::normal_to_slope },
+        Check { id: "jacobian-reflection", run: jacobians::reflection },
+        Check { id: "jacobian-half-vector", run: jacobians::half_vector },
+        Check { id: "jacobian-slope-parallel", run: jacobians::slope_parallel },
+        Check { id: "jacobian-projected-disk", run: jacobians::projected_disk },
+        Check { id: "jacobian-ltc", run: jacobians::ltc },
+        Check { id: "tokuyoshi-eigenvalue-bound", run: tokuyoshi::eigenvalue_bound },
+        Check { id: "tokuyoshi-eq12-gap", run: tokuyoshi::eq12_gap },
+    ]
+}
+
+/// Run the checks whose id contains `filter` (all when None); `progress` is called after
+/// each one.
+pub fn run(preset: Preset, filter: Option<&str>, mut progress: impl FnMut(&Outcome)) -> Vec<Outcome> {
+    all()
+        .into_iter()
+        .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
+        .map(|c| {
+            let t0 = Instant::now();
+            let mut o = (c.run)(preset);
+            o.seconds = t0.elapsed().as_secs_f64();
+            progress(&o);
+            o
+        })
+        .collect()
+}
+
+/// Markdown report of a verify run.
+pub fn report_markdown(outcomes: &[Outcome], preset: Preset) -> String {
+    let mut s = String::new();
+    s.push_str("# Numerical proofs\n\n");
+    s.push_str(&format!(
+        "Written by `cargo run --release -- verify --preset {}` (or the no-argument main job). \
+Each row checks one identity of proofs/ by independent methods; `worst error` is the largest \
+error over all cases tried, in the unit of the `kind` column. Times are wall-clock on the machine that ran it (informational).\n\n",
+        preset.name()
+    ));
+    s.push_str("| identity | source | ranges tried | cases | worst error | kind | worst case | tolerance | result | time (s) |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
+    for o in outcomes {
+        s.push_str(&format!(
+            "| [{}](../proofs/{}.md) | {} | {} | {} | {:.3e} | {} | {} | {:.1e} | {} | {:.2} |\n",
+            o.title,
+            o.id,
+            o.source,
+            o.ranges,
+            o.cases,
+            o.worst_error,
+            o.error_kind,
+            o.worst_case,
+            o.tolerance,
+            if o.passed { "pass" } else { "**FAIL**" },
+            o.seconds
+        ));
+    }
+    s.push_str("\n## Findings\n\n");
+    for o in outcomes {
+        if o.notes.is_empty() {
+            continue;
+        }
+        s.push_str(&format!("### {}\n\n", o.title));
+        for n in &o.notes {
+            s.push_str(&format!("- {n}\n"));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Write results/proofs.md and results/proofs.json atomically.
+pub fn write_results(outcomes: &[Outcome], preset: Preset, dir: &std::path::Path) -> Result<()> {
+    crate::io::write_atomic(&dir.join("proofs.md"), report_markdown(outcomes, preset).as_bytes())?;
+    let json = serde_json::to_string_pretty(outcomes).expect("outcomes serialise");
+    crate::io::write_atomic(&dir.join("proofs.json"), json.as_bytes())
+}
