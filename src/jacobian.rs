@@ -318,11 +318,16 @@ pub fn step_study<M: DirMap + ?Sized>(map: &M, w: &V3) -> StepStudy {
         .min_by(|a, b| a.rel_error.total_cmp(&b.rel_error))
         .copied()
         .unwrap_or(StepRow { h: f64::NAN, rel_error: f64::INFINITY });
-    // order: first consecutive pair (h, h/10) with both errors well above the best
+    // order: first pair (h, h/10) in the asymptotic truncation regime — error already
+    // below 1e-2 and both errors far above the rounding floor (the best error)
     let mut order = f64::NAN;
     for i in 0..rows.len().saturating_sub(2) {
         let (a, b) = (rows[i], rows[i + 2]);
-        if a.rel_error < 1e-1 && a.rel_error > b.rel_error && b.rel_error > 1e3 * best.rel_error {
+        if a.rel_error < 1e-2
+            && a.rel_error > 10.0 * b.rel_error
+            && a.rel_error > 1e4 * best.rel_error
+            && b.rel_error > 1e2 * best.rel_error
+        {
             order = (a.rel_error / b.rel_error).log10() / (a.h / b.h).log10();
             break;
         }

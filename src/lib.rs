@@ -9,6 +9,7 @@ pub mod error;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;
+pub mod linalg;
 pub mod verify;
 pub mod cli;
 pub mod microfacet;

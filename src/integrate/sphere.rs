@@ -28,7 +28,7 @@ pub fn frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
 }
 
 /// How to lay the polar grid on the sphere.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SphereRule {
     /// Unit vector around which θ is measured.
     pub pole: Vector3<f64>,
@@ -47,6 +47,13 @@ pub struct SphereRule {
     /// function of ψ at every radius (an elliptic stretch; nodes are not wasted on the
     /// empty sides of a needle-like lobe).
     pub stretch: Option<(nalgebra::Vector2<f64>, f64)>,
+    /// Circles k·ω = c (unit k; c = 0 for great circles) across which the integrand has a
+    /// kink or a jump (the horizon, ⟨o·m⟩ clamps, χ⁺ terms, the support edge h_z = 0 seen
+    /// from ω_i). Their crossings with each polar circle become break points of the inner
+    /// integral, and the polar angles where a polar circle touches them become break
+    /// points of the outer one, so every GK panel sees a smooth integrand and its error
+    /// estimate stays honest.
+    pub kinks: Vec<(Vector3<f64>, f64)>,
 }
 
 impl SphereRule {
@@ -58,6 +65,7 @@ impl SphereRule {
             phi_segments: 8,
             t_breaks: 4,
             stretch: None,
+            kinks: Vec::new(),
         }
     }
     pub fn sphere(pole: Vector3<f64>, scale: f64) -> Self {
@@ -68,6 +76,7 @@ impl SphereRule {
             phi_segments: 8,
             t_breaks: 4,
             stretch: None,
+            kinks: Vec::new(),
         }
     }
 
@@ -75,11 +84,9 @@ impl SphereRule {
     /// `frame(pole)`, is ≈ `c` (2×2 SPD): scale = minor width, stretch along the major axis
     /// (the major width is capped at 1 rad: a linearised covariance means nothing beyond).
     pub fn from_covariance(pole: Vector3<f64>, c: nalgebra::Matrix2<f64>, theta_max: f64) -> Self {
-        let e = nalgebra::SymmetricEigen::new(c);
-        let (i_min, i_max) = if e.eigenvalues[0] <= e.eigenvalues[1] { (0, 1) } else { (1, 0) };
-        let lmin = e.eigenvalues[i_min].max(1e-300);
-        let lmax = e.eigenvalues[i_max].min(1.0).max(lmin);
-        let major = e.eigenvectors.column(i_max).into_owned();
+        let (lo, hi, major) = crate::linalg::sym2_eigen(&c);
+        let lmin = lo.max(1e-300);
+        let lmax = hi.min(1.0).max(lmin);
         let ratio = (lmax / lmin).sqrt();
         SphereRule {
             pole: pole.normalize(),
@@ -88,7 +95,85 @@ impl SphereRule {
             phi_segments: 8,
             t_breaks: 4,
             stretch: (ratio > 1.5).then_some((major, ratio)),
+            kinks: Vec::new(),
         }
+    }
+
+    /// Add a kink along the great circle k·ω = 0.
+    pub fn with_kink(self, k: Vector3<f64>) -> Self {
+        self.with_circle(k, 0.0)
+    }
+
+    /// Add a kink along the circle k̂·ω = c.
+    pub fn with_circle(mut self, k: Vector3<f64>, c: f64) -> Self {
+        let n = k.norm();
+        if n > 0.0 && n.is_finite() && c.abs() < 1.0 {
+            self.kinks.push((k / n, c));
+        }
+        self
+    }
+
+    /// t of a polar angle θ (inverse of [`Self::theta`]).
+    fn t_of(&self, th: f64) -> f64 {
+        let c = 2.0 * self.theta_max / PI;
+        let x = (th / c).tan();
+        x / (self.scale + x)
+    }
+
+    /// Outer break points: polar angles where a polar circle touches a kink circle.
+    fn kink_t_breaks(&self) -> Vec<f64> {
+        let pole = self.pole.normalize();
+        let mut v = Vec::new();
+        for (k, c) in &self.kinks {
+            // cos θ·(k·p) ± sin θ·|k_t| = c  ⇔  cos(θ ∓ γ) = c with γ = atan2(|k_t|, k·p)
+            let kp = k.dot(&pole).clamp(-1.0, 1.0);
+            let kt = (1.0 - kp * kp).max(0.0).sqrt();
+            let g = kt.atan2(kp);
+            let a = c.clamp(-1.0, 1.0).acos();
+            for th in [g + a, g - a, -g + a, -g - a] {
+                if th > 0.0 && th < self.theta_max {
+                    let t = self.t_of(th);
+                    if t > 0.0 && t < 1.0 {
+                        v.push(t);
+                    }
+                }
+            }
+        }
+        v
+    }
+
+    /// Inner break points (in ψ) where the polar circle at θ crosses a kink circle.
+    fn kink_psi_breaks(&self, th: f64, t1: &Vector3<f64>, t2: &Vector3<f64>) -> Vec<f64> {
+        let pole = self.pole.normalize();
+        let (st, ct) = th.sin_cos();
+        let mut v = Vec::new();
+        for (k, c0) in &self.kinks {
+            let kp = k.dot(&pole);
+            let (kx, ky) = (k.dot(t1), k.dot(t2));
+            let kt = (kx * kx + ky * ky).sqrt();
+            if kt == 0.0 || st == 0.0 {
+                continue;
+            }
+            let c = (c0 - ct * kp) / (st * kt);
+            if !(-1.0..=1.0).contains(&c) {
+                continue;
+            }
+            let beta = ky.atan2(kx);
+            let d = c.acos();
+            for phi in [beta + d, beta - d] {
+                let dir = nalgebra::Vector2::new(phi.cos(), phi.sin());
+                let psi = match self.stretch {
+                    None => phi,
+                    Some((major, ratio)) => {
+                        let r = (th / self.scale).clamp(1.0, ratio);
+                        let minor = nalgebra::Vector2::new(-major.y, major.x);
+                        (r * dir.dot(&minor)).atan2(dir.dot(&major))
+                    }
+                };
+                v.push(psi.rem_euclid(2.0 * PI));
+            }
+        }
+        v
     }
 
     /// Tangent direction and dφ/dψ at azimuth parameter ψ and polar angle θ.
@@ -144,7 +229,7 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
     let nphi = rule.phi_segments.max(1);
     let phi_breaks: Vec<f64> = (0..=nphi).map(|k| 2.0 * PI * k as f64 / nphi as f64).collect();
     let nt = rule.t_breaks + 1;
-    let t_breaks: Vec<f64> = (0..=nt).map(|k| k as f64 / nt as f64).collect();
+    let t_breaks = merge_breaks((0..=nt).map(|k| k as f64 / nt as f64).collect(), rule.kink_t_breaks());
     let inner_tol = Tol::new(tol.abs * 0.05, tol.rel * 0.05, (tol.max_evals / 50).max(2000));
     let inner = |t: f64| -> Estimate {
         let (th, dth) = rule.theta(t);
@@ -164,7 +249,12 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
             let dir = (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize();
             f(&dir) * w * dphi
         };
-        gk15_breaks(&g, &phi_breaks, inner_tol)
+        if rule.kinks.is_empty() {
+            gk15_breaks(&g, &phi_breaks, inner_tol)
+        } else {
+            let b = merge_breaks(phi_breaks.clone(), rule.kink_psi_breaks(th, &t1, &t2));
+            gk15_breaks(&g, &b, inner_tol)
+        }
     };
     let eval = |xs: &[f64; 15]| {
         let res: Vec<Estimate> = xs.par_iter().map(|&t| inner(t)).collect();
@@ -179,4 +269,14 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
         (v, e, n)
     };
     adaptive_batched(&eval, &t_breaks, tol)
+}
+
+/// Sorted union of `base` (which spans the interval) and interior `extra` points, with
+/// near-duplicates (closer than 1e-12) removed.
+fn merge_breaks(mut base: Vec<f64>, extra: Vec<f64>) -> Vec<f64> {
+    let (lo, hi) = (base[0], *base.last().expect("non-empty"));
+    base.extend(extra.into_iter().filter(|x| *x > lo && *x < hi));
+    base.sort_by(|a, b| a.total_cmp(b));
+    base.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    base
 }

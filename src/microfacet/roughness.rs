@@ -95,12 +95,8 @@ impl Roughness {
     }
     /// Eigenvalues of A (ascending).
     pub fn eigenvalues(&self) -> (f64, f64) {
-        let (p, q, b) = (self.a[(0, 0)], self.a[(1, 1)], self.a[(0, 1)]);
-        let m = 0.5 * (p + q);
-        let r = (0.25 * (p - q) * (p - q) + b * b).sqrt();
-        // smaller one via det/larger to avoid cancellation
-        let hi = m + r;
-        (self.sqrt_det * self.sqrt_det / hi, hi)
+        let (lo, hi, _) = crate::linalg::sym2_eigen(&self.a);
+        (lo, hi)
     }
     /// Smallest principal roughness √λ_min: the lobe width used to place quadrature nodes.
     pub fn min_alpha(&self) -> f64 {

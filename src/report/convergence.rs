@@ -38,7 +38,11 @@ impl Integrand {
         w * self.surface.d(m)
     }
     pub fn rule(&self) -> SphereRule {
-        SphereRule::hemisphere(self.surface.width())
+        let r = SphereRule::hemisphere(self.surface.width());
+        match self.o {
+            Some(o) => r.with_kink(o),
+            None => r,
+        }
     }
 }
 
