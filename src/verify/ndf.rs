@@ -99,7 +99,7 @@ pub fn normalization(p: Preset) -> Outcome {
         let s = c.surface;
         let f = |m: &V3| s.d(m) * m.z.max(0.0);
         let e = integrate_sphere(&f, &lobe_rule(&s), tol(p));
-        if !e.converged {
+        if !e.converged && e.error > pass_tol(p) {
             unconverged += 1;
         }
         worst.update((e.value - 1.0).abs(), || format!("{} ({e})", c.label));
@@ -129,7 +129,7 @@ pub fn normalization(p: Preset) -> Outcome {
                 worst_z.err,
                 worst_z.case
             ),
-            format!("adaptive quadrature runs that hit their budget: {unconverged}"),
+            format!("adaptive quadrature runs that stopped on their budget with an error estimate above the pass tolerance: {unconverged}"),
         ],
     }
 }
@@ -152,7 +152,7 @@ pub fn smith_projected_area(p: Preset) -> Outcome {
             let g1 = s.g1_dir(&o);
             let f = |m: &V3| o.dot(m).max(0.0) * s.d(m);
             let e = integrate_sphere(&f, &lobe_rule(&s).with_kink(o), Tol::new(p.quad_tol() * area, p.quad_tol(), p.quad_max_evals()));
-            if !e.converged {
+            if !e.converged && e.error > pass_tol(p) * e.value.abs() {
                 unconverged += 1;
             }
             let rel = (e.value * g1 - area).abs() / area;
@@ -180,7 +180,7 @@ pub fn smith_projected_area(p: Preset) -> Outcome {
         seconds: 0.0,
         notes: vec![
             format!("MC cross-check (NDF sampling) on every 3rd case: worst |z| = {:.2} at {}", worst_z.err, worst_z.case),
-            format!("adaptive quadrature runs that hit their budget: {unconverged}"),
+            format!("adaptive quadrature runs that stopped on their budget with an error estimate above the pass tolerance: {unconverged}"),
         ],
     }
 }
@@ -296,7 +296,7 @@ pub fn weak_white_furnace(p: Preset) -> Outcome {
                 if how == "direct" {
                     n_direct += 1;
                 }
-                if !e.converged {
+                if !e.converged && e.error > pass_tol(p) {
                     unconverged += 1;
                 }
                 worst.update((e.value - 1.0).abs(), || format!("{}, θo={th}°, {how} ({e})", c.label));
@@ -325,7 +325,7 @@ pub fn weak_white_furnace(p: Preset) -> Outcome {
                 "MC cross-check over ω_i (MIS: reflected NDF sampling at A and 9A): worst |z| = {:.2} at {}",
                 worst_z.err, worst_z.case
             ),
-            format!("adaptive quadrature runs that hit their budget: {unconverged}"),
+            format!("adaptive quadrature runs that stopped on their budget with an error estimate above the pass tolerance: {unconverged}"),
             format!("direct ω_i quadrature (no substitution) was used on the {n_direct} of {n} cases whose reflected lobe is compact (linearised major width w ≤ {DIRECT_MAX_WIDTH} rad and w² ≤ 0.01 × minor width); all cases also ran with the substitution ω_i = reflect(o, h)"),
         ],
     }
