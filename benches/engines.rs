@@ -15,10 +15,14 @@ use std::time::Duration;
 fn engines(c: &mut Criterion) {
     for ig in integrands() {
         let mut g = c.benchmark_group(format!("engines/{}", ig.key));
-        g.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(2));
+        g.sample_size(10)
+            .warm_up_time(Duration::from_millis(300))
+            .measurement_time(Duration::from_secs(2));
         for e in Engine::ALL {
             let level = e.bench_level();
-            g.bench_with_input(BenchmarkId::new(e.name(), level), &level, |b, &l| b.iter(|| run_engine(&ig, e, l, 7)));
+            g.bench_with_input(BenchmarkId::new(e.name(), level), &level, |b, &l| {
+                b.iter(|| run_engine(&ig, e, l, 7))
+            });
         }
         g.finish();
     }
@@ -30,8 +34,12 @@ fn rayon_scaling(c: &mut Criterion) {
     let ns = NdfSampler { surface: s };
     let strat: [&dyn Strategy<Vector3<f64>>; 2] = [&ns, &CosineHemisphere];
     let mut g = c.benchmark_group("rayon-scaling");
-    g.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(3));
-    let max = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(3));
+    let max = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
     let mut threads = vec![1usize];
     let mut t = 2;
     while t <= max {
@@ -42,8 +50,13 @@ fn rayon_scaling(c: &mut Criterion) {
         threads.push(max);
     }
     for t in threads {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
-        g.bench_with_input(BenchmarkId::new("mis-2^20", t), &t, |b, _| b.iter(|| pool.install(|| mis(&f, &strat, 1 << 20, 3))));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap();
+        g.bench_with_input(BenchmarkId::new("mis-2^20", t), &t, |b, _| {
+            b.iter(|| pool.install(|| mis(&f, &strat, 1 << 20, 3)))
+        });
     }
     g.finish();
 }
@@ -55,20 +68,53 @@ fn shading_forms(c: &mut Criterion) {
     let dirs: Vec<Vector3<f64>> = (0..1024)
         .map(|k| {
             let t = (k as f64 / 1024.0) * 1.5;
-            Vector3::new(t.sin() * (k as f64).cos(), t.sin() * (k as f64).sin(), t.cos())
+            Vector3::new(
+                t.sin() * (k as f64).cos(),
+                t.sin() * (k as f64).sin(),
+                t.cos(),
+            )
         })
         .collect();
-    let d32: Vec<[f32; 3]> = dirs.iter().map(|d| [d.x as f32, d.y as f32, d.z as f32]).collect();
+    let d32: Vec<[f32; 3]> = dirs
+        .iter()
+        .map(|d| [d.x as f32, d.y as f32, d.z as f32])
+        .collect();
     let mut g = c.benchmark_group("shading-1024");
     g.throughput(Throughput::Elements(1024));
-    g.sample_size(20).warm_up_time(Duration::from_millis(200)).measurement_time(Duration::from_secs(1));
-    g.bench_function("ggx-d-f64", |b| b.iter(|| dirs.iter().map(|m| s.d(black_box(m))).sum::<f64>()));
-    g.bench_function("ggx-d-f32", |b| b.iter(|| d32.iter().map(|m| shading::d_ggx(&r32, *black_box(m))).sum::<f32>()));
-    g.bench_function("ggx-lambda-f64", |b| b.iter(|| dirs.iter().map(|o| s.lambda(black_box(o))).sum::<f64>()));
-    g.bench_function("ggx-lambda-f32", |b| b.iter(|| d32.iter().map(|o| shading::lambda_ggx(&r32, *black_box(o))).sum::<f32>()));
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(1));
+    g.bench_function("ggx-d-f64", |b| {
+        b.iter(|| dirs.iter().map(|m| s.d(black_box(m))).sum::<f64>())
+    });
+    g.bench_function("ggx-d-f32", |b| {
+        b.iter(|| {
+            d32.iter()
+                .map(|m| shading::d_ggx(&r32, *black_box(m)))
+                .sum::<f32>()
+        })
+    });
+    g.bench_function("ggx-lambda-f64", |b| {
+        b.iter(|| dirs.iter().map(|o| s.lambda(black_box(o))).sum::<f64>())
+    });
+    g.bench_function("ggx-lambda-f32", |b| {
+        b.iter(|| {
+            d32.iter()
+                .map(|o| shading::lambda_ggx(&r32, *black_box(o)))
+                .sum::<f32>()
+        })
+    });
     let sb = Microsurface::beckmann(r);
-    g.bench_function("beckmann-lambda-f64", |b| b.iter(|| dirs.iter().map(|o| sb.lambda(black_box(o))).sum::<f64>()));
-    g.bench_function("beckmann-lambda-f32", |b| b.iter(|| d32.iter().map(|o| shading::lambda_beckmann(&r32, *black_box(o))).sum::<f32>()));
+    g.bench_function("beckmann-lambda-f64", |b| {
+        b.iter(|| dirs.iter().map(|o| sb.lambda(black_box(o))).sum::<f64>())
+    });
+    g.bench_function("beckmann-lambda-f32", |b| {
+        b.iter(|| {
+            d32.iter()
+                .map(|o| shading::lambda_beckmann(&r32, *black_box(o)))
+                .sum::<f32>()
+        })
+    });
     g.finish();
 }
 

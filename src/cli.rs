@@ -90,19 +90,28 @@ pub enum LambdaArg {
 
 /// Parse "a,b,c" into exactly `n` finite numbers.
 pub fn parse_list(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
-    let v: std::result::Result<Vec<f64>, _> = s.split(',').map(|x| x.trim().parse::<f64>()).collect();
+    let v: std::result::Result<Vec<f64>, _> =
+        s.split(',').map(|x| x.trim().parse::<f64>()).collect();
     let v = v.map_err(|e| Error::InvalidArgument(format!("--{what} '{s}': {e}")))?;
     if v.len() != n {
-        return Err(Error::InvalidArgument(format!("--{what} needs {n} comma-separated numbers, got {}", v.len())));
+        return Err(Error::InvalidArgument(format!(
+            "--{what} needs {n} comma-separated numbers, got {}",
+            v.len()
+        )));
     }
     if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-        return Err(Error::NonFinite { what: "eval argument", value: *bad });
+        return Err(Error::NonFinite {
+            what: "eval argument",
+            value: *bad,
+        });
     }
     Ok(v)
 }
 
 fn vec3(s: &Option<String>, what: &'static str) -> Result<Vector3<f64>> {
-    let s = s.as_ref().ok_or_else(|| Error::InvalidArgument(format!("this quantity needs --{what}")))?;
+    let s = s
+        .as_ref()
+        .ok_or_else(|| Error::InvalidArgument(format!("this quantity needs --{what}")))?;
     let v = parse_list(s, 3, what)?;
     unit(Vector3::new(v[0], v[1], v[2]), what)
 }
@@ -119,8 +128,16 @@ pub fn surface(a: &EvalArgs) -> Result<Microsurface> {
             let v = parse_list(m, 3, "matrix")?;
             Roughness::matrix(Matrix2::new(v[0], v[1], v[1], v[2]))?
         }
-        (None, None, None) => return Err(Error::InvalidArgument("give one of --alpha, --alpha-xy, --matrix".into())),
-        _ => return Err(Error::InvalidArgument("--alpha, --alpha-xy and --matrix are mutually exclusive".into())),
+        (None, None, None) => {
+            return Err(Error::InvalidArgument(
+                "give one of --alpha, --alpha-xy, --matrix".into(),
+            ))
+        }
+        _ => {
+            return Err(Error::InvalidArgument(
+                "--alpha, --alpha-xy and --matrix are mutually exclusive".into(),
+            ))
+        }
     };
     let kind = match a.ndf {
         NdfArg::Ggx => NdfKind::Ggx,
@@ -145,14 +162,23 @@ pub fn eval(a: &EvalArgs) -> Result<String> {
     let (value, extra) = match a.quantity {
         Quantity::Jacobian => {
             let w = vec3(&a.w, "w")?;
-            let map: Box<dyn DirMap> = match a.map.ok_or_else(|| Error::InvalidArgument("jacobian needs --map".into()))? {
+            let map: Box<dyn DirMap> = match a
+                .map
+                .ok_or_else(|| Error::InvalidArgument("jacobian needs --map".into()))?
+            {
                 MapName::NormalToSlope => Box::new(NormalToSlope),
                 MapName::SlopeParallel => Box::new(HalfToSlope),
                 MapName::ProjectedDisk => Box::new(ProjectedDisk),
-                MapName::Reflection => Box::new(Reflection { o: vec3(&a.o, "o")? }),
-                MapName::HalfVector => Box::new(HalfVector { o: vec3(&a.o, "o")? }),
+                MapName::Reflection => Box::new(Reflection {
+                    o: vec3(&a.o, "o")?,
+                }),
+                MapName::HalfVector => Box::new(HalfVector {
+                    o: vec3(&a.o, "o")?,
+                }),
             };
-            if matches!(a.map, Some(MapName::NormalToSlope | MapName::SlopeParallel)) && !(w.z > 0.0) {
+            if matches!(a.map, Some(MapName::NormalToSlope | MapName::SlopeParallel))
+                && !(w.z > 0.0)
+            {
                 return Err(Error::BelowHorizon { what: "w", z: w.z });
             }
             (map.det(&w), json!({"map": map.name()}))
@@ -162,18 +188,33 @@ pub fn eval(a: &EvalArgs) -> Result<String> {
             let v = match q {
                 Quantity::D => s.d(&vec3(&a.m, "m")?),
                 Quantity::P22 => {
-                    let sl = parse_list(a.slope.as_deref().ok_or_else(|| Error::InvalidArgument("p22 needs --slope".into()))?, 2, "slope")?;
+                    let sl = parse_list(
+                        a.slope
+                            .as_deref()
+                            .ok_or_else(|| Error::InvalidArgument("p22 needs --slope".into()))?,
+                        2,
+                        "slope",
+                    )?;
                     s.p22(&Vector2::new(sl[0], sl[1]))
                 }
                 Quantity::Lambda => s.lambda(&vec3(&a.o, "o")?),
                 Quantity::Nu => s.nu(&vec3(&a.o, "o")?),
                 Quantity::G1 => s.g1(&vec3(&a.o, "o")?, &vec3(&a.m, "m")?),
-                Quantity::G2Correlated => s.g2_correlated(&vec3(&a.i, "i")?, &vec3(&a.o, "o")?, &vec3(&a.m, "m")?),
-                Quantity::G2Separable => s.g2_separable(&vec3(&a.i, "i")?, &vec3(&a.o, "o")?, &vec3(&a.m, "m")?),
-                Quantity::VndfPdf => VndfSampler::new(s, vec3(&a.o, "o")?)?.pdf_exact(&vec3(&a.m, "m")?),
+                Quantity::G2Correlated => {
+                    s.g2_correlated(&vec3(&a.i, "i")?, &vec3(&a.o, "o")?, &vec3(&a.m, "m")?)
+                }
+                Quantity::G2Separable => {
+                    s.g2_separable(&vec3(&a.i, "i")?, &vec3(&a.o, "o")?, &vec3(&a.m, "m")?)
+                }
+                Quantity::VndfPdf => {
+                    VndfSampler::new(s, vec3(&a.o, "o")?)?.pdf_exact(&vec3(&a.m, "m")?)
+                }
                 Quantity::Jacobian => unreachable!("handled above"),
             };
-            (v, json!({"ndf": format!("{:?}", s.kind), "roughness_matrix": [s.rough.a()[(0,0)], s.rough.a()[(0,1)], s.rough.a()[(1,1)]], "mean_slope": [s.mean.x, s.mean.y], "lambda": format!("{:?}", s.lambda_kind)}))
+            (
+                v,
+                json!({"ndf": format!("{:?}", s.kind), "roughness_matrix": [s.rough.a()[(0,0)], s.rough.a()[(0,1)], s.rough.a()[(1,1)]], "mean_slope": [s.mean.x, s.mean.y], "lambda": format!("{:?}", s.lambda_kind)}),
+            )
         }
     };
     let out = json!({

@@ -17,9 +17,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
             std::fs::create_dir_all(parent).map_err(err)?;
         }
     }
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| Error::InvalidArgument(format!("'{}' is not a file path", path.display())))?;
+    let file_name = path.file_name().ok_or_else(|| {
+        Error::InvalidArgument(format!("'{}' is not a file path", path.display()))
+    })?;
     let tmp = path.with_file_name(format!(
         ".{}.tmp.{}",
         file_name.to_string_lossy(),

@@ -51,7 +51,11 @@ pub trait DirMap: Sync {
 /// great circle through h and n, ψ_y along the one through h and n×h/|n×h|).
 pub fn polar_basis(h: &V3) -> (V3, V3) {
     let rho = (h.x * h.x + h.y * h.y).sqrt();
-    let (c, s) = if rho > 0.0 { (h.x / rho, h.y / rho) } else { (1.0, 0.0) };
+    let (c, s) = if rho > 0.0 {
+        (h.x / rho, h.y / rho)
+    } else {
+        (1.0, 0.0)
+    };
     (V3::new(h.z * c, h.z * s, -rho), V3::new(-s, c, 0.0))
 }
 
@@ -84,24 +88,25 @@ impl DirMap for NormalToSlope {
     }
 }
 
-/// Spherical → slope J_{o→∥} of seed 003 Eq 5 (matrix) and Eq 6 (det 1/h_z³), with the
-/// slope convention −h_xy/h_z (the sign that makes Eq 5's leading minus correct).
+/// Spherical → slope J_{o→∥} of seed 003 Eq 5 (matrix) and Eq 6 (det 1/h_z³): the same
+/// map as [`NormalToSlope`] (slope convention −h_xy/h_z, the sign that makes Eq 5's
+/// leading minus correct), with the closed-form matrix in the basis (e_θ, e_φ).
 pub struct HalfToSlope;
 impl DirMap for HalfToSlope {
     fn name(&self) -> &'static str {
         "spherical→slope J∥ (seed 003 Eq 5–6)"
     }
     fn out_space(&self) -> Space {
-        Space::Plane
+        NormalToSlope.out_space()
     }
     fn forward(&self, w: &V3) -> V3 {
-        slope_of(w)
+        NormalToSlope.forward(w)
     }
     fn inverse(&self, y: &V3) -> Option<V3> {
-        from_slope(y)
+        NormalToSlope.inverse(y)
     }
     fn det(&self, w: &V3) -> f64 {
-        1.0 / w.z.abs().powi(3)
+        NormalToSlope.det(w)
     }
     fn matrix(&self, h: &V3) -> Option<(Matrix2<f64>, (V3, V3))> {
         let s = (1.0 - h.z * h.z).max(0.0).sqrt();
@@ -239,7 +244,11 @@ impl OutChart {
         OutChart {
             space: map.out_space(),
             c,
-            t: if map.out_space() == Space::Sphere { frame(&c) } else { (V3::x(), V3::y()) },
+            t: if map.out_space() == Space::Sphere {
+                frame(&c)
+            } else {
+                (V3::x(), V3::y())
+            },
         }
     }
     fn coords(&self, y: &V3) -> Vector2<f64> {
@@ -317,7 +326,10 @@ pub fn step_study<M: DirMap + ?Sized>(map: &M, w: &V3) -> StepStudy {
         .filter(|r| r.rel_error.is_finite())
         .min_by(|a, b| a.rel_error.total_cmp(&b.rel_error))
         .copied()
-        .unwrap_or(StepRow { h: f64::NAN, rel_error: f64::INFINITY });
+        .unwrap_or(StepRow {
+            h: f64::NAN,
+            rel_error: f64::INFINITY,
+        });
     // order: first pair (h, h/10) in the asymptotic truncation regime — error already
     // below 1e-2 and both errors far above the rounding floor (the best error)
     let mut order = f64::NAN;
@@ -367,7 +379,13 @@ impl Strategy<Vector2<f64>> for Parallelogram {
     }
 }
 
-pub fn mc_jacobian<M: DirMap + ?Sized>(map: &M, w: &V3, radius: f64, samples: u64, seed: u64) -> McJacobian {
+pub fn mc_jacobian<M: DirMap + ?Sized>(
+    map: &M,
+    w: &V3,
+    radius: f64,
+    samples: u64,
+    seed: u64,
+) -> McJacobian {
     let basis = map.basis(w);
     let oc = OutChart::new(map, w);
     let y0 = oc.coords(&map.forward(w));

@@ -18,12 +18,24 @@ pub fn sym2_eigen(m: &Matrix2<f64>) -> (f64, f64, Vector2<f64>) {
     let r = d.hypot(b);
     let hi = mean + r;
     let det = p * q - b * b;
-    let lo = if hi != 0.0 && det > 0.0 { det / hi } else { mean - r };
+    let lo = if hi != 0.0 && det > 0.0 {
+        det / hi
+    } else {
+        mean - r
+    };
     // eigenvector of hi: (b, hi − p) or (hi − q, b), whichever is better conditioned
     let v1 = Vector2::new(b, hi - p);
     let v2 = Vector2::new(hi - q, b);
-    let v = if v1.norm_squared() >= v2.norm_squared() { v1 } else { v2 };
+    let v = if v1.norm_squared() >= v2.norm_squared() {
+        v1
+    } else {
+        v2
+    };
     let n = v.norm();
-    let v = if n > 0.0 { v / n } else { Vector2::new(1.0, 0.0) };
+    let v = if n > 0.0 {
+        v / n
+    } else {
+        Vector2::new(1.0, 0.0)
+    };
     (lo, hi, v)
 }

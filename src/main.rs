@@ -8,7 +8,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "ndfbench", version, about = "Numerical verification and fitting workbench for microfacet NDF prefiltering and specular antialiasing.\n\nWith no subcommand: verify every proof and write results/ at the default preset.")]
+#[command(
+    name = "ndfbench",
+    version,
+    about = "Numerical verification and fitting workbench for microfacet NDF prefiltering and specular antialiasing.\n\nWith no subcommand: verify every proof and write results/ at the default preset."
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Option<Cmd>,
@@ -53,20 +57,29 @@ fn bar(len: u64, msg: &str) -> ProgressBar {
     pb
 }
 
-fn run_verify(preset: Preset, only: Option<&str>, results: &std::path::Path) -> Result<bool, ndfbench::Error> {
-    let n = verify::all().iter().filter(|c| only.is_none_or(|f| c.id.contains(f))).count();
+fn run_verify(
+    preset: Preset,
+    only: Option<&str>,
+    results: &std::path::Path,
+) -> Result<bool, ndfbench::Error> {
+    let n = verify::all()
+        .iter()
+        .filter(|c| only.is_none_or(|f| c.id.contains(f)))
+        .count();
     let pb = bar(n as u64, "verify");
     let outcomes = verify::run(preset, only, |o| {
         pb.inc(1);
-        pb.suspend(|| println!(
-            "{:<5} {:<28} worst {:.3e} ({}) tol {:.1e}  {:.1}s",
-            if o.passed { "pass" } else { "FAIL" },
-            o.id,
-            o.worst_error,
-            o.error_kind,
-            o.tolerance,
-            o.seconds
-        ));
+        pb.suspend(|| {
+            println!(
+                "{:<5} {:<28} worst {:.3e} ({}) tol {:.1e}  {:.1}s",
+                if o.passed { "pass" } else { "FAIL" },
+                o.id,
+                o.worst_error,
+                o.error_kind,
+                o.tolerance,
+                o.seconds
+            )
+        });
     });
     pb.finish_and_clear();
     let ok = outcomes.iter().all(|o| o.passed);
@@ -74,7 +87,11 @@ fn run_verify(preset: Preset, only: Option<&str>, results: &std::path::Path) -> 
         verify::write_results(&outcomes, preset, results)?;
         eprintln!("wrote {}/proofs.md", results.display());
     }
-    println!("{} of {} proofs pass", outcomes.iter().filter(|o| o.passed).count(), outcomes.len());
+    println!(
+        "{} of {} proofs pass",
+        outcomes.iter().filter(|o| o.passed).count(),
+        outcomes.len()
+    );
     Ok(ok)
 }
 
@@ -88,10 +105,12 @@ fn main() -> ExitCode {
             Ok(ok)
         })(),
         Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
-        Some(Cmd::Convergence { preset }) => ndfbench::report::convergence::run(preset, &cli.results).map(|s| {
-            println!("{s}");
-            true
-        }),
+        Some(Cmd::Convergence { preset }) => {
+            ndfbench::report::convergence::run(preset, &cli.results).map(|s| {
+                println!("{s}");
+                true
+            })
+        }
         Some(Cmd::Eval(args)) => cli::eval(&args).map(|json| {
             println!("{json}");
             true

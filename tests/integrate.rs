@@ -16,8 +16,16 @@ fn gauss_legendre_is_exact_for_degree_2n_minus_1() {
         // ∫_{-1}^{1} x^k dx = 2/(k+1) for even k, 0 for odd k
         for k in 0..=deg {
             let e = gl_1d(&|x: f64| x.powi(k as i32), -1.0, 1.0, n);
-            let exact = if k % 2 == 0 { 2.0 / (k as f64 + 1.0) } else { 0.0 };
-            assert!((e.value - exact).abs() < 1e-13, "n={n} k={k}: {} vs {exact}", e.value);
+            let exact = if k % 2 == 0 {
+                2.0 / (k as f64 + 1.0)
+            } else {
+                0.0
+            };
+            assert!(
+                (e.value - exact).abs() < 1e-13,
+                "n={n} k={k}: {} vs {exact}",
+                e.value
+            );
         }
     }
     let (x, w) = gauss_legendre(200);
@@ -28,7 +36,13 @@ fn gauss_legendre_is_exact_for_degree_2n_minus_1() {
 #[test]
 fn gl_2d_tensor_product() {
     // ∫_0^1∫_0^2 x² e^y dy dx = (1/3)(e² − 1)
-    let e = gl_2d(&|x: f64, y: f64| x * x * y.exp(), [0.0, 1.0], [0.0, 2.0], 8, 16);
+    let e = gl_2d(
+        &|x: f64, y: f64| x * x * y.exp(),
+        [0.0, 1.0],
+        [0.0, 2.0],
+        8,
+        16,
+    );
     let exact = (2f64.exp() - 1.0) / 3.0;
     assert!((e.value - exact).abs() < 1e-13);
     assert!(e.error < 1e-5);
@@ -38,7 +52,9 @@ fn gl_2d_tensor_product() {
 fn adaptive_gk_reports_honest_errors() {
     let tol = Tol::new(1e-12, 1e-12, 1_000_000);
     let e = gk15(&|x: f64| x.sin(), 0.0, PI, tol);
-    assert!(e.converged && (e.value - 2.0).abs() < 1e-12 && (e.value - 2.0).abs() <= e.error.max(1e-15));
+    assert!(
+        e.converged && (e.value - 2.0).abs() < 1e-12 && (e.value - 2.0).abs() <= e.error.max(1e-15)
+    );
     // a sharp peak: ∫ ε/(π(x² + ε²)) over [-1, 1] = (2/π) atan(1/ε)
     let eps = 1e-6;
     let e = gk15(&|x: f64| eps / (PI * (x * x + eps * eps)), -1.0, 0.7, tol);
@@ -54,7 +70,13 @@ fn substitutions_handle_endpoint_singularities_and_infinite_ranges() {
     assert!((e.value - 2.0).abs() < 1e-10, "{e}");
     let e = integrate_1d(&|x: f64| x.ln(), 0.0, 1.0, Subst::Smoothstep, tol);
     assert!((e.value + 1.0).abs() < 1e-10, "{e}");
-    let e = integrate_1d(&|x: f64| (-x).exp(), 0.0, 0.0, Subst::SemiInfinite { scale: 1.0 }, tol);
+    let e = integrate_1d(
+        &|x: f64| (-x).exp(),
+        0.0,
+        0.0,
+        Subst::SemiInfinite { scale: 1.0 },
+        tol,
+    );
     assert!((e.value - 1.0).abs() < 1e-12, "{e}");
     // Cauchy tail with tiny scale
     let a = 1e-4;
@@ -75,9 +97,14 @@ fn sphere_quadrature_of_peaked_lobes() {
     let pole = Vector3::new(0.3, -0.2, 0.9).normalize();
     let f = |w: &Vector3<f64>| {
         // cos θ − 1 = −|w − pole|²/2, without cancellation
-        kappa / (2.0 * PI * (1.0 - (-2.0 * kappa).exp())) * (-0.5 * kappa * (w - pole).norm_squared()).exp()
+        kappa / (2.0 * PI * (1.0 - (-2.0 * kappa).exp()))
+            * (-0.5 * kappa * (w - pole).norm_squared()).exp()
     };
-    let e = integrate_sphere(&f, &SphereRule::sphere(pole, kappa.powf(-0.5)), Tol::new(1e-11, 1e-11, 50_000_000));
+    let e = integrate_sphere(
+        &f,
+        &SphereRule::sphere(pole, kappa.powf(-0.5)),
+        Tol::new(1e-11, 1e-11, 50_000_000),
+    );
     assert!(e.converged, "{e}");
     assert!((e.value - 1.0).abs() < 1e-10, "{e}");
 }
@@ -147,12 +174,48 @@ fn tolerance_driven_entry_point_meets_its_target() {
     let s = Microsurface::ggx(Roughness::iso(0.05).unwrap());
     let f = |m: &Vector3<f64>| s.d(m) * m.z.max(0.0);
     let ns = NdfSampler { surface: s };
-    let p = SphereProblem { f: &f, rule: SphereRule::hemisphere(0.05), strategies: vec![&ns, &CosineHemisphere] };
-    for (method, target) in [(Method::Quadrature, 1e-10), (Method::MonteCarlo, 1e-3), (Method::Qmc, 1e-4)] {
+    let p = SphereProblem {
+        f: &f,
+        rule: SphereRule::hemisphere(0.05),
+        strategies: vec![&ns, &CosineHemisphere],
+    };
+    for (method, target) in [
+        (Method::Quadrature, 1e-10),
+        (Method::MonteCarlo, 1e-3),
+        (Method::Qmc, 1e-4),
+    ] {
         let r = solve(&p, method, target, 50_000_000, 9).unwrap();
         assert!(r.met, "{method:?}: {:?}", r.estimate);
         // the reported error is honest: the true error (exact value 1) is within 4 of them
-        assert!(r.estimate.agrees_with(1.0, 4.0, 1e-14), "{method:?}: {}", r.estimate);
+        assert!(
+            r.estimate.agrees_with(1.0, 4.0, 1e-14),
+            "{method:?}: {}",
+            r.estimate
+        );
     }
     assert!(solve(&p, Method::Quadrature, -1.0, 10, 0).is_err());
+}
+
+#[test]
+fn mc_over_the_plane_with_heavy_and_light_tailed_proposals() {
+    use nalgebra::Vector2;
+    use ndfbench::integrate::mc::{GaussianPlane, HeavyTailPlane};
+    // ∫_ℝ² e^(−|x|²) dx = π, and the unit GGX slope law integrates to 1
+    let g = |x: &Vector2<f64>| (-x.norm_squared()).exp();
+    let gp = GaussianPlane {
+        mean: Vector2::new(0.3, -0.2),
+        sigma: 0.8,
+    };
+    let s: [&dyn Strategy<Vector2<f64>>; 1] = [&gp];
+    let e = mis(&g, &s, 200_000, 1);
+    assert!(e.agrees_with(PI, 4.0, 0.0), "{e}");
+    let a = 0.01;
+    let p22 = |x: &Vector2<f64>| 1.0 / (PI * a * a * (1.0 + x.norm_squared() / (a * a)).powi(2));
+    let ht = HeavyTailPlane {
+        mean: Vector2::zeros(),
+        scale: 2.0 * a,
+    };
+    let both: [&dyn Strategy<Vector2<f64>>; 2] = [&ht, &gp];
+    let e = mis(&p22, &both, 200_000, 2);
+    assert!(e.agrees_with(1.0, 4.0, 0.0), "{e}");
 }

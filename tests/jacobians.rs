@@ -2,14 +2,20 @@
 //! points, extremes included (θ to 89.99°, n·o and o·h to 1e-4, LTC cond to 1e4).
 
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
-use ndfbench::jacobian::{step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk, Reflection};
+use ndfbench::jacobian::{
+    step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk, Reflection,
+};
 use proptest::prelude::*;
 
 /// Tolerance of jacobian-* proofs (best step of the study, relative).
 const FD_TOL: f64 = 1e-7;
 
 fn upper() -> impl Strategy<Value = Vector3<f64>> {
-    prop_oneof![(0.5f64..89.99, 0.0f64..6.2832), (89.0f64..89.99, 0.0f64..6.2832)].prop_map(|(t, p): (f64, f64)| {
+    prop_oneof![
+        (0.5f64..89.99, 0.0f64..6.2832),
+        (89.0f64..89.99, 0.0f64..6.2832)
+    ]
+    .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
         Vector3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
     })
@@ -28,7 +34,13 @@ fn check(map: &dyn DirMap, w: &Vector3<f64>) -> Result<(), TestCaseError> {
 
 fn check_tol(map: &dyn DirMap, w: &Vector3<f64>, tol: f64) -> Result<(), TestCaseError> {
     let st = step_study(map, w);
-    prop_assert!(st.best_error <= tol, "{}: best FD error {:.2e} at h = {:.0e}, w = {w:?}", map.name(), st.best_error, st.best_h);
+    prop_assert!(
+        st.best_error <= tol,
+        "{}: best FD error {:.2e} at h = {:.0e}, w = {w:?}",
+        map.name(),
+        st.best_error,
+        st.best_h
+    );
     Ok(())
 }
 

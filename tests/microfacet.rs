@@ -3,12 +3,12 @@
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 use ndfbench::cli::parse_list;
+use ndfbench::integrate::mc::Strategy as Sampling;
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::integrate_sphere;
 use ndfbench::microfacet::lambda;
 use ndfbench::microfacet::sampling::VndfSampler;
 use ndfbench::microfacet::{unit, Microsurface, NdfKind, Roughness};
-use ndfbench::integrate::mc::Strategy as Sampling;
 use ndfbench::verify::ndf::lobe_rule;
 use ndfbench::Error;
 use proptest::prelude::*;
@@ -27,16 +27,27 @@ fn rough() -> impl Strategy<Value = Roughness> {
 
 /// Directions up to 89.99° from the normal, with extra weight at the grazing end.
 fn dir() -> impl Strategy<Value = Vector3<f64>> {
-    prop_oneof![(0.0f64..89.99, 0.0f64..6.2832), (89.9f64..89.99, 0.0f64..6.2832)].prop_map(|(t, p): (f64, f64)| {
+    prop_oneof![
+        (0.0f64..89.99, 0.0f64..6.2832),
+        (89.9f64..89.99, 0.0f64..6.2832)
+    ]
+    .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
         Vector3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
     })
 }
 
 fn surface() -> impl Strategy<Value = Microsurface> {
-    (kind(), rough(), prop_oneof![Just((0.0, 0.0)), (-10.0f64..10.0, -10.0f64..10.0)]).prop_map(|(k, r, m)| {
-        Microsurface::new(k, r).with_mean(Vector2::new(m.0, m.1)).unwrap()
-    })
+    (
+        kind(),
+        rough(),
+        prop_oneof![Just((0.0, 0.0)), (-10.0f64..10.0, -10.0f64..10.0)],
+    )
+        .prop_map(|(k, r, m)| {
+            Microsurface::new(k, r)
+                .with_mean(Vector2::new(m.0, m.1))
+                .unwrap()
+        })
 }
 
 proptest! {
@@ -133,30 +144,57 @@ fn ggx_lambda_has_no_cancellation_at_large_nu() {
 #[test]
 fn bad_roughness_is_a_typed_error() {
     for a in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        assert!(matches!(Roughness::iso(a), Err(Error::InvalidRoughness(_))), "α = {a}");
+        assert!(
+            matches!(Roughness::iso(a), Err(Error::InvalidRoughness(_))),
+            "α = {a}"
+        );
     }
-    assert!(matches!(Roughness::aniso(0.1, 0.0), Err(Error::InvalidRoughness(_))));
+    assert!(matches!(
+        Roughness::aniso(0.1, 0.0),
+        Err(Error::InvalidRoughness(_))
+    ));
     let not_spd = Matrix2::new(1.0, 2.0, 2.0, 1.0);
     assert!(matches!(Roughness::matrix(not_spd), Err(Error::NotSpd(_))));
     let asym = Matrix2::new(1.0, 0.1, 0.3, 1.0);
     assert!(matches!(Roughness::matrix(asym), Err(Error::NotSpd(_))));
     let nan = Matrix2::new(1.0, f64::NAN, f64::NAN, 1.0);
-    assert!(matches!(Roughness::matrix(nan), Err(Error::NonFinite { .. })));
+    assert!(matches!(
+        Roughness::matrix(nan),
+        Err(Error::NonFinite { .. })
+    ));
     let neg = Matrix2::new(-1.0, 0.0, 0.0, -1.0);
     assert!(matches!(Roughness::matrix(neg), Err(Error::NotSpd(_))));
 }
 
 #[test]
 fn bad_directions_and_parameters_are_typed_errors() {
-    assert!(matches!(unit(Vector3::zeros(), "o"), Err(Error::DegenerateDirection { .. })));
-    assert!(matches!(unit(Vector3::new(f64::NAN, 0.0, 1.0), "o"), Err(Error::DegenerateDirection { .. })));
+    assert!(matches!(
+        unit(Vector3::zeros(), "o"),
+        Err(Error::DegenerateDirection { .. })
+    ));
+    assert!(matches!(
+        unit(Vector3::new(f64::NAN, 0.0, 1.0), "o"),
+        Err(Error::DegenerateDirection { .. })
+    ));
     let s = Microsurface::ggx(Roughness::iso(0.3).unwrap());
-    assert!(matches!(s.with_mean(Vector2::new(f64::NAN, 0.0)), Err(Error::NonFinite { .. })));
-    assert!(matches!(VndfSampler::new(s, Vector3::new(1.0, 0.0, -0.1).normalize()), Err(Error::BelowHorizon { .. })));
-    assert!(matches!(s.with_lambda(ndfbench::microfacet::LambdaKind::WalterPrinted), Err(Error::InvalidArgument(_))));
+    assert!(matches!(
+        s.with_mean(Vector2::new(f64::NAN, 0.0)),
+        Err(Error::NonFinite { .. })
+    ));
+    assert!(matches!(
+        VndfSampler::new(s, Vector3::new(1.0, 0.0, -0.1).normalize()),
+        Err(Error::BelowHorizon { .. })
+    ));
+    assert!(matches!(
+        s.with_lambda(ndfbench::microfacet::LambdaKind::WalterPrinted),
+        Err(Error::InvalidArgument(_))
+    ));
     assert!(parse_list("1,2", 3, "o").is_err());
     assert!(parse_list("1,x,3", 3, "o").is_err());
-    assert!(matches!(parse_list("1,nan,3", 3, "o"), Err(Error::NonFinite { .. })));
+    assert!(matches!(
+        parse_list("1,nan,3", 3, "o"),
+        Err(Error::NonFinite { .. })
+    ));
     // documented clamps, not errors: below the horizon D = 0 and G1 = 0
     let below = Vector3::new(0.6, 0.0, -0.8);
     assert_eq!(s.d(&below), 0.0);
@@ -167,7 +205,9 @@ fn bad_directions_and_parameters_are_typed_errors() {
 #[test]
 fn d_from_slopes_matches_p22_over_cos4() {
     // seed 001 Eq 2, evaluated two ways (direction form vs slope form)
-    let s = Microsurface::beckmann(Roughness::rotated(0.2, 0.05, 0.3).unwrap()).with_mean(Vector2::new(0.4, -0.2)).unwrap();
+    let s = Microsurface::beckmann(Roughness::rotated(0.2, 0.05, 0.3).unwrap())
+        .with_mean(Vector2::new(0.4, -0.2))
+        .unwrap();
     for (x, y) in [(0.1, 0.2), (-1.0, 0.5), (3.0, -2.0)] {
         let m = Vector3::new(-x, -y, 1.0).normalize();
         let via_p22 = s.p22(&Vector2::new(x, y)) / m.z.powi(4);

@@ -5,7 +5,10 @@ use ndfbench::integrate::Preset;
 use ndfbench::verify::{all, Outcome};
 
 fn check(id: &str) -> Outcome {
-    let c = all().into_iter().find(|c| c.id == id).unwrap_or_else(|| panic!("no check named {id}"));
+    let c = all()
+        .into_iter()
+        .find(|c| c.id == id)
+        .unwrap_or_else(|| panic!("no check named {id}"));
     let o = (c.run)(Preset::Quick);
     assert!(
         o.passed,
@@ -42,7 +45,11 @@ fn smith_lambda_closed_forms() {
 fn walter_lambda_error() {
     let o = check("walter-lambda-error");
     // published behaviour of the rational (seed 001 §3.2): its G1 error is of order 1e-3
-    assert!(o.worst_error > 1e-4 && o.worst_error < 1e-2, "{}", o.worst_error);
+    assert!(
+        o.worst_error > 1e-4 && o.worst_error < 1e-2,
+        "{}",
+        o.worst_error
+    );
 }
 #[test]
 fn vndf_sampling() {
@@ -88,9 +95,23 @@ fn every_check_has_a_proof_file_that_names_its_test() {
         let p = root.join("proofs").join(format!("{}.md", c.id));
         let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         let test = format!("tests/proofs.rs::{}", c.id.replace('-', "_"));
-        assert!(text.contains(&test), "{} must name its test {test}", p.display());
-        for section in ["## Statement", "## Source", "## Derivation", "## Assumptions", "## Test"] {
-            assert!(text.contains(section), "{} lacks section {section}", p.display());
+        assert!(
+            text.contains(&test),
+            "{} must name its test {test}",
+            p.display()
+        );
+        for section in [
+            "## Statement",
+            "## Source",
+            "## Derivation",
+            "## Assumptions",
+            "## Test",
+        ] {
+            assert!(
+                text.contains(section),
+                "{} lacks section {section}",
+                p.display()
+            );
         }
     }
 }

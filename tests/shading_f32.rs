@@ -11,10 +11,15 @@ use proptest::prelude::*;
 /// any orientation, plus exact isotropic and axis-aligned cases.
 fn rough() -> impl Strategy<Value = Roughness> {
     prop_oneof![
-        (-4.0f64..0.0, -4.0f64..0.0, 0.0f64..std::f64::consts::PI)
-            .prop_map(|(l1, l2, phi)| Roughness::rotated(10f64.powf(l1), 10f64.powf(l2), phi).unwrap()),
+        (-4.0f64..0.0, -4.0f64..0.0, 0.0f64..std::f64::consts::PI).prop_map(|(l1, l2, phi)| {
+            Roughness::rotated(10f64.powf(l1), 10f64.powf(l2), phi).unwrap()
+        }),
         (-4.0f64..0.0).prop_map(|l| Roughness::iso(10f64.powf(l)).unwrap()),
-        (-4.0f64..0.0, -4.0f64..0.0).prop_map(|(l1, l2)| Roughness::aniso(10f64.powf(l1), 10f64.powf(l2)).unwrap()),
+        (-4.0f64..0.0, -4.0f64..0.0).prop_map(|(l1, l2)| Roughness::aniso(
+            10f64.powf(l1),
+            10f64.powf(l2)
+        )
+        .unwrap()),
     ]
 }
 
@@ -27,7 +32,11 @@ fn dir32() -> impl Strategy<Value = [f32; 3]> {
     ]
     .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
-        [(t.sin() * p.cos()) as f32, (t.sin() * p.sin()) as f32, t.cos() as f32]
+        [
+            (t.sin() * p.cos()) as f32,
+            (t.sin() * p.sin()) as f32,
+            t.cos() as f32,
+        ]
     })
 }
 
@@ -142,5 +151,8 @@ fn cancellation_free_form_beats_cos_form_at_alpha_1e_4() {
         worst_ours = worst_ours.max((ours - d64).abs() / d64);
     }
     assert!(worst_ours <= 2e-6, "ours {worst_ours}");
-    assert!(worst_naive > 1e-2, "naive form unexpectedly fine: {worst_naive}");
+    assert!(
+        worst_naive > 1e-2,
+        "naive form unexpectedly fine: {worst_naive}"
+    );
 }

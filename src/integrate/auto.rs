@@ -44,9 +44,17 @@ pub struct Solved {
 }
 
 /// Integrate to an absolute `target` error within `max_evals` integrand evaluations.
-pub fn solve(p: &SphereProblem, method: Method, target: f64, max_evals: u64, seed: u64) -> Result<Solved> {
+pub fn solve(
+    p: &SphereProblem,
+    method: Method,
+    target: f64,
+    max_evals: u64,
+    seed: u64,
+) -> Result<Solved> {
     if !(target > 0.0) {
-        return Err(Error::InvalidArgument(format!("target error must be > 0, got {target}")));
+        return Err(Error::InvalidArgument(format!(
+            "target error must be > 0, got {target}"
+        )));
     }
     let t0 = Instant::now();
     let f = |w: &Vector3<f64>| (p.f)(w);

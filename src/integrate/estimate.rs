@@ -54,7 +54,11 @@ impl fmt::Display for Estimate {
             self.value,
             self.error,
             self.evals,
-            if self.converged { "" } else { ", NOT converged" }
+            if self.converged {
+                ""
+            } else {
+                ", NOT converged"
+            }
         )
     }
 }

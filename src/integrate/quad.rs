@@ -78,7 +78,11 @@ pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
 fn gl_sum<F: Fn(f64) -> f64>(f: &F, a: f64, b: f64, n: usize) -> f64 {
     let (x, w) = gauss_legendre(n);
     let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
-    x.iter().zip(&w).map(|(xi, wi)| wi * f(c + h * xi)).sum::<f64>() * h
+    x.iter()
+        .zip(&w)
+        .map(|(xi, wi)| wi * f(c + h * xi))
+        .sum::<f64>()
+        * h
 }
 
 /// n-point Gauss–Legendre on [a, b]. The error estimate is |Q_n − Q_⌈n/2⌉|, the error of
@@ -289,9 +293,10 @@ pub fn adaptive_batched<E: Fn(&[f64; 15]) -> NodeValues>(
             value = t.0;
             error = t.1;
         } else {
-            let t = children.iter().flatten().fold((-s.val, -s.err), |acc, c| {
-                (acc.0 + c.val, acc.1 + c.err)
-            });
+            let t = children
+                .iter()
+                .flatten()
+                .fold((-s.val, -s.err), |acc, c| (acc.0 + c.val, acc.1 + c.err));
             let t = if children[0].is_none() { (0.0, 0.0) } else { t };
             value += t.0;
             error += t.1;

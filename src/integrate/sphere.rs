@@ -214,7 +214,10 @@ impl SphereRule {
         let (th, dth) = self.theta(t);
         let (st, ct) = th.sin_cos();
         let (a, dphi) = self.azimuth(th, psi);
-        ((t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize(), st * dth * dphi)
+        (
+            (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize(),
+            st * dth * dphi,
+        )
     }
 }
 
@@ -227,10 +230,19 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
     let pole = rule.pole.normalize();
     let (t1, t2) = frame(&pole);
     let nphi = rule.phi_segments.max(1);
-    let phi_breaks: Vec<f64> = (0..=nphi).map(|k| 2.0 * PI * k as f64 / nphi as f64).collect();
+    let phi_breaks: Vec<f64> = (0..=nphi)
+        .map(|k| 2.0 * PI * k as f64 / nphi as f64)
+        .collect();
     let nt = rule.t_breaks + 1;
-    let t_breaks = merge_breaks((0..=nt).map(|k| k as f64 / nt as f64).collect(), rule.kink_t_breaks());
-    let inner_tol = Tol::new(tol.abs * 0.05, tol.rel * 0.05, (tol.max_evals / 50).max(2000));
+    let t_breaks = merge_breaks(
+        (0..=nt).map(|k| k as f64 / nt as f64).collect(),
+        rule.kink_t_breaks(),
+    );
+    let inner_tol = Tol::new(
+        tol.abs * 0.05,
+        tol.rel * 0.05,
+        (tol.max_evals / 50).max(2000),
+    );
     let inner = |t: f64| -> Estimate {
         let (th, dth) = rule.theta(t);
         let (st, ct) = th.sin_cos();

@@ -54,7 +54,9 @@ impl VndfSampler {
     /// Errors: not GGX, non-zero mean slope, or o not in the upper hemisphere.
     pub fn new(surface: Microsurface, o: Vector3<f64>) -> Result<Self> {
         if surface.kind != NdfKind::Ggx {
-            return Err(Error::InvalidArgument("VNDF sampling is implemented for GGX".into()));
+            return Err(Error::InvalidArgument(
+                "VNDF sampling is implemented for GGX".into(),
+            ));
         }
         if surface.mean != Vector2::zeros() {
             return Err(Error::InvalidArgument(

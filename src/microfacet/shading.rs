@@ -152,7 +152,10 @@ pub fn lambda_beckmann(r: &Rough32, o: [f32; 3]) -> f32 {
                                     * (1.0
                                         - 9.0
                                             * x
-                                            * (1.0 - 11.0 * x * (1.0 - 13.0 * x * (1.0 - 15.0 * x)))))));
+                                            * (1.0
+                                                - 11.0
+                                                    * x
+                                                    * (1.0 - 13.0 * x * (1.0 - 15.0 * x)))))));
         return (-nu * nu).exp() * inv_sqrt_pi / (2.0 * nu) * s;
     }
     0.5 * ((-nu * nu).exp() * inv_sqrt_pi / nu - libm::erfcf(nu))

@@ -38,7 +38,11 @@ impl Integrand {
         w * self.surface.d(m)
     }
     pub fn rule(&self) -> SphereRule {
-        let r = SphereRule::hemisphere(self.surface.width());
+        // a coarse initial partition (1 t-panel × 2 ψ-panels, 225 nodes) so the study shows
+        // the adaptive rule converging rather than its robust default start
+        let mut r = SphereRule::hemisphere(self.surface.width());
+        r.t_breaks = 0;
+        r.phi_segments = 2;
         match self.o {
             Some(o) => r.with_kink(o),
             None => r,
@@ -53,9 +57,21 @@ pub fn integrands() -> Vec<Integrand> {
     let th = 88f64.to_radians();
     let o = V3::new(th.sin(), 0.0, th.cos());
     vec![
-        Integrand { key: "ggx-norm-a0.01", title: "GGX ∫D cos, α = 0.01", surface: ggx(0.01), o: None, exact: 1.0 },
+        Integrand {
+            key: "ggx-norm-a0.01",
+            title: "GGX ∫D cos, α = 0.01",
+            surface: ggx(0.01),
+            o: None,
+            exact: 1.0,
+        },
         // (α = 1 would make D·cos = cos/π, i.e. the cosine pdf itself: zero-variance MC)
-        Integrand { key: "ggx-norm-a0.5", title: "GGX ∫D cos, α = 0.5", surface: ggx(0.5), o: None, exact: 1.0 },
+        Integrand {
+            key: "ggx-norm-a0.5",
+            title: "GGX ∫D cos, α = 0.5",
+            surface: ggx(0.5),
+            o: None,
+            exact: 1.0,
+        },
         Integrand {
             key: "beckmann-lambda-88deg",
             title: "Beckmann ∫⟨o,m⟩D, α = 0.3, θo = 88° (= (1+Λ)o_z)",
@@ -67,7 +83,7 @@ pub fn integrands() -> Vec<Integrand> {
 }
 
 /// The engines compared.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Engine {
     /// MC, cosine-weighted hemisphere sampling; level = samples.
@@ -83,7 +99,13 @@ pub enum Engine {
 }
 
 impl Engine {
-    pub const ALL: [Engine; 5] = [Engine::McCosine, Engine::McMis, Engine::Rqmc, Engine::GaussLegendre, Engine::Adaptive];
+    pub const ALL: [Engine; 5] = [
+        Engine::McCosine,
+        Engine::McMis,
+        Engine::Rqmc,
+        Engine::GaussLegendre,
+        Engine::Adaptive,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             Engine::McCosine => "mc-cosine",
@@ -100,8 +122,12 @@ impl Engine {
     pub fn levels(self, p: Preset) -> Vec<u64> {
         let big = p != Preset::Quick;
         match self {
-            Engine::McCosine | Engine::McMis => (4..=if big { 10 } else { 7 }).map(|k| 1u64 << (2 * k)).collect(),
-            Engine::Rqmc => (3..=if big { 8 } else { 6 }).map(|k| 1u64 << (2 * k)).collect(),
+            Engine::McCosine | Engine::McMis => (4..=if big { 10 } else { 7 })
+                .map(|k| 1u64 << (2 * k))
+                .collect(),
+            Engine::Rqmc => (3..=if big { 8 } else { 6 })
+                .map(|k| 1u64 << (2 * k))
+                .collect(),
             Engine::GaussLegendre => (2..=if big { 9 } else { 6 }).map(|k| 1u64 << k).collect(),
             Engine::Adaptive => (2..=if big { 12 } else { 8 }).collect(),
         }
@@ -126,7 +152,9 @@ pub fn run_engine(ig: &Integrand, e: Engine, level: u64, seed: u64) -> Estimate 
             mis(&f, &s, level, seed)
         }
         Engine::McMis => {
-            let ns = NdfSampler { surface: ig.surface };
+            let ns = NdfSampler {
+                surface: ig.surface,
+            };
             let s: [&dyn Strategy<V3>; 2] = [&ns, &CosineHemisphere];
             mis(&f, &s, level / 2, seed)
         }
@@ -140,7 +168,13 @@ pub fn run_engine(ig: &Integrand, e: Engine, level: u64, seed: u64) -> Estimate 
                 let (w, jac) = rule.point(t, phi);
                 f(&w) * jac
             };
-            gl_2d(&g, [0.0, 1.0], [0.0, 2.0 * PI], level as usize, level as usize)
+            gl_2d(
+                &g,
+                [0.0, 1.0],
+                [0.0, 2.0 * PI],
+                level as usize,
+                level as usize,
+            )
         }
         Engine::Adaptive => {
             let t = 10f64.powi(-(level as i32));
@@ -173,7 +207,10 @@ pub fn fitted_order(rows: &[&Row]) -> f64 {
         return f64::NAN;
     }
     let n = pts.len() as f64;
-    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     -sxy / sxx
@@ -218,16 +255,42 @@ results/performance.md.\n\n",
     md.push_str("## Fitted orders and cost to reach 1e-6\n\n| integrand | engine | fitted order | evals for \\|error\\| ≤ 1e-6 | best \\|error\\| (evals) |\n|---|---|---|---|---|\n");
     for ig in &igs {
         for e in Engine::ALL {
-            let rs: Vec<&Row> = rows.iter().filter(|r| r.integrand == ig.key && r.engine == e).collect();
+            let rs: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.integrand == ig.key && r.engine == e)
+                .collect();
             let order = fitted_order(&rs);
-            let reach = rs.iter().find(|r| r.abs_error <= 1e-6).map(|r| r.evals.to_string()).unwrap_or_else(|| "not reached".into());
-            let best = rs.iter().min_by(|a, b| a.abs_error.total_cmp(&b.abs_error)).map(|r| format!("{:.2e} ({})", r.abs_error, r.evals)).unwrap_or_default();
-            md.push_str(&format!("| {} | {} | {:.2} | {} | {} |\n", ig.title, e.name(), order, reach, best));
+            let reach = rs
+                .iter()
+                .find(|r| r.abs_error <= 1e-6)
+                .map(|r| r.evals.to_string())
+                .unwrap_or_else(|| "not reached".into());
+            let best = rs
+                .iter()
+                .min_by(|a, b| a.abs_error.total_cmp(&b.abs_error))
+                .map(|r| format!("{:.2e} ({})", r.abs_error, r.evals))
+                .unwrap_or_default();
+            md.push_str(&format!(
+                "| {} | {} | {:.2} | {} | {} |\n",
+                ig.title,
+                e.name(),
+                order,
+                reach,
+                best
+            ));
         }
     }
     md.push_str("\n## All points\n\n| integrand | engine | level | evals | \\|error\\| | reported error |\n|---|---|---|---|---|---|\n");
     for r in &rows {
-        md.push_str(&format!("| {} | {} | {} | {} | {:.3e} | {:.3e} |\n", r.integrand, r.engine.name(), r.level, r.evals, r.abs_error, r.reported_error));
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {:.3e} | {:.3e} |\n",
+            r.integrand,
+            r.engine.name(),
+            r.level,
+            r.evals,
+            r.abs_error,
+            r.reported_error
+        ));
     }
     md.push_str("\n![convergence](convergence.svg)\n");
     let panels: Vec<Panel> = igs
@@ -252,6 +315,15 @@ results/performance.md.\n\n",
     let svg = loglog_svg(&panels, 1500, 480)?;
     crate::io::write_atomic(&dir.join("convergence.svg"), svg.as_bytes())?;
     crate::io::write_atomic(&dir.join("convergence.md"), md.as_bytes())?;
-    crate::io::write_atomic(&dir.join("convergence.json"), serde_json::to_string_pretty(&rows).expect("json").as_bytes())?;
-    Ok(format!("wrote {}/convergence.md ({} points)", dir.display(), rows.len()))
+    crate::io::write_atomic(
+        &dir.join("convergence.json"),
+        serde_json::to_string_pretty(&rows)
+            .expect("json")
+            .as_bytes(),
+    )?;
+    Ok(format!(
+        "wrote {}/convergence.md ({} points)",
+        dir.display(),
+        rows.len()
+    ))
 }

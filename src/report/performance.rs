@@ -3,6 +3,7 @@
 //! reaches (recomputed deterministically, same seed as the bench).
 
 use super::convergence::{integrands, run_engine, Engine};
+use super::plot::{loglog_svg, Panel, Series};
 use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -45,7 +46,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
             let p = e.path();
             if p.is_dir() {
                 walk(&p, out);
-            } else if p.file_name().is_some_and(|n| n == "benchmark.json") && p.parent().is_some_and(|d| d.ends_with("new")) {
+            } else if p.file_name().is_some_and(|n| n == "benchmark.json")
+                && p.parent().is_some_and(|d| d.ends_with("new"))
+            {
                 out.push(p);
             }
         }
@@ -62,12 +65,20 @@ pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
             dir.display()
         )));
     }
-    let io = |p: &Path, e: String| Error::Io { path: p.display().to_string(), msg: e };
+    let io = |p: &Path, e: String| Error::Io {
+        path: p.display().to_string(),
+        msg: e,
+    };
     let mut out = Vec::new();
     for f in files {
-        let id: BenchId = serde_json::from_str(&std::fs::read_to_string(&f).map_err(|e| io(&f, e.to_string()))?).map_err(|e| io(&f, e.to_string()))?;
+        let id: BenchId =
+            serde_json::from_str(&std::fs::read_to_string(&f).map_err(|e| io(&f, e.to_string()))?)
+                .map_err(|e| io(&f, e.to_string()))?;
         let ef = f.with_file_name("estimates.json");
-        let est: Estimates = serde_json::from_str(&std::fs::read_to_string(&ef).map_err(|e| io(&ef, e.to_string()))?).map_err(|e| io(&ef, e.to_string()))?;
+        let est: Estimates = serde_json::from_str(
+            &std::fs::read_to_string(&ef).map_err(|e| io(&ef, e.to_string()))?,
+        )
+        .map_err(|e| io(&ef, e.to_string()))?;
         out.push(Timed {
             group: id.group_id,
             function: id.function_id.unwrap_or_default(),
@@ -106,15 +117,23 @@ it buys.\n\n",
     );
     md.push_str(&format!(
         "Machine: {} logical cores reported by the OS.\n\n",
-        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(0)
+        std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(0)
     ));
     md.push_str("## Engines: time and error per integral\n\n| integrand | engine | setting | evals | time per integral (95 % CI) | ns/eval | \\|error\\| | reported error |\n|---|---|---|---|---|---|---|---|\n");
+    let mut ns_per_eval: Vec<(String, Engine, f64)> = Vec::new();
     for t in timed.iter().filter(|t| t.group.starts_with("engines/")) {
         let key = t.group.trim_start_matches("engines/");
-        let (Some(ig), Some(e), Ok(level)) = (igs.iter().find(|i| i.key == key), Engine::from_name(&t.function), t.param.parse::<u64>()) else {
+        let (Some(ig), Some(e), Ok(level)) = (
+            igs.iter().find(|i| i.key == key),
+            Engine::from_name(&t.function),
+            t.param.parse::<u64>(),
+        ) else {
             continue;
         };
         let est = run_engine(ig, e, level, 7);
+        ns_per_eval.push((ig.key.to_string(), e, t.mean_ns / est.evals as f64));
         md.push_str(&format!(
             "| {} | {} | {} | {} | {} ({} – {}) | {:.1} | {:.2e} | {:.2e} |\n",
             ig.title,
@@ -129,7 +148,11 @@ it buys.\n\n",
             est.error
         ));
     }
-    let scaling: Vec<&Timed> = timed.iter().filter(|t| t.group.starts_with("rayon-scaling")).collect();
+    md.push_str(&error_vs_time(results, &ns_per_eval)?);
+    let scaling: Vec<&Timed> = timed
+        .iter()
+        .filter(|t| t.group.starts_with("rayon-scaling"))
+        .collect();
     if !scaling.is_empty() {
         md.push_str("\n## Rayon scaling (MC, MIS, 2^20 tuples, same result bit for bit at every thread count)\n\n| threads | time (95 % CI) | speed-up vs 1 thread |\n|---|---|---|\n");
         let base = scaling.iter().find(|t| t.param == "1").map(|t| t.mean_ns);
@@ -140,17 +163,107 @@ it buys.\n\n",
                 fmt_time(t.mean_ns),
                 fmt_time(t.lo_ns),
                 fmt_time(t.hi_ns),
-                base.map(|b| format!("{:.2}×", b / t.mean_ns)).unwrap_or_else(|| "–".into())
+                base.map(|b| format!("{:.2}×", b / t.mean_ns))
+                    .unwrap_or_else(|| "–".into())
             ));
         }
     }
-    let other: Vec<&Timed> = timed.iter().filter(|t| !t.group.starts_with("engines/") && !t.group.starts_with("rayon-scaling")).collect();
+    let other: Vec<&Timed> = timed
+        .iter()
+        .filter(|t| !t.group.starts_with("engines/") && !t.group.starts_with("rayon-scaling"))
+        .collect();
     if !other.is_empty() {
         md.push_str("\n## Other benchmarks\n\n| group | function | parameter | time (95 % CI) |\n|---|---|---|---|\n");
         for t in other {
-            md.push_str(&format!("| {} | {} | {} | {} ({} – {}) |\n", t.group, t.function, t.param, fmt_time(t.mean_ns), fmt_time(t.lo_ns), fmt_time(t.hi_ns)));
+            md.push_str(&format!(
+                "| {} | {} | {} | {} ({} – {}) |\n",
+                t.group,
+                t.function,
+                t.param,
+                fmt_time(t.mean_ns),
+                fmt_time(t.lo_ns),
+                fmt_time(t.hi_ns)
+            ));
         }
     }
     crate::io::write_atomic(&results.join("performance.md"), md.as_bytes())?;
-    Ok(format!("wrote {}/performance.md ({} benchmarks)", results.display(), timed.len()))
+    Ok(format!(
+        "wrote {}/performance.md ({} benchmarks)",
+        results.display(),
+        timed.len()
+    ))
+}
+
+/// Error against (estimated) time: the convergence study's points (results/convergence.json)
+/// with time = evaluations × the measured ns/eval of that engine on that integrand.
+fn error_vs_time(results: &Path, ns: &[(String, Engine, f64)]) -> Result<String> {
+    #[derive(Deserialize)]
+    struct Row {
+        integrand: String,
+        engine: Engine,
+        evals: u64,
+        abs_error: f64,
+    }
+    let path = results.join("convergence.json");
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        return Ok("\n(no results/convergence.json: run `cargo run --release -- convergence` for the error-vs-time table)\n".into());
+    };
+    let rows: Vec<Row> = serde_json::from_str(&text).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        msg: e.to_string(),
+    })?;
+    let igs = integrands();
+    let mut md = String::from(
+        "\n## Error against time\n\nTime of each convergence-study point = its evaluations × the ns/eval measured above for \
+that engine and integrand (cost is linear in evaluations for every engine here; the adaptive rule's heap work is \
+included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).\n\n| integrand | engine | est. time to \\|error\\| ≤ 1e-6 | best \\|error\\| | at est. time |\n|---|---|---|---|---|\n",
+    );
+    let mut panels = Vec::new();
+    for ig in &igs {
+        let mut series = Vec::new();
+        for e in Engine::ALL {
+            let Some(&(_, _, c)) = ns.iter().find(|(k, en, _)| k == ig.key && *en == e) else {
+                continue;
+            };
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.integrand == ig.key && r.engine == e)
+                .map(|r| (r.evals as f64 * c * 1e-9, r.abs_error))
+                .collect();
+            let reach = pts
+                .iter()
+                .find(|p| p.1 <= 1e-6)
+                .map(|p| fmt_time(p.0 * 1e9))
+                .unwrap_or_else(|| "not reached".into());
+            if let Some(best) = pts.iter().min_by(|a, b| a.1.total_cmp(&b.1)) {
+                let err = if best.1 == 0.0 {
+                    "0 (exact in f64)".to_string()
+                } else {
+                    format!("{:.2e}", best.1)
+                };
+                md.push_str(&format!(
+                    "| {} | {} | {} | {} | {} |\n",
+                    ig.title,
+                    e.name(),
+                    reach,
+                    err,
+                    fmt_time(best.0 * 1e9)
+                ));
+            }
+            // zero errors are drawn at 1e-17 (log axis)
+            series.push(Series {
+                name: e.name().to_string(),
+                points: pts.iter().map(|p| (p.0, p.1.max(1e-17))).collect(),
+            });
+        }
+        panels.push(Panel {
+            title: ig.title.to_string(),
+            x_label: "seconds (estimated)".into(),
+            y_label: "|error|".into(),
+            series,
+        });
+    }
+    let svg = loglog_svg(&panels, 1500, 480)?;
+    crate::io::write_atomic(&results.join("error-vs-time.svg"), svg.as_bytes())?;
+    Ok(md)
 }

@@ -18,7 +18,9 @@ pub struct Panel {
 }
 
 fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = v.filter(|x| x.is_finite() && *x > 0.0).fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x), a.1.max(x)));
+    let (lo, hi) = v
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(x), a.1.max(x)));
     if lo.is_finite() {
         (lo / 2.0, hi * 2.0)
     } else {
@@ -34,7 +36,15 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
         let err = |e: String| Error::InvalidArgument(format!("plot: {e}"));
         root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
         let areas = root.split_evenly((1, panels.len().max(1)));
-        let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK, RGBColor(255, 140, 0)];
+        let palette = [
+            RED,
+            BLUE,
+            GREEN,
+            MAGENTA,
+            CYAN,
+            BLACK,
+            RGBColor(255, 140, 0),
+        ];
         for (area, p) in areas.iter().zip(panels) {
             let (x0, x1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0)));
             let (y0, y1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)));
@@ -55,12 +65,19 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
                 .map_err(|e| err(e.to_string()))?;
             for (k, s) in p.series.iter().enumerate() {
                 let c = palette[k % palette.len()];
-                let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|q| q.0 > 0.0 && q.1 > 0.0).collect();
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|q| q.0 > 0.0 && q.1 > 0.0)
+                    .collect();
                 chart
                     .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
                     .map_err(|e| err(e.to_string()))?
                     .label(s.name.as_str())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
+                    });
                 chart
                     .draw_series(pts.iter().map(|q| Circle::new(*q, 3, c.filled())))
                     .map_err(|e| err(e.to_string()))?;

@@ -29,7 +29,11 @@ pub fn surfaces(preset: Preset) -> Vec<Case> {
             NdfKind::Ggx => "GGX",
         };
         for &a in alphas {
-            push(&mut v, format!("{k} α={a}"), Microsurface::new(kind, Roughness::iso(a).unwrap()));
+            push(
+                &mut v,
+                format!("{k} α={a}"),
+                Microsurface::new(kind, Roughness::iso(a).unwrap()),
+            );
         }
         push(
             &mut v,
@@ -55,7 +59,12 @@ pub fn surfaces(preset: Preset) -> Vec<Case> {
         }
         let means: &[(f64, f64, f64)] = match preset {
             Preset::Quick => &[(0.5, -0.3, 0.3), (10.0, 0.0, 0.5)],
-            _ => &[(0.5, -0.3, 0.3), (2.0, 1.0, 0.05), (10.0, 0.0, 0.5), (-3.0, 4.0, 1.0)],
+            _ => &[
+                (0.5, -0.3, 0.3),
+                (2.0, 1.0, 0.05),
+                (10.0, 0.0, 0.5),
+                (-3.0, 4.0, 1.0),
+            ],
         };
         for &(mx, my, a) in means {
             push(

@@ -5,7 +5,8 @@ use super::cases::dir;
 use super::{Outcome, Worst};
 use crate::integrate::Preset;
 use crate::jacobian::{
-    mc_jacobian, step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk, Reflection,
+    mc_jacobian, step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk,
+    Reflection,
 };
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
@@ -46,7 +47,9 @@ fn run_points(
     for (k, pt) in points.iter().enumerate() {
         let st = step_study(pt.map.as_ref(), &pt.w);
         matrix |= st.matrix_checked;
-        fd.update(st.best_error, || format!("{} (best h = {:.0e})", pt.label, st.best_h));
+        fd.update(st.best_error, || {
+            format!("{} (best h = {:.0e})", pt.label, st.best_h)
+        });
         if st.observed_order.is_finite() {
             orders.push(st.observed_order);
         }
@@ -64,11 +67,18 @@ fn run_points(
         let mc = mc_jacobian(pt.map.as_ref(), &pt.w, pt.radius, samples, 1000 + k as u64);
         boundary = boundary.max(mc.boundary_mass);
         z.update((mc.value - det).abs() / mc.std_error, || {
-            format!("{}: MC {:.6e} ± {:.1e} vs closed {:.6e}", pt.label, mc.value, mc.std_error, det)
+            format!(
+                "{}: MC {:.6e} ± {:.1e} vs closed {:.6e}",
+                pt.label, mc.value, mc.std_error, det
+            )
         });
         mc_rel.update((mc.value - det).abs() / det, || pt.label.clone());
     }
-    let (omin, omax) = orders.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &o| (a.0.min(o), a.1.max(o)));
+    let (omin, omax) = orders
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &o| {
+            (a.0.min(o), a.1.max(o))
+        });
     // central differences: truncation error at least second order (4 where symmetry cancels h²)
     let orders_ok = orders.iter().all(|o| *o >= 1.8);
     Outcome {
@@ -92,12 +102,21 @@ fn run_points(
 }
 
 fn polar_points(make: &dyn Fn() -> Box<dyn DirMap>, p: Preset) -> Vec<Point> {
-    let thetas: &[f64] = if p == Preset::Quick { &[30.0, 85.0, 89.99] } else { &[5.0, 30.0, 60.0, 85.0, 89.9, 89.99] };
+    let thetas: &[f64] = if p == Preset::Quick {
+        &[30.0, 85.0, 89.99]
+    } else {
+        &[5.0, 30.0, 60.0, 85.0, 89.9, 89.99]
+    };
     let mut v = Vec::new();
     for &th in thetas {
         for phi in [0.4, 2.5, -1.9] {
             let w = dir(th, phi);
-            v.push(Point { label: format!("θ={th}° φ={phi}"), map: make(), w, radius: 1e-3 * w.z });
+            v.push(Point {
+                label: format!("θ={th}° φ={phi}"),
+                map: make(),
+                w,
+                radius: 1e-3 * w.z,
+            });
         }
     }
     v
@@ -144,13 +163,22 @@ fn perp(o: &V3) -> V3 {
 pub fn reflection(p: Preset) -> Outcome {
     let o = dir(40.0, 0.3);
     let t = perp(&o);
-    let ks: &[f64] = if p == Preset::Quick { &[0.2, 5.0, 1000.0] } else { &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0] };
+    let ks: &[f64] = if p == Preset::Quick {
+        &[0.2, 5.0, 1000.0]
+    } else {
+        &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0]
+    };
     let points = ks
         .iter()
         .map(|&k| {
             let n = (o + t * k).normalize();
             let c = n.dot(&o);
-            Point { label: format!("n·o = {c:.3e}"), map: Box::new(Reflection { o }), w: n, radius: 1e-3 * c.min(1.0) }
+            Point {
+                label: format!("n·o = {c:.3e}"),
+                map: Box::new(Reflection { o }),
+                w: n,
+                radius: 1e-3 * c.min(1.0),
+            }
         })
         .collect();
     run_points(
@@ -166,14 +194,23 @@ pub fn reflection(p: Preset) -> Outcome {
 pub fn half_vector(p: Preset) -> Outcome {
     let o = dir(40.0, 0.3);
     let t = perp(&o);
-    let ks: &[f64] = if p == Preset::Quick { &[0.2, 5.0, 1000.0] } else { &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0] };
+    let ks: &[f64] = if p == Preset::Quick {
+        &[0.2, 5.0, 1000.0]
+    } else {
+        &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0]
+    };
     let points = ks
         .iter()
         .map(|&k| {
             let h = (o + t * k).normalize();
             let c = h.dot(&o);
             let wi = h * (2.0 * c) - o;
-            Point { label: format!("o·h = {c:.3e}"), map: Box::new(HalfVector { o }), w: wi, radius: 1e-3 * c.min(1.0) }
+            Point {
+                label: format!("o·h = {c:.3e}"),
+                map: Box::new(HalfVector { o }),
+                w: wi,
+                radius: 1e-3 * c.min(1.0),
+            }
         })
         .collect();
     run_points(
@@ -187,17 +224,39 @@ pub fn half_vector(p: Preset) -> Outcome {
 }
 
 pub fn ltc(p: Preset) -> Outcome {
-    let rot = |ax: [f64; 3], ang: f64| Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(V3::from(ax)), ang).into_inner();
+    let rot = |ax: [f64; 3], ang: f64| {
+        Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(V3::from(ax)), ang).into_inner()
+    };
     let mut mats: Vec<(String, Matrix3<f64>, f64)> = vec![
         ("identity".into(), Matrix3::identity(), 1.0),
-        ("LTC a=0.1 b=0.3 c=−0.2".into(), Matrix3::new(0.1, 0.0, 0.3, 0.0, 0.1, 0.0, -0.2, 0.0, 1.0), 20.0),
-        ("LTC a=1e-2 (sharp)".into(), Matrix3::new(1e-2, 0.0, 0.05, 0.0, 1e-2, 0.0, 0.0, 0.0, 1.0), 100.0),
+        (
+            "LTC a=0.1 b=0.3 c=−0.2".into(),
+            Matrix3::new(0.1, 0.0, 0.3, 0.0, 0.1, 0.0, -0.2, 0.0, 1.0),
+            20.0,
+        ),
+        (
+            "LTC a=1e-2 (sharp)".into(),
+            Matrix3::new(1e-2, 0.0, 0.05, 0.0, 1e-2, 0.0, 0.0, 0.0, 1.0),
+            100.0,
+        ),
     ];
     if p != Preset::Quick {
-        let m = rot([1.0, 2.0, 0.5], 0.7) * Matrix3::from_diagonal(&V3::new(1.0, 1e-2, 1e2)) * rot([-0.3, 0.2, 1.0], 1.9);
+        let m = rot([1.0, 2.0, 0.5], 0.7)
+            * Matrix3::from_diagonal(&V3::new(1.0, 1e-2, 1e2))
+            * rot([-0.3, 0.2, 1.0], 1.9);
         mats.push(("R·diag(1, 1e-2, 1e2)·R' (cond 1e4)".into(), m, 1e4));
     }
-    let dirs: &[(f64, f64)] = if p == Preset::Quick { &[(10.0, 0.2), (89.99, 1.0)] } else { &[(0.0, 0.0), (10.0, 0.2), (60.0, 2.0), (89.99, 1.0), (120.0, -0.5)] };
+    let dirs: &[(f64, f64)] = if p == Preset::Quick {
+        &[(10.0, 0.2), (89.99, 1.0)]
+    } else {
+        &[
+            (0.0, 0.0),
+            (10.0, 0.2),
+            (60.0, 2.0),
+            (89.99, 1.0),
+            (120.0, -0.5),
+        ]
+    };
     let mut points = Vec::new();
     for (label, m, cond) in &mats {
         for &(th, ph) in dirs {

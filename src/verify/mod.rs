@@ -66,27 +66,76 @@ pub struct Check {
 /// Every check, in report order.
 pub fn all() -> Vec<Check> {
     vec![
-        Check { id: "ndf-normalization", run: ndf::normalization },
-        Check { id: "smith-projected-area", run: ndf::smith_projected_area },
-        Check { id: "weak-white-furnace", run: ndf::weak_white_furnace },
-        Check { id: "weak-white-furnace-walter", run: ndf::weak_white_furnace_walter },
-        Check { id: "smith-lambda-closed-forms", run: ndf::lambda_closed_forms },
-        Check { id: "walter-lambda-error", run: ndf::walter_error },
-        Check { id: "vndf-sampling", run: ndf::vndf_sampling },
-        Check { id: "jacobian-normal-to-slope", run: jacobians::normal_to_slope },
-        Check { id: "jacobian-reflection", run: jacobians::reflection },
-        Check { id: "jacobian-half-vector", run: jacobians::half_vector },
-        Check { id: "jacobian-slope-parallel", run: jacobians::slope_parallel },
-        Check { id: "jacobian-projected-disk", run: jacobians::projected_disk },
-        Check { id: "jacobian-ltc", run: jacobians::ltc },
-        Check { id: "tokuyoshi-eigenvalue-bound", run: tokuyoshi::eigenvalue_bound },
-        Check { id: "tokuyoshi-eq12-gap", run: tokuyoshi::eq12_gap },
+        Check {
+            id: "ndf-normalization",
+            run: ndf::normalization,
+        },
+        Check {
+            id: "smith-projected-area",
+            run: ndf::smith_projected_area,
+        },
+        Check {
+            id: "weak-white-furnace",
+            run: ndf::weak_white_furnace,
+        },
+        Check {
+            id: "weak-white-furnace-walter",
+            run: ndf::weak_white_furnace_walter,
+        },
+        Check {
+            id: "smith-lambda-closed-forms",
+            run: ndf::lambda_closed_forms,
+        },
+        Check {
+            id: "walter-lambda-error",
+            run: ndf::walter_error,
+        },
+        Check {
+            id: "vndf-sampling",
+            run: ndf::vndf_sampling,
+        },
+        Check {
+            id: "jacobian-normal-to-slope",
+            run: jacobians::normal_to_slope,
+        },
+        Check {
+            id: "jacobian-reflection",
+            run: jacobians::reflection,
+        },
+        Check {
+            id: "jacobian-half-vector",
+            run: jacobians::half_vector,
+        },
+        Check {
+            id: "jacobian-slope-parallel",
+            run: jacobians::slope_parallel,
+        },
+        Check {
+            id: "jacobian-projected-disk",
+            run: jacobians::projected_disk,
+        },
+        Check {
+            id: "jacobian-ltc",
+            run: jacobians::ltc,
+        },
+        Check {
+            id: "tokuyoshi-eigenvalue-bound",
+            run: tokuyoshi::eigenvalue_bound,
+        },
+        Check {
+            id: "tokuyoshi-eq12-gap",
+            run: tokuyoshi::eq12_gap,
+        },
     ]
 }
 
 /// Run the checks whose id contains `filter` (all when None); `progress` is called after
 /// each one.
-pub fn run(preset: Preset, filter: Option<&str>, mut progress: impl FnMut(&Outcome)) -> Vec<Outcome> {
+pub fn run(
+    preset: Preset,
+    filter: Option<&str>,
+    mut progress: impl FnMut(&Outcome),
+) -> Vec<Outcome> {
     all()
         .into_iter()
         .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
@@ -144,7 +193,10 @@ error over all cases tried, in the unit of the `kind` column. Times are wall-clo
 
 /// Write results/proofs.md and results/proofs.json atomically.
 pub fn write_results(outcomes: &[Outcome], preset: Preset, dir: &std::path::Path) -> Result<()> {
-    crate::io::write_atomic(&dir.join("proofs.md"), report_markdown(outcomes, preset).as_bytes())?;
+    crate::io::write_atomic(
+        &dir.join("proofs.md"),
+        report_markdown(outcomes, preset).as_bytes(),
+    )?;
     let json = serde_json::to_string_pretty(outcomes).expect("outcomes serialise");
     crate::io::write_atomic(&dir.join("proofs.json"), json.as_bytes())
 }

@@ -4,12 +4,12 @@ use super::cases::{dir, directions, surfaces};
 use super::{Outcome, Worst};
 use crate::integrate::mc::{mis, CosineHemisphere, Strategy};
 use crate::integrate::quad::{integrate_1d, Subst, Tol};
+use crate::integrate::sphere::frame;
 use crate::integrate::sphere::{integrate_sphere, SphereRule};
 use crate::integrate::{Estimate, Preset};
 use crate::microfacet::lambda;
 use crate::microfacet::sampling::{NdfSampler, VndfSampler};
 use crate::microfacet::{LambdaKind, Microsurface, NdfKind, Roughness};
-use crate::integrate::sphere::frame;
 use nalgebra::{Matrix2, Vector2, Vector3};
 use std::f64::consts::PI;
 
@@ -74,12 +74,23 @@ pub fn reflected_rule(s: &Microsurface, o: &V3) -> SphereRule {
     let eps = 1e-7;
     let mut j = Matrix2::zeros();
     for (k, t) in [t1, t2].iter().enumerate() {
-        let d = (refl((nbar + t * eps).normalize()) - refl((nbar - t * eps).normalize())) / (2.0 * eps);
+        let d =
+            (refl((nbar + t * eps).normalize()) - refl((nbar - t * eps).normalize())) / (2.0 * eps);
         j[(0, k)] = d.dot(&u1);
         j[(1, k)] = d.dot(&u2);
     }
     // D(h) is cut at h_z = 0, i.e. at ω_i·z = −o_z: a small circle just below the horizon
     SphereRule::from_covariance(r, j * ch * j.transpose(), PI).with_circle(V3::z(), -o.z)
+}
+
+/// The same surface with 3× the roughness (A × 9): an MIS companion whose ratio to the
+/// NDF sampler is bounded, so no probability mass hides in rarely sampled tails.
+fn widened(s: &Microsurface) -> Microsurface {
+    Microsurface {
+        rough: Roughness::matrix(s.rough.a() * 9.0)
+            .expect("a positive multiple of an SPD matrix is SPD"),
+        ..*s
+    }
 }
 
 fn z_score(e: &Estimate, exact: f64) -> f64 {
@@ -104,7 +115,9 @@ pub fn normalization(p: Preset) -> Outcome {
         }
         worst.update((e.value - 1.0).abs(), || format!("{} ({e})", c.label));
         let ns = NdfSampler { surface: s };
-        let wide = NdfSampler { surface: Microsurface { rough: Roughness::matrix(s.rough.a() * 9.0).expect("SPD"), ..s } };
+        let wide = NdfSampler {
+            surface: widened(&s),
+        };
         let strat: [&dyn Strategy<V3>; 3] = [&ns, &wide, &CosineHemisphere];
         let mc = mis(&f, &strat, p.mc_samples() / 4, 11);
         worst_z.update(z_score(&mc, 1.0), || format!("{} (MC {mc})", c.label));
@@ -151,7 +164,11 @@ pub fn smith_projected_area(p: Preset) -> Outcome {
             n += 1;
             let g1 = s.g1_dir(&o);
             let f = |m: &V3| o.dot(m).max(0.0) * s.d(m);
-            let e = integrate_sphere(&f, &lobe_rule(&s).with_kink(o), Tol::new(p.quad_tol() * area, p.quad_tol(), p.quad_max_evals()));
+            let e = integrate_sphere(
+                &f,
+                &lobe_rule(&s).with_kink(o),
+                Tol::new(p.quad_tol() * area, p.quad_tol(), p.quad_max_evals()),
+            );
             if !e.converged && e.error > pass_tol(p) * e.value.abs() {
                 unconverged += 1;
             }
@@ -161,7 +178,9 @@ pub fn smith_projected_area(p: Preset) -> Outcome {
                 let ns = NdfSampler { surface: s };
                 let strat: [&dyn Strategy<V3>; 1] = [&ns];
                 let mc = mis(&f, &strat, p.mc_samples() / 8, n as u64);
-                worst_z.update(z_score(&mc, area / g1), || format!("{}, θo={th}° (MC {mc})", c.label));
+                worst_z.update(z_score(&mc, area / g1), || {
+                    format!("{}, θo={th}° (MC {mc})", c.label)
+                });
             }
         }
     }
@@ -268,9 +287,16 @@ fn furnace_mc(s: &Microsurface, o: &V3, n: u64, seed: u64) -> Estimate {
     // MIS of the reflected NDF and a reflected 3×-wider NDF: both cover the support of f
     // and their ratio is bounded, so no rare events hide in the tails (a uniform-sphere
     // companion would put a 1e-5-probability mass out of reach of 1e4 samples).
-    let wide = Microsurface { rough: Roughness::matrix(s.rough.a() * 9.0).expect("SPD"), ..*s };
-    let rs = ReflectedNdf { s: NdfSampler { surface: *s }, o: *o };
-    let rw = ReflectedNdf { s: NdfSampler { surface: wide }, o: *o };
+    let rs = ReflectedNdf {
+        s: NdfSampler { surface: *s },
+        o: *o,
+    };
+    let rw = ReflectedNdf {
+        s: NdfSampler {
+            surface: widened(s),
+        },
+        o: *o,
+    };
     let strat: [&dyn Strategy<V3>; 2] = [&rs, &rw];
     mis(&f, &strat, n, seed)
 }
@@ -299,11 +325,15 @@ pub fn weak_white_furnace(p: Preset) -> Outcome {
                 if !e.converged && e.error > pass_tol(p) {
                     unconverged += 1;
                 }
-                worst.update((e.value - 1.0).abs(), || format!("{}, θo={th}°, {how} ({e})", c.label));
+                worst.update((e.value - 1.0).abs(), || {
+                    format!("{}, θo={th}°, {how} ({e})", c.label)
+                });
             }
             if n % 3 == 1 {
                 let mc = furnace_mc(&s, &o, p.mc_samples() / 8, n as u64);
-                worst_z.update(z_score(&mc, 1.0), || format!("{}, θo={th}° (MC {mc})", c.label));
+                worst_z.update(z_score(&mc, 1.0), || {
+                    format!("{}, θo={th}° (MC {mc})", c.label)
+                });
             }
         }
     }
@@ -311,7 +341,7 @@ pub fn weak_white_furnace(p: Preset) -> Outcome {
     Outcome {
         id: "weak-white-furnace",
         title: "Weak white furnace ∫D G1/(4|o·n|) dω_i = 1",
-        source: "Heitz 2014 §… ; seed 001 Eq 9 + half-vector Jacobian",
+        source: "Heitz 2014 (weak white furnace); seed 001 Eq 3, Eq 9",
         ranges: "all surfaces × θo ∈ {0…89.99°}, exact Λ; integral over the whole sphere of ω_i".into(),
         cases: n,
         worst_error: worst.err,
@@ -348,7 +378,10 @@ pub fn weak_white_furnace_walter(p: Preset) -> Outcome {
         for &th in thetas {
             let o = dir(th, 0.6);
             let exact = Microsurface::beckmann(Roughness::iso(a).unwrap());
-            for (k, lk) in [LambdaKind::WalterPrinted, LambdaKind::WalterListing].into_iter().enumerate() {
+            for (k, lk) in [LambdaKind::WalterPrinted, LambdaKind::WalterListing]
+                .into_iter()
+                .enumerate()
+            {
                 let s = exact.with_lambda(lk).unwrap();
                 n += 1;
                 let e = furnace(&s, &o, p).0;
@@ -377,8 +410,14 @@ pub fn weak_white_furnace_walter(p: Preset) -> Outcome {
         passed: check.err <= t,
         seconds: 0.0,
         notes: vec![
-            format!("printed form (Λ = 0 for ν ≥ 1.6): worst |furnace − 1| = {:.3e} at {}", dev[0].err, dev[0].case),
-            format!("listing form (ν clamped to [0.001, 1.599]): worst |furnace − 1| = {:.3e} at {}", dev[1].err, dev[1].case),
+            format!(
+                "printed form (Λ = 0 for ν ≥ 1.6): worst |furnace − 1| = {:.3e} at {}",
+                dev[0].err, dev[0].case
+            ),
+            format!(
+                "listing form (ν clamped to [0.001, 1.599]): worst |furnace − 1| = {:.3e} at {}",
+                dev[1].err, dev[1].case
+            ),
         ],
     }
 }
@@ -408,7 +447,11 @@ pub fn lambda_closed_forms(p: Preset) -> Outcome {
     for kind in [NdfKind::Beckmann, NdfKind::Ggx] {
         for i in 0..npts {
             // ν from 1e-3 to 25, log-spaced, plus the asymptotic switch point
-            let nu = if i == npts - 1 { 6.0 } else { 1e-3 * (25e3f64).powf(i as f64 / (npts - 2) as f64) };
+            let nu = if i == npts - 1 {
+                6.0
+            } else {
+                1e-3 * (25e3f64).powf(i as f64 / (npts - 2) as f64)
+            };
             for nu in [nu, nu * (1.0 + 1e-12)] {
                 let q = lambda_by_quadrature(kind, nu, Tol::new(0.0, 1e-13, 200_000));
                 let closed = match kind {
@@ -416,7 +459,9 @@ pub fn lambda_closed_forms(p: Preset) -> Outcome {
                     NdfKind::Ggx => lambda::ggx(nu),
                 };
                 let rel = (closed - q.value).abs() / q.value.abs().max(1e-300);
-                worst.update(rel, || format!("{kind:?} ν={nu:.6} (closed {closed:.15e}, quad {q})"));
+                worst.update(rel, || {
+                    format!("{kind:?} ν={nu:.6} (closed {closed:.15e}, quad {q})")
+                });
             }
         }
     }
@@ -441,8 +486,12 @@ pub fn walter_error(p: Preset) -> Outcome {
     use argmin::core::{CostFunction, Executor, State};
     use argmin::solver::brent::BrentOpt;
     let n = if p == Preset::Quick { 4001 } else { 40001 };
-    let grid: Vec<f64> = (0..n).map(|i| 1e-3 * (1e4f64).powf(i as f64 / (n - 1) as f64)).collect();
-    let g1_err = |nu: f64| (1.0 / (1.0 + lambda::walter_printed(nu)) - 1.0 / (1.0 + lambda::beckmann(nu))).abs();
+    let grid: Vec<f64> = (0..n)
+        .map(|i| 1e-3 * (1e4f64).powf(i as f64 / (n - 1) as f64))
+        .collect();
+    let g1_err = |nu: f64| {
+        (1.0 / (1.0 + lambda::walter_printed(nu)) - 1.0 / (1.0 + lambda::beckmann(nu))).abs()
+    };
     let lam_abs = |nu: f64| (lambda::walter_printed(nu) - lambda::beckmann(nu)).abs();
     let lam_rel = |nu: f64| lam_abs(nu) / lambda::beckmann(nu);
     let argmax = |f: &dyn Fn(f64) -> f64, lo: f64, hi: f64| {
@@ -466,7 +515,10 @@ pub fn walter_error(p: Preset) -> Outcome {
         let lo = grid[i.saturating_sub(1)];
         let hi = grid[(i + 1).min(n - 1)];
         let solver = BrentOpt::new(lo, hi).set_tolerance(1e-14, 1e-14);
-        match Executor::new(Neg(f), solver).configure(|s| s.max_iters(200)).run() {
+        match Executor::new(Neg(f), solver)
+            .configure(|s| s.max_iters(200))
+            .run()
+        {
             Ok(r) => {
                 let x = *r.state().get_best_param().unwrap_or(&grid[i]);
                 (x, f(x))
@@ -525,14 +577,24 @@ pub fn vndf_sampling(p: Preset) -> Outcome {
             ("α=1e-4".to_string(), Roughness::iso(1e-4).unwrap()),
             ("α=0.3".to_string(), Roughness::iso(0.3).unwrap()),
             ("α=1".to_string(), Roughness::iso(1.0).unwrap()),
-            ("A: α=(0.01,1) rot 0.7".to_string(), Roughness::rotated(0.01, 1.0, 0.7).unwrap()),
+            (
+                "A: α=(0.01,1) rot 0.7".to_string(),
+                Roughness::rotated(0.01, 1.0, 0.7).unwrap(),
+            ),
         ];
         if p != Preset::Quick {
-            v.push(("αx=0.05 αy=0.5".to_string(), Roughness::aniso(0.05, 0.5).unwrap()));
+            v.push((
+                "αx=0.05 αy=0.5".to_string(),
+                Roughness::aniso(0.05, 0.5).unwrap(),
+            ));
         }
         v
     };
-    let thetas: &[f64] = if p == Preset::Quick { &[0.0, 75.0, 89.99] } else { &[0.0, 30.0, 60.0, 85.0, 89.9, 89.99] };
+    let thetas: &[f64] = if p == Preset::Quick {
+        &[0.0, 75.0, 89.99]
+    } else {
+        &[0.0, 30.0, 60.0, 85.0, 89.9, 89.99]
+    };
     let mut norm = Worst::default();
     let mut zs = Worst::default();
     let mut n = 0;
@@ -553,17 +615,27 @@ pub fn vndf_sampling(p: Preset) -> Outcome {
             let g1 = move |m: &V3| 1.0 / (1.0 + u(m).norm_squared());
             let g2 = move |m: &V3| u(m).x / (1.0 + u(m).norm_squared());
             let g3 = move |m: &V3| (-u(m).norm_squared()).exp();
-            let tests: [(&str, &(dyn Fn(&V3) -> f64 + Sync)); 3] =
-                [("1/(1+|u|²)", &g1), ("u_x/(1+|u|²)", &g2), ("exp(−|u|²)", &g3)];
+            let tests: [(&str, &(dyn Fn(&V3) -> f64 + Sync)); 3] = [
+                ("1/(1+|u|²)", &g1),
+                ("u_x/(1+|u|²)", &g2),
+                ("exp(−|u|²)", &g3),
+            ];
             for (gname, g) in tests {
                 n += 1;
                 let fq = |m: &V3| g(m) * v.pdf_exact(m);
                 let q = integrate_sphere(&fq, &rule, tol(p));
                 let strat: [&dyn Strategy<V3>; 1] = [&v];
                 let mc = mis(&fq, &strat, p.mc_samples() / 4, n as u64);
-                let z = (mc.value - q.value).abs() / (mc.error * mc.error + q.error * q.error).sqrt().max(1e-300);
-                let z = if (mc.value - q.value).abs() <= 1e-13 * q.value.abs() { 0.0 } else { z };
-                zs.update(z, || format!("{label}, θo={th}°, E[{gname}]: MC {mc} vs quad {q}"));
+                let z = (mc.value - q.value).abs()
+                    / (mc.error * mc.error + q.error * q.error).sqrt().max(1e-300);
+                let z = if (mc.value - q.value).abs() <= 1e-13 * q.value.abs() {
+                    0.0
+                } else {
+                    z
+                };
+                zs.update(z, || {
+                    format!("{label}, θo={th}°, E[{gname}]: MC {mc} vs quad {q}")
+                });
             }
         }
     }

@@ -18,7 +18,11 @@ pub fn kernel_covariance(du: &Vector2<f64>, dv: &Vector2<f64>) -> Matrix2<f64> {
 
 /// Eq 11: λ_max(Σ) ≤ σ²(‖Δu‖² + ‖Δv‖²) — exact for every PSD Σ (trace ≥ λ_max).
 pub fn eigenvalue_bound(p: Preset) -> Outcome {
-    let n = if p == Preset::Quick { 20_000 } else { 1_000_000 };
+    let n = if p == Preset::Quick {
+        20_000
+    } else {
+        1_000_000
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut worst = Worst::default();
     let (mut rmin, mut rmax) = (f64::INFINITY, 0.0f64);
@@ -40,7 +44,9 @@ pub fn eigenvalue_bound(p: Preset) -> Outcome {
             continue;
         }
         // violation measured relative to the bound; rounding allows a few ulp
-        worst.update(((lmax - bound) / bound).max(0.0), || format!("Δu={du:?}, Δv={dv:?}"));
+        worst.update(((lmax - bound) / bound).max(0.0), || {
+            format!("Δu={du:?}, Δv={dv:?}")
+        });
         let r = lmax / bound;
         rmin = rmin.min(r);
         rmax = rmax.max(r);
@@ -82,9 +88,20 @@ pub fn eq12_gap(p: Preset) -> Outcome {
     for i in 0..n {
         let k = i % spreads.len();
         let d = spreads[k];
-        let base = Vector3::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5), 1.0).normalize();
+        let base = Vector3::new(
+            rng.random_range(-0.5..0.5),
+            rng.random_range(-0.5..0.5),
+            1.0,
+        )
+        .normalize();
         let jitter = |rng: &mut ChaCha8Rng| {
-            (base + Vector3::new(rng.random_range(-d..d), rng.random_range(-d..d), rng.random_range(-d..d))).normalize()
+            (base
+                + Vector3::new(
+                    rng.random_range(-d..d),
+                    rng.random_range(-d..d),
+                    rng.random_range(-d..d),
+                ))
+            .normalize()
         };
         let n0 = jitter(&mut rng);
         let nu = jitter(&mut rng);
@@ -96,11 +113,13 @@ pub fn eq12_gap(p: Preset) -> Outcome {
         // per-axis pair averages (seed 003 §4): exact
         let au = (n0 + nu).normalize();
         let av = (n0 + nv).normalize();
-        let pair = (disk(&au, &nu) - disk(&au, &n0)).norm_squared() + (disk(&av, &nv) - disk(&av, &n0)).norm_squared();
+        let pair = (disk(&au, &nu) - disk(&au, &n0)).norm_squared()
+            + (disk(&av, &nv) - disk(&av, &n0)).norm_squared();
         exact.update((pair - world).abs() / world, || format!("spread {d}"));
         // common quad-average frame
         let q = (n0 + nu + nv).normalize();
-        let common = (disk(&q, &nu) - disk(&q, &n0)).norm_squared() + (disk(&q, &nv) - disk(&q, &n0)).norm_squared();
+        let common = (disk(&q, &nu) - disk(&q, &n0)).norm_squared()
+            + (disk(&q, &nv) - disk(&q, &n0)).norm_squared();
         let gap = 1.0 - common / world;
         gaps[k].0 = gaps[k].0.max(gap);
         gaps[k].1 += gap;
@@ -110,7 +129,14 @@ pub fn eq12_gap(p: Preset) -> Outcome {
     let gap_notes: Vec<String> = spreads
         .iter()
         .zip(&gaps)
-        .map(|(d, g)| format!("spread ±{d}: mean gap {:.3e}, max gap {:.3e} ({} samples)", g.1 / g.2 as f64, g.0, g.2))
+        .map(|(d, g)| {
+            format!(
+                "spread ±{d}: mean gap {:.3e}, max gap {:.3e} ({} samples)",
+                g.1 / g.2 as f64,
+                g.0,
+                g.2
+            )
+        })
         .collect();
     let mut notes = vec![
         "Eq 12 holds exactly (to rounding) when each screen axis uses the normalised average of its own two pixels: n − n′ is orthogonal to n + n′, so it lies in the tangent plane of their average and projection keeps its length".to_string(),
