@@ -4,6 +4,18 @@
 //! Pipeline: [`integrate`] → [`microfacet`] / [`jacobian`] → [`verify`] (proofs) →
 //! [`report`]. Every estimate carries its error; every f32 shading form has an f64
 //! reference; bad input gives a typed [`error::Error`].
+//!
+//! ```
+//! use ndfbench::integrate::quad::Tol;
+//! use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
+//! use ndfbench::microfacet::{Microsurface, Roughness};
+//!
+//! // ∫ D(m)(m·n) dm = 1 for GGX at α = 1e-4, with its error estimate and cost
+//! let s = Microsurface::ggx(Roughness::iso(1e-4)?);
+//! let e = integrate_sphere(&|m| s.d(m) * m.z.max(0.0), &SphereRule::hemisphere(1e-4), Tol::new(1e-10, 1e-10, 10_000_000));
+//! assert!((e.value - 1.0).abs() < 1e-9 && e.converged);
+//! # Ok::<(), ndfbench::Error>(())
+//! ```
 
 pub mod cli;
 pub mod error;
@@ -11,6 +23,7 @@ pub mod integrate;
 pub mod io;
 pub mod jacobian;
 pub mod linalg;
+pub mod ltc;
 pub mod microfacet;
 pub mod report;
 pub mod verify;

@@ -1,0 +1,62 @@
+//! Linearly transformed cosines (Heitz et al. 2016; seed 000 Eq 1):
+//! γ(x) = γ_o(M⁻¹x/‖M⁻¹x‖)·|M⁻¹|/‖M⁻¹x‖³ with γ_o the clamped cosine max(0, z)/π.
+//! The Jacobian is the one proved in proofs/jacobian-ltc.md ([`crate::jacobian::Ltc`]).
+
+use crate::error::{Error, Result};
+use crate::integrate::mc::Strategy;
+use crate::jacobian::{DirMap, Ltc};
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::PI;
+
+/// An LTC distribution on the sphere.
+pub struct LtcDist {
+    map: Ltc,
+}
+
+impl LtcDist {
+    /// General invertible M (typed error if singular or non-finite).
+    pub fn new(m: Matrix3<f64>) -> Result<Self> {
+        if m.iter().any(|v| !v.is_finite()) {
+            return Err(Error::InvalidArgument("LTC matrix has a non-finite entry".into()));
+        }
+        let map = Ltc::new(m).ok_or_else(|| Error::InvalidArgument("LTC matrix is singular".into()))?;
+        Ok(LtcDist { map })
+    }
+
+    /// The isotropic scaling LTC M = diag(α, α, 1) (seed 000 Eq 2).
+    pub fn isotropic(alpha: f64) -> Result<Self> {
+        if !(alpha.is_finite() && alpha > 0.0) {
+            return Err(Error::InvalidRoughness(alpha));
+        }
+        Self::new(Matrix3::from_diagonal(&Vector3::new(alpha, alpha, 1.0)))
+    }
+
+    /// Density γ(x) w.r.t. solid angle (seed 000 Eq 1).
+    pub fn eval(&self, x: &Vector3<f64>) -> f64 {
+        let xo = self.map.forward(x);
+        if xo.z <= 0.0 {
+            return 0.0;
+        }
+        xo.z / PI * self.map.det(x)
+    }
+
+    pub fn matrix(&self) -> &Matrix3<f64> {
+        &self.map.m
+    }
+}
+
+impl Strategy<Vector3<f64>> for LtcDist {
+    /// Cosine sample, transformed by M and renormalised.
+    fn sample(&self, u: [f64; 2]) -> Option<Vector3<f64>> {
+        let r = u[0].sqrt();
+        let phi = 2.0 * PI * u[1];
+        let z = (1.0 - u[0]).max(0.0).sqrt();
+        if z <= 0.0 {
+            return None;
+        }
+        self.map.inverse(&Vector3::new(r * phi.cos(), r * phi.sin(), z))
+    }
+    fn pdf(&self, x: &Vector3<f64>) -> f64 {
+        self.eval(x)
+    }
+}
