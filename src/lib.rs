@@ -25,6 +25,7 @@ pub mod jacobian;
 pub mod linalg;
 pub mod ltc;
 pub mod microfacet;
+pub mod multiscale;
 pub mod report;
 pub mod verify;
 

@@ -17,9 +17,12 @@ impl LtcDist {
     /// General invertible M (typed error if singular or non-finite).
     pub fn new(m: Matrix3<f64>) -> Result<Self> {
         if m.iter().any(|v| !v.is_finite()) {
-            return Err(Error::InvalidArgument("LTC matrix has a non-finite entry".into()));
+            return Err(Error::InvalidArgument(
+                "LTC matrix has a non-finite entry".into(),
+            ));
         }
-        let map = Ltc::new(m).ok_or_else(|| Error::InvalidArgument("LTC matrix is singular".into()))?;
+        let map =
+            Ltc::new(m).ok_or_else(|| Error::InvalidArgument("LTC matrix is singular".into()))?;
         Ok(LtcDist { map })
     }
 
@@ -54,7 +57,8 @@ impl Strategy<Vector3<f64>> for LtcDist {
         if z <= 0.0 {
             return None;
         }
-        self.map.inverse(&Vector3::new(r * phi.cos(), r * phi.sin(), z))
+        self.map
+            .inverse(&Vector3::new(r * phi.cos(), r * phi.sin(), z))
     }
     fn pdf(&self, x: &Vector3<f64>) -> f64 {
         self.eval(x)
