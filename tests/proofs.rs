@@ -89,6 +89,11 @@ fn tokuyoshi_eq12_gap() {
 }
 
 #[test]
+fn mrl_closed_form() {
+    check("mrl-closed-form");
+}
+
+#[test]
 fn every_check_has_a_proof_file_that_names_its_test() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     for c in all() {

@@ -234,10 +234,16 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
         .map(|k| 2.0 * PI * k as f64 / nphi as f64)
         .collect();
     let nt = rule.t_breaks + 1;
-    let t_breaks = merge_breaks(
-        (0..=nt).map(|k| k as f64 / nt as f64).collect(),
-        rule.kink_t_breaks(),
-    );
+    // geometric panels in θ (θ = 4^j·scale up to θ_max): heavy-tailed lobes (GGX) spread
+    // their mass over every scale between the lobe width and the horizon, and the
+    // adaptive rule converges much faster from panels that already follow that spread
+    let mut extra = rule.kink_t_breaks();
+    let mut th = 0.25 * rule.scale;
+    while th < rule.theta_max {
+        extra.push(rule.t_of(th));
+        th *= 4.0;
+    }
+    let t_breaks = merge_breaks((0..=nt).map(|k| k as f64 / nt as f64).collect(), extra);
     let inner_tol = Tol::new(
         tol.abs * 0.05,
         tol.rel * 0.05,

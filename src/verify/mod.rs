@@ -7,6 +7,7 @@
 
 pub mod cases;
 pub mod jacobians;
+pub mod multiscale;
 pub mod ndf;
 pub mod tokuyoshi;
 
@@ -125,6 +126,10 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "tokuyoshi-eq12-gap",
             run: tokuyoshi::eq12_gap,
+        },
+        Check {
+            id: "mrl-closed-form",
+            run: multiscale::mrl_closed_form,
         },
     ]
 }
