@@ -11,18 +11,30 @@ use std::process::ExitCode;
 #[command(
     name = "ndfbench",
     version,
-    about = "Numerical verification and fitting workbench for microfacet NDF prefiltering and specular antialiasing.\n\nWith no subcommand: verify every proof and write results/ at the default preset."
+    about = "Numerical verification and fitting workbench for microfacet NDF prefiltering and specular antialiasing.\n\nWith no subcommand: regenerate every fit, verify every proof and write results/ at the default preset."
 )]
 struct Cli {
     #[command(subcommand)]
     cmd: Option<Cmd>,
-    /// Directory that receives results (with no subcommand).
+    /// Directory that receives results.
     #[arg(long, default_value = "results", global = true)]
     results: PathBuf,
+    /// Directory holding the fit specifications.
+    #[arg(long, default_value = "fits", global = true)]
+    fits: PathBuf,
 }
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Run the fit specifications of fits/ and write results/fits/*.json and their reports;
+    /// exit 1 if a held-out error misses its spec's tolerance.
+    Regen {
+        /// Only the specs whose name contains this text (e.g. `multiscale`).
+        #[arg(long)]
+        only: Option<String>,
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
     /// Check every identity of proofs/ numerically; write results/proofs.md; exit 1 on failure.
     Verify {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
@@ -95,15 +107,37 @@ fn run_verify(
     Ok(ok)
 }
 
+fn run_regen(
+    only: Option<&str>,
+    preset: Preset,
+    fits: &std::path::Path,
+    results: &std::path::Path,
+) -> Result<bool, ndfbench::Error> {
+    let out = ndfbench::fit::regen(fits, results, only, preset)?;
+    for o in &out {
+        println!(
+            "{:<5} {:<24} {}",
+            if o.passed { "pass" } else { "FAIL" },
+            o.name,
+            o.summary
+        );
+    }
+    Ok(out.iter().all(|o| o.passed))
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let res: Result<bool, ndfbench::Error> = match cli.cmd {
         None => (|| {
-            let ok = run_verify(Preset::Default, None, &cli.results)?;
+            let fits_ok = run_regen(None, Preset::Default, &cli.fits, &cli.results)?;
+            let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
             let conv = ndfbench::report::convergence::run(Preset::Default, &cli.results)?;
             println!("{conv}");
             Ok(ok)
         })(),
+        Some(Cmd::Regen { only, preset }) => {
+            run_regen(only.as_deref(), preset, &cli.fits, &cli.results)
+        }
         Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
         Some(Cmd::Convergence { preset }) => {
             ndfbench::report::convergence::run(preset, &cli.results).map(|s| {

@@ -2,3 +2,4 @@
 
 pub mod alpha_me;
 pub mod mrl;
+pub mod regen;

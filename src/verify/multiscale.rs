@@ -14,7 +14,9 @@ use nalgebra::Vector3;
 pub fn mrl_closed_form(p: Preset) -> Outcome {
     let alphas: &[f64] = match p {
         Preset::Quick => &[1e-4, 0.1, 0.9, 1.0, 1.1, 3.0],
-        _ => &[1e-4, 1e-3, 0.01, 0.1, 0.3, 0.6, 0.9, 0.99, 1.0, 1.01, 1.5, 3.0, 10.0],
+        _ => &[
+            1e-4, 1e-3, 0.01, 0.1, 0.3, 0.6, 0.9, 0.99, 1.0, 1.01, 1.5, 3.0, 10.0,
+        ],
     };
     let mut quad = Worst::default();
     let mut z = Worst::default();
@@ -24,22 +26,34 @@ pub fn mrl_closed_form(p: Preset) -> Outcome {
         let (b, y) = mrl_pair(a);
         // Eq 4: ∫_H b·ẑ γ(b) db with γ evaluated from Eq 1 (not from the GGX identity)
         let f = |w: &Vector3<f64>| w.z.max(0.0) * g.eval(w);
-        let e = integrate_sphere(&f, &SphereRule::hemisphere(a.min(1.0)), Tol::new(1e-12, 1e-12, 20_000_000));
-        quad.update((e.value - b).abs(), || format!("α={a} (closed {b:.15}, quad {e})"));
+        let e = integrate_sphere(
+            &f,
+            &SphereRule::hemisphere(a.min(1.0)),
+            Tol::new(1e-12, 1e-12, 20_000_000),
+        );
+        quad.update((e.value - b).abs(), || {
+            format!("α={a} (closed {b:.15}, quad {e})")
+        });
         // MIS with a 30× wider LTC: 1 − ‖b̄‖ is carried by the heavy tail (mass spread over
         // every scale between α and 1), which sampling γ alone reaches too rarely for its
         // standard error to mean anything at α = 1e-4
         let wide = LtcDist::isotropic((30.0 * a).min(1.0).max(a)).expect("α > 0");
         let strat: [&dyn Strategy<Vector3<f64>>; 2] = [&g, &wide];
         let mc = mis(&f, &strat, p.mc_samples(), 77);
-        z.update((mc.value - b).abs() / mc.error.max(1e-300), || format!("α={a} (MC {mc})"));
-        let back = alpha_from_one_minus(y).map(|x| (x - a).abs() / a).unwrap_or(f64::INFINITY);
+        z.update((mc.value - b).abs() / mc.error.max(1e-300), || {
+            format!("α={a} (MC {mc})")
+        });
+        let back = alpha_from_one_minus(y)
+            .map(|x| (x - a).abs() / a)
+            .unwrap_or(f64::INFINITY);
         inv.update(back, || format!("α={a}"));
     }
     // dense round trip of the inverse
     for i in 0..=2000 {
         let a = 1e-6 * (1e8f64).powf(i as f64 / 2000.0);
-        let back = alpha_from_one_minus(mrl_pair(a).1).map(|x| (x - a).abs() / a).unwrap_or(f64::INFINITY);
+        let back = alpha_from_one_minus(mrl_pair(a).1)
+            .map(|x| (x - a).abs() / a)
+            .unwrap_or(f64::INFINITY);
         inv.update(back, || format!("α={a:.3e}"));
     }
     let a0 = 1e-6;
