@@ -3,13 +3,14 @@
 //! cost of the f64 reference vs f32 shading forms. `cargo run --release -- bench-report`
 //! turns the output into results/performance.md, next to each configuration's error.
 
-use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::Vector3;
 use ndfbench::integrate::mc::{mis, CosineHemisphere, Strategy};
 use ndfbench::microfacet::sampling::NdfSampler;
 use ndfbench::microfacet::shading::{self, Rough32};
 use ndfbench::microfacet::{Microsurface, Roughness};
 use ndfbench::report::convergence::{integrands, run_engine, Engine};
+use std::hint::black_box;
 use std::time::Duration;
 
 fn engines(c: &mut Criterion) {
@@ -118,5 +119,64 @@ fn shading_forms(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engines, rayon_scaling, shading_forms);
+/// The four ways to get α_me from ‖b̄‖ (seed 000 §3.3), 1024 inputs per iteration.
+fn alpha_me(c: &mut Criterion) {
+    use ndfbench::multiscale::alpha_me::{fit_ours, ours_eval, training_alphas, Table};
+    use ndfbench::multiscale::mrl::{alpha_from_one_minus, alpha_me_paper, mrl_pair};
+    let spec = ndfbench::fit::spec::load_dir(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("fits")
+            .as_path(),
+    )
+    .expect("fits/ parses")
+    .into_iter()
+    .find(|s| s.name == "multiscale-alpha-me")
+    .expect("multiscale spec");
+    let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
+    let coeffs = fit_ours(spec.terms, &training_alphas(spec.training.points, lo, hi)).unwrap();
+    let table = Table::build(spec.table_entries, lo, hi);
+    let inputs: Vec<(f64, f64)> = (0..1024)
+        .map(|i| mrl_pair(lo * (hi / lo).powf((i as f64 + 0.5) / 1024.0)))
+        .collect();
+    let mut g = c.benchmark_group("alpha-me");
+    g.throughput(Throughput::Elements(1024));
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(1));
+    g.bench_function("paper-eq5", |b| {
+        b.iter(|| {
+            inputs
+                .iter()
+                .map(|&(b, _)| alpha_me_paper(black_box(b)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("ours", |b| {
+        b.iter(|| {
+            inputs
+                .iter()
+                .map(|&(_, y)| ours_eval(&coeffs, black_box(y)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("table", |b| {
+        b.iter(|| {
+            inputs
+                .iter()
+                .map(|&(_, y)| table.eval(black_box(y)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("newton", |b| {
+        b.iter(|| {
+            inputs
+                .iter()
+                .map(|&(_, y)| alpha_from_one_minus(black_box(y)).unwrap())
+                .sum::<f64>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, engines, rayon_scaling, shading_forms, alpha_me);
 criterion_main!(benches);

@@ -168,9 +168,14 @@ it buys.\n\n",
             ));
         }
     }
+    md.push_str(&alpha_me_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
-        .filter(|t| !t.group.starts_with("engines/") && !t.group.starts_with("rayon-scaling"))
+        .filter(|t| {
+            !t.group.starts_with("engines/")
+                && !t.group.starts_with("rayon-scaling")
+                && t.group != "alpha-me"
+        })
         .collect();
     if !other.is_empty() {
         md.push_str("\n## Other benchmarks\n\n| group | function | parameter | time (95 % CI) |\n|---|---|---|---|\n");
@@ -266,4 +271,44 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
     let svg = loglog_svg(&panels, 1500, 480)?;
     crate::io::write_atomic(&results.join("error-vs-time.svg"), svg.as_bytes())?;
     Ok(md)
+}
+
+/// Cost next to accuracy for the ways to get α_me from ‖b̄‖ (benches group `alpha-me`,
+/// errors from results/fits/multiscale-alpha-me.json).
+fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "alpha-me").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let fit: Option<serde_json::Value> =
+        std::fs::read_to_string(results.join("fits").join("multiscale-alpha-me.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok());
+    let err = |key: &str| -> String {
+        fit.as_ref()
+            .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
+            .map(|e| format!("{e:.2e}"))
+            .unwrap_or_else(|| "(run regen)".into())
+    };
+    let mut md = String::from(
+        "\n## α_me from ‖b̄‖: cost and accuracy (seed 000 §3.3)\n\nns per evaluation (criterion mean over 1024 inputs, 95 % CI) next to the max relative error in α on the held-out points of results/multiscale.md (α ∈ [1e-3, 1]).\n\n| method | ns/eval (95 % CI) | max rel. error |\n|---|---|---|\n",
+    );
+    for t in rows {
+        let key = match t.function.as_str() {
+            "paper-eq5" => "paper_eq5",
+            "ours" => "ours",
+            "table" => "table",
+            "newton" => "newton_closed_form",
+            _ => continue,
+        };
+        md.push_str(&format!(
+            "| {} | {:.2} ({:.2} – {:.2}) | {} |\n",
+            t.function,
+            t.mean_ns / 1024.0,
+            t.lo_ns / 1024.0,
+            t.hi_ns / 1024.0,
+            err(key)
+        ));
+    }
+    md
 }
