@@ -28,6 +28,23 @@ pub enum Quantity {
     VndfPdf,
     /// closed-form Jacobian determinant of --map at --w (reflection/half-vector need --o)
     Jacobian,
+    /// mean resultant length ‖b̄‖ of the isotropic LTC (needs --alpha; seed 000 Eq 4)
+    Mrl,
+    /// α_me from ‖b̄‖ (needs --b or --one-minus-b; --method paper|ours|table|newton)
+    AlphaMe,
+}
+
+/// Ways to get α_me from ‖b̄‖.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AlphaMethod {
+    /// seed 000 Eq 5 as printed
+    Paper,
+    /// our limit-respecting fit (fits/multiscale-alpha-me.toml)
+    Ours,
+    /// lookup table of the same spec
+    Table,
+    /// Newton on the closed form (reference)
+    Newton,
 }
 
 /// Direction maps for `eval jacobian`.
@@ -73,6 +90,14 @@ pub struct EvalArgs {
     pub map: Option<MapName>,
     #[arg(long)]
     pub w: Option<String>,
+    /// mean resultant length ‖b̄‖ ∈ (0, 1)
+    #[arg(long)]
+    pub b: Option<f64>,
+    /// 1 − ‖b̄‖ (more precise than --b as ‖b̄‖ → 1)
+    #[arg(long)]
+    pub one_minus_b: Option<f64>,
+    #[arg(long, value_enum, default_value = "newton")]
+    pub method: AlphaMethod,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -158,8 +183,81 @@ pub fn surface(a: &EvalArgs) -> Result<Microsurface> {
 
 /// Evaluate and return pretty JSON. Closed forms carry no statistical error; the JSON
 /// says so and points to the measured agreement in results/proofs.md.
-pub fn eval(a: &EvalArgs) -> Result<String> {
+pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
     let (value, extra) = match a.quantity {
+        Quantity::Mrl => {
+            let al = a
+                .alpha
+                .ok_or_else(|| Error::InvalidArgument("mrl needs --alpha".into()))?;
+            if !(al.is_finite() && al > 0.0) {
+                return Err(Error::InvalidRoughness(al));
+            }
+            let (b, y) = crate::multiscale::mrl::mrl_pair(al);
+            (
+                b,
+                json!({"one_minus_b": y, "form": "closed form, proofs/mrl-closed-form.md"}),
+            )
+        }
+        Quantity::AlphaMe => {
+            let (b, y) = match (a.b, a.one_minus_b) {
+                (Some(b), None) => (b, 1.0 - b),
+                (None, Some(y)) => (1.0 - y, y),
+                _ => {
+                    return Err(Error::InvalidArgument(
+                        "alpha-me needs exactly one of --b, --one-minus-b".into(),
+                    ))
+                }
+            };
+            if !(y > 0.0 && y < 1.0) {
+                return Err(Error::InvalidArgument(format!(
+                    "‖b̄‖ must lie in (0, 1), got {b}"
+                )));
+            }
+            let spec = || -> Result<crate::fit::spec::FitSpec> {
+                crate::fit::spec::load_dir(fits)?
+                    .into_iter()
+                    .find(|s| s.name == "multiscale-alpha-me")
+                    .ok_or_else(|| {
+                        Error::InvalidArgument(format!(
+                            "no multiscale-alpha-me spec in '{}'",
+                            fits.display()
+                        ))
+                    })
+            };
+            use crate::multiscale::alpha_me::{
+                fit_ours, held_out, held_out_alphas, ours_eval, paper_method, training_alphas,
+                Table,
+            };
+            let method: Box<dyn Fn(f64, f64) -> f64> = match a.method {
+                AlphaMethod::Paper => Box::new(paper_method),
+                AlphaMethod::Newton => Box::new(|_b, y| {
+                    crate::multiscale::mrl::alpha_from_one_minus(y).unwrap_or(f64::NAN)
+                }),
+                AlphaMethod::Ours => {
+                    let s = spec()?;
+                    let c = fit_ours(
+                        s.terms,
+                        &training_alphas(s.training.points, s.domain.alpha_min, s.domain.alpha_max),
+                    )?;
+                    Box::new(move |_b, y| ours_eval(&c, y))
+                }
+                AlphaMethod::Table => {
+                    let s = spec()?;
+                    let t = Table::build(s.table_entries, s.domain.alpha_min, s.domain.alpha_max);
+                    Box::new(move |_b, y| t.eval(y))
+                }
+            };
+            let v = method(b, y);
+            // the method's measured error on the spec's held-out points (or the default domain)
+            let (lo, hi, n) = spec()
+                .map(|s| (s.domain.alpha_min, s.domain.alpha_max, s.held_out.points))
+                .unwrap_or((1e-3, 1.0, 2000));
+            let h = held_out(&held_out_alphas(n, lo, hi), &|b, y| method(b, y));
+            (
+                v,
+                json!({"method": format!("{:?}", a.method), "held_out": h, "held_out_domain_alpha": [lo, hi], "inside_domain": v >= lo && v <= hi}),
+            )
+        }
         Quantity::Jacobian => {
             let w = vec3(&a.w, "w")?;
             let map: Box<dyn DirMap> = match a
@@ -209,7 +307,9 @@ pub fn eval(a: &EvalArgs) -> Result<String> {
                 Quantity::VndfPdf => {
                     VndfSampler::new(s, vec3(&a.o, "o")?)?.pdf_exact(&vec3(&a.m, "m")?)
                 }
-                Quantity::Jacobian => unreachable!("handled above"),
+                Quantity::Jacobian | Quantity::Mrl | Quantity::AlphaMe => {
+                    unreachable!("handled above")
+                }
             };
             (
                 v,
@@ -217,14 +317,28 @@ pub fn eval(a: &EvalArgs) -> Result<String> {
             )
         }
     };
+    let fitted = a.quantity == Quantity::AlphaMe && a.method != AlphaMethod::Newton;
+    let (method, note) = if fitted {
+        (
+            "fitted approximation",
+            "see model.held_out: max/RMS relative error in α on held-out points",
+        )
+    } else if a.quantity == Quantity::AlphaMe {
+        (
+            "Newton on the closed form",
+            "round-trip relative error ≤ 1e-13 (results/proofs.md, mrl-closed-form)",
+        )
+    } else {
+        ("closed form, f64", "closed form in f64, exact up to rounding; its agreement with quadrature/MC is measured in results/proofs.md")
+    };
     let out = json!({
         "quantity": format!("{:?}", a.quantity),
         // JSON has no infinity: Λ = ∞ below the mean surface is reported as null + flag
         "value": if value.is_finite() { json!(value) } else { json!(null) },
         "infinite": value.is_infinite(),
-        "method": "closed form, f64",
+        "method": method,
         "error": null,
-        "error_note": "closed form in f64, exact up to rounding; its agreement with quadrature/MC is measured in results/proofs.md",
+        "error_note": note,
         "model": extra,
     });
     Ok(serde_json::to_string_pretty(&out).expect("json"))

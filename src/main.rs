@@ -125,6 +125,12 @@ fn run_regen(
     Ok(out.iter().all(|o| o.passed))
 }
 
+/// Print to stdout; a closed pipe (e.g. `| head`) is not an error worth a panic.
+fn out(s: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stdout(), "{s}");
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let res: Result<bool, ndfbench::Error> = match cli.cmd {
@@ -145,8 +151,8 @@ fn main() -> ExitCode {
                 true
             })
         }
-        Some(Cmd::Eval(args)) => cli::eval(&args).map(|json| {
-            println!("{json}");
+        Some(Cmd::Eval(args)) => cli::eval(&args, &cli.fits).map(|json| {
+            out(&json);
             true
         }),
         Some(Cmd::BenchReport { criterion }) => {

@@ -1,0 +1,179 @@
+//! Multi-scale LTC (seed 000 §3.3): closed form against an independent 1D integral, limits,
+//! derivative, inverse, the α_me fit and its spec handling.
+
+use ndfbench::fit::spec::FitSpec;
+use ndfbench::integrate::quad::{gk15_breaks, Tol};
+use ndfbench::multiscale::alpha_me::{
+    fit_ours, held_out, held_out_alphas, ours_eval, training_alphas,
+};
+use ndfbench::multiscale::mrl::{
+    alpha_from_mrl, alpha_from_one_minus, alpha_me_paper, mrl_derivative, mrl_pair,
+};
+use ndfbench::Error;
+use proptest::prelude::*;
+
+/// ‖b̄‖ = ∫₀^∞ α²(α² + u)⁻²(1 + u)^(−1/2) du (the slope-space form of Eq 4), by 1D
+/// quadrature in v = ln u (u = e^v, du = u dv): the mass spreads over every scale between
+/// α² and 1, which a log variable turns into a smooth bounded integrand.
+fn mrl_1d(a: f64) -> f64 {
+    let f = |v: f64| {
+        let u = v.exp();
+        u * a * a / ((a * a + u) * (a * a + u)) / (1.0 + u).sqrt()
+    };
+    let lo = (a * a).ln() - 45.0;
+    let breaks: Vec<f64> = (0..=24)
+        .map(|k| lo + (90.0 - lo) * k as f64 / 24.0)
+        .collect();
+    let e = gk15_breaks(&f, &breaks, Tol::new(1e-16, 1e-15, 2_000_000));
+    e.value
+}
+
+#[test]
+fn closed_form_matches_the_slope_space_integral() {
+    for a in [
+        1e-4, 1e-3, 0.05, 0.3, 0.95, 0.999, 1.0, 1.001, 1.05, 2.0, 7.0,
+    ] {
+        let (b, y) = mrl_pair(a);
+        let q = mrl_1d(a);
+        assert!((b - q).abs() < 1e-12, "α={a}: {b} vs {q}");
+        assert!((b + y - 1.0).abs() < 1e-15);
+    }
+    assert_eq!(mrl_pair(1.0).0, 2.0 / 3.0);
+}
+
+#[test]
+fn limits_and_branch_joins() {
+    // α → 0: 1 − ‖b̄‖ ≈ α²(ln(2/α) − 1)
+    let a = 1e-7;
+    let r = mrl_pair(a).1 / (a * a * ((2.0 / a).ln() - 1.0));
+    assert!((r - 1.0).abs() < 1e-9, "{r}");
+    // α → ∞: ‖b̄‖ ≈ π/(2α)
+    let a = 1e6;
+    assert!((mrl_pair(a).0 * 2.0 * a / std::f64::consts::PI - 1.0).abs() < 1e-5);
+    // the series (|1 − α²| < 0.1) joins both closed-form branches continuously
+    for edge in [0.1f64, -0.1] {
+        let a = (1.0 - edge).sqrt();
+        let below = mrl_pair(a * (1.0 - 1e-12)).0;
+        let above = mrl_pair(a * (1.0 + 1e-12)).0;
+        assert!((below - above).abs() < 1e-11, "{below} vs {above}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 500, ..ProptestConfig::default() })]
+
+    #[test]
+    fn derivative_matches_central_differences(l in -4.0f64..1.5) {
+        let a = 10f64.powf(l);
+        let h = 1e-6 * a;
+        // differentiate 1 − ‖b̄‖ (full relative precision as ‖b̄‖ → 1)
+        let fd = -(mrl_pair(a + h).1 - mrl_pair(a - h).1) / (2.0 * h);
+        let d = mrl_derivative(a);
+        prop_assert!((fd - d).abs() <= 1e-6 * d.abs() + 1e-9, "α={a}: {d} vs FD {fd}");
+    }
+
+    #[test]
+    fn inverse_round_trips(l in -6.0f64..2.0) {
+        let a = 10f64.powf(l);
+        let back = alpha_from_one_minus(mrl_pair(a).1).unwrap();
+        prop_assert!((back - a).abs() <= 1e-13 * a, "α={a}: {back}");
+    }
+}
+
+#[test]
+fn inverse_rejects_out_of_range_input() {
+    for b in [0.0, 1.0, -0.5, 1.5, f64::NAN] {
+        assert!(
+            matches!(alpha_from_mrl(b), Err(Error::InvalidArgument(_))),
+            "{b}"
+        );
+    }
+}
+
+#[test]
+fn paper_eq5_goes_negative_as_b_tends_to_1() {
+    // straight arithmetic on the printed coefficients (seed 000 Eq 5)
+    let num1 = 1.629 + 17.05 - 18.96 - 23.37 + 23.65;
+    let den1 = 1.0 - 28.07 + 31.1 - 3.545;
+    assert!(num1 < 0.0 && den1 > 0.0);
+    assert!((alpha_me_paper(1.0) - num1 / den1).abs() < 1e-15);
+    assert!(alpha_me_paper(0.9999) < 0.0);
+}
+
+#[test]
+fn our_fit_meets_its_goal_with_the_right_limits() {
+    let train = training_alphas(400, 1e-3, 1.0);
+    let c = fit_ours(7, &train).unwrap();
+    let h = held_out(&held_out_alphas(2000, 1e-3, 1.0), &|_b, y| ours_eval(&c, y));
+    assert!(h.max_rel <= 1e-3, "{h:?}");
+    // pinned: ‖b̄‖ = 2/3 ↦ α = 1
+    assert!((ours_eval(&c, 1.0 / 3.0) - 1.0).abs() < 1e-6);
+    // right limit far outside the fit domain (α = 1e-6): still within 1e-3
+    let y = mrl_pair(1e-6).1;
+    assert!((ours_eval(&c, y) / 1e-6 - 1.0).abs() < 1e-3);
+}
+
+const SPEC: &str = include_str!("../fits/multiscale-alpha-me.toml");
+
+#[test]
+fn the_shipped_spec_parses() {
+    let s = FitSpec::parse(SPEC, "fits/multiscale-alpha-me.toml").unwrap();
+    assert_eq!(s.name, "multiscale-alpha-me");
+}
+
+#[test]
+fn malformed_specs_are_typed_errors_naming_the_problem() {
+    let unknown = format!("{SPEC}\nbogus_key = 1\n");
+    match FitSpec::parse(&unknown, "x.toml") {
+        Err(Error::InvalidArgument(m)) => {
+            assert!(m.contains("bogus_key") && m.contains("x.toml"), "{m}")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        FitSpec::parse("name = [", "y.toml"),
+        Err(Error::InvalidArgument(_))
+    ));
+    let bad_domain = SPEC.replace("alpha_min = 1e-3", "alpha_min = 2.0");
+    match FitSpec::parse(&bad_domain, "z.toml") {
+        Err(Error::InvalidArgument(m)) => assert!(m.contains("domain"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn regen_writes_its_results_atomically() {
+    let dir = std::env::temp_dir().join(format!("ndfbench-regen-{}", std::process::id()));
+    let fits = dir.join("fits");
+    std::fs::create_dir_all(&fits).unwrap();
+    std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();
+    let out = ndfbench::fit::regen(
+        &fits,
+        &dir.join("results"),
+        Some("multiscale"),
+        ndfbench::integrate::Preset::Quick,
+    )
+    .unwrap();
+    assert!(out.iter().all(|o| o.passed), "{out:?}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results/fits/multiscale-alpha-me.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(json["ours"]["held_out"]["max_rel"].as_f64().unwrap() <= 1e-3);
+    // no temporary files left behind
+    let leftovers: Vec<_> = std::fs::read_dir(dir.join("results"))
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp."))
+        .collect();
+    assert!(leftovers.is_empty());
+    // a spec directory with no matching spec is an error, not silence
+    assert!(ndfbench::fit::regen(
+        &fits,
+        &dir.join("results"),
+        Some("nothing-here"),
+        ndfbench::integrate::Preset::Quick
+    )
+    .is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}
