@@ -1,19 +1,18 @@
-use ndfbench::multiscale::alpha_me::*;
+use ndfbench::integrate::quad::Tol;
+use ndfbench::multiscale::convolution::*;
+use ndfbench::multiscale::mrl::mrl;
 fn main() {
-    let train = training_alphas(400, 1e-3, 1.0);
-    let ho = held_out_alphas(2000, 1e-3, 1.0);
-    for k in 2..=8 {
-        let c = fit_ours(k, &train).unwrap();
-        let h = held_out(&ho, &|_b, y| ours_eval(&c, y));
-        println!(
-            "K={k} {c:?} max {:.3e} rms {:.3e} worst {:.4} endpoints {:.2e} {:.2e}",
-            h.max_rel, h.rms_rel, h.worst_alpha, h.rel_at_min, h.rel_at_max
-        );
+    for (me, mi) in [
+        (0.5, 0.3),
+        (0.1, 0.05),
+        (1.0, 1.0),
+        (0.01, 0.5),
+        (0.5, 0.01),
+    ] {
+        let t0 = std::time::Instant::now();
+        let c = Convolution::new(me, mi).unwrap();
+        let m = c.moments_quad(Tol::new(1e-9, 1e-9, 5_000_000));
+        let (lb, mu, mc) = c.moments_mc(1 << 18, 3);
+        println!("me={me} mi={mi}: total {} below {} mrl {} prod {:.12} clipped {:.8} | MC below {} mrl {} clipped {} [{:?}]", m.mass_total, m.mass_below, m.mrl_unclipped, mrl(me) * mrl(mi), m.mrl_clipped, lb, mu, mc, t0.elapsed());
     }
-    let wide = held_out_alphas(2000, 1e-6, 1.0);
-    let c = fit_ours(5, &train).unwrap();
-    println!(
-        "K=5 on [1e-6,1]: {:?}",
-        held_out(&wide, &|_b, y| ours_eval(&c, y))
-    );
 }

@@ -94,6 +94,11 @@ fn mrl_closed_form() {
 }
 
 #[test]
+fn mrl_product() {
+    check("mrl-product");
+}
+
+#[test]
 fn every_check_has_a_proof_file_that_names_its_test() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     for c in all() {

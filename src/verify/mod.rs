@@ -131,6 +131,10 @@ pub fn all() -> Vec<Check> {
             id: "mrl-closed-form",
             run: multiscale::mrl_closed_form,
         },
+        Check {
+            id: "mrl-product",
+            run: multiscale::mrl_product,
+        },
     ]
 }
 
