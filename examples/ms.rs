@@ -1,18 +1,16 @@
-use ndfbench::integrate::quad::Tol;
-use ndfbench::multiscale::convolution::*;
-use ndfbench::multiscale::mrl::mrl;
+use ndfbench::multiscale::overall::*;
 fn main() {
-    for (me, mi) in [
-        (0.5, 0.3),
-        (0.1, 0.05),
-        (1.0, 1.0),
-        (0.01, 0.5),
-        (0.5, 0.01),
-    ] {
+    for (mi, me) in [(0.1, 0.1), (0.5, 0.3), (0.03, 0.6), (1.0, 1.0), (0.2, 0.02)] {
         let t0 = std::time::Instant::now();
-        let c = Convolution::new(me, mi).unwrap();
-        let m = c.moments_quad(Tol::new(1e-9, 1e-9, 5_000_000));
-        let (lb, mu, mc) = c.moments_mc(1 << 18, 3);
-        println!("me={me} mi={mi}: total {} below {} mrl {} prod {:.12} clipped {:.8} | MC below {} mrl {} clipped {} [{:?}]", m.mass_total, m.mass_below, m.mrl_unclipped, mrl(me) * mrl(mi), m.mrl_clipped, lb, mu, mc, t0.elapsed());
+        let f = fit_pair(mi, me).unwrap();
+        println!(
+            "{f:?} eq7 {:.4} sumsq {:.4} vmf2 {:.4} vmf1 {:.4} vmf.5 {:.4} [{:?}]",
+            eq7(mi, me),
+            sum_of_squares(mi, me),
+            vmf(mi, me, 2.0),
+            vmf(mi, me, 1.0),
+            vmf(mi, me, 0.5),
+            t0.elapsed()
+        );
     }
 }

@@ -34,7 +34,13 @@ pub fn regen(
         .iter()
         .filter(|s| only.is_none_or(|o| s.name.contains(o)))
     {
-        out.push(crate::multiscale::regen::run(s, results, preset)?);
+        let o = match s.name.as_str() {
+            "multiscale-convolution" => {
+                crate::multiscale::regen_convolution::run(s, results, preset)?
+            }
+            _ => crate::multiscale::regen::run(s, results, preset)?,
+        };
+        out.push(o);
     }
     if out.is_empty() {
         return Err(crate::error::Error::InvalidArgument(format!(

@@ -31,6 +31,16 @@ pub struct Optimiser {
     pub tolerance: Option<f64>,
 }
 
+/// Per-axis point counts of a 2D fit (log-spaced over the domain on both axes).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Grid {
+    /// Grid on which every metric is fitted by quadrature (expensive: ~1 s per point).
+    pub metric_points: usize,
+    /// Dense grid for closed-form targets (training; held-out is offset by half a step).
+    pub dense_points: usize,
+}
+
 /// Held-out error budget.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -45,6 +55,8 @@ pub struct FitSpec {
     pub name: String,
     pub description: String,
     pub model: String,
+    /// Number of fitted coefficients (model-specific; default 0).
+    #[serde(default)]
     pub terms: usize,
     pub domain: Domain,
     pub training: Points,
@@ -53,7 +65,12 @@ pub struct FitSpec {
     pub optimiser: Optimiser,
     /// The baseline refit of the paper's form.
     pub baseline_optimiser: Optimiser,
+    /// Lookup-table size, for fits that also ship a table (default 0: none).
+    #[serde(default)]
     pub table_entries: usize,
+    /// Two-parameter grids, for fits over (α_mi, α_me) (default: none).
+    #[serde(default)]
+    pub grid: Option<Grid>,
     pub seed: u64,
     pub tolerance: Tolerance,
 }
@@ -79,8 +96,15 @@ impl FitSpec {
         if !(s.tolerance.max_rel > 0.0) {
             return bad("tolerance.max_rel must be > 0".into());
         }
-        if s.table_entries < 2 {
-            return bad("table_entries must be ≥ 2".into());
+        if s.table_entries == 1 {
+            return bad("table_entries must be 0 (no table) or ≥ 2".into());
+        }
+        if let Some(g) = &s.grid {
+            if g.metric_points < 2 || g.dense_points < 4 {
+                return bad(format!(
+                    "grid: need metric_points ≥ 2 and dense_points ≥ 4, got {g:?}"
+                ));
+            }
         }
         Ok(s)
     }

@@ -272,8 +272,9 @@ weighted linear least-squares solve (nalgebra SVD), not an iterative optimiser. 
 store it directly) to keep precision as ‖b̄‖ → 1.\n\n");
     md.push_str(&format!("Coefficients c_1…c_{}: `{:?}`\n\n", spec.terms, c));
     md.push_str("![α_me against 1 − ‖b̄‖](multiscale-alpha-me.svg)\n\n![errors](multiscale-alpha-error.svg)\n\n");
-    md.push_str("## Not yet here\n\nThe spherical convolution γ_me ∗ γ_mi (Eq 6), its one-LTC fits under selectable metrics, \
-the product identity of mean resultant lengths, and the Eq 7 refit are not implemented in this revision.\n");
+    md.push_str("## Overall roughness (Eq 6–7)\n\nThe spherical convolution γ_me ∗ γ_mi, its one-LTC fits under four metrics, the \
+product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 refit and the engines' rules are in \
+[multiscale-convolution.md](multiscale-convolution.md) (`regen --only multiscale-convolution`).\n");
     crate::io::write_atomic(&results.join("multiscale.md"), md.as_bytes())?;
     pb.finish_and_clear();
     Ok(FitOutcome {

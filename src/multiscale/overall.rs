@@ -1,0 +1,289 @@
+//! Overall roughness of a footprint: one isotropic LTC fitted to γ_me ∗ γ_mi (seed 000
+//! §3.4–3.5) under selectable metrics, the paper's Eq 7, its refit, the rules engines
+//! ship, and a model with both limits built in.
+
+use super::convolution::{density_table, l2_distance2, ltc_cap_integral, Convolution};
+use super::mrl::{alpha_from_one_minus, mrl_pair};
+use crate::error::{Error, Result};
+use crate::integrate::quad::{adaptive_batched, Tol};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// Fitting metric for the one-LTC approximation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Metric {
+    /// Match the unclipped mean resultant length: ρ(α) = ρ(α_me)·ρ(α_mi) (closed form).
+    MomentUnclipped,
+    /// Match the clipped, renormalised mean resultant length (horizon-aware).
+    MomentClipped,
+    /// Minimise the L2 distance between densities over the sphere.
+    L2,
+    /// Minimise the squared relative error of the energy in a set of spherical-cap lights.
+    Caps,
+}
+
+impl Metric {
+    pub const ALL: [Metric; 4] = [
+        Metric::MomentUnclipped,
+        Metric::MomentClipped,
+        Metric::L2,
+        Metric::Caps,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::MomentUnclipped => "moment (unclipped ‖b̄‖)",
+            Metric::MomentClipped => "moment (clipped ‖b̄‖)",
+            Metric::L2 => "L2 of densities",
+            Metric::Caps => "cap lights (rel. energy)",
+        }
+    }
+}
+
+/// Cap lights of the rendering metric: (polar angle of the axis, half-angle), radians.
+pub const CAPS: [(f64, f64); 9] = [
+    (0.0, 0.05),
+    (0.0, 0.2),
+    (0.0, 0.6),
+    (0.5, 0.1),
+    (0.5, 0.3),
+    (1.0, 0.2),
+    (1.0, 0.5),
+    (1.3, 0.3),
+    (0.8, 1.0),
+];
+
+/// Under the unclipped moment metric the overall α is closed form: ρ(α) = ρ_me·ρ_mi, i.e.
+/// α = ρ⁻¹(‖b̄‖·ρ(α_mi)) — the mip chain's ‖b̄‖ times the micro lobe's ρ, fed to the same
+/// inverse as α_me (proofs/mrl-product.md). No Eq 7 is needed for this metric.
+pub fn alpha_moment(alpha_mi: f64, alpha_me: f64) -> Result<f64> {
+    let y_me = mrl_pair(alpha_me).1;
+    let y_mi = mrl_pair(alpha_mi).1;
+    // 1 − ρ_me ρ_mi = y_me + y_mi − y_me y_mi, without cancellation
+    alpha_from_one_minus(y_me + y_mi - y_me * y_mi)
+}
+
+/// Seed 000 Eq 7.
+pub fn eq7(alpha_mi: f64, alpha_me: f64) -> f64 {
+    0.07 * alpha_mi * alpha_mi + 0.94 * alpha_mi + alpha_me - 0.83 * alpha_mi * alpha_me
+}
+
+/// α² = α_mi² + α_me².
+pub fn sum_of_squares(alpha_mi: f64, alpha_me: f64) -> f64 {
+    alpha_mi.hypot(alpha_me)
+}
+
+/// vMF rules: α′² = α_mi² + k/κ with κ = (3r − r³)/(1 − r²) (Banerjee) and r = ρ(α_me);
+/// k = 2, 1, 1/2 as shipped by different engines.
+pub fn vmf(alpha_mi: f64, alpha_me: f64, k: f64) -> f64 {
+    let (r, y) = mrl_pair(alpha_me);
+    let kappa = (3.0 * r - r * r * r) / (y * (1.0 + r));
+    (alpha_mi * alpha_mi + k / kappa).sqrt()
+}
+
+/// The polynomial model: α² = α_mi² + α_me² + α_mi α_me Σ c_ij α_mi^i α_me^j (i + j ≤ 2).
+/// Both limits α(α_mi, 0) = α_mi and α(0, α_me) = α_me hold for any coefficients, and the
+/// small-α behaviour is the hypot of the two (as the moment identity implies there).
+pub fn improved(c: &[f64], alpha_mi: f64, alpha_me: f64) -> f64 {
+    let (x, y) = (alpha_mi, alpha_me);
+    let p = c[0] + c[1] * x + c[2] * y + c[3] * x * x + c[4] * x * y + c[5] * y * y;
+    (x * x + y * y + x * y * p).max(0.0).sqrt()
+}
+
+/// Linear least squares (nalgebra SVD) with the given design rows and targets.
+fn lstsq(rows: &[Vec<f64>], t: &[f64]) -> Result<Vec<f64>> {
+    let (n, k) = (rows.len(), rows[0].len());
+    let a = nalgebra::DMatrix::from_fn(n, k, |i, j| rows[i][j]);
+    let b = nalgebra::DVector::from_column_slice(t);
+    let x = a
+        .svd(true, true)
+        .solve(&b, 1e-14)
+        .map_err(|e| Error::InvalidArgument(format!("least squares: {e}")))?;
+    Ok(x.iter().copied().collect())
+}
+
+/// Refit Eq 7's basis {α_mi², α_mi, α_me, α_mi α_me} to (α_mi, α_me, α) samples; returns
+/// (coefficients, SSE).
+pub fn refit_eq7(samples: &[(f64, f64, f64)]) -> Result<(Vec<f64>, f64)> {
+    let rows: Vec<Vec<f64>> = samples
+        .iter()
+        .map(|&(x, y, _)| vec![x * x, x, y, x * y])
+        .collect();
+    let t: Vec<f64> = samples.iter().map(|s| s.2).collect();
+    let c = lstsq(&rows, &t)?;
+    let sse = samples
+        .iter()
+        .map(|&(x, y, a)| (c[0] * x * x + c[1] * x + c[2] * y + c[3] * x * y - a).powi(2))
+        .sum();
+    Ok((c, sse))
+}
+
+/// Fit the polynomial model by relative least squares on α² (weights 1/α²).
+pub fn fit_improved(samples: &[(f64, f64, f64)]) -> Result<Vec<f64>> {
+    let rows: Vec<Vec<f64>> = samples
+        .iter()
+        .map(|&(x, y, a)| {
+            let w = x * y / (a * a);
+            vec![w, w * x, w * y, w * x * x, w * x * y, w * y * y]
+        })
+        .collect();
+    let t: Vec<f64> = samples
+        .iter()
+        .map(|&(x, y, a)| (a * a - x * x - y * y) / (a * a))
+        .collect();
+    lstsq(&rows, &t)
+}
+
+/// Energy of the one-LTC fit in each cap light.
+fn caps_of_ltc(alpha: f64) -> Vec<f64> {
+    CAPS.iter()
+        .map(|&(t, r)| {
+            ltc_cap_integral(alpha, t, r, Tol::new(1e-10, 1e-9, 2_000_000))
+                .map(|e| e.value)
+                .unwrap_or(f64::NAN)
+        })
+        .collect()
+}
+
+/// ∫_cap c for the convolution as a 1D integral over θ: c depends on θ only, and the
+/// circle at θ meets the cap (axis at θ_c, half-angle r) in an arc of azimuthal length
+/// Φ(θ) = 2 acos((cos r − cos θ cos θ_c)/(sin θ sin θ_c)) (2π when the circle is inside).
+pub fn conv_cap(conv: &Convolution, theta_c: f64, r: f64, tol: Tol) -> crate::integrate::Estimate {
+    let lo = (theta_c - r).max(0.0);
+    let hi = (theta_c + r).min(PI);
+    let arc = |t: f64| -> f64 {
+        let (st, ct) = t.sin_cos();
+        let (sc, cc) = theta_c.sin_cos();
+        if st * sc == 0.0 {
+            return if (t - theta_c).abs() <= r {
+                2.0 * PI
+            } else {
+                0.0
+            };
+        }
+        let x = (r.cos() - ct * cc) / (st * sc);
+        if x <= -1.0 {
+            2.0 * PI
+        } else if x >= 1.0 {
+            0.0
+        } else {
+            2.0 * x.acos()
+        }
+    };
+    let mut breaks = vec![lo, hi];
+    if theta_c > r && theta_c + r < PI {
+        breaks.push(theta_c);
+    }
+    // geometric panels following the lobe (as in the radial moments)
+    let mut th = 0.25 * conv.alpha_me.max(conv.alpha_mi).min(1.0);
+    while th < hi {
+        if th > lo {
+            breaks.push(th);
+        }
+        th *= 2.0;
+    }
+    breaks.sort_by(|a, b| a.total_cmp(b));
+    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    let inner = Tol::new(tol.abs * 0.1, tol.rel * 0.1, 2_000_000);
+    let eval = |xs: &[f64; 15]| {
+        use rayon::prelude::*;
+        let r: Vec<crate::integrate::Estimate> =
+            xs.par_iter().map(|&t| conv.density(t, inner)).collect();
+        let mut v = [0.0; 15];
+        let mut e = [0.0; 15];
+        let mut n = 0;
+        for (i, (est, &t)) in r.iter().zip(xs).enumerate() {
+            let k = arc(t) * t.sin();
+            v[i] = k * est.value;
+            e[i] = (k * est.error).abs();
+            n += est.evals;
+        }
+        (v, e, n)
+    };
+    adaptive_batched(&eval, &breaks, tol)
+}
+
+/// The best α for one (α_mi, α_me) pair under each metric (Brent via argmin for L2 and caps).
+#[derive(Clone, Debug, Serialize)]
+pub struct PairFit {
+    pub alpha_mi: f64,
+    pub alpha_me: f64,
+    pub moment_unclipped: f64,
+    pub moment_clipped: f64,
+    pub l2: f64,
+    pub caps: f64,
+    /// Relative quadrature error reached by the cap integrals of the convolution (worst).
+    pub cap_quad_rel_error: f64,
+}
+
+fn brent_min(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    use argmin::core::{CostFunction, Executor, State};
+    use argmin::solver::brent::BrentOpt;
+    struct C<'a>(&'a dyn Fn(f64) -> f64);
+    impl CostFunction for C<'_> {
+        type Param = f64;
+        type Output = f64;
+        fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
+            Ok((self.0)(*x))
+        }
+    }
+    // coarse scan for a bracket, then Brent inside it
+    let n = 40;
+    let xs: Vec<f64> = (0..=n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
+        .collect();
+    let (mut bi, mut bv) = (0, f64::INFINITY);
+    for (i, &x) in xs.iter().enumerate() {
+        let v = f(x);
+        if v < bv {
+            bv = v;
+            bi = i;
+        }
+    }
+    let (a, b) = (xs[bi.saturating_sub(1)], xs[(bi + 1).min(n)]);
+    Executor::new(C(f), BrentOpt::new(a, b).set_tolerance(1e-10, 1e-12))
+        .configure(|s| s.max_iters(200))
+        .run()
+        .ok()
+        .and_then(|r| r.state().get_best_param().copied())
+        .unwrap_or(xs[bi])
+}
+
+/// Fit one pair under every metric.
+pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
+    let conv = Convolution::new(alpha_me, alpha_mi)?;
+    let tol = Tol::new(1e-8, 1e-8, 5_000_000);
+    let m = conv.moments_quad(tol);
+    let moment_clipped = alpha_from_one_minus(1.0 - m.mrl_clipped)?;
+    let table = density_table(&conv, 12, Tol::new(1e-10, 1e-9, 2_000_000));
+    let l2 = brent_min(&|a| l2_distance2(&table, a), 1e-3, 3.0);
+    let mut cap_err = 0.0f64;
+    let target: Vec<f64> = CAPS
+        .iter()
+        .map(|&(t, r)| {
+            let e = conv_cap(&conv, t, r, Tol::new(1e-9, 1e-7, 5_000_000));
+            cap_err = cap_err.max(e.error / e.value.abs().max(1e-300));
+            e.value
+        })
+        .collect();
+    let caps = brent_min(
+        &|a| {
+            let c = caps_of_ltc(a);
+            c.iter()
+                .zip(&target)
+                .map(|(x, t)| ((x - t) / t).powi(2))
+                .sum::<f64>()
+        },
+        1e-3,
+        3.0,
+    );
+    Ok(PairFit {
+        alpha_mi,
+        alpha_me,
+        moment_unclipped: alpha_moment(alpha_mi, alpha_me)?,
+        moment_clipped,
+        l2,
+        caps,
+        cap_quad_rel_error: cap_err,
+    })
+}
