@@ -1,0 +1,61 @@
+//! Spherical convolution of isotropic LTCs (seed 000 Eq 6) and the overall-roughness
+//! models: independent checks (commutativity, mass, caps that are whole hemispheres,
+//! limits of every rule).
+
+use ndfbench::integrate::quad::Tol;
+use ndfbench::multiscale::convolution::{ltc_cap_integral, Convolution};
+use ndfbench::multiscale::mrl::mrl;
+use ndfbench::multiscale::overall::{alpha_moment, conv_cap, eq7, sum_of_squares, vmf};
+use std::f64::consts::PI;
+
+const TOL: Tol = Tol {
+    abs: 1e-8,
+    rel: 1e-8,
+    max_evals: 5_000_000,
+};
+
+#[test]
+fn convolution_of_zonal_lobes_commutes() {
+    let a = Convolution::new(0.4, 0.1).unwrap().moments_quad(TOL);
+    let b = Convolution::new(0.1, 0.4).unwrap().moments_quad(TOL);
+    assert!((a.mass_below.value - b.mass_below.value).abs() < 1e-8);
+    assert!((a.mrl_clipped - b.mrl_clipped).abs() < 1e-8);
+    assert!((a.mrl_unclipped.value - mrl(0.4) * mrl(0.1)).abs() < 1e-8);
+}
+
+#[test]
+fn caps_that_are_hemispheres_give_the_known_masses() {
+    // an LTC has all its mass above the horizon
+    for a in [0.05, 0.5, 1.0] {
+        let e = ltc_cap_integral(a, 0.0, PI / 2.0, TOL).unwrap();
+        assert!((e.value - 1.0).abs() < 1e-7, "α={a}: {e}");
+    }
+    // the convolution's upper hemisphere holds 1 − (mass below the horizon)
+    let c = Convolution::new(0.5, 0.5).unwrap();
+    let m = c.moments_quad(TOL);
+    let up = conv_cap(&c, 0.0, PI / 2.0, TOL);
+    assert!(
+        (up.value - (1.0 - m.mass_below.value)).abs() < 1e-6,
+        "{up} vs {}",
+        1.0 - m.mass_below.value
+    );
+    // a tilted cap of half-angle π covers the sphere
+    let all = conv_cap(&c, 0.7, PI, TOL);
+    assert!((all.value - 1.0).abs() < 1e-6, "{all}");
+}
+
+#[test]
+fn every_rule_has_the_limits_it_claims() {
+    for x in [0.01, 0.1, 0.5, 1.0] {
+        // moment matching: exact in both limits, symmetric
+        assert!((alpha_moment(x, 1e-12).unwrap() / x - 1.0).abs() < 1e-9);
+        assert!((alpha_moment(1e-12, x).unwrap() / x - 1.0).abs() < 1e-9);
+        assert!((alpha_moment(x, 0.3).unwrap() - alpha_moment(0.3, x).unwrap()).abs() < 1e-12);
+        assert_eq!(sum_of_squares(x, 0.0), x);
+        // vMF rules keep α_mi as α_me → 0 (κ → ∞)
+        assert!((vmf(x, 1e-9, 2.0) / x - 1.0).abs() < 1e-6);
+        // Eq 7 (seed 000) as printed: α(α_mi, 0) = 0.07α_mi² + 0.94α_mi, not α_mi
+        assert!((eq7(x, 0.0) - (0.07 * x * x + 0.94 * x)).abs() < 1e-15);
+        assert_eq!(eq7(0.0, x), x);
+    }
+}
