@@ -3,7 +3,7 @@
 //! The Jacobian is the one proved in proofs/jacobian-ltc.md ([`crate::jacobian::Ltc`]).
 
 use crate::error::{Error, Result};
-use crate::integrate::mc::Strategy;
+use crate::integrate::mc::{CosineHemisphere, Strategy};
 use crate::jacobian::{DirMap, Ltc};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
@@ -51,14 +51,7 @@ impl LtcDist {
 impl Strategy<Vector3<f64>> for LtcDist {
     /// Cosine sample, transformed by M and renormalised.
     fn sample(&self, u: [f64; 2]) -> Option<Vector3<f64>> {
-        let r = u[0].sqrt();
-        let phi = 2.0 * PI * u[1];
-        let z = (1.0 - u[0]).max(0.0).sqrt();
-        if z <= 0.0 {
-            return None;
-        }
-        self.map
-            .inverse(&Vector3::new(r * phi.cos(), r * phi.sin(), z))
+        self.map.inverse(&CosineHemisphere.sample(u)?)
     }
     fn pdf(&self, x: &Vector3<f64>) -> f64 {
         self.eval(x)

@@ -202,34 +202,6 @@ impl Convolution {
         };
         (est(&t.0), est(&t.1), clipped)
     }
-
-    /// Adaptive quadrature of ∫_cap c(m) dm for the spherical cap of half-angle `r` around
-    /// the direction at polar angle `theta_c` (a rendering-metric light).
-    pub fn cap_integral(&self, theta_c: f64, r: f64, tol: Tol) -> Estimate {
-        let axis = V3::new(theta_c.sin(), 0.0, theta_c.cos());
-        let cr = r.cos();
-        // c depends on θ only: tabulate lazily through the density quadrature
-        let f = |m: &V3| {
-            if m.dot(&axis) < cr {
-                return 0.0;
-            }
-            self.density(
-                m.z.clamp(-1.0, 1.0).acos(),
-                Tol::new(tol.abs * 0.1, tol.rel * 0.1, 200_000),
-            )
-            .value
-        };
-        let rule = SphereRule {
-            pole: axis,
-            scale: r,
-            theta_max: r,
-            phi_segments: 4,
-            t_breaks: 0,
-            stretch: None,
-            kinks: Vec::new(),
-        };
-        integrate_sphere(&f, &rule, tol)
-    }
 }
 
 /// ∫_cap γ_α(m) dm for the isotropic LTC (same cap parameterisation).

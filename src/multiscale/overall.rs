@@ -287,3 +287,39 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
         cap_quad_rel_error: cap_err,
     })
 }
+
+/// Per-metric model on top of the moment identity:
+/// α_k = α_mom·(1 + 4s(1 − s)·Q_k(α_mom, (s − ½)²)), s = α_mi/(α_mi + α_me), 6 coefficients. α_mom = ρ⁻¹(ρ_me ρ_mi) carries both limits exactly and 4s(1 − s) switches
+/// the correction off at either limit; the metrics differ most when the two scales are
+/// comparable (s ≈ ½), at every overall roughness — hence a factor of s, not of α_mi α_me.
+pub fn corrected(c: &[f64], alpha_mi: f64, alpha_me: f64) -> f64 {
+    let m = alpha_moment(alpha_mi, alpha_me).unwrap_or(f64::NAN);
+    m * (1.0
+        + corr_basis(alpha_mi, alpha_me, m)
+            .iter()
+            .zip(c)
+            .map(|(b, k)| b * k)
+            .sum::<f64>())
+}
+
+fn corr_basis(alpha_mi: f64, alpha_me: f64, m: f64) -> [f64; 6] {
+    let s = alpha_mi / (alpha_mi + alpha_me);
+    let g = 4.0 * s * (1.0 - s);
+    let d = s - 0.5;
+    // ln α_mom enters through a rational-like pair so that the correction can saturate at
+    // small α (scale-invariant disagreement) and grow near α = 1 (horizon clipping)
+    let (u, v) = (m, m * m);
+    [g, g * u, g * v, g * d * d, g * u * d * d, g * v * v]
+}
+
+/// Fit the correction Q_k by relative linear least squares.
+pub fn fit_corrected(samples: &[(f64, f64, f64)]) -> Result<Vec<f64>> {
+    let mut rows = Vec::new();
+    let mut t = Vec::new();
+    for &(x, y, a) in samples {
+        let m = alpha_moment(x, y)?;
+        rows.push(corr_basis(x, y, m).iter().map(|b| b * m / a).collect());
+        t.push((a - m) / a);
+    }
+    lstsq(&rows, &t)
+}
