@@ -59,3 +59,64 @@ fn every_rule_has_the_limits_it_claims() {
         assert_eq!(eq7(0.0, x), x);
     }
 }
+
+/// Solid angle of a spherical triangle (Van Oosterom & Strackee 1983).
+fn triangle_solid_angle(
+    a: &nalgebra::Vector3<f64>,
+    b: &nalgebra::Vector3<f64>,
+    c: &nalgebra::Vector3<f64>,
+) -> f64 {
+    let num = a.dot(&b.cross(c)).abs();
+    let den = 1.0 + a.dot(b) + b.dot(c) + c.dot(a);
+    2.0 * num.atan2(den)
+}
+
+#[test]
+fn polygon_quadrature_matches_the_closed_form_solid_angle() {
+    use ndfbench::multiscale::convolution::Polygon;
+    for (t, h1, h2) in [
+        (0.4, 0.15, 0.15),
+        (0.0, 0.5, 0.2),
+        (1.2, 0.15, 0.05),
+        (0.8, 0.02, 0.02),
+    ] {
+        let p = Polygon::quad("q", t, h1, h2);
+        let v: Vec<nalgebra::Vector3<f64>> = p
+            .vertices
+            .iter()
+            .map(|x| nalgebra::Vector3::new(x[0], x[1], x[2]))
+            .collect();
+        let exact =
+            triangle_solid_angle(&v[0], &v[1], &v[2]) + triangle_solid_angle(&v[0], &v[2], &v[3]);
+        let e = p.integral(&|_m| 1.0, Tol::new(1e-13, 1e-12, 5_000_000));
+        assert!(
+            (e.value - exact).abs() < 1e-10 * exact,
+            "{t}: {e} vs {exact}"
+        );
+    }
+}
+
+#[test]
+fn tabulated_convolution_interpolates_to_the_direct_quadrature() {
+    use ndfbench::multiscale::convolution::density_table;
+    let c = Convolution::new(0.2, 0.05).unwrap();
+    let table = density_table(&c, 16, Tol::new(1e-11, 1e-10, 2_000_000));
+    // above the horizon (where the polygon lights sit) the interpolant is good to 1e-6;
+    // below it c is less smooth (the two support boundaries b_z = 0 and m·b = 0 meet) and
+    // the table is only good to ~1e-3 there
+    for (t, tol) in [
+        (0.013, 1e-6),
+        (0.07, 1e-6),
+        (0.31, 1e-6),
+        (0.9, 1e-6),
+        (1.4, 1e-6),
+        (1.7, 1e-3),
+    ] {
+        let direct = c.density(t, Tol::new(1e-12, 1e-11, 5_000_000)).value;
+        let interp = table.eval(t);
+        assert!(
+            (interp - direct).abs() <= tol * direct.abs().max(1e-12),
+            "θ={t}: {interp} vs {direct}"
+        );
+    }
+}

@@ -220,44 +220,186 @@ pub fn ltc_cap_integral(alpha: f64, theta_c: f64, r: f64, tol: Tol) -> Result<Es
     Ok(integrate_sphere(&|m: &V3| d.eval(m), &rule, tol))
 }
 
-/// Signed L2 distance² between the convolution and an isotropic LTC of roughness α over
-/// the sphere, from a tabulated c(θ): 2π ∫ (c(θ) − g_α(θ))² sin θ dθ (trapezoid-free GK on
-/// the table's smooth interpolant is avoided: the table nodes are GL nodes).
-pub fn l2_distance2(table: &[(f64, f64, f64)], alpha: f64) -> f64 {
+/// c(θ) tabulated on Gauss–Legendre nodes per panel of [0, π] (panels split at geometric
+/// breaks following the lobe and at π/2), with barycentric Lagrange interpolation inside
+/// each panel — spectrally accurate for the smooth zonal density.
+pub struct ZonalTable {
+    panels: Vec<ZPanel>,
+}
+
+struct ZPanel {
+    a: f64,
+    b: f64,
+    theta: Vec<f64>,
+    weight: Vec<f64>,
+    value: Vec<f64>,
+    bary: Vec<f64>,
+}
+
+impl ZonalTable {
+    /// (θ, quadrature weight, c(θ)) at every node.
+    pub fn nodes(&self) -> impl Iterator<Item = (f64, f64, f64)> + '_ {
+        self.panels
+            .iter()
+            .flat_map(|p| (0..p.theta.len()).map(move |i| (p.theta[i], p.weight[i], p.value[i])))
+    }
+
+    /// Interpolated c(θ).
+    pub fn eval(&self, theta: f64) -> f64 {
+        let t = theta.clamp(0.0, PI);
+        let p = self
+            .panels
+            .iter()
+            .find(|p| t >= p.a && t <= p.b)
+            .unwrap_or_else(|| self.panels.last().expect("non-empty table"));
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..p.theta.len() {
+            let d = t - p.theta[i];
+            if d == 0.0 {
+                return p.value[i];
+            }
+            let k = p.bary[i] / d;
+            num += k * p.value[i];
+            den += k;
+        }
+        num / den
+    }
+}
+
+/// L2 distance² between the convolution and an isotropic LTC of roughness α over the
+/// sphere: 2π ∫ (c(θ) − g_α(θ))² sin θ dθ on the table's Gauss–Legendre nodes.
+pub fn l2_distance2(table: &ZonalTable, alpha: f64) -> f64 {
     let d = LtcDist::isotropic(alpha).expect("α > 0");
     table
-        .iter()
-        .map(|&(t, w, c)| {
+        .nodes()
+        .map(|(t, w, c)| {
             let g = zonal(&d, t.cos());
             w * (c - g) * (c - g) * 2.0 * PI * t.sin()
         })
         .sum()
 }
 
-/// c(θ) on Gauss–Legendre nodes of [0, π] split at geometric breaks (θ, weight, c).
-pub fn density_table(conv: &Convolution, nodes_per_panel: usize, tol: Tol) -> Vec<(f64, f64, f64)> {
+/// Tabulate c(θ) (see [`ZonalTable`]).
+pub fn density_table(conv: &Convolution, nodes_per_panel: usize, tol: Tol) -> ZonalTable {
     let width = conv.alpha_me.max(conv.alpha_mi).min(1.0);
-    let mut breaks = vec![0.0, PI];
+    let mut breaks = vec![0.0, PI, PI / 2.0];
     let mut th = 0.25 * width;
     while th < PI {
         breaks.push(th);
-        th *= 2.0;
+        th *= 1.5;
     }
-    breaks.push(PI / 2.0);
     breaks.sort_by(|a, b| a.total_cmp(b));
     breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
     let (x, w) = crate::integrate::quad::gauss_legendre(nodes_per_panel);
-    let pts: Vec<(f64, f64)> = breaks
-        .windows(2)
-        .flat_map(|p| {
-            let (c, h) = (0.5 * (p[0] + p[1]), 0.5 * (p[1] - p[0]));
-            x.iter()
-                .zip(&w)
-                .map(move |(xi, wi)| (c + h * xi, h * wi))
-                .collect::<Vec<_>>()
+    // barycentric weights of the GL nodes (on [-1, 1]; the affine map cancels)
+    let bary: Vec<f64> = (0..x.len())
+        .map(|j| {
+            1.0 / (0..x.len())
+                .filter(|&k| k != j)
+                .map(|k| x[j] - x[k])
+                .product::<f64>()
         })
         .collect();
-    pts.par_iter()
-        .map(|&(t, wt)| (t, wt, conv.density(t, tol).value))
-        .collect()
+    let panels = breaks
+        .windows(2)
+        .map(|p| {
+            let (c, h) = (0.5 * (p[0] + p[1]), 0.5 * (p[1] - p[0]));
+            let theta: Vec<f64> = x.iter().map(|xi| c + h * xi).collect();
+            let value: Vec<f64> = theta
+                .par_iter()
+                .map(|&t| conv.density(t, tol).value)
+                .collect();
+            ZPanel {
+                a: p[0],
+                b: p[1],
+                weight: w.iter().map(|wi| h * wi).collect(),
+                theta,
+                value,
+                bary: bary.clone(),
+            }
+        })
+        .collect();
+    ZonalTable { panels }
+}
+
+/// A convex spherical polygon light (vertices in counter-clockwise order seen from the
+/// origin, i.e. every edge normal v_i × v_(i+1) points inside).
+#[derive(Clone, Debug, Serialize)]
+pub struct Polygon {
+    pub name: &'static str,
+    pub vertices: Vec<[f64; 3]>,
+}
+
+impl Polygon {
+    /// A spherical quad centred at polar angle θ, azimuth 0, with half-extents (h1, h2)
+    /// along the polar and azimuthal tangents (gnomonic: vertices = normalize(c ± h1 e_θ ± h2 e_φ)).
+    pub fn quad(name: &'static str, theta: f64, h1: f64, h2: f64) -> Polygon {
+        let c = V3::new(theta.sin(), 0.0, theta.cos());
+        let (e1, e2) = (
+            V3::new(theta.cos(), 0.0, -theta.sin()),
+            V3::new(0.0, 1.0, 0.0),
+        );
+        let v = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| {
+                let p = (c + e1 * (a * h1) + e2 * (b * h2)).normalize();
+                [p.x, p.y, p.z]
+            })
+            .collect();
+        Polygon { name, vertices: v }.oriented()
+    }
+
+    fn verts(&self) -> Vec<V3> {
+        self.vertices
+            .iter()
+            .map(|v| V3::new(v[0], v[1], v[2]))
+            .collect()
+    }
+
+    /// Reverse the order if the edge normals point away from the centroid.
+    fn oriented(mut self) -> Polygon {
+        let v = self.verts();
+        let c: V3 = v.iter().sum();
+        if v[0].cross(&v[1]).dot(&c) < 0.0 {
+            self.vertices.reverse();
+        }
+        self
+    }
+
+    /// Inward edge normals.
+    pub fn edge_normals(&self) -> Vec<V3> {
+        let v = self.verts();
+        (0..v.len())
+            .map(|i| v[i].cross(&v[(i + 1) % v.len()]).normalize())
+            .collect()
+    }
+
+    /// ∫_P f(m) dm by adaptive sphere quadrature around the centroid, the edges' great
+    /// circles registered as kinks (the indicator's jumps fall on panel boundaries).
+    pub fn integral(&self, f: &(dyn Fn(&V3) -> f64 + Sync), tol: Tol) -> Estimate {
+        let v = self.verts();
+        let c: V3 = v.iter().sum::<V3>().normalize();
+        let reach = v
+            .iter()
+            .map(|p| p.dot(&c).clamp(-1.0, 1.0).acos())
+            .fold(0.0, f64::max);
+        let normals = self.edge_normals();
+        let g = |m: &V3| {
+            if normals.iter().all(|k| k.dot(m) >= 0.0) {
+                f(m)
+            } else {
+                0.0
+            }
+        };
+        let mut rule = SphereRule {
+            theta_max: (reach * 1.01).min(PI),
+            phi_segments: 4,
+            t_breaks: 0,
+            ..SphereRule::sphere(c, reach)
+        };
+        for &k in &normals {
+            rule = rule.with_kink(k);
+        }
+        integrate_sphere(&g, &rule, tol)
+    }
 }

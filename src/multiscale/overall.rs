@@ -2,10 +2,11 @@
 //! §3.4–3.5) under selectable metrics, the paper's Eq 7, its refit, the rules engines
 //! ship, and a model with both limits built in.
 
-use super::convolution::{density_table, l2_distance2, ltc_cap_integral, Convolution};
+use super::convolution::{density_table, l2_distance2, ltc_cap_integral, Convolution, Polygon};
 use super::mrl::{alpha_from_one_minus, mrl_pair};
 use crate::error::{Error, Result};
 use crate::integrate::quad::{adaptive_batched, Tol};
+use crate::ltc::LtcDist;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -19,7 +20,8 @@ pub enum Metric {
     MomentClipped,
     /// Minimise the L2 distance between densities over the sphere.
     L2,
-    /// Minimise the squared relative error of the energy in a set of spherical-cap lights.
+    /// Minimise the squared relative error of the energy in a set of lights: spherical
+    /// caps and convex polygons.
     Caps,
 }
 
@@ -35,7 +37,7 @@ impl Metric {
             Metric::MomentUnclipped => "moment (unclipped ‖b̄‖)",
             Metric::MomentClipped => "moment (clipped ‖b̄‖)",
             Metric::L2 => "L2 of densities",
-            Metric::Caps => "cap lights (rel. energy)",
+            Metric::Caps => "lights: caps + polygons (rel. energy)",
         }
     }
 }
@@ -52,6 +54,16 @@ pub const CAPS: [(f64, f64); 9] = [
     (1.3, 0.3),
     (0.8, 1.0),
 ];
+
+/// Polygon lights of the rendering metric.
+pub fn polygons() -> Vec<Polygon> {
+    vec![
+        Polygon::quad("quad θ=0.4, 0.3×0.3", 0.4, 0.15, 0.15),
+        Polygon::quad("quad θ=0, 1.0×0.4", 0.0, 0.5, 0.2),
+        Polygon::quad("quad θ=1.2, 0.3×0.1", 1.2, 0.15, 0.05),
+        Polygon::quad("quad θ=0.8, 0.04×0.04", 0.8, 0.02, 0.02),
+    ]
+}
 
 /// Under the unclipped moment metric the overall α is closed form: ρ(α) = ρ_me·ρ_mi, i.e.
 /// α = ρ⁻¹(‖b̄‖·ρ(α_mi)) — the mip chain's ‖b̄‖ times the micro lobe's ρ, fed to the same
@@ -134,15 +146,20 @@ pub fn fit_improved(samples: &[(f64, f64, f64)]) -> Result<Vec<f64>> {
     lstsq(&rows, &t)
 }
 
-/// Energy of the one-LTC fit in each cap light.
-fn caps_of_ltc(alpha: f64) -> Vec<f64> {
-    CAPS.iter()
-        .map(|&(t, r)| {
-            ltc_cap_integral(alpha, t, r, Tol::new(1e-10, 1e-9, 2_000_000))
+/// Energy of the one-LTC fit in each light (caps, then polygons).
+fn lights_of_ltc(alpha: f64, polys: &[Polygon]) -> Vec<f64> {
+    let t = Tol::new(1e-10, 1e-9, 2_000_000);
+    let d = LtcDist::isotropic(alpha).expect("α > 0");
+    let mut v: Vec<f64> = CAPS
+        .iter()
+        .map(|&(th, r)| {
+            ltc_cap_integral(alpha, th, r, t)
                 .map(|e| e.value)
                 .unwrap_or(f64::NAN)
         })
-        .collect()
+        .collect();
+    v.extend(polys.iter().map(|p| p.integral(&|m| d.eval(m), t).value));
+    v
 }
 
 /// ∫_cap c for the convolution as a 1D integral over θ: c depends on θ only, and the
@@ -255,10 +272,10 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
     let tol = Tol::new(1e-8, 1e-8, 5_000_000);
     let m = conv.moments_quad(tol);
     let moment_clipped = alpha_from_one_minus(1.0 - m.mrl_clipped)?;
-    let table = density_table(&conv, 12, Tol::new(1e-10, 1e-9, 2_000_000));
+    let table = density_table(&conv, 16, Tol::new(1e-10, 1e-9, 2_000_000));
     let l2 = brent_min(&|a| l2_distance2(&table, a), 1e-3, 3.0);
     let mut cap_err = 0.0f64;
-    let target: Vec<f64> = CAPS
+    let mut target: Vec<f64> = CAPS
         .iter()
         .map(|&(t, r)| {
             let e = conv_cap(&conv, t, r, Tol::new(1e-9, 1e-7, 5_000_000));
@@ -266,9 +283,19 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
             e.value
         })
         .collect();
+    // polygons: c is zonal, so integrate the interpolated table over each polygon
+    let polys = polygons();
+    for p in &polys {
+        let e = p.integral(
+            &|m| table.eval(m.z.clamp(-1.0, 1.0).acos()),
+            Tol::new(1e-11, 1e-8, 5_000_000),
+        );
+        cap_err = cap_err.max(e.error / e.value.abs().max(1e-300));
+        target.push(e.value);
+    }
     let caps = brent_min(
         &|a| {
-            let c = caps_of_ltc(a);
+            let c = lights_of_ltc(a, &polys);
             c.iter()
                 .zip(&target)
                 .map(|(x, t)| ((x - t) / t).powi(2))

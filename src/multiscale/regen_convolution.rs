@@ -182,7 +182,15 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
             .collect::<Vec<_>>()
             .join(", "),
     );
-    md.push_str(" rad; the cap energy of c is a 1D integral over θ of c(θ) times the arc of the cap at θ.\n\nPolygonal lights are not in the rendering metric yet.\n\n");
+    md.push_str(" rad, and 4 convex spherical quads: ");
+    md.push_str(
+        &super::overall::polygons()
+            .iter()
+            .map(|p| p.name)
+            .collect::<Vec<_>>()
+            .join("; "),
+    );
+    md.push_str(". The cap energy of c is a 1D integral over θ of c(θ) times the arc of the cap at θ; polygon energies integrate c (Gauss–Legendre table with barycentric interpolation) and γ_α over the polygon by adaptive sphere quadrature with the edges' great circles as kink circles. The last column of the next table is the worst relative quadrature error estimate of the convolution's light energies.\n\n");
     md.push_str(&format!("## How much the best α depends on the metric ({m}×{m} grid, log-spaced in [{lo}, {hi}]²)\n\n| α_mi | α_me | moment (unclipped) | moment (clipped) | L2 | caps | max/min | cap quad. rel. error |\n|---|---|---|---|---|---|---|---|\n"));
     let mut spread_max = (1.0f64, 0.0, 0.0);
     for p in &fits {
