@@ -177,3 +177,38 @@ fn regen_writes_its_results_atomically() {
     .is_err());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn convolution_regen_runs_at_the_quick_preset() {
+    let dir = std::env::temp_dir().join(format!("ndfbench-conv-{}", std::process::id()));
+    let fits = dir.join("fits");
+    std::fs::create_dir_all(&fits).unwrap();
+    std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();
+    std::fs::write(
+        fits.join("multiscale-convolution.toml"),
+        include_str!("../fits/multiscale-convolution.toml"),
+    )
+    .unwrap();
+    let out = ndfbench::fit::regen(
+        &fits,
+        &dir.join("results"),
+        Some("convolution"),
+        ndfbench::integrate::Preset::Quick,
+    )
+    .unwrap();
+    assert_eq!(out.len(), 1);
+    assert!(out[0].passed, "{out:?}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results/fits/multiscale-convolution.json")).unwrap(),
+    )
+    .unwrap();
+    // every metric produced a finite α at every grid point, and the limits of ours hold
+    for p in json["metric_grid"].as_array().unwrap() {
+        for k in ["moment_unclipped", "moment_clipped", "l2", "caps"] {
+            assert!(p[k].as_f64().unwrap().is_finite(), "{p}");
+        }
+    }
+    let md = std::fs::read_to_string(dir.join("results/multiscale-convolution.md")).unwrap();
+    assert!(md.contains("Eq 7 recomputed") && md.contains("vMF"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -36,7 +36,7 @@ pub fn regen(
     {
         let o = match s.name.as_str() {
             "multiscale-convolution" => {
-                crate::multiscale::regen_convolution::run(s, results, preset)?
+                crate::multiscale::regen_convolution::run(s, &specs, results, preset)?
             }
             _ => crate::multiscale::regen::run(s, results, preset)?,
         };

@@ -56,7 +56,8 @@ fn metric_value(p: &PairFit, m: Metric) -> f64 {
     }
 }
 
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<FitOutcome> {
+/// `all` is every spec of the fits directory: the α_me spec is taken from it.
+pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> Result<FitOutcome> {
     let g = spec
         .grid
         .clone()
@@ -77,22 +78,16 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<FitOutcome>
     let ci = fit_improved(&train)?;
     // ours: the product identity through the α_me fit of fits/multiscale-alpha-me.toml,
     // α = α_me-fit(1 − ρ_me ρ_mi) — both limits hold up to that fit's error
-    let me_spec = crate::fit::spec::load_dir(
-        results
-            .parent()
-            .unwrap_or(Path::new("."))
-            .join("fits")
-            .as_path(),
-    )
-    .ok()
-    .and_then(|v| v.into_iter().find(|s| s.name == "multiscale-alpha-me"));
-    let me_spec = match me_spec {
-        Some(s) => s,
-        None => crate::fit::spec::FitSpec::parse(
-            include_str!("../../fits/multiscale-alpha-me.toml"),
-            "fits/multiscale-alpha-me.toml",
-        )?,
-    };
+    let me_spec = all
+        .iter()
+        .find(|s| s.name == "multiscale-alpha-me")
+        .cloned()
+        .ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "{} needs the multiscale-alpha-me spec in the same fits directory",
+                spec.name
+            ))
+        })?;
     let c_me = super::alpha_me::fit_ours(
         me_spec.terms,
         &training_alphas(
@@ -330,7 +325,51 @@ carries both limits; 4s(1 − s) switches the per-metric correction off at eithe
         .collect();
     let svg = loglog_svg(&slices, 1500, 520)?;
     crate::io::write_atomic(&results.join("multiscale-convolution.svg"), svg.as_bytes())?;
-    md.push_str("![slices of the overall α](multiscale-convolution.svg)\n");
+    md.push_str("![slices of the overall α](multiscale-convolution.svg)\n\n");
+    // maps on the held-out grid: the target surface and each model's relative error
+    let map = |f: &dyn Fn(f64, f64) -> f64| -> Vec<Vec<f64>> {
+        held_axis
+            .iter()
+            .map(|&y| held_axis.iter().map(|&x| f(x, y)).collect())
+            .collect()
+    };
+    let rel = |f: &dyn Fn(f64, f64) -> f64| {
+        map(&|x, y| {
+            let a = alpha_moment(x, y).unwrap_or(f64::NAN);
+            ((f(x, y) - a) / a).abs()
+        })
+    };
+    let heat = |title: &str, values: Vec<Vec<f64>>, r: (f64, f64)| crate::report::plot::HeatPanel {
+        title: title.to_string(),
+        x: held_axis.clone(),
+        y: held_axis.clone(),
+        values,
+        log_range: r,
+    };
+    let maps = crate::report::plot::heatmap_svg(
+        &[
+            heat(
+                "α (unclipped moment)",
+                map(&|x, y| alpha_moment(x, y).unwrap_or(f64::NAN)),
+                (-2.0, 0.5),
+            ),
+            heat("|rel. error| Eq 7", rel(&eq7), (-5.0, 0.0)),
+            heat("|rel. error| α²-sum", rel(&sum_of_squares), (-5.0, 0.0)),
+            heat(
+                "|rel. error| polynomial",
+                rel(&|x, y| improved(&ci, x, y)),
+                (-5.0, 0.0),
+            ),
+            heat("|rel. error| ours", rel(&product2), (-5.0, 0.0)),
+        ],
+        2000,
+        430,
+    )?;
+    crate::io::write_atomic(
+        &results.join("multiscale-convolution-maps.svg"),
+        maps.as_bytes(),
+    )?;
+    md.push_str("Maps over the held-out grid (unclipped-moment target; colour = log10, range in each title; ours degrades only where the target α > 1, outside the α_me fit's domain):\n\n![maps](multiscale-convolution-maps.svg)\n");
     crate::io::write_atomic(&results.join("multiscale-convolution.md"), md.as_bytes())?;
     let json = json!({
         "spec": spec,

@@ -94,3 +94,99 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
     }
     Ok(buf)
 }
+
+/// One heat-map panel: values on a (log-spaced) grid, coloured by log10(value).
+pub struct HeatPanel {
+    pub title: String,
+    /// Grid axes (x = columns, y = rows), positive.
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    /// values[iy][ix] > 0 (non-positive values drawn grey)
+    pub values: Vec<Vec<f64>>,
+    /// Colour range in log10 units.
+    pub log_range: (f64, f64),
+}
+
+fn viridis_like(t: f64) -> RGBColor {
+    // a perceptually ordered dark-blue → green → yellow ramp
+    let t = t.clamp(0.0, 1.0);
+    let stops = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = t * (stops.len() - 1) as f64;
+    let i = (x.floor() as usize).min(stops.len() - 2);
+    let f = x - i as f64;
+    let lerp = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+    RGBColor(
+        lerp(stops[i].0, stops[i + 1].0),
+        lerp(stops[i].1, stops[i + 1].1),
+        lerp(stops[i].2, stops[i + 1].2),
+    )
+}
+
+/// Render heat-map panels side by side (log-log axes, log10 colour scale given per panel).
+pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<String> {
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (width, height)).into_drawing_area();
+        let err = |e: String| Error::InvalidArgument(format!("plot: {e}"));
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let areas = root.split_evenly((1, panels.len().max(1)));
+        for (area, p) in areas.iter().zip(panels) {
+            let edges = |v: &[f64]| -> Vec<f64> {
+                let n = v.len();
+                let mut e = Vec::with_capacity(n + 1);
+                e.push(v[0] * (v[0] / v[1]).sqrt());
+                for i in 0..n - 1 {
+                    e.push((v[i] * v[i + 1]).sqrt());
+                }
+                e.push(v[n - 1] * (v[n - 1] / v[n - 2]).sqrt());
+                e
+            };
+            let (ex, ey) = (edges(&p.x), edges(&p.y));
+            let title = format!(
+                "{} (log10: {:.1} … {:.1})",
+                p.title, p.log_range.0, p.log_range.1
+            );
+            let mut chart = ChartBuilder::on(area)
+                .caption(title.as_str(), ("sans-serif", 14))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(50)
+                .build_cartesian_2d(
+                    (ex[0]..ex[ex.len() - 1]).log_scale(),
+                    (ey[0]..ey[ey.len() - 1]).log_scale(),
+                )
+                .map_err(|e| err(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_desc("α_mi")
+                .y_desc("α_me")
+                .x_label_formatter(&|x| format!("{x:.2}"))
+                .y_label_formatter(&|y| format!("{y:.2}"))
+                .disable_mesh()
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+            let (lo, hi) = p.log_range;
+            chart
+                .draw_series(p.values.iter().enumerate().flat_map(|(iy, row)| {
+                    let (ex, ey) = (&ex, &ey);
+                    row.iter().enumerate().map(move |(ix, &v)| {
+                        let c = if v > 0.0 {
+                            viridis_like((v.log10() - lo) / (hi - lo))
+                        } else {
+                            RGBColor(200, 200, 200)
+                        };
+                        Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], c.filled())
+                    })
+                }))
+                .map_err(|e| err(e.to_string()))?;
+        }
+        root.present().map_err(|e| err(e.to_string()))?;
+    }
+    Ok(buf)
+}
