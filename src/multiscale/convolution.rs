@@ -137,6 +137,29 @@ impl Convolution {
         }
     }
 
+    /// c(θ_m) by Monte Carlo with MIS (balance heuristic) of the two lobes of the
+    /// integrand γ_me(b)·g_mi(m·b): b ~ γ_me, and b ~ γ_mi rotated to m (the paper's
+    /// estimator of Eq 6). Deterministic per seed at any thread count.
+    pub fn density_mc(&self, theta_m: f64, n: u64, seed: u64) -> Estimate {
+        let m = V3::new(theta_m.sin(), 0.0, theta_m.cos());
+        let f = |b: &V3| {
+            if b.z <= 0.0 {
+                return 0.0;
+            }
+            let c = m.dot(b);
+            if c <= 0.0 {
+                return 0.0;
+            }
+            self.me.eval(b) * zonal(&self.mi, c)
+        };
+        let around = Rotated {
+            d: &self.mi,
+            axis: m,
+        };
+        let strat: [&dyn Strategy<V3>; 2] = [&self.me, &around];
+        crate::integrate::mc::mis(&f, &strat, n, seed)
+    }
+
     /// Moments by Monte Carlo: b ~ γ_me, m′ ~ γ_mi, m = R_b m′ (the sampling the paper's MC
     /// uses); returns (mass below, unclipped MRL, clipped MRL) with standard errors.
     pub fn moments_mc(&self, n: u64, seed: u64) -> (Estimate, Estimate, Estimate) {
@@ -201,6 +224,23 @@ impl Convolution {
             converged: true,
         };
         (est(&t.0), est(&t.1), clipped)
+    }
+}
+
+/// An isotropic LTC rotated so that its pole is `axis` (any twist: the lobe is zonal).
+struct Rotated<'a> {
+    d: &'a LtcDist,
+    axis: V3,
+}
+
+impl Strategy<V3> for Rotated<'_> {
+    fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        let p = self.d.sample(u)?;
+        let (t1, t2) = frame(&self.axis);
+        Some(t1 * p.x + t2 * p.y + self.axis * p.z)
+    }
+    fn pdf(&self, b: &V3) -> f64 {
+        zonal(self.d, self.axis.dot(b))
     }
 }
 
