@@ -59,19 +59,19 @@ impl Convolution {
         })
     }
 
+    /// The Eq 6 integrand γ_me(b)·g_mi(m·b) (zero where either lobe is below its horizon).
+    fn integrand(&self, m: &V3, b: &V3) -> f64 {
+        let c = m.dot(b);
+        if b.z <= 0.0 || c <= 0.0 {
+            return 0.0;
+        }
+        self.me.eval(b) * zonal(&self.mi, c)
+    }
+
     /// c(θ_m) by adaptive sphere quadrature over b (kinks: b_z = 0 and m·b = 0).
     pub fn density(&self, theta_m: f64, tol: Tol) -> Estimate {
         let m = V3::new(theta_m.sin(), 0.0, theta_m.cos());
-        let f = |b: &V3| {
-            if b.z <= 0.0 {
-                return 0.0;
-            }
-            let c = m.dot(b);
-            if c <= 0.0 {
-                return 0.0;
-            }
-            self.me.eval(b) * zonal(&self.mi, c)
-        };
+        let f = |b: &V3| self.integrand(&m, b);
         // pole at the narrower lobe's centre, scale its width
         let (pole, scale) = if self.alpha_mi <= self.alpha_me {
             (m, self.alpha_mi)
@@ -142,16 +142,7 @@ impl Convolution {
     /// estimator of Eq 6). Deterministic per seed at any thread count.
     pub fn density_mc(&self, theta_m: f64, n: u64, seed: u64) -> Estimate {
         let m = V3::new(theta_m.sin(), 0.0, theta_m.cos());
-        let f = |b: &V3| {
-            if b.z <= 0.0 {
-                return 0.0;
-            }
-            let c = m.dot(b);
-            if c <= 0.0 {
-                return 0.0;
-            }
-            self.me.eval(b) * zonal(&self.mi, c)
-        };
+        let f = |b: &V3| self.integrand(&m, b);
         let around = Rotated {
             d: &self.mi,
             axis: m,
