@@ -316,37 +316,53 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
 }
 
 /// Per-metric model on top of the moment identity:
-/// α_k = α_mom·(1 + 4s(1 − s)·Q_k(α_mom, (s − ½)²)), s = α_mi/(α_mi + α_me), 6 coefficients. α_mom = ρ⁻¹(ρ_me ρ_mi) carries both limits exactly and 4s(1 − s) switches
-/// the correction off at either limit; the metrics differ most when the two scales are
-/// comparable (s ≈ ½), at every overall roughness — hence a factor of s, not of α_mi α_me.
+/// α_k = α_mom·exp(Σ c_i b_i(α_mi, α_me)) with α_mom = ρ⁻¹(ρ_me ρ_mi) and ten basis
+/// functions built from s = α_mi/(α_mi + α_me), g = 4s(1 − s), p = α_mi α_me and
+/// ℓ = ln √(α_mi² + α_me²): {g, g(s − ½)², g², p, p², g p, g √p, p √p, g ℓ, g ℓ²}.
+/// Every basis function vanishes when α_mi → 0 or α_me → 0, so both limits are those of
+/// α_mom (exact). The g-terms carry the scale-invariant shape difference between metrics
+/// (largest at s = ½), the p-terms the horizon clipping of rough pairs, the ℓ-terms the
+/// fixed angular size of the lights.
 pub fn corrected(c: &[f64], alpha_mi: f64, alpha_me: f64) -> f64 {
     let m = alpha_moment(alpha_mi, alpha_me).unwrap_or(f64::NAN);
-    m * (1.0
-        + corr_basis(alpha_mi, alpha_me, m)
-            .iter()
-            .zip(c)
-            .map(|(b, k)| b * k)
-            .sum::<f64>())
+    m * corr_basis(alpha_mi, alpha_me)
+        .iter()
+        .zip(c)
+        .map(|(b, k)| b * k)
+        .sum::<f64>()
+        .exp()
 }
 
-fn corr_basis(alpha_mi: f64, alpha_me: f64, m: f64) -> [f64; 6] {
-    let s = alpha_mi / (alpha_mi + alpha_me);
+fn corr_basis(alpha_mi: f64, alpha_me: f64) -> [f64; 10] {
+    let (x, y) = (alpha_mi, alpha_me);
+    let s = x / (x + y);
     let g = 4.0 * s * (1.0 - s);
-    let d = s - 0.5;
-    // ln α_mom enters through a rational-like pair so that the correction can saturate at
-    // small α (scale-invariant disagreement) and grow near α = 1 (horizon clipping)
-    let (u, v) = (m, m * m);
-    [g, g * u, g * v, g * d * d, g * u * d * d, g * v * v]
+    let dd = (s - 0.5) * (s - 0.5);
+    let p = x * y;
+    let q = p.sqrt();
+    let l = x.hypot(y).ln();
+    [
+        g,
+        g * dd,
+        g * g,
+        p,
+        p * p,
+        g * p,
+        g * q,
+        q * p,
+        g * l,
+        g * l * l,
+    ]
 }
 
-/// Fit the correction Q_k by relative linear least squares.
+/// Fit the ten coefficients by linear least squares on ln(α_k/α_mom).
 pub fn fit_corrected(samples: &[(f64, f64, f64)]) -> Result<Vec<f64>> {
     let mut rows = Vec::new();
     let mut t = Vec::new();
     for &(x, y, a) in samples {
         let m = alpha_moment(x, y)?;
-        rows.push(corr_basis(x, y, m).iter().map(|b| b * m / a).collect());
-        t.push((a - m) / a);
+        rows.push(corr_basis(x, y).to_vec());
+        t.push((a / m).ln());
     }
     lstsq(&rows, &t)
 }

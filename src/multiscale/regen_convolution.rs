@@ -157,7 +157,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
         pb.inc(1);
     }
     pb.finish_and_clear();
-    let passed = ours.max_rel <= spec.tolerance.max_rel;
+    let passed_moment = ours.max_rel <= spec.tolerance.max_rel;
 
     let mut md = String::from(
         "# Multi-scale LTC: overall roughness of the footprint (seed 000 §3.4–3.5, Eq 6–7)\n\n",
@@ -221,7 +221,7 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
         ));
         model_json.push(json!({"model": name, "held_out": s, "held_out_target_le_1": sc, "limit_me0": l1, "limit_mi0": l2}));
     }
-    md.push_str(&format!("\nGoal (issue): max relative error ≤ {:.0} % over [0.01, 1]². Ours (the product identity through the α_me fit; no fitted coefficients of its own) on the {} held-out points whose target α ≤ 1 (the α_me fit's domain and the paper's clamp; {} points with α > 1 left out, where Newton on the closed form is the exact method): **{}** ({:.2e}). The 6-coefficient polynomial α² = α_mi² + α_me² + α_mi α_me P(α_mi, α_me) (both limits exact) reaches {:.2e} on all held-out points, including the corner where the unclipped moment sends α to {:.2}.\n\n", 100.0 * spec.tolerance.max_rel, held_clamp.len(), held.len() - held_clamp.len(), if passed { "met" } else { "MISSED" }, ours.max_rel, stats(&held, &|x, y| improved(&ci, x, y)).max_rel, alpha_moment(hi, hi)?));
+    md.push_str(&format!("\nGoal (issue): max relative error ≤ {:.0} % over [0.01, 1]². Ours (the product identity through the α_me fit; no fitted coefficients of its own) on the {} held-out points whose target α ≤ 1 (the α_me fit's domain and the paper's clamp; {} points with α > 1 left out, where Newton on the closed form is the exact method): **{}** ({:.2e}). The 6-coefficient polynomial α² = α_mi² + α_me² + α_mi α_me P(α_mi, α_me) (both limits exact) reaches {:.2e} on all held-out points, including the corner where the unclipped moment sends α to {:.2}.\n\n", 100.0 * spec.tolerance.max_rel, held_clamp.len(), held.len() - held_clamp.len(), if passed_moment { "met" } else { "MISSED" }, ours.max_rel, stats(&held, &|x, y| improved(&ci, x, y)).max_rel, alpha_moment(hi, hi)?));
     md.push_str(&format!("## Eq 7 recomputed\n\nPaper: α = 0.07 α_mi² + 0.94 α_mi + α_me − 0.83 α_mi α_me, SSE 0.6492 (grid and metric not stated).\n\nRefit of the same basis by linear least squares on our {n}×{n} log-spaced grid against the unclipped-moment target: α = {:.4} α_mi² + {:.4} α_mi + {:.4} α_me {:+.4} α_mi α_me, SSE {:.4} (the paper's coefficients give SSE {:.4} on the same grid). SSE scales with the number and placement of grid points and with the metric, so 0.6492 cannot be compared across grids; the paper's own limits are off: Eq 7 gives α(α_mi, 0) = 0.07α_mi² + 0.94α_mi ≠ α_mi (6 % low at α_mi = 0.01, 1 % high at α_mi = 1).\n\n", c7[0], c7[1], c7[2], c7[3], sse7, sse_paper, n = g.dense_points));
     // models against the quadrature metrics (in-sample on the metric grid)
     md.push_str("## Models against each metric (metric grid, in-sample)\n\n| model | ");
@@ -275,6 +275,12 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
         md.push_str(&cells.join(" | "));
         md.push_str(" |\n");
     }
+    let tol = spec.tolerance.max_rel;
+    // the per-metric models have 10 coefficients: they are only judged (and gate `regen`)
+    // when the metric grid has at least twice as many points (not at the quick preset)
+    let gate = m * m >= 20;
+    let metrics_ok = per_metric_corr.iter().all(|r| r.3.max_rel <= tol);
+    let passed = passed_moment && (metrics_ok || !gate);
     let cells = |rows: &[Row]| -> String {
         rows.iter()
             .map(|(_, _, s, h)| format!("{:.2e} / {:.2e}", s.max_rel, h.max_rel))
@@ -286,14 +292,20 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
         cells(&per_metric_ours)
     ));
     md.push_str(&format!(
-        "| **ours per metric**: α_mom·(1 + 4s(1−s) Q_k(α_mom, (s − ½)²)), s = α_mi/(α_mi+α_me), refitted: in-sample / held-out | {} |\n\n",
+        "| **ours per metric**: α_mom·exp(Σ c_i b_i), 10 basis functions vanishing at both limits (see `overall::corrected`): in-sample / held-out | {} |\n\n",
         cells(&per_metric_corr)
     ));
     let hm = m - 1;
     md.push_str(&format!(
-        "Held-out: the {hm}×{hm} grid half a step off the metric grid (all its points, α > 1 included). Rows without a refit are \
+        "Goal (issue): ≤ {:.0} % under every metric — ours per metric on held-out points: {}.\n\nHeld-out: the {hm}×{hm} grid half a step off the metric grid (all its points, α > 1 included). Rows without a refit are \
 judged on the metric-grid points whose α ≤ 1 (the paper's clamp). α_mom = ρ⁻¹(ρ_me ρ_mi) (Newton on the closed form) \
-carries both limits; 4s(1 − s) switches the per-metric correction off at either limit.\n\n"
+carries both limits; every basis function of the per-metric correction vanishes at either limit.\n\n",
+        100.0 * tol,
+        match (gate, metrics_ok) {
+            (false, _) => "not judged (metric grid too small for 10 coefficients at this preset)",
+            (true, true) => "met for every metric",
+            (true, false) => "MISSED for at least one metric",
+        }
     ));
     // slices plot
     let slices: Vec<Panel> = [0.03, 0.3, 1.0]
@@ -395,8 +407,11 @@ carries both limits; 4s(1 − s) switches the per-metric correction off at eithe
         tolerance: spec.tolerance.max_rel,
         passed,
         summary: format!(
-            "ours {:.2e} max rel (tol {:.0e}); metric spread up to ×{:.3}",
-            ours.max_rel, spec.tolerance.max_rel, spread_max.0
+            "ours {:.2e} max rel on the moment target (tol {:.0e}); per metric held-out {}; metric spread up to ×{:.3}",
+            ours.max_rel,
+            spec.tolerance.max_rel,
+            per_metric_corr.iter().map(|r| format!("{:.2e}", r.3.max_rel)).collect::<Vec<_>>().join("/"),
+            spread_max.0
         ),
     })
 }
