@@ -155,32 +155,37 @@ pub fn projected_disk(p: Preset) -> Outcome {
     )
 }
 
-/// Unit vector perpendicular to o.
-fn perp(o: &V3) -> V3 {
-    crate::integrate::sphere::frame(o).0
-}
-
-pub fn reflection(p: Preset) -> Outcome {
+/// Points for the o-dependent maps: unit vectors u at 40° with o·u = 1/√(1 + k²) from 1
+/// down to 1e-3; `at(u, o·u)` turns each into the map and its input point.
+fn o_points(
+    p: Preset,
+    what: &str,
+    at: &dyn Fn(V3, V3, f64) -> (Box<dyn DirMap>, V3),
+) -> Vec<Point> {
     let o = dir(40.0, 0.3);
-    let t = perp(&o);
+    let t = crate::integrate::sphere::frame(&o).0;
     let ks: &[f64] = if p == Preset::Quick {
         &[0.2, 5.0, 1000.0]
     } else {
         &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0]
     };
-    let points = ks
-        .iter()
+    ks.iter()
         .map(|&k| {
-            let n = (o + t * k).normalize();
-            let c = n.dot(&o);
+            let u = (o + t * k).normalize();
+            let c = u.dot(&o);
+            let (map, w) = at(o, u, c);
             Point {
-                label: format!("n·o = {c:.3e}"),
-                map: Box::new(Reflection { o }),
-                w: n,
+                label: format!("{what} = {c:.3e}"),
+                map,
+                w,
                 radius: 1e-3 * c.min(1.0),
             }
         })
-        .collect();
+        .collect()
+}
+
+pub fn reflection(p: Preset) -> Outcome {
+    let points = o_points(p, "n·o", &|o, n, _| (Box::new(Reflection { o }), n));
     run_points(
         "jacobian-reflection",
         "Reflection Jacobian ‖∂ω_i/∂ω_n‖ = 4|ω_n·ω_o|",
@@ -192,27 +197,10 @@ pub fn reflection(p: Preset) -> Outcome {
 }
 
 pub fn half_vector(p: Preset) -> Outcome {
-    let o = dir(40.0, 0.3);
-    let t = perp(&o);
-    let ks: &[f64] = if p == Preset::Quick {
-        &[0.2, 5.0, 1000.0]
-    } else {
-        &[0.0, 0.2, 1.0, 5.0, 100.0, 1000.0]
-    };
-    let points = ks
-        .iter()
-        .map(|&k| {
-            let h = (o + t * k).normalize();
-            let c = h.dot(&o);
-            let wi = h * (2.0 * c) - o;
-            Point {
-                label: format!("o·h = {c:.3e}"),
-                map: Box::new(HalfVector { o }),
-                w: wi,
-                radius: 1e-3 * c.min(1.0),
-            }
-        })
-        .collect();
+    // the point is ω_i = reflect(o, h), so that o·h takes the listed values
+    let points = o_points(p, "o·h", &|o, h, c| {
+        (Box::new(HalfVector { o }), h * (2.0 * c) - o)
+    });
     run_points(
         "jacobian-half-vector",
         "Half-vector Jacobian ‖∂h/∂ω_i‖ = 1/(4|o·h|)",
