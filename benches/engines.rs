@@ -178,5 +178,42 @@ fn alpha_me(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engines, rayon_scaling, shading_forms, alpha_me);
+/// Beckmann Λ(ν): exact (erfc), Walter's rational, the refitted rational; 1024 ν per iteration.
+fn smith_lambda(c: &mut Criterion) {
+    use ndfbench::microfacet::lambda::{beckmann, walter_printed};
+    use ndfbench::microfacet::lambda_fit::{fit, grids, rational};
+    let (train, _) = grids(600, 1e-3, 10.0);
+    let (p, _) = fit(&train, 4000).unwrap();
+    let nus: Vec<f64> = (0..1024)
+        .map(|i| 1e-3 * (1e4f64).powf((i as f64 + 0.5) / 1024.0))
+        .collect();
+    let mut g = c.benchmark_group("smith-lambda");
+    g.throughput(Throughput::Elements(1024));
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(1));
+    g.bench_function("exact-erfc", |b| {
+        b.iter(|| nus.iter().map(|&n| beckmann(black_box(n))).sum::<f64>())
+    });
+    g.bench_function("walter", |b| {
+        b.iter(|| {
+            nus.iter()
+                .map(|&n| walter_printed(black_box(n)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("ours", |b| {
+        b.iter(|| nus.iter().map(|&n| rational(&p, black_box(n))).sum::<f64>())
+    });
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    engines,
+    rayon_scaling,
+    shading_forms,
+    alpha_me,
+    smith_lambda
+);
 criterion_main!(benches);

@@ -214,3 +214,23 @@ fn d_from_slopes_matches_p22_over_cos4() {
         assert!((s.d(&m) - via_p22).abs() <= 1e-12 * via_p22.max(1e-300));
     }
 }
+
+#[test]
+fn refitted_lambda_beats_walter_by_the_goal_on_held_out_points() {
+    use ndfbench::microfacet::lambda_fit::{fit, grids, rational, worst};
+    let (train, held) = grids(600, 1e-3, 10.0);
+    let (p, _) = fit(&train, 4000).unwrap();
+    let ours = worst(&|n| rational(&p, n), &held);
+    let walter = worst(&lambda::walter_printed, &held);
+    assert!(ours.max_dg1 <= 1e-4, "{ours:?}");
+    assert!(walter.max_dg1 > 1e-3, "{walter:?}");
+    // never negative (Walter's is, on (1.548, 1.6)), continuous at the cut, right ν → 0 limit
+    for i in 0..10_000 {
+        let nu = 1e-4 + 5.0 * i as f64 / 10_000.0;
+        assert!(rational(&p, nu) >= 0.0, "ν={nu}");
+    }
+    let c = p[5];
+    assert!(rational(&p, c * (1.0 - 1e-9)) < 1e-15 && rational(&p, c) == 0.0);
+    let nu = 1e-6;
+    assert!((rational(&p, nu) / lambda::beckmann(nu) - 1.0).abs() < 1e-3);
+}

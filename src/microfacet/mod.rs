@@ -2,6 +2,7 @@
 //! Smith Λ (exact and Walter's approximation), G1/G2, sampling, and f32 shading forms.
 
 pub mod lambda;
+pub mod lambda_fit;
 pub mod roughness;
 pub mod sampling;
 pub mod shading;

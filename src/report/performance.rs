@@ -169,6 +169,7 @@ it buys.\n\n",
         }
     }
     md.push_str(&alpha_me_table(&timed, results));
+    md.push_str(&smith_lambda_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -308,6 +309,45 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
             t.lo_ns / 1024.0,
             t.hi_ns / 1024.0,
             err(key)
+        ));
+    }
+    md
+}
+
+/// Cost next to accuracy for the Beckmann Λ forms (bench group `smith-lambda`; errors from
+/// results/fits/smith-lambda.json).
+fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "smith-lambda").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let fit: Option<serde_json::Value> =
+        std::fs::read_to_string(results.join("fits").join("smith-lambda.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok());
+    let err = |key: &str| -> String {
+        fit.as_ref()
+            .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
+            .map(|e| format!("{e:.2e}"))
+            .unwrap_or_else(|| "(run regen)".into())
+    };
+    let mut md = String::from(
+        "\n## Beckmann Smith Λ: cost and accuracy (seed 001 §3.2)\n\nns per evaluation of Λ(ν) (1024 log-spaced ν in [1e-3, 10]) next to the held-out max |ΔG1| of results/smith-lambda.md.\n\n| form | ns/eval (95 % CI) | max \\|ΔG1\\| |\n|---|---|---|\n",
+    );
+    for t in rows {
+        let e = match t.function.as_str() {
+            "exact-erfc" => "0 (reference)".to_string(),
+            "walter" => err("walter_printed"),
+            "ours" => err("ours"),
+            _ => continue,
+        };
+        md.push_str(&format!(
+            "| {} | {:.2} ({:.2} – {:.2}) | {} |\n",
+            t.function,
+            t.mean_ns / 1024.0,
+            t.lo_ns / 1024.0,
+            t.hi_ns / 1024.0,
+            e
         ));
     }
     md
