@@ -208,12 +208,37 @@ fn smith_lambda(c: &mut Criterion) {
     g.finish();
 }
 
+/// LEADR N×N grid estimate (rough specular × environment), cost against N (seed 001 §3.5).
+fn leadr(c: &mut Criterion) {
+    use nalgebra::Vector3;
+    use ndfbench::leadr::{grid_estimate, Grid, Slopes};
+    let v = Vector3::new(0.5, 0.1, 0.86).normalize();
+    let sun = Vector3::new(0.5, 0.2, 0.8).normalize();
+    let env = |n: &Vector3<f64>| {
+        let r = n * (2.0 * n.dot(&v)) - v;
+        0.5 + 0.5 * r.z + 10.0 * (50.0 * (r.dot(&sun) - 1.0)).exp()
+    };
+    let s = Slopes::iso(0.3);
+    let mut g = c.benchmark_group("leadr");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(1));
+    for n in [3usize, 5, 8, 16, 32] {
+        let grid = Grid::gauss_hermite(n);
+        g.bench_with_input(BenchmarkId::new("grid", n), &n, |b, _| {
+            b.iter(|| grid_estimate(&grid, &s, black_box(&v), &env, None))
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     engines,
     rayon_scaling,
     shading_forms,
     alpha_me,
-    smith_lambda
+    smith_lambda,
+    leadr
 );
 criterion_main!(benches);

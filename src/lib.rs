@@ -23,6 +23,7 @@ pub mod fit;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;
+pub mod leadr;
 pub mod linalg;
 pub mod ltc;
 pub mod microfacet;

@@ -35,6 +35,7 @@ pub fn regen(
         .filter(|s| only.is_none_or(|o| s.name.contains(o)))
     {
         let o = match s.name.as_str() {
+            "leadr-grids" => crate::leadr::regen(s, results)?,
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
             "multiscale-convolution" => {
                 crate::multiscale::regen_convolution::run(s, &specs, results, preset)?

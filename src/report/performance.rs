@@ -170,6 +170,7 @@ it buys.\n\n",
     }
     md.push_str(&alpha_me_table(&timed, results));
     md.push_str(&smith_lambda_table(&timed, results));
+    md.push_str(&leadr_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -348,6 +349,52 @@ fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
             t.lo_ns / 1024.0,
             t.hi_ns / 1024.0,
             e
+        ));
+    }
+    md
+}
+
+/// LEADR grid cost against N next to the held-out errors of results/fits/leadr-grids.json.
+fn leadr_table(timed: &[Timed], results: &Path) -> String {
+    let mut rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "leadr").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
+    let fit: Option<serde_json::Value> =
+        std::fs::read_to_string(results.join("fits").join("leadr-grids.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok());
+    let err = |n: usize, fam: &str, kind: &str| -> String {
+        fit.as_ref()
+            .and_then(|v| {
+                v["rows"].as_array().and_then(|r| {
+                    r.iter()
+                        .find(|x| x["n"].as_u64() == Some(n as u64))
+                        .cloned()
+                })
+            })
+            .and_then(|r| r[kind][fam][1].as_f64())
+            .map(|e| format!("{e:.2e}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    let mut md = String::from(
+        "\n## LEADR N×N grids: cost and accuracy (seed 001 §3.4–3.5)\n\nTime of one N×N estimate (criterion mean, 95 % CI; the cost per grid point is the same for every family) next to the held-out max relative error of results/leadr.md.\n\n| N | ns per estimate (95 % CI) | ns per grid point | specular: paper h / fitted h / Gauss–Hermite | diffuse: paper h / fitted h / Gauss–Hermite |\n|---|---|---|---|---|\n",
+    );
+    for t in rows {
+        let n: usize = t.param.parse().unwrap_or(0);
+        md.push_str(&format!(
+            "| {n} | {:.1} ({:.1} – {:.1}) | {:.2} | {} / {} / {} | {} / {} / {} |\n",
+            t.mean_ns,
+            t.lo_ns,
+            t.hi_ns,
+            t.mean_ns / (n * n).max(1) as f64,
+            err(n, "paper", "specular"),
+            err(n, "fitted", "specular"),
+            err(n, "gauss_hermite", "specular"),
+            err(n, "paper", "diffuse"),
+            err(n, "fitted", "diffuse"),
+            err(n, "gauss_hermite", "diffuse")
         ));
     }
     md
