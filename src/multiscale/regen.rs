@@ -53,6 +53,12 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
             spec.name
         )));
     }
+    if spec.terms == 0 || spec.table_entries < 2 {
+        return Err(Error::InvalidArgument(format!(
+            "{}: needs terms ≥ 1 and table_entries ≥ 2 (got {} and {})",
+            spec.name, spec.terms, spec.table_entries
+        )));
+    }
     let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
     let train = training_alphas(spec.training.points, lo, hi);
     let held = held_out_alphas(spec.held_out.points, lo, hi);
