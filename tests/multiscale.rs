@@ -168,9 +168,18 @@ fn regen_writes_its_results_atomically() {
         .collect();
     assert!(leftovers.is_empty());
     // a spec that parses but cannot drive this fit is a typed error, not a panic
-    std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC.replace("terms = 7", "terms = 0")).unwrap();
+    std::fs::write(
+        fits.join("multiscale-alpha-me.toml"),
+        SPEC.replace("terms = 7", "terms = 0"),
+    )
+    .unwrap();
     assert!(matches!(
-        ndfbench::fit::regen(&fits, &dir.join("results"), Some("multiscale-alpha"), ndfbench::integrate::Preset::Quick),
+        ndfbench::fit::regen(
+            &fits,
+            &dir.join("results"),
+            Some("multiscale-alpha"),
+            ndfbench::integrate::Preset::Quick
+        ),
         Err(Error::InvalidArgument(_))
     ));
     // a spec directory with no matching spec is an error, not silence
