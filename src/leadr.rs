@@ -292,8 +292,6 @@ pub fn grid_error(g: &Grid, set: &[(Config, f64)], specular: bool) -> (f64, f64)
 /// Spacing h of an N-point uniform grid minimising the RMS error on `train` (both kinds),
 /// by a scan and Brent (argmin).
 pub fn fit_spacing(n: usize, train: &[(Config, f64)]) -> f64 {
-    use argmin::core::{CostFunction, Executor, State};
-    use argmin::solver::brent::BrentOpt;
     let cost = |h: f64| {
         let g = Grid::riemann(n, h);
         let (a, _) = grid_error(&g, train, true);
@@ -301,29 +299,7 @@ pub fn fit_spacing(n: usize, train: &[(Config, f64)]) -> f64 {
         a * a + b * b
     };
     let hs: Vec<f64> = (0..=60).map(|i| 0.2 + 2.0 * i as f64 / 60.0).collect();
-    let (mut bi, mut bv) = (0, f64::INFINITY);
-    for (i, &h) in hs.iter().enumerate() {
-        let c = cost(h);
-        if c < bv {
-            bv = c;
-            bi = i;
-        }
-    }
-    struct C<'a>(&'a dyn Fn(f64) -> f64);
-    impl CostFunction for C<'_> {
-        type Param = f64;
-        type Output = f64;
-        fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
-            Ok((self.0)(*x))
-        }
-    }
-    let (a, b) = (hs[bi.saturating_sub(1)], hs[(bi + 1).min(hs.len() - 1)]);
-    Executor::new(C(&cost), BrentOpt::new(a, b).set_tolerance(1e-8, 1e-10))
-        .configure(|s| s.max_iters(100))
-        .run()
-        .ok()
-        .and_then(|r| r.state().get_best_param().copied())
-        .unwrap_or(hs[bi])
+    crate::fit::scan_brent(&cost, &hs, (1e-8, 1e-10), 100)
 }
 
 /// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
@@ -473,12 +449,7 @@ does not dominate at grazing views.\n\n",
         "fitted_h_n5": h5,
         "artificial_micronormal": {"without": if without.is_nan() { serde_json::Value::Null } else { serde_json::json!(without) }, "with": with},
     });
-    crate::io::write_atomic(
-        &results.join("fits").join(format!("{}.json", spec.name)),
-        serde_json::to_string_pretty(&json)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    crate::fit::write_result(results, &spec.name, &json)?;
     let best = rows
         .iter()
         .find(|r| r.0 == 5)

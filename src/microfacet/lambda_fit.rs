@@ -177,12 +177,7 @@ pub fn regen(
         "training": worst(&|n| rational(&p, n), &train),
         "passed": passed,
     });
-    crate::io::write_atomic(
-        &results.join("fits").join("smith-lambda.json"),
-        serde_json::to_string_pretty(&json)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    crate::fit::write_result(results, &spec.name, &json)?;
     let mut md =
         String::from("# Beckmann Smith Λ: a better rational approximation (seed 001 §3.2)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only smith-lambda` from `fits/smith-lambda.toml`. The reference is the exact \

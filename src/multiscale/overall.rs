@@ -234,36 +234,12 @@ pub struct PairFit {
 }
 
 fn brent_min(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
-    use argmin::core::{CostFunction, Executor, State};
-    use argmin::solver::brent::BrentOpt;
-    struct C<'a>(&'a dyn Fn(f64) -> f64);
-    impl CostFunction for C<'_> {
-        type Param = f64;
-        type Output = f64;
-        fn cost(&self, x: &f64) -> std::result::Result<f64, argmin::core::Error> {
-            Ok((self.0)(*x))
-        }
-    }
-    // coarse scan for a bracket, then Brent inside it
+    // coarse log scan for a bracket, then Brent inside it
     let n = 40;
     let xs: Vec<f64> = (0..=n)
         .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
         .collect();
-    let (mut bi, mut bv) = (0, f64::INFINITY);
-    for (i, &x) in xs.iter().enumerate() {
-        let v = f(x);
-        if v < bv {
-            bv = v;
-            bi = i;
-        }
-    }
-    let (a, b) = (xs[bi.saturating_sub(1)], xs[(bi + 1).min(n)]);
-    Executor::new(C(f), BrentOpt::new(a, b).set_tolerance(1e-10, 1e-12))
-        .configure(|s| s.max_iters(200))
-        .run()
-        .ok()
-        .and_then(|r| r.state().get_best_param().copied())
-        .unwrap_or(xs[bi])
+    crate::fit::scan_brent(f, &xs, (1e-10, 1e-12), 200)
 }
 
 /// Fit one pair under every metric.

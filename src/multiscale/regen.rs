@@ -205,12 +205,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
         "eq5_audit": {"alpha_at_b_1": at_one, "alpha_at_b_2_3": at_two_thirds, "numerator_roots_in_0_1": zeros, "poles_in_0_1": poles},
         "passed": passed,
     });
-    crate::io::write_atomic(
-        &results.join("fits").join(format!("{}.json", spec.name)),
-        serde_json::to_string_pretty(&json)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    crate::fit::write_result(results, &spec.name, &json)?;
     crate::io::write_atomic(
         &results.join("multiscale-alpha-error.svg"),
         svg_err.as_bytes(),

@@ -395,12 +395,7 @@ carries both limits; every basis function of the per-metric correction vanishes 
         "metric_grid_held_out": held_fits,
         "passed": passed,
     });
-    crate::io::write_atomic(
-        &results.join("fits").join(format!("{}.json", spec.name)),
-        serde_json::to_string_pretty(&json)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    crate::fit::write_result(results, &spec.name, &json)?;
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: ours.max_rel,

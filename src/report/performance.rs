@@ -282,10 +282,7 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit: Option<serde_json::Value> =
-        std::fs::read_to_string(results.join("fits").join("multiscale-alpha-me.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok());
+    let fit = crate::fit::read_result(results, "multiscale-alpha-me");
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
@@ -322,10 +319,7 @@ fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit: Option<serde_json::Value> =
-        std::fs::read_to_string(results.join("fits").join("smith-lambda.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok());
+    let fit = crate::fit::read_result(results, "smith-lambda");
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
@@ -361,10 +355,7 @@ fn leadr_table(timed: &[Timed], results: &Path) -> String {
         return String::new();
     }
     rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
-    let fit: Option<serde_json::Value> =
-        std::fs::read_to_string(results.join("fits").join("leadr-grids.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok());
+    let fit = crate::fit::read_result(results, "leadr-grids");
     let err = |n: usize, fam: &str, kind: &str| -> String {
         fit.as_ref()
             .and_then(|v| {
