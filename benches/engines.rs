@@ -232,8 +232,81 @@ fn leadr(c: &mut Criterion) {
     g.finish();
 }
 
+/// f32 shading forms of the footprint filters, 1024 inputs per iteration.
+fn filters(c: &mut Criterion) {
+    use ndfbench::filters::rules as r;
+    let n = 1024usize;
+    let inp: Vec<(f32, f32, [f32; 3], [f32; 3])> = (0..n)
+        .map(|i| {
+            let t = i as f32 / n as f32;
+            (
+                0.02 + 0.5 * t,
+                0.9 + 0.0999 * (1.0 - t),
+                [0.1 * t, -0.05, 0.02 * t],
+                [-0.03, 0.08 * t, 0.01],
+            )
+        })
+        .collect();
+    let coeffs: Vec<f32> = vec![1.318, -11.94, 48.69, -98.26, 109.19, -64.16, 15.60];
+    let mut g = c.benchmark_group("filters");
+    g.throughput(Throughput::Elements(n as u64));
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(1));
+    macro_rules! bench {
+        ($id:expr, $f:expr) => {
+            g.bench_function($id, |b| {
+                b.iter(|| inp.iter().map(|x| $f(black_box(x))).sum::<f32>())
+            });
+        };
+    }
+    bench!("toksvig-bp", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::toksvig_bp(x.0, x.1)
+    });
+    bench!("toksvig", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::toksvig_alpha2(x.0, x.1, 2.0)
+    });
+    bench!("vmf", |x: &(f32, f32, [f32; 3], [f32; 3])| r::vmf(
+        x.0, x.1, 2.0
+    ));
+    bench!("lean", |x: &(f32, f32, [f32; 3], [f32; 3])| r::lean(
+        x.0, x.2
+    )[0]);
+    bench!("seed000-paper", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::seed000_paper(x.0, x.1)
+    });
+    bench!("seed000-moment", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::seed000_moment_fit(x.1, 0.98, &coeffs)
+    });
+    bench!(
+        "deferred",
+        |x: &(f32, f32, [f32; 3], [f32; 3])| r::deferred(x.0, x.2, x.3, 0.25, 0.18)
+    );
+    bench!("eigen", |x: &(f32, f32, [f32; 3], [f32; 3])| r::eigen_eq10(
+        x.0,
+        [x.2[0], x.2[1]],
+        [x.3[0], x.3[1]],
+        0.25,
+        0.18
+    ));
+    bench!("rect", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::kaplanyan_rect(x.0, [x.2[0], x.2[1]], [x.3[0], x.3[1]], 0.25, 0.18)
+    });
+    bench!("projected", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::projected_space(x.0, x.2, x.3, 0.1, 0.04)
+    });
+    bench!("on-alpha", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::deferred_on_alpha(x.0, x.2, x.3, 0.25, 0.18)
+    });
+    bench!("forward", |x: &(f32, f32, [f32; 3], [f32; 3])| {
+        r::forward_matrix(x.0, [x.2[0], x.2[1]], [x.3[0], x.3[1]], 0.25)[0]
+    });
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    filters,
     engines,
     rayon_scaling,
     shading_forms,

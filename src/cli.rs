@@ -35,6 +35,51 @@ pub enum Quantity {
     /// overall α of γ_me ∗ γ_mi fitted by one LTC under every metric (needs --alpha-mi,
     /// --alpha-me; ~1 s: quadrature of seed 000 Eq 6)
     OverallAlpha,
+    /// a footprint roughness filter α′ (needs --filter, --alpha and the filter's inputs:
+    /// --b |μ| for mean-normal filters, --cov for LEAN, --dn-u/--dn-v for deferred
+    /// kernels, --du/--dv 2D derivatives for eigen/rect/forward); f64 and f32 forms
+    Filter,
+}
+
+/// Filters for `eval filter` (results/filters.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FilterName {
+    /// Toksvig, Blinn–Phong form (--b)
+    ToksvigBp,
+    /// α′² = α² + 2σ², σ² = (1 − |μ|)/|μ| (--b)
+    Toksvig,
+    /// α′² = α² + σ² (--b)
+    ToksvigHalf,
+    /// α′² = α² + 2/κ (--b)
+    Vmf2,
+    /// α′² = α² + 1/κ (--b)
+    Vmf1,
+    /// α′² = α² + 1/(2κ) (--b)
+    VmfHalf,
+    /// LEAN A = α²I + 2Σ (--cov xx,yy,xy); value = √λ_max(A)
+    Lean,
+    /// seed 000 Eq 5 + Eq 7 (--b)
+    Seed000Paper,
+    /// ρ⁻¹(|μ|ρ(α)) by Newton (f64) and the fitted form (f32) (--b)
+    Seed000Moment,
+    /// seed 003 Eq 13, σ² 0.25, δ 0.18 (--dn-u, --dn-v)
+    Deferred,
+    /// Eq 13 without the clamp
+    DeferredUnclamped,
+    /// Filament 0.15 / 0.04
+    Filament,
+    /// Unity HDRP 0.1 / 0.04
+    Unity,
+    /// Unity projected space 0.1 / 0.04
+    UnityProjected,
+    /// Godot 0.25 / 0.18 added to α
+    Godot,
+    /// seed 003 Eq 10 (--du, --dv: projected-disk derivatives)
+    Eigen,
+    /// Kaplanyan rectangular kernel, Listing 3 (--du, --dv: slope derivatives)
+    KaplanyanRect,
+    /// forward matrix A = α²I + 2Σ (Eq 3 with Eq 2 or 7 derivatives --du, --dv); value = √λ_max(A)
+    Forward,
 }
 
 /// Ways to get α_me from ‖b̄‖.
@@ -107,6 +152,24 @@ pub struct EvalArgs {
     /// meso-scale roughness α_me
     #[arg(long)]
     pub alpha_me: Option<f64>,
+    /// which footprint filter (`eval filter`)
+    #[arg(long, value_enum)]
+    pub filter: Option<FilterName>,
+    /// slope covariance xx,yy,xy (LEAN)
+    #[arg(long)]
+    pub cov: Option<String>,
+    /// screen derivative of the normal along x (3 numbers)
+    #[arg(long)]
+    pub dn_u: Option<String>,
+    /// screen derivative of the normal along y (3 numbers)
+    #[arg(long)]
+    pub dn_v: Option<String>,
+    /// 2D derivative along x (projected disk or slope space, 2 numbers)
+    #[arg(long)]
+    pub du: Option<String>,
+    /// 2D derivative along y (2 numbers)
+    #[arg(long)]
+    pub dv: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -194,6 +257,7 @@ pub fn surface(a: &EvalArgs) -> Result<Microsurface> {
 /// says so and points to the measured agreement in results/proofs.md.
 pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
     let (value, extra) = match a.quantity {
+        Quantity::Filter => filter_eval(a, fits)?,
         Quantity::Mrl => {
             let al = a
                 .alpha
@@ -341,7 +405,11 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                 Quantity::VndfPdf => {
                     VndfSampler::new(s, vec3(&a.o, "o")?)?.pdf_exact(&vec3(&a.m, "m")?)
                 }
-                Quantity::Jacobian | Quantity::Mrl | Quantity::AlphaMe | Quantity::OverallAlpha => {
+                Quantity::Jacobian
+                | Quantity::Mrl
+                | Quantity::AlphaMe
+                | Quantity::OverallAlpha
+                | Quantity::Filter => {
                     unreachable!("handled above")
                 }
             };
@@ -352,7 +420,9 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
         }
     };
     let fitted = a.quantity == Quantity::AlphaMe && a.method != AlphaMethod::Newton;
-    let (method, note) = if a.quantity == Quantity::OverallAlpha {
+    let (method, note) = if a.quantity == Quantity::Filter {
+        ("closed form, f64 reference (model.f32 is the shading form)", "exact up to rounding; the filter's error against the footprint-averaged BRDF is measured in results/filters.md")
+    } else if a.quantity == Quantity::OverallAlpha {
         ("moment: Newton on the closed form; clipped/L2/caps: nested adaptive quadrature of Eq 6 + Brent", "moment: round trip ≤ 1e-13; quadrature metrics: see model.cap_quadrature_rel_error and results/proofs.md (mrl-product)")
     } else if fitted {
         (
@@ -378,4 +448,205 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
         "model": extra,
     });
     Ok(serde_json::to_string_pretty(&out).expect("json"))
+}
+
+/// `eval filter`: α′ of one footprint filter, f64 reference and f32 shading form.
+fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json::Value)> {
+    use crate::filters::rules as r;
+    let f = a
+        .filter
+        .ok_or_else(|| Error::InvalidArgument("filter needs --filter NAME".into()))?;
+    let al = a
+        .alpha
+        .ok_or_else(|| Error::InvalidArgument("filter needs --alpha".into()))?;
+    if !(al.is_finite() && al > 0.0) {
+        return Err(Error::InvalidRoughness(al));
+    }
+    let b = || -> Result<f64> {
+        let b = a.b.ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "filter {f:?} needs --b (|μ| of the mip-mapped normal)"
+            ))
+        })?;
+        if !(b > 0.0 && b <= 1.0) {
+            return Err(Error::InvalidArgument(format!(
+                "--b must lie in (0, 1], got {b}"
+            )));
+        }
+        Ok(b)
+    };
+    let v3 = |s: &Option<String>, n: &str| -> Result<[f64; 3]> {
+        let s = s
+            .as_ref()
+            .ok_or_else(|| Error::InvalidArgument(format!("filter {f:?} needs --{n}")))?;
+        let v = parse_list(s, 3, n)?;
+        Ok([v[0], v[1], v[2]])
+    };
+    let v2 = |s: &Option<String>, n: &str| -> Result<[f64; 2]> {
+        let s = s
+            .as_ref()
+            .ok_or_else(|| Error::InvalidArgument(format!("filter {f:?} needs --{n}")))?;
+        let v = parse_list(s, 2, n)?;
+        Ok([v[0], v[1]])
+    };
+    let c32 = |x: [f64; 3]| x.map(|y| y as f32);
+    let d32 = |x: [f64; 2]| x.map(|y| y as f32);
+    let lmax = |m: [f64; 3]| crate::linalg::sym2_eigen(&Matrix2::new(m[0], m[2], m[2], m[1])).1;
+    let a32 = al as f32;
+    let inf = f64::INFINITY;
+    let (v64, v32, extra): (f64, f32, serde_json::Value) = match f {
+        FilterName::ToksvigBp => (
+            r::toksvig_bp(al, b()?),
+            r::toksvig_bp(a32, b()? as f32),
+            json!({}),
+        ),
+        FilterName::Toksvig => (
+            r::toksvig_alpha2(al, b()?, 2.0),
+            r::toksvig_alpha2(a32, b()? as f32, 2.0),
+            json!({}),
+        ),
+        FilterName::ToksvigHalf => (
+            r::toksvig_alpha2(al, b()?, 1.0),
+            r::toksvig_alpha2(a32, b()? as f32, 1.0),
+            json!({}),
+        ),
+        FilterName::Vmf2 => (
+            r::vmf(al, b()?, 2.0),
+            r::vmf(a32, b()? as f32, 2.0),
+            json!({}),
+        ),
+        FilterName::Vmf1 => (
+            r::vmf(al, b()?, 1.0),
+            r::vmf(a32, b()? as f32, 1.0),
+            json!({}),
+        ),
+        FilterName::VmfHalf => (
+            r::vmf(al, b()?, 0.5),
+            r::vmf(a32, b()? as f32, 0.5),
+            json!({}),
+        ),
+        FilterName::Seed000Paper => (
+            r::seed000_paper(al, b()?),
+            r::seed000_paper(a32, b()? as f32),
+            json!({}),
+        ),
+        FilterName::Seed000Moment => {
+            let rho = crate::multiscale::mrl::mrl_pair(al).0;
+            let y = 1.0 - b()? * rho;
+            let exact = crate::multiscale::mrl::alpha_from_one_minus(y)?;
+            let coeffs = ours_coefficients(fits)?;
+            let c32: Vec<f32> = coeffs.iter().map(|c| *c as f32).collect();
+            (
+                exact,
+                r::seed000_moment_fit(b()? as f32, rho as f32, &c32),
+                json!({"rho_base": rho, "fit": "results/fits/multiscale-alpha-me.json (ours)"}),
+            )
+        }
+        FilterName::Lean => {
+            let c = v3(&a.cov, "cov")?;
+            let m = r::lean(al, c);
+            Roughness::matrix(Matrix2::new(m[0], m[2], m[2], m[1]))?;
+            let m32 = r::lean(a32, c32(c));
+            (
+                lmax(m).sqrt(),
+                lmax(m32.map(|x| x as f64)).sqrt() as f32,
+                json!({"matrix_xx_yy_xy": m}),
+            )
+        }
+        FilterName::Deferred
+        | FilterName::DeferredUnclamped
+        | FilterName::Filament
+        | FilterName::Unity
+        | FilterName::UnityProjected
+        | FilterName::Godot => {
+            let (u, v) = (v3(&a.dn_u, "dn-u")?, v3(&a.dn_v, "dn-v")?);
+            let (u3, w3) = (c32(u), c32(v));
+            match f {
+                FilterName::Deferred => (
+                    r::deferred(al, u, v, 0.25, 0.18),
+                    r::deferred(a32, u3, w3, 0.25, 0.18),
+                    json!({}),
+                ),
+                FilterName::DeferredUnclamped => (
+                    r::deferred(al, u, v, 0.25, inf),
+                    r::deferred(a32, u3, w3, 0.25, f32::INFINITY),
+                    json!({}),
+                ),
+                FilterName::Filament => (
+                    r::deferred(al, u, v, 0.15, 0.04),
+                    r::deferred(a32, u3, w3, 0.15, 0.04),
+                    json!({}),
+                ),
+                FilterName::Unity => (
+                    r::deferred(al, u, v, 0.1, 0.04),
+                    r::deferred(a32, u3, w3, 0.1, 0.04),
+                    json!({}),
+                ),
+                FilterName::UnityProjected => (
+                    r::projected_space(al, u, v, 0.1, 0.04),
+                    r::projected_space(a32, u3, w3, 0.1, 0.04),
+                    json!({}),
+                ),
+                _ => (
+                    r::deferred_on_alpha(al, u, v, 0.25, 0.18),
+                    r::deferred_on_alpha(a32, u3, w3, 0.25, 0.18),
+                    json!({}),
+                ),
+            }
+        }
+        FilterName::Eigen | FilterName::KaplanyanRect | FilterName::Forward => {
+            let (u, v) = (v2(&a.du, "du")?, v2(&a.dv, "dv")?);
+            let (u2, w2) = (d32(u), d32(v));
+            match f {
+                FilterName::Eigen => (
+                    r::eigen_eq10(al, u, v, 0.25, 0.18),
+                    r::eigen_eq10(a32, u2, w2, 0.25, 0.18),
+                    json!({}),
+                ),
+                FilterName::KaplanyanRect => (
+                    r::kaplanyan_rect(al, u, v, 0.25, 0.18),
+                    r::kaplanyan_rect(a32, u2, w2, 0.25, 0.18),
+                    json!({}),
+                ),
+                _ => {
+                    let m = r::forward_matrix(al, u, v, 0.25);
+                    let m32 = r::forward_matrix(a32, u2, w2, 0.25);
+                    (
+                        lmax(m).sqrt(),
+                        lmax(m32.map(|x| x as f64)).sqrt() as f32,
+                        json!({"matrix_xx_yy_xy": m}),
+                    )
+                }
+            }
+        }
+    };
+    if !v64.is_finite() {
+        return Err(Error::InvalidArgument(format!(
+            "filter {f:?} is not finite for these inputs"
+        )));
+    }
+    Ok((
+        v64,
+        json!({"filter": format!("{f:?}"), "alpha_in": al, "f32": v32, "f32_rel_diff": (v32 as f64 - v64) / v64, "detail": extra, "report": "results/filters.md"}),
+    ))
+}
+
+/// The `Ours` α_me coefficients, refitted from fits/multiscale-alpha-me.toml exactly as
+/// `regen` does (deterministic linear least squares, < 1 ms).
+fn ours_coefficients(fits: &std::path::Path) -> Result<Vec<f64>> {
+    let spec = crate::fit::spec::load_dir(fits)?
+        .into_iter()
+        .find(|s| s.name == "multiscale-alpha-me")
+        .ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "no multiscale-alpha-me spec in '{}'",
+                fits.display()
+            ))
+        })?;
+    let train = crate::multiscale::alpha_me::training_alphas(
+        spec.training.points,
+        spec.domain.alpha_min,
+        spec.domain.alpha_max,
+    );
+    crate::multiscale::alpha_me::fit_ours(spec.terms, &train)
 }

@@ -19,6 +19,7 @@
 
 pub mod cli;
 pub mod error;
+pub mod filters;
 pub mod fit;
 pub mod integrate;
 pub mod io;

@@ -50,6 +50,21 @@ enum Cmd {
     },
     /// Evaluate one model quantity and print JSON (for scripting). See `eval --help`.
     Eval(cli::EvalArgs),
+    /// Measure every footprint filter on your normal map (PNG) against the
+    /// footprint-averaged BRDF; writes a report, JSON and per-level α′ maps to --out.
+    Prefilter {
+        /// tangent-space normal map, 8/16-bit RGB(A) PNG, power-of-two sides
+        #[arg(long)]
+        input: PathBuf,
+        /// output directory
+        #[arg(long, default_value = "prefilter-out")]
+        out: PathBuf,
+        /// base (micro-scale) roughness α
+        #[arg(long, default_value_t = 0.1)]
+        alpha: f64,
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
     /// Turn criterion output (target/criterion) into results/performance.md.
     BenchReport {
         /// criterion output directory
@@ -153,6 +168,15 @@ fn main() -> ExitCode {
         }
         Some(Cmd::Eval(args)) => cli::eval(&args, &cli.fits).map(|json| {
             out(&json);
+            true
+        }),
+        Some(Cmd::Prefilter {
+            input,
+            out: dir,
+            alpha,
+            preset,
+        }) => ndfbench::filters::regen::prefilter(&input, &dir, alpha, preset).map(|s| {
+            println!("{s}");
             true
         }),
         Some(Cmd::BenchReport { criterion }) => {

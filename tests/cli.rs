@@ -84,3 +84,75 @@ fn verify_only_runs_a_subset_and_exits_0() {
     let s = String::from_utf8_lossy(&out.stdout);
     assert!(s.contains("1 of 1 proofs pass"), "{s}");
 }
+
+#[test]
+fn eval_filter_vmf_matches_banerjee_by_hand() {
+    let out = bin()
+        .args([
+            "eval", "filter", "--filter", "vmf2", "--alpha", "0.1", "--b", "0.98",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // κ = (3r − r³)/(1 − r²) at r = 0.98, α′ = √(α² + 2/κ)
+    let r = 0.98f64;
+    let kappa = (3.0 * r - r * r * r) / (1.0 - r * r);
+    let expected = (0.01 + 2.0 / kappa).sqrt();
+    let got = v["value"].as_f64().unwrap();
+    assert!((got / expected - 1.0).abs() < 1e-14, "{got} vs {expected}");
+    let f32v = v["model"]["f32"].as_f64().unwrap();
+    assert!((f32v / expected - 1.0).abs() < 1e-6);
+    // a missing input is a typed error, exit status 2
+    let out = bin()
+        .args(["eval", "filter", "--filter", "deferred", "--alpha", "0.1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--dn-u"));
+}
+
+#[test]
+fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
+    let dir = std::env::temp_dir().join(format!("ndfbench-prefilter-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = ndfbench::filters::footprint::NormalMap::procedural(
+        ndfbench::filters::footprint::Procedural::Flakes,
+        16,
+        2,
+    )
+    .unwrap();
+    let png = dir.join("flakes16.png");
+    map.to_png(&png).unwrap();
+    let out = bin()
+        .args(["prefilter", "--input"])
+        .arg(&png)
+        .arg("--out")
+        .arg(&dir)
+        .args(["--alpha", "0.1", "--preset", "quick"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let md = std::fs::read_to_string(dir.join("prefilter-flakes16.md")).unwrap();
+    assert!(md.contains("vMF α² + 2/κ") && md.contains("±"));
+    assert!(dir.join("flakes16-alpha-L1.png").exists());
+    std::fs::write(dir.join("broken.png"), b"not a png").unwrap();
+    let out = bin()
+        .args(["prefilter", "--input"])
+        .arg(dir.join("broken.png"))
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!dir.join("prefilter-broken.md").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -30,13 +30,29 @@ pub fn regen(
 ) -> Result<Vec<FitOutcome>> {
     let specs = spec::load_dir(fits_dir)?;
     let mut out = Vec::new();
-    for s in specs
-        .iter()
-        .filter(|s| only.is_none_or(|o| s.name.contains(o)))
-    {
+    // `--only filters` is issue 6's group: the LEADR grids and the Λ refit run first,
+    // because results/filters.md embeds their reports.
+    let group = ["leadr-grids", "smith-lambda", "filters"];
+    let selected: Vec<&spec::FitSpec> = match only {
+        Some("filters") => group
+            .iter()
+            .filter_map(|g| specs.iter().find(|s| s.name == *g))
+            .collect(),
+        _ => {
+            let mut v: Vec<&spec::FitSpec> = specs
+                .iter()
+                .filter(|s| only.is_none_or(|o| s.name.contains(o)))
+                .collect();
+            // filters last (it embeds the other two reports)
+            v.sort_by_key(|s| s.name == "filters");
+            v
+        }
+    };
+    for s in selected {
         let o = match s.name.as_str() {
             "leadr-grids" => crate::leadr::regen(s, results)?,
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
+            "filters" => crate::filters::regen::run(s, results, preset)?,
             "multiscale-convolution" => {
                 crate::multiscale::regen_convolution::run(s, &specs, results, preset)?
             }

@@ -171,12 +171,14 @@ it buys.\n\n",
     md.push_str(&alpha_me_table(&timed, results));
     md.push_str(&smith_lambda_table(&timed, results));
     md.push_str(&leadr_table(&timed, results));
+    md.push_str(&filters_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
             !t.group.starts_with("engines/")
                 && !t.group.starts_with("rayon-scaling")
                 && t.group != "alpha-me"
+                && t.group != "filters"
         })
         .collect();
     if !other.is_empty() {
@@ -307,6 +309,46 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
             t.lo_ns / 1024.0,
             t.hi_ns / 1024.0,
             err(key)
+        ));
+    }
+    md
+}
+
+/// Cost next to accuracy for the footprint filters (bench group `filters`; errors from
+/// results/fits/filters.json).
+fn filters_table(timed: &[Timed], results: &Path) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "filters").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let fit = crate::fit::read_result(results, "filters");
+    let mut md = String::from(
+        "\n## Footprint filters: cost and accuracy (issue 6)\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
+    );
+    for t in rows {
+        let (name, err) = fit
+            .as_ref()
+            .map(|v| &v["summary"][t.function.as_str()])
+            .map(|e| {
+                (
+                    e["name"].as_str().unwrap_or(&t.function).to_string(),
+                    match (e["l2_mean"].as_f64(), e["l2_se"].as_f64()) {
+                        (Some(m), Some(s)) => format!(
+                            "{:.1} % ± {:.1} ({})",
+                            100.0 * m,
+                            100.0 * s,
+                            e["study"].as_str().unwrap_or("")
+                        ),
+                        _ => "(run regen)".into(),
+                    },
+                )
+            })
+            .unwrap_or_else(|| (t.function.clone(), "(run regen)".into()));
+        md.push_str(&format!(
+            "| {name} | {:.2} ({:.2} – {:.2}) | {err} |\n",
+            t.mean_ns / 1024.0,
+            t.lo_ns / 1024.0,
+            t.hi_ns / 1024.0
         ));
     }
     md

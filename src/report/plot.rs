@@ -44,6 +44,11 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
             CYAN,
             BLACK,
             RGBColor(255, 140, 0),
+            RGBColor(128, 0, 128),
+            RGBColor(0, 128, 128),
+            RGBColor(139, 69, 19),
+            RGBColor(128, 128, 0),
+            RGBColor(112, 128, 144),
         ];
         for (area, p) in areas.iter().zip(panels) {
             let (x0, x1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0)));

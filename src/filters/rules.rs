@@ -1,0 +1,175 @@
+//! The footprint roughness filters (issue 6 §2), written once over `num_traits::Float`:
+//! `T = f64` is the reference, `T = f32` the shading form (tests/filters.rs bounds the
+//! difference; see each function for its conditioning).
+//!
+//! Map filters read mip-mapped statistics ([`super::footprint::Stats`]); screen-space
+//! kernels read derivatives of normals or half-vectors across a 2×2 pixel quad.
+//! Roughness convention: GGX/Beckmann α, roughness matrix A = 2·(slope covariance) for
+//! Beckmann (seed 003 Eq 3), used as is for GGX (seed 003 §2).
+
+use num_traits::Float;
+
+#[inline]
+fn k<T: Float>(x: f64) -> T {
+    // NumCast f64 → f32/f64 is total for finite constants.
+    T::from(x).unwrap_or_else(T::nan)
+}
+
+/// Toksvig's variance from the mean-normal length r = |μ| (seed 004 §3.2.1):
+/// σ² = (1 − r)/r.
+pub fn toksvig_sigma2<T: Float>(r: T) -> T {
+    (T::one() - r) / r
+}
+
+/// Toksvig, Blinn–Phong form (seed 004 §3.2.1, the equation after Eq 19): the exponent
+/// s = 2/α² − 2 becomes s′ = s/(1 + sσ²), then α′ = √(2/(s′ + 2)). For α ≥ 1 (s ≤ 0)
+/// the Blinn–Phong lobe does not exist; α is returned unchanged.
+pub fn toksvig_bp<T: Float>(alpha: T, r: T) -> T {
+    let two = k::<T>(2.0);
+    let s = two / (alpha * alpha) - two;
+    if !(s > T::zero()) {
+        return alpha;
+    }
+    let sp = s / (T::one() + s * toksvig_sigma2(r));
+    (two / (sp + two)).sqrt()
+}
+
+/// Toksvig in α²: α′² = α² + c·σ². c = 2 follows from σ² being a per-axis variance and
+/// the Beckmann slope variance being α²/2; c = 1 is the variant some engines ship.
+pub fn toksvig_alpha2<T: Float>(alpha: T, r: T, c: T) -> T {
+    (alpha * alpha + c * toksvig_sigma2(r)).sqrt()
+}
+
+/// vMF filter (Banerjee et al.'s κ ≈ (3r − r³)/(1 − r²)): α′² = α² + c/κ,
+/// c/κ = c(1 − r)(1 + r)/(r(3 − r²)) — written with 1 − r so that r → 1 gives 0 without
+/// cancellation (an f32 r carries relative error ε, so c/κ's relative error is
+/// ≈ ε/(1 − r): the input, not this form, limits it).
+pub fn vmf<T: Float>(alpha: T, r: T, c: T) -> T {
+    let one = T::one();
+    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    (alpha * alpha + c * inv_kappa).sqrt()
+}
+
+/// LEAN (seed 004 Eq 19; Olano–Baker): the slope covariance Σ = E[x̃x̃ᵀ] − E[x̃]E[x̃]ᵀ of
+/// the footprint plus the base roughness: A = α²I + 2Σ, mean slope E[x̃]. Returns
+/// (A_xx, A_yy, A_xy); the mean slope is passed through by the caller.
+pub fn lean<T: Float>(alpha: T, cov: [T; 3]) -> [T; 3] {
+    let two = k::<T>(2.0);
+    let a2 = alpha * alpha;
+    [a2 + two * cov[0], a2 + two * cov[1], two * cov[2]]
+}
+
+/// Seed 000 Eq 5 (α_me from ‖b̄‖ = |μ|), clamped at 0 (it is negative for
+/// ‖b̄‖ > 0.999725, results/multiscale.md), combined with the base α by Eq 7.
+pub fn seed000_paper<T: Float>(alpha: T, r: T) -> T {
+    let b = r;
+    let num = (((k::<T>(1.629) * b + k(17.05)) * b - k(18.96)) * b - k(23.37)) * b + k(23.65);
+    let den = ((b - k(28.07)) * b + k(31.1)) * b - k(3.545);
+    let ame = (num / den).max(T::zero());
+    k::<T>(0.07) * alpha * alpha + k::<T>(0.94) * alpha + ame - k::<T>(0.83) * alpha * ame
+}
+
+/// Our seed-000 form of the mean-normal filter: under the moment metric the overall
+/// lobe has ρ = |μ|·ρ(α) (proofs/mrl-product.md), so α′ = ρ⁻¹(|μ|ρ(α)). `rho_base` = ρ(α)
+/// is a per-material constant; ρ⁻¹ is the `Ours` fit of results/fits/multiscale-alpha-me
+/// (coefficients `c`, evaluated at y = 1 − |μ|ρ(α); held-out error 1.6e-4).
+pub fn seed000_moment_fit<T: Float>(r: T, rho_base: T, c: &[T]) -> T {
+    let y = T::one() - r * rho_base;
+    let s = -y.ln();
+    let x = T::one() / s;
+    let mut p = T::zero();
+    for &ck in c.iter().rev() {
+        p = (p + ck) * x;
+    }
+    let base = s * k(0.5) + k(0.5 * std::f64::consts::LN_2 - 1.0) + k::<T>(0.5) * s.ln();
+    (y / (base + p)).sqrt()
+}
+
+/// ‖dn_u‖² + ‖dn_v‖² of two 3-vectors.
+fn sum_sq<T: Float>(du: [T; 3], dv: [T; 3]) -> T {
+    du[0] * du[0] + du[1] * du[1] + du[2] * du[2] + dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]
+}
+
+/// Deferred isotropic kernel (seed 003 Eq 13, Listing 2) with screen variance σ² and
+/// clamp δ: α′² = α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ), saturated to ≤ 1.
+/// Tokuyoshi: σ² = 0.25, δ = 0.18. Filament: σ² = 0.15, δ = 0.04. Unity HDRP: σ² = 0.1,
+/// δ = 0.04. δ = +∞ is the unclamped kernel.
+pub fn deferred<T: Float>(alpha: T, du: [T; 3], dv: [T; 3], sigma2: T, delta: T) -> T {
+    let kern = (k::<T>(2.0) * sigma2 * sum_sq(du, dv)).min(delta);
+    (alpha * alpha + kern).min(T::one()).sqrt()
+}
+
+/// The same kernel added to α instead of α² (Godot 4: its "roughness" is perceptual,
+/// so roughness² = α): α′ = min(1, α + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)).
+pub fn deferred_on_alpha<T: Float>(alpha: T, du: [T; 3], dv: [T; 3], sigma2: T, delta: T) -> T {
+    let kern = (k::<T>(2.0) * sigma2 * sum_sq(du, dv)).min(delta);
+    (alpha + kern).min(T::one())
+}
+
+/// Projected-space variant (Unity HDRP): p = α²/(1 − α²), p′ = p + min(2σ²Σ‖Δn‖², δ),
+/// α′² = p′/(1 + p′). α ≥ 1 is returned as 1.
+pub fn projected_space<T: Float>(alpha: T, du: [T; 3], dv: [T; 3], sigma2: T, delta: T) -> T {
+    let a2 = alpha * alpha;
+    if !(a2 < T::one()) {
+        return T::one();
+    }
+    let p = a2 / (T::one() - a2);
+    let pp = p + (k::<T>(2.0) * sigma2 * sum_sq(du, dv)).min(delta);
+    (pp / (T::one() + pp)).sqrt()
+}
+
+/// Largest eigenvalue of the symmetric 2×2 [[a, c], [c, b]], without cancellation:
+/// (a + b)/2 + √(((a − b)/2)² + c²).
+fn lambda_max<T: Float>(a: T, b: T, c: T) -> T {
+    let h = k::<T>(0.5);
+    (a + b) * h + ((a - b) * h).hypot(c)
+}
+
+/// Σ = σ²(Δ_u Δ_uᵀ + Δ_v Δ_vᵀ) as (xx, yy, xy) (seed 003 Eq 2 / Eq 7).
+pub fn kernel_cov<T: Float>(du: [T; 2], dv: [T; 2], sigma2: T) -> [T; 3] {
+    [
+        sigma2 * (du[0] * du[0] + dv[0] * dv[0]),
+        sigma2 * (du[1] * du[1] + dv[1] * dv[1]),
+        sigma2 * (du[0] * du[1] + dv[0] * dv[1]),
+    ]
+}
+
+/// Exact isotropic bound (seed 003 Eq 10): α′² = α² + min(2λ_max(Σ), δ), Σ from the
+/// projected-disk derivatives of the normal.
+pub fn eigen_eq10<T: Float>(alpha: T, du: [T; 2], dv: [T; 2], sigma2: T, delta: T) -> T {
+    let s = kernel_cov(du, dv, sigma2);
+    let kern = (k::<T>(2.0) * lambda_max(s[0], s[1], s[2])).min(delta);
+    (alpha * alpha + kern).min(T::one()).sqrt()
+}
+
+/// Kaplanyan et al. 2016 rectangular kernel (seed 003 Listing 3): bounding rectangle
+/// |Δ_u| + |Δ_v| of the slope-space derivatives of the (quad-frame) normal, its larger
+/// side w, variance σ²w², α′² = α² + min(2σ²w², δ), saturated.
+pub fn kaplanyan_rect<T: Float>(alpha: T, du: [T; 2], dv: [T; 2], sigma2: T, delta: T) -> T {
+    let bx = du[0].abs() + dv[0].abs();
+    let by = du[1].abs() + dv[1].abs();
+    let w = bx.max(by);
+    let kern = (k::<T>(2.0) * sigma2 * w * w).min(delta);
+    (alpha * alpha + kern).min(T::one()).sqrt()
+}
+
+/// Forward anisotropic kernel: A = α²I + 2Σ (seed 003 Eq 3) with Σ from half-vector
+/// derivatives — in slope space (Kaplanyan, Eq 2) or on the projected disk (Tokuyoshi,
+/// Eq 7); the caller supplies the derivatives of the chosen space. Returns (xx, yy, xy).
+pub fn forward_matrix<T: Float>(alpha: T, du: [T; 2], dv: [T; 2], sigma2: T) -> [T; 3] {
+    let s = kernel_cov(du, dv, sigma2);
+    let two = k::<T>(2.0);
+    let a2 = alpha * alpha;
+    [a2 + two * s[0], a2 + two * s[1], two * s[2]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambda_max_matches_definition() {
+        // [[2, 1], [1, 2]] has eigenvalues 1 and 3
+        assert!((lambda_max(2.0, 2.0, 1.0) - 3.0f64).abs() < 1e-15);
+    }
+}
