@@ -18,9 +18,11 @@
 //! ```
 
 pub mod cli;
+pub mod codegen;
 pub mod error;
 pub mod filters;
 pub mod fit;
+pub mod generated;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;

@@ -129,6 +129,11 @@ fn run_regen(
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
     let out = ndfbench::fit::regen(fits, results, only, preset)?;
+    // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
+    match ndfbench::codegen::write_all(results) {
+        Ok(paths) => eprintln!("generated {}", paths.join(", ")),
+        Err(e) => eprintln!("codegen skipped: {e}"),
+    }
     for o in &out {
         println!(
             "{:<5} {:<24} {}",

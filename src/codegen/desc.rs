@@ -1,0 +1,242 @@
+//! The one description of every generated shading function (valid WGSL and valid Rust).
+//! Cited equations: seed 003 Eq 15–18 (GGX D, Λ; anisotropic and matrix forms), seed 001
+//! §1.2 (Beckmann), seed 003 Eq 10/13 (deferred kernels), seed 000 §3.3 (α_me).
+
+/// One function: signature pieces and body in the neutral WGSL/Rust subset.
+pub struct FnDesc {
+    pub name: &'static str,
+    pub doc: &'static str,
+    pub params: &'static str,
+    pub ret: &'static str,
+    pub body: &'static str,
+    /// Functions this one calls (must appear earlier in [`FUNCTIONS`]).
+    pub deps: &'static [&'static str],
+}
+
+/// Every generated function, dependencies first.
+pub const FUNCTIONS: &[FnDesc] = &[
+    FnDesc {
+        name: "ggx_d",
+        doc: "GGX NDF, isotropic α, unit half-vector in tangent space (seed 003 Eq 15); 0 below the surface. No 1 − (n·h)² cancellation.",
+        params: "hx: f32, hy: f32, hz: f32, alpha: f32",
+        ret: "f32",
+        body: "    if (hz <= 0.0) {
+        return 0.0;
+    }
+    let a2: f32 = alpha * alpha;
+    let s: f32 = (hx * hx + hy * hy) / a2 + hz * hz;
+    return 1.0 / (PI * a2 * s * s);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "ggx_d_aniso",
+        doc: "GGX NDF, axis-aligned anisotropic (αx, αy) (seed 003 Eq 15).",
+        params: "hx: f32, hy: f32, hz: f32, ax: f32, ay: f32",
+        ret: "f32",
+        body: "    if (hz <= 0.0) {
+        return 0.0;
+    }
+    let x: f32 = hx / ax;
+    let y: f32 = hy / ay;
+    let s: f32 = x * x + y * y + hz * hz;
+    return 1.0 / (PI * ax * ay * s * s);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "ggx_d_matrix",
+        doc: "GGX NDF with an SPD roughness matrix A = [[a11, a12], [a12, a22]] (seed 003 Eq 17); adjugate form, accurate to ≈ cond(A)·ε.",
+        params: "hx: f32, hy: f32, hz: f32, a11: f32, a12: f32, a22: f32",
+        ret: "f32",
+        body: "    if (hz <= 0.0) {
+        return 0.0;
+    }
+    let det: f32 = a11 * a22 - a12 * a12;
+    let q: f32 = (a22 * hx * hx - 2.0 * a12 * hx * hy + a11 * hy * hy) / det;
+    let s: f32 = q + hz * hz;
+    return 1.0 / (PI * sqrt(det) * s * s);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "ggx_lambda",
+        doc: "GGX Smith Λ(o) = (√(1 + t) − 1)/2, t = α²(ox² + oy²)/oz² (seed 003 Eq 16), written t/(2(1 + √(1 + t))) (no cancellation as t → 0). Callers handle oz ≤ 0.",
+        params: "ox: f32, oy: f32, oz: f32, alpha: f32",
+        ret: "f32",
+        body: "    let t: f32 = alpha * alpha * (ox * ox + oy * oy) / (oz * oz);
+    return t / (2.0 * (1.0 + sqrt(1.0 + t)));
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "ggx_g2",
+        doc: "Height-correlated Smith G2 = 1/(1 + Λ(i) + Λ(o)) (seed 003 Eq 14); 0 when either direction is at or below the surface.",
+        params: "ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32",
+        ret: "f32",
+        body: "    if (iz <= 0.0 || oz <= 0.0) {
+        return 0.0;
+    }
+    return 1.0 / (1.0 + ggx_lambda(ix, iy, iz, alpha) + ggx_lambda(ox, oy, oz, alpha));
+",
+        deps: &["ggx_lambda"],
+    },
+    FnDesc {
+        name: "ggx_specular",
+        doc: "Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v.",
+        params: "lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32",
+        ret: "f32",
+        body: "    if (lz <= 0.0 || vz <= 0.0) {
+        return 0.0;
+    }
+    let hx: f32 = lx + vx;
+    let hy: f32 = ly + vy;
+    let hz: f32 = lz + vz;
+    let inv: f32 = 1.0 / sqrt(hx * hx + hy * hy + hz * hz);
+    let d: f32 = ggx_d(hx * inv, hy * inv, hz * inv, alpha);
+    return d * ggx_g2(lx, ly, lz, vx, vy, vz, alpha) / (4.0 * vz);
+",
+        deps: &["ggx_d", "ggx_g2"],
+    },
+    FnDesc {
+        name: "beckmann_d",
+        doc: "Beckmann NDF, isotropic α: exp(−tan²θ/α²)/(π α² cos⁴θ) (seed 001 §1.2); tan² from the components, no cancellation.",
+        params: "hx: f32, hy: f32, hz: f32, alpha: f32",
+        ret: "f32",
+        body: "    if (hz <= 0.0) {
+        return 0.0;
+    }
+    let c2: f32 = hz * hz;
+    let t2: f32 = (hx * hx + hy * hy) / (c2 * alpha * alpha);
+    return exp(-t2) / (PI * alpha * alpha * c2 * c2);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "beckmann_lambda",
+        doc: "Beckmann Smith Λ(o) by the refitted rational in ν = oz/(α√(ox² + oy²)) (results/smith-lambda.md; replaces Walter's). Callers handle oz ≤ 0.",
+        params: "ox: f32, oy: f32, oz: f32, alpha: f32",
+        ret: "f32",
+        body: "    let sxy: f32 = alpha * sqrt(ox * ox + oy * oy);
+    if (oz >= BECKMANN_LAMBDA_NU_C * sxy) {
+        return 0.0;
+    }
+    let nu: f32 = oz / sxy;
+    let c: f32 = 1.0 - nu / BECKMANN_LAMBDA_NU_C;
+    let num: f32 = c * c * (1.0 + nu * (BECKMANN_LAMBDA_A1 + nu * BECKMANN_LAMBDA_A2));
+    return num / (nu * (BECKMANN_LAMBDA_B1 + nu * (BECKMANN_LAMBDA_B2 + nu * BECKMANN_LAMBDA_B3)));
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "beckmann_g2",
+        doc: "Height-correlated G2 for Beckmann with the refitted Λ.",
+        params: "ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32",
+        ret: "f32",
+        body: "    if (iz <= 0.0 || oz <= 0.0) {
+        return 0.0;
+    }
+    return 1.0 / (1.0 + beckmann_lambda(ix, iy, iz, alpha) + beckmann_lambda(ox, oy, oz, alpha));
+",
+        deps: &["beckmann_lambda"],
+    },
+    FnDesc {
+        name: "filter_toksvig",
+        doc: "Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form).",
+        params: "alpha: f32, r: f32, c: f32",
+        ret: "f32",
+        body: "    return sqrt(alpha * alpha + c * (1.0 - r) / r);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "filter_vmf",
+        doc: "vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r.",
+        params: "alpha: f32, r: f32, c: f32",
+        ret: "f32",
+        body: "    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
+    return sqrt(alpha * alpha + c * inv_kappa);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "filter_vmf_fitted",
+        doc: "vMF filter with the constant refitted against the footprint-averaged GGX BRDF (results/filters.md).",
+        params: "alpha: f32, r: f32",
+        ret: "f32",
+        body: "    return filter_vmf(alpha, r, FILTER_VMF_C_GGX);
+",
+        deps: &["filter_vmf"],
+    },
+    FnDesc {
+        name: "filter_deferred",
+        doc: "Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.",
+        params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32",
+        ret: "f32",
+        body: "    let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
+    let kern: f32 = min(2.0 * sigma2 * n2, delta);
+    return sqrt(min(alpha * alpha + kern, 1.0));
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "filter_deferred_fitted",
+        doc: "Eq 13 with the σ² refitted for a 1×1 box pixel footprint and δ = 0.18 (results/filters.md).",
+        params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32",
+        ret: "f32",
+        body: "    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_BOX_PIXEL, FILTER_DELTA_MAX);
+",
+        deps: &["filter_deferred"],
+    },
+    FnDesc {
+        name: "filter_eq10",
+        doc: "Exact isotropic bound (seed 003 Eq 10): α′² = α² + min(2λ_max(Σ), δ), Σ = σ²(Δ_u Δ_uᵀ + Δ_v Δ_vᵀ) of projected-disk derivatives.",
+        params: "alpha: f32, dux: f32, duy: f32, dvx: f32, dvy: f32, sigma2: f32, delta: f32",
+        ret: "f32",
+        body: "    let sxx: f32 = sigma2 * (dux * dux + dvx * dvx);
+    let syy: f32 = sigma2 * (duy * duy + dvy * dvy);
+    let sxy: f32 = sigma2 * (dux * duy + dvx * dvy);
+    let h: f32 = 0.5 * (sxx - syy);
+    let lmax: f32 = 0.5 * (sxx + syy) + sqrt(h * h + sxy * sxy);
+    return sqrt(min(alpha * alpha + min(2.0 * lmax, delta), 1.0));
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "filter_projected",
+        doc: "Projected-space kernel (Unity HDRP): p = α²/(1 − α²), p′ = p + min(2σ²Σ‖Δn‖², δ), α′² = p′/(1 + p′).",
+        params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32",
+        ret: "f32",
+        body: "    let a2: f32 = alpha * alpha;
+    if (a2 >= 1.0) {
+        return 1.0;
+    }
+    let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
+    let p: f32 = a2 / (1.0 - a2) + min(2.0 * sigma2 * n2, delta);
+    return sqrt(p / (1.0 + p));
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "alpha_me",
+        doc: "α_me from y = 1 − ‖b̄‖ (seed 000 §3.3): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (results/multiscale.md; y in (0, 1)).",
+        params: "y: f32",
+        ret: "f32",
+        body: "    let s: f32 = -log(y);
+    let x: f32 = 1.0 / s;
+    let p: f32 = x * (ALPHA_ME_C1 + x * (ALPHA_ME_C2 + x * (ALPHA_ME_C3 + x * (ALPHA_ME_C4 + x * (ALPHA_ME_C5 + x * (ALPHA_ME_C6 + x * ALPHA_ME_C7))))));
+    let r: f32 = 0.5 * s - 0.65342640972 + 0.5 * log(s) + p;
+    return sqrt(y / r);
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "multiscale_alpha",
+        doc: "Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).",
+        params: "y_me: f32, y_mi: f32",
+        ret: "f32",
+        body: "    return alpha_me(y_me + y_mi - y_me * y_mi);
+",
+        deps: &["alpha_me"],
+    },
+];

@@ -1,0 +1,4 @@
+//! Generated code (see src/codegen). Regenerate with `cargo run --release -- regen`.
+
+#[rustfmt::skip]
+pub mod shading;
