@@ -304,8 +304,66 @@ fn filters(c: &mut Criterion) {
     g.finish();
 }
 
+/// Batched SIMD kernels vs their scalar twins (issue 7 §4–5), 64 to 1M pixels.
+fn kernels(c: &mut Criterion) {
+    use ndfbench::kernels::{self as k, Backend, DeferredIn, SpecularIn};
+    let max = 1usize << 20;
+    let data = k::bench_inputs(max);
+    for (name, sizes) in [
+        ("kernel-ggx-specular", [64usize, 4096, 65536, 1 << 20]),
+        ("kernel-deferred", [64, 4096, 65536, 1 << 20]),
+        ("kernel-multiscale", [64, 4096, 65536, 1 << 20]),
+    ] {
+        let mut g = c.benchmark_group(name);
+        g.sample_size(10)
+            .warm_up_time(Duration::from_millis(200))
+            .measurement_time(Duration::from_millis(600));
+        for n in sizes {
+            g.throughput(Throughput::Elements(n as u64));
+            let mut out = vec![0.0f32; n];
+            for b in [Backend::Scalar, Backend::Avx2] {
+                if !b.available() {
+                    continue;
+                }
+                g.bench_with_input(BenchmarkId::new(b.name(), n), &n, |bch, &n| {
+                    bch.iter(|| {
+                        let c = &data.cols;
+                        match name {
+                            "kernel-ggx-specular" => k::ggx_specular(
+                                b,
+                                &SpecularIn {
+                                    l: [&c[0][..n], &c[1][..n], &c[2][..n]],
+                                    v: [&c[3][..n], &c[4][..n], &c[5][..n]],
+                                    alpha: &c[6][..n],
+                                },
+                                &mut out,
+                            ),
+                            "kernel-deferred" => k::deferred_roughness(
+                                b,
+                                &DeferredIn {
+                                    alpha: &c[6][..n],
+                                    du: [&c[7][..n], &c[8][..n], &c[9][..n]],
+                                    dv: [&c[10][..n], &c[11][..n], &c[12][..n]],
+                                },
+                                0.25,
+                                0.18,
+                                &mut out,
+                            ),
+                            _ => k::multiscale_alpha(b, &c[13][..n], &c[14][..n], &mut out),
+                        }
+                        .unwrap();
+                        black_box(out[n - 1])
+                    })
+                });
+            }
+        }
+        g.finish();
+    }
+}
+
 criterion_group!(
     benches,
+    kernels,
     filters,
     engines,
     rayon_scaling,

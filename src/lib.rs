@@ -26,6 +26,7 @@ pub mod generated;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;
+pub mod kernels;
 pub mod leadr;
 pub mod linalg;
 pub mod ltc;

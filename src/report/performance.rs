@@ -172,6 +172,7 @@ it buys.\n\n",
     md.push_str(&smith_lambda_table(&timed, results));
     md.push_str(&leadr_table(&timed, results));
     md.push_str(&filters_table(&timed, results));
+    md.push_str(&kernels_table(&timed, results)?);
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -179,6 +180,7 @@ it buys.\n\n",
                 && !t.group.starts_with("rayon-scaling")
                 && t.group != "alpha-me"
                 && t.group != "filters"
+                && !t.group.starts_with("kernel-")
         })
         .collect();
     if !other.is_empty() {
@@ -312,6 +314,77 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
         ));
     }
     md
+}
+
+/// SIMD kernels: pixels/s of each backend per batch size, the ratio, and each kernel's
+/// measured error next to its speed (benches `kernel-*`; accuracy measured here on 2^16
+/// of the benchmark inputs).
+fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group.starts_with("kernel-")).collect();
+    if rows.is_empty() {
+        return Ok(String::new());
+    }
+    let mut md = String::from(
+        "\n## SIMD shading kernels (issue 7 §4–5)\n\nStructure-of-arrays f32 batches; `avx2` = AVX2+FMA chosen at run time, `scalar` = the generated twins (src/generated/shading.rs). Mpx/s = 10⁶ pixels per second (criterion mean). Errors on 2^16 benchmark inputs: max relative error against the f64 reference, and max distance to the scalar twin in ulp.\n\n| kernel | batch | scalar Mpx/s | avx2 Mpx/s | ratio | max rel. error (avx2 vs f64) | max ulp (avx2 vs scalar) |\n|---|---|---|---|---|---|---|\n",
+    );
+    let mut groups: Vec<&str> = rows.iter().map(|t| t.group.as_str()).collect();
+    groups.dedup();
+    let mut plot = Vec::new();
+    for grp in groups {
+        let (err, ulp) = if crate::kernels::Backend::Avx2.available() {
+            crate::kernels::accuracy(grp, crate::kernels::Backend::Avx2, 1 << 16)?
+        } else {
+            (f64::NAN, f64::NAN)
+        };
+        let mut params: Vec<u64> = rows
+            .iter()
+            .filter(|t| t.group == grp)
+            .filter_map(|t| t.param.parse().ok())
+            .collect();
+        params.sort();
+        params.dedup();
+        let mut pts = Vec::new();
+        for p in params {
+            let get = |f: &str| {
+                rows.iter()
+                    .find(|t| t.group == grp && t.function == f && t.param == p.to_string())
+                    .map(|t| p as f64 / t.mean_ns * 1e3)
+            };
+            let (s, a) = (get("scalar"), get("avx2"));
+            let ratio = match (s, a) {
+                (Some(s), Some(a)) => a / s,
+                _ => f64::NAN,
+            };
+            pts.push((p as f64, ratio));
+            let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.0}"));
+            md.push_str(&format!(
+                "| {} | {p} | {} | {} | {:.2}× | {:.1e} | {:.0} |\n",
+                grp.trim_start_matches("kernel-"),
+                f(s),
+                f(a),
+                ratio,
+                err,
+                ulp
+            ));
+        }
+        plot.push(crate::report::plot::Series {
+            name: grp.trim_start_matches("kernel-").to_string(),
+            points: pts,
+        });
+    }
+    let svg = crate::report::plot::loglog_svg(
+        &[crate::report::plot::Panel {
+            title: "AVX2 speed-up over scalar".into(),
+            x_label: "batch (pixels)".into(),
+            y_label: "ratio".into(),
+            series: plot,
+        }],
+        800,
+        480,
+    )?;
+    crate::io::write_atomic(&results.join("kernels-speedup.svg"), svg.as_bytes())?;
+    md.push_str("\n![speed-up](kernels-speedup.svg)\n");
+    Ok(md)
 }
 
 /// Cost next to accuracy for the footprint filters (bench group `filters`; errors from
