@@ -321,7 +321,7 @@ fn kernels(c: &mut Criterion) {
         for n in sizes {
             g.throughput(Throughput::Elements(n as u64));
             let mut out = vec![0.0f32; n];
-            for b in [Backend::Scalar, Backend::Avx2] {
+            for b in [Backend::PerPixel, Backend::Scalar, Backend::Avx2] {
                 if !b.available() {
                     continue;
                 }

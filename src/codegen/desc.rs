@@ -83,20 +83,23 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "ggx_specular",
-        doc: "Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v.",
+        doc: "Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).",
         params: "lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32",
         ret: "f32",
         body: "    if (lz <= 0.0 || vz <= 0.0) {
         return 0.0;
     }
-    let hx: f32 = lx + vx;
-    let hy: f32 = ly + vy;
-    let hz: f32 = lz + vz;
-    let inv: f32 = 1.0 / sqrt(hx * hx + hy * hy + hz * hz);
-    let d: f32 = ggx_d(hx * inv, hy * inv, hz * inv, alpha);
-    return d * ggx_g2(lx, ly, lz, vx, vy, vz, alpha) / (4.0 * vz);
+    let a2: f32 = alpha * alpha;
+    let ux: f32 = lx + vx;
+    let uy: f32 = ly + vy;
+    let uz: f32 = lz + vz;
+    let hh: f32 = ux * ux + uy * uy + uz * uz;
+    let k: f32 = ux * ux + uy * uy + a2 * uz * uz;
+    let ql: f32 = sqrt(lz * lz + a2 * (lx * lx + ly * ly));
+    let qv: f32 = sqrt(vz * vz + a2 * (vx * vx + vy * vy));
+    return a2 * hh * hh * lz / (2.0 * PI * k * k * (ql * vz + qv * lz));
 ",
-        deps: &["ggx_d", "ggx_g2"],
+        deps: &[],
     },
     FnDesc {
         name: "beckmann_d",

@@ -11,47 +11,35 @@ unsafe fn ld(s: &[f32], i: usize) -> __m256 {
     _mm256_loadu_ps(s.as_ptr().add(i))
 }
 
-/// GGX Λ = t/(2(1 + √(1 + t))), t = α²(x² + y²)/z².
-#[inline(always)]
-unsafe fn lambda(x: __m256, y: __m256, z: __m256, a2: __m256) -> __m256 {
-    let one = _mm256_set1_ps(1.0);
-    let xy = _mm256_fmadd_ps(x, x, _mm256_mul_ps(y, y));
-    let t = _mm256_div_ps(_mm256_mul_ps(a2, xy), _mm256_mul_ps(z, z));
-    let den = _mm256_mul_ps(_mm256_set1_ps(2.0), _mm256_add_ps(one, _mm256_sqrt_ps(_mm256_add_ps(one, t))));
-    _mm256_div_ps(t, den)
-}
-
 #[target_feature(enable = "avx2,fma")]
 pub(super) unsafe fn ggx_specular(inp: &SpecularIn, out: &mut [f32]) -> usize {
+    // the fused form of the generated `ggx_specular`, same operation order
     let n = out.len() / 8 * 8;
     let zero = _mm256_setzero_ps();
-    let one = _mm256_set1_ps(1.0);
-    let pi = _mm256_set1_ps(g::PI);
-    let four = _mm256_set1_ps(4.0);
+    let two_pi = _mm256_set1_ps(2.0 * g::PI);
     let mut i = 0;
     while i < n {
         let (lx, ly, lz) = (ld(inp.l[0], i), ld(inp.l[1], i), ld(inp.l[2], i));
         let (vx, vy, vz) = (ld(inp.v[0], i), ld(inp.v[1], i), ld(inp.v[2], i));
         let a = ld(inp.alpha, i);
         let a2 = _mm256_mul_ps(a, a);
-        let hx = _mm256_add_ps(lx, vx);
-        let hy = _mm256_add_ps(ly, vy);
-        let hz = _mm256_add_ps(lz, vz);
-        let hh = _mm256_fmadd_ps(hx, hx, _mm256_fmadd_ps(hy, hy, _mm256_mul_ps(hz, hz)));
-        let inv = _mm256_div_ps(one, _mm256_sqrt_ps(hh));
-        let (hx, hy, hz) = (_mm256_mul_ps(hx, inv), _mm256_mul_ps(hy, inv), _mm256_mul_ps(hz, inv));
-        // D = 1/(π a2 s²), s = (hx² + hy²)/a2 + hz²
-        let s = _mm256_fmadd_ps(hz, hz, _mm256_div_ps(_mm256_fmadd_ps(hx, hx, _mm256_mul_ps(hy, hy)), a2));
-        let d = _mm256_div_ps(one, _mm256_mul_ps(_mm256_mul_ps(pi, a2), _mm256_mul_ps(s, s)));
-        let g2 = _mm256_div_ps(
-            one,
-            _mm256_add_ps(one, _mm256_add_ps(lambda(lx, ly, lz, a2), lambda(vx, vy, vz, a2))),
+        let ux = _mm256_add_ps(lx, vx);
+        let uy = _mm256_add_ps(ly, vy);
+        let uz = _mm256_add_ps(lz, vz);
+        let uxy = _mm256_add_ps(_mm256_mul_ps(ux, ux), _mm256_mul_ps(uy, uy));
+        let hh = _mm256_add_ps(uxy, _mm256_mul_ps(uz, uz));
+        let k = _mm256_add_ps(uxy, _mm256_mul_ps(_mm256_mul_ps(a2, uz), uz));
+        let lxy = _mm256_add_ps(_mm256_mul_ps(lx, lx), _mm256_mul_ps(ly, ly));
+        let vxy = _mm256_add_ps(_mm256_mul_ps(vx, vx), _mm256_mul_ps(vy, vy));
+        let ql = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(lz, lz), _mm256_mul_ps(a2, lxy)));
+        let qv = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(vz, vz), _mm256_mul_ps(a2, vxy)));
+        let num = _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(a2, hh), hh), lz);
+        let den = _mm256_mul_ps(
+            _mm256_mul_ps(_mm256_mul_ps(two_pi, k), k),
+            _mm256_add_ps(_mm256_mul_ps(ql, vz), _mm256_mul_ps(qv, lz)),
         );
-        let f = _mm256_div_ps(_mm256_mul_ps(d, g2), _mm256_mul_ps(four, vz));
-        let ok = _mm256_and_ps(
-            _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(lz, zero), _mm256_cmp_ps::<_CMP_GT_OQ>(vz, zero)),
-            _mm256_cmp_ps::<_CMP_GT_OQ>(hz, zero),
-        );
+        let f = _mm256_div_ps(num, den);
+        let ok = _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(lz, zero), _mm256_cmp_ps::<_CMP_GT_OQ>(vz, zero));
         _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_blendv_ps(zero, f, ok));
         i += 8;
     }

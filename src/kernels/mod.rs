@@ -20,6 +20,10 @@ use crate::generated::shading as g;
 /// Which implementation runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Backend {
+    /// One pixel per (non-inlined) call: no auto-vectorisation — the one-pixel-at-a-time
+    /// baseline of a shader-style loop.
+    PerPixel,
+    /// The scalar twins in a plain loop (LLVM may auto-vectorise it with SSE2).
     Scalar,
     /// AVX2 + FMA, 8 lanes (x86_64 only; detected at run time).
     Avx2,
@@ -36,7 +40,7 @@ impl Backend {
     }
     pub fn available(self) -> bool {
         match self {
-            Backend::Scalar => true,
+            Backend::PerPixel | Backend::Scalar => true,
             #[cfg(target_arch = "x86_64")]
             Backend::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
             #[cfg(not(target_arch = "x86_64"))]
@@ -45,6 +49,7 @@ impl Backend {
     }
     pub fn name(self) -> &'static str {
         match self {
+            Backend::PerPixel => "per-pixel",
             Backend::Scalar => "scalar",
             Backend::Avx2 => "avx2",
         }
@@ -64,6 +69,21 @@ fn check(backend: Backend, lens: &[usize], out: usize) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn one_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, a: f32) -> f32 {
+    g::ggx_specular(lx, ly, lz, vx, vy, vz, a)
+}
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn one_deferred(a: f32, ux: f32, uy: f32, uz: f32, wx: f32, wy: f32, wz: f32, s2: f32, d: f32) -> f32 {
+    g::filter_deferred(a, ux, uy, uz, wx, wy, wz, s2, d)
+}
+#[inline(never)]
+fn one_multiscale(a: f32, b: f32) -> f32 {
+    g::multiscale_alpha(a, b)
 }
 
 /// Inputs of the GGX specular kernel: tangent-space unit light and view directions and α.
@@ -90,6 +110,14 @@ pub fn ggx_specular(backend: Backend, inp: &SpecularIn, out: &mut [f32]) -> Resu
     if backend == Backend::Avx2 {
         // SAFETY: avx2 and fma were detected at run time in `check`.
         start = unsafe { avx2::ggx_specular(inp, out) };
+    }
+    if backend == Backend::PerPixel {
+        for i in 0..out.len() {
+            out[i] = one_specular(
+                inp.l[0][i], inp.l[1][i], inp.l[2][i], inp.v[0][i], inp.v[1][i], inp.v[2][i], inp.alpha[i],
+            );
+        }
+        return Ok(());
     }
     for i in start..out.len() {
         out[i] = g::ggx_specular(
@@ -130,6 +158,15 @@ pub fn deferred_roughness(
         // SAFETY: avx2 and fma were detected at run time in `check`.
         start = unsafe { avx2::deferred(inp, sigma2, delta, out) };
     }
+    if backend == Backend::PerPixel {
+        for i in 0..out.len() {
+            out[i] = one_deferred(
+                inp.alpha[i], inp.du[0][i], inp.du[1][i], inp.du[2][i], inp.dv[0][i], inp.dv[1][i], inp.dv[2][i],
+                sigma2, delta,
+            );
+        }
+        return Ok(());
+    }
     for i in start..out.len() {
         out[i] = g::filter_deferred(
             inp.alpha[i], inp.du[0][i], inp.du[1][i], inp.du[2][i], inp.dv[0][i], inp.dv[1][i], inp.dv[2][i],
@@ -148,6 +185,12 @@ pub fn multiscale_alpha(backend: Backend, y_me: &[f32], y_mi: &[f32], out: &mut 
     if backend == Backend::Avx2 {
         // SAFETY: avx2 and fma were detected at run time in `check`.
         start = unsafe { avx2::multiscale(y_me, y_mi, out) };
+    }
+    if backend == Backend::PerPixel {
+        for i in 0..out.len() {
+            out[i] = one_multiscale(y_me[i], y_mi[i]);
+        }
+        return Ok(());
     }
     for i in start..out.len() {
         out[i] = g::multiscale_alpha(y_me[i], y_mi[i]);
