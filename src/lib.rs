@@ -33,6 +33,7 @@ pub mod ltc;
 pub mod microfacet;
 pub mod multiscale;
 pub mod report;
+pub mod scene;
 pub mod verify;
 
 pub use error::{Error, Result};

@@ -65,6 +65,15 @@ enum Cmd {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
+    /// Write only the WGSL and Rust a scene needs (scene TOML), with a report of each
+    /// chosen approximation's measured error and cost.
+    Scene {
+        /// scene file (TOML); see tests/scenes/ for examples
+        file: PathBuf,
+        /// output directory
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Turn criterion output (target/criterion) into results/performance.md.
     BenchReport {
         /// criterion output directory
@@ -134,6 +143,11 @@ fn run_regen(
         Ok(paths) => eprintln!("generated {}", paths.join(", ")),
         Err(e) => eprintln!("codegen skipped: {e}"),
     }
+    match ndfbench::scene::regen_examples(results) {
+        Ok(n) if !n.is_empty() => eprintln!("rebuilt example scenes {}", n.join(", ")),
+        Ok(_) => {}
+        Err(e) => eprintln!("example scenes skipped: {e}"),
+    }
     for o in &out {
         println!(
             "{:<5} {:<24} {}",
@@ -184,9 +198,18 @@ fn main() -> ExitCode {
             println!("{s}");
             true
         }),
+        Some(Cmd::Scene { file, out: dir }) => {
+            ndfbench::scene::run(&file, &dir, &cli.results).map(|w| {
+                println!("wrote {}", w.join(", "));
+                true
+            })
+        }
         Some(Cmd::BenchReport { criterion }) => {
             ndfbench::report::performance::run(&criterion, &cli.results).map(|s| {
                 println!("{s}");
+                if let Err(e) = ndfbench::scene::regen_examples(&cli.results) {
+                    eprintln!("example scenes skipped: {e}");
+                }
                 true
             })
         }

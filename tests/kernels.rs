@@ -26,7 +26,11 @@ fn simd() -> bool {
 }
 
 fn dir(t: f64, p: f64) -> [f32; 3] {
-    [(t.sin() * p.cos()) as f32, (t.sin() * p.sin()) as f32, t.cos() as f32]
+    [
+        (t.sin() * p.cos()) as f32,
+        (t.sin() * p.sin()) as f32,
+        t.cos() as f32,
+    ]
 }
 
 proptest! {

@@ -184,10 +184,10 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "filter_deferred_fitted",
-        doc: "Eq 13 with the σ² refitted for a 1×1 box pixel footprint and δ = 0.18 (results/filters.md).",
+        doc: "Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).",
         params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32",
         ret: "f32",
-        body: "    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_BOX_PIXEL, FILTER_DELTA_MAX);
+        body: "    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
 ",
         deps: &["filter_deferred"],
     },

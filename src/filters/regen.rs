@@ -677,36 +677,52 @@ statistics (unnormalised mean normal; E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃�
     // per-filter summary for the speed/accuracy table (GGX; maps: all; kernels: Gaussian pixel)
     let mut summary = serde_json::Map::new();
     for (id, fi) in [
-        ("toksvig-bp", 1usize),
+        ("none-map", 0usize),
+        ("toksvig-bp", 1),
         ("toksvig", 2),
         ("vmf", 4),
         ("lean", 7),
         ("seed000-paper", 8),
         ("seed000-moment", 9),
     ] {
-        let rs: Vec<&CaseResult> = map_cases
-            .iter()
-            .filter(|c| c.kind == NdfKind::Ggx)
-            .map(|c| &c.results[fi])
-            .collect();
-        let a = aggregate(&rs);
-        summary.insert(id.into(), serde_json::json!({"name": MAP_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "maps"}));
+        for kind in KINDS {
+            let rs: Vec<&CaseResult> = map_cases
+                .iter()
+                .filter(|c| c.kind == kind)
+                .map(|c| &c.results[fi])
+                .collect();
+            let a = aggregate(&rs);
+            let key = if kind == NdfKind::Ggx {
+                id.to_string()
+            } else {
+                format!("beckmann:{id}")
+            };
+            summary.insert(key, serde_json::json!({"name": MAP_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "maps"}));
+        }
     }
     for (id, fi) in [
-        ("deferred", 1usize),
+        ("none-screen", 0usize),
+        ("deferred", 1),
         ("eigen", 3),
         ("rect", 4),
         ("projected", 7),
         ("on-alpha", 8),
         ("forward", 11),
     ] {
-        let rs: Vec<&CaseResult> = screen_cases
-            .iter()
-            .filter(|c| c.kind == NdfKind::Ggx && c.pixel == PixelFilter::Gaussian)
-            .map(|c| &c.results[fi])
-            .collect();
-        let a = aggregate(&rs);
-        summary.insert(id.into(), serde_json::json!({"name": SCREEN_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "screen (Gaussian pixel)"}));
+        for kind in KINDS {
+            let rs: Vec<&CaseResult> = screen_cases
+                .iter()
+                .filter(|c| c.kind == kind && c.pixel == PixelFilter::Gaussian)
+                .map(|c| &c.results[fi])
+                .collect();
+            let a = aggregate(&rs);
+            let key = if kind == NdfKind::Ggx {
+                id.to_string()
+            } else {
+                format!("beckmann:{id}")
+            };
+            summary.insert(key, serde_json::json!({"name": SCREEN_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "screen (Gaussian pixel)"}));
+        }
     }
     // per-level aggregates (GGX and Beckmann, every map filter)
     let by_level: Vec<serde_json::Value> = plan

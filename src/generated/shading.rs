@@ -70,8 +70,8 @@ pub const BECKMANN_LAMBDA_B3: f32 = 0.8936698;
 pub const BECKMANN_LAMBDA_NU_C: f32 = 2.459398;
 /// vMF α² + c/κ, GGX: fitted constant (held-out mean lobe L2 error 47.8 %, results/filters.md)
 pub const FILTER_VMF_C_GGX: f32 = 1.8643675;
-/// Eq 13 σ² (box pixel), GGX: fitted constant (held-out mean lobe L2 error 15.6 %, results/filters.md)
-pub const FILTER_EQ13_SIGMA2_BOX_PIXEL: f32 = 0.05662451;
+/// Eq 13 σ² (Gaussian pixel), GGX: fitted constant (held-out mean lobe L2 error 18.6 %, results/filters.md)
+pub const FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL: f32 = 0.12291626;
 /// clamp δ_max of seed 003 Eq 10/13
 pub const FILTER_DELTA_MAX: f32 = 0.18;
 
@@ -190,9 +190,9 @@ pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: 
     return sqrt(min(alpha * alpha + kern, 1.0));
 }
 
-/// Eq 13 with the σ² refitted for a 1×1 box pixel footprint and δ = 0.18 (results/filters.md).
+/// Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).
 pub fn filter_deferred_fitted(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32) -> f32 {
-    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_BOX_PIXEL, FILTER_DELTA_MAX);
+    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
 }
 
 /// Exact isotropic bound (seed 003 Eq 10): α′² = α² + min(2λ_max(Σ), δ), Σ = σ²(Δ_u Δ_uᵀ + Δ_v Δ_vᵀ) of projected-disk derivatives.

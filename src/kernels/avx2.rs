@@ -39,7 +39,10 @@ pub(super) unsafe fn ggx_specular(inp: &SpecularIn, out: &mut [f32]) -> usize {
             _mm256_add_ps(_mm256_mul_ps(ql, vz), _mm256_mul_ps(qv, lz)),
         );
         let f = _mm256_div_ps(num, den);
-        let ok = _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(lz, zero), _mm256_cmp_ps::<_CMP_GT_OQ>(vz, zero));
+        let ok = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(lz, zero),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(vz, zero),
+        );
         _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_blendv_ps(zero, f, ok));
         i += 8;
     }
@@ -78,11 +81,17 @@ pub(super) unsafe fn deferred(inp: &DeferredIn, sigma2: f32, delta: f32, out: &m
 unsafe fn ln(x: __m256) -> __m256 {
     let bits = _mm256_castps_si256(x);
     let mut e = _mm256_sub_epi32(_mm256_srli_epi32::<23>(bits), _mm256_set1_epi32(127));
-    let mbits = _mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi32(0x007f_ffff)), _mm256_set1_epi32(0x3f80_0000));
+    let mbits = _mm256_or_si256(
+        _mm256_and_si256(bits, _mm256_set1_epi32(0x007f_ffff)),
+        _mm256_set1_epi32(0x3f80_0000),
+    );
     let mut m = _mm256_castsi256_ps(mbits);
     let big = _mm256_cmp_ps::<_CMP_GT_OQ>(m, _mm256_set1_ps(std::f32::consts::SQRT_2));
     m = _mm256_blendv_ps(m, _mm256_mul_ps(m, _mm256_set1_ps(0.5)), big);
-    e = _mm256_add_epi32(e, _mm256_and_si256(_mm256_castps_si256(big), _mm256_set1_epi32(1)));
+    e = _mm256_add_epi32(
+        e,
+        _mm256_and_si256(_mm256_castps_si256(big), _mm256_set1_epi32(1)),
+    );
     let one = _mm256_set1_ps(1.0);
     let z = _mm256_div_ps(_mm256_sub_ps(m, one), _mm256_add_ps(m, one));
     let z2 = _mm256_mul_ps(z, z);
@@ -92,7 +101,11 @@ unsafe fn ln(x: __m256) -> __m256 {
     p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(1.0 / 3.0));
     p = _mm256_fmadd_ps(p, z2, one);
     let lnm = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(2.0), z), p);
-    _mm256_fmadd_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(std::f32::consts::LN_2), lnm)
+    _mm256_fmadd_ps(
+        _mm256_cvtepi32_ps(e),
+        _mm256_set1_ps(std::f32::consts::LN_2),
+        lnm,
+    )
 }
 
 #[target_feature(enable = "avx2,fma")]
@@ -122,7 +135,10 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
         }
         p = _mm256_mul_ps(x, p);
         let r = _mm256_add_ps(
-            _mm256_add_ps(_mm256_fmadd_ps(half, s, _mm256_set1_ps(-0.653_426_4)), _mm256_mul_ps(half, ln(s))),
+            _mm256_add_ps(
+                _mm256_fmadd_ps(half, s, _mm256_set1_ps(-0.653_426_4)),
+                _mm256_mul_ps(half, ln(s)),
+            ),
             p,
         );
         _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_sqrt_ps(_mm256_div_ps(y, r)));

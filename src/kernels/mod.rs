@@ -78,7 +78,17 @@ fn one_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, a: f32) ->
 }
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn one_deferred(a: f32, ux: f32, uy: f32, uz: f32, wx: f32, wy: f32, wz: f32, s2: f32, d: f32) -> f32 {
+fn one_deferred(
+    a: f32,
+    ux: f32,
+    uy: f32,
+    uz: f32,
+    wx: f32,
+    wy: f32,
+    wz: f32,
+    s2: f32,
+    d: f32,
+) -> f32 {
     g::filter_deferred(a, ux, uy, uz, wx, wy, wz, s2, d)
 }
 #[inline(never)]
@@ -114,14 +124,26 @@ pub fn ggx_specular(backend: Backend, inp: &SpecularIn, out: &mut [f32]) -> Resu
     if backend == Backend::PerPixel {
         for i in 0..out.len() {
             out[i] = one_specular(
-                inp.l[0][i], inp.l[1][i], inp.l[2][i], inp.v[0][i], inp.v[1][i], inp.v[2][i], inp.alpha[i],
+                inp.l[0][i],
+                inp.l[1][i],
+                inp.l[2][i],
+                inp.v[0][i],
+                inp.v[1][i],
+                inp.v[2][i],
+                inp.alpha[i],
             );
         }
         return Ok(());
     }
     for i in start..out.len() {
         out[i] = g::ggx_specular(
-            inp.l[0][i], inp.l[1][i], inp.l[2][i], inp.v[0][i], inp.v[1][i], inp.v[2][i], inp.alpha[i],
+            inp.l[0][i],
+            inp.l[1][i],
+            inp.l[2][i],
+            inp.v[0][i],
+            inp.v[1][i],
+            inp.v[2][i],
+            inp.alpha[i],
         );
     }
     Ok(())
@@ -161,16 +183,30 @@ pub fn deferred_roughness(
     if backend == Backend::PerPixel {
         for i in 0..out.len() {
             out[i] = one_deferred(
-                inp.alpha[i], inp.du[0][i], inp.du[1][i], inp.du[2][i], inp.dv[0][i], inp.dv[1][i], inp.dv[2][i],
-                sigma2, delta,
+                inp.alpha[i],
+                inp.du[0][i],
+                inp.du[1][i],
+                inp.du[2][i],
+                inp.dv[0][i],
+                inp.dv[1][i],
+                inp.dv[2][i],
+                sigma2,
+                delta,
             );
         }
         return Ok(());
     }
     for i in start..out.len() {
         out[i] = g::filter_deferred(
-            inp.alpha[i], inp.du[0][i], inp.du[1][i], inp.du[2][i], inp.dv[0][i], inp.dv[1][i], inp.dv[2][i],
-            sigma2, delta,
+            inp.alpha[i],
+            inp.du[0][i],
+            inp.du[1][i],
+            inp.du[2][i],
+            inp.dv[0][i],
+            inp.dv[1][i],
+            inp.dv[2][i],
+            sigma2,
+            delta,
         );
     }
     Ok(())
@@ -178,7 +214,12 @@ pub fn deferred_roughness(
 
 /// (c) out[i] = α of the multi-scale lobe from y_me = 1 − ‖μ‖ (mip) and y_mi = 1 − ρ(α_mi)
 /// (generated `multiscale_alpha`; inputs in (0, 1)).
-pub fn multiscale_alpha(backend: Backend, y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> Result<()> {
+pub fn multiscale_alpha(
+    backend: Backend,
+    y_me: &[f32],
+    y_mi: &[f32],
+    out: &mut [f32],
+) -> Result<()> {
     check(backend, &[y_me.len(), y_mi.len()], out.len())?;
     let mut start = 0;
     #[cfg(target_arch = "x86_64")]
@@ -225,7 +266,9 @@ pub fn bench_inputs(n: usize) -> BenchInputs {
         for k in 0..6 {
             cols[7 + k].push(((rng.random::<f64>() - 0.5) * 0.4) as f32);
         }
-        let y = |rng: &mut rand_chacha::ChaCha8Rng| crate::multiscale::mrl::mrl_pair(10f64.powf(-3.0 * rng.random::<f64>())).1 as f32;
+        let y = |rng: &mut rand_chacha::ChaCha8Rng| {
+            crate::multiscale::mrl::mrl_pair(10f64.powf(-3.0 * rng.random::<f64>())).1 as f32
+        };
         cols[13].push(y(&mut rng));
         cols[14].push(y(&mut rng));
     }
@@ -241,26 +284,48 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
     let mut sc = vec![0.0f32; n];
     let reference: Vec<f64> = match kernel {
         "kernel-ggx-specular" => {
-            let inp = SpecularIn { l: [&c[0], &c[1], &c[2]], v: [&c[3], &c[4], &c[5]], alpha: &c[6] };
+            let inp = SpecularIn {
+                l: [&c[0], &c[1], &c[2]],
+                v: [&c[3], &c[4], &c[5]],
+                alpha: &c[6],
+            };
             ggx_specular(backend, &inp, &mut out)?;
             ggx_specular(Backend::Scalar, &inp, &mut sc)?;
             let fr = crate::filters::truth::Frame::around(nalgebra::Vector3::z());
             (0..n)
                 .map(|i| {
-                    let s = crate::microfacet::Microsurface::ggx(crate::microfacet::Roughness::iso(c[6][i] as f64)?);
-                    let v3 = |a: usize| nalgebra::Vector3::new(c[a][i] as f64, c[a + 1][i] as f64, c[a + 2][i] as f64);
+                    let s = crate::microfacet::Microsurface::ggx(
+                        crate::microfacet::Roughness::iso(c[6][i] as f64)?,
+                    );
+                    let v3 = |a: usize| {
+                        nalgebra::Vector3::new(
+                            c[a][i] as f64,
+                            c[a + 1][i] as f64,
+                            c[a + 2][i] as f64,
+                        )
+                    };
                     Ok(crate::filters::truth::lobe(&s, &fr, &v3(3), &v3(0)))
                 })
                 .collect::<Result<_>>()?
         }
         "kernel-deferred" => {
-            let inp = DeferredIn { alpha: &c[6], du: [&c[7], &c[8], &c[9]], dv: [&c[10], &c[11], &c[12]] };
+            let inp = DeferredIn {
+                alpha: &c[6],
+                du: [&c[7], &c[8], &c[9]],
+                dv: [&c[10], &c[11], &c[12]],
+            };
             deferred_roughness(backend, &inp, 0.25, 0.18, &mut out)?;
             deferred_roughness(Backend::Scalar, &inp, 0.25, 0.18, &mut sc)?;
             (0..n)
                 .map(|i| {
                     let f = |k: usize| c[k][i] as f64;
-                    crate::filters::rules::deferred(f(6), [f(7), f(8), f(9)], [f(10), f(11), f(12)], 0.25, 0.18)
+                    crate::filters::rules::deferred(
+                        f(6),
+                        [f(7), f(8), f(9)],
+                        [f(10), f(11), f(12)],
+                        0.25,
+                        0.18,
+                    )
                 })
                 .collect()
         }
@@ -283,7 +348,9 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
             worst.0 = worst.0.max(((out[i] as f64) - r).abs() / r);
         }
         if sc[i] != 0.0 {
-            worst.1 = worst.1.max(((out[i] - sc[i]) / sc[i]).abs() as f64 / f32::EPSILON as f64);
+            worst.1 = worst
+                .1
+                .max(((out[i] - sc[i]) / sc[i]).abs() as f64 / f32::EPSILON as f64);
         }
     }
     Ok(worst)

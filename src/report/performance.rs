@@ -107,6 +107,7 @@ fn fmt_time(ns: f64) -> String {
 /// Write results/performance.md.
 pub fn run(criterion: &Path, results: &Path) -> Result<String> {
     let timed = read_criterion(criterion)?;
+    write_costs(&timed, results)?;
     let igs = integrands();
     let mut md = String::from("# Performance\n\n");
     md.push_str(
@@ -316,11 +317,49 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     md
 }
 
+/// results/costs.json: ns per evaluation of the footprint filters (f32 forms, group
+/// `filters`) and ns per pixel of each kernel backend at a 4096-pixel batch — the cost
+/// side of the speed/accuracy tables `scene` chooses from. Entries keep what earlier
+/// runs measured when this run lacks them.
+fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
+    let path = results.join("costs.json");
+    let mut costs: serde_json::Map<String, serde_json::Value> = std::fs::read_to_string(&path)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_default();
+    for t in timed {
+        if t.group == "filters" {
+            costs.insert(
+                format!("filters/{}", t.function),
+                serde_json::json!(t.mean_ns / 1024.0),
+            );
+        } else if t.group.starts_with("kernel-") && t.param == "4096" {
+            costs.insert(
+                format!("{}/{}", t.group, t.function),
+                serde_json::json!(t.mean_ns / 4096.0),
+            );
+        }
+    }
+    costs.insert(
+        "_note".into(),
+        serde_json::json!("ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch); written by bench-report"),
+    );
+    crate::io::write_atomic(
+        &path,
+        serde_json::to_string_pretty(&serde_json::Value::Object(costs))
+            .expect("json")
+            .as_bytes(),
+    )
+}
+
 /// SIMD kernels: pixels/s of each backend per batch size, the ratio, and each kernel's
 /// measured error next to its speed (benches `kernel-*`; accuracy measured here on 2^16
 /// of the benchmark inputs).
 fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
-    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group.starts_with("kernel-")).collect();
+    let rows: Vec<&Timed> = timed
+        .iter()
+        .filter(|t| t.group.starts_with("kernel-"))
+        .collect();
     if rows.is_empty() {
         return Ok(String::new());
     }

@@ -1,0 +1,414 @@
+//! "Model only what a scene requires" (issue 7 §3): a scene file names the NDF, the
+//! roughness form, the lights, the normal-map filter, the screen-space AA, the precision
+//! and an error budget; `scene` writes only the WGSL and Rust that scene needs, and a
+//! report of every chosen approximation with its measured error and cost. `auto` picks
+//! the cheapest approximation whose measured error (mean + 1 s.e.) meets the budget,
+//! from results/fits/filters.json (errors) and results/costs.json (ns per evaluation).
+
+use crate::codegen;
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use std::path::Path;
+
+/// A scene file. Unknown keys are errors naming the key.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    /// "ggx" | "beckmann"
+    pub ndf: String,
+    /// "isotropic" | "anisotropic" | "matrix"
+    pub roughness: String,
+    /// any of "point", "polygon", "environment"
+    pub lights: Vec<String>,
+    /// "none" | "toksvig" | "vmf" | "vmf-fitted" | "multiscale" | "auto"
+    pub normal_map_filter: String,
+    /// "none" | "deferred" | "deferred-fitted" | "eq10" | "projected" | "auto"
+    pub screen_space_aa: String,
+    /// "f32" | "f16"
+    pub precision: String,
+    /// Largest acceptable mean relative L2 lobe error of each filter (results/filters.md).
+    pub error_budget: f64,
+}
+
+/// One option for a scene aspect.
+struct Opt {
+    key: &'static str,
+    function: Option<&'static str>,
+    error_key: ErrorKey,
+    cost_key: Option<&'static str>,
+}
+
+enum ErrorKey {
+    /// results/fits/filters.json summary entry
+    Summary(&'static str),
+    /// results/fits/filters.json fitted family (GGX)
+    Fitted(&'static str),
+}
+
+const MAP_OPTS: &[Opt] = &[
+    Opt {
+        key: "none",
+        function: None,
+        error_key: ErrorKey::Summary("none-map"),
+        cost_key: None,
+    },
+    Opt {
+        key: "toksvig",
+        function: Some("filter_toksvig"),
+        error_key: ErrorKey::Summary("toksvig"),
+        cost_key: Some("filters/toksvig"),
+    },
+    Opt {
+        key: "vmf",
+        function: Some("filter_vmf"),
+        error_key: ErrorKey::Summary("vmf"),
+        cost_key: Some("filters/vmf"),
+    },
+    Opt {
+        key: "vmf-fitted",
+        function: Some("filter_vmf_fitted"),
+        error_key: ErrorKey::Fitted("vMF α² + c/κ"),
+        cost_key: Some("filters/vmf"),
+    },
+    Opt {
+        key: "multiscale",
+        function: Some("multiscale_alpha"),
+        error_key: ErrorKey::Summary("seed000-moment"),
+        cost_key: Some("filters/seed000-moment"),
+    },
+];
+
+const AA_OPTS: &[Opt] = &[
+    Opt {
+        key: "none",
+        function: None,
+        error_key: ErrorKey::Summary("none-screen"),
+        cost_key: None,
+    },
+    Opt {
+        key: "deferred",
+        function: Some("filter_deferred"),
+        error_key: ErrorKey::Summary("deferred"),
+        cost_key: Some("filters/deferred"),
+    },
+    Opt {
+        key: "deferred-fitted",
+        function: Some("filter_deferred_fitted"),
+        error_key: ErrorKey::Fitted("Eq 13 σ² (Gaussian pixel)"),
+        cost_key: Some("filters/deferred"),
+    },
+    Opt {
+        key: "eq10",
+        function: Some("filter_eq10"),
+        error_key: ErrorKey::Summary("eigen"),
+        cost_key: Some("filters/eigen"),
+    },
+    Opt {
+        key: "projected",
+        function: Some("filter_projected"),
+        error_key: ErrorKey::Summary("projected"),
+        cost_key: Some("filters/projected"),
+    },
+];
+
+impl Scene {
+    /// Parse and validate; errors name the offending key and the accepted values.
+    pub fn parse(text: &str, origin: &str) -> Result<Scene> {
+        let s: Scene = toml::from_str(text)
+            .map_err(|e| Error::InvalidArgument(format!("scene {origin}: {}", e.message())))?;
+        let one_of = |key: &str, v: &str, ok: &[&str]| -> Result<()> {
+            if ok.contains(&v) {
+                Ok(())
+            } else {
+                Err(Error::InvalidArgument(format!(
+                    "scene {origin}: key '{key}' = \"{v}\" is not one of {ok:?}"
+                )))
+            }
+        };
+        one_of("ndf", &s.ndf, &["ggx", "beckmann"])?;
+        one_of(
+            "roughness",
+            &s.roughness,
+            &["isotropic", "anisotropic", "matrix"],
+        )?;
+        for l in &s.lights {
+            one_of("lights", l, &["point", "polygon", "environment"])?;
+        }
+        let keys = |o: &[Opt]| o.iter().map(|x| x.key).chain(["auto"]).collect::<Vec<_>>();
+        one_of("normal_map_filter", &s.normal_map_filter, &keys(MAP_OPTS))?;
+        one_of("screen_space_aa", &s.screen_space_aa, &keys(AA_OPTS))?;
+        one_of("precision", &s.precision, &["f32", "f16"])?;
+        if !(s.error_budget.is_finite() && s.error_budget > 0.0) {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'error_budget' must be a finite number > 0, got {}",
+                s.error_budget
+            )));
+        }
+        if s.lights.is_empty() {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'lights' is empty"
+            )));
+        }
+        // contradictions and what is not generated yet, named by key
+        if s.ndf == "beckmann" && s.roughness != "isotropic" {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: keys 'ndf' = \"beckmann\" and 'roughness' = \"{}\" contradict: only isotropic Beckmann is generated",
+                s.roughness
+            )));
+        }
+        if s.normal_map_filter == "multiscale" && s.ndf != "ggx" {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: keys 'normal_map_filter' = \"multiscale\" and 'ndf' = \"{}\" contradict: the multi-scale LTC model is GGX",
+                s.ndf
+            )));
+        }
+        if let Some(l) = s.lights.iter().find(|l| *l != "point") {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'lights' = \"{l}\": only point lights are generated so far (polygonal lights need the LTC table of issue 4, environment lights the LEADR grid codegen)"
+            )));
+        }
+        if s.precision == "f16" {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'precision' = \"f16\": not generated — α² underflows f16's normal range (6.1e-5) for α < 0.008, so the f32 forms cannot be narrowed as they are"
+            )));
+        }
+        Ok(s)
+    }
+
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            msg: e.to_string(),
+        })?;
+        Scene::parse(&text, &path.display().to_string())
+    }
+}
+
+/// A chosen approximation with its measured error and cost.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Choice {
+    pub aspect: String,
+    pub key: String,
+    pub function: Option<String>,
+    pub error: Option<(f64, f64)>,
+    pub error_note: String,
+    pub cost_ns: Option<f64>,
+}
+
+fn measured(results: &Path, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
+    let f = crate::fit::read_result(results, "filters");
+    let beck = ndf == "beckmann";
+    let err = f.as_ref().and_then(|f| match o.error_key {
+        ErrorKey::Summary(k) => {
+            let key = if beck {
+                format!("beckmann:{k}")
+            } else {
+                k.to_string()
+            };
+            Some((
+                f["summary"][&key]["l2_mean"].as_f64()?,
+                f["summary"][&key]["l2_se"].as_f64()?,
+            ))
+        }
+        ErrorKey::Fitted(fam) => f["fitted"]
+            .as_array()?
+            .iter()
+            .find(|x| x["family"] == fam && x["ndf"] == if beck { "Beckmann" } else { "GGX" })
+            .and_then(|x| {
+                Some((
+                    x["held_out"]["l2_mean"].as_f64()?,
+                    x["held_out"]["l2_se"].as_f64()?,
+                ))
+            }),
+    });
+    let costs: Option<serde_json::Value> = std::fs::read_to_string(results.join("costs.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let cost = match o.cost_key {
+        None => Some(0.0),
+        Some(k) => costs.as_ref().and_then(|c| c[k].as_f64()),
+    };
+    (err, cost)
+}
+
+fn choose(
+    aspect: &str,
+    want: &str,
+    opts: &[Opt],
+    budget: f64,
+    ndf: &str,
+    results: &Path,
+) -> Result<Choice> {
+    let mk = |o: &Opt| {
+        let (error, cost_ns) = measured(results, o, ndf);
+        Choice {
+            aspect: aspect.into(),
+            key: o.key.into(),
+            function: o.function.map(String::from),
+            error,
+            error_note: format!("mean relative L2 lobe error ± s.e. against the footprint-averaged {ndf} BRDF (results/filters.md)"),
+            cost_ns,
+        }
+    };
+    if want != "auto" {
+        let o = opts.iter().find(|o| o.key == want).expect("validated key");
+        return Ok(mk(o));
+    }
+    let all: Vec<Choice> = opts.iter().map(mk).collect();
+    let ok: Vec<&Choice> = all
+        .iter()
+        .filter(|c| c.error.is_some_and(|(m, s)| m + s <= budget))
+        .collect();
+    let best = ok.iter().min_by(|a, b| {
+        let ca = a.cost_ns.unwrap_or(f64::INFINITY);
+        let cb = b.cost_ns.unwrap_or(f64::INFINITY);
+        ca.total_cmp(&cb).then(
+            a.error
+                .map_or(f64::INFINITY, |e| e.0)
+                .total_cmp(&b.error.map_or(f64::INFINITY, |e| e.0)),
+        )
+    });
+    match best {
+        Some(c) => Ok((*c).clone()),
+        None => {
+            let closest = all.iter().filter(|c| c.error.is_some()).min_by(|a, b| {
+                a.error
+                    .map(|e| e.0)
+                    .unwrap_or(f64::INFINITY)
+                    .total_cmp(&b.error.map(|e| e.0).unwrap_or(f64::INFINITY))
+            });
+            Err(Error::InvalidArgument(format!(
+                "scene: no {aspect} approximation meets error_budget = {budget}: the most accurate measured is '{}' at {}",
+                closest.map_or("?", |c| c.key.as_str()),
+                closest.and_then(|c| c.error).map_or("(no measurement: run regen)".into(), |(m, s)| format!("{:.3} ± {:.3}", m, s))
+            )))
+        }
+    }
+}
+
+/// Build the scene's outputs: (file name, contents) for scene.wgsl, scene.rs, report.md.
+pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
+    let consts = codegen::constants(results)?;
+    let mut fns: Vec<&str> = Vec::new();
+    let mut report = format!(
+        "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n| aspect | choice | generated function | measured error | cost (ns/eval, f32) |\n|---|---|---|---|---|\n",
+        s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
+    );
+    let sl = crate::fit::read_result(results, "smith-lambda");
+    let dg1 = sl
+        .as_ref()
+        .and_then(|v| v["held_out"]["ours"]["max_dg1"].as_f64());
+    let costs: Option<serde_json::Value> = std::fs::read_to_string(results.join("costs.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    let spec_cost = costs
+        .as_ref()
+        .and_then(|c| c["kernel-ggx-specular/per-pixel"].as_f64());
+    let fmt_cost =
+        |c: Option<f64>| c.map_or("(run bench-report)".to_string(), |v| format!("{v:.2}"));
+    match (s.ndf.as_str(), s.roughness.as_str()) {
+        ("ggx", "isotropic") => {
+            fns.push("ggx_specular");
+            report.push_str(&format!("| point-light specular | GGX, fused D·G2/(4v_z) | ggx_specular | ≤ 1e-5 relative vs f64 (tests/codegen.rs) | {} (scalar, per pixel) |\n", fmt_cost(spec_cost)));
+        }
+        ("ggx", "anisotropic") => {
+            fns.extend(["ggx_d_aniso", "ggx_g2"]);
+            report.push_str("| NDF | GGX axis-aligned anisotropic | ggx_d_aniso | ≤ 2e-6 relative vs f64 | — |\n| masking | height-correlated G2 (isotropic Λ per axis is the caller's) | ggx_g2 | ≤ 2e-6 | — |\n");
+        }
+        ("ggx", _) => {
+            fns.extend(["ggx_d_matrix", "ggx_g2"]);
+            report.push_str("| NDF | GGX with SPD roughness matrix | ggx_d_matrix | ≤ 2e-6 + 16ε·cond(A) relative | — |\n");
+        }
+        _ => {
+            fns.extend(["beckmann_d", "beckmann_g2"]);
+            report.push_str(&format!(
+                "| NDF + masking | Beckmann with the refitted Λ | beckmann_d, beckmann_g2 | D ≤ 1e-6·(4 + tan²θ/α²); max \\|ΔG1\\| {} | — |\n",
+                dg1.map_or("(run regen)".into(), |d| format!("{d:.1e}"))
+            ));
+        }
+    }
+    let mut choices = Vec::new();
+    for (aspect, want, opts) in [
+        ("normal-map filter", s.normal_map_filter.as_str(), MAP_OPTS),
+        ("screen-space AA", s.screen_space_aa.as_str(), AA_OPTS),
+    ] {
+        let c = choose(aspect, want, opts, s.error_budget, &s.ndf, results)?;
+        if let Some(f) = &c.function {
+            fns.push(
+                codegen::desc::FUNCTIONS
+                    .iter()
+                    .find(|d| d.name == f)
+                    .map(|d| d.name)
+                    .expect("known function"),
+            );
+        }
+        report.push_str(&format!(
+            "| {aspect} | {}{} | {} | {} | {} |\n",
+            c.key,
+            if want == "auto" {
+                " (auto: cheapest within budget)"
+            } else {
+                ""
+            },
+            c.function.as_deref().unwrap_or("—"),
+            c.error.map_or("(no measurement)".into(), |(m, e)| format!(
+                "{:.1} % ± {:.1}",
+                100.0 * m,
+                100.0 * e
+            )),
+            fmt_cost(c.cost_ns)
+        ));
+        choices.push(c);
+    }
+    report.push_str(&format!("\nErrors are the measured means of results/filters.md for {} (normal-map filters over the four procedural maps, screen-space kernels on the Gaussian-pixel study; a fitted constant's error is its held-out error); costs are criterion means of the f32 forms (results/costs.json, results/performance.md). The vMF fitted constant and σ² are fitted for GGX; Beckmann uses the same functions.\n", s.ndf));
+    let title = format!("scene '{}'", s.name);
+    let cmd = "cargo run --release -- scene";
+    Ok(vec![
+        (
+            "scene.wgsl".into(),
+            codegen::render_wgsl(&title, &fns, &consts, cmd)?,
+        ),
+        ("scene.rs".into(), codegen::render_rust(&fns, &consts, cmd)?),
+        ("report.md".into(), report),
+    ])
+}
+
+/// Write the scene's outputs into `out` (atomically, each file); returns the paths.
+pub fn run(path: &Path, out: &Path, results: &Path) -> Result<Vec<String>> {
+    let s = Scene::load(path)?;
+    let files = build(&s, results)?;
+    let mut written = Vec::new();
+    for (name, text) in files {
+        let p = out.join(name);
+        crate::io::write_atomic(&p, text.as_bytes())?;
+        written.push(p.display().to_string());
+    }
+    Ok(written)
+}
+
+/// Rebuild the example scenes (tests/scenes/*.toml → results/scenes/<name>/) so their
+/// committed outputs follow the fits and costs; run by `regen` and `bench-report` on the
+/// canonical results/ directory. Returns the scene names rebuilt.
+pub fn regen_examples(results: &Path) -> Result<Vec<String>> {
+    let dir = Path::new("tests/scenes");
+    if results != Path::new("results") || !dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .map_err(|e| Error::Io {
+            path: dir.display().to_string(),
+            msg: e.to_string(),
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut names = Vec::new();
+    for f in files {
+        let s = Scene::load(&f)?;
+        run(&f, &results.join("scenes").join(&s.name), results)?;
+        names.push(s.name);
+    }
+    Ok(names)
+}
