@@ -74,6 +74,23 @@ enum Cmd {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Compare our GGX LTC table (results/fits/ltc-ggx.json) with a shipped one read from
+    /// FILE (selfshadow ltc.js or three.js RectAreaLightTexturesLib.js); writes
+    /// DIR/ltc-compare.md. The file is only read.
+    LtcCompare {
+        /// the shipped table (JS or JSON text with the two arrays)
+        #[arg(long)]
+        shipped: PathBuf,
+        /// name of the M⁻¹ array
+        #[arg(long, default_value = "LTC_MAT_1")]
+        mat: String,
+        /// name of the (norm, fresnel) array
+        #[arg(long, default_value = "LTC_MAT_2")]
+        mag: String,
+        /// output directory
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
     /// Turn criterion output (target/criterion) into results/performance.md.
     BenchReport {
         /// criterion output directory
@@ -204,6 +221,15 @@ fn main() -> ExitCode {
                 true
             })
         }
+        Some(Cmd::LtcCompare {
+            shipped,
+            mat,
+            mag,
+            out: dir,
+        }) => ndfbench::ltc_compare::run(&shipped, &mat, &mag, &cli.results, &dir).map(|s| {
+            println!("{s}");
+            true
+        }),
         Some(Cmd::BenchReport { criterion }) => {
             ndfbench::report::performance::run(&criterion, &cli.results).map(|s| {
                 println!("{s}");

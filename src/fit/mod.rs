@@ -53,6 +53,7 @@ pub fn regen(
             "leadr-grids" => crate::leadr::regen(s, results)?,
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
             "filters" => crate::filters::regen::run(s, results, preset)?,
+            "ltc-ggx" => crate::ltc_regen::run(s, results, preset)?,
             "multiscale-convolution" => {
                 crate::multiscale::regen_convolution::run(s, &specs, results, preset)?
             }

@@ -1,0 +1,471 @@
+//! Fitting the GGX LTC table (issue 4 §1; Heitz, Dupuy, Hill, Neubelt 2016; seed 000 Eq 1).
+//!
+//! Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1,
+//! f(l) = D(h)·G2(l, v)/(4 v_z), for a view v = (sin θ, 0, cos θ) and roughness α.
+//! Model: f ≈ norm·γ_M(l), γ_M the LTC of the clamped cosine with
+//! M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction,
+//! Y = (0, 1, 0), X = Y × Z (the frame of the reference fitter). norm = ∫ f (directional
+//! albedo), fresnel = ∫ f·(1 − v·h)⁵ (so that ∫ f·F_Schlick = F0·(norm − fresnel) + fresnel).
+//!
+//! Metrics (both reported for every table): the reference fitter's
+//! Σ|f − f_ltc|³/(p_ltc + p_brdf) over samples drawn from both the LTC and the BRDF (one
+//! stratified n×n set each), and the plain L2 error ∫(f − f_ltc)² by the same balance
+//! estimator, reported relative to ∫f². Optimisers (argmin): Nelder–Mead, and L-BFGS on
+//! central-difference gradients; parameters (ln m11, ln m22, m13/m11) so that α down to
+//! 1e-4 has no floor and no sign to flip.
+//!
+//! Production form: M⁻¹ normalised by its middle element, stored as (a, b, c, d) with
+//! M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] — the layout of the 2016 "journey" talk and the
+//! shipped ltc_1 textures (columns (a, 0, b) and (c, 0, d)).
+
+use crate::error::{Error, Result};
+use crate::integrate::mc::Strategy;
+use crate::ltc::LtcDist;
+use crate::microfacet::sampling::VndfSampler;
+use crate::microfacet::{Microsurface, Roughness};
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+type V3 = Vector3<f64>;
+
+/// The BRDF of one cell.
+pub struct Target {
+    pub alpha: f64,
+    pub v: V3,
+    surface: Microsurface,
+    vndf: VndfSampler,
+}
+
+impl Target {
+    /// θ in radians (clamped to ≤ 89.99° so that v_z > 0), α > 0.
+    pub fn new(alpha: f64, theta: f64) -> Result<Target> {
+        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        let v = V3::new(th.sin(), 0.0, th.cos());
+        let surface = Microsurface::ggx(Roughness::iso(alpha)?);
+        Ok(Target {
+            alpha,
+            v,
+            surface,
+            vndf: VndfSampler::new(surface, v)?,
+        })
+    }
+    /// (f(l), density of l under VNDF sampling + reflection).
+    pub fn eval(&self, l: &V3) -> (f64, f64) {
+        if l.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let h = (self.v + l).normalize();
+        let d = self.surface.d(&h);
+        let g1 = self.surface.g1_dir(&self.v);
+        let pdf = d * g1 / (4.0 * self.v.z);
+        let f = d * self.surface.g2_correlated(l, &self.v, &h) / (4.0 * self.v.z);
+        (f, pdf)
+    }
+    /// Sample l by VNDF + reflection (None if it lands below the horizon).
+    pub fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        let m = self.vndf.sample(u)?;
+        let l = m * (2.0 * self.v.dot(&m)) - self.v;
+        (l.z > 0.0).then_some(l)
+    }
+    /// (∫f, its error estimate, ∫f(1 − v·h)⁵) by nested adaptive sphere quadrature in
+    /// half-vector space: ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian
+    /// 4 v·h), where the lobe sits at the pole for every view.
+    pub fn norm_quad(&self, tol: f64) -> (f64, f64, f64) {
+        use crate::integrate::quad::Tol;
+        use crate::integrate::sphere::{integrate_sphere, SphereRule};
+        let rule = SphereRule::hemisphere(self.alpha);
+        let g = |h: &V3, fres: bool| {
+            let vh = self.v.dot(h);
+            if vh <= 0.0 || h.z <= 0.0 {
+                return 0.0;
+            }
+            let l = h * (2.0 * vh) - self.v;
+            if l.z <= 0.0 {
+                return 0.0;
+            }
+            let w = self.surface.d(h) * self.surface.g2_correlated(&l, &self.v, h) * vh / self.v.z;
+            if fres {
+                w * (1.0 - vh).powi(5)
+            } else {
+                w
+            }
+        };
+        let t = Tol::new(tol, tol, 20_000_000);
+        let a = integrate_sphere(&|h| g(h, false), &rule, t);
+        let b = integrate_sphere(&|h| g(h, true), &rule, t);
+        (a.value, a.error, b.value)
+    }
+
+    /// (∫f, ∫f(1 − v·h)⁵, mean direction ∫f·l / |∫f·l|) by VNDF importance sampling on an
+    /// n×n stratified set, with the standard error of ∫f.
+    pub fn moments(&self, n: usize) -> (f64, f64, f64, V3) {
+        let (mut s, mut s2, mut fr) = (0.0, 0.0, 0.0);
+        let mut dir = V3::zeros();
+        let cnt = (n * n) as f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u = [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
+                if let Some(l) = self.sample(u) {
+                    let (f, p) = self.eval(&l);
+                    if p > 0.0 {
+                        let w = f / p;
+                        s += w;
+                        s2 += w * w;
+                        let h = (self.v + l).normalize();
+                        fr += w * (1.0 - self.v.dot(&h)).max(0.0).powi(5);
+                        dir += l * w;
+                    }
+                }
+            }
+        }
+        let mean = s / cnt;
+        let se = ((s2 / cnt - mean * mean).max(0.0) / cnt).sqrt();
+        let d = if dir.norm() > 0.0 {
+            dir.normalize()
+        } else {
+            V3::z()
+        };
+        (mean, fr / cnt, se, d)
+    }
+}
+
+/// Fitted parameters of one cell.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Cell {
+    pub alpha: f64,
+    pub theta: f64,
+    pub m11: f64,
+    pub m22: f64,
+    pub m13: f64,
+    /// Mean direction (x, z) of the BRDF (Y = (0, 1, 0)).
+    pub z_dir: [f64; 2],
+    pub norm: f64,
+    /// Quadrature error estimate of `norm`.
+    pub norm_se: f64,
+    pub fresnel: f64,
+    /// Production inverse (a, b, c, d), M⁻¹ normalised by its middle element.
+    pub inv: [f64; 4],
+    /// Held-out metrics (fresh, finer sample set): cubic metric and relative L2.
+    pub err_cubic: f64,
+    pub err_l2: f64,
+    pub iters: u64,
+}
+
+/// M from the parameters and the frame.
+pub fn matrix(m11: f64, m22: f64, m13: f64, z: &V3) -> Matrix3<f64> {
+    let y = V3::y();
+    let x = y.cross(z).normalize();
+    let b = Matrix3::from_columns(&[x, y, *z]);
+    b * Matrix3::new(m11, 0.0, m13, 0.0, m22, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// (a, b, c, d) of M⁻¹ normalised by its middle element (typed error if singular).
+pub fn production_inverse(m: &Matrix3<f64>) -> Result<[f64; 4]> {
+    let inv = m
+        .try_inverse()
+        .ok_or_else(|| Error::InvalidArgument("LTC matrix is singular".into()))?;
+    let s = inv[(1, 1)];
+    if !(s.is_finite() && s != 0.0) {
+        return Err(Error::InvalidArgument(
+            "LTC inverse has a zero middle element".into(),
+        ));
+    }
+    let n = inv / s;
+    Ok([n[(0, 0)], n[(2, 0)], n[(0, 2)], n[(2, 2)]])
+}
+
+/// Rebuild M⁻¹ from the production form.
+pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
+    Matrix3::new(p[0], 0.0, p[2], 0.0, 1.0, 0.0, p[1], 0.0, p[3])
+}
+
+/// Both metrics of an LTC (given as a distribution and amplitude) against the target on
+/// an n×n stratified set per technique with offset `off` ∈ [0, 1).
+pub fn metrics(t: &Target, ltc: &LtcDist, norm: f64, n: usize, off: f64) -> (f64, f64) {
+    let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
+    let cnt = (n * n) as f64;
+    let mut add = |l: &V3| {
+        let (f, pb) = t.eval(l);
+        let fl = norm * ltc.eval(l);
+        let pl = ltc.eval(l);
+        let q = pl + pb;
+        if q > 0.0 {
+            let e = (f - fl).abs();
+            cubic += e * e * e / q;
+            l2 += e * e / q;
+            f2 += f * f / q;
+        }
+    };
+    for i in 0..n {
+        for j in 0..n {
+            let u = [
+                ((i as f64 + off) / n as f64).min(1.0 - 1e-12),
+                ((j as f64 + off) / n as f64).min(1.0 - 1e-12),
+            ];
+            if let Some(l) = ltc.sample(u) {
+                add(&l);
+            }
+            if let Some(l) = t.sample(u) {
+                add(&l);
+            }
+        }
+    }
+    let rel = if f2 > 0.0 { (l2 / f2).sqrt() } else { f64::NAN };
+    (cubic / cnt, rel)
+}
+
+/// Which metric drives the fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Metric {
+    Cubic,
+    L2,
+}
+
+/// Which optimiser.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Method {
+    NelderMead,
+    Lbfgs,
+}
+
+/// (m11, m22, m13) from the fit parameters (ln m11, ln m22, m13/m11), clamped to a finite box.
+pub fn params_to_m(p: &[f64]) -> (f64, f64, f64) {
+    let m11 = p[0].clamp(-30.0, 5.0).exp();
+    let m22 = p[1].clamp(-30.0, 5.0).exp();
+    (m11, m22, p[2].clamp(-1e3, 1e3) * m11)
+}
+
+/// Fit one cell from the start parameters `p0` = (ln m11, ln m22, m13/m11).
+pub fn fit_cell(
+    t: &Target,
+    z: &V3,
+    norm: f64,
+    p0: &[f64; 3],
+    n: usize,
+    metric: Metric,
+    method: Method,
+    max_iters: u64,
+) -> Result<([f64; 3], u64)> {
+    use argmin::core::{CostFunction, Executor, Gradient, State};
+    struct Obj<'a> {
+        t: &'a Target,
+        z: V3,
+        norm: f64,
+        n: usize,
+        metric: Metric,
+    }
+    impl Obj<'_> {
+        fn value(&self, p: &[f64]) -> f64 {
+            if p.iter().any(|x| !x.is_finite()) {
+                return 1e30;
+            }
+            let (m11, m22, m13) = params_to_m(p);
+            match LtcDist::new(matrix(m11, m22, m13, &self.z)) {
+                Ok(ltc) => {
+                    let (c, l2) = metrics(self.t, &ltc, self.norm, self.n, 0.5);
+                    let v = if self.metric == Metric::Cubic { c } else { l2 };
+                    if v.is_finite() {
+                        v
+                    } else {
+                        1e30
+                    }
+                }
+                Err(_) => 1e30,
+            }
+        }
+    }
+    impl CostFunction for Obj<'_> {
+        type Param = Vec<f64>;
+        type Output = f64;
+        fn cost(&self, p: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+            Ok(self.value(p))
+        }
+    }
+    impl Gradient for Obj<'_> {
+        type Param = Vec<f64>;
+        type Gradient = Vec<f64>;
+        fn gradient(&self, p: &Vec<f64>) -> std::result::Result<Vec<f64>, argmin::core::Error> {
+            let h = 1e-5;
+            Ok((0..p.len())
+                .map(|k| {
+                    let (mut a, mut b) = (p.clone(), p.clone());
+                    a[k] += h;
+                    b[k] -= h;
+                    (self.value(&a) - self.value(&b)) / (2.0 * h)
+                })
+                .collect())
+        }
+    }
+    let obj = Obj {
+        t,
+        z: *z,
+        norm,
+        n,
+        metric,
+    };
+    let start = p0.to_vec();
+    let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
+    let (best, iters) = match method {
+        Method::NelderMead => {
+            use argmin::solver::neldermead::NelderMead;
+            let mut simplex = vec![start.clone()];
+            for k in 0..3 {
+                let mut q = start.clone();
+                q[k] += if k < 2 { 0.1 } else { 0.05 };
+                simplex.push(q);
+            }
+            let solver = NelderMead::new(simplex)
+                .with_sd_tolerance(1e-12)
+                .map_err(err)?;
+            let res = Executor::new(obj, solver)
+                .configure(|s| s.max_iters(max_iters))
+                .run()
+                .map_err(err)?;
+            (
+                res.state().get_best_param().cloned().unwrap_or(start),
+                res.state().get_iter(),
+            )
+        }
+        Method::Lbfgs => {
+            use argmin::solver::linesearch::MoreThuenteLineSearch;
+            use argmin::solver::quasinewton::LBFGS;
+            let solver = LBFGS::new(MoreThuenteLineSearch::new(), 5)
+                .with_tolerance_grad(1e-14)
+                .map_err(err)?
+                .with_tolerance_cost(1e-14)
+                .map_err(err)?;
+            match Executor::new(obj, solver)
+                .configure(|s| s.param(start.clone()).max_iters(max_iters))
+                .run()
+            {
+                Ok(res) => (
+                    res.state().get_best_param().cloned().unwrap_or(start),
+                    res.state().get_iter(),
+                ),
+                // a failed line search keeps the start (reported as 0 iterations)
+                Err(_) => (start, 0),
+            }
+        }
+    };
+    if best.iter().any(|x| !x.is_finite())
+        || !(obj_value(t, z, norm, n, metric, &best) <= obj_value(t, z, norm, n, metric, p0))
+    {
+        // a diverged or worse result keeps the start
+        return Ok((*p0, iters));
+    }
+    Ok(([best[0], best[1], best[2]], iters))
+}
+
+fn obj_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64]) -> f64 {
+    if p.iter().any(|x| !x.is_finite()) {
+        return f64::INFINITY;
+    }
+    let (m11, m22, m13) = params_to_m(p);
+    match LtcDist::new(matrix(m11, m22, m13, z)) {
+        Ok(ltc) => {
+            let (c, l2) = metrics(t, &ltc, norm, n, 0.5);
+            if metric == Metric::Cubic {
+                c
+            } else {
+                l2
+            }
+        }
+        Err(_) => f64::INFINITY,
+    }
+}
+
+/// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
+/// t = √(1 − cos θ), both uniform on [0, 1] with `n` points.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Grid {
+    pub n: usize,
+    pub alpha_min: f64,
+}
+
+impl Grid {
+    pub fn alpha(&self, i: usize) -> f64 {
+        let r = i as f64 / (self.n - 1) as f64;
+        (r * r).max(self.alpha_min)
+    }
+    pub fn theta(&self, j: usize) -> f64 {
+        let t = j as f64 / (self.n - 1) as f64;
+        (1.0 - t * t).clamp(0.0, 1.0).acos()
+    }
+}
+
+/// The fitted table: cells[j][i] for θ index j and α index i.
+#[derive(Clone, Debug, Serialize)]
+pub struct Table {
+    pub grid: Grid,
+    pub metric: Metric,
+    pub method: Method,
+    pub samples_per_technique: usize,
+    pub cells: Vec<Vec<Cell>>,
+}
+
+/// Fit a whole table: rayon over θ columns; within a column α runs from rough to smooth,
+/// each cell starting from its neighbour's solution (the first from the isotropic
+/// M = diag(α, α, 1)).
+pub fn fit_table(
+    grid: Grid,
+    n: usize,
+    metric: Metric,
+    method: Method,
+    max_iters: u64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Table> {
+    let cols: Vec<Vec<Cell>> = (0..grid.n)
+        .into_par_iter()
+        .map(|j| -> Result<Vec<Cell>> {
+            let theta = grid.theta(j);
+            let mut col = Vec::with_capacity(grid.n);
+            let mut p = [0.0f64; 3];
+            for i in (0..grid.n).rev() {
+                let alpha = grid.alpha(i);
+                let t = Target::new(alpha, theta)?;
+                let (_, _, _, z) = t.moments(32);
+                let (norm, norm_se, fresnel) = t.norm_quad(1e-9);
+                if i == grid.n - 1 {
+                    p = [alpha.ln(), alpha.ln(), 0.0];
+                } else {
+                    // keep the ratio to α from the rougher neighbour
+                    let prev = grid.alpha(i + 1);
+                    p[0] += (alpha / prev).ln();
+                    p[1] += (alpha / prev).ln();
+                }
+                let (best, iters) = fit_cell(&t, &z, norm, &p, n, metric, method, max_iters)?;
+                p = best;
+                let (m11, m22, m13) = params_to_m(&p);
+                let m = matrix(m11, m22, m13, &z);
+                let ltc = LtcDist::new(m)?;
+                let (ec, el2) = metrics(&t, &ltc, norm, 2 * n, 0.25);
+                col.push(Cell {
+                    alpha,
+                    theta,
+                    m11,
+                    m22,
+                    m13,
+                    z_dir: [z.x, z.z],
+                    norm,
+                    norm_se,
+                    fresnel,
+                    inv: production_inverse(&m)?,
+                    err_cubic: ec,
+                    err_l2: el2,
+                    iters,
+                });
+                progress();
+            }
+            col.reverse();
+            Ok(col)
+        })
+        .collect::<Result<_>>()?;
+    Ok(Table {
+        grid,
+        metric,
+        method,
+        samples_per_technique: n * n,
+        cells: cols,
+    })
+}
