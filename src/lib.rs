@@ -32,6 +32,7 @@ pub mod linalg;
 pub mod ltc;
 pub mod ltc_compare;
 pub mod ltc_fit;
+pub mod ltc_pipeline;
 pub mod ltc_regen;
 pub mod microfacet;
 pub mod multiscale;

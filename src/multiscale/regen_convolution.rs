@@ -357,6 +357,9 @@ carries both limits; every basis function of the per-metric correction vanishes 
         y: held_axis.clone(),
         values,
         log_range: r,
+        x_label: "α_mi".into(),
+        y_label: "α_me".into(),
+        log_axes: true,
     };
     let maps = crate::report::plot::heatmap_svg(
         &[

@@ -110,6 +110,10 @@ pub struct HeatPanel {
     pub values: Vec<Vec<f64>>,
     /// Colour range in log10 units.
     pub log_range: (f64, f64),
+    pub x_label: String,
+    pub y_label: String,
+    /// Log-scaled axes (positive grid values) or linear ones.
+    pub log_axes: bool,
 }
 
 fn viridis_like(t: f64) -> RGBColor {
@@ -142,14 +146,23 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
         root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
         let areas = root.split_evenly((1, panels.len().max(1)));
         for (area, p) in areas.iter().zip(panels) {
+            let log = p.log_axes;
             let edges = |v: &[f64]| -> Vec<f64> {
                 let n = v.len();
                 let mut e = Vec::with_capacity(n + 1);
-                e.push(v[0] * (v[0] / v[1]).sqrt());
-                for i in 0..n - 1 {
-                    e.push((v[i] * v[i + 1]).sqrt());
+                if log {
+                    e.push(v[0] * (v[0] / v[1]).sqrt());
+                    for i in 0..n - 1 {
+                        e.push((v[i] * v[i + 1]).sqrt());
+                    }
+                    e.push(v[n - 1] * (v[n - 1] / v[n - 2]).sqrt());
+                } else {
+                    e.push(v[0] - 0.5 * (v[1] - v[0]));
+                    for i in 0..n - 1 {
+                        e.push(0.5 * (v[i] + v[i + 1]));
+                    }
+                    e.push(v[n - 1] + 0.5 * (v[n - 1] - v[n - 2]));
                 }
-                e.push(v[n - 1] * (v[n - 1] / v[n - 2]).sqrt());
                 e
             };
             let (ex, ey) = (edges(&p.x), edges(&p.y));
@@ -157,41 +170,73 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
                 "{} (log10: {:.1} … {:.1})",
                 p.title, p.log_range.0, p.log_range.1
             );
-            let mut chart = ChartBuilder::on(area)
-                .caption(title.as_str(), ("sans-serif", 14))
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(50)
-                .build_cartesian_2d(
-                    (ex[0]..ex[ex.len() - 1]).log_scale(),
-                    (ey[0]..ey[ey.len() - 1]).log_scale(),
-                )
-                .map_err(|e| err(e.to_string()))?;
-            chart
-                .configure_mesh()
-                .x_desc("α_mi")
-                .y_desc("α_me")
-                .x_label_formatter(&|x| format!("{x:.2}"))
-                .y_label_formatter(&|y| format!("{y:.2}"))
-                .disable_mesh()
-                .draw()
-                .map_err(|e| err(e.to_string()))?;
-            let (lo, hi) = p.log_range;
-            chart
-                .draw_series(p.values.iter().enumerate().flat_map(|(iy, row)| {
-                    let (ex, ey) = (&ex, &ey);
-                    row.iter().enumerate().map(move |(ix, &v)| {
-                        let c = if v > 0.0 {
-                            viridis_like((v.log10() - lo) / (hi - lo))
-                        } else {
-                            RGBColor(200, 200, 200)
-                        };
-                        Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], c.filled())
-                    })
-                }))
-                .map_err(|e| err(e.to_string()))?;
+            let (x0, x1, y0, y1) = (ex[0], ex[ex.len() - 1], ey[0], ey[ey.len() - 1]);
+            if log {
+                let mut chart = ChartBuilder::on(area)
+                    .caption(title.as_str(), ("sans-serif", 14))
+                    .margin(10)
+                    .x_label_area_size(35)
+                    .y_label_area_size(50)
+                    .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                    .map_err(|e| err(e.to_string()))?;
+                chart
+                    .configure_mesh()
+                    .x_desc(p.x_label.as_str())
+                    .y_desc(p.y_label.as_str())
+                    .x_label_formatter(&|x| format!("{x:.2}"))
+                    .y_label_formatter(&|y| format!("{y:.2}"))
+                    .disable_mesh()
+                    .draw()
+                    .map_err(|e| err(e.to_string()))?;
+                draw_cells(&mut chart, p, &ex, &ey).map_err(err)?;
+            } else {
+                let mut chart = ChartBuilder::on(area)
+                    .caption(title.as_str(), ("sans-serif", 14))
+                    .margin(10)
+                    .x_label_area_size(35)
+                    .y_label_area_size(50)
+                    .build_cartesian_2d(x0..x1, y0..y1)
+                    .map_err(|e| err(e.to_string()))?;
+                chart
+                    .configure_mesh()
+                    .x_desc(p.x_label.as_str())
+                    .y_desc(p.y_label.as_str())
+                    .x_label_formatter(&|x| format!("{x:.2}"))
+                    .y_label_formatter(&|y| format!("{y:.2}"))
+                    .disable_mesh()
+                    .draw()
+                    .map_err(|e| err(e.to_string()))?;
+                draw_cells(&mut chart, p, &ex, &ey).map_err(err)?;
+            }
         }
         root.present().map_err(|e| err(e.to_string()))?;
     }
     Ok(buf)
 }
+
+fn draw_cells<X, Y>(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<X, Y>>,
+    p: &HeatPanel,
+    ex: &[f64],
+    ey: &[f64],
+) -> std::result::Result<(), String>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let (lo, hi) = p.log_range;
+    chart
+        .draw_series(p.values.iter().enumerate().flat_map(|(iy, row)| {
+            row.iter().enumerate().map(move |(ix, &v)| {
+                let c = if v > 0.0 {
+                    viridis_like((v.log10() - lo) / (hi - lo))
+                } else {
+                    RGBColor(200, 200, 200)
+                };
+                Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], c.filled())
+            })
+        }))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+

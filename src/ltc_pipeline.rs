@@ -1,0 +1,281 @@
+//! The multi-scale shading pipeline of seed 000 §3–4 against brute force (issue 4 §4):
+//! normal map → mips without renormalisation → ‖b̄‖ per texel and level → overall α →
+//! LTC table lookup → polygon light, compared with the exact footprint average of the
+//! per-texel GGX shading of the same polygon, at several mip levels, and with plain LTC on
+//! the renormalised mip normal (the aliasing baseline).
+
+use crate::error::{Error, Result};
+use crate::filters::footprint::{MipChain, NormalMap};
+use crate::filters::truth::{lobe, Frame};
+use crate::integrate::mc::Strategy;
+use crate::microfacet::sampling::VndfSampler;
+use crate::microfacet::{Microsurface, Roughness};
+use crate::polygon::{self, EdgeForm, Light};
+use nalgebra::{Matrix3, Vector3};
+use rand::{Rng, SeedableRng};
+use serde::Serialize;
+
+type V3 = Vector3<f64>;
+
+/// The fitted table of results/fits/ltc-ggx.json, looked up bilinearly as a GPU samples
+/// the ltc_1/ltc_2 textures (r = √α, t = √(1 − cos θ), clamped to the table).
+pub struct LtcTable {
+    pub n: usize,
+    /// cells[j][i] = [a, b, c, d, norm, fresnel]
+    pub cells: Vec<Vec<[f64; 6]>>,
+}
+
+impl LtcTable {
+    pub fn load(results: &std::path::Path) -> Result<LtcTable> {
+        let v = crate::fit::read_result(results, "ltc-ggx").ok_or_else(|| {
+            Error::InvalidArgument("results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`".into())
+        })?;
+        let t = v["table"].as_array().ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: no table".into()))?;
+        let cells: Vec<Vec<[f64; 6]>> = t
+            .iter()
+            .map(|col| {
+                col.as_array()
+                    .map(|c| {
+                        c.iter()
+                            .map(|x| {
+                                let g = |k: usize| x[k].as_f64().unwrap_or(f64::NAN);
+                                [g(0), g(1), g(2), g(3), g(4), g(5)]
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default()
+            })
+            .collect();
+        let n = cells.len();
+        if n < 2 || cells.iter().any(|c| c.len() != n || c.iter().any(|x| x.iter().any(|y| !y.is_finite()))) {
+            return Err(Error::InvalidArgument("ltc-ggx.json: malformed table".into()));
+        }
+        Ok(LtcTable { n, cells })
+    }
+    /// Bilinear lookup: (M⁻¹, norm) for roughness α and cos θ of the view.
+    pub fn lookup(&self, alpha: f64, cos_theta: f64) -> (Matrix3<f64>, f64) {
+        let s = (self.n - 1) as f64;
+        let u = (alpha.max(0.0).sqrt() * s).clamp(0.0, s);
+        let w = ((1.0 - cos_theta.clamp(0.0, 1.0)).sqrt() * s).clamp(0.0, s);
+        let (i0, j0) = (u.floor() as usize, w.floor() as usize);
+        let (i1, j1) = ((i0 + 1).min(self.n - 1), (j0 + 1).min(self.n - 1));
+        let (fu, fw) = (u - i0 as f64, w - j0 as f64);
+        let mut p = [0.0; 6];
+        for k in 0..6 {
+            let c = |j: usize, i: usize| self.cells[j][i][k];
+            p[k] = (1.0 - fw) * ((1.0 - fu) * c(j0, i0) + fu * c(j0, i1)) + fw * ((1.0 - fu) * c(j1, i0) + fu * c(j1, i1));
+        }
+        (crate::ltc_fit::inverse_from_production(&[p[0], p[1], p[2], p[3]]), p[4])
+    }
+}
+
+/// Shading frame around n with its tangent toward the view (as the shipped LTC shaders):
+/// T1 = normalize(v − n(n·v)), T2 = n × T1.
+fn view_frame(n: &V3, v: &V3) -> Frame {
+    let t = v - n * n.dot(v);
+    if t.norm() < 1e-12 {
+        return Frame::around(*n);
+    }
+    let t = t.normalize();
+    Frame { t, b: n.cross(&t), n: *n }
+}
+
+/// LTC shading of a polygon for normal n, roughness α, view v (world; 0 if v is below n's
+/// horizon).
+pub fn ltc_shade(table: &LtcTable, n: &V3, alpha: f64, v: &V3, light: &Light) -> f64 {
+    let c = n.dot(v);
+    if c <= 0.0 {
+        return 0.0;
+    }
+    let f = view_frame(n, v);
+    let (minv, norm) = table.lookup(alpha, c);
+    let local: Vec<V3> = light.vertices.iter().map(|p| f.local(p)).collect();
+    norm * polygon::ltc_integral(&minv, &local, EdgeForm::Exact)
+}
+
+/// Brute force: the footprint average of ∫_P f_x(l) dl with each texel's own GGX lobe
+/// (D·G2/(4 n_x·v), directions also above the geometric horizon), by Monte Carlo:
+/// texels in round robin, one light-area and one VNDF sample each, balance heuristic.
+pub fn brute_force(normals: &[V3], alpha: f64, v: &V3, light: &Light, n: usize, seed: u64) -> Result<(f64, f64)> {
+    let s = Microsurface::ggx(Roughness::iso(alpha)?);
+    let frames: Vec<Frame> = normals.iter().map(|m| Frame::around(*m)).collect();
+    let samplers: Vec<Option<VndfSampler>> = frames
+        .iter()
+        .map(|f| {
+            let vl = f.local(v);
+            if vl.z > 1e-9 {
+                VndfSampler::new(s, vl).ok()
+            } else {
+                None
+            }
+        })
+        .collect();
+    let v4 = &light.vertices;
+    let mut an = V3::zeros();
+    for k in 1..v4.len() - 1 {
+        an += (v4[k] - v4[0]).cross(&(v4[k + 1] - v4[0]));
+    }
+    let area = 0.5 * an.norm();
+    if !(area > 0.0) {
+        return Ok((0.0, 0.0));
+    }
+    let ln = an.normalize();
+    let pdf_light = |d: &V3| -> f64 {
+        let dn = d.dot(&ln);
+        if dn.abs() < 1e-300 {
+            return 0.0;
+        }
+        let t = v4[0].dot(&ln) / dn;
+        if t <= 0.0 || !hit(light, d, &ln, t) {
+            return 0.0;
+        }
+        t * t / (area * dn.abs())
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for k in 0..n {
+        let ti = k % normals.len();
+        let (f, sampler) = (&frames[ti], &samplers[ti]);
+        let pdf_brdf = |d: &V3| -> f64 {
+            match sampler {
+                Some(smp) => {
+                    let (vl, ll) = (f.local(v), f.local(d));
+                    if ll.z <= 0.0 {
+                        return 0.0;
+                    }
+                    let h = (vl + ll).normalize();
+                    smp.pdf_exact(&h) / (4.0 * vl.dot(&h))
+                }
+                None => 0.0,
+            }
+        };
+        let mut x = 0.0;
+        // light sample
+        let (a, b, c) = (rng.random::<f64>(), rng.random::<f64>(), rng.random::<f64>());
+        let p = sample_quad(light, [a, b, c]);
+        let d = p.normalize();
+        let val = lobe(&s, f, v, &d);
+        if val > 0.0 {
+            x += val / (pdf_light(&d) + pdf_brdf(&d));
+        }
+        // BRDF sample
+        if let Some(smp) = sampler {
+            if let Some(m) = smp.sample([rng.random(), rng.random()]) {
+                let h = f.world(&m);
+                let d = h * (2.0 * v.dot(&h)) - v;
+                let pl = pdf_light(&d);
+                if pl > 0.0 {
+                    let val = lobe(&s, f, v, &d);
+                    if val > 0.0 {
+                        x += val / (pl + pdf_brdf(&d));
+                    }
+                }
+            }
+        }
+        sum += x;
+        sum2 += x * x;
+    }
+    let m = sum / n as f64;
+    Ok((m, ((sum2 / n as f64 - m * m).max(0.0) / n as f64).sqrt()))
+}
+
+fn hit(light: &Light, d: &V3, ln: &V3, t: f64) -> bool {
+    let p = d * t;
+    let v = &light.vertices;
+    let mut sign = 0.0;
+    for k in 0..v.len() {
+        let e = v[(k + 1) % v.len()] - v[k];
+        let s = e.cross(&(p - v[k])).dot(ln);
+        if sign == 0.0 {
+            sign = s.signum();
+        } else if s * sign < 0.0 {
+            return false;
+        }
+    }
+    true
+}
+
+fn sample_quad(light: &Light, u: [f64; 3]) -> V3 {
+    // two triangles of a quad (convex), chosen by area
+    let v = &light.vertices;
+    let a1 = 0.5 * (v[1] - v[0]).cross(&(v[2] - v[0])).norm();
+    let a2 = 0.5 * (v[2] - v[0]).cross(&(v[3] - v[0])).norm();
+    let (p1, p2) = if u[0] * (a1 + a2) < a1 { (v[1], v[2]) } else { (v[2], v[3]) };
+    let (mut s, mut t) = (u[1], u[2]);
+    if s + t > 1.0 {
+        s = 1.0 - s;
+        t = 1.0 - t;
+    }
+    v[0] + (p1 - v[0]) * s + (p2 - v[0]) * t
+}
+
+/// The methods compared.
+pub const METHODS: [&str; 5] = [
+    "per-texel LTC, averaged (the table at full resolution; cost ∝ texels)",
+    "plain LTC, renormalised mip normal, base α (aliasing baseline)",
+    "multi-scale LTC: α = ρ⁻¹(‖μ‖ρ(α)) (seed 000 + product identity)",
+    "multi-scale LTC with seed 000 Eq 5 + Eq 7",
+    "vMF α² + 2/κ",
+];
+
+/// One footprint case.
+#[derive(Clone, Debug, Serialize)]
+pub struct PipeCase {
+    pub map: String,
+    pub level: usize,
+    pub view_deg: f64,
+    pub truth: f64,
+    pub truth_se: f64,
+    pub methods: Vec<f64>,
+}
+
+/// Run the pipeline on one map for the given levels, footprints per level and views.
+#[allow(clippy::too_many_arguments)]
+pub fn run_map(
+    table: &LtcTable,
+    map: &NormalMap,
+    alpha: f64,
+    levels: &[usize],
+    per_level: usize,
+    views_deg: &[f64],
+    light: &Light,
+    samples: usize,
+    seed: u64,
+) -> Result<Vec<PipeCase>> {
+    let chain = MipChain::build(map);
+    let rho = crate::multiscale::mrl::mrl_pair(alpha).0;
+    let mut out = Vec::new();
+    for &lv in levels {
+        let level = chain.levels.get(lv).ok_or_else(|| Error::InvalidArgument(format!("level {lv} beyond the chain")))?;
+        for fp in 0..per_level {
+            let idx = (fp * 2654435761usize + 7) % (level.width * level.height);
+            let (i, j) = (idx % level.width, idx / level.width);
+            let st = level.stats[idx];
+            let mu = V3::from(st.mean_normal);
+            let r = mu.norm().min(1.0);
+            let nbar = mu / mu.norm();
+            let normals = map.block(lv, i, j);
+            for (vi, &vd) in views_deg.iter().enumerate() {
+                let th = vd.to_radians();
+                let v = V3::new(th.sin(), 0.0, th.cos());
+                let (t, se) = brute_force(&normals, alpha, &v, light, samples, seed ^ ((lv * 1000 + fp * 10 + vi) as u64))?;
+                let a_ms = crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
+                let a_eq = crate::filters::rules::seed000_paper(alpha, r).max(1e-4);
+                let a_vmf = crate::filters::rules::vmf(alpha, r, 2.0);
+                let per_texel = normals.iter().map(|m| ltc_shade(table, m, alpha, &v, light)).sum::<f64>() / normals.len() as f64;
+                let methods = std::iter::once(per_texel)
+                    .chain([alpha, a_ms, a_eq, a_vmf].iter().map(|a| ltc_shade(table, &nbar, a.min(1.0), &v, light)))
+                    .collect();
+                out.push(PipeCase {
+                    map: map.name.clone(),
+                    level: lv,
+                    view_deg: vd,
+                    truth: t,
+                    truth_se: se,
+                    methods,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
