@@ -313,6 +313,7 @@ fn kernels(c: &mut Criterion) {
         ("kernel-ggx-specular", [64usize, 4096, 65536, 1 << 20]),
         ("kernel-deferred", [64, 4096, 65536, 1 << 20]),
         ("kernel-multiscale", [64, 4096, 65536, 1 << 20]),
+        ("kernel-ltc-quad", [64, 4096, 65536, 1 << 20]),
     ] {
         let mut g = c.benchmark_group(name);
         g.sample_size(10)
@@ -347,6 +348,14 @@ fn kernels(c: &mut Criterion) {
                                 },
                                 0.25,
                                 0.18,
+                                &mut out,
+                            ),
+                            "kernel-ltc-quad" => k::ltc_quad(
+                                b,
+                                &k::LtcQuadIn {
+                                    m: [&c[15][..n], &c[16][..n], &c[17][..n], &c[18][..n]],
+                                    p: std::array::from_fn(|j| &c[19 + j][..n]),
+                                },
                                 &mut out,
                             ),
                             _ => k::multiscale_alpha(b, &c[13][..n], &c[14][..n], &mut out),

@@ -28,9 +28,14 @@ pub struct LtcTable {
 impl LtcTable {
     pub fn load(results: &std::path::Path) -> Result<LtcTable> {
         let v = crate::fit::read_result(results, "ltc-ggx").ok_or_else(|| {
-            Error::InvalidArgument("results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`".into())
+            Error::InvalidArgument(
+                "results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`"
+                    .into(),
+            )
         })?;
-        let t = v["table"].as_array().ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: no table".into()))?;
+        let t = v["table"]
+            .as_array()
+            .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: no table".into()))?;
         let cells: Vec<Vec<[f64; 6]>> = t
             .iter()
             .map(|col| {
@@ -47,8 +52,14 @@ impl LtcTable {
             })
             .collect();
         let n = cells.len();
-        if n < 2 || cells.iter().any(|c| c.len() != n || c.iter().any(|x| x.iter().any(|y| !y.is_finite()))) {
-            return Err(Error::InvalidArgument("ltc-ggx.json: malformed table".into()));
+        if n < 2
+            || cells
+                .iter()
+                .any(|c| c.len() != n || c.iter().any(|x| x.iter().any(|y| !y.is_finite())))
+        {
+            return Err(Error::InvalidArgument(
+                "ltc-ggx.json: malformed table".into(),
+            ));
         }
         Ok(LtcTable { n, cells })
     }
@@ -63,9 +74,13 @@ impl LtcTable {
         let mut p = [0.0; 6];
         for k in 0..6 {
             let c = |j: usize, i: usize| self.cells[j][i][k];
-            p[k] = (1.0 - fw) * ((1.0 - fu) * c(j0, i0) + fu * c(j0, i1)) + fw * ((1.0 - fu) * c(j1, i0) + fu * c(j1, i1));
+            p[k] = (1.0 - fw) * ((1.0 - fu) * c(j0, i0) + fu * c(j0, i1))
+                + fw * ((1.0 - fu) * c(j1, i0) + fu * c(j1, i1));
         }
-        (crate::ltc_fit::inverse_from_production(&[p[0], p[1], p[2], p[3]]), p[4])
+        (
+            crate::ltc_fit::inverse_from_production(&[p[0], p[1], p[2], p[3]]),
+            p[4],
+        )
     }
 }
 
@@ -77,7 +92,11 @@ fn view_frame(n: &V3, v: &V3) -> Frame {
         return Frame::around(*n);
     }
     let t = t.normalize();
-    Frame { t, b: n.cross(&t), n: *n }
+    Frame {
+        t,
+        b: n.cross(&t),
+        n: *n,
+    }
 }
 
 /// LTC shading of a polygon for normal n, roughness α, view v (world; 0 if v is below n's
@@ -96,7 +115,14 @@ pub fn ltc_shade(table: &LtcTable, n: &V3, alpha: f64, v: &V3, light: &Light) ->
 /// Brute force: the footprint average of ∫_P f_x(l) dl with each texel's own GGX lobe
 /// (D·G2/(4 n_x·v), directions also above the geometric horizon), by Monte Carlo:
 /// texels in round robin, one light-area and one VNDF sample each, balance heuristic.
-pub fn brute_force(normals: &[V3], alpha: f64, v: &V3, light: &Light, n: usize, seed: u64) -> Result<(f64, f64)> {
+pub fn brute_force(
+    normals: &[V3],
+    alpha: f64,
+    v: &V3,
+    light: &Light,
+    n: usize,
+    seed: u64,
+) -> Result<(f64, f64)> {
     let s = Microsurface::ggx(Roughness::iso(alpha)?);
     let frames: Vec<Frame> = normals.iter().map(|m| Frame::around(*m)).collect();
     let samplers: Vec<Option<VndfSampler>> = frames
@@ -151,7 +177,11 @@ pub fn brute_force(normals: &[V3], alpha: f64, v: &V3, light: &Light, n: usize, 
         };
         let mut x = 0.0;
         // light sample
-        let (a, b, c) = (rng.random::<f64>(), rng.random::<f64>(), rng.random::<f64>());
+        let (a, b, c) = (
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+        );
         let p = sample_quad(light, [a, b, c]);
         let d = p.normalize();
         let val = lobe(&s, f, v, &d);
@@ -200,7 +230,11 @@ fn sample_quad(light: &Light, u: [f64; 3]) -> V3 {
     let v = &light.vertices;
     let a1 = 0.5 * (v[1] - v[0]).cross(&(v[2] - v[0])).norm();
     let a2 = 0.5 * (v[2] - v[0]).cross(&(v[3] - v[0])).norm();
-    let (p1, p2) = if u[0] * (a1 + a2) < a1 { (v[1], v[2]) } else { (v[2], v[3]) };
+    let (p1, p2) = if u[0] * (a1 + a2) < a1 {
+        (v[1], v[2])
+    } else {
+        (v[2], v[3])
+    };
     let (mut s, mut t) = (u[1], u[2]);
     if s + t > 1.0 {
         s = 1.0 - s;
@@ -246,7 +280,10 @@ pub fn run_map(
     let rho = crate::multiscale::mrl::mrl_pair(alpha).0;
     let mut out = Vec::new();
     for &lv in levels {
-        let level = chain.levels.get(lv).ok_or_else(|| Error::InvalidArgument(format!("level {lv} beyond the chain")))?;
+        let level = chain
+            .levels
+            .get(lv)
+            .ok_or_else(|| Error::InvalidArgument(format!("level {lv} beyond the chain")))?;
         for fp in 0..per_level {
             let idx = (fp * 2654435761usize + 7) % (level.width * level.height);
             let (i, j) = (idx % level.width, idx / level.width);
@@ -258,13 +295,29 @@ pub fn run_map(
             for (vi, &vd) in views_deg.iter().enumerate() {
                 let th = vd.to_radians();
                 let v = V3::new(th.sin(), 0.0, th.cos());
-                let (t, se) = brute_force(&normals, alpha, &v, light, samples, seed ^ ((lv * 1000 + fp * 10 + vi) as u64))?;
-                let a_ms = crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
+                let (t, se) = brute_force(
+                    &normals,
+                    alpha,
+                    &v,
+                    light,
+                    samples,
+                    seed ^ ((lv * 1000 + fp * 10 + vi) as u64),
+                )?;
+                let a_ms =
+                    crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
                 let a_eq = crate::filters::rules::seed000_paper(alpha, r).max(1e-4);
                 let a_vmf = crate::filters::rules::vmf(alpha, r, 2.0);
-                let per_texel = normals.iter().map(|m| ltc_shade(table, m, alpha, &v, light)).sum::<f64>() / normals.len() as f64;
+                let per_texel = normals
+                    .iter()
+                    .map(|m| ltc_shade(table, m, alpha, &v, light))
+                    .sum::<f64>()
+                    / normals.len() as f64;
                 let methods = std::iter::once(per_texel)
-                    .chain([alpha, a_ms, a_eq, a_vmf].iter().map(|a| ltc_shade(table, &nbar, a.min(1.0), &v, light)))
+                    .chain(
+                        [alpha, a_ms, a_eq, a_vmf]
+                            .iter()
+                            .map(|a| ltc_shade(table, &nbar, a.min(1.0), &v, light)),
+                    )
                     .collect();
                 out.push(PipeCase {
                     map: map.name.clone(),

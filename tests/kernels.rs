@@ -148,3 +148,20 @@ fn mismatched_lengths_are_a_typed_error() {
     let e = kernels::multiscale_alpha(Backend::Scalar, &a, &b, &mut out).unwrap_err();
     assert!(e.to_string().contains("lengths"), "{e}");
 }
+
+#[test]
+fn ltc_quad_kernel() {
+    // (d): SIMD vs scalar ≤ 2 ulp (same operation order, no FMA); scalar vs the f64 form
+    // with the exact θ/sin θ within 2e-5 absolute (form factors in [0, 1]; the f32 edge sum
+    // cancels for far, faint quads, so a relative bound would not hold there, and the shipped
+    // rational θ/sin θ clamps 1 − x² at 1e-7, which M⁻¹'s stretch makes reachable: edges
+    // mapped to nearly antipodal directions; 5.0e-6 measured on 4096 inputs)
+    let (err, _) = kernels::accuracy("kernel-ltc-quad", Backend::Scalar, 4096).unwrap();
+    assert!(err < 2e-5, "scalar vs f64: {err}");
+    if simd() {
+        let (err, ulp) = kernels::accuracy("kernel-ltc-quad", Backend::Avx2, 4096).unwrap();
+        assert!(err < 2e-5 && ulp <= 2.0, "avx2: {err}, {ulp} ulp");
+    }
+    let (e, u) = kernels::accuracy("kernel-ltc-quad", Backend::PerPixel, 512).unwrap();
+    assert!(e < 2e-5 && u == 0.0);
+}

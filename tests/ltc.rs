@@ -298,7 +298,11 @@ fn pipeline_brute_force_agrees_with_per_texel_ltc() {
     let t = j as f64 / (n - 1) as f64;
     let (minv, norm) = table.lookup(r * r, 1.0 - t * t);
     let c = table.cells[j][i];
-    assert!((norm - c[4]).abs() < 1e-12 && (minv[(0, 0)] - c[0]).abs() < 1e-12 && (minv[(2, 2)] - c[3]).abs() < 1e-12);
+    assert!(
+        (norm - c[4]).abs() < 1e-12
+            && (minv[(0, 0)] - c[0]).abs() < 1e-12
+            && (minv[(2, 2)] - c[3]).abs() < 1e-12
+    );
     // brute force (MC of the true per-texel BRDF) vs the per-texel LTC average: two
     // independent computations of the same footprint average, differing by the LTC fit
     let light = Light::rect(V3::new(-1.0, 0.2, 1.2), V3::x(), V3::y(), 0.5, 0.3);
@@ -308,7 +312,14 @@ fn pipeline_brute_force_agrees_with_per_texel_ltc() {
         let th = vd.to_radians();
         let v = V3::new(th.sin(), 0.0, th.cos());
         let (bf, se) = brute_force(&normals, 0.05, &v, &light, 8192, 2).unwrap();
-        let per = normals.iter().map(|m| ltc_shade(&table, m, 0.05, &v, &light)).sum::<f64>() / normals.len() as f64;
-        assert!((bf - per).abs() <= 3.0 * se + 0.1 * bf, "L{lv} v{vd}: MC {bf} ± {se} vs LTC {per}");
+        let per = normals
+            .iter()
+            .map(|m| ltc_shade(&table, m, 0.05, &v, &light))
+            .sum::<f64>()
+            / normals.len() as f64;
+        assert!(
+            (bf - per).abs() <= 3.0 * se + 0.1 * bf,
+            "L{lv} v{vd}: MC {bf} ± {se} vs LTC {per}"
+        );
     }
 }

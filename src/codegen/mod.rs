@@ -252,7 +252,7 @@ pub fn render_rust(names: &[&str], consts: &[Const], command: &str) -> Result<St
 const RUST_PRELUDE: &str = "// WGSL built-ins with WGSL semantics\n#[inline]\nfn sqrt(x: f32) -> f32 {\n    x.sqrt()\n}\n#[inline]\nfn exp(x: f32) -> f32 {\n    x.exp()\n}\n#[inline]\nfn log(x: f32) -> f32 {\n    x.ln()\n}\n#[inline]\nfn abs(x: f32) -> f32 {\n    x.abs()\n}\n#[inline]\nfn min(a: f32, b: f32) -> f32 {\n    a.min(b)\n}\n#[inline]\nfn max(a: f32, b: f32) -> f32 {\n    a.max(b)\n}\n#[inline]\nfn clamp(x: f32, lo: f32, hi: f32) -> f32 {\n    x.max(lo).min(hi)\n}\n#[inline]\nfn select(f: f32, t: f32, c: bool) -> f32 {\n    if c {\n        t\n    } else {\n        f\n    }\n}\n\n";
 
 /// The WGSL modules of results/wgsl/: (file name, title, functions).
-pub const MODULES: [(&str, &str, &[&str]); 3] = [
+pub const MODULES: [(&str, &str, &[&str]); 4] = [
     (
         "ndf.wgsl",
         "NDFs, Smith Λ and G2, point-light specular (GGX and Beckmann; tangent space, F = 1)",
@@ -262,6 +262,11 @@ pub const MODULES: [(&str, &str, &[&str]); 3] = [
         "filters.wgsl",
         "Footprint roughness filters (results/filters.md)",
         &["filter_toksvig", "filter_vmf", "filter_vmf_fitted", "filter_deferred", "filter_deferred_fitted", "filter_eq10", "filter_projected"],
+    ),
+    (
+        "ltc.wgsl",
+        "LTC polygon lights: edge integral and the quad integral with the clipped-sphere horizon (results/ltc.md); the table itself is data (results/fits/ltc-ggx.json), sampled as a texture",
+        &["ltc_quad"],
     ),
     (
         "multiscale.wgsl",

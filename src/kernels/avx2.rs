@@ -2,7 +2,7 @@
 //! time. Each function processes the largest multiple of 8 and returns where it stopped;
 //! the caller finishes the tail with the scalar twin.
 
-use super::{DeferredIn, SpecularIn};
+use super::{DeferredIn, LtcQuadIn, SpecularIn};
 use crate::generated::shading as g;
 use std::arch::x86_64::*;
 
@@ -142,6 +142,114 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
             p,
         );
         _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_sqrt_ps(_mm256_div_ps(y, r)));
+        i += 8;
+    }
+    n
+}
+
+/// θ/(2π sin θ) of an edge, the generated `ltc_edge_factor` 8 lanes wide.
+#[inline(always)]
+unsafe fn edge_factor(x: __m256) -> __m256 {
+    let y = _mm256_andnot_ps(_mm256_set1_ps(-0.0), x);
+    let a = _mm256_add_ps(
+        _mm256_set1_ps(0.8543985),
+        _mm256_mul_ps(
+            _mm256_add_ps(
+                _mm256_set1_ps(0.4965155),
+                _mm256_mul_ps(_mm256_set1_ps(0.0145206), y),
+            ),
+            y,
+        ),
+    );
+    let b = _mm256_add_ps(
+        _mm256_set1_ps(3.417594),
+        _mm256_mul_ps(_mm256_add_ps(_mm256_set1_ps(4.1616724), y), y),
+    );
+    let v = _mm256_div_ps(a, b);
+    let one = _mm256_set1_ps(1.0);
+    let neg = _mm256_sub_ps(
+        _mm256_div_ps(
+            _mm256_set1_ps(0.5),
+            _mm256_sqrt_ps(_mm256_max_ps(
+                _mm256_sub_ps(one, _mm256_mul_ps(x, x)),
+                _mm256_set1_ps(0.0000001),
+            )),
+        ),
+        v,
+    );
+    _mm256_blendv_ps(neg, v, _mm256_cmp_ps::<_CMP_GT_OQ>(x, _mm256_setzero_ps()))
+}
+
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn ltc_quad(inp: &LtcQuadIn, out: &mut [f32]) -> usize {
+    let n = out.len() / 8 * 8;
+    let one = _mm256_set1_ps(1.0);
+    let mut i = 0;
+    while i < n {
+        let (a, b, c, d) = (
+            ld(inp.m[0], i),
+            ld(inp.m[1], i),
+            ld(inp.m[2], i),
+            ld(inp.m[3], i),
+        );
+        let mut u = [[_mm256_setzero_ps(); 3]; 4];
+        for (k, uk) in u.iter_mut().enumerate() {
+            let (px, py, pz) = (
+                ld(inp.p[3 * k], i),
+                ld(inp.p[3 * k + 1], i),
+                ld(inp.p[3 * k + 2], i),
+            );
+            let qx = _mm256_add_ps(_mm256_mul_ps(a, px), _mm256_mul_ps(c, pz));
+            let qz = _mm256_add_ps(_mm256_mul_ps(b, px), _mm256_mul_ps(d, pz));
+            let nn = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(qx, qx), _mm256_mul_ps(py, py)),
+                _mm256_mul_ps(qz, qz),
+            );
+            let inv = _mm256_div_ps(one, _mm256_sqrt_ps(nn));
+            *uk = [
+                _mm256_mul_ps(qx, inv),
+                _mm256_mul_ps(py, inv),
+                _mm256_mul_ps(qz, inv),
+            ];
+        }
+        let mut e = [_mm256_setzero_ps(); 4];
+        for (k, ek) in e.iter_mut().enumerate() {
+            let (p, q) = (u[k], u[(k + 1) % 4]);
+            let x = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(p[0], q[0]), _mm256_mul_ps(p[1], q[1])),
+                _mm256_mul_ps(p[2], q[2]),
+            );
+            *ek = edge_factor(x);
+        }
+        let cross = |p: &[__m256; 3], q: &[__m256; 3], comp: usize| -> __m256 {
+            let (j, k) = ((comp + 1) % 3, (comp + 2) % 3);
+            _mm256_sub_ps(_mm256_mul_ps(p[j], q[k]), _mm256_mul_ps(p[k], q[j]))
+        };
+        let mut f = [_mm256_setzero_ps(); 3];
+        for (comp, fc) in f.iter_mut().enumerate() {
+            // same association as the scalar form: ((t0 + t1) + t2) + t3
+            let mut acc = _mm256_mul_ps(e[0], cross(&u[0], &u[1], comp));
+            for k in 1..4 {
+                acc = _mm256_add_ps(
+                    acc,
+                    _mm256_mul_ps(e[k], cross(&u[k], &u[(k + 1) % 4], comp)),
+                );
+            }
+            *fc = acc;
+        }
+        let len = _mm256_sqrt_ps(_mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(f[0], f[0]), _mm256_mul_ps(f[1], f[1])),
+            _mm256_mul_ps(f[2], f[2]),
+        ));
+        let fz = _mm256_andnot_ps(_mm256_set1_ps(-0.0), f[2]);
+        let r = _mm256_div_ps(
+            _mm256_add_ps(_mm256_mul_ps(len, len), fz),
+            _mm256_add_ps(len, one),
+        );
+        _mm256_storeu_ps(
+            out.as_mut_ptr().add(i),
+            _mm256_max_ps(r, _mm256_setzero_ps()),
+        );
         i += 8;
     }
     n

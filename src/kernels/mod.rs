@@ -239,9 +239,81 @@ pub fn multiscale_alpha(
     Ok(())
 }
 
-/// Deterministic benchmark / accuracy inputs: 15 columns of `n` pixels — l (3), v (3),
+/// Inputs of the LTC quad-light kernel: the table's production M⁻¹ (a, b, c, d) per pixel
+/// and the quad's 4 vertices in the pixel's shading frame (12 columns p0x, p0y, p0z, …).
+pub struct LtcQuadIn<'a> {
+    pub m: [&'a [f32]; 4],
+    pub p: [&'a [f32]; 12],
+}
+
+#[inline(never)]
+fn one_ltc(inp: &LtcQuadIn, i: usize) -> f32 {
+    let p = |k: usize| inp.p[k][i];
+    g::ltc_quad(
+        inp.m[0][i],
+        inp.m[1][i],
+        inp.m[2][i],
+        inp.m[3][i],
+        p(0),
+        p(1),
+        p(2),
+        p(3),
+        p(4),
+        p(5),
+        p(6),
+        p(7),
+        p(8),
+        p(9),
+        p(10),
+        p(11),
+    )
+}
+
+/// (d) out[i] = the LTC integral of the quad (generated `ltc_quad`; multiply by the
+/// table's norm for the shading).
+pub fn ltc_quad(backend: Backend, inp: &LtcQuadIn, out: &mut [f32]) -> Result<()> {
+    let lens: Vec<usize> = inp.m.iter().chain(inp.p.iter()).map(|c| c.len()).collect();
+    check(backend, &lens, out.len())?;
+    if backend == Backend::PerPixel {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = one_ltc(inp, i);
+        }
+        return Ok(());
+    }
+    let mut start = 0;
+    #[cfg(target_arch = "x86_64")]
+    if backend == Backend::Avx2 {
+        // SAFETY: avx2 and fma were detected at run time in `check`.
+        start = unsafe { avx2::ltc_quad(inp, out) };
+    }
+    for i in start..out.len() {
+        let p = |k: usize| inp.p[k][i];
+        out[i] = g::ltc_quad(
+            inp.m[0][i],
+            inp.m[1][i],
+            inp.m[2][i],
+            inp.m[3][i],
+            p(0),
+            p(1),
+            p(2),
+            p(3),
+            p(4),
+            p(5),
+            p(6),
+            p(7),
+            p(8),
+            p(9),
+            p(10),
+            p(11),
+        );
+    }
+    Ok(())
+}
+
+/// Deterministic benchmark / accuracy inputs: 31 columns of `n` pixels — l (3), v (3),
 /// α (log-uniform in [1e-3, 1]), Δn_u (3), Δn_v (3), y_me, y_mi (of α log-uniform in
-/// [1e-3, 1]). Directions are unit and above the horizon.
+/// [1e-3, 1]), then an LTC M⁻¹ (a, b, c, d) (15–18) and a quad light's 12 vertex
+/// coordinates (19–30) above the horizon. Directions are unit and above the horizon.
 pub struct BenchInputs {
     pub cols: Vec<Vec<f32>>,
 }
@@ -249,7 +321,7 @@ pub struct BenchInputs {
 pub fn bench_inputs(n: usize) -> BenchInputs {
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let mut cols = vec![Vec::with_capacity(n); 15];
+    let mut cols = vec![Vec::with_capacity(n); 31];
     let dir = |rng: &mut rand_chacha::ChaCha8Rng| {
         let t = rng.random::<f64>() * 1.5;
         let p = rng.random::<f64>() * std::f64::consts::TAU;
@@ -271,12 +343,33 @@ pub fn bench_inputs(n: usize) -> BenchInputs {
         };
         cols[13].push(y(&mut rng));
         cols[14].push(y(&mut rng));
+        // an LTC inverse like the table's: a, d > 0, b ≤ 0, c ≥ 0
+        let al = 10f64.powf(-2.0 * rng.random::<f64>());
+        cols[15].push((1.0 / al) as f32 * 0.5);
+        cols[16].push(-(rng.random::<f64>() * 0.2 / al) as f32);
+        cols[17].push((rng.random::<f64>() * 0.5) as f32);
+        cols[18].push(1.0);
+        // a quad: centre above the horizon, random size and orientation
+        let cx = (rng.random::<f64>() - 0.5) * 2.0;
+        let cy = (rng.random::<f64>() - 0.5) * 2.0;
+        let cz = 0.5 + rng.random::<f64>();
+        let (hu, hw) = (
+            0.1 + rng.random::<f64>() * 0.5,
+            0.1 + rng.random::<f64>() * 0.5,
+        );
+        let corners = [(-hu, -hw), (hu, -hw), (hu, hw), (-hu, hw)];
+        for (k, (du, dw)) in corners.iter().enumerate() {
+            cols[19 + 3 * k].push((cx + du) as f32);
+            cols[20 + 3 * k].push((cy + dw) as f32);
+            cols[21 + 3 * k].push(cz as f32);
+        }
     }
     BenchInputs { cols }
 }
 
 /// Measured accuracy of a kernel on `n` benchmark inputs: (max relative error vs the f64
-/// reference, max ulp vs the scalar twin) for the given backend.
+/// reference — absolute for the LTC quad, whose values are form factors in [0, 1] — and max ulp vs the scalar
+/// twin) for the given backend.
 pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> {
     let d = bench_inputs(n);
     let c = &d.cols;
@@ -339,13 +432,35 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
                 })
                 .collect::<Result<_>>()?
         }
+        "kernel-ltc-quad" => {
+            let inp = LtcQuadIn {
+                m: [&c[15], &c[16], &c[17], &c[18]],
+                p: std::array::from_fn(|k| c[19 + k].as_slice()),
+            };
+            ltc_quad(backend, &inp, &mut out)?;
+            ltc_quad(Backend::Scalar, &inp, &mut sc)?;
+            // reference: the same vector form factor and sphere horizon in f64 with the
+            // exact θ/sin θ (the approximation's own error is measured in results/ltc.md)
+            (0..n)
+                .map(|i| {
+                    let f = |k: usize| c[k][i] as f64;
+                    Ok(ltc_quad_f64(
+                        [f(15), f(16), f(17), f(18)],
+                        std::array::from_fn(|k| f(19 + k)),
+                    ))
+                })
+                .collect::<Result<_>>()?
+        }
         _ => return Err(Error::InvalidArgument(format!("unknown kernel '{kernel}'"))),
     };
     let mut worst = (0.0f64, 0.0f64);
     for i in 0..n {
         let r = reference[i];
+        // the LTC integral (a form factor in [0, 1]) is measured absolutely: its f32 edge
+        // sum cancels for far, faint quads, so its error is ≈ ε·Σ|edge terms|, not ε·value
+        let scale = if kernel == "kernel-ltc-quad" { 1.0 } else { r };
         if r > 1e-30 && (kernel != "kernel-multiscale" || r <= 1.0) {
-            worst.0 = worst.0.max(((out[i] as f64) - r).abs() / r);
+            worst.0 = worst.0.max(((out[i] as f64) - r).abs() / scale);
         }
         if sc[i] != 0.0 {
             worst.1 = worst
@@ -354,4 +469,27 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
         }
     }
     Ok(worst)
+}
+
+/// f64 reference of the generated `ltc_quad` with the exact θ/sin θ: the vector form
+/// factor of M⁻¹P and the clipped-sphere horizon max((|F|² + |F_z|)/(|F| + 1), 0).
+pub fn ltc_quad_f64(m: [f64; 4], p: [f64; 12]) -> f64 {
+    use nalgebra::Vector3;
+    let u: Vec<Vector3<f64>> = (0..4)
+        .map(|k| {
+            let (x, y, z) = (p[3 * k], p[3 * k + 1], p[3 * k + 2]);
+            Vector3::new(m[0] * x + m[2] * z, y, m[1] * x + m[3] * z).normalize()
+        })
+        .collect();
+    let mut f = Vector3::zeros();
+    for k in 0..4 {
+        let (a, b) = (u[k], u[(k + 1) % 4]);
+        let cr = a.cross(&b);
+        let s = cr.norm();
+        if s > 0.0 {
+            f += cr * (s.atan2(a.dot(&b)) / s / (2.0 * std::f64::consts::PI));
+        }
+    }
+    let len = f.norm();
+    ((len * len + f.z.abs()) / (len + 1.0)).max(0.0)
 }

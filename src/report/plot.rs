@@ -239,4 +239,3 @@ where
         .map_err(|e| e.to_string())?;
     Ok(())
 }
-
