@@ -314,6 +314,7 @@ fn kernels(c: &mut Criterion) {
         ("kernel-deferred", [64, 4096, 65536, 1 << 20]),
         ("kernel-multiscale", [64, 4096, 65536, 1 << 20]),
         ("kernel-ltc-quad", [64, 4096, 65536, 1 << 20]),
+        ("kernel-leadr", [64, 4096, 65536, 1 << 20]),
     ] {
         let mut g = c.benchmark_group(name);
         g.sample_size(10)
@@ -355,6 +356,20 @@ fn kernels(c: &mut Criterion) {
                                 &k::LtcQuadIn {
                                     m: [&c[15][..n], &c[16][..n], &c[17][..n], &c[18][..n]],
                                     p: std::array::from_fn(|j| &c[19 + j][..n]),
+                                },
+                                &mut out,
+                            ),
+                            "kernel-leadr" => k::leadr5(
+                                b,
+                                &k::LeadrIn {
+                                    s: [
+                                        &c[31][..n],
+                                        &c[32][..n],
+                                        &c[33][..n],
+                                        &c[34][..n],
+                                        &c[35][..n],
+                                    ],
+                                    v: [&c[36][..n], &c[37][..n], &c[38][..n]],
                                 },
                                 &mut out,
                             ),

@@ -165,3 +165,17 @@ fn ltc_quad_kernel() {
     let (e, u) = kernels::accuracy("kernel-ltc-quad", Backend::PerPixel, 512).unwrap();
     assert!(e < 2e-5 && u == 0.0);
 }
+
+#[test]
+fn leadr_kernel() {
+    // (e): scalar twin vs the f64 grid estimate with the same fitted spacing ≤ 3e-5
+    // relative (1.0e-5 measured on 2^16 inputs: f32 rounding of 25 terms, the sun lobe's
+    // exp amplifying its argument's error by 50); AVX2 vs scalar ≤ 8 ulp (its exp is a
+    // polynomial, 2 ulp measured)
+    let (err, _) = kernels::accuracy("kernel-leadr", Backend::Scalar, 4096).unwrap();
+    assert!(err < 3e-5, "scalar vs f64: {err}");
+    if simd() {
+        let (err, ulp) = kernels::accuracy("kernel-leadr", Backend::Avx2, 4096).unwrap();
+        assert!(err < 3e-5 && ulp <= 8.0, "avx2: {err}, {ulp} ulp");
+    }
+}

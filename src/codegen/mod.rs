@@ -154,12 +154,25 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
         doc: "clamp δ_max of seed 003 Eq 10/13".into(),
     });
     let lg = read("leadr-grids")?;
+    let h = num(&lg, &["fitted_h_n5"], "leadr-grids")?;
     out.push(Const {
         name: "LEADR_SPACING_N5".into(),
-        value: num(&lg, &["fitted_h_n5"], "leadr-grids")? as f32,
+        value: h as f32,
         doc: "fitted uniform slope-grid spacing for N = 5 (results/leadr.md; the paper uses 0.9)"
             .into(),
     });
+    // weights ∝ φ(k h), k = 0, ±1, ±2, normalised (the paper's construction, seed 001 §3.4)
+    let phi: Vec<f64> = (0..3)
+        .map(|k| (-0.5 * (k as f64 * h).powi(2)).exp())
+        .collect();
+    let sum = phi[0] + 2.0 * (phi[1] + phi[2]);
+    for (k, p) in phi.iter().enumerate() {
+        out.push(Const {
+            name: format!("LEADR_W{k}"),
+            value: (p / sum) as f32,
+            doc: format!("5-point slope-grid weight of node ±{k}·h (φ(kh)/Σφ with the fitted h)"),
+        });
+    }
     Ok(out)
 }
 
@@ -252,7 +265,7 @@ pub fn render_rust(names: &[&str], consts: &[Const], command: &str) -> Result<St
 const RUST_PRELUDE: &str = "// WGSL built-ins with WGSL semantics\n#[inline]\nfn sqrt(x: f32) -> f32 {\n    x.sqrt()\n}\n#[inline]\nfn exp(x: f32) -> f32 {\n    x.exp()\n}\n#[inline]\nfn log(x: f32) -> f32 {\n    x.ln()\n}\n#[inline]\nfn abs(x: f32) -> f32 {\n    x.abs()\n}\n#[inline]\nfn min(a: f32, b: f32) -> f32 {\n    a.min(b)\n}\n#[inline]\nfn max(a: f32, b: f32) -> f32 {\n    a.max(b)\n}\n#[inline]\nfn clamp(x: f32, lo: f32, hi: f32) -> f32 {\n    x.max(lo).min(hi)\n}\n#[inline]\nfn select(f: f32, t: f32, c: bool) -> f32 {\n    if c {\n        t\n    } else {\n        f\n    }\n}\n\n";
 
 /// The WGSL modules of results/wgsl/: (file name, title, functions).
-pub const MODULES: [(&str, &str, &[&str]); 4] = [
+pub const MODULES: [(&str, &str, &[&str]); 5] = [
     (
         "ndf.wgsl",
         "NDFs, Smith Λ and G2, point-light specular (GGX and Beckmann; tangent space, F = 1)",
@@ -267,6 +280,11 @@ pub const MODULES: [(&str, &str, &[&str]); 4] = [
         "ltc.wgsl",
         "LTC polygon lights: edge integral and the quad integral with the clipped-sphere horizon (results/ltc.md); the table itself is data (results/fits/ltc-ggx.json), sampled as a texture",
         &["ltc_quad"],
+    ),
+    (
+        "leadr.wgsl",
+        "LEADR 5×5 slope-grid integration (seed 001 §3.4–3.5) with the fitted spacing, for an analytic sky + sun environment",
+        &["leadr5_env"],
     ),
     (
         "multiscale.wgsl",

@@ -2,7 +2,7 @@
 //! time. Each function processes the largest multiple of 8 and returns where it stopped;
 //! the caller finishes the tail with the scalar twin.
 
-use super::{DeferredIn, LtcQuadIn, SpecularIn};
+use super::{DeferredIn, LeadrIn, LtcQuadIn, SpecularIn};
 use crate::generated::shading as g;
 use std::arch::x86_64::*;
 
@@ -250,6 +250,140 @@ pub(super) unsafe fn ltc_quad(inp: &LtcQuadIn, out: &mut [f32]) -> usize {
             out.as_mut_ptr().add(i),
             _mm256_max_ps(r, _mm256_setzero_ps()),
         );
+        i += 8;
+    }
+    n
+}
+
+/// e^x for x ≤ 88 (clamped below at −87): Cody–Waite reduction x = n ln 2 + r, |r| ≤ ½ ln 2,
+/// degree-7 Taylor polynomial (truncation < 2e-9 relative), 2^n by exponent bits.
+#[inline(always)]
+unsafe fn exp(x: __m256) -> __m256 {
+    let x = _mm256_min_ps(
+        _mm256_max_ps(x, _mm256_set1_ps(-87.0)),
+        _mm256_set1_ps(88.0),
+    );
+    let n = _mm256_round_ps::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(_mm256_mul_ps(
+        x,
+        _mm256_set1_ps(std::f32::consts::LOG2_E),
+    ));
+    let r = _mm256_fnmadd_ps(n, _mm256_set1_ps(0.693_145_75), x);
+    let r = _mm256_fnmadd_ps(n, _mm256_set1_ps(1.428_606_8e-6), r);
+    let mut p = _mm256_set1_ps(1.0 / 5040.0);
+    for c in [
+        1.0 / 720.0,
+        1.0 / 120.0,
+        1.0 / 24.0,
+        1.0 / 6.0,
+        0.5,
+        1.0,
+        1.0,
+    ] {
+        p = _mm256_fmadd_ps(p, r, _mm256_set1_ps(c));
+    }
+    let bits = _mm256_slli_epi32::<23>(_mm256_add_epi32(
+        _mm256_cvtps_epi32(n),
+        _mm256_set1_epi32(127),
+    ));
+    _mm256_mul_ps(p, _mm256_castsi256_ps(bits))
+}
+
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn leadr5(inp: &LeadrIn, out: &mut [f32]) -> usize {
+    let n = out.len() / 8 * 8;
+    let zero = _mm256_setzero_ps();
+    let one = _mm256_set1_ps(1.0);
+    let two = _mm256_set1_ps(2.0);
+    let h = g::LEADR_SPACING_N5;
+    let w = [
+        g::LEADR_W2,
+        g::LEADR_W1,
+        g::LEADR_W0,
+        g::LEADR_W1,
+        g::LEADR_W2,
+    ];
+    let mut i = 0;
+    while i < n {
+        let (x0, y0, sx, sy, rxy) = (
+            ld(inp.s[0], i),
+            ld(inp.s[1], i),
+            ld(inp.s[2], i),
+            ld(inp.s[3], i),
+            ld(inp.s[4], i),
+        );
+        let (vx, vy, vz) = (ld(inp.v[0], i), ld(inp.v[1], i), ld(inp.v[2], i));
+        let sr = _mm256_sqrt_ps(_mm256_max_ps(
+            _mm256_sub_ps(one, _mm256_mul_ps(rxy, rxy)),
+            zero,
+        ));
+        let (mut num, mut den) = (zero, zero);
+        for a in 0..5 {
+            for b in 0..5 {
+                let pa = _mm256_set1_ps((a as f32 - 2.0) * h);
+                let pb = _mm256_set1_ps((b as f32 - 2.0) * h);
+                let nx = _mm256_add_ps(x0, _mm256_mul_ps(pa, sx));
+                let ny = _mm256_add_ps(
+                    y0,
+                    _mm256_mul_ps(
+                        _mm256_add_ps(_mm256_mul_ps(pa, rxy), _mm256_mul_ps(pb, sr)),
+                        sy,
+                    ),
+                );
+                let inv = _mm256_div_ps(
+                    one,
+                    _mm256_sqrt_ps(_mm256_add_ps(
+                        _mm256_add_ps(_mm256_mul_ps(nx, nx), _mm256_mul_ps(ny, ny)),
+                        one,
+                    )),
+                );
+                let d = _mm256_mul_ps(
+                    _mm256_add_ps(
+                        _mm256_sub_ps(
+                            _mm256_sub_ps(zero, _mm256_mul_ps(nx, vx)),
+                            _mm256_mul_ps(ny, vy),
+                        ),
+                        vz,
+                    ),
+                    inv,
+                );
+                let wt = _mm256_set1_ps(w[a] * w[b]);
+                let area = _mm256_div_ps(_mm256_mul_ps(wt, _mm256_max_ps(d, zero)), inv);
+                // reflect and shade
+                let td = _mm256_mul_ps(two, d);
+                let rx = _mm256_sub_ps(
+                    _mm256_mul_ps(td, _mm256_mul_ps(_mm256_sub_ps(zero, nx), inv)),
+                    vx,
+                );
+                let ry = _mm256_sub_ps(
+                    _mm256_mul_ps(td, _mm256_mul_ps(_mm256_sub_ps(zero, ny), inv)),
+                    vy,
+                );
+                let rz = _mm256_sub_ps(_mm256_mul_ps(td, inv), vz);
+                let c = _mm256_mul_ps(
+                    _mm256_add_ps(
+                        _mm256_add_ps(
+                            _mm256_mul_ps(_mm256_set1_ps(0.5), rx),
+                            _mm256_mul_ps(_mm256_set1_ps(0.2), ry),
+                        ),
+                        _mm256_mul_ps(_mm256_set1_ps(0.8), rz),
+                    ),
+                    _mm256_set1_ps(1.0369517),
+                );
+                let e = exp(_mm256_max_ps(
+                    _mm256_mul_ps(_mm256_set1_ps(50.0), _mm256_sub_ps(c, one)),
+                    _mm256_set1_ps(-87.0),
+                ));
+                let l = _mm256_add_ps(
+                    _mm256_add_ps(_mm256_set1_ps(0.5), _mm256_mul_ps(_mm256_set1_ps(0.5), rz)),
+                    _mm256_mul_ps(_mm256_set1_ps(10.0), e),
+                );
+                num = _mm256_add_ps(num, _mm256_mul_ps(area, l));
+                den = _mm256_add_ps(den, area);
+            }
+        }
+        let r = _mm256_div_ps(num, den);
+        let ok = _mm256_cmp_ps::<_CMP_GT_OQ>(den, zero);
+        _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_blendv_ps(zero, r, ok));
         i += 8;
     }
     n

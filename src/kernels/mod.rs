@@ -16,6 +16,7 @@ mod avx2;
 
 use crate::error::{Error, Result};
 use crate::generated::shading as g;
+use std::path::Path;
 
 /// Which implementation runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -310,6 +311,58 @@ pub fn ltc_quad(backend: Backend, inp: &LtcQuadIn, out: &mut [f32]) -> Result<()
     Ok(())
 }
 
+/// Inputs of the LEADR 5×5 kernel: slope statistics (x0, y0, sx, sy, rxy) and the view.
+pub struct LeadrIn<'a> {
+    pub s: [&'a [f32]; 5],
+    pub v: [&'a [f32]; 3],
+}
+
+#[inline(never)]
+fn one_leadr(inp: &LeadrIn, i: usize) -> f32 {
+    g::leadr5_env(
+        inp.s[0][i],
+        inp.s[1][i],
+        inp.s[2][i],
+        inp.s[3][i],
+        inp.s[4][i],
+        inp.v[0][i],
+        inp.v[1][i],
+        inp.v[2][i],
+    )
+}
+
+/// (e) out[i] = the LEADR 5×5 grid estimate of rough specular under the analytic test
+/// environment (generated `leadr5_env`, fitted spacing).
+pub fn leadr5(backend: Backend, inp: &LeadrIn, out: &mut [f32]) -> Result<()> {
+    let lens: Vec<usize> = inp.s.iter().chain(inp.v.iter()).map(|c| c.len()).collect();
+    check(backend, &lens, out.len())?;
+    if backend == Backend::PerPixel {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = one_leadr(inp, i);
+        }
+        return Ok(());
+    }
+    let mut start = 0;
+    #[cfg(target_arch = "x86_64")]
+    if backend == Backend::Avx2 {
+        // SAFETY: avx2 and fma were detected at run time in `check`.
+        start = unsafe { avx2::leadr5(inp, out) };
+    }
+    for i in start..out.len() {
+        out[i] = g::leadr5_env(
+            inp.s[0][i],
+            inp.s[1][i],
+            inp.s[2][i],
+            inp.s[3][i],
+            inp.s[4][i],
+            inp.v[0][i],
+            inp.v[1][i],
+            inp.v[2][i],
+        );
+    }
+    Ok(())
+}
+
 /// Deterministic benchmark / accuracy inputs: 31 columns of `n` pixels — l (3), v (3),
 /// α (log-uniform in [1e-3, 1]), Δn_u (3), Δn_v (3), y_me, y_mi (of α log-uniform in
 /// [1e-3, 1]), then an LTC M⁻¹ (a, b, c, d) (15–18) and a quad light's 12 vertex
@@ -321,7 +374,7 @@ pub struct BenchInputs {
 pub fn bench_inputs(n: usize) -> BenchInputs {
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let mut cols = vec![Vec::with_capacity(n); 31];
+    let mut cols = vec![Vec::with_capacity(n); 39];
     let dir = |rng: &mut rand_chacha::ChaCha8Rng| {
         let t = rng.random::<f64>() * 1.5;
         let p = rng.random::<f64>() * std::f64::consts::TAU;
@@ -362,6 +415,16 @@ pub fn bench_inputs(n: usize) -> BenchInputs {
             cols[19 + 3 * k].push((cx + du) as f32);
             cols[20 + 3 * k].push((cy + dw) as f32);
             cols[21 + 3 * k].push(cz as f32);
+        }
+        // LEADR slope statistics (31–35) and a view (36–38)
+        cols[31].push(((rng.random::<f64>() - 0.5) * 0.6) as f32);
+        cols[32].push(((rng.random::<f64>() - 0.5) * 0.6) as f32);
+        cols[33].push((0.05 + 0.45 * rng.random::<f64>()) as f32);
+        cols[34].push((0.05 + 0.45 * rng.random::<f64>()) as f32);
+        cols[35].push(((rng.random::<f64>() - 0.5) * 1.2) as f32);
+        let vv = dir(&mut rng);
+        for k in 0..3 {
+            cols[36 + k].push(vv[k] as f32);
         }
     }
     BenchInputs { cols }
@@ -448,6 +511,42 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
                         [f(15), f(16), f(17), f(18)],
                         std::array::from_fn(|k| f(19 + k)),
                     ))
+                })
+                .collect::<Result<_>>()?
+        }
+        "kernel-leadr" => {
+            let inp = LeadrIn {
+                s: [&c[31], &c[32], &c[33], &c[34], &c[35]],
+                v: [&c[36], &c[37], &c[38]],
+            };
+            leadr5(backend, &inp, &mut out)?;
+            leadr5(Backend::Scalar, &inp, &mut sc)?;
+            let spec = crate::fit::read_result(Path::new("results"), "leadr-grids");
+            let h = spec
+                .as_ref()
+                .and_then(|v| v["fitted_h_n5"].as_f64())
+                .unwrap_or(g::LEADR_SPACING_N5 as f64);
+            let grid = crate::leadr::Grid::riemann(5, h);
+            let sun = nalgebra::Vector3::new(0.5, 0.2, 0.8).normalize();
+            let env = |v: nalgebra::Vector3<f64>| {
+                move |nn: &nalgebra::Vector3<f64>| {
+                    let r = nn * (2.0 * nn.dot(&v)) - v;
+                    0.5 + 0.5 * r.z + 10.0 * (50.0 * (r.dot(&sun) - 1.0)).exp()
+                }
+            };
+            (0..n)
+                .map(|i| {
+                    let f = |k: usize| c[k][i] as f64;
+                    let s = crate::leadr::Slopes {
+                        x0: f(31),
+                        y0: f(32),
+                        sx: f(33),
+                        sy: f(34),
+                        rxy: f(35),
+                    };
+                    let v = nalgebra::Vector3::new(f(36), f(37), f(38));
+                    let r = crate::leadr::grid_estimate(&grid, &s, &v, &env(v), None);
+                    Ok(if r.is_finite() { r } else { 0.0 })
                 })
                 .collect::<Result<_>>()?
         }
