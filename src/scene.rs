@@ -163,9 +163,17 @@ impl Scene {
                 s.ndf
             )));
         }
-        if let Some(l) = s.lights.iter().find(|l| *l != "point") {
+        if s.lights.iter().any(|l| l == "polygon") && (s.ndf != "ggx" || s.roughness != "isotropic")
+        {
             return Err(Error::InvalidArgument(format!(
-                "scene {origin}: key 'lights' = \"{l}\": only point lights are generated so far (polygonal lights need the LTC table of issue 4, environment lights the LEADR grid codegen)"
+                "scene {origin}: keys 'lights' = \"polygon\" and 'ndf' = \"{}\" / 'roughness' = \"{}\" contradict: the LTC table is fitted for isotropic GGX",
+                s.ndf, s.roughness
+            )));
+        }
+        if s.lights.iter().any(|l| l == "environment") && s.ndf != "beckmann" {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: keys 'lights' = \"environment\" and 'ndf' = \"{}\" contradict: the generated LEADR grid integrates Beckmann slopes",
+                s.ndf
             )));
         }
         if s.precision == "f16" {
@@ -327,6 +335,30 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
                 dg1.map_or("(run regen)".into(), |d| format!("{d:.1e}"))
             ));
         }
+    }
+    if s.lights.iter().any(|l| l == "polygon") {
+        fns.extend(["ltc_lut_u", "ltc_lut_v", "ltc_quad"]);
+        let lt = crate::fit::read_result(results, "ltc-ggx");
+        let mean = lt.as_ref().and_then(|v| v["held_out"]["mean_l2"].as_f64());
+        let sph = lt
+            .as_ref()
+            .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64());
+        let cost = costs
+            .as_ref()
+            .and_then(|c| c["kernel-ltc-quad/per-pixel"].as_f64());
+        report.push_str(&format!(
+            "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc.md) | {} (scalar, per pixel) |\n",
+            mean.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
+            sph.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
+            fmt_cost(cost)
+        ));
+    }
+    if s.lights.iter().any(|l| l == "environment") {
+        fns.push("leadr5_env");
+        let cost = costs
+            .as_ref()
+            .and_then(|c| c["kernel-leadr/per-pixel"].as_f64());
+        report.push_str(&format!("| environment | LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup) | leadr5_env | grid error: results/leadr.md | {} (scalar, per pixel) |\n", fmt_cost(cost)));
     }
     let mut choices = Vec::new();
     for (aspect, want, opts) in [

@@ -48,6 +48,9 @@ fn example_scenes_are_minimal_valid_and_fresh() {
     let s = Scene::load(Path::new("tests/scenes/multiscale-ltc.toml")).unwrap();
     let w = &build(&s, Path::new("results")).unwrap()[0].1;
     assert!(w.contains("fn alpha_me") && !w.contains("fn filter_deferred"));
+    assert!(
+        w.contains("fn ltc_quad") && w.contains("fn ltc_lut_u") && !w.contains("fn leadr5_env")
+    );
 }
 
 fn parse_err(text: &str) -> String {
@@ -71,7 +74,13 @@ fn bad_scenes_name_the_key() {
     assert!(e.contains("'roughness'") && e.contains("contradict"), "{e}");
     let e = parse_err(&BASE.replace("\"f32\"", "\"f16\""));
     assert!(e.contains("'precision'"), "{e}");
-    let e = parse_err(&BASE.replace("[\"point\"]", "[\"polygon\"]"));
+    let e = parse_err(
+        &BASE
+            .replace("[\"point\"]", "[\"polygon\"]")
+            .replace("\"ggx\"", "\"beckmann\""),
+    );
+    assert!(e.contains("'lights'") && e.contains("contradict"), "{e}");
+    let e = parse_err(&BASE.replace("[\"point\"]", "[\"environment\"]"));
     assert!(e.contains("'lights'"), "{e}");
     let e = parse_err(&BASE.replace("0.5", "-1"));
     assert!(e.contains("error_budget"), "{e}");

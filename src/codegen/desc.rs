@@ -221,6 +221,26 @@ pub const FUNCTIONS: &[FnDesc] = &[
         deps: &[],
     },
     FnDesc {
+        name: "ltc_lut_u",
+        doc: "Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).",
+        params: "alpha: f32",
+        ret: "f32",
+        body: "    let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
+    return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
+",
+        deps: &[],
+    },
+    FnDesc {
+        name: "ltc_lut_v",
+        doc: "Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.",
+        params: "cos_theta: f32",
+        ret: "f32",
+        body: "    let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
+    return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
+",
+        deps: &[],
+    },
+    FnDesc {
         name: "ltc_edge_factor",
         doc: "θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).",
         params: "x: f32",

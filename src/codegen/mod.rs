@@ -8,7 +8,7 @@
 //! in both. Floats are printed as the shortest decimal that round-trips to the f32, so
 //! generation is byte-for-byte deterministic.
 //!
-//! Sources: results/fits/{multiscale-alpha-me, smith-lambda, filters, leadr-grids}.json.
+//! Sources: results/fits/{multiscale-alpha-me, smith-lambda, filters, leadr-grids, ltc-ggx}.json.
 //! tests/codegen.rs re-renders from those files and fails when a committed generated file
 //! differs (stale), validates every WGSL module with naga, and compares each Rust twin
 //! with its f64 reference.
@@ -173,6 +173,18 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             doc: format!("5-point slope-grid weight of node ±{k}·h (φ(kh)/Σφ with the fitted h)"),
         });
     }
+    let lt = read("ltc-ggx")?;
+    let n = lt["table"].as_array().map_or(0, |t| t.len());
+    if n < 2 {
+        return Err(Error::InvalidArgument(format!(
+            "codegen: results/fits/ltc-ggx.json has no table (run `{COMMAND}`)"
+        )));
+    }
+    out.push(Const {
+        name: "LTC_LUT_SIZE".into(),
+        value: n as f32,
+        doc: "side of the GGX LTC table (results/fits/ltc-ggx.json: [a, b, c, d] → ltc_1, [norm, fresnel] → ltc_2)".into(),
+    });
     Ok(out)
 }
 
@@ -278,8 +290,8 @@ pub const MODULES: [(&str, &str, &[&str]); 5] = [
     ),
     (
         "ltc.wgsl",
-        "LTC polygon lights: edge integral and the quad integral with the clipped-sphere horizon (results/ltc.md); the table itself is data (results/fits/ltc-ggx.json), sampled as a texture",
-        &["ltc_quad"],
+        "LTC polygon lights: table coordinates, edge integral and the quad integral with the clipped-sphere horizon (results/ltc.md); the table itself is data (results/fits/ltc-ggx.json), sampled as two textures",
+        &["ltc_lut_u", "ltc_lut_v", "ltc_quad"],
     ),
     (
         "leadr.wgsl",

@@ -82,6 +82,8 @@ pub const LEADR_W0: f32 = 0.31727582;
 pub const LEADR_W1: f32 = 0.23907457;
 /// 5-point slope-grid weight of node ±2·h (φ(kh)/Σφ with the fitted h)
 pub const LEADR_W2: f32 = 0.10228751;
+/// side of the GGX LTC table (results/fits/ltc-ggx.json: [a, b, c, d] → ltc_1, [norm, fresnel] → ltc_2)
+pub const LTC_LUT_SIZE: f32 = 64.0;
 
 /// GGX NDF, isotropic α, unit half-vector in tangent space (seed 003 Eq 15); 0 below the surface. No 1 − (n·h)² cancellation.
 pub fn ggx_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
@@ -222,6 +224,18 @@ pub fn filter_projected(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy:
     let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let p: f32 = a2 / (1.0 - a2) + min(2.0 * sigma2 * n2, delta);
     return sqrt(p / (1.0 + p));
+}
+
+/// Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).
+pub fn ltc_lut_u(alpha: f32) -> f32 {
+    let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
+    return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
+}
+
+/// Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.
+pub fn ltc_lut_v(cos_theta: f32) -> f32 {
+    let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
+    return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
 }
 
 /// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).

@@ -58,6 +58,14 @@ pub const BECKMANN_LAMBDA_NU_C: f32 = 2.459398;
 pub const FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL: f32 = 0.12291626;
 /// clamp δ_max of seed 003 Eq 10/13
 pub const FILTER_DELTA_MAX: f32 = 0.18;
+/// fitted uniform slope-grid spacing for N = 5 (results/leadr.md; the paper uses 0.9)
+pub const LEADR_SPACING_N5: f32 = 0.7523244;
+/// 5-point slope-grid weight of node ±0·h (φ(kh)/Σφ with the fitted h)
+pub const LEADR_W0: f32 = 0.31727582;
+/// 5-point slope-grid weight of node ±1·h (φ(kh)/Σφ with the fitted h)
+pub const LEADR_W1: f32 = 0.23907457;
+/// 5-point slope-grid weight of node ±2·h (φ(kh)/Σφ with the fitted h)
+pub const LEADR_W2: f32 = 0.10228751;
 
 /// Beckmann NDF, isotropic α: exp(−tan²θ/α²)/(π α² cos⁴θ) (seed 001 §1.2); tan² from the components, no cancellation.
 pub fn beckmann_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
@@ -105,4 +113,171 @@ pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: 
 /// Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).
 pub fn filter_deferred_fitted(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32) -> f32 {
     return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
+}
+
+/// The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.
+pub fn leadr_env(rx: f32, ry: f32, rz: f32) -> f32 {
+    let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;
+    return 0.5 + 0.5 * rz + 10.0 * exp(max(50.0 * (c - 1.0), -87.0));
+}
+
+/// LEADR rough specular under the test environment: the 5×5 slope grid (fitted spacing h, weights φ(kh)/Σφ) of a Beckmann footprint with mean slope (x0, y0), deviations (sx, sy) and correlation rxy; each node's normal n shades L(reflect(v, n)) weighted by its projected area max(0, v·n)/n_z (seed 001 §3.4, algorithm 1). 0 when every node faces away (the §3.7 artificial micronormal is the caller's).
+pub fn leadr5_env(x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32, vz: f32) -> f32 {
+    let sr: f32 = sqrt(max(1.0 - rxy * rxy, 0.0));
+    let nx0: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
+    let ny0: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i0: f32 = 1.0 / sqrt(nx0 * nx0 + ny0 * ny0 + 1.0);
+    let d0: f32 = (-nx0 * vx - ny0 * vy + vz) * i0;
+    let a0: f32 = LEADR_W2 * LEADR_W2 * max(d0, 0.0) / i0;
+    let l0: f32 = leadr_env(2.0 * d0 * (-nx0 * i0) - vx, 2.0 * d0 * (-ny0 * i0) - vy, 2.0 * d0 * i0 - vz);
+    let nx1: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
+    let ny1: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i1: f32 = 1.0 / sqrt(nx1 * nx1 + ny1 * ny1 + 1.0);
+    let d1: f32 = (-nx1 * vx - ny1 * vy + vz) * i1;
+    let a1: f32 = LEADR_W2 * LEADR_W1 * max(d1, 0.0) / i1;
+    let l1: f32 = leadr_env(2.0 * d1 * (-nx1 * i1) - vx, 2.0 * d1 * (-ny1 * i1) - vy, 2.0 * d1 * i1 - vz);
+    let nx2: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
+    let ny2: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i2: f32 = 1.0 / sqrt(nx2 * nx2 + ny2 * ny2 + 1.0);
+    let d2: f32 = (-nx2 * vx - ny2 * vy + vz) * i2;
+    let a2: f32 = LEADR_W2 * LEADR_W0 * max(d2, 0.0) / i2;
+    let l2: f32 = leadr_env(2.0 * d2 * (-nx2 * i2) - vx, 2.0 * d2 * (-ny2 * i2) - vy, 2.0 * d2 * i2 - vz);
+    let nx3: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
+    let ny3: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i3: f32 = 1.0 / sqrt(nx3 * nx3 + ny3 * ny3 + 1.0);
+    let d3: f32 = (-nx3 * vx - ny3 * vy + vz) * i3;
+    let a3: f32 = LEADR_W2 * LEADR_W1 * max(d3, 0.0) / i3;
+    let l3: f32 = leadr_env(2.0 * d3 * (-nx3 * i3) - vx, 2.0 * d3 * (-ny3 * i3) - vy, 2.0 * d3 * i3 - vz);
+    let nx4: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
+    let ny4: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i4: f32 = 1.0 / sqrt(nx4 * nx4 + ny4 * ny4 + 1.0);
+    let d4: f32 = (-nx4 * vx - ny4 * vy + vz) * i4;
+    let a4: f32 = LEADR_W2 * LEADR_W2 * max(d4, 0.0) / i4;
+    let l4: f32 = leadr_env(2.0 * d4 * (-nx4 * i4) - vx, 2.0 * d4 * (-ny4 * i4) - vy, 2.0 * d4 * i4 - vz);
+    let nx5: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
+    let ny5: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i5: f32 = 1.0 / sqrt(nx5 * nx5 + ny5 * ny5 + 1.0);
+    let d5: f32 = (-nx5 * vx - ny5 * vy + vz) * i5;
+    let a5: f32 = LEADR_W1 * LEADR_W2 * max(d5, 0.0) / i5;
+    let l5: f32 = leadr_env(2.0 * d5 * (-nx5 * i5) - vx, 2.0 * d5 * (-ny5 * i5) - vy, 2.0 * d5 * i5 - vz);
+    let nx6: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
+    let ny6: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i6: f32 = 1.0 / sqrt(nx6 * nx6 + ny6 * ny6 + 1.0);
+    let d6: f32 = (-nx6 * vx - ny6 * vy + vz) * i6;
+    let a6: f32 = LEADR_W1 * LEADR_W1 * max(d6, 0.0) / i6;
+    let l6: f32 = leadr_env(2.0 * d6 * (-nx6 * i6) - vx, 2.0 * d6 * (-ny6 * i6) - vy, 2.0 * d6 * i6 - vz);
+    let nx7: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
+    let ny7: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i7: f32 = 1.0 / sqrt(nx7 * nx7 + ny7 * ny7 + 1.0);
+    let d7: f32 = (-nx7 * vx - ny7 * vy + vz) * i7;
+    let a7: f32 = LEADR_W1 * LEADR_W0 * max(d7, 0.0) / i7;
+    let l7: f32 = leadr_env(2.0 * d7 * (-nx7 * i7) - vx, 2.0 * d7 * (-ny7 * i7) - vy, 2.0 * d7 * i7 - vz);
+    let nx8: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
+    let ny8: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i8: f32 = 1.0 / sqrt(nx8 * nx8 + ny8 * ny8 + 1.0);
+    let d8: f32 = (-nx8 * vx - ny8 * vy + vz) * i8;
+    let a8: f32 = LEADR_W1 * LEADR_W1 * max(d8, 0.0) / i8;
+    let l8: f32 = leadr_env(2.0 * d8 * (-nx8 * i8) - vx, 2.0 * d8 * (-ny8 * i8) - vy, 2.0 * d8 * i8 - vz);
+    let nx9: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
+    let ny9: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i9: f32 = 1.0 / sqrt(nx9 * nx9 + ny9 * ny9 + 1.0);
+    let d9: f32 = (-nx9 * vx - ny9 * vy + vz) * i9;
+    let a9: f32 = LEADR_W1 * LEADR_W2 * max(d9, 0.0) / i9;
+    let l9: f32 = leadr_env(2.0 * d9 * (-nx9 * i9) - vx, 2.0 * d9 * (-ny9 * i9) - vy, 2.0 * d9 * i9 - vz);
+    let nx10: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
+    let ny10: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i10: f32 = 1.0 / sqrt(nx10 * nx10 + ny10 * ny10 + 1.0);
+    let d10: f32 = (-nx10 * vx - ny10 * vy + vz) * i10;
+    let a10: f32 = LEADR_W0 * LEADR_W2 * max(d10, 0.0) / i10;
+    let l10: f32 = leadr_env(2.0 * d10 * (-nx10 * i10) - vx, 2.0 * d10 * (-ny10 * i10) - vy, 2.0 * d10 * i10 - vz);
+    let nx11: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
+    let ny11: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i11: f32 = 1.0 / sqrt(nx11 * nx11 + ny11 * ny11 + 1.0);
+    let d11: f32 = (-nx11 * vx - ny11 * vy + vz) * i11;
+    let a11: f32 = LEADR_W0 * LEADR_W1 * max(d11, 0.0) / i11;
+    let l11: f32 = leadr_env(2.0 * d11 * (-nx11 * i11) - vx, 2.0 * d11 * (-ny11 * i11) - vy, 2.0 * d11 * i11 - vz);
+    let nx12: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
+    let ny12: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i12: f32 = 1.0 / sqrt(nx12 * nx12 + ny12 * ny12 + 1.0);
+    let d12: f32 = (-nx12 * vx - ny12 * vy + vz) * i12;
+    let a12: f32 = LEADR_W0 * LEADR_W0 * max(d12, 0.0) / i12;
+    let l12: f32 = leadr_env(2.0 * d12 * (-nx12 * i12) - vx, 2.0 * d12 * (-ny12 * i12) - vy, 2.0 * d12 * i12 - vz);
+    let nx13: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
+    let ny13: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i13: f32 = 1.0 / sqrt(nx13 * nx13 + ny13 * ny13 + 1.0);
+    let d13: f32 = (-nx13 * vx - ny13 * vy + vz) * i13;
+    let a13: f32 = LEADR_W0 * LEADR_W1 * max(d13, 0.0) / i13;
+    let l13: f32 = leadr_env(2.0 * d13 * (-nx13 * i13) - vx, 2.0 * d13 * (-ny13 * i13) - vy, 2.0 * d13 * i13 - vz);
+    let nx14: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
+    let ny14: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i14: f32 = 1.0 / sqrt(nx14 * nx14 + ny14 * ny14 + 1.0);
+    let d14: f32 = (-nx14 * vx - ny14 * vy + vz) * i14;
+    let a14: f32 = LEADR_W0 * LEADR_W2 * max(d14, 0.0) / i14;
+    let l14: f32 = leadr_env(2.0 * d14 * (-nx14 * i14) - vx, 2.0 * d14 * (-ny14 * i14) - vy, 2.0 * d14 * i14 - vz);
+    let nx15: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
+    let ny15: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i15: f32 = 1.0 / sqrt(nx15 * nx15 + ny15 * ny15 + 1.0);
+    let d15: f32 = (-nx15 * vx - ny15 * vy + vz) * i15;
+    let a15: f32 = LEADR_W1 * LEADR_W2 * max(d15, 0.0) / i15;
+    let l15: f32 = leadr_env(2.0 * d15 * (-nx15 * i15) - vx, 2.0 * d15 * (-ny15 * i15) - vy, 2.0 * d15 * i15 - vz);
+    let nx16: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
+    let ny16: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i16: f32 = 1.0 / sqrt(nx16 * nx16 + ny16 * ny16 + 1.0);
+    let d16: f32 = (-nx16 * vx - ny16 * vy + vz) * i16;
+    let a16: f32 = LEADR_W1 * LEADR_W1 * max(d16, 0.0) / i16;
+    let l16: f32 = leadr_env(2.0 * d16 * (-nx16 * i16) - vx, 2.0 * d16 * (-ny16 * i16) - vy, 2.0 * d16 * i16 - vz);
+    let nx17: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
+    let ny17: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i17: f32 = 1.0 / sqrt(nx17 * nx17 + ny17 * ny17 + 1.0);
+    let d17: f32 = (-nx17 * vx - ny17 * vy + vz) * i17;
+    let a17: f32 = LEADR_W1 * LEADR_W0 * max(d17, 0.0) / i17;
+    let l17: f32 = leadr_env(2.0 * d17 * (-nx17 * i17) - vx, 2.0 * d17 * (-ny17 * i17) - vy, 2.0 * d17 * i17 - vz);
+    let nx18: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
+    let ny18: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i18: f32 = 1.0 / sqrt(nx18 * nx18 + ny18 * ny18 + 1.0);
+    let d18: f32 = (-nx18 * vx - ny18 * vy + vz) * i18;
+    let a18: f32 = LEADR_W1 * LEADR_W1 * max(d18, 0.0) / i18;
+    let l18: f32 = leadr_env(2.0 * d18 * (-nx18 * i18) - vx, 2.0 * d18 * (-ny18 * i18) - vy, 2.0 * d18 * i18 - vz);
+    let nx19: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
+    let ny19: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i19: f32 = 1.0 / sqrt(nx19 * nx19 + ny19 * ny19 + 1.0);
+    let d19: f32 = (-nx19 * vx - ny19 * vy + vz) * i19;
+    let a19: f32 = LEADR_W1 * LEADR_W2 * max(d19, 0.0) / i19;
+    let l19: f32 = leadr_env(2.0 * d19 * (-nx19 * i19) - vx, 2.0 * d19 * (-ny19 * i19) - vy, 2.0 * d19 * i19 - vz);
+    let nx20: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
+    let ny20: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i20: f32 = 1.0 / sqrt(nx20 * nx20 + ny20 * ny20 + 1.0);
+    let d20: f32 = (-nx20 * vx - ny20 * vy + vz) * i20;
+    let a20: f32 = LEADR_W2 * LEADR_W2 * max(d20, 0.0) / i20;
+    let l20: f32 = leadr_env(2.0 * d20 * (-nx20 * i20) - vx, 2.0 * d20 * (-ny20 * i20) - vy, 2.0 * d20 * i20 - vz);
+    let nx21: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
+    let ny21: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i21: f32 = 1.0 / sqrt(nx21 * nx21 + ny21 * ny21 + 1.0);
+    let d21: f32 = (-nx21 * vx - ny21 * vy + vz) * i21;
+    let a21: f32 = LEADR_W2 * LEADR_W1 * max(d21, 0.0) / i21;
+    let l21: f32 = leadr_env(2.0 * d21 * (-nx21 * i21) - vx, 2.0 * d21 * (-ny21 * i21) - vy, 2.0 * d21 * i21 - vz);
+    let nx22: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
+    let ny22: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i22: f32 = 1.0 / sqrt(nx22 * nx22 + ny22 * ny22 + 1.0);
+    let d22: f32 = (-nx22 * vx - ny22 * vy + vz) * i22;
+    let a22: f32 = LEADR_W2 * LEADR_W0 * max(d22, 0.0) / i22;
+    let l22: f32 = leadr_env(2.0 * d22 * (-nx22 * i22) - vx, 2.0 * d22 * (-ny22 * i22) - vy, 2.0 * d22 * i22 - vz);
+    let nx23: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
+    let ny23: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i23: f32 = 1.0 / sqrt(nx23 * nx23 + ny23 * ny23 + 1.0);
+    let d23: f32 = (-nx23 * vx - ny23 * vy + vz) * i23;
+    let a23: f32 = LEADR_W2 * LEADR_W1 * max(d23, 0.0) / i23;
+    let l23: f32 = leadr_env(2.0 * d23 * (-nx23 * i23) - vx, 2.0 * d23 * (-ny23 * i23) - vy, 2.0 * d23 * i23 - vz);
+    let nx24: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
+    let ny24: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
+    let i24: f32 = 1.0 / sqrt(nx24 * nx24 + ny24 * ny24 + 1.0);
+    let d24: f32 = (-nx24 * vx - ny24 * vy + vz) * i24;
+    let a24: f32 = LEADR_W2 * LEADR_W2 * max(d24, 0.0) / i24;
+    let l24: f32 = leadr_env(2.0 * d24 * (-nx24 * i24) - vx, 2.0 * d24 * (-ny24 * i24) - vy, 2.0 * d24 * i24 - vz);
+    let num: f32 = a0 * l0 + a1 * l1 + a2 * l2 + a3 * l3 + a4 * l4 + a5 * l5 + a6 * l6 + a7 * l7 + a8 * l8 + a9 * l9 + a10 * l10 + a11 * l11 + a12 * l12 + a13 * l13 + a14 * l14 + a15 * l15 + a16 * l16 + a17 * l17 + a18 * l18 + a19 * l19 + a20 * l20 + a21 * l21 + a22 * l22 + a23 * l23 + a24 * l24;
+    let den: f32 = a0 + a1 + a2 + a3 + a4 + a5 + a6 + a7 + a8 + a9 + a10 + a11 + a12 + a13 + a14 + a15 + a16 + a17 + a18 + a19 + a20 + a21 + a22 + a23 + a24;
+    if (den <= 0.0) {
+        return 0.0;
+    }
+    return num / den;
 }

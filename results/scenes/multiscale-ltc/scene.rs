@@ -56,6 +56,8 @@ pub const ALPHA_ME_C5: f32 = 109.19303;
 pub const ALPHA_ME_C6: f32 = -64.16038;
 /// α_me(‖b̄‖) fit, coefficient of s^-7 (held-out max rel. error 1.56e-4)
 pub const ALPHA_ME_C7: f32 = 15.60488;
+/// side of the GGX LTC table (results/fits/ltc-ggx.json: [a, b, c, d] → ltc_1, [norm, fresnel] → ltc_2)
+pub const LTC_LUT_SIZE: f32 = 64.0;
 
 /// Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).
 pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32) -> f32 {
@@ -71,6 +73,69 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
     let ql: f32 = sqrt(lz * lz + a2 * (lx * lx + ly * ly));
     let qv: f32 = sqrt(vz * vz + a2 * (vx * vx + vy * vy));
     return a2 * hh * hh * lz / (2.0 * PI * k * k * (ql * vz + qv * lz));
+}
+
+/// Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).
+pub fn ltc_lut_u(alpha: f32) -> f32 {
+    let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
+    return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
+}
+
+/// Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.
+pub fn ltc_lut_v(cos_theta: f32) -> f32 {
+    let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
+    return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
+}
+
+/// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).
+pub fn ltc_edge_factor(x: f32) -> f32 {
+    let y: f32 = abs(x);
+    let a: f32 = 0.8543985 + (0.4965155 + 0.0145206 * y) * y;
+    let b: f32 = 3.417594 + (4.1616724 + y) * y;
+    let v: f32 = a / b;
+    if (x > 0.0) {
+        return v;
+    }
+    return 0.5 / sqrt(max(1.0 - x * x, 0.0000001)) - v;
+}
+
+/// LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders. Multiply by the table's norm. Two-sided.
+pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f32, p1y: f32, p1z: f32, p2x: f32, p2y: f32, p2z: f32, p3x: f32, p3y: f32, p3z: f32) -> f32 {
+    // transformed, normalised vertices
+    let q0x: f32 = a * p0x + c * p0z;
+    let q0z: f32 = b * p0x + d * p0z;
+    let i0: f32 = 1.0 / sqrt(q0x * q0x + p0y * p0y + q0z * q0z);
+    let u0x: f32 = q0x * i0;
+    let u0y: f32 = p0y * i0;
+    let u0z: f32 = q0z * i0;
+    let q1x: f32 = a * p1x + c * p1z;
+    let q1z: f32 = b * p1x + d * p1z;
+    let i1: f32 = 1.0 / sqrt(q1x * q1x + p1y * p1y + q1z * q1z);
+    let u1x: f32 = q1x * i1;
+    let u1y: f32 = p1y * i1;
+    let u1z: f32 = q1z * i1;
+    let q2x: f32 = a * p2x + c * p2z;
+    let q2z: f32 = b * p2x + d * p2z;
+    let i2: f32 = 1.0 / sqrt(q2x * q2x + p2y * p2y + q2z * q2z);
+    let u2x: f32 = q2x * i2;
+    let u2y: f32 = p2y * i2;
+    let u2z: f32 = q2z * i2;
+    let q3x: f32 = a * p3x + c * p3z;
+    let q3z: f32 = b * p3x + d * p3z;
+    let i3: f32 = 1.0 / sqrt(q3x * q3x + p3y * p3y + q3z * q3z);
+    let u3x: f32 = q3x * i3;
+    let u3y: f32 = p3y * i3;
+    let u3z: f32 = q3z * i3;
+    let e0: f32 = ltc_edge_factor(u0x * u1x + u0y * u1y + u0z * u1z);
+    let e1: f32 = ltc_edge_factor(u1x * u2x + u1y * u2y + u1z * u2z);
+    let e2: f32 = ltc_edge_factor(u2x * u3x + u2y * u3y + u2z * u3z);
+    let e3: f32 = ltc_edge_factor(u3x * u0x + u3y * u0y + u3z * u0z);
+    let fx: f32 = e0 * (u0y * u1z - u0z * u1y) + e1 * (u1y * u2z - u1z * u2y) + e2 * (u2y * u3z - u2z * u3y) + e3 * (u3y * u0z - u3z * u0y);
+    let fy: f32 = e0 * (u0z * u1x - u0x * u1z) + e1 * (u1z * u2x - u1x * u2z) + e2 * (u2z * u3x - u2x * u3z) + e3 * (u3z * u0x - u3x * u0z);
+    let fz: f32 = e0 * (u0x * u1y - u0y * u1x) + e1 * (u1x * u2y - u1y * u2x) + e2 * (u2x * u3y - u2y * u3x) + e3 * (u3x * u0y - u3y * u0x);
+    let len: f32 = sqrt(fx * fx + fy * fy + fz * fz);
+    let fz2: f32 = abs(fz);
+    return max((len * len + fz2) / (len + 1.0), 0.0);
 }
 
 /// α_me from y = 1 − ‖b̄‖ (seed 000 §3.3): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (results/multiscale.md; y in (0, 1)).
