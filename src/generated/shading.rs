@@ -250,7 +250,7 @@ pub fn ltc_edge_factor(x: f32) -> f32 {
     return 0.5 / sqrt(max(1.0 - x * x, 0.0000001)) - v;
 }
 
-/// LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders. Multiply by the table's norm. Two-sided.
+/// LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders, clamped to ≤ 1 (a form factor; f32 edges that map to nearly antipodal directions at α → 1e-4 can otherwise push it past 1). Multiply by the table's norm. Two-sided.
 pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f32, p1y: f32, p1z: f32, p2x: f32, p2y: f32, p2z: f32, p3x: f32, p3y: f32, p3z: f32) -> f32 {
     // transformed, normalised vertices
     let q0x: f32 = a * p0x + c * p0z;
@@ -286,7 +286,7 @@ pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1
     let fz: f32 = e0 * (u0x * u1y - u0y * u1x) + e1 * (u1x * u2y - u1y * u2x) + e2 * (u2x * u3y - u2y * u3x) + e3 * (u3x * u0y - u3y * u0x);
     let len: f32 = sqrt(fx * fx + fy * fy + fz * fz);
     let fz2: f32 = abs(fz);
-    return max((len * len + fz2) / (len + 1.0), 0.0);
+    return clamp((len * len + fz2) / (len + 1.0), 0.0, 1.0);
 }
 
 /// The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.

@@ -248,7 +248,7 @@ pub(super) unsafe fn ltc_quad(inp: &LtcQuadIn, out: &mut [f32]) -> usize {
         );
         _mm256_storeu_ps(
             out.as_mut_ptr().add(i),
-            _mm256_max_ps(r, _mm256_setzero_ps()),
+            _mm256_min_ps(_mm256_max_ps(r, _mm256_setzero_ps()), one),
         );
         i += 8;
     }

@@ -571,7 +571,7 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
 }
 
 /// f64 reference of the generated `ltc_quad` with the exact θ/sin θ: the vector form
-/// factor of M⁻¹P and the clipped-sphere horizon max((|F|² + |F_z|)/(|F| + 1), 0).
+/// factor of M⁻¹P and the clipped-sphere horizon (|F|² + |F_z|)/(|F| + 1) clamped to [0, 1].
 pub fn ltc_quad_f64(m: [f64; 4], p: [f64; 12]) -> f64 {
     use nalgebra::Vector3;
     let u: Vec<Vector3<f64>> = (0..4)
@@ -590,5 +590,22 @@ pub fn ltc_quad_f64(m: [f64; 4], p: [f64; 12]) -> f64 {
         }
     }
     let len = f.norm();
-    ((len * len + f.z.abs()) / (len + 1.0)).max(0.0)
+    ((len * len + f.z.abs()) / (len + 1.0)).clamp(0.0, 1.0)
+}
+
+/// The smallest 1 − x² over the quad's edges after M⁻¹ (x = cos of the angle between
+/// consecutive transformed vertices): near 0 an edge maps to nearly antipodal directions,
+/// where the edge integral is ill-conditioned (f32 inputs) and the shipped rational's
+/// 1e-7 clamp bites.
+pub fn ltc_quad_conditioning(m: [f64; 4], p: [f64; 12]) -> f64 {
+    use nalgebra::Vector3;
+    let u: Vec<Vector3<f64>> = (0..4)
+        .map(|k| {
+            let (x, y, z) = (p[3 * k], p[3 * k + 1], p[3 * k + 2]);
+            Vector3::new(m[0] * x + m[2] * z, y, m[1] * x + m[3] * z).normalize()
+        })
+        .collect();
+    (0..4)
+        .map(|k| 1.0 - u[k].dot(&u[(k + 1) % 4]).powi(2))
+        .fold(f64::INFINITY, f64::min)
 }
