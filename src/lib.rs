@@ -39,6 +39,7 @@ pub mod multiscale;
 pub mod polygon;
 pub mod report;
 pub mod scene;
+pub mod tensor;
 pub mod verify;
 
 pub use error::{Error, Result};

@@ -125,3 +125,8 @@ fn every_check_has_a_proof_file_that_names_its_test() {
         }
     }
 }
+
+#[test]
+fn tensor_rank1_box() {
+    check("tensor-rank1-box");
+}

@@ -9,6 +9,7 @@ pub mod cases;
 pub mod jacobians;
 pub mod multiscale;
 pub mod ndf;
+pub mod tensor;
 pub mod tokuyoshi;
 
 use crate::error::Result;
@@ -134,6 +135,10 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "mrl-product",
             run: multiscale::mrl_product,
+        },
+        Check {
+            id: "tensor-rank1-box",
+            run: tensor::rank1_box,
         },
     ]
 }

@@ -1,0 +1,7 @@
+//! Spatio-angular NDF prefiltering with tensor decomposition (seed 002; issue 5, in
+//! progress): P-NDF images (Eq 2, §4.1), CP decomposition by ALS (Eq 5, §4.2), point and
+//! range queries with 1D summed-area tables (Eq 6–7, Appendix Eq 10–12).
+
+pub mod cp;
+pub mod pndf;
+pub mod query;

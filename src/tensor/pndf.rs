@@ -1,0 +1,70 @@
+//! P-NDF images (seed 002 Eq 2, §4.1) by brute force over texels: the footprint-weighted
+//! sum of each texel's normal smeared by the intrinsic roughness,
+//! D(h) = Σ_u G_P(u; x, σ_P) · G_r(n(u)_xy; h_xy, σ_r) (both Gaussians normalised), on a
+//! res × res grid over the projected hemisphere h_xy ∈ [−1, 1]². Rayon over image rows.
+//! Footprints: stride s at level 0 with σ_P = 1.5 s/√12, each level 2×2 sparser.
+
+use crate::error::{Error, Result};
+use crate::filters::footprint::NormalMap;
+use rayon::prelude::*;
+
+/// One footprint's NDF image, row-major, values per unit projected area.
+pub fn pndf_image(
+    map: &NormalMap,
+    cx: f64,
+    cy: f64,
+    sigma_p: f64,
+    sigma_r: f64,
+    res: usize,
+) -> Result<Vec<f64>> {
+    if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2) {
+        return Err(Error::InvalidArgument(format!(
+            "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p}, {sigma_r}, {res})"
+        )));
+    }
+    // texels within 4σ_P (periodic map)
+    let rad = (4.0 * sigma_p).ceil() as i64;
+    let (w, h) = (map.width as i64, map.height as i64);
+    let mut texels = Vec::new();
+    let mut wsum = 0.0;
+    for dy in -rad..=rad {
+        for dx in -rad..=rad {
+            let (px, py) = (cx.floor() as i64 + dx, cy.floor() as i64 + dy);
+            let (ux, uy) = (px as f64 + 0.5 - cx, py as f64 + 0.5 - cy);
+            let g = (-(ux * ux + uy * uy) / (2.0 * sigma_p * sigma_p)).exp();
+            if g < 1e-12 {
+                continue;
+            }
+            let n = map.normals[(py.rem_euclid(h) * w + px.rem_euclid(w)) as usize];
+            texels.push((n.x, n.y, g));
+            wsum += g;
+        }
+    }
+    let norm_r = 1.0 / (2.0 * std::f64::consts::PI * sigma_r * sigma_r);
+    let cell = 2.0 / res as f64;
+    let img: Vec<f64> = (0..res)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let hy = -1.0 + (j as f64 + 0.5) * cell;
+            let texels = &texels;
+            (0..res).map(move |i| {
+                let hx = -1.0 + (i as f64 + 0.5) * cell;
+                let mut s = 0.0;
+                for &(nx, ny, g) in texels {
+                    let d2 = (nx - hx).powi(2) + (ny - hy).powi(2);
+                    let e = d2 / (2.0 * sigma_r * sigma_r);
+                    if e < 40.0 {
+                        s += g * (-e).exp();
+                    }
+                }
+                s * norm_r / wsum
+            })
+        })
+        .collect();
+    Ok(img)
+}
+
+/// σ_P of level ℓ for base stride s (seed 002 §4.1): 1.5·s·2^ℓ/√12.
+pub fn sigma_p(stride: usize, level: usize) -> f64 {
+    1.5 * (stride << level) as f64 / 12f64.sqrt()
+}

@@ -1,0 +1,139 @@
+//! Tensor prefiltering (issue 5, in progress): CP-ALS, range queries, P-NDF images.
+
+use ndfbench::filters::footprint::{NormalMap, Procedural};
+use ndfbench::tensor::cp::{cp_als, rel_error, AlsOptions, Tensor3};
+use ndfbench::tensor::pndf::{pndf_image, sigma_p};
+use ndfbench::tensor::query::{range, range_error_bound, range_naive, Sat};
+use ndfbench::verify::tensor::random_cp;
+use proptest::prelude::*;
+
+fn dense(cp: &ndfbench::tensor::cp::Cp) -> Tensor3 {
+    let [a, b, c] = cp.shape;
+    let mut d = Vec::with_capacity(a * b * c);
+    for k in 0..c {
+        for j in 0..b {
+            for i in 0..a {
+                d.push(cp.at(i, j, k));
+            }
+        }
+    }
+    Tensor3::new(cp.shape, d).unwrap()
+}
+
+#[test]
+fn als_recovers_an_exact_low_rank_tensor() {
+    // a tensor that is exactly rank 3 is reconstructed to the tolerance by rank-3 ALS
+    let truth = random_cp(3, [16, 16, 12], 5);
+    let t = dense(&truth);
+    let o = AlsOptions {
+        rank: 3,
+        tol: 1e-8,
+        max_iters: 2000,
+        restarts: 3,
+        seed: 1,
+    };
+    let cp = cp_als(&t, &o).unwrap();
+    assert!(cp.rel_error < 1e-6, "rel error {}", cp.rel_error);
+    assert!((rel_error(&t, &cp) - cp.rel_error).abs() < 1e-15);
+    // and rank 1 cannot represent it
+    let one = cp_als(&t, &AlsOptions { rank: 1, ..o }).unwrap();
+    assert!(one.rel_error > 1e-3, "rank-1 error {}", one.rel_error);
+}
+
+#[test]
+fn als_is_deterministic_and_rejects_bad_input() {
+    let t = dense(&random_cp(2, [8, 8, 4], 9));
+    let o = AlsOptions {
+        rank: 2,
+        tol: 1e-6,
+        max_iters: 200,
+        restarts: 2,
+        seed: 3,
+    };
+    let (a, b) = (cp_als(&t, &o).unwrap(), cp_als(&t, &o).unwrap());
+    assert_eq!(a.rel_error.to_bits(), b.rel_error.to_bits());
+    assert!(cp_als(&t, &AlsOptions { rank: 0, ..o }).is_err());
+    assert!(cp_als(&t, &AlsOptions { rank: 10_000, ..o }).is_err());
+    assert!(Tensor3::new([2, 2, 2], vec![0.0; 7]).is_err());
+    assert!(Tensor3::new([1, 1, 1], vec![f64::NAN]).is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+
+    /// The O(R) range query equals the naive average within its a-priori rounding bound,
+    /// for random shapes, ranks and boxes (single cells to the whole range).
+    #[test]
+    fn range_query_matches_naive(
+        rank in 1usize..24, t in 1usize..80, seed in 0u64..1000,
+        a in 0.0f64..1.0, b in 0.0f64..1.0, c in 0.0f64..1.0, d in 0.0f64..1.0,
+    ) {
+        let cp = random_cp(rank, [t, t, 3], seed);
+        let sat = Sat::build(&cp);
+        let pick = |u: f64, v: f64| {
+            let (p, q) = ((u * t as f64) as usize, (v * t as f64) as usize);
+            (p.min(q).min(t - 1), p.max(q).min(t - 1))
+        };
+        let (x, y) = (pick(a, b), pick(c, d));
+        let naive = range_naive(&cp, x, y, 1);
+        let fast = range(&cp, &sat, x, y, 1);
+        let bound = 2.0 * range_error_bound(&cp, x, y, 1, f64::EPSILON, t as f64) + 8.0 * f64::EPSILON * naive.abs();
+        prop_assert!((fast - naive).abs() <= bound, "{fast} vs {naive} (bound {bound:e})");
+    }
+}
+
+#[test]
+fn pndf_image_is_a_normalised_density() {
+    // ∫ D dh over the projected disk = 1 when all normals and their σ_r smear lie inside
+    let map = NormalMap::procedural(Procedural::IsotropicNoise, 32, 1).unwrap();
+    let res = 64;
+    let img = pndf_image(&map, 16.0, 16.0, sigma_p(4, 0), 0.02, res).unwrap();
+    let cell = (2.0 / res as f64).powi(2);
+    let total: f64 = img.iter().sum::<f64>() * cell;
+    assert!((total - 1.0).abs() < 2e-3, "∫D = {total}");
+    assert!(img.iter().all(|v| v.is_finite() && *v >= 0.0));
+    assert!(pndf_image(&map, 0.0, 0.0, 0.0, 0.02, 8).is_err());
+    // σ_P of level ℓ doubles per level (seed 002 §4.1)
+    assert!((sigma_p(32, 1) / sigma_p(32, 0) - 2.0).abs() < 1e-15);
+}
+
+#[test]
+fn pndf_blocks_compress_with_bounded_error() {
+    // NDF image blocks of one footprint level stacked into t×t×L and CP-compressed:
+    // the error falls with the rank
+    let map = NormalMap::procedural(Procedural::Flakes, 32, 2).unwrap();
+    let (res, t) = (32usize, 16usize);
+    let mut data = Vec::new();
+    let mut l = 0;
+    for (cx, cy) in [(8.0, 8.0), (24.0, 8.0), (8.0, 24.0), (24.0, 24.0)] {
+        let img = pndf_image(&map, cx, cy, sigma_p(4, 0), 0.03, res).unwrap();
+        for by in 0..res / t {
+            for bx in 0..res / t {
+                let block: Vec<f64> = (0..t * t)
+                    .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
+                    .collect();
+                if block.iter().any(|v| *v > 1e-6) {
+                    data.extend(block);
+                    l += 1;
+                }
+            }
+        }
+    }
+    let tensor = Tensor3::new([t, t, l], data).unwrap();
+    let e = |r: usize| {
+        cp_als(
+            &tensor,
+            &AlsOptions {
+                rank: r,
+                tol: 1e-4,
+                max_iters: 500,
+                restarts: 1,
+                seed: 7,
+            },
+        )
+        .unwrap()
+        .rel_error
+    };
+    let (e2, e8) = (e(2), e(8));
+    assert!(e8 < e2 && e8 < 0.5, "rank 2 {e2}, rank 8 {e8}");
+}
