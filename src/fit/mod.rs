@@ -54,6 +54,7 @@ pub fn regen(
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
             "filters" => crate::filters::regen::run(s, results, preset)?,
             "ltc-ggx" => crate::ltc_regen::run(s, results, preset)?,
+            "tensor" => crate::tensor::regen::run(s, results, preset)?,
             "multiscale-convolution" => {
                 crate::multiscale::regen_convolution::run(s, &specs, results, preset)?
             }

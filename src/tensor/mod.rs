@@ -5,3 +5,4 @@
 pub mod cp;
 pub mod pndf;
 pub mod query;
+pub mod regen;
