@@ -385,8 +385,49 @@ fn kernels(c: &mut Criterion) {
     }
 }
 
+/// Seed 002 §4.4, §5.2: range-query time against box size (O(R)) next to the naive sum,
+/// and the cost of one hierarchical importance sample.
+fn tensor(c: &mut Criterion) {
+    use ndfbench::tensor::query::{range, range_naive, Sat};
+    use ndfbench::tensor::sample::{sample, total};
+    let cp = ndfbench::verify::tensor::random_cp(16, [256, 256, 4], 3);
+    let sat = Sat::build(&cp);
+    let mut g = c.benchmark_group("tensor-range");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_millis(600));
+    for w in [1usize, 4, 16, 64, 256] {
+        g.bench_with_input(BenchmarkId::new("sat", w), &w, |b, &w| {
+            b.iter(|| range(&cp, &sat, black_box((0, w - 1)), black_box((0, w - 1)), 1))
+        });
+        if w <= 64 {
+            g.bench_with_input(BenchmarkId::new("naive", w), &w, |b, &w| {
+                b.iter(|| range_naive(&cp, black_box((0, w - 1)), black_box((0, w - 1)), 1))
+            });
+        }
+    }
+    g.finish();
+    let small = ndfbench::verify::tensor::random_cp(16, [16, 16, 4], 4);
+    let ssat = Sat::build(&small);
+    let tot = total(&small, 1);
+    let mut g = c.benchmark_group("tensor-sample");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_millis(600));
+    g.bench_function("hierarchical-16", |b| {
+        let mut k = 0u64;
+        b.iter(|| {
+            k = k.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let u = (k >> 11) as f64 / (1u64 << 53) as f64;
+            sample(&small, &ssat, 1, tot, [u, 0.3, 0.7])
+        })
+    });
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    tensor,
     kernels,
     filters,
     engines,

@@ -174,6 +174,7 @@ it buys.\n\n",
     md.push_str(&leadr_table(&timed, results));
     md.push_str(&filters_table(&timed, results));
     md.push_str(&kernels_table(&timed, results)?);
+    md.push_str(&tensor_table(&timed));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -182,6 +183,7 @@ it buys.\n\n",
                 && t.group != "alpha-me"
                 && t.group != "filters"
                 && !t.group.starts_with("kernel-")
+                && !t.group.starts_with("tensor-")
         })
         .collect();
     if !other.is_empty() {
@@ -350,6 +352,51 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
             .expect("json")
             .as_bytes(),
     )
+}
+
+/// Seed 002 range queries: time against box size, O(R) SAT vs the naive sum, and one
+/// importance sample (benches `tensor-range`, `tensor-sample`).
+fn tensor_table(timed: &[Timed]) -> String {
+    let rows: Vec<&Timed> = timed
+        .iter()
+        .filter(|t| t.group.starts_with("tensor-"))
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from("\n## Tensor range queries (issue 5 §7)\n\nRank 16, 256 × 256 block; box w × w from one texel to the whole block. The SAT query is O(R) whatever w; the naive sum of the reconstruction is O(R·w²).\n\n| box w | SAT query (ns) | naive (ns) |\n|---|---|---|\n");
+    let sat: Vec<&&Timed> = rows
+        .iter()
+        .filter(|t| t.group == "tensor-range" && t.function == "sat")
+        .collect();
+    let mut ws: Vec<u64> = sat.iter().filter_map(|t| t.param.parse().ok()).collect();
+    ws.sort();
+    for w in &ws {
+        let get = |f: &str| {
+            rows.iter()
+                .find(|t| t.group == "tensor-range" && t.function == f && t.param == w.to_string())
+                .map(|t| t.mean_ns)
+        };
+        md.push_str(&format!(
+            "| {w} | {} | {} |\n",
+            get("sat").map_or("—".into(), |v| format!("{v:.1}")),
+            get("naive").map_or("—".into(), |v| format!("{v:.0}"))
+        ));
+    }
+    let times: Vec<f64> = sat.iter().map(|t| t.mean_ns).collect();
+    if let (Some(lo), Some(hi)) = (
+        times.iter().cloned().reduce(f64::min),
+        times.iter().cloned().reduce(f64::max),
+    ) {
+        md.push_str(&format!(
+            "\nLargest / smallest SAT query time over box sizes: {:.3} (goal ≤ 1.2).\n",
+            hi / lo
+        ));
+    }
+    if let Some(s) = rows.iter().find(|t| t.group == "tensor-sample") {
+        md.push_str(&format!("One hierarchical importance sample (16 × 16 block, R = 16: 4 levels × 4 range queries + tent): {:.0} ns.\n", s.mean_ns));
+    }
+    md
 }
 
 /// SIMD kernels: pixels/s of each backend per batch size, the ratio, and each kernel's

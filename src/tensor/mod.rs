@@ -6,3 +6,4 @@ pub mod cp;
 pub mod pndf;
 pub mod query;
 pub mod regen;
+pub mod sample;

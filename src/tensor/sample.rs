@@ -1,0 +1,111 @@
+//! Hierarchical importance sampling of one reconstructed NDF block (seed 002 §5.2):
+//! quad-tree descent with range queries (each child chosen with probability ∝ its box
+//! average, O(R) per query), then a tent perturbation inside the pixel. The returned pdf
+//! is the tent-filtered reconstruction normalised by the block's total — exactly the
+//! density the samples follow (toroidal wrap at the block border keeps it normalised).
+
+use super::cp::Cp;
+use super::query::{range, Sat};
+
+/// A sample position (continuous pixel coordinates in [0, t)²) and its pdf (per unit
+/// pixel area).
+#[derive(Clone, Copy, Debug)]
+pub struct Sample {
+    pub x: f64,
+    pub y: f64,
+    pub pdf: f64,
+}
+
+fn clamp0(v: f64) -> f64 {
+    v.max(0.0)
+}
+
+/// Descend to a pixel: at each level split the current square into 4 and pick a child
+/// with probability ∝ max(0, its average)·area. `u` is consumed (rescaled) per level.
+/// Returns the pixel and the probability of having chosen it (= v_p/total).
+pub fn descend(cp: &Cp, sat: &Sat, z: usize, mut u: f64) -> Option<(usize, usize, f64)> {
+    let t = cp.shape[0];
+    if !t.is_power_of_two() || cp.shape[1] != t {
+        return None;
+    }
+    let (mut x0, mut y0, mut size) = (0usize, 0usize, t);
+    let mut prob = 1.0;
+    while size > 1 {
+        let h = size / 2;
+        let kids = [(x0, y0), (x0 + h, y0), (x0, y0 + h), (x0 + h, y0 + h)];
+        let w: Vec<f64> = kids
+            .iter()
+            .map(|&(a, b)| clamp0(range(cp, sat, (a, a + h - 1), (b, b + h - 1), z)))
+            .collect();
+        let tot: f64 = w.iter().sum();
+        if !(tot > 0.0) {
+            return None;
+        }
+        let mut acc = 0.0;
+        let mut pick = 3;
+        for (k, wk) in w.iter().enumerate() {
+            if u * tot < acc + wk {
+                pick = k;
+                break;
+            }
+            acc += wk;
+        }
+        let wk = w[pick];
+        u = ((u * tot - acc) / wk).clamp(0.0, 1.0 - 1e-16);
+        prob *= wk / tot;
+        (x0, y0) = kids[pick];
+        size = h;
+    }
+    Some((x0, y0, prob))
+}
+
+/// The normalised piecewise-constant reconstruction at pixel (i, j) (wrapped).
+fn pixel_p(cp: &Cp, z: usize, total: f64, i: i64, j: i64) -> f64 {
+    let t = cp.shape[0] as i64;
+    clamp0(cp.at(i.rem_euclid(t) as usize, j.rem_euclid(t) as usize, z)) / total
+}
+
+/// The sampling density at continuous (x, y): the tent-filtered (bilinear) normalised
+/// reconstruction, wrapped at the border.
+pub fn pdf(cp: &Cp, z: usize, total: f64, x: f64, y: f64) -> f64 {
+    // pixel centres at k + 0.5; tent of half-width 1 pixel
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (i0, j0) = (fx.floor() as i64, fy.floor() as i64);
+    let (ax, ay) = (fx - i0 as f64, fy - j0 as f64);
+    (1.0 - ax) * (1.0 - ay) * pixel_p(cp, z, total, i0, j0)
+        + ax * (1.0 - ay) * pixel_p(cp, z, total, i0 + 1, j0)
+        + (1.0 - ax) * ay * pixel_p(cp, z, total, i0, j0 + 1)
+        + ax * ay * pixel_p(cp, z, total, i0 + 1, j0 + 1)
+}
+
+/// Draw one sample from three uniforms: descent (u0), tent offsets (u1, u2).
+pub fn sample(cp: &Cp, sat: &Sat, z: usize, total: f64, u: [f64; 3]) -> Option<Sample> {
+    let (i, j, _) = descend(cp, sat, z, u[0])?;
+    let tent = |v: f64| {
+        if v < 0.5 {
+            (2.0 * v).sqrt() - 1.0
+        } else {
+            1.0 - (2.0 - 2.0 * v).sqrt()
+        }
+    };
+    let t = cp.shape[0] as f64;
+    let x = (i as f64 + 0.5 + tent(u[1])).rem_euclid(t);
+    let y = (j as f64 + 0.5 + tent(u[2])).rem_euclid(t);
+    Some(Sample {
+        x,
+        y,
+        pdf: pdf(cp, z, total, x, y),
+    })
+}
+
+/// Σ over pixels of max(0, reconstruction) at depth z (the normaliser).
+pub fn total(cp: &Cp, z: usize) -> f64 {
+    let t = cp.shape[0];
+    let mut s = 0.0;
+    for j in 0..t {
+        for i in 0..t {
+            s += clamp0(cp.at(i, j, z));
+        }
+    }
+    s
+}
