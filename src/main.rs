@@ -54,14 +54,22 @@ enum Cmd {
     /// footprint-averaged BRDF; writes a report, JSON and per-level α′ maps to --out.
     Prefilter {
         /// tangent-space normal map, 8/16-bit RGB(A) PNG, power-of-two sides
+        #[arg(long, conflicts_with = "generator")]
+        input: Option<PathBuf>,
+        /// a procedural map instead of a PNG: isotropic-noise, brushed-metal, flakes,
+        /// sharp-bumps, scratches (64×64)
         #[arg(long)]
-        input: PathBuf,
+        generator: Option<String>,
         /// output directory
         #[arg(long, default_value = "prefilter-out")]
         out: PathBuf,
-        /// base (micro-scale) roughness α
+        /// base (micro-scale) roughness α (footprint-filter study)
         #[arg(long, default_value_t = 0.1)]
         alpha: f64,
+        /// compress the map's P-NDF blocks at this CP rank (seed 002) instead of the
+        /// footprint-filter study
+        #[arg(long)]
+        rank: Option<usize>,
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
@@ -148,6 +156,48 @@ fn run_verify(
     Ok(ok)
 }
 
+fn run_prefilter(
+    input: Option<PathBuf>,
+    generator: Option<String>,
+    dir: &std::path::Path,
+    alpha: f64,
+    rank: Option<usize>,
+    preset: Preset,
+) -> Result<bool, ndfbench::Error> {
+    use ndfbench::filters::footprint::{NormalMap, Procedural};
+    let msg = match (input, generator, rank) {
+        (Some(p), None, None) => ndfbench::filters::regen::prefilter(&p, dir, alpha, preset)?,
+        (Some(p), None, Some(r)) => {
+            let map = NormalMap::from_png(&p)?;
+            ndfbench::tensor::regen::prefilter_tensor(&map, dir, r, preset)?
+        }
+        (None, Some(g), r) => {
+            let kind = Procedural::ALL
+                .into_iter()
+                .chain([Procedural::Scratches])
+                .find(|k| k.name() == g)
+                .ok_or_else(|| ndfbench::Error::InvalidArgument(format!("--generator '{g}': one of isotropic-noise, brushed-metal, flakes, sharp-bumps, scratches")))?;
+            let map = NormalMap::procedural(kind, 64, 1)?;
+            match r {
+                Some(r) => ndfbench::tensor::regen::prefilter_tensor(&map, dir, r, preset)?,
+                None => {
+                    return Err(ndfbench::Error::InvalidArgument(
+                        "--generator needs --rank (the footprint-filter study takes --input PNG)"
+                            .into(),
+                    ))
+                }
+            }
+        }
+        _ => {
+            return Err(ndfbench::Error::InvalidArgument(
+                "give --input MAP.png or --generator NAME".into(),
+            ))
+        }
+    };
+    println!("{msg}");
+    Ok(true)
+}
+
 fn run_regen(
     only: Option<&str>,
     preset: Preset,
@@ -208,13 +258,12 @@ fn main() -> ExitCode {
         }),
         Some(Cmd::Prefilter {
             input,
+            generator,
             out: dir,
             alpha,
+            rank,
             preset,
-        }) => ndfbench::filters::regen::prefilter(&input, &dir, alpha, preset).map(|s| {
-            println!("{s}");
-            true
-        }),
+        }) => run_prefilter(input, generator, &dir, alpha, rank, preset),
         Some(Cmd::Scene { file, out: dir }) => {
             ndfbench::scene::run(&file, &dir, &cli.results).map(|w| {
                 println!("wrote {}", w.join(", "));

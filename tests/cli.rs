@@ -156,3 +156,62 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
     assert!(!dir.join("prefilter-broken.md").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
+    let dir = std::env::temp_dir().join(format!("ndfbench-tensor-{}", std::process::id()));
+    let out = bin()
+        .args([
+            "prefilter",
+            "--generator",
+            "scratches",
+            "--rank",
+            "4",
+            "--preset",
+            "quick",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let md = std::fs::read_to_string(dir.join("tensor-scratches.md")).unwrap();
+    assert!(md.contains("relative reconstruction error"));
+    // a rank larger than a 16×16 block allows, a missing file, an unknown generator:
+    // exit ≠ 0, a message naming the problem, nothing written
+    for (args, needle) in [
+        (
+            vec!["prefilter", "--generator", "flakes", "--rank", "999"],
+            "--rank 999",
+        ),
+        (
+            vec![
+                "prefilter",
+                "--input",
+                "/nonexistent/map.png",
+                "--rank",
+                "4",
+            ],
+            "nonexistent",
+        ),
+        (
+            vec!["prefilter", "--generator", "marble", "--rank", "4"],
+            "marble",
+        ),
+    ] {
+        let bad = dir.join("bad");
+        let out = bin().args(&args).arg("--out").arg(&bad).output().unwrap();
+        assert_ne!(out.status.code(), Some(0));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(needle),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(!bad.exists());
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -207,3 +207,58 @@ fn hierarchical_sampling_passes_chi_square() {
         "uniform sampler χ² {chi2w:.1} vs {chi2:.1}"
     );
 }
+
+#[test]
+fn range_queries_span_several_blocks() {
+    use ndfbench::tensor::query::{range_naive, BlockedImage, Sat};
+    // a 3×3 grid of 16×16 blocks, one dropped; the multi-block query equals the naive
+    // average over the same pixels (dropped blocks count as zero)
+    let cps: Vec<_> = (0..9).map(|k| random_cp(3, [16, 16, 2], 40 + k)).collect();
+    let sats: Vec<_> = cps.iter().map(Sat::build).collect();
+    let blocks: Vec<_> = (0..9)
+        .map(|k| {
+            if k == 4 {
+                None
+            } else {
+                Some((&cps[k], 1usize, &sats[k]))
+            }
+        })
+        .collect();
+    let img = BlockedImage {
+        t: 16,
+        nb: 3,
+        blocks,
+    };
+    for (x, y) in [
+        ((0, 47), (0, 47)),
+        ((5, 40), (12, 13)),
+        ((15, 16), (15, 16)),
+        ((20, 20), (33, 33)),
+    ] {
+        let mut s = 0.0;
+        for j in y.0..=y.1 {
+            for i in x.0..=x.1 {
+                let k = (j / 16) * 3 + i / 16;
+                if k != 4 {
+                    s += range_naive(&cps[k], (i % 16, i % 16), (j % 16, j % 16), 1);
+                }
+            }
+        }
+        let naive = s / (((x.1 - x.0 + 1) * (y.1 - y.0 + 1)) as f64);
+        let fast = img.range(x, y);
+        assert!(
+            (fast - naive).abs() <= 1e-12 * naive.abs().max(1e-12),
+            "{x:?}×{y:?}: {fast} vs {naive}"
+        );
+    }
+}
+
+#[test]
+fn scratches_map_has_scratches() {
+    let m = NormalMap::procedural(Procedural::Scratches, 64, 1).unwrap();
+    let tilted = m.normals.iter().filter(|n| n.z < 0.99).count();
+    assert!(
+        tilted > 64 && tilted < 64 * 64 / 2,
+        "{tilted} tilted texels"
+    );
+}

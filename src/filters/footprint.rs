@@ -39,6 +39,9 @@ pub enum Procedural {
     Flakes,
     /// Spherical-cap bumps on a flat plane: slopes jump from 0 to 1 at every rim.
     SharpBumps,
+    /// Random straight scratches (V-grooves, slopes ±0.6 across each scratch) on a flat
+    /// plane (seed 002's "scratches"; not in [`Procedural::ALL`], used by the tensor study).
+    Scratches,
 }
 
 impl Procedural {
@@ -54,6 +57,7 @@ impl Procedural {
             Procedural::BrushedMetal => "brushed-metal",
             Procedural::Flakes => "flakes",
             Procedural::SharpBumps => "sharp-bumps",
+            Procedural::Scratches => "scratches",
         }
     }
 }
@@ -156,6 +160,38 @@ impl NormalMap {
                             }
                         }
                         best.1
+                    })
+                    .collect()
+            }
+            Procedural::Scratches => {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let lines: Vec<(f64, f64, f64)> = (0..(size / 4).max(2))
+                    .map(|_| {
+                        (
+                            rng.random::<f64>() * s,
+                            rng.random::<f64>() * s,
+                            rng.random::<f64>() * PI,
+                        )
+                    })
+                    .collect();
+                (0..size * size)
+                    .map(|i| {
+                        let (x, y) = ((i % size) as f64 + 0.5, (i / size) as f64 + 0.5);
+                        let mut n = Vector3::z();
+                        for &(px, py, a) in &lines {
+                            // signed periodic distance to the line through (px, py) at angle a
+                            let (c, sn) = (a.cos(), a.sin());
+                            let mut dx = x - px;
+                            let mut dy = y - py;
+                            dx -= s * (dx / s).round();
+                            dy -= s * (dy / s).round();
+                            let d = -sn * dx + c * dy;
+                            if d.abs() < 0.75 {
+                                let g = 0.6 * d.signum();
+                                n = normal_from_slope(-sn * g, c * g);
+                            }
+                        }
+                        n
                     })
                     .collect()
             }

@@ -134,3 +134,31 @@ pub fn range_error_bound(
     }
     b
 }
+
+/// A P-NDF image stored as a grid of CP-compressed t×t blocks (one depth each):
+/// `blocks[by * nb + bx] = (cp, depth, sat)`, None for dropped (all-zero) blocks.
+pub struct BlockedImage<'a> {
+    pub t: usize,
+    pub nb: usize,
+    pub blocks: Vec<Option<(&'a Cp, usize, &'a Sat)>>,
+}
+
+impl BlockedImage<'_> {
+    /// Box average over pixel ranges [x0, x1] × [y0, y1] of the whole image that may span
+    /// several blocks: the area-weighted sum of each overlapped block's O(R) range query.
+    pub fn range(&self, x: (usize, usize), y: (usize, usize)) -> f64 {
+        let t = self.t;
+        let mut s = 0.0;
+        for by in y.0 / t..=y.1 / t {
+            for bx in x.0 / t..=x.1 / t {
+                let lx = (x.0.max(bx * t) - bx * t, x.1.min(bx * t + t - 1) - bx * t);
+                let ly = (y.0.max(by * t) - by * t, y.1.min(by * t + t - 1) - by * t);
+                if let Some((cp, z, sat)) = self.blocks[by * self.nb + bx] {
+                    let area = ((lx.1 - lx.0 + 1) * (ly.1 - ly.0 + 1)) as f64;
+                    s += area * range(cp, sat, lx, ly, z);
+                }
+            }
+        }
+        s / (((x.1 - x.0 + 1) * (y.1 - y.0 + 1)) as f64)
+    }
+}

@@ -26,51 +26,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     );
     let mut json = Vec::new();
     let mut worst = 0.0f64;
-    for kind in Procedural::ALL {
+    for kind in Procedural::ALL.into_iter().chain([Procedural::Scratches]) {
         let map = NormalMap::procedural(kind, size, 3)?;
-        // footprints of both levels, with their region
-        let mut fps = Vec::new();
-        for level in 0..2usize {
-            let st = stride << level;
-            for cy in (st / 2..size).step_by(st) {
-                for cx in (st / 2..size).step_by(st) {
-                    fps.push((
-                        cx as f64,
-                        cy as f64,
-                        sigma_p(stride, level),
-                        (cy / region) * (size / region) + cx / region,
-                    ));
-                }
-            }
-        }
-        let images: Vec<(usize, Vec<f64>)> = fps
-            .par_iter()
-            .map(|&(cx, cy, sp, reg)| {
-                pndf_image(&map, cx, cy, sp, sigma_r, res).map(|img| (reg, img))
-            })
-            .collect::<Result<_>>()?;
-        let nreg = (size / region) * (size / region);
-        let mut tensors = Vec::new();
-        for reg in 0..nreg {
-            let mut data = Vec::new();
-            let mut l = 0;
-            for (_, img) in images.iter().filter(|(r, _)| *r == reg) {
-                for by in 0..res / t {
-                    for bx in 0..res / t {
-                        let block: Vec<f64> = (0..t * t)
-                            .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
-                            .collect();
-                        if block.iter().any(|v| *v > 0.0) {
-                            data.extend(block);
-                            l += 1;
-                        }
-                    }
-                }
-            }
-            if l > 0 {
-                tensors.push(Tensor3::new([t, t, l], data)?);
-            }
-        }
+        let tensors = cluster_tensors(&map, res, stride, t, sigma_r)?;
         for &r in &ranks {
             let fits: Vec<(f64, usize, usize, usize)> = tensors
                 .par_iter()
@@ -118,9 +76,137 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         passed: worst.is_finite(),
         summary: format!(
             "{} maps × ranks {:?}: worst relative reconstruction error {:.2} %",
-            Procedural::ALL.len(),
+            Procedural::ALL.len() + 1,
             ranks,
             100.0 * worst
         ),
     })
+}
+
+/// P-NDF images of `map` over two footprint levels (stride s, σ_P = 1.5 s/√12, then 2×2
+/// sparser and twice wider), cut into t×t blocks, all-zero blocks dropped, clustered by
+/// quarter-map regions into t×t×L tensors (seed 002 §4.1–4.2).
+pub fn cluster_tensors(
+    map: &NormalMap,
+    res: usize,
+    stride: usize,
+    t: usize,
+    sigma_r: f64,
+) -> Result<Vec<Tensor3>> {
+    let size = map.width.min(map.height);
+    if map.width != map.height || size < 2 * stride || res % t != 0 {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "tensor prefiltering needs a square map of at least {}² texels and an image size divisible by t = {t} (got {}×{}, image {res})",
+            2 * stride, map.width, map.height
+        )));
+    }
+    let region = size / 2;
+    // footprints of both levels, with their region
+    let mut fps = Vec::new();
+    for level in 0..2usize {
+        let st = stride << level;
+        for cy in (st / 2..size).step_by(st) {
+            for cx in (st / 2..size).step_by(st) {
+                fps.push((
+                    cx as f64,
+                    cy as f64,
+                    sigma_p(stride, level),
+                    (cy / region) * (size / region) + cx / region,
+                ));
+            }
+        }
+    }
+    let images: Vec<(usize, Vec<f64>)> = fps
+        .par_iter()
+        .map(|&(cx, cy, sp, reg)| pndf_image(&map, cx, cy, sp, sigma_r, res).map(|img| (reg, img)))
+        .collect::<Result<_>>()?;
+    let nreg = (size / region) * (size / region);
+    let mut tensors = Vec::new();
+    for reg in 0..nreg {
+        let mut data = Vec::new();
+        let mut l = 0;
+        for (_, img) in images.iter().filter(|(r, _)| *r == reg) {
+            for by in 0..res / t {
+                for bx in 0..res / t {
+                    let block: Vec<f64> = (0..t * t)
+                        .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
+                        .collect();
+                    if block.iter().any(|v| *v > 0.0) {
+                        data.extend(block);
+                        l += 1;
+                    }
+                }
+            }
+        }
+        if l > 0 {
+            tensors.push(Tensor3::new([t, t, l], data)?);
+        }
+    }
+    Ok(tensors)
+}
+
+/// `prefilter --rank R`: compress one map's P-NDF blocks at rank R; writes
+/// DIR/tensor-<name>.json (per cluster: shape, weights, factors, error) and
+/// DIR/tensor-<name>.md. Every check happens before anything is written.
+pub fn prefilter_tensor(
+    map: &NormalMap,
+    out: &Path,
+    rank: usize,
+    preset: Preset,
+) -> Result<String> {
+    let t = 16usize;
+    if rank == 0 || rank > t * t {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "--rank {rank}: a {t}×{t} block allows ranks 1…{}",
+            t * t
+        )));
+    }
+    if map.width < 16 {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "map {} is {}×{}: tensor prefiltering needs at least 16×16 texels",
+            map.name, map.width, map.height
+        )));
+    }
+    let (res, iters) = match preset {
+        Preset::Quick => (32, 50),
+        Preset::Default => (64, 200),
+        Preset::Precise => (256, 500),
+    };
+    let stride = (map.width / 8).clamp(2, 32);
+    let tensors = cluster_tensors(map, res, stride, t, 0.02)?;
+    let fits: Vec<super::cp::Cp> = tensors
+        .par_iter()
+        .map(|tt| {
+            cp_als(
+                tt,
+                &AlsOptions {
+                    rank: rank.min(tt.shape[2] * t),
+                    tol: 1e-4,
+                    max_iters: iters,
+                    restarts: 2,
+                    seed: 5,
+                },
+            )
+        })
+        .collect::<Result<_>>()?;
+    let dense: usize = tensors.iter().map(|t| t.data.len()).sum();
+    let stored: usize = fits.iter().map(|c| c.storage()).sum();
+    let mean = fits.iter().map(|c| c.rel_error).sum::<f64>() / fits.len().max(1) as f64;
+    let max = fits.iter().map(|c| c.rel_error).fold(0.0, f64::max);
+    let md = format!(
+        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, two footprint levels, {res}² images, {t}² blocks, {} clusters. Rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n",
+        map.name, preset.name(), map.width, map.height, fits.len(), 100.0 * mean, 100.0 * max, 100.0 * stored as f64 / dense.max(1) as f64
+    );
+    let json = serde_json::json!({"map": map.name, "rank": rank, "block": t, "image": res, "stride": stride, "clusters": fits});
+    let jp = out.join(format!("tensor-{}.json", map.name));
+    let mp = out.join(format!("tensor-{}.md", map.name));
+    crate::io::write_atomic(&jp, serde_json::to_string(&json).expect("json").as_bytes())?;
+    crate::io::write_atomic(&mp, md.as_bytes())?;
+    Ok(format!(
+        "wrote {} and {}: rank {rank}, mean error {:.2} %, compression {:.2} %",
+        jp.display(),
+        mp.display(),
+        100.0 * mean,
+        100.0 * stored as f64 / dense.max(1) as f64
+    ))
 }
