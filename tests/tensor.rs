@@ -262,3 +262,39 @@ fn scratches_map_has_scratches() {
         "{tilted} tilted texels"
     );
 }
+
+/// The paper's binning comparison (§5.2): a histogram of samples per pixel, normalised,
+/// against the normalised reconstructed NDF image — the MSE falls like 1/N (Monte Carlo),
+/// here checked against its expected value Σ p(1 − p)/N·(pixel area)⁻² within a factor 2.
+#[test]
+fn sampling_histogram_matches_the_ndf_image() {
+    use ndfbench::tensor::query::Sat;
+    use ndfbench::tensor::sample::{descend, total};
+    use rand::{Rng, SeedableRng};
+    let cp = random_cp(3, [16, 16, 1], 21);
+    let sat = Sat::build(&cp);
+    let tot = total(&cp, 0);
+    let n = 100_000usize;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+    let mut hist = vec![0usize; 256];
+    for _ in 0..n {
+        let (i, j, p) = descend(&cp, &sat, 0, rng.random()).unwrap();
+        assert!(
+            (p - cp.at(i, j, 0) / tot).abs() < 1e-12,
+            "descent probability = normalised value"
+        );
+        hist[j * 16 + i] += 1;
+    }
+    let (mut mse, mut expect) = (0.0, 0.0);
+    for j in 0..16 {
+        for i in 0..16 {
+            let p = cp.at(i, j, 0) / tot;
+            mse += (hist[j * 16 + i] as f64 / n as f64 - p).powi(2);
+            expect += p * (1.0 - p) / n as f64;
+        }
+    }
+    assert!(
+        mse < 2.0 * expect && mse > 0.5 * expect,
+        "MSE {mse:.3e} vs expected {expect:.3e}"
+    );
+}

@@ -20,7 +20,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     let (stride, t, sigma_r) = (8usize, 16usize, 0.02);
     let region = size / 2; // 2×2 spatial clusters
     let mut md = format!(
-        "# Tensor-compressed P-NDF images (issue 5, first measurements)\n\nWritten by `cargo run --release -- regen --only tensor` (preset {}) from `fits/tensor.toml`. P-NDF images (seed 002 Eq 2) by brute force over texels: {size}² procedural maps, image {res}² over the projected hemisphere, intrinsic roughness σ_r = {sigma_r}, footprints on a grid of stride s = {stride} with σ_P = 1.5 s/√12 at level 0 and 2×2 sparser, twice wider at level 1 (§4.1). Blocks t × t = {t}², all-zero blocks dropped, clustered by {region}² texel regions into t × t × L tensors (§4.2), CP-ALS with tolerance {} and ≤ {iters} iterations, 2 seeded restarts. Compression = CP storage R(2t + L + 1) over the non-empty blocks' t²L values.\n\n| map | R | clusters | mean rel. error | max rel. error | compression (of non-empty) | ALS iterations (mean) |\n|---|---|---|---|---|---|---|\n",
+        "# Tensor-compressed P-NDF images (issue 5, first measurements)\n\nWritten by `cargo run --release -- regen --only tensor` (preset {}) from `fits/tensor.toml`. P-NDF images (seed 002 Eq 2) by brute force over texels: {size}² procedural maps, image {res}² over the projected hemisphere, intrinsic roughness σ_r = {sigma_r}, footprints on a grid of stride s = {stride} with σ_P = 1.5 s/√12 at level 0, each further level 2×2 sparser and twice wider until the stride reaches the map size (§4.1). Blocks t × t = {t}², all-zero blocks dropped, clustered by {region}² texel regions into t × t × L tensors (§4.2), CP-ALS with tolerance {} and ≤ {iters} iterations, 2 seeded restarts. Compression = CP storage R(2t + L + 1) over the non-empty blocks' t²L values.\n\n| map | R | clusters | mean rel. error | max rel. error | compression (of non-empty) | ALS iterations (mean) |\n|---|---|---|---|---|---|---|\n",
         preset.name(),
         spec.tolerance.max_rel
     );
@@ -83,8 +83,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     })
 }
 
-/// P-NDF images of `map` over two footprint levels (stride s, σ_P = 1.5 s/√12, then 2×2
-/// sparser and twice wider), cut into t×t blocks, all-zero blocks dropped, clustered by
+/// P-NDF images of `map` over the footprint pyramid (stride s, σ_P = 1.5 s/√12, each level
+/// 2×2 sparser and twice wider, until the stride reaches the map size), cut into t×t blocks, all-zero blocks dropped, clustered by
 /// quarter-map regions into t×t×L tensors (seed 002 §4.1–4.2).
 pub fn cluster_tensors(
     map: &NormalMap,
@@ -103,7 +103,9 @@ pub fn cluster_tensors(
     let region = size / 2;
     // footprints of both levels, with their region
     let mut fps = Vec::new();
-    for level in 0..2usize {
+    // levels until the stride reaches the map size (seed 002 §4.1)
+    let levels = (0..).take_while(|l| (stride << l) <= size).count().max(1);
+    for level in 0..levels {
         let st = stride << level;
         for cy in (st / 2..size).step_by(st) {
             for cx in (st / 2..size).step_by(st) {
@@ -194,7 +196,7 @@ pub fn prefilter_tensor(
     let mean = fits.iter().map(|c| c.rel_error).sum::<f64>() / fits.len().max(1) as f64;
     let max = fits.iter().map(|c| c.rel_error).fold(0.0, f64::max);
     let md = format!(
-        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, two footprint levels, {res}² images, {t}² blocks, {} clusters. Rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n",
+        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, the full footprint pyramid, {res}² images, {t}² blocks, {} clusters. Rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n",
         map.name, preset.name(), map.width, map.height, fits.len(), 100.0 * mean, 100.0 * max, 100.0 * stored as f64 / dense.max(1) as f64
     );
     let json = serde_json::json!({"map": map.name, "rank": rank, "block": t, "image": res, "stride": stride, "clusters": fits});
