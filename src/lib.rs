@@ -17,6 +17,9 @@
 //! # Ok::<(), ndfbench::Error>(())
 //! ```
 
+// `!(x > 0.0)` is used on purpose throughout: it is true for NaN, which is the point.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod cli;
 pub mod codegen;
 pub mod error;

@@ -100,7 +100,7 @@ proptest! {
         aniso in 1.0f64..30.0,
         off in -0.9f64..0.9,
         theta in 0.0f64..1.5706,
-        phi in 0.0f64..6.2832,
+        phi in 0.0f64..std::f64::consts::TAU,
     ) {
         let a = alpha as f32;
         let h = unit(theta, phi);
@@ -129,8 +129,8 @@ proptest! {
     #[test]
     fn ggx_specular_twin_matches_f64(
         alpha in prop_oneof![Just(1e-3f64), 1e-3f64..1.0],
-        tl in 0.0f64..1.55, pl in 0.0f64..6.28,
-        tv in 0.0f64..1.55, pv in 0.0f64..6.28,
+        tl in 0.0f64..1.55, pl in 0.0f64..std::f64::consts::TAU,
+        tv in 0.0f64..1.55, pv in 0.0f64..std::f64::consts::TAU,
     ) {
         let a = alpha as f32;
         let (l, v) = (unit(tl, pl), unit(tv, pv));
@@ -151,7 +151,7 @@ proptest! {
     fn beckmann_twins_match_f64(
         alpha in 1e-3f64..1.0,
         theta in 0.0f64..1.5706,
-        phi in 0.0f64..6.2832,
+        phi in 0.0f64..std::f64::consts::TAU,
     ) {
         let a = alpha as f32;
         let h = unit(theta, phi);

@@ -12,8 +12,8 @@ const FD_TOL: f64 = 1e-7;
 
 fn upper() -> impl Strategy<Value = Vector3<f64>> {
     prop_oneof![
-        (0.5f64..89.99, 0.0f64..6.2832),
-        (89.0f64..89.99, 0.0f64..6.2832)
+        (0.5f64..89.99, 0.0f64..std::f64::consts::TAU),
+        (89.0f64..89.99, 0.0f64..std::f64::consts::TAU)
     ]
     .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
@@ -22,7 +22,7 @@ fn upper() -> impl Strategy<Value = Vector3<f64>> {
 }
 
 fn any_dir() -> impl Strategy<Value = Vector3<f64>> {
-    (-1.0f64..1.0, 0.0f64..6.2832).prop_map(|(z, p): (f64, f64)| {
+    (-1.0f64..1.0, 0.0f64..std::f64::consts::TAU).prop_map(|(z, p): (f64, f64)| {
         let r = (1.0 - z * z).sqrt();
         Vector3::new(r * p.cos(), r * p.sin(), z)
     })

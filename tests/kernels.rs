@@ -40,7 +40,7 @@ proptest! {
     /// 65 536 random pixels); both vs the f64 lobe ≤ 1e-5 relative.
     #[test]
     fn specular_kernel(
-        px in prop::collection::vec((prop_oneof![Just(1e-4f64), 1e-4f64..1.0], 0.0f64..1.5706, 0.0f64..6.3, 0.0f64..1.5706, 0.0f64..6.3), 1..40)
+        px in prop::collection::vec((prop_oneof![Just(1e-4f64), 1e-4f64..1.0], 0.0f64..1.5706, 0.0f64..std::f64::consts::TAU, 0.0f64..1.5706, 0.0f64..std::f64::consts::TAU), 1..40)
     ) {
         let n = px.len();
         let mut c: Vec<Vec<f32>> = vec![Vec::with_capacity(n); 7];
@@ -237,7 +237,7 @@ proptest! {
     fn leadr_extremes(
         px in prop::collection::vec((
             -3.0f64..3.0, -3.0f64..3.0, prop_oneof![Just(1e-4f64), 1e-4f64..0.6], prop_oneof![Just(1e-4f64), 1e-4f64..0.6],
-            prop_oneof![Just(0.999f64), Just(-0.999f64), -0.99f64..0.99], 0.0f64..1.569, 0.0f64..6.28,
+            prop_oneof![Just(0.999f64), Just(-0.999f64), -0.99f64..0.99], 0.0f64..1.569, 0.0f64..std::f64::consts::TAU,
         ), 1..24)
     ) {
         let n = px.len();

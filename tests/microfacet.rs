@@ -28,8 +28,8 @@ fn rough() -> impl Strategy<Value = Roughness> {
 /// Directions up to 89.99° from the normal, with extra weight at the grazing end.
 fn dir() -> impl Strategy<Value = Vector3<f64>> {
     prop_oneof![
-        (0.0f64..89.99, 0.0f64..6.2832),
-        (89.9f64..89.99, 0.0f64..6.2832)
+        (0.0f64..89.99, 0.0f64..std::f64::consts::TAU),
+        (89.9f64..89.99, 0.0f64..std::f64::consts::TAU)
     ]
     .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
@@ -71,7 +71,7 @@ proptest! {
 
     /// h_z → 0 and o·h → 0: still finite, D → 0 for Beckmann, G1 → 0 at grazing.
     #[test]
-    fn extremes_h_z_to_zero(k in kind(), r in rough(), phi in 0.0f64..6.28, e in 1e-12f64..1e-6) {
+    fn extremes_h_z_to_zero(k in kind(), r in rough(), phi in 0.0f64..std::f64::consts::TAU, e in 1e-12f64..1e-6) {
         let s = Microsurface::new(k, r);
         let h = Vector3::new(phi.cos(), phi.sin(), e).normalize();
         let d = s.d(&h);
@@ -86,7 +86,7 @@ proptest! {
 
     /// Λ decreases as the direction rises (θ → 0) and G1 → 1 at normal incidence.
     #[test]
-    fn lambda_monotone_in_theta(s in surface().prop_filter("centred", |s| s.mean == Vector2::zeros()), phi in 0.0f64..6.28) {
+    fn lambda_monotone_in_theta(s in surface().prop_filter("centred", |s| s.mean == Vector2::zeros()), phi in 0.0f64..std::f64::consts::TAU) {
         let mut prev = f64::INFINITY;
         for k in 0..=50 {
             let t = (89.99 * (1.0 - k as f64 / 50.0)).to_radians();

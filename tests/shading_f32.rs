@@ -26,9 +26,9 @@ fn rough() -> impl Strategy<Value = Roughness> {
 /// Unit direction with polar angle up to 89.99° (and a share at the extremes), in f32.
 fn dir32() -> impl Strategy<Value = [f32; 3]> {
     prop_oneof![
-        (0.0f64..89.99, 0.0f64..6.283),
-        (89.0f64..89.99, 0.0f64..6.283),
-        (0.0f64..0.01, 0.0f64..6.283),
+        (0.0f64..89.99, 0.0f64..std::f64::consts::TAU),
+        (89.0f64..89.99, 0.0f64..std::f64::consts::TAU),
+        (0.0f64..0.01, 0.0f64..std::f64::consts::TAU),
     ]
     .prop_map(|(t, p): (f64, f64)| {
         let t = t.to_radians();
