@@ -2,13 +2,68 @@
 //! Cited equations: seed 003 Eq 15–18 (GGX D, Λ; anisotropic and matrix forms), seed 001
 //! §1.2 (Beckmann), seed 003 Eq 10/13 (deferred kernels), seed 000 §3.3 (α_me).
 
+/// A function body: literal text, or text unrolled by a generator (for bodies that repeat
+/// one block many times, e.g. the 25 nodes of the LEADR grid).
+pub enum Body {
+    Text(&'static str),
+    Unrolled(fn() -> String),
+}
+
+impl Body {
+    pub fn text(&self) -> std::borrow::Cow<'static, str> {
+        match self {
+            Body::Text(t) => std::borrow::Cow::Borrowed(t),
+            Body::Unrolled(f) => std::borrow::Cow::Owned(f()),
+        }
+    }
+}
+
+/// The 5×5 LEADR grid unrolled: node (a, b) ∈ {−2…2}² at slope offsets (a h, b h) with
+/// weight W_|a|·W_|b| (seed 001 §3.4), each shaded by `leadr_env`; then the normalised sum.
+fn leadr5_body() -> String {
+    let mut s = String::from("    let sr: f32 = sqrt(max(1.0 - rxy * rxy, 0.0));\n");
+    let mut k = 0;
+    for i in -2i32..=2 {
+        for j in -2i32..=2 {
+            let (pi, pj) = (
+                format!("{i}.0 * LEADR_SPACING_N5"),
+                format!("{j}.0 * LEADR_SPACING_N5"),
+            );
+            let (wi, wj) = (format!("LEADR_W{}", i.abs()), format!("LEADR_W{}", j.abs()));
+            s.push_str(&format!("    let nx{k}: f32 = x0 + ({pi}) * sx;\n"));
+            s.push_str(&format!(
+                "    let ny{k}: f32 = y0 + (({pi}) * rxy + ({pj}) * sr) * sy;\n"
+            ));
+            s.push_str(&format!(
+                "    let i{k}: f32 = 1.0 / sqrt(nx{k} * nx{k} + ny{k} * ny{k} + 1.0);\n"
+            ));
+            s.push_str(&format!(
+                "    let d{k}: f32 = (-nx{k} * vx - ny{k} * vy + vz) * i{k};\n"
+            ));
+            s.push_str(&format!(
+                "    let a{k}: f32 = {wi} * {wj} * max(d{k}, 0.0) / i{k};\n"
+            ));
+            s.push_str(&format!(
+                "    let l{k}: f32 = leadr_env(2.0 * d{k} * (-nx{k} * i{k}) - vx, 2.0 * d{k} * (-ny{k} * i{k}) - vy, 2.0 * d{k} * i{k} - vz);\n"
+            ));
+            k += 1;
+        }
+    }
+    let terms: Vec<String> = (0..25).map(|q| format!("a{q} * l{q}")).collect();
+    let areas: Vec<String> = (0..25).map(|q| format!("a{q}")).collect();
+    s.push_str(&format!("    let num: f32 = {};\n", terms.join(" + ")));
+    s.push_str(&format!("    let den: f32 = {};\n", areas.join(" + ")));
+    s.push_str("    if (den <= 0.0) {\n        return 0.0;\n    }\n    return num / den;\n");
+    s
+}
+
 /// One function: signature pieces and body in the neutral WGSL/Rust subset.
 pub struct FnDesc {
     pub name: &'static str,
     pub doc: &'static str,
     pub params: &'static str,
     pub ret: &'static str,
-    pub body: &'static str,
+    pub body: Body,
     /// Functions this one calls (must appear earlier in [`FUNCTIONS`]).
     pub deps: &'static [&'static str],
 }
@@ -20,13 +75,13 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "GGX NDF, isotropic α, unit half-vector in tangent space (seed 003 Eq 15); 0 below the surface. No 1 − (n·h)² cancellation.",
         params: "hx: f32, hy: f32, hz: f32, alpha: f32",
         ret: "f32",
-        body: "    if (hz <= 0.0) {
+        body: Body::Text("    if (hz <= 0.0) {
         return 0.0;
     }
     let a2: f32 = alpha * alpha;
     let s: f32 = (hx * hx + hy * hy) / a2 + hz * hz;
     return 1.0 / (PI * a2 * s * s);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -34,14 +89,14 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "GGX NDF, axis-aligned anisotropic (αx, αy) (seed 003 Eq 15).",
         params: "hx: f32, hy: f32, hz: f32, ax: f32, ay: f32",
         ret: "f32",
-        body: "    if (hz <= 0.0) {
+        body: Body::Text("    if (hz <= 0.0) {
         return 0.0;
     }
     let x: f32 = hx / ax;
     let y: f32 = hy / ay;
     let s: f32 = x * x + y * y + hz * hz;
     return 1.0 / (PI * ax * ay * s * s);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -49,14 +104,14 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "GGX NDF with an SPD roughness matrix A = [[a11, a12], [a12, a22]] (seed 003 Eq 17); adjugate form, accurate to ≈ cond(A)·ε.",
         params: "hx: f32, hy: f32, hz: f32, a11: f32, a12: f32, a22: f32",
         ret: "f32",
-        body: "    if (hz <= 0.0) {
+        body: Body::Text("    if (hz <= 0.0) {
         return 0.0;
     }
     let det: f32 = a11 * a22 - a12 * a12;
     let q: f32 = (a22 * hx * hx - 2.0 * a12 * hx * hy + a11 * hy * hy) / det;
     let s: f32 = q + hz * hz;
     return 1.0 / (PI * sqrt(det) * s * s);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -64,9 +119,9 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "GGX Smith Λ(o) = (√(1 + t) − 1)/2, t = α²(ox² + oy²)/oz² (seed 003 Eq 16), written t/(2(1 + √(1 + t))) (no cancellation as t → 0). Callers handle oz ≤ 0.",
         params: "ox: f32, oy: f32, oz: f32, alpha: f32",
         ret: "f32",
-        body: "    let t: f32 = alpha * alpha * (ox * ox + oy * oy) / (oz * oz);
+        body: Body::Text("    let t: f32 = alpha * alpha * (ox * ox + oy * oy) / (oz * oz);
     return t / (2.0 * (1.0 + sqrt(1.0 + t)));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -74,11 +129,11 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Height-correlated Smith G2 = 1/(1 + Λ(i) + Λ(o)) (seed 003 Eq 14); 0 when either direction is at or below the surface.",
         params: "ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32",
         ret: "f32",
-        body: "    if (iz <= 0.0 || oz <= 0.0) {
+        body: Body::Text("    if (iz <= 0.0 || oz <= 0.0) {
         return 0.0;
     }
     return 1.0 / (1.0 + ggx_lambda(ix, iy, iz, alpha) + ggx_lambda(ox, oy, oz, alpha));
-",
+"),
         deps: &["ggx_lambda"],
     },
     FnDesc {
@@ -86,7 +141,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).",
         params: "lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32",
         ret: "f32",
-        body: "    if (lz <= 0.0 || vz <= 0.0) {
+        body: Body::Text("    if (lz <= 0.0 || vz <= 0.0) {
         return 0.0;
     }
     let a2: f32 = alpha * alpha;
@@ -98,7 +153,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
     let ql: f32 = sqrt(lz * lz + a2 * (lx * lx + ly * ly));
     let qv: f32 = sqrt(vz * vz + a2 * (vx * vx + vy * vy));
     return a2 * hh * hh * lz / (2.0 * PI * k * k * (ql * vz + qv * lz));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -106,13 +161,13 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Beckmann NDF, isotropic α: exp(−tan²θ/α²)/(π α² cos⁴θ) (seed 001 §1.2); tan² from the components, no cancellation.",
         params: "hx: f32, hy: f32, hz: f32, alpha: f32",
         ret: "f32",
-        body: "    if (hz <= 0.0) {
+        body: Body::Text("    if (hz <= 0.0) {
         return 0.0;
     }
     let c2: f32 = hz * hz;
     let t2: f32 = (hx * hx + hy * hy) / (c2 * alpha * alpha);
     return exp(-t2) / (PI * alpha * alpha * c2 * c2);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -120,7 +175,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Beckmann Smith Λ(o) by the refitted rational in ν = oz/(α√(ox² + oy²)) (results/smith-lambda.md; replaces Walter's). Callers handle oz ≤ 0.",
         params: "ox: f32, oy: f32, oz: f32, alpha: f32",
         ret: "f32",
-        body: "    let sxy: f32 = alpha * sqrt(ox * ox + oy * oy);
+        body: Body::Text("    let sxy: f32 = alpha * sqrt(ox * ox + oy * oy);
     if (oz >= BECKMANN_LAMBDA_NU_C * sxy) {
         return 0.0;
     }
@@ -128,7 +183,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
     let c: f32 = 1.0 - nu / BECKMANN_LAMBDA_NU_C;
     let num: f32 = c * c * (1.0 + nu * (BECKMANN_LAMBDA_A1 + nu * BECKMANN_LAMBDA_A2));
     return num / (nu * (BECKMANN_LAMBDA_B1 + nu * (BECKMANN_LAMBDA_B2 + nu * BECKMANN_LAMBDA_B3)));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -136,11 +191,11 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Height-correlated G2 for Beckmann with the refitted Λ.",
         params: "ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32",
         ret: "f32",
-        body: "    if (iz <= 0.0 || oz <= 0.0) {
+        body: Body::Text("    if (iz <= 0.0 || oz <= 0.0) {
         return 0.0;
     }
     return 1.0 / (1.0 + beckmann_lambda(ix, iy, iz, alpha) + beckmann_lambda(ox, oy, oz, alpha));
-",
+"),
         deps: &["beckmann_lambda"],
     },
     FnDesc {
@@ -148,8 +203,8 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form).",
         params: "alpha: f32, r: f32, c: f32",
         ret: "f32",
-        body: "    return sqrt(alpha * alpha + c * (1.0 - r) / r);
-",
+        body: Body::Text("    return sqrt(alpha * alpha + c * (1.0 - r) / r);
+"),
         deps: &[],
     },
     FnDesc {
@@ -157,9 +212,9 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r.",
         params: "alpha: f32, r: f32, c: f32",
         ret: "f32",
-        body: "    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
+        body: Body::Text("    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
     return sqrt(alpha * alpha + c * inv_kappa);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -167,8 +222,8 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "vMF filter with the constant refitted against the footprint-averaged GGX BRDF (results/filters.md).",
         params: "alpha: f32, r: f32",
         ret: "f32",
-        body: "    return filter_vmf(alpha, r, FILTER_VMF_C_GGX);
-",
+        body: Body::Text("    return filter_vmf(alpha, r, FILTER_VMF_C_GGX);
+"),
         deps: &["filter_vmf"],
     },
     FnDesc {
@@ -176,10 +231,10 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.",
         params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32",
         ret: "f32",
-        body: "    let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
+        body: Body::Text("    let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let kern: f32 = min(2.0 * sigma2 * n2, delta);
     return sqrt(min(alpha * alpha + kern, 1.0));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -187,8 +242,8 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).",
         params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32",
         ret: "f32",
-        body: "    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
-",
+        body: Body::Text("    return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
+"),
         deps: &["filter_deferred"],
     },
     FnDesc {
@@ -196,13 +251,13 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Exact isotropic bound (seed 003 Eq 10): α′² = α² + min(2λ_max(Σ), δ), Σ = σ²(Δ_u Δ_uᵀ + Δ_v Δ_vᵀ) of projected-disk derivatives.",
         params: "alpha: f32, dux: f32, duy: f32, dvx: f32, dvy: f32, sigma2: f32, delta: f32",
         ret: "f32",
-        body: "    let sxx: f32 = sigma2 * (dux * dux + dvx * dvx);
+        body: Body::Text("    let sxx: f32 = sigma2 * (dux * dux + dvx * dvx);
     let syy: f32 = sigma2 * (duy * duy + dvy * dvy);
     let sxy: f32 = sigma2 * (dux * duy + dvx * dvy);
     let h: f32 = 0.5 * (sxx - syy);
     let lmax: f32 = 0.5 * (sxx + syy) + sqrt(h * h + sxy * sxy);
     return sqrt(min(alpha * alpha + min(2.0 * lmax, delta), 1.0));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -210,14 +265,14 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Projected-space kernel (Unity HDRP): p = α²/(1 − α²), p′ = p + min(2σ²Σ‖Δn‖², δ), α′² = p′/(1 + p′).",
         params: "alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32",
         ret: "f32",
-        body: "    let a2: f32 = alpha * alpha;
+        body: Body::Text("    let a2: f32 = alpha * alpha;
     if (a2 >= 1.0) {
         return 1.0;
     }
     let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let p: f32 = a2 / (1.0 - a2) + min(2.0 * sigma2 * n2, delta);
     return sqrt(p / (1.0 + p));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -225,9 +280,9 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).",
         params: "alpha: f32",
         ret: "f32",
-        body: "    let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
+        body: Body::Text("    let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
     return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -235,9 +290,9 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.",
         params: "cos_theta: f32",
         ret: "f32",
-        body: "    let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
+        body: Body::Text("    let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
     return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -245,7 +300,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).",
         params: "x: f32",
         ret: "f32",
-        body: "    let y: f32 = abs(x);
+        body: Body::Text("    let y: f32 = abs(x);
     let a: f32 = 0.8543985 + (0.4965155 + 0.0145206 * y) * y;
     let b: f32 = 3.417594 + (4.1616724 + y) * y;
     let v: f32 = a / b;
@@ -253,7 +308,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         return v;
     }
     return 0.5 / sqrt(max(1.0 - x * x, 0.0000001)) - v;
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -261,7 +316,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders, clamped to ≤ 1 (a form factor; f32 edges that map to nearly antipodal directions at α → 1e-4 can otherwise push it past 1). Multiply by the table's norm. Two-sided.",
         params: "a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f32, p1y: f32, p1z: f32, p2x: f32, p2y: f32, p2z: f32, p3x: f32, p3y: f32, p3z: f32",
         ret: "f32",
-        body: "    // transformed, normalised vertices
+        body: Body::Text("    // transformed, normalised vertices
     let q0x: f32 = a * p0x + c * p0z;
     let q0z: f32 = b * p0x + d * p0z;
     let i0: f32 = 1.0 / sqrt(q0x * q0x + p0y * p0y + q0z * q0z);
@@ -296,7 +351,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
     let len: f32 = sqrt(fx * fx + fy * fy + fz * fz);
     let fz2: f32 = abs(fz);
     return clamp((len * len + fz2) / (len + 1.0), 0.0, 1.0);
-",
+"),
         deps: &["ltc_edge_factor"],
     },
     FnDesc {
@@ -304,9 +359,9 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.",
         params: "rx: f32, ry: f32, rz: f32",
         ret: "f32",
-        body: "    let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;
+        body: Body::Text("    let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;
     return 0.5 + 0.5 * rz + 10.0 * exp(max(50.0 * (c - 1.0), -87.0));
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -314,164 +369,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "LEADR rough specular under the test environment: the 5×5 slope grid (fitted spacing h, weights φ(kh)/Σφ) of a Beckmann footprint with mean slope (x0, y0), deviations (sx, sy) and correlation rxy; each node's normal n shades L(reflect(v, n)) weighted by its projected area max(0, v·n)/n_z (seed 001 §3.4, algorithm 1). 0 when every node faces away (the §3.7 artificial micronormal is the caller's).",
         params: "x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32, vz: f32",
         ret: "f32",
-        body: "    let sr: f32 = sqrt(max(1.0 - rxy * rxy, 0.0));
-    let nx0: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
-    let ny0: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i0: f32 = 1.0 / sqrt(nx0 * nx0 + ny0 * ny0 + 1.0);
-    let d0: f32 = (-nx0 * vx - ny0 * vy + vz) * i0;
-    let a0: f32 = LEADR_W2 * LEADR_W2 * max(d0, 0.0) / i0;
-    let l0: f32 = leadr_env(2.0 * d0 * (-nx0 * i0) - vx, 2.0 * d0 * (-ny0 * i0) - vy, 2.0 * d0 * i0 - vz);
-    let nx1: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
-    let ny1: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i1: f32 = 1.0 / sqrt(nx1 * nx1 + ny1 * ny1 + 1.0);
-    let d1: f32 = (-nx1 * vx - ny1 * vy + vz) * i1;
-    let a1: f32 = LEADR_W2 * LEADR_W1 * max(d1, 0.0) / i1;
-    let l1: f32 = leadr_env(2.0 * d1 * (-nx1 * i1) - vx, 2.0 * d1 * (-ny1 * i1) - vy, 2.0 * d1 * i1 - vz);
-    let nx2: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
-    let ny2: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i2: f32 = 1.0 / sqrt(nx2 * nx2 + ny2 * ny2 + 1.0);
-    let d2: f32 = (-nx2 * vx - ny2 * vy + vz) * i2;
-    let a2: f32 = LEADR_W2 * LEADR_W0 * max(d2, 0.0) / i2;
-    let l2: f32 = leadr_env(2.0 * d2 * (-nx2 * i2) - vx, 2.0 * d2 * (-ny2 * i2) - vy, 2.0 * d2 * i2 - vz);
-    let nx3: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
-    let ny3: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i3: f32 = 1.0 / sqrt(nx3 * nx3 + ny3 * ny3 + 1.0);
-    let d3: f32 = (-nx3 * vx - ny3 * vy + vz) * i3;
-    let a3: f32 = LEADR_W2 * LEADR_W1 * max(d3, 0.0) / i3;
-    let l3: f32 = leadr_env(2.0 * d3 * (-nx3 * i3) - vx, 2.0 * d3 * (-ny3 * i3) - vy, 2.0 * d3 * i3 - vz);
-    let nx4: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
-    let ny4: f32 = y0 + ((-2.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i4: f32 = 1.0 / sqrt(nx4 * nx4 + ny4 * ny4 + 1.0);
-    let d4: f32 = (-nx4 * vx - ny4 * vy + vz) * i4;
-    let a4: f32 = LEADR_W2 * LEADR_W2 * max(d4, 0.0) / i4;
-    let l4: f32 = leadr_env(2.0 * d4 * (-nx4 * i4) - vx, 2.0 * d4 * (-ny4 * i4) - vy, 2.0 * d4 * i4 - vz);
-    let nx5: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
-    let ny5: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i5: f32 = 1.0 / sqrt(nx5 * nx5 + ny5 * ny5 + 1.0);
-    let d5: f32 = (-nx5 * vx - ny5 * vy + vz) * i5;
-    let a5: f32 = LEADR_W1 * LEADR_W2 * max(d5, 0.0) / i5;
-    let l5: f32 = leadr_env(2.0 * d5 * (-nx5 * i5) - vx, 2.0 * d5 * (-ny5 * i5) - vy, 2.0 * d5 * i5 - vz);
-    let nx6: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
-    let ny6: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i6: f32 = 1.0 / sqrt(nx6 * nx6 + ny6 * ny6 + 1.0);
-    let d6: f32 = (-nx6 * vx - ny6 * vy + vz) * i6;
-    let a6: f32 = LEADR_W1 * LEADR_W1 * max(d6, 0.0) / i6;
-    let l6: f32 = leadr_env(2.0 * d6 * (-nx6 * i6) - vx, 2.0 * d6 * (-ny6 * i6) - vy, 2.0 * d6 * i6 - vz);
-    let nx7: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
-    let ny7: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i7: f32 = 1.0 / sqrt(nx7 * nx7 + ny7 * ny7 + 1.0);
-    let d7: f32 = (-nx7 * vx - ny7 * vy + vz) * i7;
-    let a7: f32 = LEADR_W1 * LEADR_W0 * max(d7, 0.0) / i7;
-    let l7: f32 = leadr_env(2.0 * d7 * (-nx7 * i7) - vx, 2.0 * d7 * (-ny7 * i7) - vy, 2.0 * d7 * i7 - vz);
-    let nx8: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
-    let ny8: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i8: f32 = 1.0 / sqrt(nx8 * nx8 + ny8 * ny8 + 1.0);
-    let d8: f32 = (-nx8 * vx - ny8 * vy + vz) * i8;
-    let a8: f32 = LEADR_W1 * LEADR_W1 * max(d8, 0.0) / i8;
-    let l8: f32 = leadr_env(2.0 * d8 * (-nx8 * i8) - vx, 2.0 * d8 * (-ny8 * i8) - vy, 2.0 * d8 * i8 - vz);
-    let nx9: f32 = x0 + (-1.0 * LEADR_SPACING_N5) * sx;
-    let ny9: f32 = y0 + ((-1.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i9: f32 = 1.0 / sqrt(nx9 * nx9 + ny9 * ny9 + 1.0);
-    let d9: f32 = (-nx9 * vx - ny9 * vy + vz) * i9;
-    let a9: f32 = LEADR_W1 * LEADR_W2 * max(d9, 0.0) / i9;
-    let l9: f32 = leadr_env(2.0 * d9 * (-nx9 * i9) - vx, 2.0 * d9 * (-ny9 * i9) - vy, 2.0 * d9 * i9 - vz);
-    let nx10: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
-    let ny10: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i10: f32 = 1.0 / sqrt(nx10 * nx10 + ny10 * ny10 + 1.0);
-    let d10: f32 = (-nx10 * vx - ny10 * vy + vz) * i10;
-    let a10: f32 = LEADR_W0 * LEADR_W2 * max(d10, 0.0) / i10;
-    let l10: f32 = leadr_env(2.0 * d10 * (-nx10 * i10) - vx, 2.0 * d10 * (-ny10 * i10) - vy, 2.0 * d10 * i10 - vz);
-    let nx11: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
-    let ny11: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i11: f32 = 1.0 / sqrt(nx11 * nx11 + ny11 * ny11 + 1.0);
-    let d11: f32 = (-nx11 * vx - ny11 * vy + vz) * i11;
-    let a11: f32 = LEADR_W0 * LEADR_W1 * max(d11, 0.0) / i11;
-    let l11: f32 = leadr_env(2.0 * d11 * (-nx11 * i11) - vx, 2.0 * d11 * (-ny11 * i11) - vy, 2.0 * d11 * i11 - vz);
-    let nx12: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
-    let ny12: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i12: f32 = 1.0 / sqrt(nx12 * nx12 + ny12 * ny12 + 1.0);
-    let d12: f32 = (-nx12 * vx - ny12 * vy + vz) * i12;
-    let a12: f32 = LEADR_W0 * LEADR_W0 * max(d12, 0.0) / i12;
-    let l12: f32 = leadr_env(2.0 * d12 * (-nx12 * i12) - vx, 2.0 * d12 * (-ny12 * i12) - vy, 2.0 * d12 * i12 - vz);
-    let nx13: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
-    let ny13: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i13: f32 = 1.0 / sqrt(nx13 * nx13 + ny13 * ny13 + 1.0);
-    let d13: f32 = (-nx13 * vx - ny13 * vy + vz) * i13;
-    let a13: f32 = LEADR_W0 * LEADR_W1 * max(d13, 0.0) / i13;
-    let l13: f32 = leadr_env(2.0 * d13 * (-nx13 * i13) - vx, 2.0 * d13 * (-ny13 * i13) - vy, 2.0 * d13 * i13 - vz);
-    let nx14: f32 = x0 + (0.0 * LEADR_SPACING_N5) * sx;
-    let ny14: f32 = y0 + ((0.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i14: f32 = 1.0 / sqrt(nx14 * nx14 + ny14 * ny14 + 1.0);
-    let d14: f32 = (-nx14 * vx - ny14 * vy + vz) * i14;
-    let a14: f32 = LEADR_W0 * LEADR_W2 * max(d14, 0.0) / i14;
-    let l14: f32 = leadr_env(2.0 * d14 * (-nx14 * i14) - vx, 2.0 * d14 * (-ny14 * i14) - vy, 2.0 * d14 * i14 - vz);
-    let nx15: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
-    let ny15: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i15: f32 = 1.0 / sqrt(nx15 * nx15 + ny15 * ny15 + 1.0);
-    let d15: f32 = (-nx15 * vx - ny15 * vy + vz) * i15;
-    let a15: f32 = LEADR_W1 * LEADR_W2 * max(d15, 0.0) / i15;
-    let l15: f32 = leadr_env(2.0 * d15 * (-nx15 * i15) - vx, 2.0 * d15 * (-ny15 * i15) - vy, 2.0 * d15 * i15 - vz);
-    let nx16: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
-    let ny16: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i16: f32 = 1.0 / sqrt(nx16 * nx16 + ny16 * ny16 + 1.0);
-    let d16: f32 = (-nx16 * vx - ny16 * vy + vz) * i16;
-    let a16: f32 = LEADR_W1 * LEADR_W1 * max(d16, 0.0) / i16;
-    let l16: f32 = leadr_env(2.0 * d16 * (-nx16 * i16) - vx, 2.0 * d16 * (-ny16 * i16) - vy, 2.0 * d16 * i16 - vz);
-    let nx17: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
-    let ny17: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i17: f32 = 1.0 / sqrt(nx17 * nx17 + ny17 * ny17 + 1.0);
-    let d17: f32 = (-nx17 * vx - ny17 * vy + vz) * i17;
-    let a17: f32 = LEADR_W1 * LEADR_W0 * max(d17, 0.0) / i17;
-    let l17: f32 = leadr_env(2.0 * d17 * (-nx17 * i17) - vx, 2.0 * d17 * (-ny17 * i17) - vy, 2.0 * d17 * i17 - vz);
-    let nx18: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
-    let ny18: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i18: f32 = 1.0 / sqrt(nx18 * nx18 + ny18 * ny18 + 1.0);
-    let d18: f32 = (-nx18 * vx - ny18 * vy + vz) * i18;
-    let a18: f32 = LEADR_W1 * LEADR_W1 * max(d18, 0.0) / i18;
-    let l18: f32 = leadr_env(2.0 * d18 * (-nx18 * i18) - vx, 2.0 * d18 * (-ny18 * i18) - vy, 2.0 * d18 * i18 - vz);
-    let nx19: f32 = x0 + (1.0 * LEADR_SPACING_N5) * sx;
-    let ny19: f32 = y0 + ((1.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i19: f32 = 1.0 / sqrt(nx19 * nx19 + ny19 * ny19 + 1.0);
-    let d19: f32 = (-nx19 * vx - ny19 * vy + vz) * i19;
-    let a19: f32 = LEADR_W1 * LEADR_W2 * max(d19, 0.0) / i19;
-    let l19: f32 = leadr_env(2.0 * d19 * (-nx19 * i19) - vx, 2.0 * d19 * (-ny19 * i19) - vy, 2.0 * d19 * i19 - vz);
-    let nx20: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
-    let ny20: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (-2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i20: f32 = 1.0 / sqrt(nx20 * nx20 + ny20 * ny20 + 1.0);
-    let d20: f32 = (-nx20 * vx - ny20 * vy + vz) * i20;
-    let a20: f32 = LEADR_W2 * LEADR_W2 * max(d20, 0.0) / i20;
-    let l20: f32 = leadr_env(2.0 * d20 * (-nx20 * i20) - vx, 2.0 * d20 * (-ny20 * i20) - vy, 2.0 * d20 * i20 - vz);
-    let nx21: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
-    let ny21: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (-1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i21: f32 = 1.0 / sqrt(nx21 * nx21 + ny21 * ny21 + 1.0);
-    let d21: f32 = (-nx21 * vx - ny21 * vy + vz) * i21;
-    let a21: f32 = LEADR_W2 * LEADR_W1 * max(d21, 0.0) / i21;
-    let l21: f32 = leadr_env(2.0 * d21 * (-nx21 * i21) - vx, 2.0 * d21 * (-ny21 * i21) - vy, 2.0 * d21 * i21 - vz);
-    let nx22: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
-    let ny22: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (0.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i22: f32 = 1.0 / sqrt(nx22 * nx22 + ny22 * ny22 + 1.0);
-    let d22: f32 = (-nx22 * vx - ny22 * vy + vz) * i22;
-    let a22: f32 = LEADR_W2 * LEADR_W0 * max(d22, 0.0) / i22;
-    let l22: f32 = leadr_env(2.0 * d22 * (-nx22 * i22) - vx, 2.0 * d22 * (-ny22 * i22) - vy, 2.0 * d22 * i22 - vz);
-    let nx23: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
-    let ny23: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (1.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i23: f32 = 1.0 / sqrt(nx23 * nx23 + ny23 * ny23 + 1.0);
-    let d23: f32 = (-nx23 * vx - ny23 * vy + vz) * i23;
-    let a23: f32 = LEADR_W2 * LEADR_W1 * max(d23, 0.0) / i23;
-    let l23: f32 = leadr_env(2.0 * d23 * (-nx23 * i23) - vx, 2.0 * d23 * (-ny23 * i23) - vy, 2.0 * d23 * i23 - vz);
-    let nx24: f32 = x0 + (2.0 * LEADR_SPACING_N5) * sx;
-    let ny24: f32 = y0 + ((2.0 * LEADR_SPACING_N5) * rxy + (2.0 * LEADR_SPACING_N5) * sr) * sy;
-    let i24: f32 = 1.0 / sqrt(nx24 * nx24 + ny24 * ny24 + 1.0);
-    let d24: f32 = (-nx24 * vx - ny24 * vy + vz) * i24;
-    let a24: f32 = LEADR_W2 * LEADR_W2 * max(d24, 0.0) / i24;
-    let l24: f32 = leadr_env(2.0 * d24 * (-nx24 * i24) - vx, 2.0 * d24 * (-ny24 * i24) - vy, 2.0 * d24 * i24 - vz);
-    let num: f32 = a0 * l0 + a1 * l1 + a2 * l2 + a3 * l3 + a4 * l4 + a5 * l5 + a6 * l6 + a7 * l7 + a8 * l8 + a9 * l9 + a10 * l10 + a11 * l11 + a12 * l12 + a13 * l13 + a14 * l14 + a15 * l15 + a16 * l16 + a17 * l17 + a18 * l18 + a19 * l19 + a20 * l20 + a21 * l21 + a22 * l22 + a23 * l23 + a24 * l24;
-    let den: f32 = a0 + a1 + a2 + a3 + a4 + a5 + a6 + a7 + a8 + a9 + a10 + a11 + a12 + a13 + a14 + a15 + a16 + a17 + a18 + a19 + a20 + a21 + a22 + a23 + a24;
-    if (den <= 0.0) {
-        return 0.0;
-    }
-    return num / den;
-",
+        body: Body::Unrolled(leadr5_body),
         deps: &["leadr_env"],
     },
     FnDesc {
@@ -479,12 +377,12 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "α_me from y = 1 − ‖b̄‖ (seed 000 §3.3): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (results/multiscale.md; y in (0, 1)).",
         params: "y: f32",
         ret: "f32",
-        body: "    let s: f32 = -log(y);
+        body: Body::Text("    let s: f32 = -log(y);
     let x: f32 = 1.0 / s;
     let p: f32 = x * (ALPHA_ME_C1 + x * (ALPHA_ME_C2 + x * (ALPHA_ME_C3 + x * (ALPHA_ME_C4 + x * (ALPHA_ME_C5 + x * (ALPHA_ME_C6 + x * ALPHA_ME_C7))))));
     let r: f32 = 0.5 * s - 0.65342640972 + 0.5 * log(s) + p;
     return sqrt(y / r);
-",
+"),
         deps: &[],
     },
     FnDesc {
@@ -492,8 +390,8 @@ pub const FUNCTIONS: &[FnDesc] = &[
         doc: "Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).",
         params: "y_me: f32, y_mi: f32",
         ret: "f32",
-        body: "    return alpha_me(y_me + y_mi - y_me * y_mi);
-",
+        body: Body::Text("    return alpha_me(y_me + y_mi - y_me * y_mi);
+"),
         deps: &["alpha_me"],
     },
 ];

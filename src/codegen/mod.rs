@@ -220,8 +220,9 @@ fn used_consts<'a>(fns: &[&FnDesc], consts: &'a [Const]) -> Vec<&'a Const> {
         .iter()
         .filter(|c| {
             fns.iter().any(|f| {
-                f.body.match_indices(c.name.as_str()).any(|(i, _)| {
-                    let after = f.body[i + c.name.len()..].chars().next();
+                let body = f.body.text();
+                body.match_indices(c.name.as_str()).any(|(i, _)| {
+                    let after = body[i + c.name.len()..].chars().next();
                     !after.is_some_and(|ch| ch.is_alphanumeric() || ch == '_')
                 })
             })
@@ -244,7 +245,11 @@ pub fn render_wgsl(title: &str, names: &[&str], consts: &[Const], command: &str)
     for f in fns {
         s.push_str(&format!(
             "\n// {}\nfn {}({}) -> {} {{\n{}}}\n",
-            f.doc, f.name, f.params, f.ret, f.body
+            f.doc,
+            f.name,
+            f.params,
+            f.ret,
+            f.body.text()
         ));
     }
     Ok(s)
@@ -268,7 +273,11 @@ pub fn render_rust(names: &[&str], consts: &[Const], command: &str) -> Result<St
     for f in fns {
         s.push_str(&format!(
             "\n/// {}\npub fn {}({}) -> {} {{\n{}}}\n",
-            f.doc, f.name, f.params, f.ret, f.body
+            f.doc,
+            f.name,
+            f.params,
+            f.ret,
+            f.body.text()
         ));
     }
     Ok(s)
