@@ -493,43 +493,38 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
     let d32 = |x: [f64; 2]| x.map(|y| y as f32);
     let lmax = |m: [f64; 3]| crate::linalg::sym2_eigen(&Matrix2::new(m[0], m[2], m[2], m[1])).1;
     let a32 = al as f32;
-    let inf = f64::INFINITY;
+    // a rule evaluated twice from one argument list: f64 reference and f32 shading form
+    // (the literal constants infer to either precision)
+    macro_rules! both {
+        ($f:path; $x64:expr, $x32:expr; $($c:expr),*) => {
+            ($f(al, $x64, $($c),*), $f(a32, $x32, $($c),*), json!({}))
+        };
+        ($f:path; $x64:expr, $y64:expr, $x32:expr, $y32:expr; $($c:expr),*) => {
+            ($f(al, $x64, $y64, $($c),*), $f(a32, $x32, $y32, $($c),*), json!({}))
+        };
+    }
     let (v64, v32, extra): (f64, f32, serde_json::Value) = match f {
-        FilterName::ToksvigBp => (
-            r::toksvig_bp(al, b()?),
-            r::toksvig_bp(a32, b()? as f32),
-            json!({}),
-        ),
-        FilterName::Toksvig => (
-            r::toksvig_alpha2(al, b()?, 2.0),
-            r::toksvig_alpha2(a32, b()? as f32, 2.0),
-            json!({}),
-        ),
-        FilterName::ToksvigHalf => (
-            r::toksvig_alpha2(al, b()?, 1.0),
-            r::toksvig_alpha2(a32, b()? as f32, 1.0),
-            json!({}),
-        ),
-        FilterName::Vmf2 => (
-            r::vmf(al, b()?, 2.0),
-            r::vmf(a32, b()? as f32, 2.0),
-            json!({}),
-        ),
-        FilterName::Vmf1 => (
-            r::vmf(al, b()?, 1.0),
-            r::vmf(a32, b()? as f32, 1.0),
-            json!({}),
-        ),
-        FilterName::VmfHalf => (
-            r::vmf(al, b()?, 0.5),
-            r::vmf(a32, b()? as f32, 0.5),
-            json!({}),
-        ),
-        FilterName::Seed000Paper => (
-            r::seed000_paper(al, b()?),
-            r::seed000_paper(a32, b()? as f32),
-            json!({}),
-        ),
+        FilterName::ToksvigBp => {
+            let bv = b()?;
+            (
+                r::toksvig_bp(al, bv),
+                r::toksvig_bp(a32, bv as f32),
+                json!({}),
+            )
+        }
+        FilterName::Toksvig => both!(r::toksvig_alpha2; b()?, b()? as f32; 2.0),
+        FilterName::ToksvigHalf => both!(r::toksvig_alpha2; b()?, b()? as f32; 1.0),
+        FilterName::Vmf2 => both!(r::vmf; b()?, b()? as f32; 2.0),
+        FilterName::Vmf1 => both!(r::vmf; b()?, b()? as f32; 1.0),
+        FilterName::VmfHalf => both!(r::vmf; b()?, b()? as f32; 0.5),
+        FilterName::Seed000Paper => {
+            let bv = b()?;
+            (
+                r::seed000_paper(al, bv),
+                r::seed000_paper(a32, bv as f32),
+                json!({}),
+            )
+        }
         FilterName::Seed000Moment => {
             let rho = crate::multiscale::mrl::mrl_pair(al).0;
             let y = 1.0 - b()? * rho;
@@ -562,52 +557,21 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
             let (u, v) = (v3(&a.dn_u, "dn-u")?, v3(&a.dn_v, "dn-v")?);
             let (u3, w3) = (c32(u), c32(v));
             match f {
-                FilterName::Deferred => (
-                    r::deferred(al, u, v, 0.25, 0.18),
-                    r::deferred(a32, u3, w3, 0.25, 0.18),
-                    json!({}),
-                ),
-                FilterName::DeferredUnclamped => (
-                    r::deferred(al, u, v, 0.25, inf),
-                    r::deferred(a32, u3, w3, 0.25, f32::INFINITY),
-                    json!({}),
-                ),
-                FilterName::Filament => (
-                    r::deferred(al, u, v, 0.15, 0.04),
-                    r::deferred(a32, u3, w3, 0.15, 0.04),
-                    json!({}),
-                ),
-                FilterName::Unity => (
-                    r::deferred(al, u, v, 0.1, 0.04),
-                    r::deferred(a32, u3, w3, 0.1, 0.04),
-                    json!({}),
-                ),
-                FilterName::UnityProjected => (
-                    r::projected_space(al, u, v, 0.1, 0.04),
-                    r::projected_space(a32, u3, w3, 0.1, 0.04),
-                    json!({}),
-                ),
-                _ => (
-                    r::deferred_on_alpha(al, u, v, 0.25, 0.18),
-                    r::deferred_on_alpha(a32, u3, w3, 0.25, 0.18),
-                    json!({}),
-                ),
+                FilterName::Deferred => both!(r::deferred; u, v, u3, w3; 0.25, 0.18),
+                // 1e30 for "no clamp": the saturation at α′ = 1 acts long before it
+                FilterName::DeferredUnclamped => both!(r::deferred; u, v, u3, w3; 0.25, 1e30),
+                FilterName::Filament => both!(r::deferred; u, v, u3, w3; 0.15, 0.04),
+                FilterName::Unity => both!(r::deferred; u, v, u3, w3; 0.1, 0.04),
+                FilterName::UnityProjected => both!(r::projected_space; u, v, u3, w3; 0.1, 0.04),
+                _ => both!(r::deferred_on_alpha; u, v, u3, w3; 0.25, 0.18),
             }
         }
         FilterName::Eigen | FilterName::KaplanyanRect | FilterName::Forward => {
             let (u, v) = (v2(&a.du, "du")?, v2(&a.dv, "dv")?);
             let (u2, w2) = (d32(u), d32(v));
             match f {
-                FilterName::Eigen => (
-                    r::eigen_eq10(al, u, v, 0.25, 0.18),
-                    r::eigen_eq10(a32, u2, w2, 0.25, 0.18),
-                    json!({}),
-                ),
-                FilterName::KaplanyanRect => (
-                    r::kaplanyan_rect(al, u, v, 0.25, 0.18),
-                    r::kaplanyan_rect(a32, u2, w2, 0.25, 0.18),
-                    json!({}),
-                ),
+                FilterName::Eigen => both!(r::eigen_eq10; u, v, u2, w2; 0.25, 0.18),
+                FilterName::KaplanyanRect => both!(r::kaplanyan_rect; u, v, u2, w2; 0.25, 0.18),
                 _ => {
                     let m = r::forward_matrix(al, u, v, 0.25);
                     let m32 = r::forward_matrix(a32, u2, w2, 0.25);
