@@ -204,10 +204,31 @@ pub struct Choice {
     pub cost_ns: Option<f64>,
 }
 
-fn measured(results: &Path, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
-    let f = crate::fit::read_result(results, "filters");
+/// The measured tables a scene chooses from, read once per build.
+struct Measured {
+    /// results/fits/filters.json (errors)
+    filters: Option<serde_json::Value>,
+    /// results/costs.json (ns per evaluation)
+    costs: Option<serde_json::Value>,
+}
+
+impl Measured {
+    fn load(results: &Path) -> Measured {
+        Measured {
+            filters: crate::fit::read_result(results, "filters"),
+            costs: std::fs::read_to_string(results.join("costs.json"))
+                .ok()
+                .and_then(|t| serde_json::from_str(&t).ok()),
+        }
+    }
+    fn cost(&self, key: &str) -> Option<f64> {
+        self.costs.as_ref().and_then(|c| c[key].as_f64())
+    }
+}
+
+fn measured(m: &Measured, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
     let beck = ndf == "beckmann";
-    let err = f.as_ref().and_then(|f| match o.error_key {
+    let err = m.filters.as_ref().and_then(|f| match o.error_key {
         ErrorKey::Summary(k) => {
             let key = if beck {
                 format!("beckmann:{k}")
@@ -230,12 +251,9 @@ fn measured(results: &Path, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f
                 ))
             }),
     });
-    let costs: Option<serde_json::Value> = std::fs::read_to_string(results.join("costs.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok());
     let cost = match o.cost_key {
         None => Some(0.0),
-        Some(k) => costs.as_ref().and_then(|c| c[k].as_f64()),
+        Some(k) => m.cost(k),
     };
     (err, cost)
 }
@@ -246,10 +264,10 @@ fn choose(
     opts: &[Opt],
     budget: f64,
     ndf: &str,
-    results: &Path,
+    m: &Measured,
 ) -> Result<Choice> {
     let mk = |o: &Opt| {
-        let (error, cost_ns) = measured(results, o, ndf);
+        let (error, cost_ns) = measured(m, o, ndf);
         Choice {
             aspect: aspect.into(),
             key: o.key.into(),
@@ -307,12 +325,8 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     let dg1 = sl
         .as_ref()
         .and_then(|v| v["held_out"]["ours"]["max_dg1"].as_f64());
-    let costs: Option<serde_json::Value> = std::fs::read_to_string(results.join("costs.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok());
-    let spec_cost = costs
-        .as_ref()
-        .and_then(|c| c["kernel-ggx-specular/per-pixel"].as_f64());
+    let measured_tables = Measured::load(results);
+    let spec_cost = measured_tables.cost("kernel-ggx-specular/per-pixel");
     let fmt_cost =
         |c: Option<f64>| c.map_or("(run bench-report)".to_string(), |v| format!("{v:.2}"));
     match (s.ndf.as_str(), s.roughness.as_str()) {
@@ -343,9 +357,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         let sph = lt
             .as_ref()
             .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64());
-        let cost = costs
-            .as_ref()
-            .and_then(|c| c["kernel-ltc-quad/per-pixel"].as_f64());
+        let cost = measured_tables.cost("kernel-ltc-quad/per-pixel");
         report.push_str(&format!(
             "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc.md) | {} (scalar, per pixel) |\n",
             mean.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
@@ -355,9 +367,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     if s.lights.iter().any(|l| l == "environment") {
         fns.push("leadr5_env");
-        let cost = costs
-            .as_ref()
-            .and_then(|c| c["kernel-leadr/per-pixel"].as_f64());
+        let cost = measured_tables.cost("kernel-leadr/per-pixel");
         report.push_str(&format!("| environment | LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup) | leadr5_env | grid error: results/leadr.md | {} (scalar, per pixel) |\n", fmt_cost(cost)));
     }
     let mut choices = Vec::new();
@@ -365,7 +375,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         ("normal-map filter", s.normal_map_filter.as_str(), MAP_OPTS),
         ("screen-space AA", s.screen_space_aa.as_str(), AA_OPTS),
     ] {
-        let c = choose(aspect, want, opts, s.error_budget, &s.ndf, results)?;
+        let c = choose(aspect, want, opts, s.error_budget, &s.ndf, &measured_tables)?;
         if let Some(f) = &c.function {
             fns.push(
                 codegen::desc::FUNCTIONS
