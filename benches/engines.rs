@@ -406,6 +406,20 @@ fn tensor(c: &mut Criterion) {
             });
         }
     }
+    // the same box at every depth (footprint level) of the tensor
+    for z in 0..4usize {
+        g.bench_with_input(BenchmarkId::new("sat-level", z), &z, |b, &z| {
+            b.iter(|| {
+                range(
+                    &cp,
+                    &sat,
+                    black_box((96, 159)),
+                    black_box((96, 159)),
+                    black_box(z),
+                )
+            })
+        });
+    }
     g.finish();
     let small = ndfbench::verify::tensor::random_cp(16, [16, 16, 4], 4);
     let ssat = Sat::build(&small);

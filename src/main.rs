@@ -99,6 +99,16 @@ enum Cmd {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
+    /// Our CP-ALS against TensorLy's parafac on the same P-NDF tensors (issue 5 §3); needs
+    /// python3 with numpy and tensorly; writes results/tensor-tensorly.json (rendered into
+    /// results/tensor.md by `regen --only tensor`).
+    TensorlyCompare {
+        /// the Python interpreter
+        #[arg(long, default_value = "python3")]
+        python: String,
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
     /// Turn criterion output (target/criterion) into results/performance.md.
     BenchReport {
         /// criterion output directory
@@ -279,6 +289,12 @@ fn main() -> ExitCode {
             println!("{s}");
             true
         }),
+        Some(Cmd::TensorlyCompare { python, preset }) => {
+            ndfbench::tensor::compare::run(&cli.results, &python, preset).map(|r| {
+                print!("{}", ndfbench::tensor::compare::table(&r));
+                true
+            })
+        }
         Some(Cmd::BenchReport { criterion }) => {
             ndfbench::report::performance::run(&criterion, &cli.results).map(|s| {
                 println!("{s}");

@@ -335,6 +335,13 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
                 format!("filters/{}", t.function),
                 serde_json::json!(t.mean_ns / 1024.0),
             );
+        } else if t.group.starts_with("tensor-") {
+            let key = if t.param.is_empty() {
+                format!("{}/{}", t.group, t.function)
+            } else {
+                format!("{}/{}/{}", t.group, t.function, t.param)
+            };
+            costs.insert(key, serde_json::json!(t.mean_ns));
         } else if t.group.starts_with("kernel-") && t.param == "4096" {
             costs.insert(
                 format!("{}/{}", t.group, t.function),
@@ -344,7 +351,7 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
     }
     costs.insert(
         "_note".into(),
-        serde_json::json!("ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch); written by bench-report"),
+        serde_json::json!("ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch; tensor-*: per query or sample); written by bench-report"),
     );
     crate::io::write_atomic(
         &path,
@@ -383,13 +390,25 @@ fn tensor_table(timed: &[Timed]) -> String {
             get("naive").map_or("—".into(), |v| format!("{v:.0}"))
         ));
     }
-    let times: Vec<f64> = sat.iter().map(|t| t.mean_ns).collect();
+    let mut times: Vec<f64> = sat.iter().map(|t| t.mean_ns).collect();
+    let mut levels: Vec<&&Timed> = rows
+        .iter()
+        .filter(|t| t.group == "tensor-range" && t.function == "sat-level")
+        .collect();
+    levels.sort_by(|a, b| a.param.cmp(&b.param));
+    for l in &levels {
+        md.push_str(&format!(
+            "| 64 at level {} | {:.1} | — |\n",
+            l.param, l.mean_ns
+        ));
+        times.push(l.mean_ns);
+    }
     if let (Some(lo), Some(hi)) = (
         times.iter().cloned().reduce(f64::min),
         times.iter().cloned().reduce(f64::max),
     ) {
         md.push_str(&format!(
-            "\nLargest / smallest SAT query time over box sizes: {:.3} (goal ≤ 1.2).\n",
+            "\nLargest / smallest SAT query time over box sizes and levels: {:.3} (goal ≤ 1.2).\n",
             hi / lo
         ));
     }

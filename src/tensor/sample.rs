@@ -109,3 +109,106 @@ pub fn total(cp: &Cp, z: usize) -> f64 {
     }
     s
 }
+
+/// A χ² goodness-of-fit test of [`sample`] against [`pdf`] on one block slice.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct ChiSquare {
+    /// bins of 2×2 pixels: (t/2)² of them
+    pub bins: usize,
+    pub samples: usize,
+    pub chi2: f64,
+    pub dof: usize,
+    /// upper-tail p-value (Wilson–Hilferty approximation of the χ² distribution)
+    pub p: f64,
+    /// max |returned pdf − pdf(x, y)| over the samples (0 when the sampler is exact)
+    pub pdf_mismatch: f64,
+    /// ∫ pdf over the block by midpoint sums on an 8× finer grid (1 for a density)
+    pub integral: f64,
+}
+
+/// χ² test of the hierarchical sampler on slice `z`: `n` samples from a seeded ChaCha8
+/// stream, expected bin masses from midpoint integration of [`pdf`] (exact: the pdf is
+/// bilinear between pixel centres, sampled at 8×8 points per pixel). `None` when the
+/// slice is empty or the block is not a power-of-two square.
+pub fn chi_square(cp: &Cp, sat: &Sat, z: usize, n: usize, seed: u64) -> Option<ChiSquare> {
+    use rand::{Rng, SeedableRng};
+    let t = cp.shape[0];
+    let tot = total(cp, z);
+    if !(tot > 0.0) || t < 2 {
+        return None;
+    }
+    let (nb, sub) = (t / 2, 8usize);
+    let mut expected = vec![0.0f64; nb * nb];
+    let mut integral = 0.0;
+    for j in 0..t * sub {
+        for i in 0..t * sub {
+            let (x, y) = ((i as f64 + 0.5) / sub as f64, (j as f64 + 0.5) / sub as f64);
+            let p = pdf(cp, z, tot, x, y) / (sub * sub) as f64;
+            integral += p;
+            expected[(y as usize / 2) * nb + x as usize / 2] += p;
+        }
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut counts = vec![0usize; nb * nb];
+    let mut mismatch = 0.0f64;
+    for _ in 0..n {
+        let s = sample(cp, sat, z, tot, [rng.random(), rng.random(), rng.random()])?;
+        counts[((s.y as usize).min(t - 1) / 2) * nb + (s.x as usize).min(t - 1) / 2] += 1;
+        mismatch = mismatch.max((s.pdf - pdf(cp, z, tot, s.x, s.y)).abs());
+    }
+    // bins with (almost) no expected mass are pooled into one, as usual for χ²
+    let (mut chi2, mut dof, mut pooled_e, mut pooled_c) = (0.0, 0usize, 0.0, 0.0);
+    for (&c, &e) in counts.iter().zip(&expected) {
+        let ne = n as f64 * e;
+        if ne < 5.0 {
+            pooled_e += ne;
+            pooled_c += c as f64;
+        } else {
+            chi2 += (c as f64 - ne).powi(2) / ne;
+            dof += 1;
+        }
+    }
+    if pooled_e > 0.0 {
+        chi2 += (pooled_c - pooled_e).powi(2) / pooled_e;
+        dof += 1;
+    }
+    let dof = dof.saturating_sub(1).max(1);
+    let k = dof as f64;
+    let zz = ((chi2 / k).powf(1.0 / 3.0) - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt();
+    Some(ChiSquare {
+        bins: nb * nb,
+        samples: n,
+        chi2,
+        dof,
+        p: 0.5 * libm::erfc(zz / std::f64::consts::SQRT_2),
+        pdf_mismatch: mismatch,
+        integral,
+    })
+}
+
+/// The paper's binning comparison (seed 002 §5.2): a per-pixel histogram of `n`
+/// descents, normalised, against the normalised reconstruction: (MSE, its Monte Carlo
+/// expectation Σ p(1 − p)/n). `None` for an empty slice.
+pub fn binning_mse(cp: &Cp, sat: &Sat, z: usize, n: usize, seed: u64) -> Option<(f64, f64)> {
+    use rand::{Rng, SeedableRng};
+    let t = cp.shape[0];
+    let tot = total(cp, z);
+    if !(tot > 0.0) {
+        return None;
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut hist = vec![0usize; t * t];
+    for _ in 0..n {
+        let (i, j, _) = descend(cp, sat, z, rng.random())?;
+        hist[j * t + i] += 1;
+    }
+    let (mut mse, mut expect) = (0.0, 0.0);
+    for j in 0..t {
+        for i in 0..t {
+            let p = clamp0(cp.at(i, j, z)) / tot;
+            mse += (hist[j * t + i] as f64 / n as f64 - p).powi(2);
+            expect += p * (1.0 - p) / n as f64;
+        }
+    }
+    Some((mse, expect))
+}
