@@ -28,6 +28,7 @@ fn ours_walks_the_same_als_path_as_tensorly() {
             max_iters: 500,
             restarts: 1,
             seed: 1,
+            nonnegative: false,
         };
         let (oe, oi, os) = run_ours(t, &o, 1).unwrap();
         let init = initial_factors(t.shape, rank, restart_seed(o.seed, 0));

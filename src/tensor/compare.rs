@@ -182,6 +182,7 @@ pub fn run(results: &Path, python: &str, preset: Preset) -> Result<Report> {
                     max_iters,
                     restarts: 1,
                     seed: 5,
+                    nonnegative: false,
                 };
                 let (oe, oi, os) = run_ours(tt, &o, repeats)?;
                 let init =
