@@ -72,6 +72,24 @@ impl Shipped {
             mag: m2.chunks(4).map(|c| [c[0], c[1]]).collect(),
         })
     }
+    /// Only the M⁻¹ array; the norms are taken from `norms` (ours: the BRDF's albedo by
+    /// quadrature), so that the comparison isolates the fitted matrices.
+    pub fn parse_mat_with_norms(text: &str, mat_name: &str, norms: &Shipped) -> Result<Shipped> {
+        let m1 = js_array(text, mat_name)?;
+        if m1.len() != 4 * norms.n * norms.n {
+            return Err(Error::InvalidArgument(format!(
+                "'{mat_name}' has {} numbers: expected 4 × {}² = {}",
+                m1.len(),
+                norms.n,
+                4 * norms.n * norms.n
+            )));
+        }
+        Ok(Shipped {
+            n: norms.n,
+            mat: m1.chunks(4).map(|c| [c[0], c[1], c[2], c[3]]).collect(),
+            mag: norms.mag.clone(),
+        })
+    }
     /// (production inverse, norm) of cell (r index i, t index j).
     pub fn cell(&self, i: usize, j: usize) -> ([f64; 4], f64) {
         let k = i + self.n * j;
@@ -109,6 +127,34 @@ pub fn cell_error(
     Ok((l2, c))
 }
 
+/// The error a shader sees between table cells: the production inverse bilinearly
+/// interpolated (as a GPU samples the texture) at the centre of the square with corners
+/// (i, j) and (i + 1, j + 1), judged against the BRDF there with its exact norm (by
+/// quadrature, so only the interpolated matrix is tested). `None` when a corner is
+/// missing (NaN). Relative L2.
+pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Result<Option<f64>> {
+    let n = t.n;
+    if i + 1 >= n || j + 1 >= n {
+        return Ok(None);
+    }
+    let corners = [
+        t.mat[i + n * j],
+        t.mat[i + 1 + n * j],
+        t.mat[i + n * (j + 1)],
+        t.mat[i + 1 + n * (j + 1)],
+    ];
+    if corners.iter().flatten().any(|v| !v.is_finite()) {
+        return Ok(None);
+    }
+    let inv: [f64; 4] = std::array::from_fn(|k| corners.iter().map(|c| c[k]).sum::<f64>() / 4.0);
+    let r = (i as f64 + 0.5) / (n - 1) as f64;
+    let tt = (j as f64 + 0.5) / (n - 1) as f64;
+    let alpha = r * r;
+    let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
+    let (norm, _, _) = Target::new(alpha, theta)?.norm_quad(1e-8);
+    cell_error(&inv, norm, alpha, theta, n_samples).map(|(l2, _)| Some(l2))
+}
+
 /// Compare two tables of the same size (ours from results/fits/ltc-ggx.json).
 pub fn compare(ours: &Shipped, shipped: &Shipped, n_samples: usize) -> Result<Vec<CellCmp>> {
     use rayon::prelude::*;
@@ -119,7 +165,11 @@ pub fn compare(ours: &Shipped, shipped: &Shipped, n_samples: usize) -> Result<Ve
         )));
     }
     let n = ours.n;
-    (0..n * n)
+    // cells the file leaves out (NaN) are skipped
+    let present: Vec<usize> = (0..n * n)
+        .filter(|&k| shipped.mat[k].iter().all(|v| v.is_finite()) && shipped.mag[k][0].is_finite())
+        .collect();
+    present
         .into_par_iter()
         .map(|k| {
             let (i, j) = (k % n, k / n);
@@ -175,6 +225,16 @@ pub fn ours(results: &Path) -> Result<Shipped> {
     Ok(Shipped { n, mat, mag })
 }
 
+/// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
+/// (identifies the table a comparison was made against).
+pub fn ours_mean_l2(results: &Path) -> Result<f64> {
+    crate::fit::read_result(results, "ltc-ggx")
+        .and_then(|v| v["held_out"]["mean_l2"].as_f64())
+        .ok_or_else(|| {
+            Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.mean_l2".into())
+        })
+}
+
 /// Smoothness: mean absolute second difference of each parameter along both axes,
 /// relative to its range.
 pub fn roughness_of_table(t: &Shipped) -> [f64; 4] {
@@ -185,25 +245,31 @@ pub fn roughness_of_table(t: &Shipped) -> [f64; 4] {
             .mat
             .iter()
             .map(|c| c[k].abs())
+            .filter(|v| v.is_finite())
             .fold(0.0, f64::max)
             .max(1e-300);
         let mut s = 0.0;
-        let mut cnt = 0.0;
+        let mut cnt = 0.0f64;
+        // second differences wherever all three cells are present (NaN = left out)
+        let mut add = |d: f64| {
+            if d.is_finite() {
+                s += d.abs();
+                cnt += 1.0;
+            }
+        };
         for j in 0..n {
             for i in 1..n - 1 {
                 let v = |ii: usize| t.mat[ii + n * j][k];
-                s += (v(i - 1) - 2.0 * v(i) + v(i + 1)).abs();
-                cnt += 1.0;
+                add(v(i - 1) - 2.0 * v(i) + v(i + 1));
             }
         }
         for i in 0..n {
             for j in 1..n - 1 {
                 let v = |jj: usize| t.mat[i + n * jj][k];
-                s += (v(j - 1) - 2.0 * v(j) + v(j + 1)).abs();
-                cnt += 1.0;
+                add(v(j - 1) - 2.0 * v(j) + v(j + 1));
             }
         }
-        *o = s / cnt / range;
+        *o = s / cnt.max(1.0) / range;
     }
     out
 }
@@ -213,6 +279,8 @@ pub fn run(
     shipped_path: &Path,
     mat: &str,
     mag: &str,
+    norm_ours: bool,
+    source: Option<&str>,
     results: &Path,
     out: &Path,
 ) -> Result<String> {
@@ -220,8 +288,12 @@ pub fn run(
         path: shipped_path.display().to_string(),
         msg: e.to_string(),
     })?;
-    let shipped = Shipped::parse(&text, mat, mag)?;
     let ours = ours(results)?;
+    let shipped = if norm_ours {
+        Shipped::parse_mat_with_norms(&text, mat, &ours)?
+    } else {
+        Shipped::parse(&text, mat, mag)?
+    };
     let cmp = compare(&ours, &shipped, 48)?;
     let inner: Vec<&CellCmp> = cmp.iter().filter(|c| c.i > 0).collect();
     let better = inner.iter().filter(|c| c.ours_l2 <= c.shipped_l2).count();
@@ -232,9 +304,12 @@ pub fn run(
         .filter(|c| c.ours_l2 > c.shipped_l2 * 1.001)
         .collect();
     let mut md = format!(
-        "# Our GGX LTC table against the shipped one\n\nWritten by `cargo run --release -- ltc-compare --shipped {}`. Both tables judged against the cosine-weighted GGX BRDF (height-correlated G2, F = 1) at the same cells, on the same held-out 48×48 + 48×48 sample sets. Cells with r > 0: {}.\n\n| | ours | shipped |\n|---|---|---|\n| mean relative L2 | {:.2} % | {:.2} % |\n| max relative L2 | {:.1} % | {:.1} % |\n| mean cubic metric | {:.3e} | {:.3e} |\n| smoothness (mean |Δ²| / range of a, b, c, d) | {:?} | {:?} |\n\nOurs no worse (relative L2, 0.1 % slack) in {} of {} cells.\n\n",
+        "# Our GGX LTC table against the shipped one\n\nWritten by `cargo run --release -- ltc-compare --shipped {}`. Both tables judged against the cosine-weighted GGX BRDF (height-correlated G2, F = 1) at the same cells, on the same held-out 48×48 + 48×48 sample sets. {}Norms: {}. Cells compared (r > 0; cells the file leaves as NaN are skipped): {} of {}.\n\n| | ours | shipped |\n|---|---|---|\n| mean relative L2 | {:.2} % | {:.2} % |\n| max relative L2 | {:.1} % | {:.1} % |\n| mean cubic metric | {:.3e} | {:.3e} |\n| smoothness (mean |Δ²| / range of a, b, c, d) | {:?} | {:?} |\n\nOurs no worse (relative L2, 0.1 % slack) in {} of {} cells.\n\n",
         shipped_path.display(),
+        source.map(|s| format!("Source of the file: {s}. ")).unwrap_or_default(),
+        if norm_ours { "ours for both (the BRDF albedo by quadrature, error ≤ 1e-9), so only the fitted matrices differ" } else { "each table's own" },
         inner.len(),
+        ours.n * (ours.n - 1),
         100.0 * mean(&|c| c.ours_l2),
         100.0 * mean(&|c| c.shipped_l2),
         100.0 * inner.iter().map(|c| c.ours_l2).fold(0.0, f64::max),
@@ -246,16 +321,63 @@ pub fn run(
         inner.len() - worse.len(),
         inner.len()
     );
-    md.push_str("## Corners\n\n| α | θ | ours L2 | shipped L2 |\n|---|---|---|---|\n");
+    md.push_str("## Per view angle (rows of the table)\n\n| t index | θ | cells | ours: mean L2 | shipped: mean L2 | ours: max L2 | shipped: max L2 | ours no worse |\n|---|---|---|---|---|---|---|---|\n");
+    let mut rows: Vec<usize> = inner.iter().map(|c| c.j).collect();
+    rows.dedup();
+    for j in rows {
+        let row: Vec<&&CellCmp> = inner.iter().filter(|c| c.j == j).collect();
+        let m = row.len() as f64;
+        md.push_str(&format!(
+            "| {j} | {:.2}° | {} | {:.2} % | {:.2} % | {:.1} % | {:.1} % | {} |\n",
+            row[0].theta_deg,
+            row.len(),
+            100.0 * row.iter().map(|c| c.ours_l2).sum::<f64>() / m,
+            100.0 * row.iter().map(|c| c.shipped_l2).sum::<f64>() / m,
+            100.0 * row.iter().map(|c| c.ours_l2).fold(0.0, f64::max),
+            100.0 * row.iter().map(|c| c.shipped_l2).fold(0.0, f64::max),
+            row.iter()
+                .filter(|c| c.ours_l2 <= c.shipped_l2 * 1.001)
+                .count()
+        ));
+    }
+    // between cells: bilinear interpolation at square centres where both rows are present
+    let squares: Vec<(usize, usize)> = (0..ours.n - 1)
+        .flat_map(|j| (1..ours.n - 1).map(move |i| (i, j)))
+        .filter(|&(i, j)| {
+            [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                .iter()
+                .all(|&(a, b)| shipped.mat[a + ours.n * b].iter().all(|v| v.is_finite()))
+        })
+        .collect();
+    let mids: Vec<(f64, f64)> = {
+        use rayon::prelude::*;
+        squares
+            .par_iter()
+            .map(|&(i, j)| {
+                Ok((
+                    midpoint_error(&ours, i, j, 48)?.unwrap_or(f64::NAN),
+                    midpoint_error(&shipped, i, j, 48)?.unwrap_or(f64::NAN),
+                ))
+            })
+            .collect::<Result<_>>()?
+    };
+    if !mids.is_empty() {
+        let m = mids.len() as f64;
+        md.push_str(&format!(
+            "\n## Between cells (what a shader sees)\n\nThe production inverse bilinearly interpolated at the centre of each square of four present cells ({} squares), judged against the BRDF there (exact norm by quadrature): mean relative L2 ours {:.2} %, shipped {:.2} %; max ours {:.1} %, shipped {:.1} %; ours no worse (0.1 % slack) in {} of {}.\n",
+            mids.len(),
+            100.0 * mids.iter().map(|x| x.0).sum::<f64>() / m,
+            100.0 * mids.iter().map(|x| x.1).sum::<f64>() / m,
+            100.0 * mids.iter().map(|x| x.0).fold(0.0, f64::max),
+            100.0 * mids.iter().map(|x| x.1).fold(0.0, f64::max),
+            mids.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
+            mids.len()
+        ));
+    }
+    md.push_str("\n## Corners\n\n| α | θ | ours L2 | shipped L2 |\n|---|---|---|---|\n");
     let n = ours.n;
-    for (i, j) in [
-        (1usize, 0usize),
-        (1, n - 1),
-        (n - 1, 0),
-        (n - 1, n - 1),
-        (0, 0),
-        (0, n - 1),
-    ] {
+    // r = 0 is left out: the shipped fit put α_min = 1e-5 there, ours the spec's 1e-4
+    for (i, j) in [(1usize, 0usize), (1, n - 1), (n - 1, 0), (n - 1, n - 1)] {
         if let Some(c) = cmp.iter().find(|c| c.i == i && c.j == j) {
             md.push_str(&format!(
                 "| {:.2e} | {:.2}° | {:.2} % | {:.2} % |\n",
@@ -266,17 +388,41 @@ pub fn run(
             ));
         }
     }
-    md.push_str(&format!("\nCells where ours is worse: {}.\n", worse.len()));
-    for c in worse.iter().take(20) {
+    // how much worse, under the relative L2 and under the cubic metric both fits minimise
+    let ratio = |c: &CellCmp| c.ours_l2 / c.shipped_l2.max(1e-300);
+    let cubic_worse = inner
+        .iter()
+        .filter(|c| c.ours_cubic > c.shipped_cubic * 1.001)
+        .count();
+    let worse1 = inner.iter().filter(|c| ratio(c) > 1.01).count();
+    let worse5 = inner.iter().filter(|c| ratio(c) > 1.05).count();
+    let better5 = inner.iter().filter(|c| ratio(c) < 1.0 / 1.05).count();
+    md.push_str(&format!(
+        "\nOurs worse in relative L2 by more than 0.1 %: {} cells; by more than 1 %: {worse1}; by more than 5 %: {worse5}. Ours better by more than 5 %: {better5}. Under the cubic metric (the one both fits minimise), ours worse by more than 0.1 % in {cubic_worse} of {} cells.\n\nWorst cells for ours (ratio ours/shipped, relative L2):\n",
+        worse.len(),
+        inner.len()
+    ));
+    let mut by_ratio: Vec<&&CellCmp> = worse.clone();
+    by_ratio.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
+    for c in by_ratio.iter().take(15) {
         md.push_str(&format!(
-            "- α = {:.3e}, θ = {:.2}°: ours {:.2} %, shipped {:.2} %\n",
+            "- α = {:.3e}, θ = {:.2}°: ours {:.2} %, shipped {:.2} % (×{:.3}); cubic ours {:.3e}, shipped {:.3e}\n",
             c.alpha,
             c.theta_deg,
             100.0 * c.ours_l2,
-            100.0 * c.shipped_l2
+            100.0 * c.shipped_l2,
+            ratio(c),
+            c.ours_cubic,
+            c.shipped_cubic
         ));
     }
     crate::io::write_atomic(&out.join("ltc-compare.md"), md.as_bytes())?;
+    crate::io::write_atomic(
+        &out.join("ltc-compare.json"),
+        serde_json::to_string(&serde_json::json!({"command": format!("cargo run --release -- ltc-compare --shipped {}", shipped_path.display()), "source": source, "norms": if norm_ours { "ours" } else { "shipped" }, "ours_table_mean_l2": ours_mean_l2(results)?, "cell_columns": ["i", "j", "alpha", "theta_deg", "ours_l2", "shipped_l2", "ours_cubic", "shipped_cubic"], "cells": cmp.iter().map(|c| [c.i as f64, c.j as f64, c.alpha, c.theta_deg, c.ours_l2, c.shipped_l2, c.ours_cubic, c.shipped_cubic].map(|x| format!("{x:.5e}").parse::<f64>().unwrap_or(x))).collect::<Vec<_>>()}))
+            .expect("json")
+            .as_bytes(),
+    )?;
     let _ = better;
     Ok(format!(
         "wrote {}: ours no worse in {} of {} cells; mean L2 ours {:.2} % vs shipped {:.2} %",

@@ -138,8 +138,10 @@ pub struct Cell {
     pub m11: f64,
     pub m22: f64,
     pub m13: f64,
-    /// Mean direction (x, z) of the BRDF (Y = (0, 1, 0)).
+    /// The fitted frame axis (x, z) (Y = (0, 1, 0)): the BRDF's mean direction turned
+    /// by `turn` radians about Y.
     pub z_dir: [f64; 2],
+    pub turn: f64,
     pub norm: f64,
     /// Quadrature error estimate of `norm`.
     pub norm_se: f64,
@@ -236,17 +238,28 @@ pub fn params_to_m(p: &[f64]) -> (f64, f64, f64) {
     (m11, m22, p[2].clamp(-1e3, 1e3) * m11)
 }
 
-/// Fit one cell from the start parameters `p0` = (ln m11, ln m22, m13/m11).
+/// The frame axis `z` (in the xz-plane) turned by φ about Y.
+pub fn turn(z: &V3, phi: f64) -> V3 {
+    let (s, c) = phi.sin_cos();
+    V3::new(z.x * c + z.z * s, 0.0, -z.x * s + z.z * c)
+}
+
+/// Fit one cell from the start `p0` = (ln m11, ln m22, m13/m11, φ), where φ turns the
+/// frame axis about Y away from `z`, the BRDF's mean direction. All four are fitted, the
+/// production form's full four degrees of freedom (the reference fitter fixes Z at its
+/// estimate of the mean direction, ~1° off the best axis at grazing angles). Returns the
+/// fitted parameters (the axis is `turn(z, p[3])`) and the iterations.
+#[allow(clippy::too_many_arguments)]
 pub fn fit_cell(
     t: &Target,
     z: &V3,
     norm: f64,
-    p0: &[f64; 3],
+    p0: &[f64; 4],
     n: usize,
     metric: Metric,
     method: Method,
     max_iters: u64,
-) -> Result<([f64; 3], u64)> {
+) -> Result<([f64; 4], u64)> {
     use argmin::core::{CostFunction, Executor, Gradient, State};
     struct Obj<'a> {
         t: &'a Target,
@@ -261,7 +274,12 @@ pub fn fit_cell(
                 return 1e30;
             }
             let (m11, m22, m13) = params_to_m(p);
-            match LtcDist::new(matrix(m11, m22, m13, &self.z)) {
+            let z = if p.len() > 3 {
+                turn(&self.z, p[3].clamp(-0.5, 0.5))
+            } else {
+                self.z
+            };
+            match LtcDist::new(matrix(m11, m22, m13, &z)) {
                 Ok(ltc) => {
                     let (c, l2) = metrics(self.t, &ltc, self.norm, self.n, 0.5);
                     let v = if self.metric == Metric::Cubic { c } else { l2 };
@@ -297,64 +315,118 @@ pub fn fit_cell(
                 .collect())
         }
     }
-    let obj = Obj {
-        t,
-        z: *z,
-        norm,
-        n,
-        metric,
-    };
-    let start = p0.to_vec();
     let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
-    let (best, iters) = match method {
-        Method::NelderMead => {
-            use argmin::solver::neldermead::NelderMead;
-            let mut simplex = vec![start.clone()];
-            for k in 0..3 {
-                let mut q = start.clone();
-                q[k] += if k < 2 { 0.1 } else { 0.05 };
-                simplex.push(q);
-            }
-            let solver = NelderMead::new(simplex)
-                .with_sd_tolerance(1e-12)
-                .map_err(err)?;
-            let res = Executor::new(obj, solver)
-                .configure(|s| s.max_iters(max_iters))
-                .run()
-                .map_err(err)?;
-            (
-                res.state().get_best_param().cloned().unwrap_or(start),
-                res.state().get_iter(),
-            )
-        }
-        Method::Lbfgs => {
-            use argmin::solver::linesearch::MoreThuenteLineSearch;
-            use argmin::solver::quasinewton::LBFGS;
-            let solver = LBFGS::new(MoreThuenteLineSearch::new(), 5)
-                .with_tolerance_grad(1e-14)
-                .map_err(err)?
-                .with_tolerance_cost(1e-14)
-                .map_err(err)?;
-            match Executor::new(obj, solver)
-                .configure(|s| s.param(start.clone()).max_iters(max_iters))
-                .run()
-            {
-                Ok(res) => (
+    // one optimiser run from `start` with the given initial simplex steps
+    let run = |z: V3, start: Vec<f64>, steps: &[f64]| -> Result<(Vec<f64>, u64)> {
+        let obj = Obj {
+            t,
+            z,
+            norm,
+            n,
+            metric,
+        };
+        Ok(match method {
+            Method::NelderMead => {
+                use argmin::solver::neldermead::NelderMead;
+                let mut simplex = vec![start.clone()];
+                for (k, st) in steps.iter().enumerate() {
+                    let mut q = start.clone();
+                    q[k] += st;
+                    simplex.push(q);
+                }
+                let solver = NelderMead::new(simplex)
+                    .with_sd_tolerance(1e-12)
+                    .map_err(err)?;
+                let res = Executor::new(obj, solver)
+                    .configure(|s| s.max_iters(max_iters))
+                    .run()
+                    .map_err(err)?;
+                (
                     res.state().get_best_param().cloned().unwrap_or(start),
                     res.state().get_iter(),
-                ),
-                // a failed line search keeps the start (reported as 0 iterations)
-                Err(_) => (start, 0),
+                )
             }
-        }
+            Method::Lbfgs => {
+                use argmin::solver::linesearch::MoreThuenteLineSearch;
+                use argmin::solver::quasinewton::LBFGS;
+                let solver = LBFGS::new(MoreThuenteLineSearch::new(), 5)
+                    .with_tolerance_grad(1e-14)
+                    .map_err(err)?
+                    .with_tolerance_cost(1e-14)
+                    .map_err(err)?;
+                match Executor::new(obj, solver)
+                    .configure(|s| s.param(start.clone()).max_iters(max_iters))
+                    .run()
+                {
+                    Ok(res) => (
+                        res.state().get_best_param().cloned().unwrap_or(start),
+                        res.state().get_iter(),
+                    ),
+                    // a failed line search keeps the start (reported as 0 iterations)
+                    Err(_) => (start, 0),
+                }
+            }
+        })
     };
-    if best.iter().any(|x| !x.is_finite())
-        || !(obj_value(t, z, norm, n, metric, &best) <= obj_value(t, z, norm, n, metric, p0))
+    // 1. the three matrix parameters, the frame turn held at the start's
+    let phi0 = if t.v.x.abs() > 1e-12 { p0[3] } else { 0.0 };
+    let z1 = turn(z, phi0);
+    let q0 = [p0[0], p0[1], p0[2]];
+    let (b3, i3) = run(z1, q0.to_vec(), &[0.1, 0.1, 0.05])?;
+    let p3: [f64; 3] = if b3.iter().any(|x| !x.is_finite())
+        || !(obj_value(t, &z1, norm, n, metric, &b3) <= obj_value(t, &z1, norm, n, metric, &q0))
     {
         // a diverged or worse result keeps the start
-        return Ok((*p0, iters));
+        q0
+    } else {
+        [b3[0], b3[1], b3[2]]
+    };
+    let p3 = [p3[0], p3[1], p3[2], phi0];
+    // 2. away from normal incidence (where the lobe is symmetric about Z), all four
+    // parameters from that solution; the turn's first step scales with the lobe width.
+    // Taken only if it lowers the training metric and a separate validation set's, so the
+    // cubic metric's spurious basin of very wide LTCs (tiny α) cannot capture it.
+    if t.v.x.abs() > 1e-12 {
+        let (b4, i4) = run(
+            *z,
+            p3.to_vec(),
+            &[0.1, 0.1, 0.05, 0.02 * (10.0 * t.alpha).min(1.0)],
+        )?;
+        let val = |p: &[f64]| val_value(t, z, norm, n, metric, p);
+        if b4.iter().all(|x| x.is_finite())
+            && obj_value(t, z, norm, n, metric, &b4) < obj_value(t, z, norm, n, metric, &p3)
+            && val(&b4) < val(&p3)
+        {
+            return Ok(([b4[0], b4[1], b4[2], b4[3].clamp(-0.5, 0.5)], i3 + i4));
+        }
+        return Ok((p3, i3 + i4));
     }
-    Ok(([best[0], best[1], best[2]], iters))
+    Ok((p3, i3))
+}
+
+/// The fit metric on a validation sample set (a different stratification offset and
+/// count from the training set's).
+fn val_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64]) -> f64 {
+    if p.iter().any(|x| !x.is_finite()) {
+        return f64::INFINITY;
+    }
+    let (m11, m22, m13) = params_to_m(p);
+    let z = if p.len() > 3 {
+        turn(z, p[3].clamp(-0.5, 0.5))
+    } else {
+        *z
+    };
+    match LtcDist::new(matrix(m11, m22, m13, &z)) {
+        Ok(ltc) => {
+            let (c, l2) = metrics(t, &ltc, norm, n + 7, 0.37);
+            if metric == Metric::Cubic {
+                c
+            } else {
+                l2
+            }
+        }
+        Err(_) => f64::INFINITY,
+    }
 }
 
 fn obj_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64]) -> f64 {
@@ -362,7 +434,12 @@ fn obj_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64])
         return f64::INFINITY;
     }
     let (m11, m22, m13) = params_to_m(p);
-    match LtcDist::new(matrix(m11, m22, m13, z)) {
+    let z = if p.len() > 3 {
+        turn(z, p[3].clamp(-0.5, 0.5))
+    } else {
+        *z
+    };
+    match LtcDist::new(matrix(m11, m22, m13, &z)) {
         Ok(ltc) => {
             let (c, l2) = metrics(t, &ltc, norm, n, 0.5);
             if metric == Metric::Cubic {
@@ -420,22 +497,27 @@ pub fn fit_table(
         .map(|j| -> Result<Vec<Cell>> {
             let theta = grid.theta(j);
             let mut col = Vec::with_capacity(grid.n);
-            let mut p = [0.0f64; 3];
+            let mut p = [0.0f64; 4];
             for i in (0..grid.n).rev() {
                 let alpha = grid.alpha(i);
                 let t = Target::new(alpha, theta)?;
-                let (_, _, _, z) = t.moments(32);
+                let (_, _, _, zm) = t.moments(32);
                 let (norm, norm_se, fresnel) = t.norm_quad(1e-9);
                 if i == grid.n - 1 {
-                    p = [alpha.ln(), alpha.ln(), 0.0];
+                    p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
                 } else {
-                    // keep the ratio to α from the rougher neighbour
+                    // keep the ratios to α and the frame turn of the rougher neighbour
+                    // (a continuation: neighbouring cells stay in the same basin, so the
+                    // table stays smooth enough to interpolate)
                     let prev = grid.alpha(i + 1);
                     p[0] += (alpha / prev).ln();
                     p[1] += (alpha / prev).ln();
+                    // the best axis approaches the mean direction as the lobe narrows
+                    p[3] *= alpha / prev;
                 }
-                let (best, iters) = fit_cell(&t, &z, norm, &p, n, metric, method, max_iters)?;
+                let (best, iters) = fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?;
                 p = best;
+                let z = turn(&zm, p[3]);
                 let (m11, m22, m13) = params_to_m(&p);
                 let m = matrix(m11, m22, m13, &z);
                 let ltc = LtcDist::new(m)?;
@@ -447,6 +529,7 @@ pub fn fit_table(
                     m22,
                     m13,
                     z_dir: [z.x, z.z],
+                    turn: p[3],
                     norm,
                     norm_se,
                     fresnel,

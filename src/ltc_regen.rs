@@ -125,7 +125,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     pb.finish_and_clear();
     let st = stats(&main);
     let mut md = format!(
-        "# GGX LTC table and polygonal lights (issue 4)\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
+        "# GGX LTC table and polygonal lights (issue 4)\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
@@ -200,6 +200,45 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         "\nCollapse and sign checks: cells whose m11 or m22 sits at the edge of the parameter box (ln m ∈ [−30, 5]): {at_box}; min over cells of min(m11/α, m22/(α cos θ)) = {min_ratio:.3} (at grazing the reflected lobe's lateral width shrinks like α·cos θ, so m22/α → 0 there is physics, not collapse); cells with a ≤ 0 or d ≤ 0: {neg}; cells with θ > 0 and b > 10⁻⁶·a (sign flip of the skew): {sign_b}. Smoothness (largest jump between neighbouring cells, relative to the parameter's range over the table) of a, b, c, d: {:.3}, {:.3}, {:.3}, {:.3}.\n\n",
         smooth[0], smooth[1], smooth[2], smooth[3]
     ));
+    // between cells: what a shader sampling the table bilinearly sees
+    {
+        use rayon::prelude::*;
+        let table = crate::ltc_compare::Shipped {
+            n,
+            mat: (0..n * n).map(|k| main.cells[k / n][k % n].inv).collect(),
+            mag: (0..n * n)
+                .map(|k| [main.cells[k / n][k % n].norm, 0.0])
+                .collect(),
+        };
+        let step = (n / 16).max(1);
+        let squares: Vec<(usize, usize)> = (0..n - 1)
+            .step_by(step)
+            .flat_map(|j| (1..n - 1).step_by(step).map(move |i| (i, j)))
+            .collect();
+        let mids: Vec<f64> = squares
+            .par_iter()
+            .map(|&(i, j)| {
+                crate::ltc_compare::midpoint_error(&table, i, j, pl.samples * 2)
+                    .map(|e| e.unwrap_or(f64::NAN))
+            })
+            .collect::<Result<_>>()?;
+        let m = mids.len() as f64;
+        let worst = squares[mids
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map(|x| x.0)
+            .unwrap_or(0)];
+        md.push_str(&format!(
+            "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there with its exact norm: mean relative L2 {:.2} %, max {:.1} % (square at i = {}, j = {}); the cells themselves: mean {:.2} %.\n\n",
+            mids.len(),
+            100.0 * mids.iter().sum::<f64>() / m,
+            100.0 * mids.iter().cloned().fold(0.0, f64::max),
+            worst.0,
+            worst.1,
+            100.0 * stats(&main).mean_l2
+        ));
+    }
     // optimiser / metric comparison
     md.push_str(&format!("## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n| fit | mean rel. L2 | max rel. L2 | mean cubic | mean iterations |\n|---|---|---|---|---|\n", pl.sub, pl.sub));
     let mut var_json = Vec::new();
@@ -239,6 +278,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     )?;
     crate::io::write_atomic(&results.join("ltc-error.svg"), svg.as_bytes())?;
     // ---- polygons ----
+    md.push_str(&shipped_section(results, stats(&main).mean_l2));
     md.push_str("## Polygonal lights (issue 4 §3)\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n| form | max rel. error on [−1, 0.999999] | where | max on [−0.99, 1] |\n|---|---|---|---|\n");
     let mut approx_json = Vec::new();
     for form in [EdgeForm::Rational, EdgeForm::Cubic] {
@@ -484,6 +524,52 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
 }
 
 /// Issue 4 §4: the multi-scale pipeline against brute force (appends to `md`).
+/// §2: the stored comparison with the shipped table (results/ltc-compare.json, written by
+/// `ltc-compare`; the shipped file itself is never committed).
+fn shipped_section(results: &Path, our_mean_l2: f64) -> String {
+    let mut md = String::from("## Against the shipped table (issue 4 §2)\n\n");
+    let v: Option<serde_json::Value> = std::fs::read_to_string(results.join("ltc-compare.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    match v {
+        Some(v) => {
+            let cells = v["cells"].as_array().cloned().unwrap_or_default();
+            // rows [i, j, alpha, theta_deg, ours_l2, shipped_l2, ours_cubic, shipped_cubic]
+            let get = |c: &serde_json::Value, k: &str| {
+                let col = ["i", "j", "alpha", "theta_deg", "ours_l2", "shipped_l2"]
+                    .iter()
+                    .position(|x| *x == k)
+                    .unwrap_or(0);
+                c[col].as_f64().unwrap_or(f64::NAN)
+            };
+            let inner: Vec<&serde_json::Value> =
+                cells.iter().filter(|c| get(c, "i") > 0.0).collect();
+            let m = inner.len().max(1) as f64;
+            let no_worse = inner
+                .iter()
+                .filter(|c| get(c, "ours_l2") <= get(c, "shipped_l2") * 1.001)
+                .count();
+            let mut rows: Vec<u64> = inner.iter().map(|c| get(c, "j") as u64).collect();
+            rows.sort();
+            rows.dedup();
+            let stale = (v["ours_table_mean_l2"].as_f64().unwrap_or(f64::NAN) - our_mean_l2).abs() > 1e-12;
+            md.push_str(&format!(
+                "From `{}` (results/ltc-compare.md, per-cell numbers in results/ltc-compare.json){}{}: {} cells (r > 0) of the θ rows {:?}; mean relative L2 ours {:.2} %, shipped {:.2} %; ours no worse (0.1 % slack) in {no_worse} of {}. Between cells (bilinear interpolation at square centres), see results/ltc-compare.md.\n\n",
+                v["command"].as_str().unwrap_or("ltc-compare"),
+                v["source"].as_str().map(|s| format!("; source: {s}")).unwrap_or_default(),
+                if stale { " — STALE: the table was refitted after this comparison; rerun `ltc-compare`" } else { "" },
+                inner.len(),
+                rows,
+                100.0 * inner.iter().map(|c| get(c, "ours_l2")).sum::<f64>() / m,
+                100.0 * inner.iter().map(|c| get(c, "shipped_l2")).sum::<f64>() / m,
+                inner.len()
+            ));
+        }
+        None => md.push_str("Not run: `cargo run --release -- ltc-compare --shipped ltc.js --mat g_ltc_1 --mag g_ltc_2` (or three.js's RectAreaLightTexturesLib.js with the default array names) writes results/ltc-compare.md and .json.\n\n"),
+    }
+    md
+}
+
 fn pipeline_section(results: &Path, preset: Preset, md: &mut String) -> Result<serde_json::Value> {
     use crate::filters::footprint::{NormalMap, Procedural};
     use crate::ltc_pipeline::{run_map, LtcTable, METHODS};

@@ -95,6 +95,13 @@ enum Cmd {
         /// name of the (norm, fresnel) array
         #[arg(long, default_value = "LTC_MAT_2")]
         mag: String,
+        /// use our norms (the BRDF albedo by quadrature) for both tables: compares the
+        /// fitted matrices only, and the file needs only the M⁻¹ array
+        #[arg(long)]
+        norm_ours: bool,
+        /// where the file came from (recorded in the report)
+        #[arg(long)]
+        source: Option<String>,
         /// output directory
         #[arg(long, default_value = "results")]
         out: PathBuf,
@@ -284,8 +291,19 @@ fn main() -> ExitCode {
             shipped,
             mat,
             mag,
+            norm_ours,
+            source,
             out: dir,
-        }) => ndfbench::ltc_compare::run(&shipped, &mat, &mag, &cli.results, &dir).map(|s| {
+        }) => ndfbench::ltc_compare::run(
+            &shipped,
+            &mat,
+            &mag,
+            norm_ours,
+            source.as_deref(),
+            &cli.results,
+            &dir,
+        )
+        .map(|s| {
             println!("{s}");
             true
         }),
