@@ -14,7 +14,8 @@ type V3 = Vector3<f64>;
 #[test]
 fn committed_generated_files_are_fresh() {
     let files = codegen::render_all(Path::new("results"), true).expect("fit results present");
-    assert_eq!(files.len(), codegen::MODULES.len() + 1);
+    // the function modules, the two LTC table modules, and the two Rust files
+    assert_eq!(files.len(), codegen::MODULES.len() + 4);
     for (rel, text) in files {
         let path = match rel.strip_prefix("wgsl/") {
             Some(w) => Path::new("results/wgsl").join(w),
@@ -58,6 +59,67 @@ fn every_wgsl_module_validates_with_naga() {
         n += 1;
     }
     assert_eq!(n, codegen::MODULES.len());
+}
+
+/// The LTC table modules validate, and their data equal the fitted table read
+/// independently from results/fits/ltc-ggx.json: f32 to the bit, binary16 within half an
+/// f16 ulp (decoded here by `half`, as `unpack2x16float` decodes it on a GPU).
+#[test]
+fn ltc_table_data_validate_and_match_the_fit() {
+    for file in ["ltc_table.wgsl", "ltc_table_f16.wgsl"] {
+        let path = Path::new("results/wgsl").join(file);
+        let src = std::fs::read_to_string(&path).unwrap();
+        let module = naga::front::wgsl::parse_str(&src)
+            .unwrap_or_else(|e| panic!("{}: {}", path.display(), e.emit_to_string(&src)));
+        // `unpack2x16float` is core WGSL; naga validates it only with the
+        // SHADER_FLOAT16_IN_FLOAT32 capability (a downlevel flag in wgpu)
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default()
+                | naga::valid::Capabilities::SHADER_FLOAT16_IN_FLOAT32,
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
+        assert!(module
+            .functions
+            .iter()
+            .any(|(_, f)| f.name.as_deref() == Some("ltc_table_texel")));
+    }
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap())
+            .unwrap();
+    let table = v["table"].as_array().unwrap();
+    use ndfbench::generated::ltc_table as lt;
+    assert_eq!(table.len(), lt::LTC_TABLE_N);
+    let n = lt::LTC_TABLE_N;
+    for (j, col) in table.iter().enumerate() {
+        for (i, c) in col.as_array().unwrap().iter().enumerate() {
+            let k = i + n * j;
+            let x: Vec<f64> = (0..6).map(|q| c[q].as_f64().unwrap()).collect();
+            for q in 0..4 {
+                assert_eq!(lt::LTC_1[k][q], x[q] as f32, "cell ({i}, {j})");
+            }
+            assert_eq!(lt::LTC_2[k], [x[4] as f32, x[5] as f32]);
+            let unpack = |u: u32| {
+                [
+                    half::f16::from_bits(u as u16).to_f64(),
+                    half::f16::from_bits((u >> 16) as u16).to_f64(),
+                ]
+            };
+            let h = [unpack(lt::LTC_1_F16[k][0]), unpack(lt::LTC_1_F16[k][1])];
+            let got = [h[0][0], h[0][1], h[1][0], h[1][1]];
+            for q in 0..4 {
+                // half an ulp of binary16 (relative 2⁻¹¹ for normals, 2⁻²⁵ absolute below)
+                let tol = (x[q].abs() * 2f64.powi(-11)).max(2f64.powi(-25));
+                assert!(
+                    (got[q] - x[q]).abs() <= tol,
+                    "f16 cell ({i}, {j})[{q}]: {} vs {}",
+                    got[q],
+                    x[q]
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -194,3 +194,42 @@ fn generated_wgsl_matches_its_rust_twin_on_the_gpu() {
         assert!(worst <= bound, "{name}: GPU vs twin {worst:e} > {bound:e}");
     }
 }
+
+/// The generated LTC table modules read back on the adapter: every texel of the f32
+/// module equals the Rust constants to the bit, and every texel of the binary16 module,
+/// decoded by the GPU's `unpack2x16float`, equals the Rust-side decoding (`half`) of the
+/// same bits exactly.
+#[test]
+fn ltc_table_modules_read_back_exactly_on_the_gpu() {
+    use ndfbench::generated::ltc_table as lt;
+    let n = lt::LTC_TABLE_N;
+    let wrap = "\nfn texel_component(i: f32, j: f32, q: f32) -> f32 {\n    let v = ltc_table_texel(u32(i), u32(j));\n    return v[u32(q)];\n}\n";
+    let args: Vec<f32> = (0..n * n)
+        .flat_map(|k| (0..4).flat_map(move |q| [(k % n) as f32, (k / n) as f32, q as f32]))
+        .collect();
+    for (file, half) in [("ltc_table.wgsl", false), ("ltc_table_f16.wgsl", true)] {
+        let src = module(file) + wrap;
+        let Some(gpu) = run_gpu(&src, "texel_component", 3, &args) else {
+            return;
+        };
+        let mut mismatches = 0;
+        for k in 0..n * n {
+            for q in 0..4 {
+                let want = if half {
+                    let u = lt::LTC_1_F16[k][q / 2] >> (16 * (q % 2));
+                    ::half::f16::from_bits(u as u16).to_f32()
+                } else {
+                    lt::LTC_1[k][q]
+                };
+                if gpu[4 * k + q].to_bits() != want.to_bits() {
+                    mismatches += 1;
+                }
+            }
+        }
+        eprintln!(
+            "{file}: {mismatches} of {} texel components differ",
+            4 * n * n
+        );
+        assert_eq!(mismatches, 0, "{file}");
+    }
+}

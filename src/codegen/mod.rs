@@ -14,6 +14,7 @@
 //! with its f64 reference.
 
 pub mod desc;
+pub mod table;
 
 use crate::error::{Error, Result};
 use desc::{FnDesc, FUNCTIONS};
@@ -325,11 +326,24 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
             render_wgsl(title, names, &consts, COMMAND)?,
         ));
     }
+    let table = table::read(results)?;
+    out.push((
+        "wgsl/ltc_table.wgsl".into(),
+        table::render_wgsl(&table, false, COMMAND),
+    ));
+    out.push((
+        "wgsl/ltc_table_f16.wgsl".into(),
+        table::render_wgsl(&table, true, COMMAND),
+    ));
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
             "src/generated/shading.rs".into(),
             render_rust(&all, &consts, COMMAND)?,
+        ));
+        out.push((
+            "src/generated/ltc_table.rs".into(),
+            table::render_rust(&table, COMMAND),
         ));
     }
     Ok(out)

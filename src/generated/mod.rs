@@ -2,3 +2,6 @@
 
 #[rustfmt::skip]
 pub mod shading;
+
+#[rustfmt::skip]
+pub mod ltc_table;
