@@ -439,8 +439,66 @@ fn tensor(c: &mut Criterion) {
     g.finish();
 }
 
+/// Issue 4 §5: the cost of fitting one LTC cell (Nelder–Mead, four parameters, the
+/// default preset's 24×24 samples per technique) and of integrating one pixel's quad light
+/// with each edge form (f64, clipped to the horizon), next to their errors in
+/// results/ltc.md.
+fn ltc(c: &mut Criterion) {
+    use ndfbench::ltc_fit::{fit_cell, Method, Metric, Target};
+    use ndfbench::polygon::{ltc_integral, EdgeForm};
+    let mut g = c.benchmark_group("ltc-fit-cell");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(2));
+    for (label, alpha, theta_deg) in [("a0.25-t45", 0.25f64, 45.0f64), ("a0.01-t80", 0.01, 80.0)] {
+        let t = Target::new(alpha, theta_deg.to_radians()).unwrap();
+        let (_, _, _, z) = t.moments(32);
+        let (norm, _, _) = t.norm_quad(1e-9);
+        let p0 = [alpha.ln(), alpha.ln(), 0.0, 0.0];
+        g.bench_function(label, |b| {
+            b.iter(|| fit_cell(&t, &z, norm, black_box(&p0), 24, Metric::Cubic, Method::NelderMead, 400))
+        });
+    }
+    g.finish();
+    // one pixel = one quad through one LTC; 256 random (M⁻¹, quad) pairs from the kernel
+    // benchmark inputs, time per pixel = time / 256
+    let d = ndfbench::kernels::bench_inputs(256);
+    let cols = &d.cols;
+    let cases: Vec<(nalgebra::Matrix3<f64>, Vec<Vector3<f64>>)> = (0..256)
+        .map(|i| {
+            let a: Vec<f64> = (15..31).map(|k| cols[k][i] as f64).collect();
+            let m = nalgebra::Matrix3::new(a[0], 0.0, a[2], 0.0, 1.0, 0.0, a[1], 0.0, a[3]);
+            let quad = (0..4)
+                .map(|v| Vector3::new(a[4 + 3 * v], a[5 + 3 * v], a[6 + 3 * v]))
+                .collect();
+            (m, quad)
+        })
+        .collect();
+    let mut g = c.benchmark_group("ltc-polygon");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_millis(800))
+        .throughput(Throughput::Elements(256));
+    for (name, form) in [
+        ("exact", EdgeForm::Exact),
+        ("rational", EdgeForm::Rational),
+        ("cubic", EdgeForm::Cubic),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                cases
+                    .iter()
+                    .map(|(m, q)| ltc_integral(m, black_box(q), form))
+                    .sum::<f64>()
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    ltc,
     tensor,
     kernels,
     filters,
