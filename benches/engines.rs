@@ -456,7 +456,18 @@ fn ltc(c: &mut Criterion) {
         let (norm, _, _) = t.norm_quad(1e-9);
         let p0 = [alpha.ln(), alpha.ln(), 0.0, 0.0];
         g.bench_function(label, |b| {
-            b.iter(|| fit_cell(&t, &z, norm, black_box(&p0), 24, Metric::Cubic, Method::NelderMead, 400))
+            b.iter(|| {
+                fit_cell(
+                    &t,
+                    &z,
+                    norm,
+                    black_box(&p0),
+                    24,
+                    Metric::Cubic,
+                    Method::NelderMead,
+                    400,
+                )
+            })
         });
     }
     g.finish();

@@ -304,7 +304,7 @@ pub fn run(
         .filter(|c| c.ours_l2 > c.shipped_l2 * 1.001)
         .collect();
     let mut md = format!(
-        "# Our GGX LTC table against the shipped one\n\nWritten by `cargo run --release -- ltc-compare --shipped {}`. Both tables judged against the cosine-weighted GGX BRDF (height-correlated G2, F = 1) at the same cells, on the same held-out 48×48 + 48×48 sample sets. {}Norms: {}. Cells compared (r > 0; cells the file leaves as NaN are skipped): {} of {}.\n\n| | ours | shipped |\n|---|---|---|\n| mean relative L2 | {:.2} % | {:.2} % |\n| max relative L2 | {:.1} % | {:.1} % |\n| mean cubic metric | {:.3e} | {:.3e} |\n| smoothness (mean |Δ²| / range of a, b, c, d) | {:?} | {:?} |\n\nOurs no worse (relative L2, 0.1 % slack) in {} of {} cells.\n\n",
+        "# Our GGX LTC table against the shipped one\n\nWritten by `cargo run --release -- ltc-compare --shipped {}`. Both tables judged against the cosine-weighted GGX BRDF (height-correlated G2, F = 1) at the same cells, on the same held-out 48×48 + 48×48 sample sets. {}Norms: {}. Cells compared (r > 0; cells the file leaves as NaN are skipped): {} of {}.\n\n| | ours | shipped |\n|---|---|---|\n| mean relative L2 | {:.2} % | {:.2} % |\n| max relative L2 | {:.1} % | {:.1} % |\n| mean cubic metric | {:.3e} | {:.3e} |\n| smoothness (mean abs(Δ²) / range of a, b, c, d) | {:?} | {:?} |\n\nOurs no worse (relative L2, 0.1 % slack) in {} of {} cells.\n\n",
         shipped_path.display(),
         source.map(|s| format!("Source of the file: {s}. ")).unwrap_or_default(),
         if norm_ours { "ours for both (the BRDF albedo by quadrature, error ≤ 1e-9), so only the fitted matrices differ" } else { "each table's own" },

@@ -343,7 +343,10 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
                 serde_json::json!(t.mean_ns / 256.0),
             );
         } else if t.group == "ltc-fit-cell" {
-            costs.insert(format!("ltc-fit-cell/{}", t.function), serde_json::json!(t.mean_ns));
+            costs.insert(
+                format!("ltc-fit-cell/{}", t.function),
+                serde_json::json!(t.mean_ns),
+            );
         } else if t.group.starts_with("tensor-") {
             let key = if t.param.is_empty() {
                 format!("{}/{}", t.group, t.function)
@@ -411,7 +414,10 @@ fn ltc_table(timed: &[Timed], results: &Path) -> String {
             t.hi_ns / 256.0
         ));
     }
-    if let Some(h) = v.as_ref().and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64()) {
+    if let Some(h) = v
+        .as_ref()
+        .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64())
+    {
         md.push_str(&format!("\nThe f32 shading kernel (`ltc_quad`: rational edges, no clipping, clipped-sphere horizon) is in the kernel table above; its horizon approximation costs {:.1} % energy-weighted over the same inputs.\n", 100.0 * h));
     }
     md

@@ -212,7 +212,7 @@ fn query_section(top: &[(Tensor3, Cp)], rank: usize) -> String {
 fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> String {
     use super::query::Sat;
     use super::sample::{binning_mse, chi_square};
-    let mut md = String::from("\n## Hierarchical importance sampling (§5.2)\n\nχ²: bins of 2×2 pixels over a 16×16 block slice, 200 000 samples (seeded ChaCha8), expected masses by exact integration of the returned pdf (bins under 5 expected samples pooled), p-value by Wilson–Hilferty; pass at the 1 % level. Binning (the paper's check): a per-pixel histogram of 100 000 descents against the normalised reconstruction; the MSE should match its Monte Carlo expectation Σ p(1 − p)/N.\n\n| block | χ² | dof | p | pass | max |pdf − returned pdf| | ∫ pdf | binning MSE | expected MSE |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut md = String::from("\n## Hierarchical importance sampling (§5.2)\n\nχ²: bins of 2×2 pixels over a 16×16 block slice, 200 000 samples (seeded ChaCha8), expected masses by exact integration of the returned pdf (bins under 5 expected samples pooled), p-value by Wilson–Hilferty; pass at the 1 % level. Binning (the paper's check): a per-pixel histogram of 100 000 descents against the normalised reconstruction; the MSE should match its Monte Carlo expectation Σ p(1 − p)/N.\n\n| block | χ² | dof | p | pass | max abs(pdf − returned pdf) | ∫ pdf | binning MSE | expected MSE |\n|---|---|---|---|---|---|---|---|---|\n");
     let mut row = |name: String, cp: &Cp, z: usize| {
         let sat = Sat::build(cp);
         match (
