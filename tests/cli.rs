@@ -181,6 +181,13 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
     );
     let md = std::fs::read_to_string(dir.join("tensor-scratches.md")).unwrap();
     assert!(md.contains("relative reconstruction error"));
+    // the rank sweep R/4, R/2, R (rank 4: 1, 2, 4) and its plot
+    assert!(
+        md.contains("| 1 |") && md.contains("| 2 |") && md.contains("| 4 |"),
+        "{md}"
+    );
+    let svg = std::fs::read_to_string(dir.join("tensor-scratches-rank.svg")).unwrap();
+    assert!(svg.starts_with("<svg") || svg.contains("<svg"));
     // a rank larger than a 16×16 block allows, a missing file, an unknown generator:
     // exit ≠ 0, a message naming the problem, nothing written
     for (args, needle) in [

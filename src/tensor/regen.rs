@@ -395,40 +395,89 @@ pub fn prefilter_tensor(
         Preset::Precise => (256, 500),
     };
     let stride = (map.width / 8).clamp(2, 32);
+    let started = std::time::Instant::now();
     let tensors = cluster_tensors(map, res, stride, t, 0.02)?;
-    let fits: Vec<super::cp::Cp> = tensors
-        .par_iter()
-        .map(|tt| {
-            cp_als(
-                tt,
-                &AlsOptions {
-                    rank: rank.min(tt.shape[2] * t),
-                    tol: 1e-4,
-                    max_iters: iters,
-                    restarts: 2,
-                    seed: 5,
-                    // exact hierarchical sampling needs a non-negative reconstruction
-                    nonnegative: true,
-                },
-            )
-        })
-        .collect::<Result<_>>()?;
+    let pndf_s = started.elapsed().as_secs_f64();
+    let fit = |r: usize| -> Result<(Vec<super::cp::Cp>, f64)> {
+        let started = std::time::Instant::now();
+        let fits = tensors
+            .par_iter()
+            .map(|tt| {
+                cp_als(
+                    tt,
+                    &AlsOptions {
+                        rank: r.min(tt.shape[2] * t),
+                        tol: 1e-4,
+                        max_iters: iters,
+                        restarts: 2,
+                        seed: 5,
+                        // exact hierarchical sampling needs a non-negative reconstruction
+                        nonnegative: true,
+                    },
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok((fits, started.elapsed().as_secs_f64()))
+    };
+    // error against rank: R/4, R/2 and R (the plot), R stored
+    let mut sweep: Vec<usize> = vec![(rank / 4).max(1), (rank / 2).max(1), rank];
+    sweep.dedup();
     let dense: usize = tensors.iter().map(|t| t.data.len()).sum();
+    let mut rows = Vec::new();
+    let mut fits = Vec::new();
+    for &r in &sweep {
+        let (f, secs) = fit(r)?;
+        let stored: usize = f.iter().map(|c| c.storage()).sum();
+        let mean = f.iter().map(|c| c.rel_error).sum::<f64>() / f.len().max(1) as f64;
+        let max = f.iter().map(|c| c.rel_error).fold(0.0, f64::max);
+        rows.push((r, mean, max, stored as f64 / dense.max(1) as f64, secs));
+        if r == rank {
+            fits = f;
+        }
+    }
     let stored: usize = fits.iter().map(|c| c.storage()).sum();
     let mean = fits.iter().map(|c| c.rel_error).sum::<f64>() / fits.len().max(1) as f64;
     let max = fits.iter().map(|c| c.rel_error).fold(0.0, f64::max);
-    let md = format!(
-        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, the full footprint pyramid, {res}² images, {t}² blocks, {} clusters. Non-negative CP (HALS, so the hierarchical sampler is exact), rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n",
-        map.name, preset.name(), map.width, map.height, fits.len(), 100.0 * mean, 100.0 * max, 100.0 * stored as f64 / dense.max(1) as f64
+    let mut md = format!(
+        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, the full footprint pyramid, {res}² images, {t}² blocks, {} clusters. Non-negative CP (HALS, so the hierarchical sampler is exact), rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n\n| R | mean rel. error | max rel. error | compression | CP time (s, {} threads) |\n|---|---|---|---|---|\n",
+        map.name, preset.name(), map.width, map.height, fits.len(), 100.0 * mean, 100.0 * max, 100.0 * stored as f64 / dense.max(1) as f64, rayon::current_num_threads()
     );
+    for (r, m, x, c, secs) in &rows {
+        md.push_str(&format!(
+            "| {r} | {:.2} % | {:.2} % | {:.2} % | {secs:.3} |\n",
+            100.0 * m,
+            100.0 * x,
+            100.0 * c
+        ));
+    }
+    md.push_str(&format!(
+        "\nP-NDF images by brute force: {pndf_s:.3} s. Timings are wall-clock of this run (not a benchmark; see results/performance.md). ![error against rank](tensor-{}-rank.svg)\n",
+        map.name
+    ));
+    let svg = loglog_svg(
+        &[Panel {
+            title: format!("{}: non-negative CP error against rank", map.name),
+            x_label: "rank R".into(),
+            y_label: "mean ‖T − T̂‖/‖T‖".into(),
+            series: vec![Series {
+                name: map.name.clone(),
+                points: rows.iter().map(|r| (r.0 as f64, r.1)).collect(),
+            }],
+        }],
+        560,
+        380,
+    )?;
     let json = serde_json::json!({"map": map.name, "rank": rank, "block": t, "image": res, "stride": stride, "clusters": fits});
     let jp = out.join(format!("tensor-{}.json", map.name));
     let mp = out.join(format!("tensor-{}.md", map.name));
+    let sp = out.join(format!("tensor-{}-rank.svg", map.name));
     crate::io::write_atomic(&jp, serde_json::to_string(&json).expect("json").as_bytes())?;
+    crate::io::write_atomic(&sp, svg.as_bytes())?;
     crate::io::write_atomic(&mp, md.as_bytes())?;
     Ok(format!(
-        "wrote {} and {}: rank {rank}, mean error {:.2} %, compression {:.2} %",
+        "wrote {}, {} and {}: rank {rank}, mean error {:.2} %, compression {:.2} %",
         jp.display(),
+        sp.display(),
         mp.display(),
         100.0 * mean,
         100.0 * stored as f64 / dense.max(1) as f64
