@@ -296,7 +296,6 @@ pub fn run(
     };
     let cmp = compare(&ours, &shipped, 48)?;
     let inner: Vec<&CellCmp> = cmp.iter().filter(|c| c.i > 0).collect();
-    let better = inner.iter().filter(|c| c.ours_l2 <= c.shipped_l2).count();
     let mean =
         |f: &dyn Fn(&CellCmp) -> f64| inner.iter().map(|c| f(c)).sum::<f64>() / inner.len() as f64;
     let worse: Vec<&&CellCmp> = inner
@@ -423,7 +422,6 @@ pub fn run(
             .expect("json")
             .as_bytes(),
     )?;
-    let _ = better;
     Ok(format!(
         "wrote {}: ours no worse in {} of {} cells; mean L2 ours {:.2} % vs shipped {:.2} %",
         out.join("ltc-compare.md").display(),
