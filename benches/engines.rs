@@ -121,7 +121,7 @@ fn shading_forms(c: &mut Criterion) {
 
 /// The four ways to get α_me from ‖b̄‖ (seed 000 §3.3), 1024 inputs per iteration.
 fn alpha_me(c: &mut Criterion) {
-    use ndfbench::multiscale::alpha_me::{fit_ours, ours_eval, training_alphas, Table};
+    use ndfbench::multiscale::alpha_me::{fit_ours, training_alphas, Table};
     use ndfbench::multiscale::mrl::{alpha_from_one_minus, alpha_me_paper, mrl_pair};
     let spec = ndfbench::fit::spec::load_dir(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -133,7 +133,12 @@ fn alpha_me(c: &mut Criterion) {
     .find(|s| s.name == "multiscale-alpha-me")
     .expect("multiscale spec");
     let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
-    let coeffs = fit_ours(spec.terms, &training_alphas(spec.training.points, lo, hi)).unwrap();
+    let coeffs = fit_ours(
+        spec.terms,
+        spec.terms_large,
+        &training_alphas(spec.training.points, lo, hi),
+    )
+    .unwrap();
     let table = Table::build(spec.table_entries, lo, hi);
     let inputs: Vec<(f64, f64)> = (0..1024)
         .map(|i| mrl_pair(lo * (hi / lo).powf((i as f64 + 0.5) / 1024.0)))
@@ -155,7 +160,7 @@ fn alpha_me(c: &mut Criterion) {
         b.iter(|| {
             inputs
                 .iter()
-                .map(|&(_, y)| ours_eval(&coeffs, black_box(y)))
+                .map(|&(_, y)| coeffs.eval(black_box(y)))
                 .sum::<f64>()
         })
     });
@@ -235,6 +240,7 @@ fn leadr(c: &mut Criterion) {
 /// f32 shading forms of the footprint filters, 1024 inputs per iteration.
 fn filters(c: &mut Criterion) {
     use ndfbench::filters::rules as r;
+    use ndfbench::generated::shading as g;
     let n = 1024usize;
     let inp: Vec<(f32, f32, [f32; 3], [f32; 3])> = (0..n)
         .map(|i| {
@@ -247,7 +253,26 @@ fn filters(c: &mut Criterion) {
             )
         })
         .collect();
-    let coeffs: Vec<f32> = vec![1.318, -11.94, 48.69, -98.26, 109.19, -64.16, 15.60];
+    // the generated α_me constants (both branches), as the shaders use them
+    let small: Vec<f32> = vec![
+        g::ALPHA_ME_C1,
+        g::ALPHA_ME_C2,
+        g::ALPHA_ME_C3,
+        g::ALPHA_ME_C4,
+        g::ALPHA_ME_C5,
+        g::ALPHA_ME_C6,
+        g::ALPHA_ME_C7,
+    ];
+    let large: Vec<f32> = vec![
+        g::ALPHA_ME_D1,
+        g::ALPHA_ME_D2,
+        g::ALPHA_ME_D3,
+        g::ALPHA_ME_D4,
+        g::ALPHA_ME_D5,
+        g::ALPHA_ME_D6,
+        g::ALPHA_ME_D7,
+        g::ALPHA_ME_D8,
+    ];
     let mut g = c.benchmark_group("filters");
     g.throughput(Throughput::Elements(n as u64));
     g.sample_size(20)
@@ -276,7 +301,7 @@ fn filters(c: &mut Criterion) {
         r::seed000_paper(x.0, x.1)
     });
     bench!("seed000-moment", |x: &(f32, f32, [f32; 3], [f32; 3])| {
-        r::seed000_moment_fit(x.1, 0.98, &coeffs)
+        r::seed000_moment_fit(x.1, 0.98, &small, &large)
     });
     bench!(
         "deferred",

@@ -323,7 +323,7 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                     })
             };
             use crate::multiscale::alpha_me::{
-                fit_ours, held_out, held_out_alphas, ours_eval, paper_method, training_alphas,
+                fit_ours, held_out, held_out_alphas, paper_method, training_alphas,
                 Table,
             };
             let method: Box<dyn Fn(f64, f64) -> f64> = match a.method {
@@ -335,9 +335,10 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                     let s = spec()?;
                     let c = fit_ours(
                         s.terms,
+                        s.terms_large,
                         &training_alphas(s.training.points, s.domain.alpha_min, s.domain.alpha_max),
                     )?;
-                    Box::new(move |_b, y| ours_eval(&c, y))
+                    Box::new(move |_b, y| c.eval(y))
                 }
                 AlphaMethod::Table => {
                     let s = spec()?;
@@ -530,10 +531,11 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
             let y = 1.0 - b()? * rho;
             let exact = crate::multiscale::mrl::alpha_from_one_minus(y)?;
             let coeffs = ours_coefficients(fits)?;
-            let c32: Vec<f32> = coeffs.iter().map(|c| *c as f32).collect();
+            let s32: Vec<f32> = coeffs.small.iter().map(|c| *c as f32).collect();
+            let l32: Vec<f32> = coeffs.large.iter().map(|c| *c as f32).collect();
             (
                 exact,
-                r::seed000_moment_fit(b()? as f32, rho as f32, &c32),
+                r::seed000_moment_fit(b()? as f32, rho as f32, &s32, &l32),
                 json!({"rho_base": rho, "fit": "results/fits/multiscale-alpha-me.json (ours)"}),
             )
         }
@@ -597,7 +599,7 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
 
 /// The `Ours` α_me coefficients, refitted from fits/multiscale-alpha-me.toml exactly as
 /// `regen` does (deterministic linear least squares, < 1 ms).
-fn ours_coefficients(fits: &std::path::Path) -> Result<Vec<f64>> {
+fn ours_coefficients(fits: &std::path::Path) -> Result<crate::multiscale::alpha_me::OursFit> {
     let spec = crate::fit::spec::load_dir(fits)?
         .into_iter()
         .find(|s| s.name == "multiscale-alpha-me")
@@ -612,5 +614,5 @@ fn ours_coefficients(fits: &std::path::Path) -> Result<Vec<f64>> {
         spec.domain.alpha_min,
         spec.domain.alpha_max,
     );
-    crate::multiscale::alpha_me::fit_ours(spec.terms, &train)
+    crate::multiscale::alpha_me::fit_ours(spec.terms, spec.terms_large, &train)
 }

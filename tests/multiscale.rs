@@ -4,7 +4,7 @@
 use ndfbench::fit::spec::FitSpec;
 use ndfbench::integrate::quad::{gk15_breaks, Tol};
 use ndfbench::multiscale::alpha_me::{
-    fit_ours, held_out, held_out_alphas, ours_eval, training_alphas,
+    fit_ours, held_out, held_out_alphas, training_alphas,
 };
 use ndfbench::multiscale::mrl::{
     alpha_from_mrl, alpha_from_one_minus, alpha_me_paper, mrl_derivative, mrl_pair,
@@ -78,6 +78,29 @@ proptest! {
         let back = alpha_from_one_minus(mrl_pair(a).1).unwrap();
         prop_assert!((back - a).abs() <= 1e-13 * a, "α={a}: {back}");
     }
+
+    /// Over the whole f64 range (α from 1e-300 to 1e300): ‖b̄‖ and 1 − ‖b̄‖ are finite,
+    /// in [0, 1], and agree with the asymptotic series at both ends (an independent
+    /// reference: 1 − ‖b̄‖ = α²(ln(2/α) − 1)(1 + O(α²)), ‖b̄‖ = π/(2α) − 2/α² + O(α⁻³)).
+    #[test]
+    fn mrl_is_finite_over_the_whole_range(l in -300.0f64..300.0) {
+        let a = 10f64.powf(l);
+        let (b, y) = mrl_pair(a);
+        prop_assert!(b.is_finite() && y.is_finite() && (0.0..=1.0).contains(&b) && (0.0..=1.0).contains(&y), "α {a}: {b} {y}");
+        if a < 1e-8 && a > 1e-150 {
+            let want = a * a * ((2.0 / a).ln() - 1.0);
+            prop_assert!((y / want - 1.0).abs() < 1e-12, "α {a}: {y} vs {want}");
+        }
+        if a > 1e8 {
+            let want = std::f64::consts::FRAC_PI_2 / a - 2.0 / (a * a);
+            prop_assert!((b / want - 1.0).abs() < 1e-12, "α {a}: {b} vs {want}");
+        }
+        // the inverse recovers α wherever the pair carries the information
+        if a > 1e-150 && a < 1e150 {
+            let back = ndfbench::multiscale::mrl::alpha_from_pair(b, y).unwrap();
+            prop_assert!((back / a - 1.0).abs() < 1e-12, "α {a}: {back}");
+        }
+    }
 }
 
 #[test]
@@ -102,15 +125,37 @@ fn paper_eq5_goes_negative_as_b_tends_to_1() {
 
 #[test]
 fn our_fit_meets_its_goal_with_the_right_limits() {
-    let train = training_alphas(400, 1e-3, 1.0);
-    let c = fit_ours(7, &train).unwrap();
-    let h = held_out(&held_out_alphas(2000, 1e-3, 1.0), &|_b, y| ours_eval(&c, y));
+    // the goal: max relative error ≤ 1e-3 on α ∈ [1e-4, 1e2]
+    let train = training_alphas(600, 1e-4, 1e2);
+    let c = fit_ours(7, 8, &train).unwrap();
+    let h = held_out(&held_out_alphas(3000, 1e-4, 1e2), &|_b, y| c.eval(y));
     assert!(h.max_rel <= 1e-3, "{h:?}");
-    // pinned: ‖b̄‖ = 2/3 ↦ α = 1
-    assert!((ours_eval(&c, 1.0 / 3.0) - 1.0).abs() < 1e-6);
-    // right limit far outside the fit domain (α = 1e-6): still within 1e-3
-    let y = mrl_pair(1e-6).1;
-    assert!((ours_eval(&c, y) / 1e-6 - 1.0).abs() < 1e-3);
+    // pinned: ‖b̄‖ = 2/3 ↦ α = 1, from both sides
+    assert!((c.eval(1.0 / 3.0) - 1.0).abs() < 1e-6);
+    assert!((c.eval(1.0 / 3.0 + 1e-12) - 1.0).abs() < 1e-6);
+    // right limits far outside the fit domain: α = 1e-6 and 1e-12 (small end), α = 1e6
+    // and 1e12 (large end, ‖b̄‖ ~ π/(2α)); the references are the asymptotic series,
+    // independent of the fit
+    for a in [1e-6f64, 1e-12] {
+        let y = a * a * ((2.0 / a).ln() - 1.0);
+        assert!((c.eval(y) / a - 1.0).abs() < 1e-3, "α {a}: {}", c.eval(y));
+    }
+    for a in [1e6f64, 1e12] {
+        let b = std::f64::consts::FRAC_PI_2 / a - 2.0 / (a * a);
+        let y = 1.0 - b;
+        // y ≥ ½ so b = 1 − y is what the form sees; compare with π/(2b) − 4/π
+        let b_seen = 1.0 - y;
+        let want = std::f64::consts::FRAC_PI_2 / b_seen - 4.0 / std::f64::consts::PI;
+        assert!((c.eval(y) / want - 1.0).abs() < 1e-3, "α {a}: {}", c.eval(y));
+    }
+    // total: the ends and nonsense give finite α ≥ 0 in f64 and f32
+    for y in [0.0, 1.0, -1.0, 2.0, f64::NAN, f64::INFINITY, 1e-320] {
+        let v = c.eval(y);
+        assert!(v.is_finite() && v >= 0.0, "y {y}: {v}");
+        let v = c.eval_f32(y as f32);
+        assert!(v.is_finite() && v >= 0.0, "y {y}: {v}");
+    }
+    assert!(c.eval(0.0) < 1e-150 && c.eval(1.0) > 1e300);
 }
 
 const SPEC: &str = include_str!("../fits/multiscale-alpha-me.toml");
@@ -134,7 +179,7 @@ fn malformed_specs_are_typed_errors_naming_the_problem() {
         FitSpec::parse("name = [", "y.toml"),
         Err(Error::InvalidArgument(_))
     ));
-    let bad_domain = SPEC.replace("alpha_min = 1e-3", "alpha_min = 2.0");
+    let bad_domain = SPEC.replace("alpha_min = 1e-4", "alpha_min = 200.0");
     match FitSpec::parse(&bad_domain, "z.toml") {
         Err(Error::InvalidArgument(m)) => assert!(m.contains("domain"), "{m}"),
         other => panic!("{other:?}"),

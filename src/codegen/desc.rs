@@ -374,14 +374,20 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "alpha_me",
-        doc: "α_me from y = 1 − ‖b̄‖ (seed 000 §3.3): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (results/multiscale.md; y in (0, 1)).",
+        doc: "α_me from y = 1 − ‖b̄‖ (seed 000 §3.3), total over every f32 input: y is clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, b = max(1 − y, m), g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2] and its measured error over the whole range: results/multiscale.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).",
         params: "y: f32",
         ret: "f32",
-        body: Body::Text("    let s: f32 = -log(y);
+        body: Body::Text("    let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
+    if (yc > 0.33333334) {
+        let b: f32 = max(1.0 - yc, 1.1754944e-38);
+        let g: f32 = b * (ALPHA_ME_D1 + b * (ALPHA_ME_D2 + b * (ALPHA_ME_D3 + b * (ALPHA_ME_D4 + b * (ALPHA_ME_D5 + b * (ALPHA_ME_D6 + b * (ALPHA_ME_D7 + b * ALPHA_ME_D8)))))));
+        return 1.5707964 * (1.0 + g) / b;
+    }
+    let s: f32 = -log(yc);
     let x: f32 = 1.0 / s;
     let p: f32 = x * (ALPHA_ME_C1 + x * (ALPHA_ME_C2 + x * (ALPHA_ME_C3 + x * (ALPHA_ME_C4 + x * (ALPHA_ME_C5 + x * (ALPHA_ME_C6 + x * ALPHA_ME_C7))))));
     let r: f32 = 0.5 * s - 0.65342640972 + 0.5 * log(s) + p;
-    return sqrt(y / r);
+    return sqrt(yc / r);
 "),
         deps: &[],
     },

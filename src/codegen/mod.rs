@@ -20,6 +20,10 @@ use crate::error::{Error, Result};
 use desc::{FnDesc, FUNCTIONS};
 use std::path::Path;
 
+/// Coefficients of the α > 1 branch of the generated `alpha_me` (fits/multiscale-alpha-me.toml
+/// `terms_large`).
+pub const ALPHA_ME_LARGE_TERMS: usize = 8;
+
 /// The command that (re)generates the files, named in their headers.
 pub const COMMAND: &str = "cargo run --release -- regen";
 
@@ -89,7 +93,29 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
                 "multiscale-alpha-me",
             )? as f32,
             doc: format!(
-                "α_me(‖b̄‖) fit, coefficient of s^-{} (held-out max rel. error {held:.2e})",
+                "α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-{} (held-out max rel. error {held:.2e})",
+                k + 1
+            ),
+        });
+    }
+    let nl = am["ours"]["coefficients_large"]
+        .as_array()
+        .map_or(0, |a| a.len());
+    if nl != ALPHA_ME_LARGE_TERMS {
+        return Err(Error::InvalidArgument(format!(
+            "codegen: multiscale-alpha-me has {nl} large-α coefficients; the generated α_me form has {ALPHA_ME_LARGE_TERMS}"
+        )));
+    }
+    for k in 0..nl {
+        out.push(Const {
+            name: format!("ALPHA_ME_D{}", k + 1),
+            value: num(
+                &am,
+                &["ours", "coefficients_large", &k.to_string()],
+                "multiscale-alpha-me",
+            )? as f32,
+            doc: format!(
+                "α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^{} (held-out max rel. error {held:.2e})",
                 k + 1
             ),
         });

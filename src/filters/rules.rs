@@ -72,17 +72,11 @@ pub fn seed000_paper<T: Float>(alpha: T, r: T) -> T {
 /// Our seed-000 form of the mean-normal filter: under the moment metric the overall
 /// lobe has ρ = |μ|·ρ(α) (proofs/mrl-product.md), so α′ = ρ⁻¹(|μ|ρ(α)). `rho_base` = ρ(α)
 /// is a per-material constant; ρ⁻¹ is the `Ours` fit of results/fits/multiscale-alpha-me
-/// (coefficients `c`, evaluated at y = 1 − |μ|ρ(α); held-out error 1.6e-4).
-pub fn seed000_moment_fit<T: Float>(r: T, rho_base: T, c: &[T]) -> T {
+/// (both branches, `small` and `large`, evaluated at y = 1 − |μ|ρ(α); total over every
+/// input: see [`crate::multiscale::alpha_me::ours_eval_t`]).
+pub fn seed000_moment_fit<T: Float>(r: T, rho_base: T, small: &[T], large: &[T]) -> T {
     let y = T::one() - r * rho_base;
-    let s = -y.ln();
-    let x = T::one() / s;
-    let mut p = T::zero();
-    for &ck in c.iter().rev() {
-        p = (p + ck) * x;
-    }
-    let base = s * k(0.5) + k(0.5 * std::f64::consts::LN_2 - 1.0) + k::<T>(0.5) * s.ln();
-    (y / (base + p)).sqrt()
+    crate::multiscale::alpha_me::ours_eval_t(small, large, y)
 }
 
 /// ‖dn_u‖² + ‖dn_v‖² of two 3-vectors.

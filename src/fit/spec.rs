@@ -58,6 +58,10 @@ pub struct FitSpec {
     /// Number of fitted coefficients (model-specific; default 0).
     #[serde(default)]
     pub terms: usize,
+    /// Number of coefficients of a second branch (the α > 1 branch of the α_me fit;
+    /// default 0).
+    #[serde(default)]
+    pub terms_large: usize,
     pub domain: Domain,
     pub training: Points,
     pub held_out: Points,
@@ -75,39 +79,256 @@ pub struct FitSpec {
     pub tolerance: Tolerance,
 }
 
+/// Upper bounds on what a spec may ask for (fits/README.md lists them). Generic bounds hold
+/// for every spec; a study that reads a key more expensively has tighter ones.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    pub terms: usize,
+    pub points: usize,
+    pub table_entries: usize,
+    pub max_iters: u64,
+    pub alpha_min: f64,
+    pub alpha_max: f64,
+    pub grid_metric_points: usize,
+    pub grid_dense_points: usize,
+}
+
+/// Bounds for every spec.
+pub const GENERIC_LIMITS: Limits = Limits {
+    terms: 64,
+    points: 1_000_000,
+    table_entries: 1 << 20,
+    max_iters: 10_000_000,
+    alpha_min: 1e-12,
+    alpha_max: 1e12,
+    grid_metric_points: 64,
+    grid_dense_points: 4096,
+};
+
+/// Largest spec file read, in bytes, and the longest text value.
+pub const MAX_SPEC_BYTES: u64 = 1 << 20;
+pub const MAX_TEXT_CHARS: usize = 4096;
+
+/// The bounds of the study that reads spec `name` (the generic ones, tightened where a
+/// study's cost grows with a key: the α_me fit, the overall-roughness grid, the Λ refit
+/// and the LTC table).
+pub fn limits_for(name: &str) -> Limits {
+    let g = GENERIC_LIMITS;
+    match name {
+        "multiscale-alpha-me" => Limits {
+            terms: 16,
+            points: 200_000,
+            table_entries: 1 << 16,
+            max_iters: 1_000_000,
+            alpha_min: 1e-8,
+            alpha_max: 1e4,
+            ..g
+        },
+        "multiscale-convolution" => Limits {
+            terms: 16,
+            points: 2_000,
+            alpha_min: 1e-4,
+            alpha_max: 10.0,
+            grid_metric_points: 16,
+            grid_dense_points: 400,
+            ..g
+        },
+        "smith-lambda" => Limits {
+            terms: 16,
+            points: 100_000,
+            max_iters: 100_000,
+            alpha_min: 1e-6,
+            alpha_max: 1e3,
+            ..g
+        },
+        "ltc-ggx" => Limits {
+            terms: 4,
+            points: 16_384,
+            max_iters: 100_000,
+            alpha_min: 1e-6,
+            alpha_max: 1.0,
+            ..g
+        },
+        _ => g,
+    }
+}
+
 impl FitSpec {
-    /// Parse and validate a spec; errors name the file and the offending key.
+    /// Parse and validate a spec; errors name the file and the offending key, and every
+    /// count, size, iteration cap and domain is checked against [`limits_for`] its name.
     pub fn parse(text: &str, origin: &str) -> Result<FitSpec> {
-        let s: FitSpec =
-            toml::from_str(text).map_err(|e| Error::InvalidArgument(format!("{origin}: {e}")))?;
+        let s: FitSpec = toml::from_str(text).map_err(|e| {
+            // toml's messages span several lines (a source excerpt): keep the first
+            let first = e.message().lines().next().unwrap_or("malformed TOML").to_string();
+            let at = e
+                .span()
+                .map(|r| {
+                    let line = text[..r.start.min(text.len())].matches('\n').count() + 1;
+                    format!(" (line {line})")
+                })
+                .unwrap_or_default();
+            Error::InvalidArgument(format!("{origin}: {first}{at}"))
+        })?;
+        s.validate(origin)?;
+        Ok(s)
+    }
+
+    /// Check every key against its bounds.
+    pub fn validate(&self, origin: &str) -> Result<()> {
+        let s = self;
+        let lim = limits_for(&s.name);
         let bad = |m: String| Err(Error::InvalidArgument(format!("{origin}: {m}")));
-        if !(s.domain.alpha_min > 0.0
-            && s.domain.alpha_max > s.domain.alpha_min
-            && s.domain.alpha_max.is_finite())
-        {
+        for (key, v) in [
+            ("name", &s.name),
+            ("description", &s.description),
+            ("model", &s.model),
+            ("metric", &s.metric),
+            ("training.spacing", &s.training.spacing),
+            ("held_out.spacing", &s.held_out.spacing),
+            ("optimiser.method", &s.optimiser.method),
+            ("baseline_optimiser.method", &s.baseline_optimiser.method),
+        ] {
+            if v.chars().count() > MAX_TEXT_CHARS {
+                return bad(format!("{key} is longer than {MAX_TEXT_CHARS} characters"));
+            }
+        }
+        let (lo, hi) = (s.domain.alpha_min, s.domain.alpha_max);
+        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
             return bad(format!(
-                "domain: need 0 < alpha_min < alpha_max, got {:?}",
-                s.domain
+                "domain: need 0 < alpha_min < alpha_max, both finite, got alpha_min = {lo:e}, alpha_max = {hi:e}"
             ));
         }
-        if s.training.points < s.terms + 2 || s.held_out.points < 2 {
-            return bad("training.points must exceed terms + 1 and held_out.points ≥ 2".into());
+        if lo < lim.alpha_min {
+            return bad(format!(
+                "domain.alpha_min = {lo:e} is below the limit {:e} for '{}'",
+                lim.alpha_min, s.name
+            ));
         }
-        if !(s.tolerance.max_rel > 0.0) {
-            return bad("tolerance.max_rel must be > 0".into());
+        if hi > lim.alpha_max {
+            return bad(format!(
+                "domain.alpha_max = {hi:e} exceeds the limit {:e} for '{}'",
+                lim.alpha_max, s.name
+            ));
         }
-        if s.table_entries == 1 {
-            return bad("table_entries must be 0 (no table) or ≥ 2".into());
-        }
-        if let Some(g) = &s.grid {
-            if g.metric_points < 2 || g.dense_points < 4 {
+        for (key, v, cap) in [
+            ("terms", s.terms, lim.terms),
+            ("terms_large", s.terms_large, lim.terms),
+            ("training.points", s.training.points, lim.points),
+            ("held_out.points", s.held_out.points, lim.points),
+            ("table_entries", s.table_entries, lim.table_entries),
+        ] {
+            if v > cap {
                 return bad(format!(
-                    "grid: need metric_points ≥ 2 and dense_points ≥ 4, got {g:?}"
+                    "{key} = {v} exceeds the limit {cap} for '{}'",
+                    s.name
                 ));
             }
         }
-        Ok(s)
+        if s.training.points < s.terms + s.terms_large + 2 {
+            return bad(format!(
+                "training.points = {} must exceed terms + terms_large + 1 = {}",
+                s.training.points,
+                s.terms + s.terms_large + 1
+            ));
+        }
+        if s.held_out.points < 2 {
+            return bad(format!(
+                "held_out.points = {} must be ≥ 2",
+                s.held_out.points
+            ));
+        }
+        if !(s.tolerance.max_rel > 0.0 && s.tolerance.max_rel.is_finite()) {
+            return bad(format!(
+                "tolerance.max_rel must be finite and > 0, got {:e}",
+                s.tolerance.max_rel
+            ));
+        }
+        if s.table_entries == 1 {
+            return bad("table_entries must be 0 (no table) or ≥ 2, got 1".into());
+        }
+        for (key, o) in [
+            ("optimiser", &s.optimiser),
+            ("baseline_optimiser", &s.baseline_optimiser),
+        ] {
+            if let Some(it) = o.max_iters {
+                if it == 0 || it > lim.max_iters {
+                    return bad(format!(
+                        "{key}.max_iters = {it} must lie in [1, {}] for '{}'",
+                        lim.max_iters, s.name
+                    ));
+                }
+            }
+            if let Some(t) = o.tolerance {
+                if !(t > 0.0 && t.is_finite() && t < 1.0) {
+                    return bad(format!(
+                        "{key}.tolerance must lie in (0, 1), got {t:e}"
+                    ));
+                }
+            }
+        }
+        if let Some(g) = &s.grid {
+            if g.metric_points < 2 || g.metric_points > lim.grid_metric_points {
+                return bad(format!(
+                    "grid.metric_points = {} must lie in [2, {}]",
+                    g.metric_points, lim.grid_metric_points
+                ));
+            }
+            if g.dense_points < 4 || g.dense_points > lim.grid_dense_points {
+                return bad(format!(
+                    "grid.dense_points = {} must lie in [4, {}]",
+                    g.dense_points, lim.grid_dense_points
+                ));
+            }
+        }
+        // what each study itself needs
+        match s.name.as_str() {
+            "multiscale-alpha-me" => {
+                if s.terms == 0 || s.terms_large == 0 {
+                    return bad(format!(
+                        "terms and terms_large must be ≥ 1 for '{}', got {} and {}",
+                        s.name, s.terms, s.terms_large
+                    ));
+                }
+                if s.table_entries < 2 {
+                    return bad(format!(
+                        "table_entries = {} must be ≥ 2 for '{}'",
+                        s.table_entries, s.name
+                    ));
+                }
+                if !(lo < 1.0 && hi > 1.0) {
+                    return bad(format!(
+                        "domain must contain α = 1 (both branches are pinned there), got [{lo:e}, {hi:e}]"
+                    ));
+                }
+            }
+            "multiscale-convolution" if s.grid.is_none() => {
+                return bad(format!("'{}' needs a grid table", s.name));
+            }
+            "multiscale-convolution" | "smith-lambda" if s.terms == 0 => {
+                return bad(format!("terms must be ≥ 1 for '{}'", s.name));
+            }
+            _ => {}
+        }
+        Ok(())
     }
+}
+
+/// Read one spec file, refusing files over [`MAX_SPEC_BYTES`] before reading them.
+pub fn load_file(f: &Path) -> Result<FitSpec> {
+    let io = |e: std::io::Error| Error::Io {
+        path: f.display().to_string(),
+        msg: e.to_string(),
+    };
+    let meta = std::fs::metadata(f).map_err(io)?;
+    if meta.len() > MAX_SPEC_BYTES {
+        return Err(Error::InvalidArgument(format!(
+            "{}: {} bytes exceeds the {MAX_SPEC_BYTES}-byte limit for a fit spec",
+            f.display(),
+            meta.len()
+        )));
+    }
+    let t = std::fs::read_to_string(f).map_err(io)?;
+    FitSpec::parse(&t, &f.display().to_string())
 }
 
 /// Every *.toml in `dir`, sorted by file name.
@@ -125,12 +346,6 @@ pub fn load_dir(dir: &Path) -> Result<Vec<FitSpec>> {
     files.sort();
     files
         .iter()
-        .map(|f| {
-            let t = std::fs::read_to_string(f).map_err(|e| Error::Io {
-                path: f.display().to_string(),
-                msg: e.to_string(),
-            })?;
-            FitSpec::parse(&t, &f.display().to_string())
-        })
+        .map(|f| load_file(f))
         .collect()
 }

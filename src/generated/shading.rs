@@ -42,20 +42,36 @@ fn select(f: f32, t: f32, c: bool) -> f32 {
 
 /// π
 pub const PI: f32 = 3.1415927;
-/// α_me(‖b̄‖) fit, coefficient of s^-1 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C1: f32 = 1.3183392;
-/// α_me(‖b̄‖) fit, coefficient of s^-2 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C2: f32 = -11.939532;
-/// α_me(‖b̄‖) fit, coefficient of s^-3 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C3: f32 = 48.68821;
-/// α_me(‖b̄‖) fit, coefficient of s^-4 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C4: f32 = -98.259674;
-/// α_me(‖b̄‖) fit, coefficient of s^-5 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C5: f32 = 109.19303;
-/// α_me(‖b̄‖) fit, coefficient of s^-6 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C6: f32 = -64.16038;
-/// α_me(‖b̄‖) fit, coefficient of s^-7 (held-out max rel. error 1.56e-4)
-pub const ALPHA_ME_C7: f32 = 15.60488;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-1 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C1: f32 = 1.3183296;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-2 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C2: f32 = -11.939731;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-3 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C3: f32 = 48.69052;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-4 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C4: f32 = -98.268295;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-5 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C5: f32 = 109.20788;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-6 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C6: f32 = -64.17258;
+/// α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-7 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_C7: f32 = 15.608748;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^1 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D1: f32 = -0.81056356;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^2 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D2: f32 = -0.049367376;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^3 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D3: f32 = -0.020601708;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^4 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D4: f32 = -0.04688266;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^5 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D5: f32 = 0.11408368;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^6 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D6: f32 = -0.28489527;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^7 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D7: f32 = 0.31967783;
+/// α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^8 (held-out max rel. error 1.56e-4)
+pub const ALPHA_ME_D8: f32 = -0.16984369;
 /// refitted Beckmann Λ(ν), parameter a1 (held-out max |ΔG1| 2.25e-5)
 pub const BECKMANN_LAMBDA_A1: f32 = -0.8883675;
 /// refitted Beckmann Λ(ν), parameter a2 (held-out max |ΔG1| 2.25e-5)
@@ -456,13 +472,19 @@ pub fn leadr5_env(x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32
     return num / den;
 }
 
-/// α_me from y = 1 − ‖b̄‖ (seed 000 §3.3): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (results/multiscale.md; y in (0, 1)).
+/// α_me from y = 1 − ‖b̄‖ (seed 000 §3.3), total over every f32 input: y is clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, b = max(1 − y, m), g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2] and its measured error over the whole range: results/multiscale.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).
 pub fn alpha_me(y: f32) -> f32 {
-    let s: f32 = -log(y);
+    let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
+    if (yc > 0.33333334) {
+        let b: f32 = max(1.0 - yc, 1.1754944e-38);
+        let g: f32 = b * (ALPHA_ME_D1 + b * (ALPHA_ME_D2 + b * (ALPHA_ME_D3 + b * (ALPHA_ME_D4 + b * (ALPHA_ME_D5 + b * (ALPHA_ME_D6 + b * (ALPHA_ME_D7 + b * ALPHA_ME_D8)))))));
+        return 1.5707964 * (1.0 + g) / b;
+    }
+    let s: f32 = -log(yc);
     let x: f32 = 1.0 / s;
     let p: f32 = x * (ALPHA_ME_C1 + x * (ALPHA_ME_C2 + x * (ALPHA_ME_C3 + x * (ALPHA_ME_C4 + x * (ALPHA_ME_C5 + x * (ALPHA_ME_C6 + x * ALPHA_ME_C7))))));
     let r: f32 = 0.5 * s - 0.65342640972 + 0.5 * log(s) + p;
-    return sqrt(y / r);
+    return sqrt(yc / r);
 }
 
 /// Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).

@@ -113,6 +113,8 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
     let n = out.len() / 8 * 8;
     let one = _mm256_set1_ps(1.0);
     let half = _mm256_set1_ps(0.5);
+    let tiny = _mm256_set1_ps(f32::MIN_POSITIVE);
+    let third = _mm256_set1_ps(1.0 / 3.0);
     let c = [
         g::ALPHA_ME_C1,
         g::ALPHA_ME_C2,
@@ -122,11 +124,24 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
         g::ALPHA_ME_C6,
         g::ALPHA_ME_C7,
     ];
+    let d = [
+        g::ALPHA_ME_D1,
+        g::ALPHA_ME_D2,
+        g::ALPHA_ME_D3,
+        g::ALPHA_ME_D4,
+        g::ALPHA_ME_D5,
+        g::ALPHA_ME_D6,
+        g::ALPHA_ME_D7,
+        g::ALPHA_ME_D8,
+    ];
     let mut i = 0;
     while i < n {
         let a = ld(y_me, i);
         let b = ld(y_mi, i);
         let y = _mm256_sub_ps(_mm256_add_ps(a, b), _mm256_mul_ps(a, b));
+        // clamp(y, m, 1) as the generated code (max/min take the second operand on NaN)
+        let y = _mm256_min_ps(_mm256_max_ps(y, tiny), one);
+        // α ≤ 1 branch
         let s = _mm256_sub_ps(_mm256_setzero_ps(), ln(y));
         let x = _mm256_div_ps(one, s);
         let mut p = _mm256_set1_ps(c[6]);
@@ -141,7 +156,20 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
             ),
             p,
         );
-        _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_sqrt_ps(_mm256_div_ps(y, r)));
+        let small = _mm256_sqrt_ps(_mm256_div_ps(y, r));
+        // α > 1 branch: (π/2)(1 + g(b))/b, b = max(1 − y, m)
+        let bb = _mm256_max_ps(_mm256_sub_ps(one, y), tiny);
+        let mut q = _mm256_set1_ps(d[7]);
+        for k in (0..7).rev() {
+            q = _mm256_fmadd_ps(bb, q, _mm256_set1_ps(d[k]));
+        }
+        q = _mm256_fmadd_ps(bb, q, one);
+        let large = _mm256_div_ps(
+            _mm256_mul_ps(_mm256_set1_ps(std::f32::consts::FRAC_PI_2), q),
+            bb,
+        );
+        let big = _mm256_cmp_ps::<_CMP_GT_OQ>(y, third);
+        _mm256_storeu_ps(out.as_mut_ptr().add(i), _mm256_blendv_ps(small, large, big));
         i += 8;
     }
     n

@@ -2,14 +2,20 @@
 //!
 //! - `Paper`: seed 000 Eq 5 as printed.
 //! - `PaperRefit`: the same rational form in ‖b̄‖ (degree 4/3, monic denominator), refitted.
-//! - `Ours`: a form with the right limits, in y = 1 − ‖b̄‖ and s = ln(1/y):
-//!   α = √(y/R(s)), R(s) = s/2 + (ln 2)/2 − 1 + ½ ln s + p₁/s + p₂/s² + p₃/s³ + p₄/s⁴.
-//!   As α → 0, 1 − ‖b̄‖ = α²(ln(2/α) − 1) gives R = s/2 + ½ ln R + ln 2 − 1 → the fixed
-//!   leading terms; p₁ is solved from R(ln 3) = 1/3 so that ‖b̄‖ = 2/3 ↦ α = 1 exactly.
+//! - `Ours`: two branches that meet at ‖b̄‖ = 2/3 ↦ α = 1, each with the exact limit of
+//!   its end, so that the form is total over y = 1 − ‖b̄‖ ∈ [0, 1]:
+//!   - y ≤ 1/3 (α ≤ 1), in s = ln(1/y): α = √(y/R(s)),
+//!     R(s) = s/2 + (ln 2)/2 − 1 + ½ ln s + p₁/s + … + p_K/s^K.
+//!     As α → 0, 1 − ‖b̄‖ = α²(ln(2/α) − 1) gives R = s/2 + ½ ln R + ln 2 − 1 → the fixed
+//!     leading terms (α = 0 at y = 0 exactly);
+//!   - y > 1/3 (α > 1), in b = ‖b̄‖ = 1 − y: α = (π/2) g(b)/b, g(b) = 1 + d₁b + … + d_L b^L.
+//!     As α → ∞, ‖b̄‖ = π/(2α) − 2/α² + … (mrl.rs), so g(0) = 1 is the exact asymptote.
+//!   Both branches are pinned at ‖b̄‖ = 2/3 ↦ α = 1.
 //! - `Newton`: [`super::mrl::alpha_from_one_minus`] on the closed form (the reference).
 //! - `Table`: ln α tabulated at uniform s with linear interpolation.
 
 use super::mrl::{alpha_from_one_minus, alpha_me_paper, mrl_pair};
+use num_traits::Float;
 use serde::Serialize;
 
 /// Fixed asymptotic constant of `Ours`: (ln 2)/2 − 1.
@@ -20,36 +26,114 @@ fn ours_base(s: f64) -> f64 {
     s * 0.5 + C0 + 0.5 * s.ln()
 }
 
-/// `Ours` evaluated from y = 1 − ‖b̄‖: α = √(y/R(s)), R(s) = base(s) + Σ_k c_k s^(−k),
-/// k = 1…K (Horner in 1/s).
-pub fn ours_eval(c: &[f64], y: f64) -> f64 {
-    let s = -y.ln();
-    let x = 1.0 / s;
-    let mut p = 0.0;
-    for &ck in c.iter().rev() {
-        p = (p + ck) * x;
-    }
-    (y / (ours_base(s) + p)).sqrt()
+/// The two coefficient sets of `Ours`: `small` (the p_k of the α ≤ 1 branch, in 1/s) and
+/// `large` (the d_k of the α > 1 branch, in b).
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct OursFit {
+    pub small: Vec<f64>,
+    pub large: Vec<f64>,
 }
 
-/// Fit the K coefficients of `Ours` by weighted linear least squares (nalgebra SVD) on
-/// the training α: R_i = y_i/α_i² is known exactly, the residual R_i − base(s_i) is
-/// linear in the c_k, and weights 1/R_i make it a relative fit (α's relative error is
-/// half of R's). The point α = 1 gets weight 1e6, pinning ‖b̄‖ = 2/3 ↦ α = 1.
-pub fn fit_ours(k: usize, train: &[f64]) -> crate::error::Result<Vec<f64>> {
-    let n = train.len();
-    let mut a = nalgebra::DMatrix::<f64>::zeros(n, k);
-    let mut rhs = nalgebra::DVector::<f64>::zeros(n);
-    for (i, &al) in train.iter().enumerate() {
-        let y = mrl_pair(al).1;
-        let s = -y.ln();
-        let r = y / (al * al);
-        let w = if (al - 1.0).abs() < 1e-12 { 1e6 } else { 1.0 } / r;
-        for j in 0..k {
-            a[(i, j)] = w * s.powi(-(j as i32 + 1));
-        }
-        rhs[i] = w * (r - ours_base(s));
+impl OursFit {
+    /// α from y = 1 − ‖b̄‖ (f64); see [`ours_eval_t`].
+    pub fn eval(&self, y: f64) -> f64 {
+        ours_eval_t(&self.small, &self.large, y)
     }
+    /// The same form in f32 with the coefficients rounded to f32, as the shaders use it.
+    pub fn eval_f32(&self, y: f32) -> f32 {
+        let s: Vec<f32> = self.small.iter().map(|&c| c as f32).collect();
+        let l: Vec<f32> = self.large.iter().map(|&c| c as f32).collect();
+        ours_eval_t(&s, &l, y)
+    }
+}
+
+/// `Ours` evaluated from y = 1 − ‖b̄‖ in any float type (the f64 reference and the f32
+/// shading form are this one function). Total: y is clamped to [m, 1] with m the smallest
+/// normal number (NaN maps to m), and b = 1 − y to ≥ m, so every input gives a finite α ≥ 0;
+/// y ≤ m gives the α → 0 end (≈ 1.6e-20 in f32) and y = 1 the α → ∞ end (π/(2m)).
+/// For y ≥ ½, b = 1 − y is exact in binary arithmetic (Sterbenz), so the large-α branch
+/// adds no input rounding of its own.
+pub fn ours_eval_t<T: Float>(small: &[T], large: &[T], y: T) -> T {
+    let m = T::min_positive_value();
+    let one = T::one();
+    let y = y.max(m).min(one);
+    let third = T::from(1.0 / 3.0).unwrap_or(one);
+    if y > third {
+        let b = (one - y).max(m);
+        let mut g = T::zero();
+        for &dk in large.iter().rev() {
+            g = (g + dk) * b;
+        }
+        let half_pi = T::from(std::f64::consts::FRAC_PI_2).unwrap_or(one);
+        return half_pi * (one + g) / b;
+    }
+    let s = -y.ln();
+    let x = one / s;
+    let mut p = T::zero();
+    for &ck in small.iter().rev() {
+        p = (p + ck) * x;
+    }
+    let half = T::from(0.5).unwrap_or(one);
+    let c0 = T::from(C0).unwrap_or(one);
+    (y / (s * half + c0 + half * s.ln() + p)).sqrt()
+}
+
+/// Fit both branches of `Ours` by weighted linear least squares (nalgebra SVD) on the
+/// training α: `k_small` coefficients on the points α ≤ 1 and `k_large` on α ≥ 1.
+///
+/// Small branch: R_i = y_i/α_i² is known exactly, the residual R_i − base(s_i) is linear in
+/// the p_k, and weights 1/R_i make it a relative fit (α's relative error is half of R's).
+/// Large branch: g_i = 2 b_i α_i/π is known exactly, g_i − 1 is linear in the d_k, and
+/// weights 1/g_i make it a relative fit (α's relative error is g's). In both, the point
+/// α = 1 gets weight 1e6, pinning ‖b̄‖ = 2/3 ↦ α = 1 (it is added when the grid lacks it).
+pub fn fit_ours(k_small: usize, k_large: usize, train: &[f64]) -> crate::error::Result<OursFit> {
+    let mut small_pts: Vec<f64> = train.iter().copied().filter(|&a| a <= 1.0).collect();
+    let mut large_pts: Vec<f64> = train.iter().copied().filter(|&a| a >= 1.0).collect();
+    for pts in [&mut small_pts, &mut large_pts] {
+        if !pts.iter().any(|&a| (a - 1.0).abs() < 1e-12) {
+            pts.push(1.0);
+        }
+    }
+    let rows_small: Vec<(Vec<f64>, f64)> = small_pts
+        .iter()
+        .map(|&al| {
+            let y = mrl_pair(al).1;
+            let s = -y.ln();
+            let r = y / (al * al);
+            let w = if (al - 1.0).abs() < 1e-12 { 1e6 } else { 1.0 } / r;
+            let row = (0..k_small).map(|j| w * s.powi(-(j as i32 + 1))).collect();
+            (row, w * (r - ours_base(s)))
+        })
+        .collect();
+    let rows_large: Vec<(Vec<f64>, f64)> = large_pts
+        .iter()
+        .map(|&al| {
+            let b = mrl_pair(al).0;
+            let g = 2.0 * b * al / std::f64::consts::PI;
+            let w = if (al - 1.0).abs() < 1e-12 { 1e6 } else { 1.0 } / g;
+            let row = (0..k_large).map(|j| w * b.powi(j as i32 + 1)).collect();
+            (row, w * (g - 1.0))
+        })
+        .collect();
+    Ok(OursFit {
+        small: weighted_lsq(&rows_small, k_small)?,
+        large: weighted_lsq(&rows_large, k_large)?,
+    })
+}
+
+/// Solve the least-squares system whose rows are (coefficients, right-hand side).
+fn weighted_lsq(rows: &[(Vec<f64>, f64)], k: usize) -> crate::error::Result<Vec<f64>> {
+    if k == 0 {
+        return Ok(Vec::new());
+    }
+    if rows.len() < k {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "least squares: {} points for {k} coefficients",
+            rows.len()
+        )));
+    }
+    let a = nalgebra::DMatrix::<f64>::from_fn(rows.len(), k, |i, j| rows[i].0[j]);
+    let rhs = nalgebra::DVector::<f64>::from_fn(rows.len(), |i, _| rows[i].1);
     let svd = a.svd(true, true);
     let c = svd
         .solve(&rhs, 1e-14)

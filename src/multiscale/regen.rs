@@ -2,10 +2,10 @@
 //! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots.
 
 use super::alpha_me::{
-    fit_nelder_mead, fit_ours, held_out, held_out_alphas, ours_eval, paper_form, paper_method,
+    fit_nelder_mead, fit_ours, held_out, held_out_alphas, paper_form, paper_method,
     training_alphas, HeldOut, Table, PAPER,
 };
-use super::mrl::{alpha_from_one_minus, alpha_me_paper, mrl_pair};
+use super::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::fit::FitOutcome;
@@ -53,20 +53,15 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
             spec.name
         )));
     }
-    if spec.terms == 0 || spec.table_entries < 2 {
-        return Err(Error::InvalidArgument(format!(
-            "{}: needs terms ≥ 1 and table_entries ≥ 2 (got {} and {})",
-            spec.name, spec.terms, spec.table_entries
-        )));
-    }
+    spec.validate(&spec.name)?;
     let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
     let train = training_alphas(spec.training.points, lo, hi);
     let held = held_out_alphas(spec.held_out.points, lo, hi);
     let pb = indicatif::ProgressBar::new(5);
     pb.set_message("multiscale");
     // ours: weighted linear least squares
-    let c = fit_ours(spec.terms, &train)?;
-    let h_ours = held_out(&held, &|_b, y| ours_eval(&c, y));
+    let c = fit_ours(spec.terms, spec.terms_large, &train)?;
+    let h_ours = held_out(&held, &|_b, y| c.eval(y));
     pb.inc(1);
     // the paper's form, refitted with argmin (Nelder–Mead) from the printed coefficients
     let refit = fit_nelder_mead(
@@ -83,6 +78,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     let table = Table::build(spec.table_entries, lo, hi);
     let h_table = held_out(&held, &|_b, y| table.eval(y));
     let h_newton = held_out(&held, &|_b, y| alpha_from_one_minus(y).unwrap_or(f64::NAN));
+    let whole = whole_range(&c);
     pb.inc(1);
 
     // audit of Eq 5 over the whole range ‖b̄‖ ∈ (0, 1)
@@ -145,7 +141,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
                     },
                     Series {
                         name: format!("ours ({} terms)", spec.terms),
-                        points: rel(&|_b, y| ours_eval(&c, y)),
+                        points: rel(&|_b, y| c.eval(y)),
                     },
                     Series {
                         name: format!("table ({} entries)", spec.table_entries),
@@ -184,7 +180,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
             series: vec![
                 Series { name: "exact (closed form inverse)".into(), points: mrl_curve(&|_b, y| alpha_from_one_minus(y).unwrap_or(f64::NAN)) },
                 Series { name: "paper Eq 5".into(), points: mrl_curve(&paper_method) },
-                Series { name: "ours".into(), points: mrl_curve(&|_b, y| ours_eval(&c, y)) },
+                Series { name: "ours".into(), points: mrl_curve(&|_b, y| c.eval(y)) },
             ],
         }],
         900,
@@ -196,7 +192,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     let json = json!({
         "spec": spec,
         "command": "cargo run --release -- regen --only multiscale",
-        "ours": {"coefficients": c, "held_out": h_ours},
+        "ours": {"coefficients": c.small, "coefficients_large": c.large, "held_out": h_ours, "whole_range": whole},
         "paper_eq5": {"coefficients": PAPER, "held_out": h_paper},
         "paper_form_refit": {"coefficients": refit.params, "objective": refit.objective, "iterations": refit.iterations, "held_out": h_refit},
         "table": {"entries": spec.table_entries, "s0": table.s0, "ds": table.ds, "held_out": h_table},
@@ -232,7 +228,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         "see performance.md",
     ));
     md.push_str(&row(
-        &format!("ours: √(y/R(s)), {} coefficients", spec.terms),
+        &format!("ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})", spec.terms, spec.terms_large),
         &h_ours,
         "see performance.md",
     ));
@@ -255,6 +251,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         if passed { "met" } else { "MISSED" },
         h_ours.max_rel
     ));
+    md.push_str(&whole_range_md(&whole));
     md.push_str("## Audit of Eq 5\n\n");
     md.push_str(&format!("- At ‖b̄‖ → 1 (α → 0) Eq 5 tends to {at_one:.5}: **negative**. Its numerator changes sign at {}: every footprint smoother than that gets a negative α_me.\n", sign_alpha.join(", ")));
     md.push_str(&format!("- At α = 1e-3 (fit-domain edge) Eq 5 is off by {:.1} % (relative); at α = 0.01 by {:.1} %.\n",
@@ -271,7 +268,13 @@ The fixed terms are the exact α → 0 asymptote (1 − ‖b̄‖ = α²(ln(2/α
 the point ‖b̄‖ = 2/3 ↦ α = 1 is pinned. R = y/α² is known exactly at every training point, so the c_k come from one \
 weighted linear least-squares solve (nalgebra SVD), not an iterative optimiser. Pass y = 1 − ‖b̄‖ (the mip chain can \
 store it directly) to keep precision as ‖b̄‖ → 1.\n\n");
-    md.push_str(&format!("Coefficients c_1…c_{}: `{:?}`\n\n", spec.terms, c));
+    md.push_str("Above α = 1 (y > 1/3) the same pinned point starts the second branch α = (π/2) g(b)/b, b = ‖b̄‖, \
+g(b) = 1 + Σ d_k b^k: g(0) = 1 is the exact α → ∞ asymptote ‖b̄‖ ~ π/(2α), and g − 1 = 2bα/π − 1 is again linear in the \
+d_k (weights 1/g). Pass b itself where it is small, or y ≥ ½, for which b = 1 − y is exact in binary arithmetic.\n\n");
+    md.push_str(&format!(
+        "Coefficients c_1…c_{}: `{:?}`\n\nCoefficients d_1…d_{}: `{:?}`\n\n",
+        spec.terms, c.small, spec.terms_large, c.large
+    ));
     md.push_str("![α_me against 1 − ‖b̄‖](multiscale-alpha-me.svg)\n\n![errors](multiscale-alpha-error.svg)\n\n");
     md.push_str("## Overall roughness (Eq 6–7)\n\nThe spherical convolution γ_me ∗ γ_mi, its one-LTC fits under four metrics, the \
 product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 refit and the engines' rules are in \
@@ -288,4 +291,137 @@ product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 ref
             h_ours.max_rel, spec.tolerance.max_rel, h_paper.max_rel, h_refit.max_rel, h_table.max_rel
         ),
     })
+}
+
+/// Errors of `Ours` over the whole input range y ∈ [min normal, 1), beyond the fit domain.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct WholeRange {
+    /// Points tried (log-spaced in y for α ≤ 1 and in b = 1 − y for α > 1).
+    pub points: usize,
+    /// Smallest and largest exact α over the points.
+    pub alpha_range: [f64; 2],
+    /// Max relative error of the f64 form against Newton, and where (exact α).
+    pub f64_max_rel: f64,
+    pub f64_worst_alpha: f64,
+    /// Max relative error of the f32 form (f32 coefficients and arithmetic) against
+    /// Newton at the same f32 input, over inputs representable as normal f32.
+    pub f32_max_rel: f64,
+    pub f32_worst_alpha: f64,
+    /// Max relative error restricted to α ∈ [1e-4, 1e2] (f64 form, f32 form).
+    pub in_range_f64_max_rel: f64,
+    pub in_range_f32_max_rel: f64,
+    /// Whether every output was finite and ≥ 0 (including y = 0, y = 1 and NaN inputs).
+    pub total: bool,
+}
+
+/// Evaluate `Ours` against the exact inverse from y = 1e-300 to b = 1e-300.
+pub fn whole_range(c: &super::alpha_me::OursFit) -> WholeRange {
+    let mut pts: Vec<(f64, f64)> = Vec::new(); // (b, y), both exact
+    let n = 1500;
+    for i in 0..n {
+        // y from 1e-300 to 1/3 and b from 1e-300 to 2/3, log-spaced
+        let f = i as f64 / (n - 1) as f64;
+        let y = (1e-300f64.ln() + f * ((1.0f64 / 3.0).ln() - 1e-300f64.ln())).exp();
+        pts.push((1.0 - y, y));
+        let b = (1e-300f64.ln() + f * ((2.0f64 / 3.0).ln() - 1e-300f64.ln())).exp();
+        pts.push((b, 1.0 - b));
+    }
+    let mut w = WholeRange {
+        points: pts.len(),
+        alpha_range: [f64::INFINITY, 0.0],
+        f64_max_rel: 0.0,
+        f64_worst_alpha: f64::NAN,
+        f32_max_rel: 0.0,
+        f32_worst_alpha: f64::NAN,
+        in_range_f64_max_rel: 0.0,
+        in_range_f32_max_rel: 0.0,
+        total: true,
+    };
+    let eval_b = |b: f64, y: f64| -> f64 {
+        // the form takes y; for tiny b pass the exact branch value through b
+        if y > 1.0 / 3.0 {
+            let mut g = 0.0;
+            for &dk in c.large.iter().rev() {
+                g = (g + dk) * b;
+            }
+            std::f64::consts::FRAC_PI_2 * (1.0 + g) / b
+        } else {
+            c.eval(y)
+        }
+    };
+    for &(b, y) in &pts {
+        let Ok(exact) = alpha_from_pair(b, y) else {
+            continue;
+        };
+        w.alpha_range[0] = w.alpha_range[0].min(exact);
+        w.alpha_range[1] = w.alpha_range[1].max(exact);
+        let v = eval_b(b, y);
+        let e = ((v - exact) / exact).abs();
+        let inside = (1e-4..=1e2).contains(&exact);
+        if !(v.is_finite() && v >= 0.0) {
+            w.total = false;
+        }
+        if e > w.f64_max_rel || e.is_nan() {
+            w.f64_max_rel = if e.is_nan() { f64::INFINITY } else { e };
+            w.f64_worst_alpha = exact;
+        }
+        if inside {
+            w.in_range_f64_max_rel = w.in_range_f64_max_rel.max(e);
+        }
+        // the f32 form at the f32 input (y ≥ ½ keeps b = 1 − y exact; below, y itself)
+        let y32 = y as f32;
+        if y32 >= f32::MIN_POSITIVE && y32 < 1.0 && (1.0 - y32) >= f32::MIN_POSITIVE {
+            let v32 = c.eval_f32(y32) as f64;
+            let (b32, yy) = (1.0 - y32 as f64, y32 as f64);
+            if let Ok(ex32) = alpha_from_pair(b32, yy) {
+                let e32 = ((v32 - ex32) / ex32).abs();
+                if !(v32.is_finite() && v32 >= 0.0) {
+                    w.total = false;
+                }
+                if e32 > w.f32_max_rel || e32.is_nan() {
+                    w.f32_max_rel = if e32.is_nan() { f64::INFINITY } else { e32 };
+                    w.f32_worst_alpha = ex32;
+                }
+                if (1e-4..=1e2).contains(&ex32) {
+                    w.in_range_f32_max_rel = w.in_range_f32_max_rel.max(e32);
+                }
+            }
+        }
+    }
+    for y in [0.0f32, 1.0, f32::NAN, -1.0, 2.0, f32::INFINITY] {
+        let v = c.eval_f32(y);
+        if !(v.is_finite() && v >= 0.0) {
+            w.total = false;
+        }
+    }
+    for y in [0.0f64, 1.0, f64::NAN, -1.0, 2.0, f64::INFINITY] {
+        let v = c.eval(y);
+        if !(v.is_finite() && v >= 0.0) {
+            w.total = false;
+        }
+    }
+    w
+}
+
+fn whole_range_md(w: &WholeRange) -> String {
+    format!(
+        "## Over the whole input range\n\nThe same form evaluated over y = 1 − ‖b̄‖ from 1e-300 to 1/3 and over ‖b̄‖ \
+from 1e-300 to 2/3 ({} points, exact α from {:.2e} to {:.2e}), against Newton on the closed form at the same input. \
+Outside α ∈ [1e-4, 1e2] both branches follow their exact asymptotes.\n\n\
+| form | max rel. error, α ∈ [1e-4, 1e2] | max rel. error, whole range | worst at α |\n|---|---|---|---|\n\
+| f64 | {:.3e} | {:.3e} | {:.3e} |\n\
+| f32 (generated `alpha_me`, f32 coefficients; inputs that are normal f32) | {:.3e} | {:.3e} | {:.3e} |\n\n\
+Total: every input gives a finite α ≥ 0 (y = 0 ↦ the α → 0 end, y = 1 ↦ π/(2m) with m the smallest normal number, \
+NaN and values outside [0, 1] are clamped first): **{}**.\n\n",
+        w.points,
+        w.alpha_range[0],
+        w.alpha_range[1],
+        w.in_range_f64_max_rel,
+        w.f64_max_rel,
+        w.f64_worst_alpha,
+        w.in_range_f32_max_rel,
+        w.f32_max_rel,
+        w.f32_worst_alpha,
+        if w.total { "yes" } else { "NO" }
+    )
 }

@@ -90,6 +90,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
         })?;
     let c_me = super::alpha_me::fit_ours(
         me_spec.terms,
+        me_spec.terms_large,
         &training_alphas(
             me_spec.training.points,
             me_spec.domain.alpha_min,
@@ -98,7 +99,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
     )?;
     let product = move |x: f64, y: f64| {
         let (ym, yi) = (super::mrl::mrl_pair(y).1, super::mrl::mrl_pair(x).1);
-        super::alpha_me::ours_eval(&c_me, ym + yi - ym * yi)
+        c_me.eval(ym + yi - ym * yi)
     };
     let product2 = product.clone();
     // the α_me fit covers α ≤ 1 (the paper clamps there too): judge ours on that domain
