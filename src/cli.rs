@@ -275,26 +275,30 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
             let get = |v: Option<f64>, n: &str| -> Result<f64> {
                 let v =
                     v.ok_or_else(|| Error::InvalidArgument(format!("overall-alpha needs --{n}")))?;
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(Error::InvalidRoughness(v));
-                }
+                // the supported roughness range, as for every surface
+                Roughness::iso(v)?;
                 Ok(v)
             };
             let (mi, me) = (get(a.alpha_mi, "alpha-mi")?, get(a.alpha_me, "alpha-me")?);
-            let f = crate::multiscale::overall::fit_pair(mi, me)?;
-            (
-                f.moment_unclipped,
-                json!({
-                    "value_is": "moment-unclipped (closed form); the other metrics follow",
-                    "moment_unclipped": f.moment_unclipped,
-                    "moment_clipped": f.moment_clipped,
-                    "l2": f.l2,
-                    "caps": f.caps,
-                    "cap_quadrature_rel_error": f.cap_quad_rel_error,
-                    "paper_eq7": crate::multiscale::overall::eq7(mi, me),
-                    "report": "results/multiscale-convolution.md",
-                }),
-            )
+            let e = crate::multiscale::overall::evaluate_pair(mi, me)?;
+            let mut m = json!({
+                "value_is": "moment-unclipped (closed form); the other metrics follow where evaluated",
+                "moment_unclipped": e.moment_unclipped,
+                "paper_eq7": crate::multiscale::overall::eq7(mi, me),
+                "note": e.note,
+                "report": "results/multiscale-convolution.md",
+            });
+            if let Some(f) = &e.fit {
+                m["moment_clipped"] = json!(f.moment_clipped);
+                m["l2"] = json!(f.l2);
+                m["caps"] = json!(f.caps);
+                m["cap_quadrature_rel_error"] = json!(f.cap_quad_rel_error);
+            }
+            if let (Some(l), Some(err)) = (e.limit, e.limit_rel_error) {
+                m["limit_every_metric"] = json!(l);
+                m["limit_rel_error"] = json!(err);
+            }
+            (e.moment_unclipped, m)
         }
         Quantity::AlphaMe => {
             let (b, y) = match (a.b, a.one_minus_b) {
@@ -306,10 +310,11 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                     ))
                 }
             };
-            if !(y > 0.0 && y < 1.0) {
-                return Err(Error::InvalidArgument(format!(
-                    "‖b̄‖ must lie in (0, 1), got {b}"
-                )));
+            if !(y > 0.0 && y < 1.0 && b > 0.0 && b < 1.0) {
+                return Err(Error::InvalidArgument(match a.b {
+                    Some(b) => format!("--b (‖b̄‖) must lie in (0, 1), got {b:e}"),
+                    None => format!("--one-minus-b must lie in (0, 1), got {y:e}"),
+                }));
             }
             let spec = || -> Result<crate::fit::spec::FitSpec> {
                 crate::fit::spec::load_dir(fits)?
@@ -328,8 +333,8 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
             };
             let method: Box<dyn Fn(f64, f64) -> f64> = match a.method {
                 AlphaMethod::Paper => Box::new(paper_method),
-                AlphaMethod::Newton => Box::new(|_b, y| {
-                    crate::multiscale::mrl::alpha_from_one_minus(y).unwrap_or(f64::NAN)
+                AlphaMethod::Newton => Box::new(|b, y| {
+                    crate::multiscale::mrl::alpha_from_pair(b, y).unwrap_or(f64::NAN)
                 }),
                 AlphaMethod::Ours => {
                     let s = spec()?;
@@ -352,9 +357,15 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                 .map(|s| (s.domain.alpha_min, s.domain.alpha_max, s.held_out.points))
                 .unwrap_or((1e-3, 1.0, 2000));
             let h = held_out(&held_out_alphas(n, lo, hi), &|b, y| method(b, y));
+            // inside the fit domain is a property of the input: y between y(α_max) and
+            // y(α_min) (1 − ‖b̄‖ decreases with α)
+            let (y_at_hi, y_at_lo) = (
+                crate::multiscale::mrl::mrl_pair(hi).1,
+                crate::multiscale::mrl::mrl_pair(lo).1,
+            );
             (
                 v,
-                json!({"method": format!("{:?}", a.method), "held_out": h, "held_out_domain_alpha": [lo, hi], "inside_domain": v >= lo && v <= hi}),
+                json!({"method": format!("{:?}", a.method), "held_out": h, "held_out_domain_alpha": [lo, hi], "held_out_domain_one_minus_b": [y_at_hi, y_at_lo], "inside_domain": y >= y_at_hi && y <= y_at_lo}),
             )
         }
         Quantity::Jacobian => {
@@ -377,6 +388,15 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                 && !(w.z > 0.0)
             {
                 return Err(Error::BelowHorizon { what: "w", z: w.z });
+            }
+            if matches!(a.map, Some(MapName::HalfVector)) {
+                // ω_i = −ω_o has no half-vector (w + o = 0)
+                let o = vec3(&a.o, "o")?;
+                if (w + o).norm() <= 1e-12 {
+                    return Err(Error::DegenerateDirection {
+                        what: "w + o (the half-vector of w = −o)",
+                    });
+                }
             }
             (map.det(&w), json!({"map": map.name()}))
         }
@@ -438,11 +458,19 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
     } else {
         ("closed form, f64", "closed form in f64, exact up to rounding; its agreement with quadrature/MC is measured in results/proofs.md")
     };
+    if value.is_nan() {
+        return Err(Error::InvalidArgument(format!(
+            "{:?} is not defined for these inputs (the evaluation gave NaN)",
+            a.quantity
+        )));
+    }
     let out = json!({
         "quantity": format!("{:?}", a.quantity),
-        // JSON has no infinity: Λ = ∞ below the mean surface is reported as null + flag
+        // JSON has no infinity: a documented infinite value (Λ = ∞ below the mean surface,
+        // ν = ±∞ along the normal) is reported as null + flag + sign
         "value": if value.is_finite() { json!(value) } else { json!(null) },
         "infinite": value.is_infinite(),
+        "sign": if value < 0.0 { -1 } else { 1 },
         "method": method,
         "error": null,
         "error_note": note,
@@ -591,10 +619,33 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
             "filter {f:?} is not finite for these inputs"
         )));
     }
-    Ok((
-        v64,
-        json!({"filter": format!("{f:?}"), "alpha_in": al, "f32": v32, "f32_rel_diff": (v32 as f64 - v64) / v64, "detail": extra, "report": "results/filters.md"}),
-    ))
+    // the f32 shading form is reported only where every input is an f32 (no overflow to ∞
+    // and no non-zero input flushed to 0); otherwise the JSON says why it is absent
+    let inputs: Vec<f64> = [Some(al), a.b]
+        .into_iter()
+        .flatten()
+        .chain(
+            [&a.cov, &a.dn_u, &a.dn_v, &a.du, &a.dv]
+                .into_iter()
+                .flatten()
+                .flat_map(|s| parse_list(s, s.split(',').count(), "input").unwrap_or_default()),
+        )
+        .collect();
+    let representable = inputs
+        .iter()
+        .all(|&x| (x as f32).is_finite() && (x == 0.0 || x as f32 != 0.0));
+    let mut out = json!({"filter": format!("{f:?}"), "alpha_in": al, "detail": extra, "report": "results/filters.md"});
+    if !representable {
+        out["f32_note"] = json!("an input is outside the f32 range (|x| > 3.4e38 or a non-zero |x| < 1.4e-45): the shading form cannot receive it");
+    } else if v32.is_finite() {
+        out["f32"] = json!(v32);
+        out["f32_rel_diff"] = json!((v32 as f64 - v64) / v64);
+    } else {
+        return Err(Error::InvalidArgument(format!(
+            "the f32 shading form of filter {f:?} is not finite for these inputs (f64: {v64:e})"
+        )));
+    }
+    Ok((v64, out))
 }
 
 /// The `Ours` α_me coefficients, refitted from fits/multiscale-alpha-me.toml exactly as

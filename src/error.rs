@@ -6,17 +6,18 @@ use thiserror::Error;
 /// Errors raised by the workbench.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum Error {
-    /// A roughness parameter was not a finite number strictly greater than zero.
-    #[error("roughness must be a finite number > 0, got {0}")]
+    /// A roughness parameter was not a finite number in the supported range
+    /// [`crate::microfacet::roughness::ALPHA_MIN`, `ALPHA_MAX`] (α⁴ must be a normal f64).
+    #[error("roughness must be a finite number in [1e-75, 1e75], got {0:e}")]
     InvalidRoughness(f64),
     /// A parameter that must be finite was NaN or infinite.
-    #[error("{what} must be finite, got {value}")]
+    #[error("{what} must be finite, got {value:e}")]
     NonFinite { what: &'static str, value: f64 },
     /// A roughness matrix (or any matrix that must be SPD) was not symmetric positive definite.
     #[error("matrix is not symmetric positive definite: {0}")]
     NotSpd(String),
     /// A direction lies at or below the horizon where the routine requires the upper hemisphere.
-    #[error("direction '{what}' is at or below the horizon (z = {z}); this routine needs z > 0")]
+    #[error("direction '{what}' is at or below the horizon (z = {z:e}); this routine needs z > 0")]
     BelowHorizon { what: &'static str, z: f64 },
     /// A direction had zero, NaN or infinite length.
     #[error("direction '{what}' has zero or non-finite length")]

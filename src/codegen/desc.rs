@@ -199,23 +199,38 @@ pub const FUNCTIONS: &[FnDesc] = &[
         deps: &["beckmann_lambda"],
     },
     FnDesc {
-        name: "filter_toksvig",
-        doc: "Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form).",
-        params: "alpha: f32, r: f32, c: f32",
+        name: "filter_sqrt_sum",
+        doc: "√(α² + k), k ≥ 0, without overflow for any finite f32 α (above 1e18 it is computed as α√(1 + k/α²)).",
+        params: "alpha: f32, k: f32",
         ret: "f32",
-        body: Body::Text("    return sqrt(alpha * alpha + c * (1.0 - r) / r);
+        body: Body::Text("    if (alpha > 1e18) {
+        let z: f32 = sqrt(k) / alpha;
+        return alpha * sqrt(1.0 + z * z);
+    }
+    return sqrt(alpha * alpha + k);
 "),
         deps: &[],
     },
     FnDesc {
-        name: "filter_vmf",
-        doc: "vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r.",
+        name: "filter_toksvig",
+        doc: "Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form). r is clamped to [m, 1] (m = smallest normal f32, NaN ↦ m), so r → 0 gives a finite α′ ~ √(c/r).",
         params: "alpha: f32, r: f32, c: f32",
         ret: "f32",
-        body: Body::Text("    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
-    return sqrt(alpha * alpha + c * inv_kappa);
+        body: Body::Text("    let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
+    return filter_sqrt_sum(alpha, c * (1.0 - rc) / rc);
 "),
-        deps: &[],
+        deps: &["filter_sqrt_sum"],
+    },
+    FnDesc {
+        name: "filter_vmf",
+        doc: "vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.",
+        params: "alpha: f32, r: f32, c: f32",
+        ret: "f32",
+        body: Body::Text("    let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
+    let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
+    return filter_sqrt_sum(alpha, c * inv_kappa);
+"),
+        deps: &["filter_sqrt_sum"],
     },
     FnDesc {
         name: "filter_vmf_fitted",

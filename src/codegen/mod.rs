@@ -322,7 +322,7 @@ pub const MODULES: [(&str, &str, &[&str]); 5] = [
     (
         "filters.wgsl",
         "Footprint roughness filters (results/filters.md)",
-        &["filter_toksvig", "filter_vmf", "filter_vmf_fitted", "filter_deferred", "filter_deferred_fitted", "filter_eq10", "filter_projected"],
+        &["filter_sqrt_sum", "filter_toksvig", "filter_vmf", "filter_vmf_fitted", "filter_deferred", "filter_deferred_fitted", "filter_eq10", "filter_projected"],
     ),
     (
         "ltc.wgsl",

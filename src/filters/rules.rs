@@ -15,29 +15,52 @@ fn k<T: Float>(x: f64) -> T {
     T::from(x).unwrap_or_else(T::nan)
 }
 
+/// The mean-normal length clamped to [m, 1] (m the smallest normal number; NaN ↦ m): a
+/// mip of opposed normals has r → 0, and the filters below stay finite there (their α′
+/// grows like r^(−1/2), the exact limit) instead of dividing by zero.
+#[inline]
+pub fn clamp_r<T: Float>(r: T) -> T {
+    r.max(T::min_positive_value()).min(T::one())
+}
+
+/// √(α² + k) without overflow for any finite α and k ≥ 0 (the filters' last step).
+#[inline]
+pub fn sqrt_sum<T: Float>(alpha: T, k: T) -> T {
+    alpha.hypot(k.max(T::zero()).sqrt())
+}
+
 /// Toksvig's variance from the mean-normal length r = |μ| (seed 004 §3.2.1):
-/// σ² = (1 − r)/r.
+/// σ² = (1 − r)/r, r clamped by [`clamp_r`].
 pub fn toksvig_sigma2<T: Float>(r: T) -> T {
+    let r = clamp_r(r);
     (T::one() - r) / r
 }
 
 /// Toksvig, Blinn–Phong form (seed 004 §3.2.1, the equation after Eq 19): the exponent
 /// s = 2/α² − 2 becomes s′ = s/(1 + sσ²), then α′ = √(2/(s′ + 2)). For α ≥ 1 (s ≤ 0)
 /// the Blinn–Phong lobe does not exist; α is returned unchanged.
+///
+/// Written without s itself, which overflows as α → 0: with u = 1/s = α²/(2(1 − α²)) and
+/// v = u + σ², s′ = 1/v and α′² = 2v/(1 + 2v) (σ² = 0 gives α′ = α exactly). Where v
+/// underflows (α and σ² both below ~1e-154 in f64) α is returned.
 pub fn toksvig_bp<T: Float>(alpha: T, r: T) -> T {
+    let one = T::one();
     let two = k::<T>(2.0);
-    let s = two / (alpha * alpha) - two;
-    if !(s > T::zero()) {
+    let a2 = alpha * alpha;
+    if !(a2 < one) {
         return alpha;
     }
-    let sp = s / (T::one() + s * toksvig_sigma2(r));
-    (two / (sp + two)).sqrt()
+    let v = a2 / (two * (one - a2)) + toksvig_sigma2(r);
+    if !(v > T::zero()) {
+        return alpha;
+    }
+    (two * v / (one + two * v)).sqrt()
 }
 
 /// Toksvig in α²: α′² = α² + c·σ². c = 2 follows from σ² being a per-axis variance and
 /// the Beckmann slope variance being α²/2; c = 1 is the variant some engines ship.
 pub fn toksvig_alpha2<T: Float>(alpha: T, r: T, c: T) -> T {
-    (alpha * alpha + c * toksvig_sigma2(r)).sqrt()
+    sqrt_sum(alpha, c * toksvig_sigma2(r))
 }
 
 /// vMF filter (Banerjee et al.'s κ ≈ (3r − r³)/(1 − r²)): α′² = α² + c/κ,
@@ -46,8 +69,9 @@ pub fn toksvig_alpha2<T: Float>(alpha: T, r: T, c: T) -> T {
 /// ≈ ε/(1 − r): the input, not this form, limits it).
 pub fn vmf<T: Float>(alpha: T, r: T, c: T) -> T {
     let one = T::one();
+    let r = clamp_r(r);
     let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
-    (alpha * alpha + c * inv_kappa).sqrt()
+    sqrt_sum(alpha, c * inv_kappa)
 }
 
 /// LEAN (seed 004 Eq 19; Olano–Baker): the slope covariance Σ = E[x̃x̃ᵀ] − E[x̃]E[x̃]ᵀ of

@@ -127,8 +127,9 @@ pub fn limits_for(name: &str) -> Limits {
         "multiscale-convolution" => Limits {
             terms: 16,
             points: 2_000,
-            alpha_min: 1e-4,
-            alpha_max: 10.0,
+            // the quadrature metrics' domain (multiscale::overall::QUAD_DOMAIN)
+            alpha_min: 1e-3,
+            alpha_max: 3.0,
             grid_metric_points: 16,
             grid_dense_points: 400,
             ..g

@@ -5,6 +5,19 @@
 use crate::error::{finite, Error, Result};
 use nalgebra::{Matrix2, Vector2};
 
+/// Smallest and largest supported roughness α: α⁴ (the determinant of A = α²I) stays a
+/// normal f64, so every derived quantity (A⁻¹, √det A, D's normalisation) is finite.
+pub const ALPHA_MIN: f64 = 1e-75;
+pub const ALPHA_MAX: f64 = 1e75;
+
+fn check_alpha(v: f64) -> Result<()> {
+    if v.is_finite() && (ALPHA_MIN..=ALPHA_MAX).contains(&v) {
+        Ok(())
+    } else {
+        Err(Error::InvalidRoughness(v))
+    }
+}
+
 /// A validated symmetric positive-definite roughness matrix with cached derived values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Roughness {
@@ -24,9 +37,7 @@ impl Roughness {
     /// Axis-aligned anisotropic roughness (αx, αy), both > 0.
     pub fn aniso(ax: f64, ay: f64) -> Result<Self> {
         for v in [ax, ay] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::InvalidRoughness(v));
-            }
+            check_alpha(v)?;
         }
         Self::matrix(Matrix2::new(ax * ax, 0.0, 0.0, ay * ay))
     }
@@ -34,9 +45,7 @@ impl Roughness {
     /// Roughness with principal values (α1, α2) along the axis at angle `phi` (radians).
     pub fn rotated(a1: f64, a2: f64, phi: f64) -> Result<Self> {
         for v in [a1, a2] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::InvalidRoughness(v));
-            }
+            check_alpha(v)?;
         }
         finite("rotation angle", phi)?;
         let (s, c) = phi.sin_cos();
@@ -50,21 +59,33 @@ impl Roughness {
     }
 
     /// General SPD matrix. Rejects NaN/Inf, asymmetry beyond 1e-12 relative, and
-    /// non-positive eigenvalues, with a typed error.
+    /// non-positive eigenvalues (`NotSpd`), and diagonal entries outside
+    /// [ALPHA_MIN², ALPHA_MAX²] (`InvalidRoughness`, reporting √entry), with a typed error
+    /// and a one-line message.
     pub fn matrix(a: Matrix2<f64>) -> Result<Self> {
         for v in a.iter() {
             finite("roughness matrix entry", *v)?;
         }
         let scale = a.abs().max();
         if (a[(0, 1)] - a[(1, 0)]).abs() > 1e-12 * scale {
-            return Err(Error::NotSpd(format!("not symmetric: {a:?}")));
+            return Err(Error::NotSpd(format!(
+                "not symmetric: A12 = {:e}, A21 = {:e}",
+                a[(0, 1)],
+                a[(1, 0)]
+            )));
         }
         let b = a[(0, 1)];
         let (p, q) = (a[(0, 0)], a[(1, 1)]);
+        // a positive diagonal out of range is a roughness out of range, not a shape problem
+        for d in [p, q] {
+            if d > 0.0 && !(ALPHA_MIN * ALPHA_MIN..=ALPHA_MAX * ALPHA_MAX).contains(&d) {
+                return Err(Error::InvalidRoughness(d.sqrt()));
+            }
+        }
         let det = p * q - b * b;
         if !(p > 0.0 && q > 0.0 && det > 0.0) {
             return Err(Error::NotSpd(format!(
-                "A = [[{p}, {b}], [{b}, {q}]] has det {det} (needs A11 > 0, A22 > 0, det > 0)"
+                "A = [[{p:e}, {b:e}], [{b:e}, {q:e}]] has det {det:e} (needs A11 > 0, A22 > 0, det > 0)"
             )));
         }
         let inv = Matrix2::new(q / det, -b / det, -b / det, p / det);

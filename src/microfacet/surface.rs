@@ -137,12 +137,22 @@ impl Microsurface {
     }
 
     /// Normalised slope ν = (cot θ − μ(φ))/α(φ) = (o_z − x̄·o_xy)/√(o_xyᵀ A o_xy)
-    /// (seed 001 §3.2 with α(φ)² = 2σ²(φ); seed 003 Eq 18 for GGX). +∞ at normal incidence.
+    /// (seed 001 §3.2 with α(φ)² = 2σ²(φ); seed 003 Eq 18 for GGX).
+    ///
+    /// Convention: ν is signed everywhere. It is negative below the mean surface (where
+    /// o_z − x̄·o_xy < 0), +∞ along the mean normal from above and −∞ along it from below;
+    /// 0 only for directions in the mean surface. Λ is +∞ wherever ν ≤ 0.
     pub fn nu(&self, o: &Vector3<f64>) -> f64 {
         let num = self.projected_area(o);
         let den = self.rough.quad(&Vector2::new(o.x, o.y)).sqrt();
         if den == 0.0 {
-            return if num > 0.0 { f64::INFINITY } else { 0.0 };
+            return if num > 0.0 {
+                f64::INFINITY
+            } else if num < 0.0 {
+                f64::NEG_INFINITY
+            } else {
+                0.0
+            };
         }
         num / den
     }

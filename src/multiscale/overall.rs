@@ -69,10 +69,11 @@ pub fn polygons() -> Vec<Polygon> {
 /// α = ρ⁻¹(‖b̄‖·ρ(α_mi)) — the mip chain's ‖b̄‖ times the micro lobe's ρ, fed to the same
 /// inverse as α_me (proofs/mrl-product.md). No Eq 7 is needed for this metric.
 pub fn alpha_moment(alpha_mi: f64, alpha_me: f64) -> Result<f64> {
-    let y_me = mrl_pair(alpha_me).1;
-    let y_mi = mrl_pair(alpha_mi).1;
-    // 1 − ρ_me ρ_mi = y_me + y_mi − y_me y_mi, without cancellation
-    alpha_from_one_minus(y_me + y_mi - y_me * y_mi)
+    let (b_me, y_me) = mrl_pair(alpha_me);
+    let (b_mi, y_mi) = mrl_pair(alpha_mi);
+    // ρ = ρ_me ρ_mi and 1 − ρ = y_me + y_mi − y_me y_mi, each without cancellation (the
+    // inverse takes whichever is small)
+    super::mrl::alpha_from_pair(b_me * b_mi, y_me + y_mi - y_me * y_mi)
 }
 
 /// Seed 000 Eq 7.
@@ -242,8 +243,22 @@ fn brent_min(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     crate::fit::scan_brent(f, &xs, (1e-10, 1e-12), 200)
 }
 
-/// Fit one pair under every metric.
+/// Roughness range on which the quadrature metrics (clipped moment, L2, caps) are fitted:
+/// the bracket of their Brent search. Outside it [`fit_pair`] is a typed error and
+/// [`evaluate_pair`] gives the closed form and the limits instead.
+pub const QUAD_DOMAIN: (f64, f64) = (1e-3, 3.0);
+
+/// Fit one pair under every metric (both α in [`QUAD_DOMAIN`]; about 1 s of quadrature,
+/// every integral under an evaluation budget).
 pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
+    for a in [alpha_mi, alpha_me] {
+        if !(QUAD_DOMAIN.0..=QUAD_DOMAIN.1).contains(&a) {
+            return Err(Error::InvalidArgument(format!(
+                "overall α by quadrature needs α_mi and α_me in [{:e}, {:e}], got {a:e}",
+                QUAD_DOMAIN.0, QUAD_DOMAIN.1
+            )));
+        }
+    }
     let conv = Convolution::new(alpha_me, alpha_mi)?;
     let tol = Tol::new(1e-8, 1e-8, 5_000_000);
     let m = conv.moments_quad(tol);
@@ -341,4 +356,64 @@ pub fn fit_corrected(samples: &[(f64, f64, f64)]) -> Result<Vec<f64>> {
         t.push((a / m).ln());
     }
     lstsq(&rows, &t)
+}
+
+/// What can be said of one (α_mi, α_me) pair at any roughness, without unbounded work.
+#[derive(Clone, Debug, Serialize)]
+pub struct PairEval {
+    /// The unclipped-moment α (closed form, every pair).
+    pub moment_unclipped: f64,
+    /// The quadrature fit, when both α lie in [`QUAD_DOMAIN`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<PairFit>,
+    /// When one α is below 1e-3 of the other: every metric tends to the larger α (the
+    /// convolution with a near-delta lobe is the other lobe); its stated relative error is
+    /// the unclipped moment's distance from that limit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit_rel_error: Option<f64>,
+    /// Why a metric is absent.
+    pub note: String,
+}
+
+/// Every pair: the closed form always, the quadrature fit inside [`QUAD_DOMAIN`], the
+/// small-ratio limit where it holds; never more than one bounded `fit_pair`.
+pub fn evaluate_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairEval> {
+    let moment_unclipped = alpha_moment(alpha_mi, alpha_me)?;
+    let inside = [alpha_mi, alpha_me]
+        .iter()
+        .all(|a| (QUAD_DOMAIN.0..=QUAD_DOMAIN.1).contains(a));
+    let (lo, hi) = (alpha_mi.min(alpha_me), alpha_mi.max(alpha_me));
+    if inside {
+        return Ok(PairEval {
+            moment_unclipped,
+            fit: Some(fit_pair(alpha_mi, alpha_me)?),
+            limit: None,
+            limit_rel_error: None,
+            note: "every metric by quadrature".into(),
+        });
+    }
+    if lo < 1e-3 * hi {
+        return Ok(PairEval {
+            moment_unclipped,
+            fit: None,
+            limit: Some(hi),
+            limit_rel_error: Some((moment_unclipped - hi).abs() / hi),
+            note: format!(
+                "outside the quadrature domain [{:e}, {:e}]; the smaller α is below 1e-3 of the larger, so every metric takes the limit α = max(α_mi, α_me) (relative error ≈ the moment metric's distance from it)",
+                QUAD_DOMAIN.0, QUAD_DOMAIN.1
+            ),
+        });
+    }
+    Ok(PairEval {
+        moment_unclipped,
+        fit: None,
+        limit: None,
+        limit_rel_error: None,
+        note: format!(
+            "outside the quadrature domain [{:e}, {:e}]: only the closed-form moment metric is given (the clipped moment equals it up to the mass below the horizon; L2 and caps are not evaluated)",
+            QUAD_DOMAIN.0, QUAD_DOMAIN.1
+        ),
+    })
 }
