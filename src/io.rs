@@ -1,39 +1,287 @@
-//! Atomic file output: write to a temporary sibling, then rename, so that a failure
-//! never leaves a partial file behind.
+//! File output: every file is written to a temporary sibling and renamed, and every
+//! *set* of files that belong together (one study's JSON, reports and plots; one
+//! `prefilter` or `scene` output) is published in one step:
+//!
+//! 1. [`begin_set`] starts collecting: while a set is open, [`write_atomic`] only records
+//!    the bytes;
+//! 2. [`SetGuard::commit`] checks every target first (a directory in the way of a file, an
+//!    unwritable parent) and writes nothing if any fails; then it writes and syncs every
+//!    temporary file, removes the set's old manifest, renames the temporaries into place
+//!    and writes the manifest (paths, sizes and FNV-1a hashes) last;
+//! 3. a set dropped without `commit` (an error on the way) writes nothing.
+//!
+//! A run killed between the renames leaves a set without a manifest, or one whose files
+//! disagree with it: [`set_is_complete`] tells. Temporary files of processes that no longer
+//! exist are removed by the next commit into the same directories (and are git-ignored).
 
 use crate::error::{Error, Result};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-/// Write `bytes` to `path` atomically (temp file in the same directory + rename).
-/// Parent directories are created.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let err = |e: std::io::Error| Error::Io {
+/// The open set: its manifest path and the files recorded so far.
+struct Stage {
+    manifest: PathBuf,
+    name: String,
+    files: Vec<(PathBuf, Vec<u8>)>,
+}
+
+static STAGE: Mutex<Option<Stage>> = Mutex::new(None);
+
+fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |e| Error::Io {
         path: path.display().to_string(),
         msg: e.to_string(),
-    };
-    if let Some(parent) = path.parent() {
-        if !parent.as_os_str().is_empty() {
-            std::fs::create_dir_all(parent).map_err(err)?;
-        }
     }
+}
+
+fn tmp_path(path: &Path) -> Result<PathBuf> {
     let file_name = path.file_name().ok_or_else(|| {
         Error::InvalidArgument(format!("'{}' is not a file path", path.display()))
     })?;
-    let tmp = path.with_file_name(format!(
+    Ok(path.with_file_name(format!(
         ".{}.tmp.{}",
         file_name.to_string_lossy(),
         std::process::id()
-    ));
+    )))
+}
+
+/// Write `bytes` to a temporary sibling of `path` and sync it; returns the temporary path.
+fn write_tmp(path: &Path, bytes: &[u8]) -> Result<PathBuf> {
+    if let Some(parent) = path.parent() {
+        if !parent.as_os_str().is_empty() {
+            std::fs::create_dir_all(parent).map_err(io_err(path))?;
+        }
+    }
+    let tmp = tmp_path(path)?;
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        f.sync_all()
     })();
     if let Err(e) = result {
         let _ = std::fs::remove_file(&tmp);
-        return Err(err(e));
+        return Err(io_err(path)(e));
     }
-    Ok(())
+    Ok(tmp)
+}
+
+/// Write `bytes` to `path` atomically (temp file in the same directory + rename; parent
+/// directories are created). While a set is open ([`begin_set`]) the file joins the set
+/// and is written when the set is committed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    {
+        let mut g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some(st) = g.as_mut() {
+            st.files.retain(|(p, _)| p != path);
+            st.files.push((path.to_path_buf(), bytes.to_vec()));
+            return Ok(());
+        }
+    }
+    let tmp = write_tmp(path, bytes)?;
+    if path.is_dir() {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(Error::Io {
+            path: path.display().to_string(),
+            msg: "a directory is in the way".into(),
+        });
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_err(path)(e)
+    })
+}
+
+/// An open output set; see the module doc.
+#[must_use = "a set is written only when committed"]
+pub struct SetGuard {
+    open: bool,
+}
+
+/// Open a set named `name` whose manifest is written to `manifest`. Sets do not nest: a
+/// second `begin_set` while one is open is an error.
+pub fn begin_set(name: &str, manifest: &Path) -> Result<SetGuard> {
+    let mut g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(st) = g.as_ref() {
+        return Err(Error::InvalidArgument(format!(
+            "output set '{name}' opened while '{}' is open",
+            st.name
+        )));
+    }
+    *g = Some(Stage {
+        manifest: manifest.to_path_buf(),
+        name: name.to_string(),
+        files: Vec::new(),
+    });
+    Ok(SetGuard { open: true })
+}
+
+/// FNV-1a 64 of a byte string (manifest checksums: detects a mixed set, not an attacker).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+fn manifest_text(name: &str, files: &[(PathBuf, Vec<u8>)]) -> String {
+    let list: Vec<serde_json::Value> = files
+        .iter()
+        .map(|(p, b)| {
+            serde_json::json!({
+                "path": p.display().to_string(),
+                "bytes": b.len(),
+                "fnv1a64": format!("{:016x}", fnv1a(b)),
+            })
+        })
+        .collect();
+    let v = serde_json::json!({"set": name, "complete": true, "files": list});
+    serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+}
+
+impl SetGuard {
+    /// Publish the set (see the module doc). Returns the paths written.
+    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        self.open = false;
+        let st = STAGE
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .take()
+            .ok_or_else(|| Error::InvalidArgument("no output set is open".into()))?;
+        // 1. every target must be writable as a file before anything is written
+        for (p, _) in &st.files {
+            if p.is_dir() {
+                return Err(Error::Io {
+                    path: p.display().to_string(),
+                    msg: "a directory is in the way; nothing of the set was written".into(),
+                });
+            }
+            let mut a = p.parent();
+            while let Some(d) = a {
+                if !d.as_os_str().is_empty() && d.exists() && !d.is_dir() {
+                    return Err(Error::Io {
+                        path: d.display().to_string(),
+                        msg: "a file is in the way of a directory; nothing of the set was written"
+                            .into(),
+                    });
+                }
+                a = d.parent();
+            }
+        }
+        // 2. temporaries, all or none
+        let mut tmps = Vec::new();
+        for (p, b) in &st.files {
+            match write_tmp(p, b) {
+                Ok(t) => tmps.push(t),
+                Err(e) => {
+                    for t in &tmps {
+                        let _ = std::fs::remove_file(t);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        // 3. the old manifest goes first, the new one last
+        let _ = std::fs::remove_file(&st.manifest);
+        for ((p, _), t) in st.files.iter().zip(&tmps) {
+            if let Err(e) = std::fs::rename(t, p) {
+                for t in &tmps {
+                    let _ = std::fs::remove_file(t);
+                }
+                return Err(io_err(p)(e));
+            }
+        }
+        let tmp = write_tmp(&st.manifest, manifest_text(&st.name, &st.files).as_bytes())?;
+        std::fs::rename(&tmp, &st.manifest).map_err(io_err(&st.manifest))?;
+        // 4. temporaries left by killed runs in the same directories
+        let mut dirs: Vec<PathBuf> = st
+            .files
+            .iter()
+            .chain(std::iter::once(&(st.manifest.clone(), Vec::new())))
+            .filter_map(|(p, _)| p.parent().map(Path::to_path_buf))
+            .collect();
+        dirs.sort();
+        dirs.dedup();
+        for d in dirs {
+            remove_stale_temporaries(&d);
+        }
+        Ok(st.files.into_iter().map(|(p, _)| p).collect())
+    }
+}
+
+impl Drop for SetGuard {
+    fn drop(&mut self) {
+        if self.open {
+            // an error on the way: discard what was recorded, write nothing
+            STAGE.lock().unwrap_or_else(|p| p.into_inner()).take();
+        }
+    }
+}
+
+/// Remove `.NAME.tmp.PID` files in `dir` whose process no longer runs (Linux: /proc/PID).
+pub fn remove_stale_temporaries(dir: &Path) {
+    let Ok(rd) = std::fs::read_dir(if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    }) else {
+        return;
+    };
+    if !Path::new("/proc/self").exists() {
+        // without /proc (not Linux) live and dead writers cannot be told apart
+        return;
+    }
+    let me = std::process::id();
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().to_string();
+        if !name.starts_with('.') {
+            continue;
+        }
+        let Some((_, pid)) = name.rsplit_once(".tmp.") else {
+            continue;
+        };
+        let Ok(pid) = pid.parse::<u32>() else {
+            continue;
+        };
+        let alive = pid == me || Path::new(&format!("/proc/{pid}")).exists();
+        if !alive {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether the set whose manifest is `manifest` was published completely: the manifest
+/// exists and every file it lists has the recorded size and hash.
+pub fn set_is_complete(manifest: &Path) -> bool {
+    let Ok(text) = std::fs::read_to_string(manifest) else {
+        return false;
+    };
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return false;
+    };
+    let Some(files) = v["files"].as_array() else {
+        return false;
+    };
+    files.iter().all(|f| {
+        let (Some(p), Some(h)) = (f["path"].as_str(), f["fnv1a64"].as_str()) else {
+            return false;
+        };
+        std::fs::read(p).is_ok_and(|b| format!("{:016x}", fnv1a(&b)) == h)
+    })
+}
+
+/// Run `f` inside an output set (see [`begin_set`]) and commit it if `f` succeeds.
+pub fn in_set<T>(name: &str, manifest: &Path, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    let g = begin_set(name, manifest)?;
+    let v = f()?;
+    g.commit()?;
+    Ok(v)
+}
+
+/// Where the manifest of the results set `name` lives: `<results>/.sets/<name>.json`
+/// (git-ignored: a manifest records one run, and the committed files speak for themselves).
+pub fn results_manifest(results: &Path, name: &str) -> PathBuf {
+    results.join(".sets").join(format!("{name}.json"))
 }

@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use ndfbench::integrate::Preset;
 use ndfbench::{cli, verify};
+use ndfbench::io::{in_set, results_manifest};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -162,7 +163,9 @@ fn run_verify(
     pb.finish_and_clear();
     let ok = outcomes.iter().all(|o| o.passed);
     if only.is_none() {
-        verify::write_results(&outcomes, preset, results)?;
+        in_set("proofs", &results_manifest(results, "proofs"), || {
+            verify::write_results(&outcomes, preset, results)
+        })?;
         eprintln!("wrote {}/proofs.md", results.display());
     }
     println!(
@@ -174,6 +177,19 @@ fn run_verify(
 }
 
 fn run_prefilter(
+    input: Option<PathBuf>,
+    generator: Option<String>,
+    dir: &std::path::Path,
+    alpha: f64,
+    rank: Option<usize>,
+    preset: Preset,
+) -> Result<bool, ndfbench::Error> {
+    in_set("prefilter", &dir.join(".manifest.json"), || {
+        prefilter_set(input, generator, dir, alpha, rank, preset)
+    })
+}
+
+fn prefilter_set(
     input: Option<PathBuf>,
     generator: Option<String>,
     dir: &std::path::Path,
@@ -223,11 +239,15 @@ fn run_regen(
 ) -> Result<bool, ndfbench::Error> {
     let out = ndfbench::fit::regen(fits, results, only, preset)?;
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
-    match ndfbench::codegen::write_all(results) {
+    match in_set("codegen", &results_manifest(results, "codegen"), || {
+        ndfbench::codegen::write_all(results)
+    }) {
         Ok(paths) => eprintln!("generated {}", paths.join(", ")),
         Err(e) => eprintln!("codegen skipped: {e}"),
     }
-    match ndfbench::scene::regen_examples(results) {
+    match in_set("scenes", &results_manifest(results, "scenes"), || {
+        ndfbench::scene::regen_examples(results)
+    }) {
         Ok(n) if !n.is_empty() => eprintln!("rebuilt example scenes {}", n.join(", ")),
         Ok(_) => {}
         Err(e) => eprintln!("example scenes skipped: {e}"),
@@ -255,7 +275,11 @@ fn main() -> ExitCode {
         None => (|| {
             let fits_ok = run_regen(None, Preset::Default, &cli.fits, &cli.results)?;
             let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
-            let conv = ndfbench::report::convergence::run(Preset::Default, &cli.results)?;
+            let conv = in_set(
+                "convergence",
+                &results_manifest(&cli.results, "convergence"),
+                || ndfbench::report::convergence::run(Preset::Default, &cli.results),
+            )?;
             println!("{conv}");
             Ok(ok)
         })(),
@@ -263,12 +287,15 @@ fn main() -> ExitCode {
             run_regen(only.as_deref(), preset, &cli.fits, &cli.results)
         }
         Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
-        Some(Cmd::Convergence { preset }) => {
-            ndfbench::report::convergence::run(preset, &cli.results).map(|s| {
-                println!("{s}");
-                true
-            })
-        }
+        Some(Cmd::Convergence { preset }) => in_set(
+            "convergence",
+            &results_manifest(&cli.results, "convergence"),
+            || ndfbench::report::convergence::run(preset, &cli.results),
+        )
+        .map(|s| {
+            println!("{s}");
+            true
+        }),
         Some(Cmd::Eval(args)) => cli::eval(&args, &cli.fits).map(|json| {
             out(&json);
             true
@@ -282,7 +309,10 @@ fn main() -> ExitCode {
             preset,
         }) => run_prefilter(input, generator, &dir, alpha, rank, preset),
         Some(Cmd::Scene { file, out: dir }) => {
-            ndfbench::scene::run(&file, &dir, &cli.results).map(|w| {
+            in_set("scene", &dir.join(".manifest.json"), || {
+                ndfbench::scene::run(&file, &dir, &cli.results)
+            })
+            .map(|w| {
                 println!("wrote {}", w.join(", "));
                 true
             })
@@ -294,27 +324,43 @@ fn main() -> ExitCode {
             norm_ours,
             source,
             out: dir,
-        }) => ndfbench::ltc_compare::run(
-            &shipped,
-            &mat,
-            &mag,
-            norm_ours,
-            source.as_deref(),
-            &cli.results,
-            &dir,
+        }) => in_set(
+            "ltc-compare",
+            &dir.join(".sets").join("ltc-compare.json"),
+            || {
+                ndfbench::ltc_compare::run(
+                    &shipped,
+                    &mat,
+                    &mag,
+                    norm_ours,
+                    source.as_deref(),
+                    &cli.results,
+                    &dir,
+                )
+            },
         )
         .map(|s| {
             println!("{s}");
             true
         }),
         Some(Cmd::TensorlyCompare { python, preset }) => {
-            ndfbench::tensor::compare::run(&cli.results, &python, preset).map(|r| {
+            in_set(
+                "tensorly-compare",
+                &results_manifest(&cli.results, "tensorly-compare"),
+                || ndfbench::tensor::compare::run(&cli.results, &python, preset),
+            )
+            .map(|r| {
                 print!("{}", ndfbench::tensor::compare::table(&r));
                 true
             })
         }
         Some(Cmd::BenchReport { criterion }) => {
-            ndfbench::report::performance::run(&criterion, &cli.results).map(|s| {
+            in_set(
+                "performance",
+                &results_manifest(&cli.results, "performance"),
+                || ndfbench::report::performance::run(&criterion, &cli.results),
+            )
+            .map(|s| {
                 println!("{s}");
                 if let Err(e) = ndfbench::scene::regen_examples(&cli.results) {
                     eprintln!("example scenes skipped: {e}");

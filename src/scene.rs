@@ -112,6 +112,35 @@ const AA_OPTS: &[Opt] = &[
     },
 ];
 
+/// Longest scene name (it names the output directory and appears in generated headers).
+pub const MAX_NAME_LEN: usize = 64;
+/// Largest scene file read.
+pub const MAX_SCENE_BYTES: u64 = 64 * 1024;
+/// Most lights a scene may list.
+pub const MAX_LIGHTS: usize = 64;
+
+/// Parse and validate generated WGSL with naga; a failure is a typed error naming `what`.
+pub fn validate_wgsl(src: &str, what: &str) -> Result<()> {
+    let module = naga::front::wgsl::parse_str(src).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{what}: generated WGSL does not parse: {}",
+            e.message()
+        ))
+    })?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{what}: generated WGSL does not validate: {}",
+            e.as_inner()
+        ))
+    })?;
+    Ok(())
+}
+
 impl Scene {
     /// Parse and validate; errors name the offending key and the accepted values.
     pub fn parse(text: &str, origin: &str) -> Result<Scene> {
@@ -126,6 +155,19 @@ impl Scene {
                 )))
             }
         };
+        let name_ok = !s.name.is_empty()
+            && s.name.len() <= MAX_NAME_LEN
+            && s.name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+            && s
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        if !name_ok {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'name' must be 1–{MAX_NAME_LEN} characters from [A-Za-z0-9_-] starting with a letter, got {:?}",
+                s.name.chars().take(80).collect::<String>()
+            )));
+        }
         one_of("ndf", &s.ndf, &["ggx", "beckmann"])?;
         one_of(
             "roughness",
@@ -143,6 +185,12 @@ impl Scene {
             return Err(Error::InvalidArgument(format!(
                 "scene {origin}: key 'error_budget' must be a finite number > 0, got {}",
                 s.error_budget
+            )));
+        }
+        if s.lights.len() > MAX_LIGHTS {
+            return Err(Error::InvalidArgument(format!(
+                "scene {origin}: key 'lights' lists {} entries, more than {MAX_LIGHTS}",
+                s.lights.len()
             )));
         }
         if s.lights.is_empty() {
@@ -185,10 +233,18 @@ impl Scene {
     }
 
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        let io = |e: std::io::Error| Error::Io {
             path: path.display().to_string(),
             msg: e.to_string(),
-        })?;
+        };
+        let len = std::fs::metadata(path).map_err(io)?.len();
+        if len > MAX_SCENE_BYTES {
+            return Err(Error::InvalidArgument(format!(
+                "scene {}: {len} bytes exceeds the {MAX_SCENE_BYTES}-byte limit",
+                path.display()
+            )));
+        }
+        let text = std::fs::read_to_string(path).map_err(io)?;
         Scene::parse(&text, &path.display().to_string())
     }
 }
@@ -406,11 +462,11 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     report.push_str(&format!("\nErrors are the measured means of results/filters.md for {} (normal-map filters over the four procedural maps, screen-space kernels on the Gaussian-pixel study; a fitted constant's error is its held-out error); costs are criterion means of the f32 forms (results/costs.json, results/performance.md). The vMF fitted constant and σ² are fitted for GGX; Beckmann uses the same functions.\n", s.ndf));
     let title = format!("scene '{}'", s.name);
     let cmd = "cargo run --release -- scene";
+    let wgsl = codegen::render_wgsl(&title, &fns, &consts, cmd)?;
+    // nothing is written unless the shader it would write validates
+    validate_wgsl(&wgsl, &format!("scene '{}'", s.name))?;
     Ok(vec![
-        (
-            "scene.wgsl".into(),
-            codegen::render_wgsl(&title, &fns, &consts, cmd)?,
-        ),
+        ("scene.wgsl".into(), wgsl),
         ("scene.rs".into(), codegen::render_rust(&fns, &consts, cmd)?),
         ("report.md".into(), report),
     ])

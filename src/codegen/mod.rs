@@ -383,6 +383,8 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
     let mut written = Vec::new();
     for (rel, text) in render_all(results, canonical)? {
         let path = if let Some(w) = rel.strip_prefix("wgsl/") {
+            // a module that naga rejects is never written
+            crate::scene::validate_wgsl(&text, &rel)?;
             results.join("wgsl").join(w)
         } else {
             Path::new(&rel).to_path_buf()

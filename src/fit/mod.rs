@@ -49,6 +49,8 @@ pub fn regen(
         }
     };
     for s in selected {
+        // one study = one output set, published in one step (crate::io)
+        let set = crate::io::begin_set(&s.name, &crate::io::results_manifest(results, &s.name))?;
         let o = match s.name.as_str() {
             "leadr-grids" => crate::leadr::regen(s, results)?,
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
@@ -60,6 +62,7 @@ pub fn regen(
             }
             _ => crate::multiscale::regen::run(s, results, preset)?,
         };
+        set.commit()?;
         out.push(o);
     }
     if out.is_empty() {

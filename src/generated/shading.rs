@@ -193,15 +193,26 @@ pub fn beckmann_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: 
     return 1.0 / (1.0 + beckmann_lambda(ix, iy, iz, alpha) + beckmann_lambda(ox, oy, oz, alpha));
 }
 
-/// Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form).
-pub fn filter_toksvig(alpha: f32, r: f32, c: f32) -> f32 {
-    return sqrt(alpha * alpha + c * (1.0 - r) / r);
+/// √(α² + k), k ≥ 0, without overflow for any finite f32 α (above 1e18 it is computed as α√(1 + k/α²)).
+pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
+    if (alpha > 1e18) {
+        let z: f32 = sqrt(k) / alpha;
+        return alpha * sqrt(1.0 + z * z);
+    }
+    return sqrt(alpha * alpha + k);
 }
 
-/// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r.
+/// Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form). r is clamped to [m, 1] (m = smallest normal f32, NaN ↦ m), so r → 0 gives a finite α′ ~ √(c/r).
+pub fn filter_toksvig(alpha: f32, r: f32, c: f32) -> f32 {
+    let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
+    return filter_sqrt_sum(alpha, c * (1.0 - rc) / rc);
+}
+
+/// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.
 pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
-    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
-    return sqrt(alpha * alpha + c * inv_kappa);
+    let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
+    let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
+    return filter_sqrt_sum(alpha, c * inv_kappa);
 }
 
 /// vMF filter with the constant refitted against the footprint-averaged GGX BRDF (results/filters.md).

@@ -63,10 +63,20 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
     return a2 * hh * hh * lz / (2.0 * PI * k * k * (ql * vz + qv * lz));
 }
 
-/// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r.
+/// √(α² + k), k ≥ 0, without overflow for any finite f32 α (above 1e18 it is computed as α√(1 + k/α²)).
+pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
+    if (alpha > 1e18) {
+        let z: f32 = sqrt(k) / alpha;
+        return alpha * sqrt(1.0 + z * z);
+    }
+    return sqrt(alpha * alpha + k);
+}
+
+/// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.
 pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
-    let inv_kappa: f32 = (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r));
-    return sqrt(alpha * alpha + c * inv_kappa);
+    let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
+    let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
+    return filter_sqrt_sum(alpha, c * inv_kappa);
 }
 
 /// Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.
