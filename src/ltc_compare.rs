@@ -274,6 +274,9 @@ pub fn roughness_of_table(t: &Shipped) -> [f64; 4] {
     out
 }
 
+/// Largest shipped-table file read.
+pub const MAX_SHIPPED_BYTES: u64 = 16 << 20;
+
 /// Run the comparison and write `out`/ltc-compare.md; returns a one-line summary.
 pub fn run(
     shipped_path: &Path,
@@ -284,10 +287,19 @@ pub fn run(
     results: &Path,
     out: &Path,
 ) -> Result<String> {
-    let text = std::fs::read_to_string(shipped_path).map_err(|e| Error::Io {
+    let io = |e: std::io::Error| Error::Io {
         path: shipped_path.display().to_string(),
         msg: e.to_string(),
-    })?;
+    };
+    // three.js's RectAreaLightTexturesLib.js is ~0.5 MB; anything far larger is not a table
+    let len = std::fs::metadata(shipped_path).map_err(io)?.len();
+    if len > MAX_SHIPPED_BYTES {
+        return Err(Error::InvalidArgument(format!(
+            "ltc-compare: {} is {len} bytes, over the {MAX_SHIPPED_BYTES}-byte limit for a shipped table",
+            shipped_path.display()
+        )));
+    }
+    let text = std::fs::read_to_string(shipped_path).map_err(io)?;
     let ours = ours(results)?;
     let shipped = if norm_ours {
         Shipped::parse_mat_with_norms(&text, mat, &ours)?
@@ -295,7 +307,16 @@ pub fn run(
         Shipped::parse(&text, mat, mag)?
     };
     let cmp = compare(&ours, &shipped, 48)?;
-    let inner: Vec<&CellCmp> = cmp.iter().filter(|c| c.i > 0).collect();
+    let inner: Vec<&CellCmp> = cmp
+        .iter()
+        .filter(|c| c.i > 0 && c.ours_l2.is_finite() && c.shipped_l2.is_finite())
+        .collect();
+    if inner.is_empty() {
+        return Err(Error::InvalidArgument(format!(
+            "ltc-compare: {} has no cell that can be compared (every cell is NaN, or only the r = 0 column is given); nothing written",
+            shipped_path.display()
+        )));
+    }
     let mean =
         |f: &dyn Fn(&CellCmp) -> f64| inner.iter().map(|c| f(c)).sum::<f64>() / inner.len() as f64;
     let worse: Vec<&&CellCmp> = inner

@@ -145,6 +145,17 @@ fn run_verify(
         .iter()
         .filter(|c| only.is_none_or(|f| c.id.contains(f)))
         .count();
+    if n == 0 {
+        return Err(ndfbench::Error::InvalidArgument(format!(
+            "verify --only {:?} matches no check (ids: {})",
+            only.unwrap_or(""),
+            verify::all()
+                .iter()
+                .map(|c| c.id)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
     let pb = bar(n as u64, "verify");
     let outcomes = verify::run(preset, only, |o| {
         pb.inc(1);

@@ -101,6 +101,17 @@ fn waves(
         .collect()
 }
 
+/// Largest side of a normal-map PNG that is read (8K).
+pub const MAX_MAP_SIDE: usize = 8192;
+/// A decoded texel is a unit normal when its length is within this of 1: 8-bit storage
+/// rounds each component by at most 1/255, i.e. the length by at most √3/255 ≈ 0.007, and
+/// tools that store unnormalised mips stay within a few per cent; a grey image decodes to
+/// length ≈ 0.
+pub const UNIT_TOLERANCE: f64 = 0.05;
+/// At most this fraction of texels may be off unit length (isolated bad texels happen in
+/// real maps; a map that is not a normal map fails almost everywhere).
+pub const MAX_OFF_UNIT_FRACTION: f64 = 0.01;
+
 impl NormalMap {
     /// A procedural map of size × size texels (size a power of two ≥ 2).
     pub fn procedural(kind: Procedural, size: usize, seed: u64) -> Result<NormalMap> {
@@ -229,10 +240,21 @@ impl NormalMap {
     /// decoded normal is zero or points below the surface (n_z ≤ 0), or a size that is
     /// not a power of two (the mip chain needs whole 2×2 blocks).
     pub fn from_png(path: &Path) -> Result<NormalMap> {
-        let img = image::open(path).map_err(|e| Error::Io {
+        let bad_file = |e: String| Error::Io {
             path: path.display().to_string(),
             msg: format!("cannot read the normal map: {e}"),
-        })?;
+        };
+        // sizes come from the file: bounded before anything is decoded
+        let mut reader = image::ImageReader::open(path)
+            .map_err(|e| bad_file(e.to_string()))?
+            .with_guessed_format()
+            .map_err(|e| bad_file(e.to_string()))?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_MAP_SIDE as u32);
+        limits.max_image_height = Some(MAX_MAP_SIDE as u32);
+        limits.max_alloc = Some(2 << 30);
+        reader.limits(limits);
+        let img = reader.decode().map_err(|e| bad_file(e.to_string()))?;
         let rgb = img.to_rgb32f();
         let (w, h) = (rgb.width() as usize, rgb.height() as usize);
         if w < 2 || h < 2 || !w.is_power_of_two() || !h.is_power_of_two() {
@@ -242,6 +264,7 @@ impl NormalMap {
             )));
         }
         let mut normals = Vec::with_capacity(w * h);
+        let mut off_unit = 0usize;
         for (i, p) in rgb.pixels().enumerate() {
             let v = Vector3::new(
                 2.0 * p[0] as f64 - 1.0,
@@ -251,14 +274,28 @@ impl NormalMap {
             let n = v.norm();
             if !(n > 1e-6) || v.z <= 0.0 {
                 return Err(Error::InvalidArgument(format!(
-                    "normal map {}: texel ({}, {}) decodes to {:?}, not an upper-hemisphere normal",
+                    "normal map {}: texel ({}, {}) decodes to ({:.3}, {:.3}, {:.3}), not an upper-hemisphere normal",
                     path.display(),
                     i % w,
                     i / w,
-                    [v.x, v.y, v.z]
+                    v.x,
+                    v.y,
+                    v.z
                 )));
             }
+            if (n - 1.0).abs() > UNIT_TOLERANCE {
+                off_unit += 1;
+            }
             normals.push(v / n);
+        }
+        let frac = off_unit as f64 / (w * h) as f64;
+        if frac > MAX_OFF_UNIT_FRACTION {
+            return Err(Error::InvalidArgument(format!(
+                "{} is not a normal map: {:.1} % of its texels decode to vectors whose length is off 1 by more than {UNIT_TOLERANCE} (at most {:.0} % may be)",
+                path.display(),
+                100.0 * frac,
+                100.0 * MAX_OFF_UNIT_FRACTION
+            )));
         }
         Ok(NormalMap {
             name: path

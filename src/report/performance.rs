@@ -79,6 +79,21 @@ pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
             &std::fs::read_to_string(&ef).map_err(|e| io(&ef, e.to_string()))?,
         )
         .map_err(|e| io(&ef, e.to_string()))?;
+        // a time is a positive finite number of nanoseconds, its interval around it
+        let (m, lo, hi) = (
+            est.mean.point_estimate,
+            est.mean.confidence_interval.lower_bound,
+            est.mean.confidence_interval.upper_bound,
+        );
+        if !(m.is_finite() && m > 0.0 && lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo)
+        {
+            return Err(io(
+                &ef,
+                format!(
+                    "criterion estimate is not a positive time (mean {m:e} ns, interval [{lo:e}, {hi:e}])"
+                ),
+            ));
+        }
         out.push(Timed {
             group: id.group_id,
             function: id.function_id.unwrap_or_default(),
@@ -92,7 +107,19 @@ pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
     Ok(out)
 }
 
+/// A speed-up ratio, or "—" where a time is missing.
+fn fmt_ratio(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.2}×")
+    } else {
+        "—".into()
+    }
+}
+
 fn fmt_time(ns: f64) -> String {
+    if !ns.is_finite() {
+        return "—".into();
+    }
     if ns >= 1e9 {
         format!("{:.3} s", ns / 1e9)
     } else if ns >= 1e6 {
@@ -164,7 +191,7 @@ it buys.\n\n",
                 fmt_time(t.mean_ns),
                 fmt_time(t.lo_ns),
                 fmt_time(t.hi_ns),
-                base.map(|b| format!("{:.2}×", b / t.mean_ns))
+                base.map(|b| fmt_ratio(b / t.mean_ns))
                     .unwrap_or_else(|| "–".into())
             ));
         }
@@ -202,6 +229,8 @@ it buys.\n\n",
             ));
         }
     }
+    // a benchmark missing from a partial criterion directory shows as "—", never as NaN
+    let md = missing_as_dash(&md);
     crate::io::write_atomic(&results.join("performance.md"), md.as_bytes())?;
     Ok(format!(
         "wrote {}/performance.md ({} benchmarks)",
@@ -525,15 +554,15 @@ fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
             pts.push((p as f64, r(pp)));
             let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.0}"));
             md.push_str(&format!(
-                "| {} | {p} | {} | {} | {} | {:.2}× | {:.2}× | {:.1e} | {:.0} |\n",
+                "| {} | {p} | {} | {} | {} | {} | {} | {} | {} |\n",
                 grp.trim_start_matches("kernel-"),
                 f(pp),
                 f(s),
                 f(a),
-                r(pp),
-                r(s),
-                err,
-                ulp
+                fmt_ratio(r(pp)),
+                fmt_ratio(r(s)),
+                if err.is_finite() { format!("{err:.1e}") } else { "—".into() },
+                if ulp.is_finite() { format!("{ulp:.0}") } else { "—".into() }
             ));
         }
         plot.push(crate::report::plot::Series {
@@ -673,4 +702,30 @@ fn leadr_table(timed: &[Timed], results: &Path) -> String {
         ));
     }
     md
+}
+
+/// Replace every formatted non-number ("NaN", "inf", "-inf" as whole words, with an
+/// optional unit or × after them) by "—".
+pub fn missing_as_dash(md: &str) -> String {
+    let mut out = String::with_capacity(md.len());
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        let core = word.trim_end_matches(['×', '%']);
+        if matches!(core, "NaN" | "inf" | "-inf" | "NaN×" | "+inf") {
+            out.push('—');
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for ch in md.chars() {
+        if ch.is_whitespace() || ch == '|' || ch == '(' || ch == ')' || ch == ',' {
+            flush(&mut word, &mut out);
+            out.push(ch);
+        } else {
+            word.push(ch);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
 }
