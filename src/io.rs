@@ -285,3 +285,18 @@ pub fn in_set<T>(name: &str, manifest: &Path, f: impl FnOnce() -> Result<T>) -> 
 pub fn results_manifest(results: &Path, name: &str) -> PathBuf {
     results.join(".sets").join(format!("{name}.json"))
 }
+
+/// Read a text file as the running program sees it: a file recorded in the open set (not
+/// yet published) reads as its pending contents, so a study can read back what it wrote.
+pub fn read_to_string(path: &Path) -> std::io::Result<String> {
+    {
+        let g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some(st) = g.as_ref() {
+            if let Some((_, b)) = st.files.iter().rev().find(|(p, _)| p == path) {
+                return String::from_utf8(b.clone())
+                    .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e));
+            }
+        }
+    }
+    std::fs::read_to_string(path)
+}

@@ -123,6 +123,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         ),
     ];
     pb.finish_and_clear();
+    crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
     let st = stats(&main);
     let mut md = format!(
         "# GGX LTC table and polygonal lights (issue 4)\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
@@ -266,9 +267,11 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     }
     md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; each is reported for every fit. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous.\n\n");
     // heatmap
-    let hx: Vec<f64> = (0..n).map(|i| main.grid.alpha(i)).collect();
+    // axes as the table is indexed: r = √α across, t = √(1 − cos θ) down (normal
+    // incidence, t = 0, at the top)
+    let hx: Vec<f64> = (0..n).map(|i| main.grid.alpha(i).sqrt()).collect();
     let hy: Vec<f64> = (0..n)
-        .map(|j| main.grid.theta(j).cos().max(1.7e-4))
+        .map(|j| (1.0 - main.grid.theta(j).cos()).max(0.0).sqrt())
         .collect();
     let vals: Vec<Vec<f64>> = (0..n)
         .map(|j| (0..n).map(|i| main.cells[j][i].err_l2.max(1e-8)).collect())
@@ -281,8 +284,10 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
             values: vals,
             log_range: (-4.0, 0.0),
             x_label: "r = √α".into(),
-            y_label: "t = √(1 − cos θ)".into(),
+            y_label: "t = √(1 − cos θ)  (t = 0: normal incidence, top)".into(),
             log_axes: false,
+            y_down: true,
+            colour_label: "log10 relative L2 (held out)".into(),
         }],
         720,
         620,
@@ -602,7 +607,7 @@ fn precision_section(main: &Table, n_samples: usize) -> Result<String> {
 /// `ltc-compare`; the shipped file itself is never committed).
 fn shipped_section(results: &Path, our_mean_l2: f64) -> String {
     let mut md = String::from("## Against the shipped table (issue 4 §2)\n\n");
-    let v: Option<serde_json::Value> = std::fs::read_to_string(results.join("ltc-compare.json"))
+    let v: Option<serde_json::Value> = crate::io::read_to_string(&results.join("ltc-compare.json"))
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok());
     match v {

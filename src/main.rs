@@ -156,6 +156,7 @@ fn run_verify(
                 .join(", ")
         )));
     }
+    ndfbench::report::stage(&format!("verify: {n} checks at the {preset:?} preset"));
     let pb = bar(n as u64, "verify");
     let outcomes = verify::run(preset, only, |o| {
         pb.inc(1);
@@ -173,6 +174,7 @@ fn run_verify(
     });
     pb.finish_and_clear();
     let ok = outcomes.iter().all(|o| o.passed);
+    ndfbench::report::stage("verify: done");
     if only.is_none() {
         in_set("proofs", &results_manifest(results, "proofs"), || {
             verify::write_results(&outcomes, preset, results)
@@ -250,6 +252,7 @@ fn run_regen(
 ) -> Result<bool, ndfbench::Error> {
     let out = ndfbench::fit::regen(fits, results, only, preset)?;
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
+    ndfbench::report::stage("codegen");
     match in_set("codegen", &results_manifest(results, "codegen"), || {
         ndfbench::codegen::write_all(results)
     }) {
@@ -281,11 +284,30 @@ fn out(s: &str) {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // clap's own errors (bad flags, unparsable numbers) exit 2 with their first line only;
+    // --help and --version print as usual
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                e.exit();
+            }
+            let text = e.render().to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: bad arguments"));
+            return ExitCode::from(2);
+        }
+    };
     let res: Result<bool, ndfbench::Error> = match cli.cmd {
         None => (|| {
             let fits_ok = run_regen(None, Preset::Default, &cli.fits, &cli.results)?;
             let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
+            ndfbench::report::stage("convergence study: started");
             let conv = in_set(
                 "convergence",
                 &results_manifest(&cli.results, "convergence"),

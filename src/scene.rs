@@ -272,7 +272,7 @@ impl Measured {
     fn load(results: &Path) -> Measured {
         Measured {
             filters: crate::fit::read_result(results, "filters"),
-            costs: std::fs::read_to_string(results.join("costs.json"))
+            costs: crate::io::read_to_string(&results.join("costs.json"))
                 .ok()
                 .and_then(|t| serde_json::from_str(&t).ok()),
         }

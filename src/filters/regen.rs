@@ -260,6 +260,7 @@ fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Vec<MapCase>>
         )
         .collect::<Result<_>>()?;
     pb.finish_and_clear();
+    crate::report::stage("regen filters: map footprints done");
     Ok(map_cases)
 }
 
@@ -426,6 +427,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         )
         .collect::<Result<_>>()?;
     pb.finish_and_clear();
+    crate::report::stage("regen filters: screen-space kernels done");
 
     // ---- fitted constants (train: even footprints / even views; held-out: the rest) ----
     let mut fits = Vec::new();
@@ -932,7 +934,7 @@ fn embed(results: &Path) -> String {
         ("leadr.md", "LEADR numerical integration"),
         ("smith-lambda.md", "Smith Λ approximations"),
     ] {
-        if let Ok(t) = std::fs::read_to_string(results.join(file)) {
+        if let Ok(t) = crate::io::read_to_string(&results.join(file)) {
             s.push_str(&format!("\n## {title} (from results/{file})\n"));
             for line in t.lines().skip(1) {
                 if let Some(h) = line.strip_prefix("## ") {

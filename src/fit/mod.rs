@@ -51,6 +51,8 @@ pub fn regen(
     for s in selected {
         // one study = one output set, published in one step (crate::io)
         let set = crate::io::begin_set(&s.name, &crate::io::results_manifest(results, &s.name))?;
+        crate::report::stage(&format!("regen {}: started", s.name));
+        let t = std::time::Instant::now();
         let o = match s.name.as_str() {
             "leadr-grids" => crate::leadr::regen(s, results)?,
             "smith-lambda" => crate::microfacet::lambda_fit::regen(s, results)?,
@@ -63,6 +65,11 @@ pub fn regen(
             _ => crate::multiscale::regen::run(s, results, preset)?,
         };
         set.commit()?;
+        crate::report::stage(&format!(
+            "regen {}: done in {:.1} s",
+            s.name,
+            t.elapsed().as_secs_f64()
+        ));
         out.push(o);
     }
     if out.is_empty() {
@@ -117,6 +124,6 @@ pub fn write_result(results: &Path, name: &str, value: &serde_json::Value) -> Re
 
 /// Read results/fits/<name>.json if present and well formed.
 pub fn read_result(results: &Path, name: &str) -> Option<serde_json::Value> {
-    let text = std::fs::read_to_string(results.join("fits").join(format!("{name}.json"))).ok()?;
+    let text = crate::io::read_to_string(&results.join("fits").join(format!("{name}.json"))).ok()?;
     serde_json::from_str(&text).ok()
 }

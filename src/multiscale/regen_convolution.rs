@@ -361,6 +361,8 @@ carries both limits; every basis function of the per-metric correction vanishes 
         x_label: "α_mi".into(),
         y_label: "α_me".into(),
         log_axes: true,
+        y_down: false,
+        colour_label: format!("log10 {title}"),
     };
     let maps = crate::report::plot::heatmap_svg(
         &[

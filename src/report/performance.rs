@@ -250,7 +250,7 @@ fn error_vs_time(results: &Path, ns: &[(String, Engine, f64)]) -> Result<String>
         abs_error: f64,
     }
     let path = results.join("convergence.json");
-    let Ok(text) = std::fs::read_to_string(&path) else {
+    let Ok(text) = crate::io::read_to_string(&path) else {
         return Ok("\n(no results/convergence.json: run `cargo run --release -- convergence` for the error-vs-time table)\n".into());
     };
     let rows: Vec<Row> = serde_json::from_str(&text).map_err(|e| Error::Io {
@@ -356,7 +356,7 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
 /// runs measured when this run lacks them.
 fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
     let path = results.join("costs.json");
-    let mut costs: serde_json::Map<String, serde_json::Value> = std::fs::read_to_string(&path)
+    let mut costs: serde_json::Map<String, serde_json::Value> = crate::io::read_to_string(&path)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
         .unwrap_or_default();

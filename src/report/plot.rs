@@ -114,6 +114,10 @@ pub struct HeatPanel {
     pub y_label: String,
     /// Log-scaled axes (positive grid values) or linear ones.
     pub log_axes: bool,
+    /// Draw the first row at the top (a table's row order) instead of the bottom.
+    pub y_down: bool,
+    /// What the colour bar measures (its label, e.g. "log10 relative L2").
+    pub colour_label: String,
 }
 
 fn viridis_like(t: f64) -> RGBColor {
@@ -145,7 +149,12 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
         let err = |e: String| Error::InvalidArgument(format!("plot: {e}"));
         root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
         let areas = root.split_evenly((1, panels.len().max(1)));
-        for (area, p) in areas.iter().zip(panels) {
+        for (whole, p) in areas.iter().zip(panels) {
+            // each panel: the map and, at its right, a colour bar in log10 units
+            let bar_w = 95.min(whole.dim_in_pixel().0 / 4);
+            let (area, bar) = whole.split_horizontally(whole.dim_in_pixel().0 - bar_w);
+            colour_bar(&bar, p).map_err(err)?;
+            let area = &area;
             let log = p.log_axes;
             let edges = |v: &[f64]| -> Vec<f64> {
                 let n = v.len();
@@ -171,6 +180,8 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
                 p.title, p.log_range.0, p.log_range.1
             );
             let (x0, x1, y0, y1) = (ex[0], ex[ex.len() - 1], ey[0], ey[ey.len() - 1]);
+            // y_down: the axis runs from the last edge (bottom) to the first (top)
+            let (y0, y1) = if p.y_down { (y1, y0) } else { (y0, y1) };
             if log {
                 let mut chart = ChartBuilder::on(area)
                     .caption(title.as_str(), ("sans-serif", 14))
@@ -212,6 +223,41 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
         root.present().map_err(|e| err(e.to_string()))?;
     }
     Ok(buf)
+}
+
+/// A vertical colour bar for `p`'s log10 range, labelled with `p.colour_label`.
+fn colour_bar(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    p: &HeatPanel,
+) -> std::result::Result<(), String> {
+    let (lo, hi) = p.log_range;
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(40)
+        .margin_bottom(45)
+        .margin_right(5)
+        .y_label_area_size(45)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .disable_x_axis()
+        .disable_mesh()
+        .y_desc(p.colour_label.as_str())
+        .label_style(("sans-serif", 11))
+        .axis_desc_style(("sans-serif", 11))
+        .y_label_formatter(&|y| format!("{y:.1}"))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let n = 64;
+    chart
+        .draw_series((0..n).map(|k| {
+            let a = lo + (hi - lo) * k as f64 / n as f64;
+            let b = lo + (hi - lo) * (k + 1) as f64 / n as f64;
+            let c = viridis_like((k as f64 + 0.5) / n as f64);
+            Rectangle::new([(0.0, a), (1.0, b)], c.filled())
+        }))
+        .map_err(|e| e.to_string())?;
+    Ok(())
 }
 
 fn draw_cells<X, Y>(

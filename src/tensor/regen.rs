@@ -148,7 +148,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
 fn tensorly_section(results: &Path) -> String {
     let mut md = String::from("\n## Against TensorLy's parafac (§3)\n\n");
     let path = results.join("tensor-tensorly.json");
-    match std::fs::read_to_string(&path)
+    match crate::io::read_to_string(&path)
         .ok()
         .and_then(|t| serde_json::from_str::<super::compare::Report>(&t).ok())
     {
@@ -261,7 +261,7 @@ fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> Strin
 /// §7: the constant-cost benchmark (criterion, via `bench-report` into results/costs.json).
 fn cost_section(results: &Path) -> String {
     let costs: serde_json::Map<String, serde_json::Value> =
-        std::fs::read_to_string(results.join("costs.json"))
+        crate::io::read_to_string(&results.join("costs.json"))
             .ok()
             .and_then(|t| serde_json::from_str(&t).ok())
             .unwrap_or_default();
