@@ -310,7 +310,8 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                     ))
                 }
             };
-            if !(y > 0.0 && y < 1.0 && b > 0.0 && b < 1.0) {
+            // either may round to 1 when the other is tiny; neither may be 0
+            if !(y > 0.0 && y <= 1.0 && b > 0.0 && b <= 1.0) {
                 return Err(Error::InvalidArgument(match a.b {
                     Some(b) => format!("--b (‖b̄‖) must lie in (0, 1), got {b:e}"),
                     None => format!("--one-minus-b must lie in (0, 1), got {y:e}"),
@@ -328,8 +329,7 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                     })
             };
             use crate::multiscale::alpha_me::{
-                fit_ours, held_out, held_out_alphas, paper_method, training_alphas,
-                Table,
+                fit_ours, held_out, held_out_alphas, paper_method, training_alphas, Table,
             };
             let method: Box<dyn Fn(f64, f64) -> f64> = match a.method {
                 AlphaMethod::Paper => Box::new(paper_method),
@@ -357,15 +357,15 @@ pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
                 .map(|s| (s.domain.alpha_min, s.domain.alpha_max, s.held_out.points))
                 .unwrap_or((1e-3, 1.0, 2000));
             let h = held_out(&held_out_alphas(n, lo, hi), &|b, y| method(b, y));
-            // inside the fit domain is a property of the input: y between y(α_max) and
-            // y(α_min) (1 − ‖b̄‖ decreases with α)
-            let (y_at_hi, y_at_lo) = (
-                crate::multiscale::mrl::mrl_pair(hi).1,
+            // inside the fit domain is a property of the input: y between y(α_min) and
+            // y(α_max) (1 − ‖b̄‖ increases with α)
+            let (y_at_lo, y_at_hi) = (
                 crate::multiscale::mrl::mrl_pair(lo).1,
+                crate::multiscale::mrl::mrl_pair(hi).1,
             );
             (
                 v,
-                json!({"method": format!("{:?}", a.method), "held_out": h, "held_out_domain_alpha": [lo, hi], "held_out_domain_one_minus_b": [y_at_hi, y_at_lo], "inside_domain": y >= y_at_hi && y <= y_at_lo}),
+                json!({"method": format!("{:?}", a.method), "held_out": h, "held_out_domain_alpha": [lo, hi], "held_out_domain_one_minus_b": [y_at_lo, y_at_hi], "inside_domain": y >= y_at_lo && y <= y_at_hi}),
             )
         }
         Quantity::Jacobian => {

@@ -15,9 +15,9 @@
 //! exist are removed by the next commit into the same directories (and are git-ignored).
 
 use crate::error::{Error, Result};
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// The open set: its manifest path and the files recorded so far.
 struct Stage {
@@ -26,7 +26,12 @@ struct Stage {
     files: Vec<(PathBuf, Vec<u8>)>,
 }
 
-static STAGE: Mutex<Option<Stage>> = Mutex::new(None);
+// The open set belongs to the thread that opened it (the thread that runs the study and
+// writes its files; studies write from their own thread, never from rayon workers), so
+// that concurrent callers in one process (tests) keep their sets apart.
+thread_local! {
+    static STAGE: RefCell<Option<Stage>> = const { RefCell::new(None) };
+}
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |e| Error::Io {
@@ -70,13 +75,16 @@ fn write_tmp(path: &Path, bytes: &[u8]) -> Result<PathBuf> {
 /// directories are created). While a set is open ([`begin_set`]) the file joins the set
 /// and is written when the set is committed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    {
-        let mut g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some(st) = g.as_mut() {
+    let staged = STAGE.with_borrow_mut(|g| match g.as_mut() {
+        Some(st) => {
             st.files.retain(|(p, _)| p != path);
             st.files.push((path.to_path_buf(), bytes.to_vec()));
-            return Ok(());
+            true
         }
+        None => false,
+    });
+    if staged {
+        return Ok(());
     }
     let tmp = write_tmp(path, bytes)?;
     if path.is_dir() {
@@ -101,19 +109,20 @@ pub struct SetGuard {
 /// Open a set named `name` whose manifest is written to `manifest`. Sets do not nest: a
 /// second `begin_set` while one is open is an error.
 pub fn begin_set(name: &str, manifest: &Path) -> Result<SetGuard> {
-    let mut g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(st) = g.as_ref() {
-        return Err(Error::InvalidArgument(format!(
-            "output set '{name}' opened while '{}' is open",
-            st.name
-        )));
-    }
-    *g = Some(Stage {
-        manifest: manifest.to_path_buf(),
-        name: name.to_string(),
-        files: Vec::new(),
-    });
-    Ok(SetGuard { open: true })
+    STAGE.with_borrow_mut(|g| {
+        if let Some(st) = g.as_ref() {
+            return Err(Error::InvalidArgument(format!(
+                "output set '{name}' opened while '{}' is open",
+                st.name
+            )));
+        }
+        *g = Some(Stage {
+            manifest: manifest.to_path_buf(),
+            name: name.to_string(),
+            files: Vec::new(),
+        });
+        Ok(SetGuard { open: true })
+    })
 }
 
 /// FNV-1a 64 of a byte string (manifest checksums: detects a mixed set, not an attacker).
@@ -146,9 +155,7 @@ impl SetGuard {
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
         self.open = false;
         let st = STAGE
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .take()
+            .with_borrow_mut(Option::take)
             .ok_or_else(|| Error::InvalidArgument("no output set is open".into()))?;
         // 1. every target must be writable as a file before anything is written
         for (p, _) in &st.files {
@@ -215,7 +222,7 @@ impl Drop for SetGuard {
     fn drop(&mut self) {
         if self.open {
             // an error on the way: discard what was recorded, write nothing
-            STAGE.lock().unwrap_or_else(|p| p.into_inner()).take();
+            STAGE.with_borrow_mut(Option::take);
         }
     }
 }
@@ -289,14 +296,18 @@ pub fn results_manifest(results: &Path, name: &str) -> PathBuf {
 /// Read a text file as the running program sees it: a file recorded in the open set (not
 /// yet published) reads as its pending contents, so a study can read back what it wrote.
 pub fn read_to_string(path: &Path) -> std::io::Result<String> {
-    {
-        let g = STAGE.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some(st) = g.as_ref() {
-            if let Some((_, b)) = st.files.iter().rev().find(|(p, _)| p == path) {
-                return String::from_utf8(b.clone())
-                    .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e));
-            }
-        }
+    let pending = STAGE.with_borrow(|g| {
+        g.as_ref().and_then(|st| {
+            st.files
+                .iter()
+                .rev()
+                .find(|(p, _)| p == path)
+                .map(|(_, b)| b.clone())
+        })
+    });
+    match pending {
+        Some(b) => String::from_utf8(b)
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e)),
+        None => std::fs::read_to_string(path),
     }
-    std::fs::read_to_string(path)
 }

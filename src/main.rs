@@ -3,8 +3,8 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use ndfbench::integrate::Preset;
-use ndfbench::{cli, verify};
 use ndfbench::io::{in_set, results_manifest};
+use ndfbench::{cli, verify};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -341,15 +341,13 @@ fn main() -> ExitCode {
             rank,
             preset,
         }) => run_prefilter(input, generator, &dir, alpha, rank, preset),
-        Some(Cmd::Scene { file, out: dir }) => {
-            in_set("scene", &dir.join(".manifest.json"), || {
-                ndfbench::scene::run(&file, &dir, &cli.results)
-            })
-            .map(|w| {
-                println!("wrote {}", w.join(", "));
-                true
-            })
-        }
+        Some(Cmd::Scene { file, out: dir }) => in_set("scene", &dir.join(".manifest.json"), || {
+            ndfbench::scene::run(&file, &dir, &cli.results)
+        })
+        .map(|w| {
+            println!("wrote {}", w.join(", "));
+            true
+        }),
         Some(Cmd::LtcCompare {
             shipped,
             mat,
@@ -376,31 +374,27 @@ fn main() -> ExitCode {
             println!("{s}");
             true
         }),
-        Some(Cmd::TensorlyCompare { python, preset }) => {
-            in_set(
-                "tensorly-compare",
-                &results_manifest(&cli.results, "tensorly-compare"),
-                || ndfbench::tensor::compare::run(&cli.results, &python, preset),
-            )
-            .map(|r| {
-                print!("{}", ndfbench::tensor::compare::table(&r));
-                true
-            })
-        }
-        Some(Cmd::BenchReport { criterion }) => {
-            in_set(
-                "performance",
-                &results_manifest(&cli.results, "performance"),
-                || ndfbench::report::performance::run(&criterion, &cli.results),
-            )
-            .map(|s| {
-                println!("{s}");
-                if let Err(e) = ndfbench::scene::regen_examples(&cli.results) {
-                    eprintln!("example scenes skipped: {e}");
-                }
-                true
-            })
-        }
+        Some(Cmd::TensorlyCompare { python, preset }) => in_set(
+            "tensorly-compare",
+            &results_manifest(&cli.results, "tensorly-compare"),
+            || ndfbench::tensor::compare::run(&cli.results, &python, preset),
+        )
+        .map(|r| {
+            print!("{}", ndfbench::tensor::compare::table(&r));
+            true
+        }),
+        Some(Cmd::BenchReport { criterion }) => in_set(
+            "performance",
+            &results_manifest(&cli.results, "performance"),
+            || ndfbench::report::performance::run(&criterion, &cli.results),
+        )
+        .map(|s| {
+            println!("{s}");
+            if let Err(e) = ndfbench::scene::regen_examples(&cli.results) {
+                eprintln!("example scenes skipped: {e}");
+            }
+            true
+        }),
     };
     match res {
         Ok(true) => ExitCode::SUCCESS,

@@ -157,9 +157,11 @@ impl Scene {
         };
         let name_ok = !s.name.is_empty()
             && s.name.len() <= MAX_NAME_LEN
-            && s.name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-            && s
-                .name
+            && s.name
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic())
+            && s.name
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         if !name_ok {

@@ -1,6 +1,8 @@
 //! Footprint filters (issue 6 §1–3): statistics, filter forms (f32 vs f64), the truth
 //! and its estimators, and the Listing 3 observation.
 
+mod common;
+
 use nalgebra::Vector3;
 use ndfbench::filters::footprint::{MipChain, NormalMap, Procedural, Stats};
 use ndfbench::filters::rules as r;
@@ -142,7 +144,7 @@ fn seed000_moment_fit_matches_newton_within_the_fit_error() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(400))]
+    #![proptest_config(common::config(10_000))] // was 400
 
     /// f32 shading forms against the f64 reference, inputs exactly representable in
     /// f32. Bounds: 4e-7 relative (≈ 7 ulp) for every mean-normal and kernel filter;

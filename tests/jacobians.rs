@@ -1,6 +1,8 @@
 //! Property tests of the Jacobian closed forms against finite differences at random
 //! points, extremes included (θ to 89.99°, n·o and o·h to 1e-4, LTC cond to 1e4).
 
+mod common;
+
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 use ndfbench::jacobian::{
     step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk, Reflection,
@@ -45,7 +47,7 @@ fn check_tol(map: &dyn DirMap, w: &Vector3<f64>, tol: f64) -> Result<(), TestCas
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(10_000))] // was 300
 
     #[test]
     fn slope_maps(w in upper()) {

@@ -2,6 +2,8 @@
 //! reference, extremes included; bad input gives a typed error. On a CPU without
 //! AVX2+FMA the SIMD comparisons are skipped with a message (the scalar checks run).
 
+mod common;
+
 use nalgebra::Vector3;
 use ndfbench::kernels::{self, Backend, DeferredIn, SpecularIn};
 use ndfbench::microfacet::{Microsurface, Roughness};
@@ -34,7 +36,7 @@ fn dir(t: f64, p: f64) -> [f32; 3] {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(common::config(10_000))] // was 64
 
     /// (a) SIMD vs scalar ≤ 16 ulp relative (FMA vs separate rounding; 11 ulp measured over
     /// 65 536 random pixels); both vs the f64 lobe ≤ 1e-5 relative.
@@ -181,7 +183,7 @@ fn leadr_kernel() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(common::config(10_000))] // was 48
 
     /// (d) at the extremes: LTC inverses of α down to 1e-4 (a up to 5e3), skew, quads from
     /// overhead to grazing and straddling the horizon. Always finite and in [0, 1]; AVX2 vs

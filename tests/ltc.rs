@@ -1,6 +1,8 @@
 //! LTC fitting (issue 4 §1) and polygon integration (§3): closed forms, Monte Carlo and
 //! quadrature as independent references; degenerate lights; the fit's structure.
 
+mod common;
+
 use nalgebra::{Matrix3, Vector3};
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
@@ -115,7 +117,7 @@ fn degenerate_lights_are_zero_finite_and_non_negative() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(common::config(10_000))] // was 200
 
     /// The rational θ/sin θ is within 2e-6 of the exact value wherever 1 − x² ≥ 1e-6.
     #[test]

@@ -1,6 +1,8 @@
 //! Property tests of the f64 microfacet core over the documented domain, extremes
 //! included, and the typed errors for bad input.
 
+mod common;
+
 use nalgebra::{Matrix2, Vector2, Vector3};
 use ndfbench::cli::parse_list;
 use ndfbench::integrate::mc::Strategy as Sampling;
@@ -51,7 +53,7 @@ fn surface() -> impl Strategy<Value = Microsurface> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(10_000))] // was 3000
 
     /// No NaN anywhere; D ≥ 0 and finite; Λ ≥ 0 (∞ only at/below the mean surface);
     /// G1, G2 ∈ [0, 1].
@@ -112,7 +114,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(10_000))] // was 16
 
     /// Normalisation at random surfaces (incl. mean slopes up to 10) by adaptive
     /// quadrature, at the tolerance the proofs state for the quick preset (1e-6).

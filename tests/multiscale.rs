@@ -1,11 +1,11 @@
 //! Multi-scale LTC (seed 000 §3.3): closed form against an independent 1D integral, limits,
 //! derivative, inverse, the α_me fit and its spec handling.
 
+mod common;
+
 use ndfbench::fit::spec::FitSpec;
 use ndfbench::integrate::quad::{gk15_breaks, Tol};
-use ndfbench::multiscale::alpha_me::{
-    fit_ours, held_out, held_out_alphas, training_alphas,
-};
+use ndfbench::multiscale::alpha_me::{fit_ours, held_out, held_out_alphas, training_alphas};
 use ndfbench::multiscale::mrl::{
     alpha_from_mrl, alpha_from_one_minus, alpha_me_paper, mrl_derivative, mrl_pair,
 };
@@ -60,7 +60,7 @@ fn limits_and_branch_joins() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 500, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(10_000))] // was 500
 
     #[test]
     fn derivative_matches_central_differences(l in -4.0f64..1.5) {
@@ -146,7 +146,11 @@ fn our_fit_meets_its_goal_with_the_right_limits() {
         // y ≥ ½ so b = 1 − y is what the form sees; compare with π/(2b) − 4/π
         let b_seen = 1.0 - y;
         let want = std::f64::consts::FRAC_PI_2 / b_seen - 4.0 / std::f64::consts::PI;
-        assert!((c.eval(y) / want - 1.0).abs() < 1e-3, "α {a}: {}", c.eval(y));
+        assert!(
+            (c.eval(y) / want - 1.0).abs() < 1e-3,
+            "α {a}: {}",
+            c.eval(y)
+        );
     }
     // total: the ends and nonsense give finite α ≥ 0 in f64 and f32
     for y in [0.0, 1.0, -1.0, 2.0, f64::NAN, f64::INFINITY, 1e-320] {

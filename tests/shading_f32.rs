@@ -2,6 +2,8 @@
 //! src/microfacet/shading.rs. Inputs are generated in f32 and widened exactly, so the
 //! comparison measures arithmetic error only.
 
+mod common;
+
 use nalgebra::Vector3;
 use ndfbench::microfacet::shading::{self, Rough32};
 use ndfbench::microfacet::{Microsurface, NdfKind, Roughness};
@@ -68,7 +70,7 @@ fn r32_and_ref(r: &Roughness) -> (Rough32, Roughness) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+    #![proptest_config(common::config(10_000))] // was 2000
 
     #[test]
     fn ggx_d_and_lambda_within_2e_6(r in rough(), m in dir32(), o in dir32()) {

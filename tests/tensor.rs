@@ -1,5 +1,7 @@
 //! Tensor prefiltering (issue 5, in progress): CP-ALS, range queries, P-NDF images.
 
+mod common;
+
 use ndfbench::filters::footprint::{NormalMap, Procedural};
 use ndfbench::tensor::cp::{cp_als, rel_error, AlsOptions, Tensor3};
 use ndfbench::tensor::pndf::{pndf_image, sigma_p};
@@ -61,7 +63,7 @@ fn als_is_deterministic_and_rejects_bad_input() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(100))]
+    #![proptest_config(common::config(10_000))] // was 100
 
     /// The O(R) range query equals the naive average within its a-priori rounding bound,
     /// for random shapes, ranks and boxes (single cells to the whole range).

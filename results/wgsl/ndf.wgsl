@@ -48,10 +48,18 @@ fn ggx_d_matrix(hx: f32, hy: f32, hz: f32, a11: f32, a12: f32, a22: f32) -> f32 
     return 1.0 / (PI * sqrt(det) * s * s);
 }
 
-// GGX Smith Λ(o) = (√(1 + t) − 1)/2, t = α²(ox² + oy²)/oz² (seed 003 Eq 16), written t/(2(1 + √(1 + t))) (no cancellation as t → 0). Callers handle oz ≤ 0.
+// GGX Smith Λ(o) = (√(1 + s²) − 1)/2, s = α|o_xy|/o_z = 1/ν (seed 003 Eq 16): s²/(2(1 + √(1 + s²))) for s ≤ 1 (no cancellation as s → 0), (√(1 + s²) − 1)/2 above, and s/2 once s > 1e18 (s² would overflow; the dropped −½ is below the last bit). Finite for every o_z > 0. Callers handle oz ≤ 0.
 fn ggx_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
-    let t: f32 = alpha * alpha * (ox * ox + oy * oy) / (oz * oz);
-    return t / (2.0 * (1.0 + sqrt(1.0 + t)));
+    let s: f32 = alpha * sqrt(ox * ox + oy * oy) / oz;
+    if (s > 1e18) {
+        return 0.5 * s;
+    }
+    let t: f32 = s * s;
+    let r: f32 = sqrt(1.0 + t);
+    if (t > 1.0) {
+        return 0.5 * (r - 1.0);
+    }
+    return t / (2.0 * (1.0 + r));
 }
 
 // Height-correlated Smith G2 = 1/(1 + Λ(i) + Λ(o)) (seed 003 Eq 14); 0 when either direction is at or below the surface.

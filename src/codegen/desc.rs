@@ -116,11 +116,19 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "ggx_lambda",
-        doc: "GGX Smith Λ(o) = (√(1 + t) − 1)/2, t = α²(ox² + oy²)/oz² (seed 003 Eq 16), written t/(2(1 + √(1 + t))) (no cancellation as t → 0). Callers handle oz ≤ 0.",
+        doc: "GGX Smith Λ(o) = (√(1 + s²) − 1)/2, s = α|o_xy|/o_z = 1/ν (seed 003 Eq 16): s²/(2(1 + √(1 + s²))) for s ≤ 1 (no cancellation as s → 0), (√(1 + s²) − 1)/2 above, and s/2 once s > 1e18 (s² would overflow; the dropped −½ is below the last bit). Finite for every o_z > 0. Callers handle oz ≤ 0.",
         params: "ox: f32, oy: f32, oz: f32, alpha: f32",
         ret: "f32",
-        body: Body::Text("    let t: f32 = alpha * alpha * (ox * ox + oy * oy) / (oz * oz);
-    return t / (2.0 * (1.0 + sqrt(1.0 + t)));
+        body: Body::Text("    let s: f32 = alpha * sqrt(ox * ox + oy * oy) / oz;
+    if (s > 1e18) {
+        return 0.5 * s;
+    }
+    let t: f32 = s * s;
+    let r: f32 = sqrt(1.0 + t);
+    if (t > 1.0) {
+        return 0.5 * (r - 1.0);
+    }
+    return t / (2.0 * (1.0 + r));
 "),
         deps: &[],
     },
@@ -200,12 +208,15 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "filter_sqrt_sum",
-        doc: "√(α² + k), k ≥ 0, without overflow for any finite f32 α (above 1e18 it is computed as α√(1 + k/α²)).",
+        doc: "√(α² + k), k ≥ 0, without overflow or underflow for any finite f32 α: outside α ∈ [1e-18, 1e18] it is computed as m√((α/m)² + k/m²), m = max(α, √k).",
         params: "alpha: f32, k: f32",
         ret: "f32",
-        body: Body::Text("    if (alpha > 1e18) {
-        let z: f32 = sqrt(k) / alpha;
-        return alpha * sqrt(1.0 + z * z);
+        body: Body::Text("    if (alpha > 1e18 || alpha < 1e-18) {
+        let sk: f32 = sqrt(k);
+        let m: f32 = max(max(alpha, sk), 1.1754944e-38);
+        let x: f32 = alpha / m;
+        let z: f32 = sk / m;
+        return m * sqrt(x * x + z * z);
     }
     return sqrt(alpha * alpha + k);
 "),
@@ -388,15 +399,15 @@ pub const FUNCTIONS: &[FnDesc] = &[
         deps: &["leadr_env"],
     },
     FnDesc {
-        name: "alpha_me",
-        doc: "α_me from y = 1 − ‖b̄‖ (seed 000 §3.3), total over every f32 input: y is clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, b = max(1 − y, m), g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2] and its measured error over the whole range: results/multiscale.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).",
-        params: "y: f32",
+        name: "alpha_me_pair",
+        doc: "α_me from the pair (y, b) = (1 − ‖b̄‖, ‖b̄‖) (seed 000 §3.3), total over every f32 input: y and b are clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Passing both keeps full relative precision at both ends. Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2]; its measured error over the whole range: results/generated-range.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).",
+        params: "y: f32, b: f32",
         ret: "f32",
         body: Body::Text("    let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
     if (yc > 0.33333334) {
-        let b: f32 = max(1.0 - yc, 1.1754944e-38);
-        let g: f32 = b * (ALPHA_ME_D1 + b * (ALPHA_ME_D2 + b * (ALPHA_ME_D3 + b * (ALPHA_ME_D4 + b * (ALPHA_ME_D5 + b * (ALPHA_ME_D6 + b * (ALPHA_ME_D7 + b * ALPHA_ME_D8)))))));
-        return 1.5707964 * (1.0 + g) / b;
+        let bc: f32 = clamp(b, 1.1754944e-38, 1.0);
+        let g: f32 = bc * (ALPHA_ME_D1 + bc * (ALPHA_ME_D2 + bc * (ALPHA_ME_D3 + bc * (ALPHA_ME_D4 + bc * (ALPHA_ME_D5 + bc * (ALPHA_ME_D6 + bc * (ALPHA_ME_D7 + bc * ALPHA_ME_D8)))))));
+        return 1.5707964 * (1.0 + g) / bc;
     }
     let s: f32 = -log(yc);
     let x: f32 = 1.0 / s;
@@ -407,12 +418,21 @@ pub const FUNCTIONS: &[FnDesc] = &[
         deps: &[],
     },
     FnDesc {
+        name: "alpha_me",
+        doc: "α_me from y = 1 − ‖b̄‖ alone: alpha_me_pair(y, 1 − y) (1 − y is exact for y ≥ ½). Pass the pair where ‖b̄‖ itself is known and tiny.",
+        params: "y: f32",
+        ret: "f32",
+        body: Body::Text("    return alpha_me_pair(y, 1.0 - y);
+"),
+        deps: &["alpha_me_pair"],
+    },
+    FnDesc {
         name: "multiscale_alpha",
-        doc: "Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).",
+        doc: "Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi and ρ = (1 − y_me)(1 − y_mi), each without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).",
         params: "y_me: f32, y_mi: f32",
         ret: "f32",
-        body: Body::Text("    return alpha_me(y_me + y_mi - y_me * y_mi);
+        body: Body::Text("    return alpha_me_pair(y_me + y_mi - y_me * y_mi, (1.0 - y_me) * (1.0 - y_mi));
 "),
-        deps: &["alpha_me"],
+        deps: &["alpha_me_pair"],
     },
 ];

@@ -13,6 +13,7 @@
 //! differs (stale), validates every WGSL module with naga, and compares each Rust twin
 //! with its f64 reference.
 
+pub mod audit;
 pub mod desc;
 pub mod table;
 
@@ -337,7 +338,7 @@ pub const MODULES: [(&str, &str, &[&str]); 5] = [
     (
         "multiscale.wgsl",
         "Multi-scale LTC roughness: ‖b̄‖ → α_me and the overall α by the product identity (results/multiscale*.md)",
-        &["alpha_me", "multiscale_alpha"],
+        &["alpha_me_pair", "alpha_me", "multiscale_alpha"],
     ),
 ];
 
@@ -392,5 +393,27 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         crate::io::write_atomic(&path, text.as_bytes())?;
         written.push(path.display().to_string());
     }
+    if canonical {
+        // the audit runs the compiled twins: only meaningful when they are the text just
+        // rendered (after a refit, rebuild and rerun `regen` to audit the new twins)
+        let rendered = render_rust(
+            &FUNCTIONS.iter().map(|f| f.name).collect::<Vec<_>>(),
+            &constants(results)?,
+            COMMAND,
+        )?;
+        if rendered == COMPILED_TWINS {
+            let md = audit::markdown(&audit::run(), COMMAND);
+            let p = results.join("generated-range.md");
+            crate::io::write_atomic(&p, md.as_bytes())?;
+            written.push(p.display().to_string());
+        } else {
+            crate::report::stage(
+                "codegen: the twins changed; rebuild and rerun `regen` to refresh results/generated-range.md",
+            );
+        }
+    }
     Ok(written)
 }
+
+/// The twins this binary was compiled with.
+pub const COMPILED_TWINS: &str = include_str!("../generated/shading.rs");

@@ -99,8 +99,8 @@ pub fn seed000_paper<T: Float>(alpha: T, r: T) -> T {
 /// (both branches, `small` and `large`, evaluated at y = 1 − |μ|ρ(α); total over every
 /// input: see [`crate::multiscale::alpha_me::ours_eval_t`]).
 pub fn seed000_moment_fit<T: Float>(r: T, rho_base: T, small: &[T], large: &[T]) -> T {
-    let y = T::one() - r * rho_base;
-    crate::multiscale::alpha_me::ours_eval_t(small, large, y)
+    let b = r * rho_base;
+    crate::multiscale::alpha_me::ours_eval_pair_t(small, large, T::one() - b, b)
 }
 
 /// ‖dn_u‖² + ‖dn_v‖² of two 3-vectors.

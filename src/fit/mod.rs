@@ -124,6 +124,7 @@ pub fn write_result(results: &Path, name: &str, value: &serde_json::Value) -> Re
 
 /// Read results/fits/<name>.json if present and well formed.
 pub fn read_result(results: &Path, name: &str) -> Option<serde_json::Value> {
-    let text = crate::io::read_to_string(&results.join("fits").join(format!("{name}.json"))).ok()?;
+    let text =
+        crate::io::read_to_string(&results.join("fits").join(format!("{name}.json"))).ok()?;
     serde_json::from_str(&text).ok()
 }

@@ -160,7 +160,12 @@ impl FitSpec {
     pub fn parse(text: &str, origin: &str) -> Result<FitSpec> {
         let s: FitSpec = toml::from_str(text).map_err(|e| {
             // toml's messages span several lines (a source excerpt): keep the first
-            let first = e.message().lines().next().unwrap_or("malformed TOML").to_string();
+            let first = e
+                .message()
+                .lines()
+                .next()
+                .unwrap_or("malformed TOML")
+                .to_string();
             let at = e
                 .span()
                 .map(|r| {
@@ -261,9 +266,7 @@ impl FitSpec {
             }
             if let Some(t) = o.tolerance {
                 if !(t > 0.0 && t.is_finite() && t < 1.0) {
-                    return bad(format!(
-                        "{key}.tolerance must lie in (0, 1), got {t:e}"
-                    ));
+                    return bad(format!("{key}.tolerance must lie in (0, 1), got {t:e}"));
                 }
             }
         }
@@ -345,8 +348,5 @@ pub fn load_dir(dir: &Path) -> Result<Vec<FitSpec>> {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     files.sort();
-    files
-        .iter()
-        .map(|f| load_file(f))
-        .collect()
+    files.iter().map(|f| load_file(f)).collect()
 }

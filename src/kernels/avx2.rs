@@ -139,6 +139,8 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
         let a = ld(y_me, i);
         let b = ld(y_mi, i);
         let y = _mm256_sub_ps(_mm256_add_ps(a, b), _mm256_mul_ps(a, b));
+        // ρ = (1 − y_me)(1 − y_mi), as the generated code
+        let rho = _mm256_mul_ps(_mm256_sub_ps(one, a), _mm256_sub_ps(one, b));
         // clamp(y, m, 1) as the generated code (max/min take the second operand on NaN)
         let y = _mm256_min_ps(_mm256_max_ps(y, tiny), one);
         // α ≤ 1 branch
@@ -157,8 +159,8 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
             p,
         );
         let small = _mm256_sqrt_ps(_mm256_div_ps(y, r));
-        // α > 1 branch: (π/2)(1 + g(b))/b, b = max(1 − y, m)
-        let bb = _mm256_max_ps(_mm256_sub_ps(one, y), tiny);
+        // α > 1 branch: (π/2)(1 + g(b))/b, b = clamp(ρ, m, 1)
+        let bb = _mm256_min_ps(_mm256_max_ps(rho, tiny), one);
         let mut q = _mm256_set1_ps(d[7]);
         for k in (0..7).rev() {
             q = _mm256_fmadd_ps(bb, q, _mm256_set1_ps(d[k]));

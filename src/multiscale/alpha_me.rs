@@ -54,12 +54,18 @@ impl OursFit {
 /// For y ≥ ½, b = 1 − y is exact in binary arithmetic (Sterbenz), so the large-α branch
 /// adds no input rounding of its own.
 pub fn ours_eval_t<T: Float>(small: &[T], large: &[T], y: T) -> T {
+    ours_eval_pair_t(small, large, y, T::one() - y)
+}
+
+/// The same from the pair (y, b) = (1 − ‖b̄‖, ‖b̄‖), each clamped to [m, 1]: the large-α
+/// branch reads b, so a tiny ‖b̄‖ known as such (a product of two, say) keeps its precision.
+pub fn ours_eval_pair_t<T: Float>(small: &[T], large: &[T], y: T, b: T) -> T {
     let m = T::min_positive_value();
     let one = T::one();
     let y = y.max(m).min(one);
     let third = T::from(1.0 / 3.0).unwrap_or(one);
     if y > third {
-        let b = (one - y).max(m);
+        let b = b.max(m).min(one);
         let mut g = T::zero();
         for &dk in large.iter().rev() {
             g = (g + dk) * b;

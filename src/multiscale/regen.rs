@@ -228,7 +228,10 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         "see performance.md",
     ));
     md.push_str(&row(
-        &format!("ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})", spec.terms, spec.terms_large),
+        &format!(
+            "ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})",
+            spec.terms, spec.terms_large
+        ),
         &h_ours,
         "see performance.md",
     ));

@@ -85,8 +85,7 @@ pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
             est.mean.confidence_interval.lower_bound,
             est.mean.confidence_interval.upper_bound,
         );
-        if !(m.is_finite() && m > 0.0 && lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo)
-        {
+        if !(m.is_finite() && m > 0.0 && lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
             return Err(io(
                 &ef,
                 format!(
@@ -561,8 +560,16 @@ fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
                 f(a),
                 fmt_ratio(r(pp)),
                 fmt_ratio(r(s)),
-                if err.is_finite() { format!("{err:.1e}") } else { "—".into() },
-                if ulp.is_finite() { format!("{ulp:.0}") } else { "—".into() }
+                if err.is_finite() {
+                    format!("{err:.1e}")
+                } else {
+                    "—".into()
+                },
+                if ulp.is_finite() {
+                    format!("{ulp:.0}")
+                } else {
+                    "—".into()
+                }
             ));
         }
         plot.push(crate::report::plot::Series {

@@ -63,11 +63,14 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
     return a2 * hh * hh * lz / (2.0 * PI * k * k * (ql * vz + qv * lz));
 }
 
-/// √(α² + k), k ≥ 0, without overflow for any finite f32 α (above 1e18 it is computed as α√(1 + k/α²)).
+/// √(α² + k), k ≥ 0, without overflow or underflow for any finite f32 α: outside α ∈ [1e-18, 1e18] it is computed as m√((α/m)² + k/m²), m = max(α, √k).
 pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
-    if (alpha > 1e18) {
-        let z: f32 = sqrt(k) / alpha;
-        return alpha * sqrt(1.0 + z * z);
+    if (alpha > 1e18 || alpha < 1e-18) {
+        let sk: f32 = sqrt(k);
+        let m: f32 = max(max(alpha, sk), 1.1754944e-38);
+        let x: f32 = alpha / m;
+        let z: f32 = sk / m;
+        return m * sqrt(x * x + z * z);
     }
     return sqrt(alpha * alpha + k);
 }

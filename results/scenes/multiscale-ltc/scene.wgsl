@@ -115,13 +115,13 @@ fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f
     return clamp((len * len + fz2) / (len + 1.0), 0.0, 1.0);
 }
 
-// α_me from y = 1 − ‖b̄‖ (seed 000 §3.3), total over every f32 input: y is clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, b = max(1 − y, m), g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2] and its measured error over the whole range: results/multiscale.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).
-fn alpha_me(y: f32) -> f32 {
+// α_me from the pair (y, b) = (1 − ‖b̄‖, ‖b̄‖) (seed 000 §3.3), total over every f32 input: y and b are clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Passing both keeps full relative precision at both ends. Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2]; its measured error over the whole range: results/generated-range.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).
+fn alpha_me_pair(y: f32, b: f32) -> f32 {
     let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
     if (yc > 0.33333334) {
-        let b: f32 = max(1.0 - yc, 1.1754944e-38);
-        let g: f32 = b * (ALPHA_ME_D1 + b * (ALPHA_ME_D2 + b * (ALPHA_ME_D3 + b * (ALPHA_ME_D4 + b * (ALPHA_ME_D5 + b * (ALPHA_ME_D6 + b * (ALPHA_ME_D7 + b * ALPHA_ME_D8)))))));
-        return 1.5707964 * (1.0 + g) / b;
+        let bc: f32 = clamp(b, 1.1754944e-38, 1.0);
+        let g: f32 = bc * (ALPHA_ME_D1 + bc * (ALPHA_ME_D2 + bc * (ALPHA_ME_D3 + bc * (ALPHA_ME_D4 + bc * (ALPHA_ME_D5 + bc * (ALPHA_ME_D6 + bc * (ALPHA_ME_D7 + bc * ALPHA_ME_D8)))))));
+        return 1.5707964 * (1.0 + g) / bc;
     }
     let s: f32 = -log(yc);
     let x: f32 = 1.0 / s;
@@ -130,7 +130,7 @@ fn alpha_me(y: f32) -> f32 {
     return sqrt(yc / r);
 }
 
-// Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).
+// Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi and ρ = (1 − y_me)(1 − y_mi), each without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).
 fn multiscale_alpha(y_me: f32, y_mi: f32) -> f32 {
-    return alpha_me(y_me + y_mi - y_me * y_mi);
+    return alpha_me_pair(y_me + y_mi - y_me * y_mi, (1.0 - y_me) * (1.0 - y_mi));
 }
