@@ -768,20 +768,23 @@ fn an_obstacle_in_the_last_write_leaves_no_partial_set() {
     let d = scratch("obstacle");
     let out_dir = d.join("out");
     std::fs::create_dir_all(out_dir.join("tensor-flakes.json")).unwrap();
-    let out = bin()
-        .args([
-            "prefilter",
-            "--generator",
-            "flakes",
-            "--rank",
-            "4",
-            "--preset",
-            "quick",
-        ])
-        .arg("--out")
-        .arg(&out_dir)
-        .output()
-        .unwrap();
+    let run = || {
+        bin()
+            .args([
+                "prefilter",
+                "--generator",
+                "flakes",
+                "--rank",
+                "4",
+                "--preset",
+                "quick",
+            ])
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap()
+    };
+    let out = run();
     assert_typed_error(&out, "directory in the way", &["tensor-flakes.json"]);
     assert!(
         files_under(&out_dir).is_empty(),
@@ -790,20 +793,7 @@ fn an_obstacle_in_the_last_write_leaves_no_partial_set() {
     );
     // without the obstacle the same command publishes the set with its manifest
     std::fs::remove_dir_all(out_dir.join("tensor-flakes.json")).unwrap();
-    let out = bin()
-        .args([
-            "prefilter",
-            "--generator",
-            "flakes",
-            "--rank",
-            "4",
-            "--preset",
-            "quick",
-        ])
-        .arg("--out")
-        .arg(&out_dir)
-        .output()
-        .unwrap();
+    let out = run();
     assert!(
         out.status.success(),
         "{}",

@@ -21,8 +21,9 @@ use crate::error::{Error, Result};
 use desc::{FnDesc, FUNCTIONS};
 use std::path::Path;
 
-/// Coefficients of the α > 1 branch of the generated `alpha_me` (fits/multiscale-alpha-me.toml
-/// `terms_large`).
+/// Coefficients of the two branches of the generated `alpha_me_pair`
+/// (fits/multiscale-alpha-me.toml `terms` and `terms_large`).
+pub const ALPHA_ME_SMALL_TERMS: usize = 7;
 pub const ALPHA_ME_LARGE_TERMS: usize = 8;
 
 /// The command that (re)generates the files, named in their headers.
@@ -79,47 +80,37 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
     }];
     let am = read("multiscale-alpha-me")?;
     let held = num(&am, &["ours", "held_out", "max_rel"], "multiscale-alpha-me")?;
-    let n = am["ours"]["coefficients"].as_array().map_or(0, |a| a.len());
-    if n != 7 {
-        return Err(Error::InvalidArgument(format!(
-            "codegen: multiscale-alpha-me has {n} coefficients; the generated α_me form has 7"
-        )));
-    }
-    for k in 0..n {
-        out.push(Const {
-            name: format!("ALPHA_ME_C{}", k + 1),
-            value: num(
-                &am,
-                &["ours", "coefficients", &k.to_string()],
-                "multiscale-alpha-me",
-            )? as f32,
-            doc: format!(
-                "α_me(‖b̄‖) fit, α ≤ 1 branch, coefficient of s^-{} (held-out max rel. error {held:.2e})",
-                k + 1
-            ),
-        });
-    }
-    let nl = am["ours"]["coefficients_large"]
-        .as_array()
-        .map_or(0, |a| a.len());
-    if nl != ALPHA_ME_LARGE_TERMS {
-        return Err(Error::InvalidArgument(format!(
-            "codegen: multiscale-alpha-me has {nl} large-α coefficients; the generated α_me form has {ALPHA_ME_LARGE_TERMS}"
-        )));
-    }
-    for k in 0..nl {
-        out.push(Const {
-            name: format!("ALPHA_ME_D{}", k + 1),
-            value: num(
-                &am,
-                &["ours", "coefficients_large", &k.to_string()],
-                "multiscale-alpha-me",
-            )? as f32,
-            doc: format!(
-                "α_me(‖b̄‖) fit, α > 1 branch, coefficient of ‖b̄‖^{} (held-out max rel. error {held:.2e})",
-                k + 1
-            ),
-        });
+    // both branches of the fit: (JSON key, constant prefix, generated count, what k means)
+    for (key, prefix, want, power) in [
+        (
+            "coefficients",
+            "ALPHA_ME_C",
+            ALPHA_ME_SMALL_TERMS,
+            "α ≤ 1 branch, coefficient of s^-",
+        ),
+        (
+            "coefficients_large",
+            "ALPHA_ME_D",
+            ALPHA_ME_LARGE_TERMS,
+            "α > 1 branch, coefficient of ‖b̄‖^",
+        ),
+    ] {
+        let n = am["ours"][key].as_array().map_or(0, |a| a.len());
+        if n != want {
+            return Err(Error::InvalidArgument(format!(
+                "codegen: multiscale-alpha-me has {n} {key}; the generated α_me form has {want}"
+            )));
+        }
+        for k in 0..n {
+            out.push(Const {
+                name: format!("{prefix}{}", k + 1),
+                value: num(&am, &["ours", key, &k.to_string()], "multiscale-alpha-me")? as f32,
+                doc: format!(
+                    "α_me(‖b̄‖) fit, {power}{} (held-out max rel. error {held:.2e})",
+                    k + 1
+                ),
+            });
+        }
     }
     let sl = read("smith-lambda")?;
     let dg = num(&sl, &["held_out", "ours", "max_dg1"], "smith-lambda")?;

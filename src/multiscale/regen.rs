@@ -106,8 +106,8 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
             )
         })
         .collect();
-    // error curves on α ∈ [1e-4, 10] (beyond the fit domain on both sides)
-    let curve: Vec<f64> = held_out_alphas(400, 1e-4, 10.0);
+    // error curves beyond the fit domain on both sides
+    let curve: Vec<f64> = held_out_alphas(400, 0.01 * lo, 10.0 * hi);
     let rel = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
         curve
             .iter()
@@ -140,7 +140,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
                         points: rel(&|b, _y| paper_form(&refit.params, b)),
                     },
                     Series {
-                        name: format!("ours ({} terms)", spec.terms),
+                        name: format!("ours ({} + {} terms)", spec.terms, spec.terms_large),
                         points: rel(&|_b, y| c.eval(y)),
                     },
                     Series {

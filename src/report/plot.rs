@@ -155,23 +155,19 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
             let (area, bar) = whole.split_horizontally(whole.dim_in_pixel().0 - bar_w);
             colour_bar(&bar, p).map_err(err)?;
             let area = &area;
+            // log axes are drawn as linear axes in log10 units, labelled with the values
+            // themselves (plotters' log scale labels crowd or vanish over one decade)
             let log = p.log_axes;
+            let tr = |v: f64| if log { v.log10() } else { v };
             let edges = |v: &[f64]| -> Vec<f64> {
+                let v: Vec<f64> = v.iter().map(|&x| tr(x)).collect();
                 let n = v.len();
                 let mut e = Vec::with_capacity(n + 1);
-                if log {
-                    e.push(v[0] * (v[0] / v[1]).sqrt());
-                    for i in 0..n - 1 {
-                        e.push((v[i] * v[i + 1]).sqrt());
-                    }
-                    e.push(v[n - 1] * (v[n - 1] / v[n - 2]).sqrt());
-                } else {
-                    e.push(v[0] - 0.5 * (v[1] - v[0]));
-                    for i in 0..n - 1 {
-                        e.push(0.5 * (v[i] + v[i + 1]));
-                    }
-                    e.push(v[n - 1] + 0.5 * (v[n - 1] - v[n - 2]));
+                e.push(v[0] - 0.5 * (v[1] - v[0]));
+                for i in 0..n - 1 {
+                    e.push(0.5 * (v[i] + v[i + 1]));
                 }
+                e.push(v[n - 1] + 0.5 * (v[n - 1] - v[n - 2]));
                 e
             };
             let (ex, ey) = (edges(&p.x), edges(&p.y));
@@ -182,43 +178,40 @@ pub fn heatmap_svg(panels: &[HeatPanel], width: u32, height: u32) -> Result<Stri
             let (x0, x1, y0, y1) = (ex[0], ex[ex.len() - 1], ey[0], ey[ey.len() - 1]);
             // y_down: the axis runs from the last edge (bottom) to the first (top)
             let (y0, y1) = if p.y_down { (y1, y0) } else { (y0, y1) };
-            if log {
-                let mut chart = ChartBuilder::on(area)
-                    .caption(title.as_str(), ("sans-serif", 14))
-                    .margin(10)
-                    .x_label_area_size(35)
-                    .y_label_area_size(50)
-                    .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                    .map_err(|e| err(e.to_string()))?;
-                chart
-                    .configure_mesh()
-                    .x_desc(p.x_label.as_str())
-                    .y_desc(p.y_label.as_str())
-                    .x_label_formatter(&|x| format!("{x:.2}"))
-                    .y_label_formatter(&|y| format!("{y:.2}"))
-                    .disable_mesh()
-                    .draw()
-                    .map_err(|e| err(e.to_string()))?;
-                draw_cells(&mut chart, p, &ex, &ey).map_err(err)?;
-            } else {
-                let mut chart = ChartBuilder::on(area)
-                    .caption(title.as_str(), ("sans-serif", 14))
-                    .margin(10)
-                    .x_label_area_size(35)
-                    .y_label_area_size(50)
-                    .build_cartesian_2d(x0..x1, y0..y1)
-                    .map_err(|e| err(e.to_string()))?;
-                chart
-                    .configure_mesh()
-                    .x_desc(p.x_label.as_str())
-                    .y_desc(p.y_label.as_str())
-                    .x_label_formatter(&|x| format!("{x:.2}"))
-                    .y_label_formatter(&|y| format!("{y:.2}"))
-                    .disable_mesh()
-                    .draw()
-                    .map_err(|e| err(e.to_string()))?;
-                draw_cells(&mut chart, p, &ex, &ey).map_err(err)?;
-            }
+            let label = |v: &f64| {
+                if log {
+                    let x = 10f64.powf(*v);
+                    if (1e-3..1e3).contains(&x) {
+                        format!("{:.3}", x)
+                            .trim_end_matches('0')
+                            .trim_end_matches('.')
+                            .to_string()
+                    } else {
+                        format!("{x:.1e}")
+                    }
+                } else {
+                    format!("{v:.2}")
+                }
+            };
+            let mut chart = ChartBuilder::on(area)
+                .caption(title.as_str(), ("sans-serif", 14))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(50)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| err(e.to_string()))?;
+            chart
+                .configure_mesh()
+                .x_desc(p.x_label.as_str())
+                .y_desc(p.y_label.as_str())
+                .x_labels(5)
+                .y_labels(8)
+                .x_label_formatter(&label)
+                .y_label_formatter(&label)
+                .disable_mesh()
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+            draw_cells(&mut chart, p, &ex, &ey).map_err(err)?;
         }
         root.present().map_err(|e| err(e.to_string()))?;
     }
