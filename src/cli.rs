@@ -499,7 +499,7 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
         })?;
         if !(b > 0.0 && b <= 1.0) {
             return Err(Error::InvalidArgument(format!(
-                "--b must lie in (0, 1], got {b}"
+                "--b must lie in (0, 1], got {b:e}"
             )));
         }
         Ok(b)

@@ -185,7 +185,7 @@ impl Scene {
         one_of("precision", &s.precision, &["f32", "f16"])?;
         if !(s.error_budget.is_finite() && s.error_budget > 0.0) {
             return Err(Error::InvalidArgument(format!(
-                "scene {origin}: key 'error_budget' must be a finite number > 0, got {}",
+                "scene {origin}: key 'error_budget' must be a finite number > 0, got {:e}",
                 s.error_budget
             )));
         }

@@ -53,7 +53,7 @@ pub fn solve(
 ) -> Result<Solved> {
     if !(target > 0.0) {
         return Err(Error::InvalidArgument(format!(
-            "target error must be > 0, got {target}"
+            "target error must be > 0, got {target:e}"
         )));
     }
     let t0 = Instant::now();

@@ -19,7 +19,7 @@ pub fn pndf_image(
 ) -> Result<Vec<f64>> {
     if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2) {
         return Err(Error::InvalidArgument(format!(
-            "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p}, {sigma_r}, {res})"
+            "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p:e}, {sigma_r:e}, {res})"
         )));
     }
     // texels within 4σ_P (periodic map)
