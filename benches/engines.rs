@@ -329,7 +329,7 @@ fn filters(c: &mut Criterion) {
     g.finish();
 }
 
-/// Batched SIMD kernels vs their scalar twins (issue 7 §4–5), 64 to 1M pixels.
+/// Batched SIMD kernels vs their scalar twins, 64 to 1M pixels.
 fn kernels(c: &mut Criterion) {
     use ndfbench::kernels::{self as k, Backend, DeferredIn, SpecularIn};
     let max = 1usize << 20;
@@ -464,7 +464,7 @@ fn tensor(c: &mut Criterion) {
     g.finish();
 }
 
-/// Issue 4 §5: the cost of fitting one LTC cell (Nelder–Mead, four parameters, the
+/// The cost of fitting one LTC cell (Nelder–Mead, four parameters, the
 /// default preset's 24×24 samples per technique) and of integrating one pixel's quad light
 /// with each edge form (f64, clipped to the horizon), next to their errors in
 /// results/ltc.md.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 5 §3: TensorLy's parafac on the same tensor, rank and tolerance as ours.
+"""TensorLy's parafac on the same tensor, rank and tolerance as ours.
 
 Usage: tensorly_compare.py TENSOR.json RANK TOL MAX_ITERS [REPEATS]
 TENSOR.json: {"shape": [n0, n1, n2], "data": [...], "init": [A, B, C]} with data index

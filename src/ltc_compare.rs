@@ -1,4 +1,4 @@
-//! Comparison of our GGX LTC table with the widely shipped one (issue 4 §2):
+//! Comparison of our GGX LTC table with the widely shipped one:
 //! selfshadow/ltc_code `fit/results/ltc.js`, also shipped by three.js as LTC_MAT_1 /
 //! LTC_MAT_2 in RectAreaLightTexturesLib.js (index (r + n·t)·4 + c; LTC_MAT_1 holds the
 //! production M⁻¹ (a, b, c, d), LTC_MAT_2 (norm, fresnel, …)). The file is read from the

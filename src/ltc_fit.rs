@@ -1,4 +1,4 @@
-//! Fitting the GGX LTC table (issue 4 §1; Heitz, Dupuy, Hill, Neubelt 2016; seed 000 Eq 1).
+//! Fitting the GGX LTC table (Heitz, Dupuy, Hill, Neubelt 2016; seed 000 Eq 1).
 //!
 //! Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1,
 //! f(l) = D(h)·G2(l, v)/(4 v_z), for a view v = (sin θ, 0, cos θ) and roughness α.

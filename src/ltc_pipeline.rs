@@ -1,4 +1,4 @@
-//! The multi-scale shading pipeline of seed 000 §3–4 against brute force (issue 4 §4):
+//! The multi-scale shading pipeline of seed 000 §3–4 against brute force:
 //! normal map → mips without renormalisation → ‖b̄‖ per texel and level → overall α →
 //! LTC table lookup → polygon light, compared with the exact footprint average of the
 //! per-texel GGX shading of the same polygon, at several mip levels, and with plain LTC on

@@ -1,4 +1,4 @@
-//! `regen --only ltc`: the GGX LTC table fit (issue 4 §1), the polygon-integration
+//! `regen --only ltc`: the GGX LTC table fit, the polygon-integration
 //! study (§3), results/ltc.md, results/ltc-error.svg and results/fits/ltc-ggx.json.
 
 use crate::error::Result;
@@ -126,7 +126,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
     let st = stats(&main);
     let mut md = format!(
-        "# GGX LTC table and polygonal lights (issue 4)\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
+        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
@@ -296,7 +296,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     // ---- polygons ----
     md.push_str(&shipped_section(results, stats(&main).mean_l2));
     md.push_str(&precision_section(&main, 2 * pl.samples)?);
-    md.push_str("## Polygonal lights (issue 4 §3)\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n| form | max rel. error on [−1, 0.999999] | where | max on [−0.99, 1] |\n|---|---|---|---|\n");
+    md.push_str("## Polygonal lights\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n| form | max rel. error on [−1, 0.999999] | where | max on [−0.99, 1] |\n|---|---|---|---|\n");
     let mut approx_json = Vec::new();
     for form in [EdgeForm::Rational, EdgeForm::Cubic] {
         let (mut w, mut wx, mut w2) = (0.0f64, 0.0, 0.0f64);
@@ -540,7 +540,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     })
 }
 
-/// Issue 4 §4: the multi-scale pipeline against brute force (appends to `md`).
+/// The multi-scale pipeline against brute force (appends to `md`).
 /// §5: what storing the table in f32 or f16 costs, cell by cell, against the f64 table
 /// (relative L2 against the BRDF on the held-out sample sets; the f16 numbers are exactly
 /// those of results/wgsl/ltc_table_f16.wgsl and src/generated/ltc_table.rs).
@@ -562,7 +562,7 @@ fn precision_section(main: &Table, n_samples: usize) -> Result<String> {
             [e(full), e(rounded(&full, false)), e(rounded(&full, true))]
         })
         .collect();
-    let mut md = String::from("## Storage precision (issue 4 §5)\n\nThe table goes through the code generator as Rust constants (src/generated/ltc_table.rs: f32, and binary16 pairs packed in u32) and WGSL data (results/wgsl/ltc_table.wgsl: f32; results/wgsl/ltc_table_f16.wgsl: binary16 read with `unpack2x16float`). What each precision costs, per cell, as the change of the held-out relative L2 error against the BRDF from the f64 table:\n\n| storage | mean change | largest change | where (α, θ) | cells changed by > 1 point | singular cells |\n|---|---|---|---|---|---|\n");
+    let mut md = String::from("## Storage precision\n\nThe table goes through the code generator as Rust constants (src/generated/ltc_table.rs: f32, and binary16 pairs packed in u32) and WGSL data (results/wgsl/ltc_table.wgsl: f32; results/wgsl/ltc_table_f16.wgsl: binary16 read with `unpack2x16float`). What each precision costs, per cell, as the change of the held-out relative L2 error against the BRDF from the f64 table:\n\n| storage | mean change | largest change | where (α, θ) | cells changed by > 1 point | singular cells |\n|---|---|---|---|---|---|\n");
     for (k, name) in [(1usize, "f32"), (2, "f16")] {
         let (mut sum, mut cnt, mut worst, mut at, mut big, mut sing) =
             (0.0, 0usize, 0.0f64, (0.0, 0.0), 0usize, 0usize);
@@ -606,7 +606,7 @@ fn precision_section(main: &Table, n_samples: usize) -> Result<String> {
 /// §2: the stored comparison with the shipped table (results/ltc-compare.json, written by
 /// `ltc-compare`; the shipped file itself is never committed).
 fn shipped_section(results: &Path, our_mean_l2: f64) -> String {
-    let mut md = String::from("## Against the shipped table (issue 4 §2)\n\n");
+    let mut md = String::from("## Against the shipped table\n\n");
     let v: Option<serde_json::Value> = crate::io::read_to_string(&results.join("ltc-compare.json"))
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok());
@@ -669,7 +669,7 @@ fn pipeline_section(results: &Path, preset: Preset, md: &mut String) -> Result<s
         )?);
     }
     md.push_str(&format!(
-        "\n## The multi-scale pipeline against brute force (issue 4 §4, seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a 1×0.6 quad light centred at (−1, 0.2, 1.2) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n| level | footprint | {} |\n|---|---|{}\n",
+        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a 1×0.6 quad light centred at (−1, 0.2, 1.2) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n| level | footprint | {} |\n|---|---|{}\n",
         METHODS.join(" | "),
         "---|".repeat(METHODS.len())
     ));

@@ -107,7 +107,7 @@ enum Cmd {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// Our CP-ALS against TensorLy's parafac on the same P-NDF tensors (issue 5 §3); needs
+    /// Our CP-ALS against TensorLy's parafac on the same P-NDF tensors; needs
     /// python3 with numpy and tensorly; writes results/tensor-tensorly.json (rendered into
     /// results/tensor.md by `regen --only tensor`).
     TensorlyCompare {

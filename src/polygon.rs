@@ -1,4 +1,4 @@
-//! Polygonal lights (issue 4 §3): the integral of a clamped cosine — and, through M⁻¹,
+//! Polygonal lights: the integral of a clamped cosine — and, through M⁻¹,
 //! of an LTC — over a polygon, with horizon clipping; the exact edge integral and the
 //! production rational approximations of θ/sin θ; Monte Carlo ground truth of the true
 //! BRDF over the polygon.

@@ -1,4 +1,4 @@
-//! "Model only what a scene requires" (issue 7 §3): a scene file names the NDF, the
+//! "Model only what a scene requires": a scene file names the NDF, the
 //! roughness form, the lights, the normal-map filter, the screen-space AA, the precision
 //! and an error budget; `scene` writes only the WGSL and Rust that scene needs, and a
 //! report of every chosen approximation with its measured error and cost. `auto` picks

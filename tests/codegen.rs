@@ -1,4 +1,4 @@
-//! Generated code (issue 7 §1–2): committed files are fresh, every WGSL module validates
+//! Generated code: committed files are fresh, every WGSL module validates
 //! with naga, and every Rust twin agrees with its f64 reference within a stated bound.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Footprint filters (issue 6 §1–3): statistics, filter forms (f32 vs f64), the truth
+//! Footprint filters: statistics, filter forms (f32 vs f64), the truth
 //! and its estimators, and the Listing 3 observation.
 
 mod common;

@@ -1,4 +1,4 @@
-//! The generated WGSL run on a GPU (issue 7 §2): each function is called from a compute
+//! The generated WGSL run on a GPU: each function is called from a compute
 //! shader over the same inputs as its Rust twin and the outputs are compared. Without a
 //! wgpu adapter (e.g. a CI machine with no GPU and no software Vulkan/GL driver) the test
 //! prints why and skips.

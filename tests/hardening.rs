@@ -255,7 +255,7 @@ fn assert_no_silent_nan(v: &serde_json::Value, what: &str) {
 
 #[test]
 fn extreme_eval_inputs_give_correct_values() {
-    // the examples, with independent references
+    // the audit's examples, with independent references
     // ‖b̄‖ = 0.5 ↦ α = 1.815 (exact inverse of the closed form; the fit was 0.353 before)
     let v = eval_ok(&["alpha-me", "--b", "0.5", "--method", "ours"]);
     let a = v["value"].as_f64().unwrap();

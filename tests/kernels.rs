@@ -1,4 +1,4 @@
-//! SIMD kernels (issue 7 §4): AVX2 vs scalar within a stated ulp bound, both vs the f64
+//! SIMD kernels: AVX2 vs scalar within a stated ulp bound, both vs the f64
 //! reference, extremes included; bad input gives a typed error. On a CPU without
 //! AVX2+FMA the SIMD comparisons are skipped with a message (the scalar checks run).
 

@@ -1,4 +1,4 @@
-//! LTC fitting (issue 4 §1) and polygon integration (§3): closed forms, Monte Carlo and
+//! LTC fitting and polygon integration (§3): closed forms, Monte Carlo and
 //! quadrature as independent references; degenerate lights; the fit's structure.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Scenes (issue 7 §3): the three examples build minimal, naga-valid WGSL and a report;
+//! Scenes: the three examples build minimal, naga-valid WGSL and a report;
 //! the committed outputs under results/scenes/ are fresh; bad scene files give errors
 //! that name the key.
 

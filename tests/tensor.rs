@@ -1,4 +1,4 @@
-//! Tensor prefiltering (issue 5, in progress): CP-ALS, range queries, P-NDF images.
+//! Tensor prefiltering (seed 002): CP-ALS, range queries, P-NDF images.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Issue 5 §3: our CP-ALS against TensorLy's `parafac` (an independent, established
+//! Our CP-ALS against TensorLy's `parafac` (an independent, established
 //! implementation) on the same P-NDF tensors, rank, tolerance, stop rule and start
 //! (benches/tensorly_compare.py). Started from the same factors, both must walk the same
 //! ALS path: the same number of sweeps and the same reconstruction error to rounding.

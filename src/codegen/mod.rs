@@ -1,4 +1,4 @@
-//! Code generation (issue 7 §1–2): fitted constants and f32 shading functions emitted as
+//! Code generation: fitted constants and f32 shading functions emitted as
 //! WGSL (results/wgsl/) and as Rust twins (src/generated/), both from one description.
 //!
 //! Each function is written once in a neutral subset that is valid WGSL and valid Rust

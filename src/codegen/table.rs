@@ -1,4 +1,4 @@
-//! The fitted GGX LTC table as generated data (issue 4 §5): Rust constants
+//! The fitted GGX LTC table as generated data: Rust constants
 //! (src/generated/ltc_table.rs: f32 values and IEEE binary16 bit patterns) and WGSL
 //! (results/wgsl/ltc_table.wgsl with f32 arrays, results/wgsl/ltc_table_f16.wgsl with
 //! binary16 pairs packed in u32, read by the core `unpack2x16float`). Layout as the shipped tables: texel (i, j) = roughness index i

@@ -1,4 +1,4 @@
-//! Footprint statistics of a normal map (issue 6 §1): procedural maps, PNG input, and a
+//! Footprint statistics of a normal map: procedural maps, PNG input, and a
 //! linear mip chain of the unnormalised mean normal and the LEAN/LEADR slope moments
 //! (E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃ỹ]) — seed 004 §3.2.1 (Olano–Baker / LEAN, Eq 19),
 //! seed 001 §1.

@@ -1,4 +1,4 @@
-//! Footprint roughness filters (issue 6 §1–3): footprint statistics of normal maps,
+//! Footprint roughness filters: footprint statistics of normal maps,
 //! the filters of the engines and papers (f64 reference + f32 shading form), the exact
 //! footprint-averaged ground truth, and the study behind results/filters.md.
 

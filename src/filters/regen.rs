@@ -540,9 +540,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     }
 
     // ---- report ----
-    let mut md = String::from(
-        "# Footprint roughness filters against the footprint-averaged BRDF (issue 6)\n\n",
-    );
+    let mut md =
+        String::from("# Footprint roughness filters against the footprint-averaged BRDF\n\n");
     md.push_str(&format!(
         "Written by `cargo run --release -- regen --only filters` (preset {}) from `fits/filters.toml`. Every number is a mean over cases \
 ± its standard error; the Monte Carlo noise of single cases is listed separately.\n\n",

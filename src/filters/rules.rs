@@ -1,4 +1,4 @@
-//! The footprint roughness filters (issue 6 §2), written once over `num_traits::Float`:
+//! The footprint roughness filters, written once over `num_traits::Float`:
 //! `T = f64` is the reference, `T = f32` the shading form (tests/filters.rs bounds the
 //! difference; see each function for its conditioning).
 //!

@@ -1,4 +1,4 @@
-//! The two studies of issue 6 §3: mip-map filters on normal maps, and screen-space
+//! The two studies of the footprint-filter work (seed 004 Eq 11): mip-map filters on normal maps, and screen-space
 //! kernels on synthetic derivative fields (curved surfaces seen at varying distance,
 //! where the footprint's normal distribution is known exactly).
 

@@ -1,4 +1,4 @@
-//! Ground truth for the filters (issue 6 §3): the footprint-averaged specular lobe under
+//! Ground truth for the filters: the footprint-averaged specular lobe under
 //! seed 004 Hypothesis 1 — Eq 11, ρ_A(l, v) = Σ_x ŵ(x) ρ_x(l, v)(n_x·l) — with each
 //! texel's BRDF the microfacet lobe around its own normal n_x (D·G2/(4 n_x·v), the
 //! cosine n_x·l cancelled; F = 1). Filters are compared with it over all light

@@ -30,7 +30,7 @@ pub fn regen(
 ) -> Result<Vec<FitOutcome>> {
     let specs = spec::load_dir(fits_dir)?;
     let mut out = Vec::new();
-    // `--only filters` is issue 6's group: the LEADR grids and the Λ refit run first,
+    // `--only filters` is the footprint-filter group: the LEADR grids and the Λ refit run first,
     // because results/filters.md embeds their reports.
     let group = ["leadr-grids", "smith-lambda", "filters"];
     let selected: Vec<&spec::FitSpec> = match only {

@@ -1,4 +1,4 @@
-//! Batched f32 shading kernels over structure-of-arrays inputs (issue 7 §4), with an
+//! Batched f32 shading kernels over structure-of-arrays inputs, with an
 //! AVX2+FMA backend chosen at run time and the scalar generated twins as fallback.
 //!
 //! Kernels: (a) GGX point-light specular with height-correlated Smith G2

@@ -249,7 +249,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         "see performance.md",
     ));
     md.push_str(&format!(
-        "\nGoal (issue): max relative error ≤ {:.0e} on held-out points — ours: **{}** ({:.2e}).\n\n",
+        "\nGoal: max relative error ≤ {:.0e} on held-out points — ours: **{}** ({:.2e}).\n\n",
         spec.tolerance.max_rel,
         if passed { "met" } else { "MISSED" },
         h_ours.max_rel

@@ -401,7 +401,7 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
     )
 }
 
-/// Issue 4 §5: fit cost per LTC cell and per-pixel cost of each edge form, next to the
+/// Fit cost per LTC cell and per-pixel cost of each edge form, next to the
 /// errors results/fits/ltc-ggx.json records (benches `ltc-fit-cell`, `ltc-polygon`).
 fn ltc_table(timed: &[Timed], results: &Path) -> String {
     let fits: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-fit-cell").collect();
@@ -417,7 +417,7 @@ fn ltc_table(timed: &[Timed], results: &Path) -> String {
             .find(|e| e["form"].as_str() == Some(form))?["max_rel"]
             .as_f64()
     };
-    let mut md = String::from("\n## LTC fitting and polygon integration (issue 4 §5)\n\n| fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique) | time (95 % CI) |\n|---|---|\n");
+    let mut md = String::from("\n## LTC fitting and polygon integration\n\n| fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique) | time (95 % CI) |\n|---|---|\n");
     for t in &fits {
         md.push_str(&format!(
             "| {} | {:.2} ms ({:.2}–{:.2}) |\n",
@@ -461,7 +461,7 @@ fn tensor_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Tensor range queries (issue 5 §7)\n\nRank 16, 256 × 256 block; box w × w from one texel to the whole block. The SAT query is O(R) whatever w; the naive sum of the reconstruction is O(R·w²).\n\n| box w | SAT query (ns) | naive (ns) |\n|---|---|---|\n");
+    let mut md = String::from("\n## Tensor range queries\n\nRank 16, 256 × 256 block; box w × w from one texel to the whole block. The SAT query is O(R) whatever w; the naive sum of the reconstruction is O(R·w²).\n\n| box w | SAT query (ns) | naive (ns) |\n|---|---|---|\n");
     let sat: Vec<&&Timed> = rows
         .iter()
         .filter(|t| t.group == "tensor-range" && t.function == "sat")
@@ -520,7 +520,7 @@ fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
         return Ok(String::new());
     }
     let mut md = String::from(
-        "\n## SIMD shading kernels (issue 7 §4–5)\n\nStructure-of-arrays f32 batches. `per-pixel` = the generated scalar twin called once per pixel (not inlined: no auto-vectorisation, the one-pixel-at-a-time baseline); `scalar` = the same twin in a plain loop, which LLVM auto-vectorises for SSE2 where it can; `avx2` = the AVX2+FMA path chosen at run time. Mpx/s = 10⁶ pixels per second (criterion mean). Ratios: avx2 over per-pixel, and avx2 over the auto-vectorised loop. Errors on 2^16 benchmark inputs: max relative error against the f64 reference (absolute for ltc-quad, whose values are form factors in [0, 1]), and max distance to the scalar twin in ulp.\n\n| kernel | batch | per-pixel Mpx/s | scalar loop Mpx/s | avx2 Mpx/s | avx2 / per-pixel | avx2 / scalar loop | max rel. error (avx2 vs f64) | max ulp (avx2 vs scalar) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "\n## SIMD shading kernels\n\nStructure-of-arrays f32 batches. `per-pixel` = the generated scalar twin called once per pixel (not inlined: no auto-vectorisation, the one-pixel-at-a-time baseline); `scalar` = the same twin in a plain loop, which LLVM auto-vectorises for SSE2 where it can; `avx2` = the AVX2+FMA path chosen at run time. Mpx/s = 10⁶ pixels per second (criterion mean). Ratios: avx2 over per-pixel, and avx2 over the auto-vectorised loop. Errors on 2^16 benchmark inputs: max relative error against the f64 reference (absolute for ltc-quad, whose values are form factors in [0, 1]), and max distance to the scalar twin in ulp.\n\n| kernel | batch | per-pixel Mpx/s | scalar loop Mpx/s | avx2 Mpx/s | avx2 / per-pixel | avx2 / scalar loop | max rel. error (avx2 vs f64) | max ulp (avx2 vs scalar) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let mut groups: Vec<&str> = rows.iter().map(|t| t.group.as_str()).collect();
     groups.dedup();
@@ -601,7 +601,7 @@ fn filters_table(timed: &[Timed], results: &Path) -> String {
     }
     let fit = crate::fit::read_result(results, "filters");
     let mut md = String::from(
-        "\n## Footprint filters: cost and accuracy (issue 6)\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
+        "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
     );
     for t in rows {
         let (name, err) = fit

@@ -1,4 +1,4 @@
-//! Issue 5 §3: our CP-ALS against TensorLy's `parafac` (an established implementation)
+//! Our CP-ALS against TensorLy's `parafac` (an established implementation)
 //! on the same P-NDF cluster tensors, rank, tolerance, iteration cap and convergence rule
 //! (stop when the relative error changes by less than the tolerance). Both run on one
 //! core: ours is serial, and numpy's BLAS is pinned with OMP/OPENBLAS/MKL_NUM_THREADS=1.

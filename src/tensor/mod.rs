@@ -1,4 +1,4 @@
-//! Spatio-angular NDF prefiltering with tensor decomposition (seed 002; issue 5, in
+//! Spatio-angular NDF prefiltering with tensor decomposition (seed 002, in
 //! progress): P-NDF images (Eq 2, §4.1), CP decomposition by ALS (Eq 5, §4.2), point and
 //! range queries with 1D summed-area tables (Eq 6–7, Appendix Eq 10–12).
 
