@@ -469,8 +469,8 @@ fn tensor(c: &mut Criterion) {
 /// with each edge form (f64, clipped to the horizon), next to their errors in
 /// results/ltc.md.
 fn ltc(c: &mut Criterion) {
-    use ndfbench::ltc_fit::{fit_cell, Method, Metric, Target};
-    use ndfbench::polygon::{ltc_integral, EdgeForm};
+    use ndfbench::ltc::fit::{fit_cell, Method, Metric, Target};
+    use ndfbench::ltc::polygon::{ltc_integral, EdgeForm};
     let mut g = c.benchmark_group("ltc-fit-cell");
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(200))

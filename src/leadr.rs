@@ -299,7 +299,7 @@ pub fn fit_spacing(n: usize, train: &[(Config, f64)]) -> f64 {
         a * a + b * b
     };
     let hs: Vec<f64> = (0..=60).map(|i| 0.2 + 2.0 * i as f64 / 60.0).collect();
-    crate::fit::scan_brent(&cost, &hs, (1e-8, 1e-10), 100)
+    crate::optimize::scan_brent(&cost, &hs, (1e-8, 1e-10), 100)
 }
 
 /// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
@@ -309,7 +309,7 @@ pub fn fit_spacing(n: usize, train: &[(Config, f64)]) -> f64 {
 pub fn regen(
     spec: &crate::fit::spec::FitSpec,
     results: &std::path::Path,
-) -> Result<crate::fit::FitOutcome> {
+) -> Result<crate::study::FitOutcome> {
     use crate::report::plot::{loglog_svg, Panel, Series};
     let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
     let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
@@ -449,13 +449,13 @@ does not dominate at grazing views.\n\n",
         "fitted_h_n5": h5,
         "artificial_micronormal": {"without": if without.is_nan() { serde_json::Value::Null } else { serde_json::json!(without) }, "with": with},
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     let best = rows
         .iter()
         .find(|r| r.0 == 5)
         .map(|r| r.2[1].0 .1)
         .unwrap_or(f64::NAN);
-    Ok(crate::fit::FitOutcome {
+    Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: best,
         tolerance: spec.tolerance.max_rel,

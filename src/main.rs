@@ -250,7 +250,7 @@ fn run_regen(
     fits: &std::path::Path,
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
-    let out = ndfbench::fit::regen(fits, results, only, preset)?;
+    let out = ndfbench::studies::regen(fits, results, only, preset)?;
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
     ndfbench::report::stage("codegen");
     match in_set("codegen", &results_manifest(results, "codegen"), || {
@@ -359,7 +359,7 @@ fn main() -> ExitCode {
             "ltc-compare",
             &dir.join(".sets").join("ltc-compare.json"),
             || {
-                ndfbench::ltc_compare::run(
+                ndfbench::ltc::compare::run(
                     &shipped,
                     &mat,
                     &mag,

@@ -426,7 +426,7 @@ fn png_round_trip_and_bad_input() {
 fn regen_filters_quick_writes_the_report() {
     let dir = std::env::temp_dir().join(format!("ndfbench-filters-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let out = ndfbench::fit::regen(
+    let out = ndfbench::studies::regen(
         std::path::Path::new("fits"),
         &dir,
         Some("filters"),
@@ -445,7 +445,7 @@ fn regen_filters_quick_writes_the_report() {
     ] {
         assert!(md.contains(key), "missing {key}");
     }
-    let json = ndfbench::fit::read_result(&dir, "filters").unwrap();
+    let json = ndfbench::results::read_result(&dir, "filters").unwrap();
     assert!(json["fitted"].as_array().unwrap().len() >= 4);
     std::fs::remove_dir_all(&dir).ok();
 }

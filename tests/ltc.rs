@@ -6,9 +6,9 @@ mod common;
 use nalgebra::{Matrix3, Vector3};
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
+use ndfbench::ltc::fit::{self as ltc_fit, fit_table, Grid, Method, Metric, Target};
+use ndfbench::ltc::polygon::{self, EdgeForm, Light};
 use ndfbench::ltc::LtcDist;
-use ndfbench::ltc_fit::{self, fit_table, Grid, Method, Metric, Target};
-use ndfbench::polygon::{self, EdgeForm, Light};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -222,7 +222,7 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
 
 #[test]
 fn shipped_table_parser_and_comparison() {
-    use ndfbench::ltc_compare::{compare, js_array, ours, Shipped};
+    use ndfbench::ltc::compare::{compare, js_array, ours, Shipped};
     // the shipped files write negative numbers as "- 4.5e-07"
     assert_eq!(
         js_array("const A = [ 1, - 4.5e-07, 2e-05 ];", "A").unwrap(),
@@ -291,7 +291,7 @@ fn shipped_table_parser_and_comparison() {
 #[test]
 fn pipeline_brute_force_agrees_with_per_texel_ltc() {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
-    use ndfbench::ltc_pipeline::{brute_force, ltc_shade, LtcTable};
+    use ndfbench::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
     let table = LtcTable::load(std::path::Path::new("results")).unwrap();
     // lookup at a grid node returns the stored cell
     let n = table.n;

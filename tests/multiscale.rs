@@ -196,7 +196,7 @@ fn regen_writes_its_results_atomically() {
     let fits = dir.join("fits");
     std::fs::create_dir_all(&fits).unwrap();
     std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();
-    let out = ndfbench::fit::regen(
+    let out = ndfbench::studies::regen(
         &fits,
         &dir.join("results"),
         Some("multiscale"),
@@ -223,7 +223,7 @@ fn regen_writes_its_results_atomically() {
     )
     .unwrap();
     assert!(matches!(
-        ndfbench::fit::regen(
+        ndfbench::studies::regen(
             &fits,
             &dir.join("results"),
             Some("multiscale-alpha"),
@@ -232,7 +232,7 @@ fn regen_writes_its_results_atomically() {
         Err(Error::InvalidArgument(_))
     ));
     // a spec directory with no matching spec is an error, not silence
-    assert!(ndfbench::fit::regen(
+    assert!(ndfbench::studies::regen(
         &fits,
         &dir.join("results"),
         Some("nothing-here"),
@@ -253,7 +253,7 @@ fn convolution_regen_runs_at_the_quick_preset() {
         include_str!("../fits/multiscale-convolution.toml"),
     )
     .unwrap();
-    let out = ndfbench::fit::regen(
+    let out = ndfbench::studies::regen(
         &fits,
         &dir.join("results"),
         Some("convolution"),

@@ -20,7 +20,7 @@ pub struct LtcTableData {
 
 /// Read the fitted table.
 pub fn read(results: &Path) -> Result<LtcTableData> {
-    let v = crate::fit::read_result(results, "ltc-ggx").ok_or_else(|| {
+    let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
         Error::InvalidArgument(format!(
             "codegen: results/fits/ltc-ggx.json missing (run `{}`)",
             super::COMMAND

@@ -191,7 +191,7 @@ fn fit_constant<C: Sync>(
             .collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
     };
-    let c = crate::fit::scan_brent(&obj, grid, (1e-6, 1e-8), 60);
+    let c = crate::optimize::scan_brent(&obj, grid, (1e-6, 1e-8), 60);
     let held: Vec<CaseResult> = cases
         .par_iter()
         .enumerate()
@@ -368,7 +368,7 @@ fn map_section(
 }
 
 /// The run.
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit::FitOutcome> {
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let plan = Plan::new(preset);
     let seed = spec.seed;
     // ---- map study ----
@@ -761,9 +761,9 @@ statistics (unnormalised mean normal; E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃�
         "screen": json_screen,
         "fitted": json_fits,
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     let worst_held = fits.iter().map(|f| f.4.l2_mean).fold(0.0, f64::max);
-    Ok(crate::fit::FitOutcome {
+    Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: worst_held,
         tolerance: spec.tolerance.max_rel,

@@ -128,7 +128,7 @@ pub fn fit(train: &[f64], max_iters: u64) -> Result<(Vec<f64>, u64)> {
 pub fn regen(
     spec: &crate::fit::spec::FitSpec,
     results: &std::path::Path,
-) -> Result<crate::fit::FitOutcome> {
+) -> Result<crate::study::FitOutcome> {
     use crate::report::plot::{loglog_svg, Panel, Series};
     let (train, held) = grids(
         spec.training.points,
@@ -177,7 +177,7 @@ pub fn regen(
         "training": worst(&|n| rational(&p, n), &train),
         "passed": passed,
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     let mut md =
         String::from("# Beckmann Smith Λ: a better rational approximation (seed 001 §3.2)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only smith-lambda` from `fits/smith-lambda.toml`. The reference is the exact \
@@ -194,7 +194,7 @@ nothing else changes — no separate fit is needed.\n\n");
     md.push_str(&format!("Parameters: a₁ = {:.10}, a₂ = {:.10}, b₁ = {:.10}, b₂ = {:.10}, b₃ = {:.10}, ν_c = {:.10} (argmin Nelder–Mead, {} iterations over 6 restarts, L⁸ surrogate of the max). b₁ ≈ 2√π = 3.5449 recovers the exact ν → 0 limit Λ ≈ 1/(2√π ν) (Walter's 3.535 misses it by 0.28 %); the squared factor closes the curve at ν_c with zero value and slope, so there is no negative band and no jump (Walter's numerator changes sign at ν = 1.548 and his cut at 1.6 drops Λ(1.6) = 1.8e-3 at once).\n\n", p[0], p[1], p[2], p[3], p[4], p[5], iters));
     md.push_str("Cost next to accuracy: results/performance.md (bench group `smith-lambda`).\n\n![|ΔG1|](smith-lambda.svg)\n");
     crate::io::write_atomic(&results.join("smith-lambda.md"), md.as_bytes())?;
-    Ok(crate::fit::FitOutcome {
+    Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: ours.max_dg1,
         tolerance: tol,

@@ -240,7 +240,7 @@ fn brent_min(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     let xs: Vec<f64> = (0..=n)
         .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
         .collect();
-    crate::fit::scan_brent(f, &xs, (1e-10, 1e-12), 200)
+    crate::optimize::scan_brent(f, &xs, (1e-10, 1e-12), 200)
 }
 
 /// Roughness range on which the quadrature metrics (clipped moment, L2, caps) are fitted:

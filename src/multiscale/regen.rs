@@ -8,9 +8,9 @@ use super::alpha_me::{
 use super::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::fit::FitOutcome;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::study::FitOutcome;
 use serde_json::json;
 use std::path::Path;
 
@@ -201,7 +201,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
         "eq5_audit": {"alpha_at_b_1": at_one, "alpha_at_b_2_3": at_two_thirds, "numerator_roots_in_0_1": zeros, "poles_in_0_1": poles},
         "passed": passed,
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     crate::io::write_atomic(
         &results.join("multiscale-alpha-error.svg"),
         svg_err.as_bytes(),

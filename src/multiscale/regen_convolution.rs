@@ -8,9 +8,9 @@ use super::overall::{
 };
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::fit::FitOutcome;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::study::FitOutcome;
 use serde_json::json;
 use std::path::Path;
 
@@ -401,7 +401,7 @@ carries both limits; every basis function of the per-metric correction vanishes 
         "metric_grid_held_out": held_fits,
         "passed": passed,
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: ours.max_rel,

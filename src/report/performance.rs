@@ -319,7 +319,7 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::fit::read_result(results, "multiscale-alpha-me");
+    let fit = crate::results::read_result(results, "multiscale-alpha-me");
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
@@ -409,7 +409,7 @@ fn ltc_table(timed: &[Timed], results: &Path) -> String {
     if fits.is_empty() && polys.is_empty() {
         return String::new();
     }
-    let v = crate::fit::read_result(results, "ltc-ggx");
+    let v = crate::results::read_result(results, "ltc-ggx");
     let edge_err = |form: &str| -> Option<f64> {
         v.as_ref()?["edge_approximations"]
             .as_array()?
@@ -599,7 +599,7 @@ fn filters_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::fit::read_result(results, "filters");
+    let fit = crate::results::read_result(results, "filters");
     let mut md = String::from(
         "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
     );
@@ -639,7 +639,7 @@ fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::fit::read_result(results, "smith-lambda");
+    let fit = crate::results::read_result(results, "smith-lambda");
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
@@ -675,7 +675,7 @@ fn leadr_table(timed: &[Timed], results: &Path) -> String {
         return String::new();
     }
     rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
-    let fit = crate::fit::read_result(results, "leadr-grids");
+    let fit = crate::results::read_result(results, "leadr-grids");
     let err = |n: usize, fam: &str, kind: &str| -> String {
         fit.as_ref()
             .and_then(|v| {

@@ -12,7 +12,7 @@ use crate::report::plot::{loglog_svg, Panel, Series};
 use rayon::prelude::*;
 use std::path::Path;
 
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit::FitOutcome> {
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let (size, res, ranks, iters): (usize, usize, Vec<usize>, usize) = match preset {
         Preset::Quick => (32, 32, vec![2, 4], 50),
         Preset::Default => (64, 64, vec![4, 8, 16, 32], 200),
@@ -124,12 +124,12 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     md.push_str(&sampling_section(sampled.as_ref()));
     md.push_str(&cost_section(results));
     crate::io::write_atomic(&results.join("tensor.md"), md.as_bytes())?;
-    crate::fit::write_result(
+    crate::results::write_result(
         results,
         &spec.name,
         &serde_json::json!({"spec": spec, "command": "cargo run --release -- regen --only tensor", "preset": preset.name(), "rows": json}),
     )?;
-    Ok(crate::fit::FitOutcome {
+    Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: worst,
         tolerance: 1.0,

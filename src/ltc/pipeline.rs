@@ -8,9 +8,9 @@ use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};
 use crate::filters::truth::{lobe, Frame};
 use crate::integrate::mc::Strategy;
+use crate::ltc::polygon::{self, EdgeForm, Light};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
-use crate::polygon::{self, EdgeForm, Light};
 use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
 use serde::Serialize;
@@ -27,7 +27,7 @@ pub struct LtcTable {
 
 impl LtcTable {
     pub fn load(results: &std::path::Path) -> Result<LtcTable> {
-        let v = crate::fit::read_result(results, "ltc-ggx").ok_or_else(|| {
+        let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
             Error::InvalidArgument(
                 "results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`"
                     .into(),
@@ -78,7 +78,7 @@ impl LtcTable {
                 + fw * ((1.0 - fu) * c(j1, i0) + fu * c(j1, i1));
         }
         (
-            crate::ltc_fit::inverse_from_production(&[p[0], p[1], p[2], p[3]]),
+            crate::ltc::fit::inverse_from_production(&[p[0], p[1], p[2], p[3]]),
             p[4],
         )
     }

@@ -10,8 +10,8 @@
 //! the r = 0 row is reported separately.
 
 use crate::error::{Error, Result};
+use crate::ltc::fit::{inverse_from_production, metrics, Target};
 use crate::ltc::LtcDist;
-use crate::ltc_fit::{inverse_from_production, metrics, Target};
 use serde::Serialize;
 use std::path::Path;
 
@@ -197,7 +197,7 @@ pub fn compare(ours: &Shipped, shipped: &Shipped, n_samples: usize) -> Result<Ve
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
 pub fn ours(results: &Path) -> Result<Shipped> {
-    let v = crate::fit::read_result(results, "ltc-ggx").ok_or_else(|| {
+    let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
         Error::InvalidArgument(
             "results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`"
                 .into(),
@@ -228,7 +228,7 @@ pub fn ours(results: &Path) -> Result<Shipped> {
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
 /// (identifies the table a comparison was made against).
 pub fn ours_mean_l2(results: &Path) -> Result<f64> {
-    crate::fit::read_result(results, "ltc-ggx")
+    crate::results::read_result(results, "ltc-ggx")
         .and_then(|v| v["held_out"]["mean_l2"].as_f64())
         .ok_or_else(|| {
             Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.mean_l2".into())

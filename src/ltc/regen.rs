@@ -4,8 +4,8 @@
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc_fit::{self, fit_table, Cell, Grid, Method, Metric, Table, Target};
-use crate::polygon::{self, EdgeForm, Light};
+use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table, Target};
+use crate::ltc::polygon::{self, EdgeForm, Light};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
 
@@ -69,10 +69,10 @@ fn stats(t: &Table) -> Stats {
 
 /// The LTC of a cell as (M⁻¹ from the production form, norm).
 pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
-    (ltc_fit::inverse_from_production(&c.inv), c.norm)
+    (fit::inverse_from_production(&c.inv), c.norm)
 }
 
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit::FitOutcome> {
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
     let grid = Grid {
         n: pl.n,
@@ -215,7 +215,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
     // between cells: what a shader sampling the table bilinearly sees
     {
         use rayon::prelude::*;
-        let table = crate::ltc_compare::Shipped {
+        let table = crate::ltc::compare::Shipped {
             n,
             mat: (0..n * n).map(|k| main.cells[k / n][k % n].inv).collect(),
             mag: (0..n * n)
@@ -230,7 +230,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         let mids: Vec<f64> = squares
             .par_iter()
             .map(|&(i, j)| {
-                crate::ltc_compare::midpoint_error(&table, i, j, pl.samples * 2)
+                crate::ltc::compare::midpoint_error(&table, i, j, pl.samples * 2)
                     .map(|e| e.unwrap_or(f64::NAN))
             })
             .collect::<Result<_>>()?;
@@ -491,7 +491,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
                 .collect::<Vec<_>>())
         })
         .collect();
-    crate::fit::write_result(
+    crate::results::write_result(
         results,
         &spec.name,
         &serde_json::json!({"table": table_json}),
@@ -523,9 +523,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
         "pipeline": pipe,
         "sphere_horizon": sphere_json,
     });
-    crate::fit::write_result(results, &spec.name, &json)?;
+    crate::results::write_result(results, &spec.name, &json)?;
     let passed = st.max_l2 <= spec.tolerance.max_rel;
-    Ok(crate::fit::FitOutcome {
+    Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: st.max_l2,
         tolerance: spec.tolerance.max_rel,
@@ -546,7 +546,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::fit:
 /// those of results/wgsl/ltc_table_f16.wgsl and src/generated/ltc_table.rs).
 fn precision_section(main: &Table, n_samples: usize) -> Result<String> {
     use crate::codegen::table::rounded;
-    use crate::ltc_compare::cell_error;
+    use crate::ltc::compare::cell_error;
     use rayon::prelude::*;
     let cells: Vec<&Cell> = main.cells.iter().flatten().collect();
     // [f64, f32, f16] relative L2, or None where the rounded matrix is singular
@@ -651,7 +651,7 @@ fn shipped_section(results: &Path, our_mean_l2: f64) -> String {
 
 fn pipeline_section(results: &Path, preset: Preset, md: &mut String) -> Result<serde_json::Value> {
     use crate::filters::footprint::{NormalMap, Procedural};
-    use crate::ltc_pipeline::{run_map, LtcTable, METHODS};
+    use crate::ltc::pipeline::{run_map, LtcTable, METHODS};
     let table = LtcTable::load(results)?;
     let (size, levels, per, samples): (usize, Vec<usize>, usize, usize) = match preset {
         Preset::Quick => (16, vec![0, 2, 4], 2, 512),
@@ -681,7 +681,7 @@ fn pipeline_section(results: &Path, preset: Preset, md: &mut String) -> Result<s
     };
     let mut by_level = Vec::new();
     for &lv in &levels {
-        let cs: Vec<&crate::ltc_pipeline::PipeCase> = cases
+        let cs: Vec<&crate::ltc::pipeline::PipeCase> = cases
             .iter()
             .filter(|c| c.level == lv && c.truth > 0.0)
             .collect();

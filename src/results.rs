@@ -1,0 +1,27 @@
+//! The fit results on disk: results/fits/<name>.json, written by each study and read by
+//! the code generator, the reports and the scenes. One place for the path and the format.
+
+use crate::error::Result;
+use std::path::{Path, PathBuf};
+
+/// Where the result of the fit `name` lives under `results`.
+pub fn fit_path(results: &Path, name: &str) -> PathBuf {
+    results.join("fits").join(format!("{name}.json"))
+}
+
+/// Write results/fits/<name>.json atomically (into the open output set, if any).
+pub fn write_result(results: &Path, name: &str, value: &serde_json::Value) -> Result<()> {
+    crate::io::write_atomic(
+        &fit_path(results, name),
+        serde_json::to_string_pretty(value)
+            .expect("a JSON value serialises")
+            .as_bytes(),
+    )
+}
+
+/// Read results/fits/<name>.json if present and well formed (a file of the open output
+/// set reads as its pending contents).
+pub fn read_result(results: &Path, name: &str) -> Option<serde_json::Value> {
+    let text = crate::io::read_to_string(&fit_path(results, name)).ok()?;
+    serde_json::from_str(&text).ok()
+}
