@@ -137,6 +137,11 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         ),
         ("malformed TOML", "name = [".to_string(), "line"),
         (
+            "nesting 100 000 deep",
+            format!("a = {}{}\n", "[".repeat(100_000), "]".repeat(100_000)),
+            "recursion",
+        ),
+        (
             "absurd text",
             ALPHA_ME_SPEC.replace(
                 "description = \"",
@@ -686,6 +691,22 @@ fn malformed_scenes_write_nothing() {
     }
 }
 
+/// CRC-32 (IEEE) of a PNG chunk's type and data.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= b as u32;
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xedb8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
 fn png(path: &Path, w: u32, h: u32, px: impl Fn(u32, u32) -> [u8; 3]) {
     let mut img = image::RgbImage::new(w, h);
     for y in 0..h {
@@ -720,6 +741,26 @@ fn broken_and_non_normal_pngs_write_nothing() {
         png(&npot, 12, 16, |_, _| [128, 128, 255]);
         let below = d.join("below.png");
         png(&below, 16, 16, |_, _| [128, 128, 0]);
+        // a header that declares 65536² texels over a few bytes of data: refused before
+        // anything is allocated
+        let huge = d.join("huge.png");
+        {
+            let mut bytes = b"\x89PNG\r\n\x1a\n".to_vec();
+            let chunk = |bytes: &mut Vec<u8>, t: &[u8], data: &[u8]| {
+                bytes.extend((data.len() as u32).to_be_bytes());
+                let mut td = t.to_vec();
+                td.extend(data);
+                bytes.extend(&td);
+                bytes.extend(crc32(&td).to_be_bytes());
+            };
+            let mut ihdr = Vec::new();
+            ihdr.extend(65536u32.to_be_bytes());
+            ihdr.extend(65536u32.to_be_bytes());
+            ihdr.extend([8, 2, 0, 0, 0]);
+            chunk(&mut bytes, b"IHDR", &ihdr);
+            chunk(&mut bytes, b"IEND", &[]);
+            std::fs::write(&huge, bytes).unwrap();
+        }
         let luma = d.join("luma.png");
         image::GrayImage::from_pixel(16, 16, image::Luma([128]))
             .save(&luma)
@@ -732,6 +773,7 @@ fn broken_and_non_normal_pngs_write_nothing() {
             ("not a power of two", npot, "powers of two"),
             ("below the horizon", below, "upper-hemisphere"),
             ("uniform luma", luma, "luma.png"),
+            ("65536² declared", huge, "huge.png"),
         ]
     };
     for (what, input, needle) in cases {

@@ -105,6 +105,9 @@ pub const GENERIC_LIMITS: Limits = Limits {
     grid_dense_points: 4096,
 };
 
+/// Most spec files read from one directory.
+pub const MAX_SPEC_FILES: usize = 256;
+
 /// Largest spec file read, in bytes, and the longest text value.
 pub const MAX_SPEC_BYTES: u64 = 1 << 20;
 pub const MAX_TEXT_CHARS: usize = 4096;
@@ -348,5 +351,12 @@ pub fn load_dir(dir: &Path) -> Result<Vec<FitSpec>> {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     files.sort();
+    if files.len() > MAX_SPEC_FILES {
+        return Err(Error::InvalidArgument(format!(
+            "{}: {} spec files, more than {MAX_SPEC_FILES}",
+            dir.display(),
+            files.len()
+        )));
+    }
     files.iter().map(|f| load_file(f)).collect()
 }
