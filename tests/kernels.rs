@@ -187,9 +187,12 @@ proptest! {
 
     /// (d) at the extremes: LTC inverses of α down to 1e-4 (a up to 5e3), skew, quads from
     /// overhead to grazing and straddling the horizon. Always finite and in [0, 1]; AVX2 vs
-    /// scalar ≤ 2ε·max(|v|, 1) absolute; scalar vs the f64 form ≤ 2e-5 + 2e-6·π/√c absolute,
+    /// scalar ≤ 2ε·max(|v|, 1) absolute; scalar vs the f64 form ≤ 2e-5 + 4e-6·π/√c absolute,
     /// c = min over edges of 1 − x² after M⁻¹ (the rational's relative error ≈ 1.4e-6 times
-    /// θ/sin θ ≈ π/√c near antipodal edges), wherever c ≥ 1e-4. Below that the edge integral
+    /// θ/sin θ ≈ π/√c near antipodal edges), wherever c ≥ 1e-4. The constant is measured:
+    /// the worst error/(π/√c) over 200 000 random cases was 1.8e-6, and 2.4e-6 in the
+    /// regression case kept in kernels.proptest-regressions (α = 1e-4, c = 1.2e-4); the
+    /// earlier 2e-6, set from 48 cases, was too tight. Below that the edge integral
     /// is ill-conditioned for f32 inputs (a 3.7e-3 error at c = 3.7e-6 was found) and, under
     /// 1e-7, the shipped rational clamps; only the range [0, 1] is asserted there.
     #[test]
@@ -221,7 +224,7 @@ proptest! {
             prop_assert!(s[i].is_finite() && (0.0..=1.0).contains(&s[i]));
             let cond = kernels::ltc_quad_conditioning([f(0), f(1), f(2), f(3)], std::array::from_fn(|k| f(4 + k)));
             if cond >= 1e-4 {
-                let bound = 2e-5 + 2e-6 * std::f64::consts::PI / cond.sqrt();
+                let bound = 2e-5 + 4e-6 * std::f64::consts::PI / cond.sqrt();
                 prop_assert!(((s[i] as f64) - r).abs() < bound, "scalar {} vs f64 {r} (cond {cond:e}, bound {bound:e})", s[i]);
             }
         }
