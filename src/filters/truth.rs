@@ -15,56 +15,7 @@ use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
-/// An orthonormal frame (t, b, n); `local` maps world → (x, y, z) = (·t, ·b, ·n).
-#[derive(Clone, Copy, Debug)]
-pub struct Frame {
-    pub t: V3,
-    pub b: V3,
-    pub n: V3,
-}
-
-impl Frame {
-    /// A frame around n whose tangent is the projection of the world x axis (smooth in n;
-    /// falls back to y when n is parallel to x).
-    pub fn around(n: V3) -> Frame {
-        let n = n.normalize();
-        let x = if n.x.abs() < 0.9 { V3::x() } else { V3::y() };
-        let t = (x - n * n.dot(&x)).normalize();
-        Frame {
-            t,
-            b: n.cross(&t),
-            n,
-        }
-    }
-    pub fn local(&self, w: &V3) -> V3 {
-        V3::new(w.dot(&self.t), w.dot(&self.b), w.dot(&self.n))
-    }
-    pub fn world(&self, w: &V3) -> V3 {
-        self.t * w.x + self.b * w.y + self.n * w.z
-    }
-}
-
-/// Cosine-weighted specular lobe of `s` (a centred or non-centred microsurface expressed
-/// in `f`), for view v and light l in world space: D(h)G2(l, v, h)/(4 v_n). Zero when
-/// either direction is below the geometric horizon (world z ≤ 0) or below the shading
-/// frame.
-pub fn lobe(s: &Microsurface, f: &Frame, v: &V3, l: &V3) -> f64 {
-    if v.z <= 0.0 || l.z <= 0.0 {
-        return 0.0;
-    }
-    let (vl, ll) = (f.local(v), f.local(l));
-    let vn = s.projected_area(&vl);
-    if vn <= 0.0 || s.projected_area(&ll) <= 0.0 {
-        return 0.0;
-    }
-    let h = vl + ll;
-    let hn = h.norm();
-    if !(hn > 0.0) {
-        return 0.0;
-    }
-    let h = h / hn;
-    s.d(&h) * s.g2_correlated(&ll, &vl, &h) / (4.0 * vn)
-}
+pub use crate::microfacet::lobe::{lobe, Frame};
 
 /// A footprint: normals with weights summing to 1.
 #[derive(Clone, Debug)]

@@ -6,9 +6,9 @@
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};
-use crate::filters::truth::{lobe, Frame};
 use crate::integrate::mc::Strategy;
 use crate::ltc::polygon::{self, EdgeForm, Light};
+use crate::microfacet::lobe::{lobe, Frame};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::{Matrix3, Vector3};

@@ -3,6 +3,7 @@
 
 pub mod lambda;
 pub mod lambda_fit;
+pub mod lobe;
 pub mod roughness;
 pub mod sampling;
 pub mod shading;
