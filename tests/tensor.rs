@@ -311,8 +311,8 @@ fn sampling_histogram_matches_the_ndf_image() {
 #[test]
 fn nonnegative_cp_makes_sampling_exact_on_a_real_block() {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
+    use ndfbench::tensor::cluster::cluster_tensors;
     use ndfbench::tensor::query::Sat;
-    use ndfbench::tensor::regen::cluster_tensors;
     use ndfbench::tensor::sample::chi_square;
     let truth = random_cp(3, [16, 16, 12], 5);
     let t = dense(&truth);

@@ -6,9 +6,9 @@
 //! them when PyPI can be reached). Times are printed, never asserted.
 
 use ndfbench::filters::footprint::{NormalMap, Procedural};
+use ndfbench::tensor::cluster::cluster_tensors;
 use ndfbench::tensor::compare::{run_ours, run_tensorly, tensorly_available};
 use ndfbench::tensor::cp::{initial_factors, restart_seed, AlsOptions};
-use ndfbench::tensor::regen::cluster_tensors;
 
 #[test]
 fn ours_walks_the_same_als_path_as_tensorly() {

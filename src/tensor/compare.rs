@@ -6,8 +6,8 @@
 //! `regen --only tensor` renders into results/tensor.md. Needs python3 with numpy and
 //! tensorly; without them it says so and writes nothing.
 
+use super::cluster::cluster_tensors;
 use super::cp::{cp_als, AlsOptions, Tensor3};
-use super::regen::cluster_tensors;
 use crate::error::{Error, Result};
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::integrate::Preset;

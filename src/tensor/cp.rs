@@ -620,6 +620,26 @@ fn als_once_body(t: &Tensor3, o: &AlsOptions, start: &Start) -> Result<Cp> {
     Ok(cp)
 }
 
+/// A random CP model with non-negative factors (as NDF blocks are).
+pub fn random_cp(rank: usize, shape: [usize; 3], seed: u64) -> Cp {
+    let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(seed);
+    let factors: [Vec<f64>; 3] = std::array::from_fn(|m| {
+        (0..shape[m] * rank)
+            .map(|_| rand::Rng::random::<f64>(&mut rng))
+            .collect()
+    });
+    Cp {
+        rank,
+        shape,
+        weights: (0..rank)
+            .map(|_| rand::Rng::random::<f64>(&mut rng) * 10.0)
+            .collect(),
+        factors,
+        rel_error: 0.0,
+        iterations: 0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,6 +2,7 @@
 //! progress): P-NDF images (Eq 2, §4.1), CP decomposition by ALS (Eq 5, §4.2), point and
 //! range queries with 1D summed-area tables (Eq 6–7, Appendix Eq 10–12).
 
+pub mod cluster;
 pub mod compare;
 pub mod cp;
 pub mod pndf;

@@ -2,8 +2,8 @@
 //! pyramid, blocked and clustered (seed 002 §4.1–4.2), CP-compressed at several ranks;
 //! results/tensor.md and results/fits/tensor.json.
 
+use super::cluster::cluster_tensors;
 use super::cp::{cp_als, AlsOptions, Cp, Tensor3};
-use super::pndf::{pndf_image, sigma_p};
 use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
@@ -233,7 +233,7 @@ fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> Strin
             )),
         }
     };
-    let rnd = crate::verify::tensor::random_cp(4, [16, 16, 2], 11);
+    let rnd = super::cp::random_cp(4, [16, 16, 2], 11);
     row("random non-negative rank-4 CP, slice 1".into(), &rnd, 1);
     if let Some((map, r, tt, cp, nn)) = sampled {
         // the slice with the most mass
@@ -301,70 +301,6 @@ fn cost_section(results: &Path) -> String {
     }
     md.push('\n');
     md
-}
-
-/// P-NDF images of `map` over the footprint pyramid (stride s, σ_P = 1.5 s/√12, each level
-/// 2×2 sparser and twice wider, until the stride reaches the map size), cut into t×t blocks, all-zero blocks dropped, clustered by
-/// quarter-map regions into t×t×L tensors (seed 002 §4.1–4.2).
-pub fn cluster_tensors(
-    map: &NormalMap,
-    res: usize,
-    stride: usize,
-    t: usize,
-    sigma_r: f64,
-) -> Result<Vec<Tensor3>> {
-    let size = map.width.min(map.height);
-    if map.width != map.height || size < 2 * stride || res % t != 0 {
-        return Err(crate::error::Error::InvalidArgument(format!(
-            "tensor prefiltering needs a square map of at least {}² texels and an image size divisible by t = {t} (got {}×{}, image {res})",
-            2 * stride, map.width, map.height
-        )));
-    }
-    let region = size / 2;
-    // footprints of both levels, with their region
-    let mut fps = Vec::new();
-    // levels until the stride reaches the map size (seed 002 §4.1)
-    let levels = (0..).take_while(|l| (stride << l) <= size).count().max(1);
-    for level in 0..levels {
-        let st = stride << level;
-        for cy in (st / 2..size).step_by(st) {
-            for cx in (st / 2..size).step_by(st) {
-                fps.push((
-                    cx as f64,
-                    cy as f64,
-                    sigma_p(stride, level),
-                    (cy / region) * (size / region) + cx / region,
-                ));
-            }
-        }
-    }
-    let images: Vec<(usize, Vec<f64>)> = fps
-        .par_iter()
-        .map(|&(cx, cy, sp, reg)| pndf_image(&map, cx, cy, sp, sigma_r, res).map(|img| (reg, img)))
-        .collect::<Result<_>>()?;
-    let nreg = (size / region) * (size / region);
-    let mut tensors = Vec::new();
-    for reg in 0..nreg {
-        let mut data = Vec::new();
-        let mut l = 0;
-        for (_, img) in images.iter().filter(|(r, _)| *r == reg) {
-            for by in 0..res / t {
-                for bx in 0..res / t {
-                    let block: Vec<f64> = (0..t * t)
-                        .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
-                        .collect();
-                    if block.iter().any(|v| *v > 0.0) {
-                        data.extend(block);
-                        l += 1;
-                    }
-                }
-            }
-        }
-        if l > 0 {
-            tensors.push(Tensor3::new([t, t, l], data)?);
-        }
-    }
-    Ok(tensors)
 }
 
 /// `prefilter --rank R`: compress one map's P-NDF blocks at rank R; writes

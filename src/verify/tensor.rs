@@ -4,24 +4,10 @@
 
 use super::{Outcome, Worst};
 use crate::integrate::Preset;
-use crate::tensor::cp::Cp;
 use crate::tensor::query::{range, range_error_bound, range_f32, range_naive, Sat};
 use rand::{Rng, SeedableRng};
 
-/// A random CP model with non-negative factors (as NDF blocks are).
-pub fn random_cp(rank: usize, shape: [usize; 3], seed: u64) -> Cp {
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let factors: [Vec<f64>; 3] =
-        std::array::from_fn(|m| (0..shape[m] * rank).map(|_| rng.random::<f64>()).collect());
-    Cp {
-        rank,
-        shape,
-        weights: (0..rank).map(|_| rng.random::<f64>() * 10.0).collect(),
-        factors,
-        rel_error: 0.0,
-        iterations: 0,
-    }
-}
+pub use crate::tensor::cp::random_cp;
 
 pub fn rank1_box(p: Preset) -> Outcome {
     let (models, boxes) = match p {
