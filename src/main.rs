@@ -212,10 +212,10 @@ fn prefilter_set(
 ) -> Result<bool, ndfbench::Error> {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
     let msg = match (input, generator, rank) {
-        (Some(p), None, None) => ndfbench::filters::regen::prefilter(&p, dir, alpha, preset)?,
+        (Some(p), None, None) => ndfbench::studies::filters::prefilter(&p, dir, alpha, preset)?,
         (Some(p), None, Some(r)) => {
             let map = NormalMap::from_png(&p)?;
-            ndfbench::tensor::regen::prefilter_tensor(&map, dir, r, preset)?
+            ndfbench::studies::tensor::prefilter_tensor(&map, dir, r, preset)?
         }
         (None, Some(g), r) => {
             let kind = Procedural::ALL
@@ -225,7 +225,7 @@ fn prefilter_set(
                 .ok_or_else(|| ndfbench::Error::InvalidArgument(format!("--generator '{g}': one of isotropic-noise, brushed-metal, flakes, sharp-bumps, scratches")))?;
             let map = NormalMap::procedural(kind, 64, 1)?;
             match r {
-                Some(r) => ndfbench::tensor::regen::prefilter_tensor(&map, dir, r, preset)?,
+                Some(r) => ndfbench::studies::tensor::prefilter_tensor(&map, dir, r, preset)?,
                 None => {
                     return Err(ndfbench::Error::InvalidArgument(
                         "--generator needs --rank (the footprint-filter study takes --input PNG)"

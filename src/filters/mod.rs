@@ -3,7 +3,6 @@
 //! footprint-averaged ground truth, and the study behind results/filters.md.
 
 pub mod footprint;
-pub mod regen;
 pub mod rules;
 pub mod study;
 pub mod truth;

@@ -7,13 +7,13 @@
 //! - `fit`: the per-cell fit of the GGX table (all four production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
-//! - `regen`: the `ltc-ggx` study that fits the table and measures all of the above.
+//! The `ltc-ggx` study that fits the table and measures all of the above is
+//! `crate::studies::ltc_ggx`.
 
 pub mod compare;
 pub mod dist;
 pub mod fit;
 pub mod pipeline;
 pub mod polygon;
-pub mod regen;
 
 pub use dist::*;

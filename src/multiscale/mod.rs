@@ -4,5 +4,3 @@ pub mod alpha_me;
 pub mod convolution;
 pub mod mrl;
 pub mod overall;
-pub mod regen;
-pub mod regen_convolution;

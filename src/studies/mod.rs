@@ -10,6 +10,14 @@ use crate::integrate::Preset;
 use crate::study::{Ctx, FitOutcome, Study};
 use std::path::Path;
 
+pub mod filters;
+pub mod leadr_grids;
+pub mod ltc_ggx;
+pub mod multiscale_alpha_me;
+pub mod multiscale_convolution;
+pub mod smith_lambda;
+pub mod tensor;
+
 /// A study given as its name, the studies it follows and its entry point.
 struct Entry {
     name: &'static str,
@@ -30,25 +38,25 @@ impl Study for Entry {
 }
 
 fn leadr_grids(c: &Ctx) -> Result<FitOutcome> {
-    crate::leadr::regen(c.spec, c.results)
+    leadr_grids::regen(c.spec, c.results)
 }
 fn smith_lambda(c: &Ctx) -> Result<FitOutcome> {
-    crate::microfacet::lambda_fit::regen(c.spec, c.results)
+    smith_lambda::regen(c.spec, c.results)
 }
 fn filters(c: &Ctx) -> Result<FitOutcome> {
-    crate::filters::regen::run(c.spec, c.results, c.preset)
+    filters::run(c.spec, c.results, c.preset)
 }
 fn ltc_ggx(c: &Ctx) -> Result<FitOutcome> {
-    crate::ltc::regen::run(c.spec, c.results, c.preset)
+    ltc_ggx::run(c.spec, c.results, c.preset)
 }
 fn tensor(c: &Ctx) -> Result<FitOutcome> {
-    crate::tensor::regen::run(c.spec, c.results, c.preset)
+    tensor::run(c.spec, c.results, c.preset)
 }
 fn multiscale_alpha_me(c: &Ctx) -> Result<FitOutcome> {
-    crate::multiscale::regen::run(c.spec, c.results, c.preset)
+    multiscale_alpha_me::run(c.spec, c.results, c.preset)
 }
 fn multiscale_convolution(c: &Ctx) -> Result<FitOutcome> {
-    crate::multiscale::regen_convolution::run(c.spec, c.specs, c.results, c.preset)
+    multiscale_convolution::run(c.spec, c.specs, c.results, c.preset)
 }
 
 /// Every study, as data.

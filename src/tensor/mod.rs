@@ -7,5 +7,4 @@ pub mod compare;
 pub mod cp;
 pub mod pndf;
 pub mod query;
-pub mod regen;
 pub mod sample;

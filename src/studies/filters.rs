@@ -1,11 +1,11 @@
 //! `regen --only filters`: both studies, the fitted constants, results/filters.md,
 //! results/fits/filters.json and the plots.
 
-use super::footprint::{MipChain, NormalMap, Procedural, Stats};
-use super::rules;
-use super::study::{self, Field, PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
-use super::truth::{draw, Candidate, CaseResult, CaseSamples, Truth};
 use crate::error::Result;
+use crate::filters::footprint::{MipChain, NormalMap, Procedural, Stats};
+use crate::filters::rules;
+use crate::filters::study::{self, Field, PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
+use crate::filters::truth::{draw, Candidate, CaseResult, CaseSamples, Truth};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -233,7 +233,7 @@ fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Vec<MapCase>>
                 let lv = &chains[m].levels[level];
                 let (i, j) = (idx % lv.width, idx / lv.width);
                 let stats = lv.stats[idx];
-                let fpn = super::truth::Footprint::uniform(maps[m].block(level, i, j));
+                let fpn = crate::filters::truth::Footprint::uniform(maps[m].block(level, i, j));
                 let truth = Truth::new(kind, alpha, &fpn)?;
                 let (t, p) = plan.views_deg[vi];
                 let v = dir(t, p);

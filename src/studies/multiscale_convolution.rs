@@ -1,14 +1,14 @@
 //! `regen --only multiscale-convolution`: overall α(α_mi, α_me) under four metrics, the
 //! paper's Eq 7 and its refit, engine rules, and a model with both limits built in.
 
-use super::alpha_me::{held_out_alphas, training_alphas};
-use super::overall::{
-    alpha_moment, corrected, eq7, fit_corrected, fit_improved, fit_pair, improved, refit_eq7,
-    sum_of_squares, vmf, Metric, PairFit, CAPS,
-};
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::multiscale::alpha_me::{held_out_alphas, training_alphas};
+use crate::multiscale::overall::{
+    alpha_moment, corrected, eq7, fit_corrected, fit_improved, fit_pair, improved, refit_eq7,
+    sum_of_squares, vmf, Metric, PairFit, CAPS,
+};
 use crate::report::plot::{loglog_svg, Panel, Series};
 use crate::study::FitOutcome;
 use serde_json::json;
@@ -88,7 +88,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
                 spec.name
             ))
         })?;
-    let c_me = super::alpha_me::fit_ours(
+    let c_me = crate::multiscale::alpha_me::fit_ours(
         me_spec.terms,
         me_spec.terms_large,
         &training_alphas(
@@ -98,7 +98,10 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
         ),
     )?;
     let product = move |x: f64, y: f64| {
-        let (ym, yi) = (super::mrl::mrl_pair(y).1, super::mrl::mrl_pair(x).1);
+        let (ym, yi) = (
+            crate::multiscale::mrl::mrl_pair(y).1,
+            crate::multiscale::mrl::mrl_pair(x).1,
+        );
         c_me.eval(ym + yi - ym * yi)
     };
     let product2 = product.clone();
@@ -180,7 +183,7 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
     );
     md.push_str(" rad, and 4 convex spherical quads: ");
     md.push_str(
-        &super::overall::polygons()
+        &crate::multiscale::overall::polygons()
             .iter()
             .map(|p| p.name)
             .collect::<Vec<_>>()

@@ -2,13 +2,13 @@
 //! pyramid, blocked and clustered (seed 002 §4.1–4.2), CP-compressed at several ranks;
 //! results/tensor.md and results/fits/tensor.json.
 
-use super::cluster::cluster_tensors;
-use super::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::tensor::cluster::cluster_tensors;
+use crate::tensor::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -150,9 +150,9 @@ fn tensorly_section(results: &Path) -> String {
     let path = results.join("tensor-tensorly.json");
     match crate::io::read_to_string(&path)
         .ok()
-        .and_then(|t| serde_json::from_str::<super::compare::Report>(&t).ok())
+        .and_then(|t| serde_json::from_str::<crate::tensor::compare::Report>(&t).ok())
     {
-        Some(r) => md.push_str(&super::compare::table(&r)),
+        Some(r) => md.push_str(&crate::tensor::compare::table(&r)),
         None => md.push_str("Not measured: results/tensor-tensorly.json is missing. Run `cargo run --release -- tensorly-compare` (needs `pip install numpy tensorly`).\n"),
     }
     md.push_str("\nThe comparison is of unconstrained CP (TensorLy's `parafac`). Started from the same factors, the two implementations take the same number of sweeps to the same error (tests/tensorly.rs checks this to 1e-6 relative on every CI run where PyPI is reachable): the same algorithm, so the comparison is one of speed. Ours: MTTKRP over the non-zero fibres only (P-NDF blocks are ~60 % zeros), one partial product shared by modes 1 and 2, loops specialised for R = 4, 8, 16, 32 (accumulators in registers), Cholesky solves, the error from Gram matrices between sweeps, AVX2 when the CPU has it (bit-identical to the baseline build). TensorLy: dense unfoldings and Khatri–Rao products through numpy's BLAS. On small tensors Python's per-call overhead dominates TensorLy's time; at the default preset's sizes its time is BLAS-bound and our lead shrinks to a few ×: the goal of ≥ 10× is not met there.\n");
@@ -162,7 +162,7 @@ fn tensorly_section(results: &Path) -> String {
 /// §5: f64 and f32 SAT queries against the naive (compensated) box average, on every
 /// cluster at the largest rank: whole-range and random boxes, with the a-priori bound.
 fn query_section(top: &[(Tensor3, Cp)], rank: usize) -> String {
-    use super::query::{range, range_error_bound, range_f32, range_naive, Sat};
+    use crate::tensor::query::{range, range_error_bound, range_f32, range_naive, Sat};
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
     let (mut n, mut r64, mut r32, mut b64, mut b32, mut whole32) =
@@ -210,8 +210,8 @@ fn query_section(top: &[(Tensor3, Cp)], rank: usize) -> String {
 
 /// §6: χ² and binning on a real compressed P-NDF block and on a non-negative rank-4 block.
 fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> String {
-    use super::query::Sat;
-    use super::sample::{binning_mse, chi_square};
+    use crate::tensor::query::Sat;
+    use crate::tensor::sample::{binning_mse, chi_square};
     let mut md = String::from("\n## Hierarchical importance sampling (§5.2)\n\nχ²: bins of 2×2 pixels over a 16×16 block slice, 200 000 samples (seeded ChaCha8), expected masses by exact integration of the returned pdf (bins under 5 expected samples pooled), p-value by Wilson–Hilferty; pass at the 1 % level. Binning (the paper's check): a per-pixel histogram of 100 000 descents against the normalised reconstruction; the MSE should match its Monte Carlo expectation Σ p(1 − p)/N.\n\n| block | χ² | dof | p | pass | max abs(pdf − returned pdf) | ∫ pdf | binning MSE | expected MSE |\n|---|---|---|---|---|---|---|---|---|\n");
     let mut row = |name: String, cp: &Cp, z: usize| {
         let sat = Sat::build(cp);
@@ -233,7 +233,7 @@ fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> Strin
             )),
         }
     };
-    let rnd = super::cp::random_cp(4, [16, 16, 2], 11);
+    let rnd = crate::tensor::cp::random_cp(4, [16, 16, 2], 11);
     row("random non-negative rank-4 CP, slice 1".into(), &rnd, 1);
     if let Some((map, r, tt, cp, nn)) = sampled {
         // the slice with the most mass
@@ -334,7 +334,7 @@ pub fn prefilter_tensor(
     let started = std::time::Instant::now();
     let tensors = cluster_tensors(map, res, stride, t, 0.02)?;
     let pndf_s = started.elapsed().as_secs_f64();
-    let fit = |r: usize| -> Result<(Vec<super::cp::Cp>, f64)> {
+    let fit = |r: usize| -> Result<(Vec<crate::tensor::cp::Cp>, f64)> {
         let started = std::time::Instant::now();
         let fits = tensors
             .par_iter()

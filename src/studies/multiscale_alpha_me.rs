@@ -1,14 +1,14 @@
 //! `regen --only multiscale`: fit α_me(‖b̄‖), audit seed 000 Eq 5, write
 //! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots.
 
-use super::alpha_me::{
-    fit_nelder_mead, fit_ours, held_out, held_out_alphas, paper_form, paper_method,
-    training_alphas, HeldOut, Table, PAPER,
-};
-use super::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::multiscale::alpha_me::{
+    fit_nelder_mead, fit_ours, held_out, held_out_alphas, paper_form, paper_method,
+    training_alphas, HeldOut, Table, PAPER,
+};
+use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::report::plot::{loglog_svg, Panel, Series};
 use crate::study::FitOutcome;
 use serde_json::json;
@@ -318,7 +318,7 @@ pub struct WholeRange {
 }
 
 /// Evaluate `Ours` against the exact inverse from y = 1e-300 to b = 1e-300.
-pub fn whole_range(c: &super::alpha_me::OursFit) -> WholeRange {
+pub fn whole_range(c: &crate::multiscale::alpha_me::OursFit) -> WholeRange {
     let mut pts: Vec<(f64, f64)> = Vec::new(); // (b, y), both exact
     let n = 1500;
     for i in 0..n {

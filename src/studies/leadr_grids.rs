@@ -1,0 +1,169 @@
+//! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured, reported and
+//! written here.
+
+use crate::error::Result;
+use crate::leadr::*;
+use nalgebra::Vector3;
+type V3 = Vector3<f64>;
+
+/// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
+/// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
+/// micronormal at silhouettes; results/leadr.md, results/leadr-pareto.svg,
+/// results/fits/leadr-grids.json.
+pub fn regen(
+    spec: &crate::fit::spec::FitSpec,
+    results: &std::path::Path,
+) -> Result<crate::study::FitOutcome> {
+    use crate::report::plot::{loglog_svg, Panel, Series};
+    let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
+    let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
+    let ns = [3usize, 4, 5, 6, 8, 12, 16, 24, 32];
+    let pb = indicatif::ProgressBar::new(ns.len() as u64);
+    pb.set_message("leadr grids");
+    let mut rows = Vec::new();
+    for &n in &ns {
+        let h = fit_spacing(n, &train);
+        let fams = [
+            Grid::riemann(n, paper_spacing(n)), // the paper: spacing 0.9, no node beyond ±3 (seed 001 §3.4)
+            Grid::riemann(n, h),
+            Grid::gauss_hermite(n),
+        ];
+        let errs: Vec<((f64, f64), (f64, f64))> = fams
+            .iter()
+            .map(|g| (grid_error(g, &held, true), grid_error(g, &held, false)))
+            .collect();
+        rows.push((n, h, errs));
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    // the h-scan at N = 5 (training set)
+    let scan: Vec<(f64, f64, f64)> = (0..=24)
+        .map(|i| {
+            let h = 0.5 + 1.2 * i as f64 / 24.0;
+            let g = Grid::riemann(5, h);
+            (
+                h,
+                grid_error(&g, &train, true).0,
+                grid_error(&g, &train, false).0,
+            )
+        })
+        .collect();
+    let h5 = rows
+        .iter()
+        .find(|r| r.0 == 5)
+        .map(|r| r.1)
+        .unwrap_or(f64::NAN);
+    // artificial micronormal at a silhouette: the mean normal faces away from V
+    let s = Slopes {
+        x0: 3.0,
+        y0: 0.0,
+        sx: 0.05,
+        sy: 0.05,
+        rxy: 0.0,
+    };
+    let v = V3::new(0.999, 0.0, 0.0447).normalize();
+    let env = |n: &V3| 0.5 + 0.5 * n.z;
+    let without = grid_estimate(&Grid::paper5(), &s, &v, &env, None);
+    let with = grid_estimate(&Grid::paper5(), &s, &v, &env, Some((1.01, 1e-5)));
+    let paper_held = grid_error(&Grid::paper5(), &held, true);
+    let fam_names = [
+        "uniform, h = 0.9 (paper)",
+        "uniform, fitted h",
+        "Gauss–Hermite",
+    ];
+    let pareto = |spec_kind: bool| -> Vec<Series> {
+        (0..3)
+            .map(|f| Series {
+                name: fam_names[f].to_string(),
+                points: rows
+                    .iter()
+                    .map(|(n, _, e)| {
+                        (
+                            (n * n) as f64,
+                            if spec_kind { e[f].0 .1 } else { e[f].1 .1 }.max(1e-16),
+                        )
+                    })
+                    .collect(),
+            })
+            .collect()
+    };
+    let svg = loglog_svg(
+        &[
+            Panel {
+                title: "rough specular × environment: max rel. error (held-out)".into(),
+                x_label: "grid points N²".into(),
+                y_label: "max relative error".into(),
+                series: pareto(true),
+            },
+            Panel {
+                title: "rough diffuse × light: max rel. error (held-out)".into(),
+                x_label: "grid points N²".into(),
+                y_label: "max relative error".into(),
+                series: pareto(false),
+            },
+        ],
+        1400,
+        520,
+    )?;
+    crate::io::write_atomic(&results.join("leadr-pareto.svg"), svg.as_bytes())?;
+    let mut md = String::from("# LEADR numerical integration (seed 001 §3.4–3.7)\n\n");
+    md.push_str("Written by `cargo run --release -- regen --only leadr` from `fits/leadr-grids.toml`. Estimator: the paper's simplified \
+algorithms 1 and 3 (weighted sum of L(N) over an N×N slope grid, weights × projected area, normalised). Reference: the same ratio with \
+the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10). Test scenes: rough specular under a smooth environment \
+(sky gradient + a κ = 50 sun) and rough diffuse under one directional light; isotropic Beckmann σ. Training set σ ∈ {0.05, 0.15, 0.3, 0.5} × \
+θ_o ∈ {0°, 30°, 60°, 75°}; held-out σ ∈ {0.1, 0.2, 0.4, 0.6} × θ_o ∈ {15°, 45°, 70°, 80°}.\n\n");
+    md.push_str("## Error against N (held-out max relative error; RMS in parentheses)\n\n| N | grid points | paper h | fitted h | specular: paper h | specular: fitted h | specular: Gauss–Hermite | diffuse: paper h | diffuse: fitted h | diffuse: Gauss–Hermite |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for (n, h, e) in &rows {
+        md.push_str(&format!(
+            "| {n} | {} | {:.3} | {h:.3} | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) |\n",
+            n * n, paper_spacing(*n), e[0].0 .1, e[0].0 .0, e[1].0 .1, e[1].0 .0, e[2].0 .1, e[2].0 .0, e[0].1 .1, e[0].1 .0, e[1].1 .1, e[1].1 .0, e[2].1 .1, e[2].1 .0
+        ));
+    }
+    md.push_str("\nCost is the same per grid point for every family (one normal, one projected area, one shading call): ns per evaluation at each N is in results/performance.md (bench group `leadr`). ![Pareto](leadr-pareto.svg)\n\n");
+    md.push_str("## Why spacing 0.9 for 5×5\n\nThe paper's weights are exactly the normalised Gaussian density at the nodes (φ(p)/Σφ at h = 0.9 reproduces 0.0725, 0.2443, 0.3663 to four digits), i.e. its grid is a uniform Riemann sum of the slope density. RMS relative error on the training set against the spacing h (N = 5):\n\n| h | specular | diffuse |\n|---|---|---|\n");
+    for (h, a, b) in &scan {
+        md.push_str(&format!("| {h:.2} | {a:.2e} | {b:.2e} |\n"));
+    }
+    let argmin_col = |k: usize| {
+        scan.iter()
+            .min_by(|a, b| {
+                (if k == 0 { a.1 } else { a.2 }).total_cmp(&(if k == 0 { b.1 } else { b.2 }))
+            })
+            .map(|r| r.0)
+            .unwrap_or(f64::NAN)
+    };
+    md.push_str(&format!(
+        "\nMeasured optima for N = 5: h ≈ {:.2} for the specular scenes, h ≈ {:.2} for the diffuse ones; the fit over both gives h = {h5:.3}. \
+The paper's 0.9 lies between the two optima, in the region where neither error is far from its minimum — a sensible single choice for a \
+renderer that uses one grid for both. Why a minimum exists: a uniform 5-point grid must trade two errors. Small h truncates the tails \
+(the outer nodes sit at ±2h and the mass beyond ±2.5h is dropped and re-normalised away), which matters for the slowly varying diffuse \
+term; large h under-resolves shading that varies across the lobe (the Riemann sum aliases), which matters for the sharper specular \
+term. Gauss–Hermite is exact for polynomials in the slope, but the max(0, V·N) clamp of the projected area is not polynomial, so it \
+does not dominate at grazing views.\n\n",
+        argmin_col(0),
+        argmin_col(1)
+    ));
+    md.push_str(&format!("## Artificial micronormal (§3.7)\n\nSilhouette configuration (mean slope 3, σ = 0.05, view at 87.4° on the far side, so every grid normal faces away): without the artificial micronormal the 5×5 estimate is {without} (0/0); with ε = 1.01 and weight 1e-5 it is {with:.6} (finite, from the artificial normal alone). Held-out error of the plain paper grid elsewhere: max {:.2e} (RMS {:.1e}) — unchanged by the 1e-5 weight wherever any grid normal is visible.\n", paper_held.1, paper_held.0));
+    crate::io::write_atomic(&results.join("leadr.md"), md.as_bytes())?;
+    let json = serde_json::json!({
+        "spec": spec,
+        "command": "cargo run --release -- regen --only leadr",
+        "rows": rows.iter().map(|(n, h, e)| serde_json::json!({"n": n, "fitted_h": h, "specular": {"paper": e[0].0, "fitted": e[1].0, "gauss_hermite": e[2].0}, "diffuse": {"paper": e[0].1, "fitted": e[1].1, "gauss_hermite": e[2].1}})).collect::<Vec<_>>(),
+        "h_scan_n5": scan,
+        "fitted_h_n5": h5,
+        "artificial_micronormal": {"without": if without.is_nan() { serde_json::Value::Null } else { serde_json::json!(without) }, "with": with},
+    });
+    crate::results::write_result(results, &spec.name, &json)?;
+    let best = rows
+        .iter()
+        .find(|r| r.0 == 5)
+        .map(|r| r.2[1].0 .1)
+        .unwrap_or(f64::NAN);
+    Ok(crate::study::FitOutcome {
+        name: spec.name.clone(),
+        held_out_max_rel: best,
+        tolerance: spec.tolerance.max_rel,
+        passed: with.is_finite() && best.is_finite(),
+        summary: format!("N = 5: fitted h = {h5:.3}; held-out max rel. error (specular) paper h {:.2e}, fitted {:.2e}; artificial micronormal finite: {}", rows.iter().find(|r| r.0 == 5).map(|r| r.2[0].0 .1).unwrap_or(f64::NAN), best, with.is_finite()),
+    })
+}
