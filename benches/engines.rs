@@ -240,7 +240,6 @@ fn leadr(c: &mut Criterion) {
 /// f32 shading forms of the footprint filters, 1024 inputs per iteration.
 fn filters(c: &mut Criterion) {
     use ndfbench::filters::rules as r;
-    use ndfbench::generated::shading as g;
     let n = 1024usize;
     let inp: Vec<(f32, f32, [f32; 3], [f32; 3])> = (0..n)
         .map(|i| {
@@ -254,25 +253,7 @@ fn filters(c: &mut Criterion) {
         })
         .collect();
     // the generated α_me constants (both branches), as the shaders use them
-    let small: Vec<f32> = vec![
-        g::ALPHA_ME_C1,
-        g::ALPHA_ME_C2,
-        g::ALPHA_ME_C3,
-        g::ALPHA_ME_C4,
-        g::ALPHA_ME_C5,
-        g::ALPHA_ME_C6,
-        g::ALPHA_ME_C7,
-    ];
-    let large: Vec<f32> = vec![
-        g::ALPHA_ME_D1,
-        g::ALPHA_ME_D2,
-        g::ALPHA_ME_D3,
-        g::ALPHA_ME_D4,
-        g::ALPHA_ME_D5,
-        g::ALPHA_ME_D6,
-        g::ALPHA_ME_D7,
-        g::ALPHA_ME_D8,
-    ];
+    let (small, large) = (ndfbench::kernels::ALPHA_ME_C, ndfbench::kernels::ALPHA_ME_D);
     let mut g = c.benchmark_group("filters");
     g.throughput(Throughput::Elements(n as u64));
     g.sample_size(20)

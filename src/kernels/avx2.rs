@@ -115,25 +115,7 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
     let half = _mm256_set1_ps(0.5);
     let tiny = _mm256_set1_ps(f32::MIN_POSITIVE);
     let third = _mm256_set1_ps(1.0 / 3.0);
-    let c = [
-        g::ALPHA_ME_C1,
-        g::ALPHA_ME_C2,
-        g::ALPHA_ME_C3,
-        g::ALPHA_ME_C4,
-        g::ALPHA_ME_C5,
-        g::ALPHA_ME_C6,
-        g::ALPHA_ME_C7,
-    ];
-    let d = [
-        g::ALPHA_ME_D1,
-        g::ALPHA_ME_D2,
-        g::ALPHA_ME_D3,
-        g::ALPHA_ME_D4,
-        g::ALPHA_ME_D5,
-        g::ALPHA_ME_D6,
-        g::ALPHA_ME_D7,
-        g::ALPHA_ME_D8,
-    ];
+    let (c, d) = (super::ALPHA_ME_C, super::ALPHA_ME_D);
     let mut i = 0;
     while i < n {
         let a = ld(y_me, i);

@@ -22,6 +22,28 @@ pub use inputs::{bench_inputs, BenchInputs};
 use crate::error::{Error, Result};
 use crate::generated::shading as g;
 
+/// The generated α_me coefficients as arrays (α ≤ 1 branch in 1/s, α > 1 branch in ‖b̄‖),
+/// for code that evaluates the same form lane-wise or in a loop.
+pub const ALPHA_ME_C: [f32; 7] = [
+    g::ALPHA_ME_C1,
+    g::ALPHA_ME_C2,
+    g::ALPHA_ME_C3,
+    g::ALPHA_ME_C4,
+    g::ALPHA_ME_C5,
+    g::ALPHA_ME_C6,
+    g::ALPHA_ME_C7,
+];
+pub const ALPHA_ME_D: [f32; 8] = [
+    g::ALPHA_ME_D1,
+    g::ALPHA_ME_D2,
+    g::ALPHA_ME_D3,
+    g::ALPHA_ME_D4,
+    g::ALPHA_ME_D5,
+    g::ALPHA_ME_D6,
+    g::ALPHA_ME_D7,
+    g::ALPHA_ME_D8,
+];
+
 /// Which implementation runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Backend {
