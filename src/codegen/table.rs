@@ -7,45 +7,16 @@
 //! `mat3x3(vec3(a, 0, b), vec3(0, 1, 0), vec3(c, 0, d))`), LTC_2 = (norm, fresnel). The
 //! error each precision costs is measured in results/ltc.md.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use half::f16;
 use std::path::Path;
 
-/// The table read from results/fits/ltc-ggx.json: `cells[i + n·j]` =
-/// [a, b, c, d, norm, fresnel].
-pub struct LtcTableData {
-    pub n: usize,
-    pub cells: Vec<[f64; 6]>,
-}
+/// The table read from results/fits/ltc-ggx.json (the one reader, `ltc::table`).
+pub type LtcTableData = crate::ltc::table::FittedTable;
 
 /// Read the fitted table.
 pub fn read(results: &Path) -> Result<LtcTableData> {
-    let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
-        Error::InvalidArgument(format!(
-            "codegen: results/fits/ltc-ggx.json missing (run `{}`)",
-            super::COMMAND
-        ))
-    })?;
-    let table = v["table"]
-        .as_array()
-        .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json has no table".into()))?;
-    let n = table.len();
-    let mut cells = vec![[0.0; 6]; n * n];
-    for (j, col) in table.iter().enumerate() {
-        let col = col
-            .as_array()
-            .filter(|c| c.len() == n)
-            .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: malformed table".into()))?;
-        for (i, c) in col.iter().enumerate() {
-            for k in 0..6 {
-                cells[i + n * j][k] = c[k]
-                    .as_f64()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: bad table cell".into()))?;
-            }
-        }
-    }
-    Ok(LtcTableData { n, cells })
+    crate::ltc::table::read(results, "ltc-ggx")
 }
 
 /// Shortest round-trip f32 literal (valid in Rust and WGSL).

@@ -197,32 +197,12 @@ pub fn compare(ours: &Shipped, shipped: &Shipped, n_samples: usize) -> Result<Ve
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
 pub fn ours(results: &Path) -> Result<Shipped> {
-    let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
-        Error::InvalidArgument(
-            "results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`"
-                .into(),
-        )
-    })?;
-    let table = v["table"]
-        .as_array()
-        .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json has no table".into()))?;
-    let n = table.len();
-    let mut mat = vec![[0.0; 4]; n * n];
-    let mut mag = vec![[0.0; 2]; n * n];
-    for (j, col) in table.iter().enumerate() {
-        let col = col
-            .as_array()
-            .ok_or_else(|| Error::InvalidArgument("malformed table".into()))?;
-        for (i, c) in col.iter().enumerate() {
-            let g = |k: usize| {
-                c[k].as_f64()
-                    .ok_or_else(|| Error::InvalidArgument("malformed table cell".into()))
-            };
-            mat[i + n * j] = [g(0)?, g(1)?, g(2)?, g(3)?];
-            mag[i + n * j] = [g(4)?, g(5)?];
-        }
-    }
-    Ok(Shipped { n, mat, mag })
+    let t = super::table::read(results, "ltc-ggx")?;
+    Ok(Shipped {
+        n: t.n,
+        mat: t.cells.iter().map(|c| [c[0], c[1], c[2], c[3]]).collect(),
+        mag: t.cells.iter().map(|c| [c[4], c[5]]).collect(),
+    })
 }
 
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json

@@ -6,6 +6,7 @@
 //!   production θ/sin θ forms, the LTC integral, MC truth (MIS);
 //! - `fit`: the per-cell fit of the GGX table (all four production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
+//! - `table`: the one reader of a fitted table (results/fits/ltc-ggx.json);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
 //! The `ltc-ggx` study that fits the table and measures all of the above is
 //! `crate::studies::ltc_ggx`.
@@ -15,5 +16,6 @@ pub mod dist;
 pub mod fit;
 pub mod pipeline;
 pub mod polygon;
+pub mod table;
 
 pub use dist::*;

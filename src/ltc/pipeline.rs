@@ -27,41 +27,11 @@ pub struct LtcTable {
 
 impl LtcTable {
     pub fn load(results: &std::path::Path) -> Result<LtcTable> {
-        let v = crate::results::read_result(results, "ltc-ggx").ok_or_else(|| {
-            Error::InvalidArgument(
-                "results/fits/ltc-ggx.json missing: run `cargo run --release -- regen --only ltc`"
-                    .into(),
-            )
-        })?;
-        let t = v["table"]
-            .as_array()
-            .ok_or_else(|| Error::InvalidArgument("ltc-ggx.json: no table".into()))?;
-        let cells: Vec<Vec<[f64; 6]>> = t
-            .iter()
-            .map(|col| {
-                col.as_array()
-                    .map(|c| {
-                        c.iter()
-                            .map(|x| {
-                                let g = |k: usize| x[k].as_f64().unwrap_or(f64::NAN);
-                                [g(0), g(1), g(2), g(3), g(4), g(5)]
-                            })
-                            .collect()
-                    })
-                    .unwrap_or_default()
-            })
+        let t = super::table::read(results, "ltc-ggx")?;
+        let cells = (0..t.n)
+            .map(|j| (0..t.n).map(|i| *t.cell(i, j)).collect())
             .collect();
-        let n = cells.len();
-        if n < 2
-            || cells
-                .iter()
-                .any(|c| c.len() != n || c.iter().any(|x| x.iter().any(|y| !y.is_finite())))
-        {
-            return Err(Error::InvalidArgument(
-                "ltc-ggx.json: malformed table".into(),
-            ));
-        }
-        Ok(LtcTable { n, cells })
+        Ok(LtcTable { n: t.n, cells })
     }
     /// Bilinear lookup: (M⁻¹, norm) for roughness α and cos θ of the view.
     pub fn lookup(&self, alpha: f64, cos_theta: f64) -> (Matrix3<f64>, f64) {
