@@ -559,8 +559,7 @@ fn filter_eval(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, serde_json:
             let y = 1.0 - b()? * rho;
             let exact = crate::multiscale::mrl::alpha_from_one_minus(y)?;
             let coeffs = ours_coefficients(fits)?;
-            let s32: Vec<f32> = coeffs.small.iter().map(|c| *c as f32).collect();
-            let l32: Vec<f32> = coeffs.large.iter().map(|c| *c as f32).collect();
+            let (s32, l32) = coeffs.to_f32();
             (
                 exact,
                 r::seed000_moment_fit(b()? as f32, rho as f32, &s32, &l32),

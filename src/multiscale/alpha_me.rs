@@ -39,10 +39,17 @@ impl OursFit {
     pub fn eval(&self, y: f64) -> f64 {
         ours_eval_t(&self.small, &self.large, y)
     }
-    /// The same form in f32 with the coefficients rounded to f32, as the shaders use it.
+    /// The coefficients rounded to f32, as the shaders hold them.
+    pub fn to_f32(&self) -> (Vec<f32>, Vec<f32>) {
+        (
+            self.small.iter().map(|&c| c as f32).collect(),
+            self.large.iter().map(|&c| c as f32).collect(),
+        )
+    }
+    /// The same form in f32 with the coefficients rounded to f32 (allocates them: for
+    /// loops, take [`OursFit::to_f32`] once and call [`ours_eval_t`]).
     pub fn eval_f32(&self, y: f32) -> f32 {
-        let s: Vec<f32> = self.small.iter().map(|&c| c as f32).collect();
-        let l: Vec<f32> = self.large.iter().map(|&c| c as f32).collect();
+        let (s, l) = self.to_f32();
         ours_eval_t(&s, &l, y)
     }
 }

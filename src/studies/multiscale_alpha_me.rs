@@ -5,8 +5,8 @@ use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::multiscale::alpha_me::{
-    fit_nelder_mead, fit_ours, held_out, held_out_alphas, paper_form, paper_method,
-    training_alphas, HeldOut, Table, PAPER,
+    fit_nelder_mead, fit_ours, held_out, held_out_alphas, ours_eval_pair_t, ours_eval_t,
+    paper_form, paper_method, training_alphas, HeldOut, Table, PAPER,
 };
 use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::report::plot::{loglog_svg, Panel, Series};
@@ -340,18 +340,9 @@ pub fn whole_range(c: &crate::multiscale::alpha_me::OursFit) -> WholeRange {
         in_range_f32_max_rel: 0.0,
         total: true,
     };
-    let eval_b = |b: f64, y: f64| -> f64 {
-        // the form takes y; for tiny b pass the exact branch value through b
-        if y > 1.0 / 3.0 {
-            let mut g = 0.0;
-            for &dk in c.large.iter().rev() {
-                g = (g + dk) * b;
-            }
-            std::f64::consts::FRAC_PI_2 * (1.0 + g) / b
-        } else {
-            c.eval(y)
-        }
-    };
+    let c32 = c.to_f32();
+    // the pair form: a tiny ‖b̄‖ reaches the large-α branch with its full precision
+    let eval_b = |b: f64, y: f64| ours_eval_pair_t(&c.small, &c.large, y, b);
     for &(b, y) in &pts {
         let Ok(exact) = alpha_from_pair(b, y) else {
             continue;
@@ -374,7 +365,7 @@ pub fn whole_range(c: &crate::multiscale::alpha_me::OursFit) -> WholeRange {
         // the f32 form at the f32 input (y ≥ ½ keeps b = 1 − y exact; below, y itself)
         let y32 = y as f32;
         if y32 >= f32::MIN_POSITIVE && y32 < 1.0 && (1.0 - y32) >= f32::MIN_POSITIVE {
-            let v32 = c.eval_f32(y32) as f64;
+            let v32 = ours_eval_t(&c32.0, &c32.1, y32) as f64;
             let (b32, yy) = (1.0 - y32 as f64, y32 as f64);
             if let Ok(ex32) = alpha_from_pair(b32, yy) {
                 let e32 = ((v32 - ex32) / ex32).abs();
@@ -392,7 +383,7 @@ pub fn whole_range(c: &crate::multiscale::alpha_me::OursFit) -> WholeRange {
         }
     }
     for y in [0.0f32, 1.0, f32::NAN, -1.0, 2.0, f32::INFINITY] {
-        let v = c.eval_f32(y);
+        let v = ours_eval_t(&c32.0, &c32.1, y);
         if !(v.is_finite() && v >= 0.0) {
             w.total = false;
         }
