@@ -1,0 +1,214 @@
+//! The cases of the footprint study: every (map, NDF, α, level, footprint, view) and
+//! every screen-space (NDF, pixel, α, κ, anisotropy, view), drawn and measured; their
+//! aggregation into mean ± standard error.
+
+use crate::error::Result;
+use crate::filters::footprint::{MipChain, NormalMap, Stats};
+use crate::filters::study::{self, Field, PixelFilter};
+use crate::filters::truth::{draw, CaseResult, CaseSamples, Truth};
+use crate::microfacet::NdfKind;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use serde::Serialize;
+use super::{dir, seed_of, Plan, KINDS};
+
+type V3 = Vector3<f64>;
+
+/// One map case: a footprint at a level, a base α, a view, with its drawn samples.
+pub(super) struct MapCase {
+    pub map: usize,
+    pub kind: NdfKind,
+    pub alpha: f64,
+    pub level: usize,
+    pub footprint: usize,
+    pub view: usize,
+    pub stats: Stats,
+    pub samples: CaseSamples,
+    pub results: Vec<CaseResult>,
+}
+
+/// One screen case.
+pub(super) struct ScreenCase {
+    pub kind: NdfKind,
+    pub pixel: PixelFilter,
+    pub alpha: f64,
+    pub field: Field,
+    pub view: usize,
+    pub samples: CaseSamples,
+    pub results: Vec<CaseResult>,
+}
+
+/// Mean ± standard error over cases (NaNs skipped), plus extremes.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Agg {
+    pub cases: usize,
+    pub energy_mean: f64,
+    pub energy_se: f64,
+    pub energy_abs_mean: f64,
+    pub l2_mean: f64,
+    pub l2_se: f64,
+    pub l2_max: f64,
+    pub peak_mean: f64,
+    pub peak_se: f64,
+    /// Largest Monte Carlo standard error of any single case's L2 (sampling noise).
+    pub l2_mc_se_max: f64,
+}
+
+pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
+    let v: Vec<f64> = x.iter().copied().filter(|a| a.is_finite()).collect();
+    let n = v.len() as f64;
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (m, (var / n).sqrt())
+}
+
+pub fn aggregate(rs: &[&CaseResult]) -> Agg {
+    let e: Vec<f64> = rs.iter().map(|r| r.energy.value).collect();
+    let ea: Vec<f64> = e.iter().map(|x| x.abs()).collect();
+    let l: Vec<f64> = rs.iter().map(|r| r.l2.value).collect();
+    let p: Vec<f64> = rs.iter().map(|r| r.peak).collect();
+    let (em, es) = mean_se(&e);
+    let (lm, ls) = mean_se(&l);
+    let (pm, ps) = mean_se(&p);
+    Agg {
+        cases: rs.len(),
+        energy_mean: em,
+        energy_se: es,
+        energy_abs_mean: mean_se(&ea).0,
+        l2_mean: lm,
+        l2_se: ls,
+        l2_max: l
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(0.0, f64::max),
+        peak_mean: pm,
+        peak_se: ps,
+        l2_mc_se_max: rs
+            .iter()
+            .map(|r| r.l2.se)
+            .filter(|x| x.is_finite())
+            .fold(0.0, f64::max),
+    }
+}
+
+/// Every (map, NDF, α, level, footprint, view) case of the map study, with its samples
+/// and the measured filters.
+pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Vec<MapCase>> {
+    let chains: Vec<MipChain> = maps.iter().map(MipChain::build).collect();
+    let mut descs = Vec::new();
+    for m in 0..maps.len() {
+        for &kind in &KINDS {
+            for &alpha in &plan.alphas {
+                for &level in &plan.levels {
+                    let lv = &chains[m].levels[level];
+                    for fp in 0..plan.footprints_per_level {
+                        // spread the footprints over the level deterministically
+                        let idx = (fp * 2654435761usize + 12345) % (lv.width * lv.height);
+                        for (vi, _) in plan.views_deg.iter().enumerate() {
+                            descs.push((m, kind, alpha, level, idx, fp, vi));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let pb = indicatif::ProgressBar::new(descs.len() as u64);
+    pb.set_message("filters: map footprints");
+    let map_cases: Vec<MapCase> = descs
+        .par_iter()
+        .enumerate()
+        .map(
+            |(ci, &(m, kind, alpha, level, idx, fp, vi))| -> Result<MapCase> {
+                let lv = &chains[m].levels[level];
+                let (i, j) = (idx % lv.width, idx / lv.width);
+                let stats = lv.stats[idx];
+                let fpn = crate::filters::truth::Footprint::uniform(maps[m].block(level, i, j));
+                let truth = Truth::new(kind, alpha, &fpn)?;
+                let (t, p) = plan.views_deg[vi];
+                let v = dir(t, p);
+                let cands = study::map_candidates(kind, alpha, &stats)?;
+                let props: Vec<(V3, f64)> = cands.iter().map(|c| c.proposal).collect();
+                let samples = draw(&truth, &v, &props, plan.samples, seed_of(seed, ci))?;
+                let results = cands
+                    .iter()
+                    .map(|c| samples.measure(&*c.value, &c.proposal.0))
+                    .collect();
+                pb.inc(1);
+                Ok(MapCase {
+                    map: m,
+                    kind,
+                    alpha,
+                    level,
+                    footprint: fp,
+                    view: vi,
+                    stats,
+                    samples,
+                    results,
+                })
+            },
+        )
+        .collect::<Result<_>>()?;
+    pb.finish_and_clear();
+    crate::report::stage("regen filters: map footprints done");
+    Ok(map_cases)
+}
+
+
+/// Every screen-space case, with its samples and the measured kernels.
+pub(super) fn screen_study(plan: &Plan, seed: u64) -> Result<Vec<ScreenCase>> {
+    let mut sdesc = Vec::new();
+    for &kind in &KINDS {
+        for pixel in [PixelFilter::Gaussian, PixelFilter::Box] {
+            for &(alpha, kap) in &plan.screen_pairs {
+                for &an in &plan.anisotropy {
+                    for vi in 0..plan.screen_views_deg.len() {
+                        sdesc.push((kind, pixel, alpha, kap, an, vi));
+                    }
+                }
+            }
+        }
+    }
+    let pb = indicatif::ProgressBar::new(sdesc.len() as u64);
+    pb.set_message("filters: screen-space kernels");
+    let screen_cases: Vec<ScreenCase> = sdesc
+        .par_iter()
+        .enumerate()
+        .map(
+            |(ci, &(kind, pixel, alpha, kap, an, vi))| -> Result<ScreenCase> {
+                let field = Field {
+                    kappa_u: kap,
+                    kappa_v: kap * an,
+                    psi: 30f64.to_radians(),
+                };
+                let fpn = study::pixel_footprint(&field, pixel, alpha);
+                let truth = Truth::new(kind, alpha, &fpn)?;
+                let v = dir(plan.screen_views_deg[vi], 20.0);
+                let cands = study::screen_candidates(kind, alpha, &field)?;
+                let props: Vec<(V3, f64)> = cands.iter().map(|c| c.proposal).collect();
+                let samples = draw(&truth, &v, &props, plan.samples, seed_of(seed ^ 0x5C, ci))?;
+                let results = cands
+                    .iter()
+                    .map(|c| samples.measure(&*c.value, &c.proposal.0))
+                    .collect();
+                pb.inc(1);
+                Ok(ScreenCase {
+                    kind,
+                    pixel,
+                    alpha,
+                    field,
+                    view: vi,
+                    samples,
+                    results,
+                })
+            },
+        )
+        .collect::<Result<_>>()?;
+    pb.finish_and_clear();
+    crate::report::stage("regen filters: screen-space kernels done");
+
+    Ok(screen_cases)
+}

@@ -1,0 +1,174 @@
+//! `regen --only filters`: the footprint study (maps and screen-space kernels) against
+//! the footprint-averaged BRDF (seed 004 Eq 11), its fitted constants, results/filters.md,
+//! results/fits/filters.json and the plots. Compute ([`cases`], [`constants`]) → report
+//! ([`report`], [`verdicts`], [`summary`]) → write, in that order.
+
+use crate::error::Result;
+use crate::fit::spec::FitSpec;
+use crate::integrate::Preset;
+use crate::microfacet::NdfKind;
+use nalgebra::Vector3;
+use serde::Serialize;
+use std::path::Path;
+
+mod cases;
+mod constants;
+mod prefilter;
+mod report;
+mod summary;
+mod verdicts;
+
+pub use cases::{aggregate, Agg};
+pub use prefilter::prefilter;
+
+type V3 = Vector3<f64>;
+
+/// Sizes of the studies for a preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct Plan {
+    pub map_size: usize,
+    pub levels: Vec<usize>,
+    pub footprints_per_level: usize,
+    pub alphas: Vec<f64>,
+    pub views_deg: Vec<(f64, f64)>,
+    pub samples: usize,
+    /// (base α, κ in rad/px) pairs of the screen study (κ/α ≤ 8).
+    pub screen_pairs: Vec<(f64, f64)>,
+    pub anisotropy: Vec<f64>,
+    pub screen_views_deg: Vec<f64>,
+}
+
+impl Plan {
+    pub fn new(p: Preset) -> Plan {
+        match p {
+            Preset::Quick => Plan {
+                map_size: 32,
+                levels: vec![1, 2, 3],
+                footprints_per_level: 2,
+                alphas: vec![0.05],
+                views_deg: vec![(0.0, 0.0), (60.0, 0.0)],
+                samples: 256,
+                screen_pairs: vec![(0.1, 0.03), (0.1, 0.3), (0.3, 0.8)],
+                anisotropy: vec![1.0],
+                screen_views_deg: vec![0.0, 60.0],
+            },
+            _ => Plan {
+                map_size: if p == Preset::Precise { 256 } else { 128 },
+                levels: vec![1, 2, 3, 4, 5],
+                footprints_per_level: if p == Preset::Precise { 12 } else { 6 },
+                alphas: vec![0.05, 0.25],
+                views_deg: vec![(0.0, 0.0), (40.0, 0.0), (70.0, 0.0), (70.0, 90.0)],
+                samples: if p == Preset::Precise { 4096 } else { 1024 },
+                screen_pairs: vec![
+                    (0.02, 0.01),
+                    (0.02, 0.03),
+                    (0.02, 0.1),
+                    (0.1, 0.03),
+                    (0.1, 0.1),
+                    (0.1, 0.3),
+                    (0.1, 0.6),
+                    (0.3, 0.1),
+                    (0.3, 0.3),
+                    (0.3, 0.8),
+                ],
+                anisotropy: vec![1.0, 0.2],
+                screen_views_deg: vec![0.0, 45.0, 75.0],
+            },
+        }
+    }
+}
+
+fn dir(theta_deg: f64, phi_deg: f64) -> V3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    V3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+const KINDS: [NdfKind; 2] = [NdfKind::Ggx, NdfKind::Beckmann];
+fn kind_name(k: NdfKind) -> &'static str {
+    match k {
+        NdfKind::Ggx => "GGX",
+        NdfKind::Beckmann => "Beckmann",
+    }
+}
+
+fn pct(m: f64, se: f64) -> String {
+    format!("{:+.1} % ± {:.1}", 100.0 * m, 100.0 * se)
+}
+
+fn seed_of(base: u64, idx: usize) -> u64 {
+    base ^ (idx as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+}
+
+/// results/fits/filters.json.
+#[derive(Serialize)]
+struct FiltersResult<'a> {
+    spec: &'a FitSpec,
+    command: &'static str,
+    /// Per filter, read by the speed/accuracy table of results/performance.md.
+    summary: serde_json::Map<String, serde_json::Value>,
+    by_level_note: &'static str,
+    map_filters: &'static [&'static str],
+    by_level: Vec<serde_json::Value>,
+    preset: &'static str,
+    plan: &'a Plan,
+    maps: Vec<serde_json::Value>,
+    screen: Vec<serde_json::Value>,
+    fitted: Vec<serde_json::Value>,
+}
+
+/// The study: compute the cases and the fitted constants, then render and write.
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+    use crate::filters::footprint::{NormalMap, Procedural};
+    let plan = Plan::new(preset);
+    let seed = spec.seed;
+    let maps: Vec<NormalMap> = Procedural::ALL
+        .iter()
+        .map(|&k| NormalMap::procedural(k, plan.map_size, seed + 1))
+        .collect::<Result<_>>()?;
+    let map_cases = cases::map_study(&maps, &plan, seed)?;
+    let screen_cases = cases::screen_study(&plan, seed)?;
+    let fits = constants::fit_constants(&map_cases, &screen_cases);
+
+    let mut md = report::intro(preset, &plan);
+    let mut json_maps = Vec::new();
+    for (m, map) in maps.iter().enumerate() {
+        let row_json = report::map_section(&mut md, m, map, &map_cases, &plan, results)?;
+        json_maps.push(serde_json::json!({"map": map.name, "filters": row_json}));
+    }
+    let json_screen = report::screen_section(&mut md, &plan, &screen_cases, results)?;
+    let json_fits = report::fits_section(&mut md, &fits);
+    md.push_str(&verdicts::verdicts(&map_cases, &screen_cases, &fits));
+    md.push_str(report::LISTING3_NOTE);
+    md.push_str(&report::embed(results));
+    crate::io::write_atomic(&results.join("filters.md"), md.as_bytes())?;
+    let json = FiltersResult {
+        spec,
+        command: "cargo run --release -- regen --only filters",
+        summary: summary::per_filter(&map_cases, &screen_cases),
+        by_level_note: "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views",
+        map_filters: &crate::filters::study::MAP_FILTERS,
+        by_level: summary::by_level(&map_cases, &plan, maps.len()),
+        preset: preset.name(),
+        plan: &plan,
+        maps: json_maps,
+        screen: json_screen,
+        fitted: json_fits,
+    };
+    crate::results::write_result(results, &spec.name, &json)?;
+    let worst_held = fits
+        .iter()
+        .map(|f| f.held_out.l2_mean)
+        .fold(0.0, f64::max);
+    Ok(crate::study::FitOutcome {
+        name: spec.name.clone(),
+        held_out_max_rel: worst_held,
+        tolerance: spec.tolerance.max_rel,
+        passed: worst_held <= spec.tolerance.max_rel,
+        summary: format!(
+            "{} map cases, {} screen cases; fitted vMF c (GGX) = {:.3}",
+            map_cases.len(),
+            screen_cases.len(),
+            fits[0].constant
+        ),
+    })
+}

@@ -1,0 +1,94 @@
+//! The machine-readable summaries of the footprint study in results/fits/filters.json:
+//! per filter (read by the speed/accuracy table of results/performance.md) and per level.
+
+use super::cases::{aggregate, MapCase, ScreenCase};
+use super::{kind_name, Plan, KINDS};
+use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
+use crate::filters::truth::CaseResult;
+use crate::microfacet::NdfKind;
+
+/// Per filter (GGX unprefixed, Beckmann as `beckmann:<id>`): mean L2 ± s.e. over the
+/// map cases (map filters) or the Gaussian-pixel screen cases (kernels).
+pub(super) fn per_filter(
+    map_cases: &[MapCase],
+    screen_cases: &[ScreenCase],
+) -> serde_json::Map<String, serde_json::Value> {
+    let mut summary = serde_json::Map::new();
+    for (id, fi) in [
+        ("none-map", 0usize),
+        ("toksvig-bp", 1),
+        ("toksvig", 2),
+        ("vmf", 4),
+        ("lean", 7),
+        ("seed000-paper", 8),
+        ("seed000-moment", 9),
+    ] {
+        for kind in KINDS {
+            let rs: Vec<&CaseResult> = map_cases
+                .iter()
+                .filter(|c| c.kind == kind)
+                .map(|c| &c.results[fi])
+                .collect();
+            let a = aggregate(&rs);
+            let key = if kind == NdfKind::Ggx {
+                id.to_string()
+            } else {
+                format!("beckmann:{id}")
+            };
+            summary.insert(key, serde_json::json!({"name": MAP_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "maps"}));
+        }
+    }
+    for (id, fi) in [
+        ("none-screen", 0usize),
+        ("deferred", 1),
+        ("eigen", 3),
+        ("rect", 4),
+        ("projected", 7),
+        ("on-alpha", 8),
+        ("forward", 11),
+    ] {
+        for kind in KINDS {
+            let rs: Vec<&CaseResult> = screen_cases
+                .iter()
+                .filter(|c| c.kind == kind && c.pixel == PixelFilter::Gaussian)
+                .map(|c| &c.results[fi])
+                .collect();
+            let a = aggregate(&rs);
+            let key = if kind == NdfKind::Ggx {
+                id.to_string()
+            } else {
+                format!("beckmann:{id}")
+            };
+            summary.insert(key, serde_json::json!({"name": SCREEN_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "screen (Gaussian pixel)"}));
+        }
+    }
+    // per-level aggregates (GGX and Beckmann, every map filter)
+    summary
+}
+
+/// Per (level, map, NDF, map filter): L2 and energy, [mean, s.e.].
+pub(super) fn by_level(map_cases: &[MapCase], plan: &Plan, maps: usize) -> Vec<serde_json::Value> {
+    let by_level: Vec<serde_json::Value> = plan
+        .levels
+        .iter()
+        .flat_map(|&lv| {
+            let mc = map_cases;
+            (0..maps).flat_map(move |m| {
+                KINDS.iter().flat_map(move |&kind| {
+                    (0..MAP_FILTERS.len()).map(move |fi| {
+                        let rs: Vec<&CaseResult> = mc
+                            .iter()
+                            .filter(|c| c.map == m && c.kind == kind && c.level == lv)
+                            .map(|c| &c.results[fi])
+                            .collect();
+                        {
+                            let a = aggregate(&rs);
+                            serde_json::json!({"level": lv, "map": m, "ndf": kind_name(kind), "filter": fi, "l2": [a.l2_mean, a.l2_se], "energy": [a.energy_mean, a.energy_se]})
+                        }
+                    })
+                })
+            })
+        })
+        .collect();
+    by_level
+}
