@@ -450,14 +450,15 @@ fn tensor(c: &mut Criterion) {
 /// with each edge form (f64, clipped to the horizon), next to their errors in
 /// results/ltc.md.
 fn ltc(c: &mut Criterion) {
-    use ndfbench::ltc::fit::{fit_cell, Method, Metric, Target};
+    use ndfbench::ltc::fit::{fit_cell, Method, Metric};
     use ndfbench::ltc::polygon::{ltc_integral, EdgeForm};
+    use ndfbench::ltc::target::{GgxTarget, LtcTarget};
     let mut g = c.benchmark_group("ltc-fit-cell");
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(200))
         .measurement_time(Duration::from_secs(2));
     for (label, alpha, theta_deg) in [("a0.25-t45", 0.25f64, 45.0f64), ("a0.01-t80", 0.01, 80.0)] {
-        let t = Target::new(alpha, theta_deg.to_radians()).unwrap();
+        let t = GgxTarget::new(alpha, theta_deg.to_radians()).unwrap();
         let (_, _, _, z) = t.moments(32);
         let (norm, _, _) = t.norm_quad(1e-9);
         let p0 = [alpha.ln(), alpha.ln(), 0.0, 0.0];

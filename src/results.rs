@@ -12,8 +12,13 @@ pub fn fit_path(results: &Path, name: &str) -> PathBuf {
 /// Write results/fits/<name>.json atomically (into the open output set, if any).
 /// A typed result is first turned into a JSON value, so its keys are written sorted
 /// whatever the struct's field order.
-pub fn write_result<T: serde::Serialize + ?Sized>(results: &Path, name: &str, value: &T) -> Result<()> {
-    let value = serde_json::to_value(value).map_err(|e| crate::error::Error::InvalidArgument(format!("result {name}: {e}")))?;
+pub fn write_result<T: serde::Serialize + ?Sized>(
+    results: &Path,
+    name: &str,
+    value: &T,
+) -> Result<()> {
+    let value = serde_json::to_value(value)
+        .map_err(|e| crate::error::Error::InvalidArgument(format!("result {name}: {e}")))?;
     crate::io::write_atomic(
         &fit_path(results, name),
         serde_json::to_string_pretty(&value)

@@ -6,8 +6,9 @@ mod common;
 use nalgebra::{Matrix3, Vector3};
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
-use ndfbench::ltc::fit::{self as ltc_fit, fit_table, Grid, Method, Metric, Target};
+use ndfbench::ltc::fit::{self as ltc_fit, fit_table, Grid, Method, Metric};
 use ndfbench::ltc::polygon::{self, EdgeForm, Light};
+use ndfbench::ltc::target::{GgxTarget, LtcTarget};
 use ndfbench::ltc::LtcDist;
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -147,7 +148,7 @@ proptest! {
 #[test]
 fn target_norm_quadrature_matches_monte_carlo() {
     for (a, th) in [(0.5f64, 0.5f64), (0.1, 1.2), (1e-3, 0.3)] {
-        let t = Target::new(a, th).unwrap();
+        let t = GgxTarget::new(a, th).unwrap();
         let (norm, err, _) = t.norm_quad(1e-9);
         assert!(err < 1e-7);
         // independent: direct sphere quadrature over l for the rough case, VNDF MC otherwise
@@ -197,7 +198,16 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
         n: 4,
         alpha_min: 1e-4,
     };
-    let t = fit_table(grid, 12, Metric::Cubic, Method::NelderMead, 300, &|| {}).unwrap();
+    let t = fit_table(
+        grid,
+        &GgxTarget::new,
+        12,
+        Metric::Cubic,
+        Method::NelderMead,
+        300,
+        &|| {},
+    )
+    .unwrap();
     for (j, col) in t.cells.iter().enumerate() {
         for c in col {
             assert!(c.m11 > 0.0 && c.m22 > 0.0 && c.norm > 0.0 && c.norm <= 1.0 + 1e-9);

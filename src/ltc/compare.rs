@@ -10,7 +10,8 @@
 //! the r = 0 row is reported separately.
 
 use crate::error::{Error, Result};
-use crate::ltc::fit::{inverse_from_production, metrics, Target};
+use crate::ltc::fit::{inverse_from_production, metrics};
+use crate::ltc::target::GgxTarget;
 use crate::ltc::LtcDist;
 use serde::Serialize;
 use std::path::Path;
@@ -122,7 +123,7 @@ pub fn cell_error(
         .try_inverse()
         .ok_or_else(|| Error::InvalidArgument("singular LTC inverse in the table".into()))?;
     let ltc = LtcDist::new(m)?;
-    let t = Target::new(alpha, theta)?;
+    let t = GgxTarget::new(alpha, theta)?;
     let (c, l2) = metrics(&t, &ltc, norm, n, 0.25);
     Ok((l2, c))
 }
@@ -151,7 +152,7 @@ pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Resu
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
     let alpha = r * r;
     let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
-    let (norm, _, _) = Target::new(alpha, theta)?.norm_quad(1e-8);
+    let (norm, _, _) = GgxTarget::new(alpha, theta)?.norm_quad(1e-8);
     cell_error(&inv, norm, alpha, theta, n_samples).map(|(l2, _)| Some(l2))
 }
 

@@ -20,115 +20,13 @@
 
 use crate::error::{Error, Result};
 use crate::integrate::mc::Strategy;
+use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
-use crate::microfacet::sampling::VndfSampler;
-use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
 
 type V3 = Vector3<f64>;
-
-/// The BRDF of one cell.
-pub struct Target {
-    pub alpha: f64,
-    pub v: V3,
-    surface: Microsurface,
-    vndf: VndfSampler,
-}
-
-impl Target {
-    /// θ in radians (clamped to ≤ 89.99° so that v_z > 0), α > 0.
-    pub fn new(alpha: f64, theta: f64) -> Result<Target> {
-        let th = theta.clamp(0.0, 89.99f64.to_radians());
-        let v = V3::new(th.sin(), 0.0, th.cos());
-        let surface = Microsurface::ggx(Roughness::iso(alpha)?);
-        Ok(Target {
-            alpha,
-            v,
-            surface,
-            vndf: VndfSampler::new(surface, v)?,
-        })
-    }
-    /// (f(l), density of l under VNDF sampling + reflection).
-    pub fn eval(&self, l: &V3) -> (f64, f64) {
-        if l.z <= 0.0 {
-            return (0.0, 0.0);
-        }
-        let h = (self.v + l).normalize();
-        let d = self.surface.d(&h);
-        let g1 = self.surface.g1_dir(&self.v);
-        let pdf = d * g1 / (4.0 * self.v.z);
-        let f = d * self.surface.g2_correlated(l, &self.v, &h) / (4.0 * self.v.z);
-        (f, pdf)
-    }
-    /// Sample l by VNDF + reflection (None if it lands below the horizon).
-    pub fn sample(&self, u: [f64; 2]) -> Option<V3> {
-        let m = self.vndf.sample(u)?;
-        let l = m * (2.0 * self.v.dot(&m)) - self.v;
-        (l.z > 0.0).then_some(l)
-    }
-    /// (∫f, its error estimate, ∫f(1 − v·h)⁵) by nested adaptive sphere quadrature in
-    /// half-vector space: ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian
-    /// 4 v·h), where the lobe sits at the pole for every view.
-    pub fn norm_quad(&self, tol: f64) -> (f64, f64, f64) {
-        use crate::integrate::quad::Tol;
-        use crate::integrate::sphere::{integrate_sphere, SphereRule};
-        let rule = SphereRule::hemisphere(self.alpha);
-        let g = |h: &V3, fres: bool| {
-            let vh = self.v.dot(h);
-            if vh <= 0.0 || h.z <= 0.0 {
-                return 0.0;
-            }
-            let l = h * (2.0 * vh) - self.v;
-            if l.z <= 0.0 {
-                return 0.0;
-            }
-            let w = self.surface.d(h) * self.surface.g2_correlated(&l, &self.v, h) * vh / self.v.z;
-            if fres {
-                w * (1.0 - vh).powi(5)
-            } else {
-                w
-            }
-        };
-        let t = Tol::new(tol, tol, 20_000_000);
-        let a = integrate_sphere(&|h| g(h, false), &rule, t);
-        let b = integrate_sphere(&|h| g(h, true), &rule, t);
-        (a.value, a.error, b.value)
-    }
-
-    /// (∫f, ∫f(1 − v·h)⁵, mean direction ∫f·l / |∫f·l|) by VNDF importance sampling on an
-    /// n×n stratified set, with the standard error of ∫f.
-    pub fn moments(&self, n: usize) -> (f64, f64, f64, V3) {
-        let (mut s, mut s2, mut fr) = (0.0, 0.0, 0.0);
-        let mut dir = V3::zeros();
-        let cnt = (n * n) as f64;
-        for i in 0..n {
-            for j in 0..n {
-                let u = [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
-                if let Some(l) = self.sample(u) {
-                    let (f, p) = self.eval(&l);
-                    if p > 0.0 {
-                        let w = f / p;
-                        s += w;
-                        s2 += w * w;
-                        let h = (self.v + l).normalize();
-                        fr += w * (1.0 - self.v.dot(&h)).max(0.0).powi(5);
-                        dir += l * w;
-                    }
-                }
-            }
-        }
-        let mean = s / cnt;
-        let se = ((s2 / cnt - mean * mean).max(0.0) / cnt).sqrt();
-        let d = if dir.norm() > 0.0 {
-            dir.normalize()
-        } else {
-            V3::z()
-        };
-        (mean, fr / cnt, se, d)
-    }
-}
 
 /// Fitted parameters of one cell.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -184,7 +82,13 @@ pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
 
 /// Both metrics of an LTC (given as a distribution and amplitude) against the target on
 /// an n×n stratified set per technique with offset `off` ∈ [0, 1).
-pub fn metrics(t: &Target, ltc: &LtcDist, norm: f64, n: usize, off: f64) -> (f64, f64) {
+pub fn metrics<T: LtcTarget + ?Sized>(
+    t: &T,
+    ltc: &LtcDist,
+    norm: f64,
+    n: usize,
+    off: f64,
+) -> (f64, f64) {
     let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
     let cnt = (n * n) as f64;
     let mut add = |l: &V3| {
@@ -244,14 +148,144 @@ pub fn turn(z: &V3, phi: f64) -> V3 {
     V3::new(z.x * c + z.z * s, 0.0, -z.x * s + z.z * c)
 }
 
+/// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,
+/// m13/m11[, φ]) against the target, on the training set (offset 0.5, n×n) or the
+/// validation set (offset 0.37, (n + 7)²). ∞ for non-finite parameters or a singular M.
+struct Objective<'a, T: ?Sized> {
+    t: &'a T,
+    z: V3,
+    norm: f64,
+    n: usize,
+    metric: Metric,
+    validation: bool,
+}
+
+impl<T: LtcTarget + ?Sized> Objective<'_, T> {
+    fn value(&self, p: &[f64]) -> f64 {
+        if p.iter().any(|x| !x.is_finite()) {
+            return f64::INFINITY;
+        }
+        let (m11, m22, m13) = params_to_m(p);
+        let z = if p.len() > 3 {
+            turn(&self.z, p[3].clamp(-0.5, 0.5))
+        } else {
+            self.z
+        };
+        match LtcDist::new(matrix(m11, m22, m13, &z)) {
+            Ok(ltc) => {
+                let (c, l2) = if self.validation {
+                    metrics(self.t, &ltc, self.norm, self.n + 7, 0.37)
+                } else {
+                    metrics(self.t, &ltc, self.norm, self.n, 0.5)
+                };
+                if self.metric == Metric::Cubic {
+                    c
+                } else {
+                    l2
+                }
+            }
+            Err(_) => f64::INFINITY,
+        }
+    }
+    /// The value the optimisers see: finite (1e30 stands in for ∞).
+    fn bounded(&self, p: &[f64]) -> f64 {
+        let v = self.value(p);
+        if v.is_finite() {
+            v
+        } else {
+            1e30
+        }
+    }
+}
+
+impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, p: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        Ok(self.bounded(p))
+    }
+}
+
+impl<T: LtcTarget + ?Sized> argmin::core::Gradient for Objective<'_, T> {
+    type Param = Vec<f64>;
+    type Gradient = Vec<f64>;
+    /// Central differences, step 1e-5.
+    fn gradient(&self, p: &Vec<f64>) -> std::result::Result<Vec<f64>, argmin::core::Error> {
+        let h = 1e-5;
+        Ok((0..p.len())
+            .map(|k| {
+                let (mut a, mut b) = (p.clone(), p.clone());
+                a[k] += h;
+                b[k] -= h;
+                (self.bounded(&a) - self.bounded(&b)) / (2.0 * h)
+            })
+            .collect())
+    }
+}
+
+/// One optimiser run from `start` (Nelder–Mead: initial simplex steps `steps`); returns
+/// the best parameters and the iterations (a failed L-BFGS line search keeps the start,
+/// reported as 0 iterations).
+fn optimise<T: LtcTarget + ?Sized>(
+    obj: Objective<'_, T>,
+    method: Method,
+    start: Vec<f64>,
+    steps: &[f64],
+    max_iters: u64,
+) -> Result<(Vec<f64>, u64)> {
+    use argmin::core::{Executor, State};
+    let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
+    Ok(match method {
+        Method::NelderMead => {
+            use argmin::solver::neldermead::NelderMead;
+            let mut simplex = vec![start.clone()];
+            for (k, st) in steps.iter().enumerate() {
+                let mut q = start.clone();
+                q[k] += st;
+                simplex.push(q);
+            }
+            let solver = NelderMead::new(simplex)
+                .with_sd_tolerance(1e-12)
+                .map_err(err)?;
+            let res = Executor::new(obj, solver)
+                .configure(|s| s.max_iters(max_iters))
+                .run()
+                .map_err(err)?;
+            (
+                res.state().get_best_param().cloned().unwrap_or(start),
+                res.state().get_iter(),
+            )
+        }
+        Method::Lbfgs => {
+            use argmin::solver::linesearch::MoreThuenteLineSearch;
+            use argmin::solver::quasinewton::LBFGS;
+            let solver = LBFGS::new(MoreThuenteLineSearch::new(), 5)
+                .with_tolerance_grad(1e-14)
+                .map_err(err)?
+                .with_tolerance_cost(1e-14)
+                .map_err(err)?;
+            match Executor::new(obj, solver)
+                .configure(|s| s.param(start.clone()).max_iters(max_iters))
+                .run()
+            {
+                Ok(res) => (
+                    res.state().get_best_param().cloned().unwrap_or(start),
+                    res.state().get_iter(),
+                ),
+                Err(_) => (start, 0),
+            }
+        }
+    })
+}
+
 /// Fit one cell from the start `p0` = (ln m11, ln m22, m13/m11, φ), where φ turns the
 /// frame axis about Y away from `z`, the BRDF's mean direction. All four are fitted, the
 /// production form's full four degrees of freedom (the reference fitter fixes Z at its
 /// estimate of the mean direction, ~1° off the best axis at grazing angles). Returns the
 /// fitted parameters (the axis is `turn(z, p[3])`) and the iterations.
 #[allow(clippy::too_many_arguments)]
-pub fn fit_cell(
-    t: &Target,
+pub fn fit_cell<T: LtcTarget + ?Sized>(
+    t: &T,
     z: &V3,
     norm: f64,
     p0: &[f64; 4],
@@ -260,121 +294,28 @@ pub fn fit_cell(
     method: Method,
     max_iters: u64,
 ) -> Result<([f64; 4], u64)> {
-    use argmin::core::{CostFunction, Executor, Gradient, State};
-    struct Obj<'a> {
-        t: &'a Target,
-        z: V3,
-        norm: f64,
-        n: usize,
-        metric: Metric,
-    }
-    impl Obj<'_> {
-        fn value(&self, p: &[f64]) -> f64 {
-            if p.iter().any(|x| !x.is_finite()) {
-                return 1e30;
-            }
-            let (m11, m22, m13) = params_to_m(p);
-            let z = if p.len() > 3 {
-                turn(&self.z, p[3].clamp(-0.5, 0.5))
-            } else {
-                self.z
-            };
-            match LtcDist::new(matrix(m11, m22, m13, &z)) {
-                Ok(ltc) => {
-                    let (c, l2) = metrics(self.t, &ltc, self.norm, self.n, 0.5);
-                    let v = if self.metric == Metric::Cubic { c } else { l2 };
-                    if v.is_finite() {
-                        v
-                    } else {
-                        1e30
-                    }
-                }
-                Err(_) => 1e30,
-            }
-        }
-    }
-    impl CostFunction for Obj<'_> {
-        type Param = Vec<f64>;
-        type Output = f64;
-        fn cost(&self, p: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
-            Ok(self.value(p))
-        }
-    }
-    impl Gradient for Obj<'_> {
-        type Param = Vec<f64>;
-        type Gradient = Vec<f64>;
-        fn gradient(&self, p: &Vec<f64>) -> std::result::Result<Vec<f64>, argmin::core::Error> {
-            let h = 1e-5;
-            Ok((0..p.len())
-                .map(|k| {
-                    let (mut a, mut b) = (p.clone(), p.clone());
-                    a[k] += h;
-                    b[k] -= h;
-                    (self.value(&a) - self.value(&b)) / (2.0 * h)
-                })
-                .collect())
-        }
-    }
-    let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
-    // one optimiser run from `start` with the given initial simplex steps
-    let run = |z: V3, start: Vec<f64>, steps: &[f64]| -> Result<(Vec<f64>, u64)> {
-        let obj = Obj {
-            t,
-            z,
-            norm,
-            n,
-            metric,
-        };
-        Ok(match method {
-            Method::NelderMead => {
-                use argmin::solver::neldermead::NelderMead;
-                let mut simplex = vec![start.clone()];
-                for (k, st) in steps.iter().enumerate() {
-                    let mut q = start.clone();
-                    q[k] += st;
-                    simplex.push(q);
-                }
-                let solver = NelderMead::new(simplex)
-                    .with_sd_tolerance(1e-12)
-                    .map_err(err)?;
-                let res = Executor::new(obj, solver)
-                    .configure(|s| s.max_iters(max_iters))
-                    .run()
-                    .map_err(err)?;
-                (
-                    res.state().get_best_param().cloned().unwrap_or(start),
-                    res.state().get_iter(),
-                )
-            }
-            Method::Lbfgs => {
-                use argmin::solver::linesearch::MoreThuenteLineSearch;
-                use argmin::solver::quasinewton::LBFGS;
-                let solver = LBFGS::new(MoreThuenteLineSearch::new(), 5)
-                    .with_tolerance_grad(1e-14)
-                    .map_err(err)?
-                    .with_tolerance_cost(1e-14)
-                    .map_err(err)?;
-                match Executor::new(obj, solver)
-                    .configure(|s| s.param(start.clone()).max_iters(max_iters))
-                    .run()
-                {
-                    Ok(res) => (
-                        res.state().get_best_param().cloned().unwrap_or(start),
-                        res.state().get_iter(),
-                    ),
-                    // a failed line search keeps the start (reported as 0 iterations)
-                    Err(_) => (start, 0),
-                }
-            }
-        })
+    let obj = |z: V3, validation: bool| Objective {
+        t,
+        z,
+        norm,
+        n,
+        metric,
+        validation,
     };
+    let symmetric = t.view().x.abs() <= 1e-12;
     // 1. the three matrix parameters, the frame turn held at the start's
-    let phi0 = if t.v.x.abs() > 1e-12 { p0[3] } else { 0.0 };
+    let phi0 = if symmetric { 0.0 } else { p0[3] };
     let z1 = turn(z, phi0);
     let q0 = [p0[0], p0[1], p0[2]];
-    let (b3, i3) = run(z1, q0.to_vec(), &[0.1, 0.1, 0.05])?;
+    let (b3, i3) = optimise(
+        obj(z1, false),
+        method,
+        q0.to_vec(),
+        &[0.1, 0.1, 0.05],
+        max_iters,
+    )?;
     let p3: [f64; 3] = if b3.iter().any(|x| !x.is_finite())
-        || !(obj_value(t, &z1, norm, n, metric, &b3) <= obj_value(t, &z1, norm, n, metric, &q0))
+        || !(obj(z1, false).value(&b3) <= obj(z1, false).value(&q0))
     {
         // a diverged or worse result keeps the start
         q0
@@ -382,74 +323,28 @@ pub fn fit_cell(
         [b3[0], b3[1], b3[2]]
     };
     let p3 = [p3[0], p3[1], p3[2], phi0];
+    if symmetric {
+        return Ok((p3, i3));
+    }
     // 2. away from normal incidence (where the lobe is symmetric about Z), all four
     // parameters from that solution; the turn's first step scales with the lobe width.
     // Taken only if it lowers the training metric and a separate validation set's, so the
     // cubic metric's spurious basin of very wide LTCs (tiny α) cannot capture it.
-    if t.v.x.abs() > 1e-12 {
-        let (b4, i4) = run(
-            *z,
-            p3.to_vec(),
-            &[0.1, 0.1, 0.05, 0.02 * (10.0 * t.alpha).min(1.0)],
-        )?;
-        let val = |p: &[f64]| val_value(t, z, norm, n, metric, p);
-        if b4.iter().all(|x| x.is_finite())
-            && obj_value(t, z, norm, n, metric, &b4) < obj_value(t, z, norm, n, metric, &p3)
-            && val(&b4) < val(&p3)
-        {
-            return Ok(([b4[0], b4[1], b4[2], b4[3].clamp(-0.5, 0.5)], i3 + i4));
-        }
-        return Ok((p3, i3 + i4));
+    let (b4, i4) = optimise(
+        obj(*z, false),
+        method,
+        p3.to_vec(),
+        &[0.1, 0.1, 0.05, 0.02 * (10.0 * t.width()).min(1.0)],
+        max_iters,
+    )?;
+    let (train, val) = (obj(*z, false), obj(*z, true));
+    if b4.iter().all(|x| x.is_finite())
+        && train.value(&b4) < train.value(&p3)
+        && val.value(&b4) < val.value(&p3)
+    {
+        return Ok(([b4[0], b4[1], b4[2], b4[3].clamp(-0.5, 0.5)], i3 + i4));
     }
-    Ok((p3, i3))
-}
-
-/// The fit metric on a validation sample set (a different stratification offset and
-/// count from the training set's).
-fn val_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64]) -> f64 {
-    if p.iter().any(|x| !x.is_finite()) {
-        return f64::INFINITY;
-    }
-    let (m11, m22, m13) = params_to_m(p);
-    let z = if p.len() > 3 {
-        turn(z, p[3].clamp(-0.5, 0.5))
-    } else {
-        *z
-    };
-    match LtcDist::new(matrix(m11, m22, m13, &z)) {
-        Ok(ltc) => {
-            let (c, l2) = metrics(t, &ltc, norm, n + 7, 0.37);
-            if metric == Metric::Cubic {
-                c
-            } else {
-                l2
-            }
-        }
-        Err(_) => f64::INFINITY,
-    }
-}
-
-fn obj_value(t: &Target, z: &V3, norm: f64, n: usize, metric: Metric, p: &[f64]) -> f64 {
-    if p.iter().any(|x| !x.is_finite()) {
-        return f64::INFINITY;
-    }
-    let (m11, m22, m13) = params_to_m(p);
-    let z = if p.len() > 3 {
-        turn(z, p[3].clamp(-0.5, 0.5))
-    } else {
-        *z
-    };
-    match LtcDist::new(matrix(m11, m22, m13, &z)) {
-        Ok(ltc) => {
-            let (c, l2) = metrics(t, &ltc, norm, n, 0.5);
-            if metric == Metric::Cubic {
-                c
-            } else {
-                l2
-            }
-        }
-        Err(_) => f64::INFINITY,
-    }
+    Ok((p3, i3 + i4))
 }
 
 /// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
@@ -481,11 +376,12 @@ pub struct Table {
     pub cells: Vec<Vec<Cell>>,
 }
 
-/// Fit a whole table: rayon over θ columns; within a column α runs from rough to smooth,
+/// Fit a whole table of `target(α, θ)`: rayon over θ columns; within a column α runs from rough to smooth,
 /// each cell starting from its neighbour's solution (the first from the isotropic
 /// M = diag(α, α, 1)).
-pub fn fit_table(
+pub fn fit_table<T: LtcTarget>(
     grid: Grid,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     n: usize,
     metric: Metric,
     method: Method,
@@ -500,9 +396,9 @@ pub fn fit_table(
             let mut p = [0.0f64; 4];
             for i in (0..grid.n).rev() {
                 let alpha = grid.alpha(i);
-                let t = Target::new(alpha, theta)?;
+                let t = target(alpha, theta)?;
                 let (_, _, _, zm) = t.moments(32);
-                let (norm, norm_se, fresnel) = t.norm_quad(1e-9);
+                let (norm, norm_se, fresnel) = t.albedo(1e-9);
                 if i == grid.n - 1 {
                     p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
                 } else {

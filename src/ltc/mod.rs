@@ -4,7 +4,9 @@
 //! - `dist`: the LTC distribution (eval through the proved Jacobian, sampling);
 //! - `polygon`: polygon lights — horizon clipping, the exact edge integral and the
 //!   production θ/sin θ forms, the LTC integral, MC truth (MIS);
-//! - `fit`: the per-cell fit of the GGX table (all four production-form parameters);
+//! - `target`: what a table is fitted to (the `LtcTarget` trait; the GGX lobe);
+//! - `fit`: the per-cell fit of a table, generic over the target (all four
+//!   production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
 //! - `table`: the one reader of a fitted table (results/fits/ltc-ggx.json);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
@@ -17,5 +19,6 @@ pub mod fit;
 pub mod pipeline;
 pub mod polygon;
 pub mod table;
+pub mod target;
 
 pub use dist::*;

@@ -2,6 +2,7 @@
 //! every screen-space (NDF, pixel, α, κ, anisotropy, view), drawn and measured; their
 //! aggregation into mean ± standard error.
 
+use super::{dir, seed_of, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::{MipChain, NormalMap, Stats};
 use crate::filters::study::{self, Field, PixelFilter};
@@ -10,7 +11,6 @@ use crate::microfacet::NdfKind;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use serde::Serialize;
-use super::{dir, seed_of, Plan, KINDS};
 
 type V3 = Vector3<f64>;
 
@@ -156,7 +156,6 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
     crate::report::stage("regen filters: map footprints done");
     Ok(map_cases)
 }
-
 
 /// Every screen-space case, with its samples and the measured kernels.
 pub(super) fn screen_study(plan: &Plan, seed: u64) -> Result<Vec<ScreenCase>> {

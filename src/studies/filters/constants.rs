@@ -2,14 +2,14 @@
 //! Toksvig c, the screen kernels' σ²), by argmin scan + Brent on the mean L2 error of
 //! the training cases (even footprints / views), judged on the held-out rest.
 
+use super::cases::{aggregate, Agg, MapCase, ScreenCase};
+use super::KINDS;
 use crate::filters::rules;
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::{Candidate, CaseResult};
 use crate::microfacet::NdfKind;
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use super::cases::{aggregate, Agg, MapCase, ScreenCase};
-use super::KINDS;
 
 type V3 = Vector3<f64>;
 

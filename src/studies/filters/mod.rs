@@ -145,7 +145,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         spec,
         command: "cargo run --release -- regen --only filters",
         summary: summary::per_filter(&map_cases, &screen_cases),
-        by_level_note: "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views",
+        by_level_note:
+            "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views",
         map_filters: &crate::filters::study::MAP_FILTERS,
         by_level: summary::by_level(&map_cases, &plan, maps.len()),
         preset: preset.name(),
@@ -155,10 +156,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         fitted: json_fits,
     };
     crate::results::write_result(results, &spec.name, &json)?;
-    let worst_held = fits
-        .iter()
-        .map(|f| f.held_out.l2_mean)
-        .fold(0.0, f64::max);
+    let worst_held = fits.iter().map(|f| f.held_out.l2_mean).fold(0.0, f64::max);
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: worst_held,

@@ -83,4 +83,3 @@ pub fn prefilter(input: &Path, out: &Path, alpha: f64, preset: Preset) -> Result
         written.len()
     ))
 }
-

@@ -271,7 +271,6 @@ listing therefore adds (almost) no roughness (tests/filters.rs, `listing3_as_pri
 (Listing 3, intended)\" projects each pixel's own normal in the tangent frame of the quad-average normal, as the text of Kaplanyan et al. \
 describes.\n";
 
-
 /// Summaries of the LEADR grid study and the Λ refit (their own reports are regenerated
 /// by the same `regen --only filters`).
 pub(super) fn embed(results: &Path) -> String {

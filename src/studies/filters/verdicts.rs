@@ -8,11 +8,7 @@ use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 
 /// Verdicts computed from the numbers.
-pub(super) fn verdicts(
-    map_cases: &[MapCase],
-    screen: &[ScreenCase],
-    fits: &[Fitted],
-) -> String {
+pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fitted]) -> String {
     let map_l2 = |kind: NdfKind, fi: usize| {
         let rs: Vec<&CaseResult> = map_cases
             .iter()

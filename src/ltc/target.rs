@@ -1,0 +1,149 @@
+//! What an LTC is fitted to: a cosine-weighted BRDF lobe for one (roughness, view) cell.
+//!
+//! The fitter (`ltc::fit`) sees a target only through [`LtcTarget`]: its view, its value
+//! with the density of its own importance sampler, that sampler, a width that scales the
+//! optimiser's first frame-turn step, and its albedo by quadrature (with the Fresnel
+//! moment ∫f·(1 − v·h)⁵). New BRDFs plug in by implementing the trait.
+//! [`GgxTarget`] is the GGX lobe of Heitz et al. 2016 (seed 000 Eq 1's fitted table).
+
+use crate::error::Result;
+use crate::integrate::mc::Strategy;
+use crate::microfacet::sampling::VndfSampler;
+use crate::microfacet::{Microsurface, Roughness};
+use nalgebra::Vector3;
+
+type V3 = Vector3<f64>;
+
+/// A cosine-weighted BRDF lobe f(l) = BRDF(l, v)·l_z for a fixed view v (v_y = 0).
+pub trait LtcTarget: Sync {
+    /// The view direction (in the xz-plane, v_z > 0).
+    fn view(&self) -> V3;
+    /// (f(l), density of l under [`LtcTarget::sample`]); (0, 0) below the horizon.
+    fn eval(&self, l: &V3) -> (f64, f64);
+    /// An importance sample of f (None where it lands below the horizon).
+    fn sample(&self, u: [f64; 2]) -> Option<V3>;
+    /// A width of the lobe (α for microfacet lobes; 1 for diffuse): scales the first
+    /// frame-turn step of the fit.
+    fn width(&self) -> f64;
+    /// (∫f, its error estimate, ∫f·(1 − v·h)⁵) by quadrature to `tol`.
+    fn albedo(&self, tol: f64) -> (f64, f64, f64);
+    /// (∫f, ∫f(1 − v·h)⁵, standard error of ∫f, mean direction ∫f·l / |∫f·l|) by
+    /// importance sampling on an n×n stratified set.
+    fn moments(&self, n: usize) -> (f64, f64, f64, V3) {
+        let v = self.view();
+        let (mut s, mut s2, mut fr) = (0.0, 0.0, 0.0);
+        let mut dir = V3::zeros();
+        let cnt = (n * n) as f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u = [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
+                if let Some(l) = self.sample(u) {
+                    let (f, p) = self.eval(&l);
+                    if p > 0.0 {
+                        let w = f / p;
+                        s += w;
+                        s2 += w * w;
+                        let h = (v + l).normalize();
+                        fr += w * (1.0 - v.dot(&h)).max(0.0).powi(5);
+                        dir += l * w;
+                    }
+                }
+            }
+        }
+        let mean = s / cnt;
+        let se = ((s2 / cnt - mean * mean).max(0.0) / cnt).sqrt();
+        let d = if dir.norm() > 0.0 {
+            dir.normalize()
+        } else {
+            V3::z()
+        };
+        (mean, fr / cnt, se, d)
+    }
+}
+
+/// The GGX BRDF of one cell: cosine-weighted, height-correlated Smith G2, F = 1.
+pub struct GgxTarget {
+    pub alpha: f64,
+    pub v: V3,
+    surface: Microsurface,
+    vndf: VndfSampler,
+}
+
+impl GgxTarget {
+    /// θ in radians (clamped to ≤ 89.99° so that v_z > 0), α > 0.
+    pub fn new(alpha: f64, theta: f64) -> Result<GgxTarget> {
+        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        let v = V3::new(th.sin(), 0.0, th.cos());
+        let surface = Microsurface::ggx(Roughness::iso(alpha)?);
+        Ok(GgxTarget {
+            alpha,
+            v,
+            surface,
+            vndf: VndfSampler::new(surface, v)?,
+        })
+    }
+    /// (f(l), density of l under VNDF sampling + reflection).
+    pub fn eval(&self, l: &V3) -> (f64, f64) {
+        if l.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let h = (self.v + l).normalize();
+        let d = self.surface.d(&h);
+        let g1 = self.surface.g1_dir(&self.v);
+        let pdf = d * g1 / (4.0 * self.v.z);
+        let f = d * self.surface.g2_correlated(l, &self.v, &h) / (4.0 * self.v.z);
+        (f, pdf)
+    }
+    /// Sample l by VNDF + reflection (None if it lands below the horizon).
+    pub fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        let m = self.vndf.sample(u)?;
+        let l = m * (2.0 * self.v.dot(&m)) - self.v;
+        (l.z > 0.0).then_some(l)
+    }
+    /// (∫f, its error estimate, ∫f(1 − v·h)⁵) by nested adaptive sphere quadrature in
+    /// half-vector space: ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian
+    /// 4 v·h), where the lobe sits at the pole for every view.
+    pub fn norm_quad(&self, tol: f64) -> (f64, f64, f64) {
+        use crate::integrate::quad::Tol;
+        use crate::integrate::sphere::{integrate_sphere, SphereRule};
+        let rule = SphereRule::hemisphere(self.alpha);
+        let g = |h: &V3, fres: bool| {
+            let vh = self.v.dot(h);
+            if vh <= 0.0 || h.z <= 0.0 {
+                return 0.0;
+            }
+            let l = h * (2.0 * vh) - self.v;
+            if l.z <= 0.0 {
+                return 0.0;
+            }
+            let w = self.surface.d(h) * self.surface.g2_correlated(&l, &self.v, h) * vh / self.v.z;
+            if fres {
+                w * (1.0 - vh).powi(5)
+            } else {
+                w
+            }
+        };
+        let t = Tol::new(tol, tol, 20_000_000);
+        let a = integrate_sphere(&|h| g(h, false), &rule, t);
+        let b = integrate_sphere(&|h| g(h, true), &rule, t);
+        (a.value, a.error, b.value)
+    }
+}
+
+impl LtcTarget for GgxTarget {
+    fn view(&self) -> V3 {
+        self.v
+    }
+    fn eval(&self, l: &V3) -> (f64, f64) {
+        GgxTarget::eval(self, l)
+    }
+    fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        GgxTarget::sample(self, u)
+    }
+    fn width(&self) -> f64 {
+        self.alpha
+    }
+    fn albedo(&self, tol: f64) -> (f64, f64, f64) {
+        self.norm_quad(tol)
+    }
+}
