@@ -119,28 +119,6 @@ pub const MAX_SCENE_BYTES: u64 = 64 * 1024;
 /// Most lights a scene may list.
 pub const MAX_LIGHTS: usize = 64;
 
-/// Parse and validate generated WGSL with naga; a failure is a typed error naming `what`.
-pub fn validate_wgsl(src: &str, what: &str) -> Result<()> {
-    let module = naga::front::wgsl::parse_str(src).map_err(|e| {
-        Error::InvalidArgument(format!(
-            "{what}: generated WGSL does not parse: {}",
-            e.message()
-        ))
-    })?;
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| {
-        Error::InvalidArgument(format!(
-            "{what}: generated WGSL does not validate: {}",
-            e.as_inner()
-        ))
-    })?;
-    Ok(())
-}
-
 impl Scene {
     /// Parse and validate; errors name the offending key and the accepted values.
     pub fn parse(text: &str, origin: &str) -> Result<Scene> {
@@ -466,7 +444,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     let cmd = "cargo run --release -- scene";
     let wgsl = codegen::render_wgsl(&title, &fns, &consts, cmd)?;
     // nothing is written unless the shader it would write validates
-    validate_wgsl(&wgsl, &format!("scene '{}'", s.name))?;
+    crate::codegen::validate::validate_wgsl(&wgsl, &format!("scene '{}'", s.name))?;
     Ok(vec![
         ("scene.wgsl".into(), wgsl),
         ("scene.rs".into(), codegen::render_rust(&fns, &consts, cmd)?),

@@ -110,9 +110,23 @@ fn ltc_table_data_validate_and_match_the_fit() {
             };
             let h = [unpack(lt::LTC_1_F16[k][0]), unpack(lt::LTC_1_F16[k][1])];
             let got = [h[0][0], h[0][1], h[1][0], h[1][1]];
+            // the stored binary16 table (`table_f16`) exactly
+            let stored = &v["table_f16"][j][i];
             for q in 0..4 {
-                // half an ulp of binary16 (relative 2⁻¹¹ for normals, 2⁻²⁵ absolute below)
-                let tol = (x[q].abs() * 2f64.powi(-11)).max(2f64.powi(-25));
+                assert_eq!(
+                    got[q],
+                    stored[q].as_f64().unwrap(),
+                    "f16 cell ({i}, {j})[{q}]"
+                );
+            }
+            assert_eq!(
+                unpack(lt::LTC_2_F16[k][0]),
+                [stored[4].as_f64().unwrap(), stored[5].as_f64().unwrap()]
+            );
+            for q in 0..4 {
+                // within the storage search's 4.5 ulps of binary16 (one ulp: relative 2⁻¹⁰
+                // for normals, 2⁻²⁴ absolute below)
+                let tol = 4.5 * (x[q].abs() * 2f64.powi(-10)).max(2f64.powi(-24));
                 assert!(
                     (got[q] - x[q]).abs() <= tol,
                     "f16 cell ({i}, {j})[{q}]: {} vs {}",

@@ -16,6 +16,8 @@
 pub mod audit;
 pub mod desc;
 pub mod table;
+pub mod textures;
+pub mod validate;
 
 use crate::error::{Error, Result};
 use desc::{FnDesc, FUNCTIONS};
@@ -388,12 +390,17 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
     for (rel, text) in render_all(results, canonical)? {
         let path = if let Some(w) = rel.strip_prefix("wgsl/") {
             // a module that naga rejects is never written
-            crate::scene::validate_wgsl(&text, &rel)?;
+            validate::validate_wgsl(&text, &rel)?;
             results.join("wgsl").join(w)
         } else {
             Path::new(&rel).to_path_buf()
         };
         crate::io::write_atomic(&path, text.as_bytes())?;
+        written.push(path.display().to_string());
+    }
+    for (rel, bytes) in textures::render(&table::read(results)?, COMMAND) {
+        let path = results.join(rel);
+        crate::io::write_atomic(&path, &bytes)?;
         written.push(path.display().to_string());
     }
     if canonical {

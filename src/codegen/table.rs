@@ -29,7 +29,12 @@ const LAYOUT: &str = "texel (i, j) at i + n·j: i = roughness index (r = √α =
 /// Two f16 (round to nearest even) packed into a u32 as WGSL's `unpack2x16float` reads
 /// them: the first in bits 0–15.
 pub fn pack2x16(x: f64, y: f64) -> u32 {
-    f16::from_f64(x).to_bits() as u32 | (f16::from_f64(y).to_bits() as u32) << 16
+    pack_half(f16::from_f64(x), f16::from_f64(y))
+}
+
+/// Two binary16 numbers packed into a u32, the first in bits 0–15.
+pub fn pack_half(x: f16, y: f16) -> u32 {
+    x.to_bits() as u32 | (y.to_bits() as u32) << 16
 }
 
 /// WGSL module with the table as `const` arrays: f32 values, or (`half`) binary16 pairs
@@ -51,19 +56,21 @@ pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
         s.push_str(&format!(
             "const LTC_1: array<vec2<u32>, {nn}> = array<vec2<u32>, {nn}>(\n"
         ));
-        for (k, c) in t.cells.iter().enumerate() {
+        for k in 0..nn {
+            let c = t.half_cell(k);
             s.push_str(&format!(
                 "    vec2<u32>(0x{:08x}u, 0x{:08x}u){}\n",
-                pack2x16(c[0], c[1]),
-                pack2x16(c[2], c[3]),
+                pack_half(c[0], c[1]),
+                pack_half(c[2], c[3]),
                 sep(k)
             ));
         }
         s.push_str(&format!(
             ");\n\nconst LTC_2: array<u32, {nn}> = array<u32, {nn}>(\n"
         ));
-        for (k, c) in t.cells.iter().enumerate() {
-            s.push_str(&format!("    0x{:08x}u{}\n", pack2x16(c[4], c[5]), sep(k)));
+        for k in 0..nn {
+            let c = t.half_cell(k);
+            s.push_str(&format!("    0x{:08x}u{}\n", pack_half(c[4], c[5]), sep(k)));
         }
         s.push_str(");\n\n// The texel's (a, b, c, d), widened to f32.\nfn ltc_table_texel(i: u32, j: u32) -> vec4<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    let p = LTC_1[k];\n    return vec4<f32>(unpack2x16float(p.x), unpack2x16float(p.y));\n}\n\n// The texel's (norm, fresnel), widened to f32.\nfn ltc_table_magnitude(i: u32, j: u32) -> vec2<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    return unpack2x16float(LTC_2[k]);\n}\n");
     } else {
@@ -100,7 +107,7 @@ pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
 pub fn render_rust(t: &LtcTableData, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
-        "{}//! GGX LTC table ({}×{}); {LAYOUT}. `*_F16` hold the same numbers as IEEE binary16 (round to nearest even), two per u32 with the first in bits 0–15 (WGSL's `unpack2x16float` layout). The error each precision costs: results/ltc.md.\n\npub const LTC_TABLE_N: usize = {};\n\n",
+        "{}//! GGX LTC table ({}×{}); {LAYOUT}. `*_F16` hold the table's binary16 storage (the f16 neighbours chosen by the fit, `table_f16`; round to nearest where the file has none), two per u32 with the first in bits 0–15 (WGSL's `unpack2x16float` layout). The error each precision costs: results/ltc.md.\n\npub const LTC_TABLE_N: usize = {};\n\n",
         super::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,
@@ -120,11 +127,18 @@ pub fn render_rust(t: &LtcTableData, command: &str) -> String {
     rows(&mut s, "LTC_2", "f32", 2, &|c| {
         c[4..6].iter().map(|x| lit32(*x)).collect()
     });
-    let packed = |x: f64, y: f64| format!("0x{:08x}", pack2x16(x, y));
-    rows(&mut s, "LTC_1_F16", "u32", 2, &|c| {
+    let packed = |x: f16, y: f16| format!("0x{:08x}", pack_half(x, y));
+    let half_rows = |s: &mut String, name: &str, w: usize, f: &dyn Fn(&[f16; 6]) -> Vec<String>| {
+        s.push_str(&format!("pub static {name}: [[u32; {w}]; {nn}] = [\n"));
+        for k in 0..nn {
+            s.push_str(&format!("    [{}],\n", f(&t.half_cell(k)).join(", ")));
+        }
+        s.push_str("];\n\n");
+    };
+    half_rows(&mut s, "LTC_1_F16", 2, &|c| {
         vec![packed(c[0], c[1]), packed(c[2], c[3])]
     });
-    rows(&mut s, "LTC_2_F16", "u32", 1, &|c| vec![packed(c[4], c[5])]);
+    half_rows(&mut s, "LTC_2_F16", 1, &|c| vec![packed(c[4], c[5])]);
     s.truncate(s.trim_end().len());
     s.push('\n');
     s

@@ -19,13 +19,21 @@ use std::path::Path;
 /// Extract the numeric array assigned to `name` (`name = [ … ]` or `name: [ … ]`) from
 /// JS/JSON text. Tolerates `- 4.2e-07` (a space after the sign), as in the shipped files.
 pub fn js_array(text: &str, name: &str) -> Result<Vec<f64>> {
-    let at = text
-        .find(name)
-        .ok_or_else(|| Error::InvalidArgument(format!("no array named '{name}' in the file")))?;
-    let open = text[at..]
-        .find('[')
-        .map(|i| at + i)
-        .ok_or_else(|| Error::InvalidArgument(format!("'{name}' is not followed by '['")))?;
+    // the first occurrence of `name` followed by `=` or `:` and then `[` (a mention in a
+    // comment or a string is skipped)
+    let open = text
+        .match_indices(name)
+        .find_map(|(at, _)| {
+            let rest = text[at + name.len()..].trim_start();
+            let rest = rest.strip_prefix('=').or_else(|| rest.strip_prefix(':'))?;
+            let body = rest.trim_start();
+            body.starts_with('[').then(|| text.len() - body.len())
+        })
+        .ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "no array named '{name}' (`{name} = [ … ]` or `{name}: [ … ]`) in the file"
+            ))
+        })?;
     let close = text[open..]
         .find(']')
         .map(|i| open + i)

@@ -50,6 +50,11 @@ pub struct Cell {
     pub err_cubic: f64,
     pub err_l2: f64,
     pub iters: u64,
+    /// The binary16 storage of [a, b, c, d, norm, fresnel] (as f64): the f16 neighbours
+    /// of the matrix entries that minimise the training L2 ([`crate::ltc::storage`]).
+    pub half: [f64; 6],
+    /// Whether the L2 polish (from the cubic solution) was kept.
+    pub polished: bool,
 }
 
 /// M from the parameters and the frame.
@@ -347,6 +352,49 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     Ok((p3, i3 + i4))
 }
 
+/// The L2 polish of a cell fitted under the cubic metric: Nelder–Mead on the relative L2
+/// (the metric the table is judged by) from that solution, kept only if the validation
+/// set's relative L2 drops too. Returns the parameters and whether the polish was kept.
+#[allow(clippy::too_many_arguments)]
+fn polish_l2<T: LtcTarget + ?Sized>(
+    t: &T,
+    z: &V3,
+    norm: f64,
+    p: &[f64; 4],
+    n: usize,
+    method: Method,
+    max_iters: u64,
+) -> Result<([f64; 4], bool)> {
+    let (q, _) = fit_cell(t, z, norm, p, n, Metric::L2, method, max_iters)?;
+    let val = Objective {
+        t,
+        z: *z,
+        norm,
+        n,
+        metric: Metric::L2,
+        validation: true,
+    };
+    if q.iter().all(|x| x.is_finite()) && val.value(&q) < val.value(p) {
+        Ok((q, true))
+    } else {
+        Ok((*p, false))
+    }
+}
+
+/// Both metrics of a production-form cell (a, b, c, d) with amplitude `norm` against the
+/// target on the n×n set with offset `off`; `None` where the matrix is singular.
+pub fn production_metrics<T: LtcTarget + ?Sized>(
+    t: &T,
+    inv: &[f64; 4],
+    norm: f64,
+    n: usize,
+    off: f64,
+) -> Option<(f64, f64)> {
+    let m = inverse_from_production(inv).try_inverse()?;
+    let ltc = LtcDist::new(m).ok()?;
+    Some(metrics(t, &ltc, norm, n, off))
+}
+
 /// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
 /// t = √(1 − cos θ), both uniform on [0, 1] with `n` points.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -412,12 +460,19 @@ pub fn fit_table<T: LtcTarget>(
                     p[3] *= alpha / prev;
                 }
                 let (best, iters) = fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?;
+                // the warm-start chain carries the primary metric's solution
                 p = best;
-                let z = turn(&zm, p[3]);
-                let (m11, m22, m13) = params_to_m(&p);
+                let (q, polished) = if metric == Metric::Cubic {
+                    polish_l2(&t, &zm, norm, &best, n, method, max_iters / 2)?
+                } else {
+                    (best, false)
+                };
+                let z = turn(&zm, q[3]);
+                let (m11, m22, m13) = params_to_m(&q);
                 let m = matrix(m11, m22, m13, &z);
                 let ltc = LtcDist::new(m)?;
                 let (ec, el2) = metrics(&t, &ltc, norm, 2 * n, 0.25);
+                let inv = production_inverse(&m)?;
                 col.push(Cell {
                     alpha,
                     theta,
@@ -425,14 +480,16 @@ pub fn fit_table<T: LtcTarget>(
                     m22,
                     m13,
                     z_dir: [z.x, z.z],
-                    turn: p[3],
+                    turn: q[3],
                     norm,
                     norm_se,
                     fresnel,
-                    inv: production_inverse(&m)?,
+                    inv,
                     err_cubic: ec,
                     err_l2: el2,
                     iters,
+                    half: crate::ltc::storage::half_storage(&t, &inv, norm, fresnel, n),
+                    polished,
                 });
                 progress();
             }

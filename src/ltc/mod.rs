@@ -8,6 +8,7 @@
 //! - `fit`: the per-cell fit of a table, generic over the target (all four
 //!   production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
+//! - `storage`: the binary16 storage of a cell, chosen by the fit's error;
 //! - `table`: the one reader of a fitted table (results/fits/ltc-ggx.json);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
 //! The `ltc-ggx` study that fits the table and measures all of the above is
@@ -18,6 +19,7 @@ pub mod dist;
 pub mod fit;
 pub mod pipeline;
 pub mod polygon;
+pub mod storage;
 pub mod table;
 pub mod target;
 

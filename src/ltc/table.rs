@@ -11,6 +11,10 @@ use std::path::Path;
 pub struct FittedTable {
     pub n: usize,
     pub cells: Vec<[f64; 6]>,
+    /// The binary16 table chosen for storage (`table_f16`: per cell the f16 neighbours
+    /// of the f64 entries that minimise the fit's error), in the same layout; `None` for
+    /// a file without one (then f16 storage rounds to nearest).
+    pub half: Option<Vec<[half::f16; 6]>>,
 }
 
 /// Largest table side read from a file.
@@ -21,21 +25,29 @@ impl FittedTable {
     pub fn cell(&self, i: usize, j: usize) -> &[f64; 6] {
         &self.cells[i + self.n * j]
     }
+    /// The binary16 entries of cell `k` (= i + n·j) as stored in every f16 file.
+    pub fn half_cell(&self, k: usize) -> [half::f16; 6] {
+        match &self.half {
+            Some(h) => h[k],
+            None => self.cells[k].map(half::f16::from_f64),
+        }
+    }
 }
 
-/// Read the table of the fit `name` under `results`: an n × n table (2 ≤ n ≤ 1024) of
-/// finite numbers, or a typed error saying what is wrong.
-pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
-    let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
-    let v = crate::results::read_result(results, name).ok_or_else(|| {
-        Error::InvalidArgument(format!(
-            "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc`"
-        ))
-    })?;
-    let table = v["table"].as_array().ok_or_else(|| bad("no table"))?;
-    let n = table.len();
-    if !(2..=MAX_SIDE).contains(&n) {
-        return Err(bad(&format!("a table of side {n}, not 2 … {MAX_SIDE}")));
+/// Read an n × n table of cells [f64; 6] from a JSON array of columns (`what` names it
+/// in errors).
+fn cells_of(
+    v: &serde_json::Value,
+    n: Option<usize>,
+    bad: &dyn Fn(&str) -> Error,
+) -> Result<(usize, Vec<[f64; 6]>)> {
+    let table = v.as_array().ok_or_else(|| bad("no table"))?;
+    let n = n.unwrap_or(table.len());
+    if !(2..=MAX_SIDE).contains(&n) || table.len() != n {
+        return Err(bad(&format!(
+            "a table of side {}, not 2 … {MAX_SIDE}",
+            table.len()
+        )));
     }
     let mut cells = vec![[0.0; 6]; n * n];
     for (j, col) in table.iter().enumerate() {
@@ -52,5 +64,32 @@ pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
             }
         }
     }
-    Ok(FittedTable { n, cells })
+    Ok((n, cells))
+}
+
+/// Read the table of the fit `name` under `results`: an n × n table (2 ≤ n ≤ 1024) of
+/// finite numbers, or a typed error saying what is wrong.
+pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
+    let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
+    let v = crate::results::read_result(results, name).ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc`"
+        ))
+    })?;
+    let (n, cells) = cells_of(&v["table"], None, &bad)?;
+    let half = if v.get("table_f16").is_some() {
+        let (_, h) = cells_of(&v["table_f16"], Some(n), &bad)?;
+        let mut out = Vec::with_capacity(h.len());
+        for c in h {
+            let q = c.map(half::f16::from_f64);
+            if q.iter().zip(&c).any(|(a, b)| a.to_f64() != *b) {
+                return Err(bad("table_f16 holds a value that is not a binary16 number"));
+            }
+            out.push(q);
+        }
+        Some(out)
+    } else {
+        None
+    };
+    Ok(FittedTable { n, cells, half })
 }

@@ -173,6 +173,8 @@ struct LtcResult<'a> {
     layout: &'static str,
     /// table[j][i] = [a, b, c, d, norm, fresnel].
     table: Vec<Vec<[f64; 6]>>,
+    /// The binary16 storage of the table (every value a binary16 number), same layout.
+    table_f16: Vec<Vec<[f64; 6]>>,
     held_out: Stats,
     variants: Vec<serde_json::Value>,
     edge_approximations: Vec<serde_json::Value>,
@@ -182,16 +184,24 @@ struct LtcResult<'a> {
     sphere_horizon: serde_json::Value,
 }
 
-/// The table as stored: [j][i] = [a, b, c, d, norm, fresnel].
-fn stored(main: &Table) -> Vec<Vec<[f64; 6]>> {
-    main.cells
+/// The table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
+/// storage in the same layout.
+fn stored(main: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
+    let full = main
+        .cells
         .iter()
         .map(|col| {
             col.iter()
                 .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
                 .collect()
         })
-        .collect()
+        .collect();
+    let half = main
+        .cells
+        .iter()
+        .map(|col| col.iter().map(|c| c.half).collect())
+        .collect();
+    (full, half)
 }
 
 /// The study: fit, report, write.
@@ -208,10 +218,11 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(&precision::section(&main, 2 * pl.samples)?);
     let poly = polygons::section(&mut md, &main, pl.mc)?;
     // write the table first: the pipeline looks it up like a renderer would
+    let (table, table_f16) = stored(&main);
     crate::results::write_result(
         results,
         &spec.name,
-        &serde_json::json!({"table": stored(&main)}),
+        &serde_json::json!({"table": table, "table_f16": table_f16}),
     )?;
     let pipe = pipeline::section(results, preset, &mut md)?;
     crate::io::write_atomic(&results.join("ltc.md"), md.as_bytes())?;
@@ -221,7 +232,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         preset: preset.name(),
         grid: main.grid,
         layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
-        table: stored(&main),
+        table,
+        table_f16,
         held_out: stats(&main),
         variants: var_json,
         edge_approximations: poly.edge_approximations,

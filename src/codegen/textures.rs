@@ -1,0 +1,266 @@
+//! The fitted GGX LTC table as the files engines load, all from the same table and in
+//! the shipped layout (texel (i, j) at i + n·j, i = roughness index with r = √α =
+//! i/(n − 1) across, j = view index with t = √(1 − cos θ) = j/(n − 1) down; the shader
+//! samples uv = (r, t)·(n − 1)/n + 0.5/n):
+//!
+//! - layer/texture 1 = (a, b, c, d) of M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]], i.e.
+//!   `mat3x3(vec3(a, 0, b), vec3(0, 1, 0), vec3(c, 0, d))` (three.js, Bevy, ltc_code);
+//! - layer/texture 2 = (norm, fresnel, 0, 0): the specular weight is
+//!   F0·norm + (1 − F0)·fresnel (three.js `t2.x`, `t2.y`; Bevy the same). The `.w` of
+//!   ltc_code's second texture (a clipped-sphere table that three.js leaves commented
+//!   out) is 0 here.
+//!
+//! Files (under results/textures/):
+//! - `ltc_ggx.ktx2`: KTX 2.0, VK_FORMAT_R16G16B16A16_SFLOAT, n×n, 2 array layers, one
+//!   level, no supercompression, a basic data-format descriptor (Bevy's `AreaLightLuts`
+//!   layout: layer 0 the matrix, layer 1 the weights);
+//! - `ltc_ggx_1.dds`, `ltc_ggx_2.dds`: DDS with a DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT
+//!   (what Godot's DDS loader reads);
+//! - `ltc_ggx_{1,2}_{f16,f32}.bin`: raw little-endian RGBA texels, described by
+//!   `ltc_ggx.json` (three.js DataTexture, Babylon RawTexture);
+//! - `ltc_ggx.js`: an ES module exporting `LTC_MAT_1` and `LTC_MAT_2` as decimal
+//!   literals in the shape of three.js's RectAreaLightTexturesLib (shortest f32
+//!   round-trip decimals, so `new Float32Array(LTC_MAT_1)` is bit-exact).
+//!
+//! Every f16 file holds the table's binary16 storage (`FittedTable::half_cell`); every
+//! f32 file the f64 table rounded to nearest f32.
+
+use crate::ltc::table::FittedTable;
+use half::f16;
+
+/// Where the engine files go, relative to the results directory.
+pub const DIR: &str = "textures";
+
+/// The RGBA texels of texture `layer` (0: matrix, 1: weights) in f32.
+pub fn texels_f32(t: &FittedTable, layer: usize) -> Vec<[f32; 4]> {
+    t.cells
+        .iter()
+        .map(|c| {
+            let v = if layer == 0 {
+                [c[0], c[1], c[2], c[3]]
+            } else {
+                [c[4], c[5], 0.0, 0.0]
+            };
+            v.map(|x| x as f32)
+        })
+        .collect()
+}
+
+/// The RGBA texels of texture `layer` in binary16.
+pub fn texels_f16(t: &FittedTable, layer: usize) -> Vec<[f16; 4]> {
+    (0..t.cells.len())
+        .map(|k| {
+            let c = t.half_cell(k);
+            if layer == 0 {
+                [c[0], c[1], c[2], c[3]]
+            } else {
+                [c[4], c[5], f16::ZERO, f16::ZERO]
+            }
+        })
+        .collect()
+}
+
+fn bytes_f16(texels: &[[f16; 4]]) -> Vec<u8> {
+    texels
+        .iter()
+        .flatten()
+        .flat_map(|h| h.to_bits().to_le_bytes())
+        .collect()
+}
+
+fn bytes_f32(texels: &[[f32; 4]]) -> Vec<u8> {
+    texels
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_bits().to_le_bytes())
+        .collect()
+}
+
+fn u32le(out: &mut Vec<u8>, v: u32) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+fn u64le(out: &mut Vec<u8>, v: u64) {
+    out.extend_from_slice(&v.to_le_bytes());
+}
+
+/// VK_FORMAT_R16G16B16A16_SFLOAT.
+pub const VK_FORMAT_R16G16B16A16_SFLOAT: u32 = 97;
+
+/// The basic data-format descriptor of R16G16B16A16_SFLOAT (KTX 2.0 §3.10, Khronos
+/// Data Format 1.3 §5): RGBSDA colour model, BT.709 primaries, linear transfer, four
+/// 16-bit signed-float samples R, G, B, A (channel ids 0, 1, 2, 15) with the float
+/// sample bounds −1.0 and 1.0.
+fn dfd_rgba16f() -> Vec<u8> {
+    let mut b = Vec::new();
+    let block_size = 24 + 16 * 4;
+    u32le(&mut b, 4 + block_size); // dfdTotalSize
+    u32le(&mut b, 0); // vendorId 0 (Khronos), descriptorType 0 (basic)
+    b.extend_from_slice(&2u16.to_le_bytes()); // versionNumber (1.3)
+    b.extend_from_slice(&(block_size as u16).to_le_bytes());
+    b.extend_from_slice(&[1, 1, 1, 0]); // RGBSDA, BT709, LINEAR, straight alpha
+    b.extend_from_slice(&[0, 0, 0, 0]); // texel block 1×1×1×1
+    b.extend_from_slice(&[8, 0, 0, 0, 0, 0, 0, 0]); // bytesPlane0 = 8
+    for (k, channel) in [0u8, 1, 2, 15].iter().enumerate() {
+        b.extend_from_slice(&((16 * k) as u16).to_le_bytes()); // bitOffset
+        b.push(15); // bitLength − 1
+        b.push(channel | 0x80 | 0x40); // FLOAT | SIGNED qualifiers
+        b.extend_from_slice(&[0, 0, 0, 0]); // samplePosition
+        u32le(&mut b, (-1.0f32).to_bits()); // sampleLower
+        u32le(&mut b, 1.0f32.to_bits()); // sampleUpper
+    }
+    b
+}
+
+/// One key/value entry of the KTX2 key/value data, padded to 4 bytes.
+fn kv(out: &mut Vec<u8>, key: &str, value: &str) {
+    let len = key.len() + 1 + value.len() + 1;
+    u32le(out, len as u32);
+    out.extend_from_slice(key.as_bytes());
+    out.push(0);
+    out.extend_from_slice(value.as_bytes());
+    out.push(0);
+    while out.len() % 4 != 0 {
+        out.push(0);
+    }
+}
+
+/// The KTX2 file: both layers in one 2D array texture of R16G16B16A16_SFLOAT.
+pub fn ktx2(t: &FittedTable, writer: &str) -> Vec<u8> {
+    let n = t.n as u32;
+    let dfd = dfd_rgba16f();
+    let mut kvd = Vec::new();
+    kv(&mut kvd, "KTXorientation", "rd");
+    kv(&mut kvd, "KTXwriter", writer);
+    let mut level = bytes_f16(&texels_f16(t, 0));
+    level.extend(bytes_f16(&texels_f16(t, 1)));
+    let index_end = 80 + 24; // header + index, then one level index entry
+    let dfd_off = index_end as u32;
+    let kvd_off = dfd_off + dfd.len() as u32;
+    let mut data_off = (kvd_off as usize + kvd.len()) as u64;
+    data_off = data_off.div_ceil(8) * 8; // lcm(texel size 8, 4)
+    let mut out = Vec::new();
+    out.extend_from_slice(&[
+        0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
+    ]);
+    for v in [VK_FORMAT_R16G16B16A16_SFLOAT, 2, n, n, 0, 2, 1, 1, 0] {
+        u32le(&mut out, v); // format, typeSize, w, h, depth, layers, faces, levels, scheme
+    }
+    u32le(&mut out, dfd_off);
+    u32le(&mut out, dfd.len() as u32);
+    u32le(&mut out, kvd_off);
+    u32le(&mut out, kvd.len() as u32);
+    u64le(&mut out, 0); // no supercompression global data
+    u64le(&mut out, 0);
+    u64le(&mut out, data_off);
+    u64le(&mut out, level.len() as u64);
+    u64le(&mut out, level.len() as u64);
+    debug_assert_eq!(out.len(), index_end);
+    out.extend(dfd);
+    out.extend(kvd);
+    out.resize(data_off as usize, 0);
+    out.extend(level);
+    out
+}
+
+/// DXGI_FORMAT_R16G16B16A16_FLOAT.
+pub const DXGI_FORMAT_R16G16B16A16_FLOAT: u32 = 10;
+
+/// A DDS file (DX10 header) of one texture of R16G16B16A16_FLOAT texels.
+pub fn dds(n: usize, texels: &[[f16; 4]]) -> Vec<u8> {
+    let mut out = Vec::new();
+    out.extend_from_slice(b"DDS ");
+    let pitch = (n * 8) as u32;
+    // DDS_HEADER: size, flags (CAPS | HEIGHT | WIDTH | PIXELFORMAT | PITCH), height,
+    // width, pitch, depth, mip count, 11 reserved
+    for v in [
+        124u32,
+        0x1 | 0x2 | 0x4 | 0x1000 | 0x8,
+        n as u32,
+        n as u32,
+        pitch,
+        0,
+        1,
+    ] {
+        u32le(&mut out, v);
+    }
+    for _ in 0..11 {
+        u32le(&mut out, 0);
+    }
+    // DDS_PIXELFORMAT: size, flags (FOURCC), "DX10", then unused masks
+    u32le(&mut out, 32);
+    u32le(&mut out, 0x4);
+    out.extend_from_slice(b"DX10");
+    for _ in 0..5 {
+        u32le(&mut out, 0);
+    }
+    // caps (TEXTURE), caps2–4, reserved
+    for v in [0x1000u32, 0, 0, 0, 0] {
+        u32le(&mut out, v);
+    }
+    // DDS_HEADER_DXT10: format, dimension (TEXTURE2D), misc, array size, misc2
+    for v in [DXGI_FORMAT_R16G16B16A16_FLOAT, 3, 0, 1, 0] {
+        u32le(&mut out, v);
+    }
+    out.extend(bytes_f16(texels));
+    out
+}
+
+/// The ES module in the shape of RectAreaLightTexturesLib's arrays.
+pub fn es_module(t: &FittedTable, header: &str) -> String {
+    let list = |layer: usize| {
+        texels_f32(t, layer)
+            .iter()
+            .flatten()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "{header}// GGX LTC table, {n}×{n} RGBA texels at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹, LTC_MAT_2 = (norm, fresnel, 0, 0). Drop-in for three.js's RectAreaLightTexturesLib arrays (see README).\nexport const LTC_SIZE = {n};\nexport const LTC_MAT_1 = [ {} ];\nexport const LTC_MAT_2 = [ {} ];\n",
+        list(0),
+        list(1),
+        n = t.n
+    )
+}
+
+/// The JSON manifest of the raw files.
+pub fn manifest(t: &FittedTable, command: &str) -> String {
+    let v = serde_json::json!({
+        "generated": format!("by `{command}` from results/fits/ltc-ggx.json; do not edit"),
+        "width": t.n,
+        "height": t.n,
+        "channels": 4,
+        "byte_order": "little-endian",
+        "texel_index": "i + width·j: i = roughness index (r = √α = i/(width − 1)), j = view index (t = √(1 − cos θ) = j/(height − 1)); sample uv = (r, t)·(n − 1)/n + 0.5/n",
+        "textures": [
+            {"name": "LTC_MAT_1", "channels": "a, b, c, d of M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]", "f16": "ltc_ggx_1_f16.bin", "f32": "ltc_ggx_1_f32.bin"},
+            {"name": "LTC_MAT_2", "channels": "norm, fresnel, 0, 0 (specular weight F0·norm + (1 − F0)·fresnel)", "f16": "ltc_ggx_2_f16.bin", "f32": "ltc_ggx_2_f32.bin"}
+        ],
+        "f16": "IEEE binary16: the table's binary16 storage (results/fits/ltc-ggx.json `table_f16`)",
+        "f32": "IEEE binary32, the f64 table rounded to nearest",
+        "ktx2": "ltc_ggx.ktx2 (R16G16B16A16_SFLOAT, 2 layers)",
+        "dds": ["ltc_ggx_1.dds", "ltc_ggx_2.dds"],
+        "es_module": "ltc_ggx.js"
+    });
+    serde_json::to_string_pretty(&v).expect("json") + "\n"
+}
+
+/// Every engine file: (path relative to the results directory, bytes).
+pub fn render(t: &FittedTable, command: &str) -> Vec<(String, Vec<u8>)> {
+    let p = |f: &str| format!("{DIR}/{f}");
+    let mut out = vec![(p("ltc_ggx.ktx2"), ktx2(t, &format!("ndfbench ({command})")))];
+    for layer in 0..2 {
+        let h = texels_f16(t, layer);
+        out.push((p(&format!("ltc_ggx_{}.dds", layer + 1)), dds(t.n, &h)));
+        out.push((p(&format!("ltc_ggx_{}_f16.bin", layer + 1)), bytes_f16(&h)));
+        out.push((
+            p(&format!("ltc_ggx_{}_f32.bin", layer + 1)),
+            bytes_f32(&texels_f32(t, layer)),
+        ));
+    }
+    out.push((p("ltc_ggx.json"), manifest(t, command).into_bytes()));
+    let header = super::header("//", command, "results/fits/ltc-ggx.json");
+    out.push((p("ltc_ggx.js"), es_module(t, &header).into_bytes()));
+    out
+}
