@@ -359,7 +359,7 @@ fn main() -> ExitCode {
             "ltc-compare",
             &dir.join(".sets").join("ltc-compare.json"),
             || {
-                ndfbench::ltc::compare::run(
+                ndfbench::ltc::compare_report::run(
                     &shipped,
                     &mat,
                     &mag,

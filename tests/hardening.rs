@@ -75,6 +75,13 @@ fn assert_typed_error(out: &Output, what: &str, needles: &[&str]) {
 
 const ALPHA_ME_SPEC: &str = include_str!("../fits/multiscale-alpha-me.toml");
 const LTC_SPEC: &str = include_str!("../fits/ltc-ggx.toml");
+
+/// `spec` with `from` replaced by `to`; `from` must occur, so that an edit of the spec
+/// cannot silently turn a bad-input case into a valid one.
+fn edit(spec: &str, from: &str, to: &str) -> String {
+    assert!(spec.contains(from), "the spec no longer contains {from:?}");
+    spec.replace(from, to)
+}
 const LAMBDA_SPEC: &str = include_str!("../fits/smith-lambda.toml");
 
 #[test]
@@ -82,52 +89,60 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
     let cases: Vec<(&str, String, &str)> = vec![
         (
             "points 2^64 − 1",
-            ALPHA_ME_SPEC.replace("points = 600", "points = 18446744073709551615"),
+            edit(
+                ALPHA_ME_SPEC,
+                "points = 600",
+                "points = 18446744073709551615",
+            ),
             "training.points",
         ),
         (
             "points 1e9",
-            ALPHA_ME_SPEC.replace("points = 600", "points = 1000000000"),
+            edit(ALPHA_ME_SPEC, "points = 600", "points = 1000000000"),
             "training.points",
         ),
         (
             "points as a float",
-            ALPHA_ME_SPEC.replace("points = 600", "points = 1e9"),
+            edit(ALPHA_ME_SPEC, "points = 600", "points = 1e9"),
             "line",
         ),
         (
             "terms 0",
-            ALPHA_ME_SPEC.replace("terms = 7", "terms = 0"),
+            edit(ALPHA_ME_SPEC, "terms = 7", "terms = 0"),
             "terms",
         ),
         (
             "terms_large 0",
-            ALPHA_ME_SPEC.replace("terms_large = 8", "terms_large = 0"),
+            edit(ALPHA_ME_SPEC, "terms_large = 8", "terms_large = 0"),
             "terms",
         ),
         (
             "table_entries 0",
-            ALPHA_ME_SPEC.replace("table_entries = 256", "table_entries = 0"),
+            edit(ALPHA_ME_SPEC, "table_entries = 256", "table_entries = 0"),
             "table_entries",
         ),
         (
             "alpha_min 1e-300",
-            ALPHA_ME_SPEC.replace("alpha_min = 1e-4", "alpha_min = 1e-300"),
+            edit(ALPHA_ME_SPEC, "alpha_min = 1e-4", "alpha_min = 1e-300"),
             "alpha_min",
         ),
         (
             "alpha_max ∞",
-            ALPHA_ME_SPEC.replace("alpha_max = 1e2", "alpha_max = inf"),
+            edit(ALPHA_ME_SPEC, "alpha_max = 1e2", "alpha_max = inf"),
             "domain",
         ),
         (
             "nan tolerance",
-            ALPHA_ME_SPEC.replace("max_rel = 1e-3", "max_rel = nan"),
+            edit(ALPHA_ME_SPEC, "max_rel = 1e-3", "max_rel = nan"),
             "tolerance.max_rel",
         ),
         (
             "huge iteration cap",
-            ALPHA_ME_SPEC.replace("max_iters = 20000", "max_iters = 100000000000"),
+            edit(
+                ALPHA_ME_SPEC,
+                "max_iters = 20000",
+                "max_iters = 100000000000",
+            ),
             "max_iters",
         ),
         (
@@ -143,7 +158,8 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         ),
         (
             "absurd text",
-            ALPHA_ME_SPEC.replace(
+            edit(
+                ALPHA_ME_SPEC,
                 "description = \"",
                 &format!("description = \"{}", "x".repeat(10_000)),
             ),
@@ -151,17 +167,17 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         ),
         (
             "ltc alpha_min 1e-300",
-            LTC_SPEC.replace("alpha_min = 1e-4", "alpha_min = 1e-300"),
+            edit(LTC_SPEC, "alpha_min = 1e-5", "alpha_min = 1e-300"),
             "alpha_min",
         ),
         (
             "ltc held-out points",
-            LTC_SPEC.replace("points = 2304", "points = 900000"),
+            edit(LTC_SPEC, "points = 2304", "points = 900000"),
             "held_out.points",
         ),
         (
             "lambda points",
-            LAMBDA_SPEC.replace("points = 600", "points = 500000"),
+            edit(LAMBDA_SPEC, "points = 600", "points = 500000"),
             "training.points",
         ),
     ];

@@ -13,7 +13,6 @@ use crate::error::{Error, Result};
 use crate::ltc::fit::{inverse_from_production, metrics};
 use crate::ltc::target::GgxTarget;
 use crate::ltc::LtcDist;
-use serde::Serialize;
 use std::path::Path;
 
 /// Extract the numeric array assigned to `name` (`name = [ … ]` or `name: [ … ]`) from
@@ -106,19 +105,6 @@ impl Shipped {
     }
 }
 
-/// Per-cell comparison.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct CellCmp {
-    pub i: usize,
-    pub j: usize,
-    pub alpha: f64,
-    pub theta_deg: f64,
-    pub ours_l2: f64,
-    pub shipped_l2: f64,
-    pub ours_cubic: f64,
-    pub shipped_cubic: f64,
-}
-
 /// Error of one production-form cell against the BRDF (relative L2, cubic).
 pub fn cell_error(
     inv: &[f64; 4],
@@ -162,46 +148,6 @@ pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Resu
     let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
     let (norm, _, _) = GgxTarget::new(alpha, theta)?.norm_quad(1e-8);
     cell_error(&inv, norm, alpha, theta, n_samples).map(|(l2, _)| Some(l2))
-}
-
-/// Compare two tables of the same size (ours from results/fits/ltc-ggx.json).
-pub fn compare(ours: &Shipped, shipped: &Shipped, n_samples: usize) -> Result<Vec<CellCmp>> {
-    use rayon::prelude::*;
-    if ours.n != shipped.n {
-        return Err(Error::InvalidArgument(format!(
-            "table sizes differ: ours {}×{}, shipped {}×{}",
-            ours.n, ours.n, shipped.n, shipped.n
-        )));
-    }
-    let n = ours.n;
-    // cells the file leaves out (NaN) are skipped
-    let present: Vec<usize> = (0..n * n)
-        .filter(|&k| shipped.mat[k].iter().all(|v| v.is_finite()) && shipped.mag[k][0].is_finite())
-        .collect();
-    present
-        .into_par_iter()
-        .map(|k| {
-            let (i, j) = (k % n, k / n);
-            let r = i as f64 / (n - 1) as f64;
-            let t = j as f64 / (n - 1) as f64;
-            let alpha = (r * r).max(1e-5);
-            let theta = (1.0 - t * t).clamp(0.0, 1.0).acos();
-            let (oi, on) = ours.cell(i, j);
-            let (si, sn) = shipped.cell(i, j);
-            let (ol, oc) = cell_error(&oi, on, alpha, theta, n_samples)?;
-            let (sl, sc) = cell_error(&si, sn, alpha, theta, n_samples)?;
-            Ok(CellCmp {
-                i,
-                j,
-                alpha,
-                theta_deg: theta.to_degrees(),
-                ours_l2: ol,
-                shipped_l2: sl,
-                ours_cubic: oc,
-                shipped_cubic: sc,
-            })
-        })
-        .collect()
 }
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
@@ -261,183 +207,4 @@ pub fn roughness_of_table(t: &Shipped) -> [f64; 4] {
         *o = s / cnt.max(1.0) / range;
     }
     out
-}
-
-/// Largest shipped-table file read.
-pub const MAX_SHIPPED_BYTES: u64 = 16 << 20;
-
-/// Run the comparison and write `out`/ltc-compare.md; returns a one-line summary.
-pub fn run(
-    shipped_path: &Path,
-    mat: &str,
-    mag: &str,
-    norm_ours: bool,
-    source: Option<&str>,
-    results: &Path,
-    out: &Path,
-) -> Result<String> {
-    let io = |e: std::io::Error| Error::Io {
-        path: shipped_path.display().to_string(),
-        msg: e.to_string(),
-    };
-    // three.js's RectAreaLightTexturesLib.js is ~0.5 MB; anything far larger is not a table
-    let len = std::fs::metadata(shipped_path).map_err(io)?.len();
-    if len > MAX_SHIPPED_BYTES {
-        return Err(Error::InvalidArgument(format!(
-            "ltc-compare: {} is {len} bytes, over the {MAX_SHIPPED_BYTES}-byte limit for a shipped table",
-            shipped_path.display()
-        )));
-    }
-    let text = std::fs::read_to_string(shipped_path).map_err(io)?;
-    let ours = ours(results)?;
-    let shipped = if norm_ours {
-        Shipped::parse_mat_with_norms(&text, mat, &ours)?
-    } else {
-        Shipped::parse(&text, mat, mag)?
-    };
-    let cmp = compare(&ours, &shipped, 48)?;
-    let inner: Vec<&CellCmp> = cmp
-        .iter()
-        .filter(|c| c.i > 0 && c.ours_l2.is_finite() && c.shipped_l2.is_finite())
-        .collect();
-    if inner.is_empty() {
-        return Err(Error::InvalidArgument(format!(
-            "ltc-compare: {} has no cell that can be compared (every cell is NaN, or only the r = 0 column is given); nothing written",
-            shipped_path.display()
-        )));
-    }
-    let mean =
-        |f: &dyn Fn(&CellCmp) -> f64| inner.iter().map(|c| f(c)).sum::<f64>() / inner.len() as f64;
-    let worse: Vec<&&CellCmp> = inner
-        .iter()
-        .filter(|c| c.ours_l2 > c.shipped_l2 * 1.001)
-        .collect();
-    let mut md = format!(
-        "# Our GGX LTC table against the shipped one\n\nWritten by `cargo run --release -- ltc-compare --shipped {}`. Both tables judged against the cosine-weighted GGX BRDF (height-correlated G2, F = 1) at the same cells, on the same held-out 48×48 + 48×48 sample sets. {}Norms: {}. Cells compared (r > 0; cells the file leaves as NaN are skipped): {} of {}.\n\n| | ours | shipped |\n|---|---|---|\n| mean relative L2 | {:.2} % | {:.2} % |\n| max relative L2 | {:.1} % | {:.1} % |\n| mean cubic metric | {:.3e} | {:.3e} |\n| smoothness (mean abs(Δ²) / range of a, b, c, d) | {:?} | {:?} |\n\nOurs no worse (relative L2, 0.1 % slack) in {} of {} cells.\n\n",
-        shipped_path.display(),
-        source.map(|s| format!("Source of the file: {s}. ")).unwrap_or_default(),
-        if norm_ours { "ours for both (the BRDF albedo by quadrature, error ≤ 1e-9), so only the fitted matrices differ" } else { "each table's own" },
-        inner.len(),
-        ours.n * (ours.n - 1),
-        100.0 * mean(&|c| c.ours_l2),
-        100.0 * mean(&|c| c.shipped_l2),
-        100.0 * inner.iter().map(|c| c.ours_l2).fold(0.0, f64::max),
-        100.0 * inner.iter().map(|c| c.shipped_l2).fold(0.0, f64::max),
-        mean(&|c| c.ours_cubic),
-        mean(&|c| c.shipped_cubic),
-        roughness_of_table(&ours).map(|x| (x * 1e4).round() / 1e4),
-        roughness_of_table(&shipped).map(|x| (x * 1e4).round() / 1e4),
-        inner.len() - worse.len(),
-        inner.len()
-    );
-    md.push_str("## Per view angle (rows of the table)\n\n| t index | θ | cells | ours: mean L2 | shipped: mean L2 | ours: max L2 | shipped: max L2 | ours no worse |\n|---|---|---|---|---|---|---|---|\n");
-    let mut rows: Vec<usize> = inner.iter().map(|c| c.j).collect();
-    rows.dedup();
-    for j in rows {
-        let row: Vec<&&CellCmp> = inner.iter().filter(|c| c.j == j).collect();
-        let m = row.len() as f64;
-        md.push_str(&format!(
-            "| {j} | {:.2}° | {} | {:.2} % | {:.2} % | {:.1} % | {:.1} % | {} |\n",
-            row[0].theta_deg,
-            row.len(),
-            100.0 * row.iter().map(|c| c.ours_l2).sum::<f64>() / m,
-            100.0 * row.iter().map(|c| c.shipped_l2).sum::<f64>() / m,
-            100.0 * row.iter().map(|c| c.ours_l2).fold(0.0, f64::max),
-            100.0 * row.iter().map(|c| c.shipped_l2).fold(0.0, f64::max),
-            row.iter()
-                .filter(|c| c.ours_l2 <= c.shipped_l2 * 1.001)
-                .count()
-        ));
-    }
-    // between cells: bilinear interpolation at square centres where both rows are present
-    let squares: Vec<(usize, usize)> = (0..ours.n - 1)
-        .flat_map(|j| (1..ours.n - 1).map(move |i| (i, j)))
-        .filter(|&(i, j)| {
-            [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-                .iter()
-                .all(|&(a, b)| shipped.mat[a + ours.n * b].iter().all(|v| v.is_finite()))
-        })
-        .collect();
-    let mids: Vec<(f64, f64)> = {
-        use rayon::prelude::*;
-        squares
-            .par_iter()
-            .map(|&(i, j)| {
-                Ok((
-                    midpoint_error(&ours, i, j, 48)?.unwrap_or(f64::NAN),
-                    midpoint_error(&shipped, i, j, 48)?.unwrap_or(f64::NAN),
-                ))
-            })
-            .collect::<Result<_>>()?
-    };
-    if !mids.is_empty() {
-        let m = mids.len() as f64;
-        md.push_str(&format!(
-            "\n## Between cells (what a shader sees)\n\nThe production inverse bilinearly interpolated at the centre of each square of four present cells ({} squares), judged against the BRDF there (exact norm by quadrature): mean relative L2 ours {:.2} %, shipped {:.2} %; max ours {:.1} %, shipped {:.1} %; ours no worse (0.1 % slack) in {} of {}.\n",
-            mids.len(),
-            100.0 * mids.iter().map(|x| x.0).sum::<f64>() / m,
-            100.0 * mids.iter().map(|x| x.1).sum::<f64>() / m,
-            100.0 * mids.iter().map(|x| x.0).fold(0.0, f64::max),
-            100.0 * mids.iter().map(|x| x.1).fold(0.0, f64::max),
-            mids.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
-            mids.len()
-        ));
-    }
-    md.push_str("\n## Corners\n\n| α | θ | ours L2 | shipped L2 |\n|---|---|---|---|\n");
-    let n = ours.n;
-    // r = 0 is left out: the shipped fit put α_min = 1e-5 there, ours the spec's 1e-4
-    for (i, j) in [(1usize, 0usize), (1, n - 1), (n - 1, 0), (n - 1, n - 1)] {
-        if let Some(c) = cmp.iter().find(|c| c.i == i && c.j == j) {
-            md.push_str(&format!(
-                "| {:.2e} | {:.2}° | {:.2} % | {:.2} % |\n",
-                c.alpha,
-                c.theta_deg,
-                100.0 * c.ours_l2,
-                100.0 * c.shipped_l2
-            ));
-        }
-    }
-    // how much worse, under the relative L2 and under the cubic metric both fits minimise
-    let ratio = |c: &CellCmp| c.ours_l2 / c.shipped_l2.max(1e-300);
-    let cubic_worse = inner
-        .iter()
-        .filter(|c| c.ours_cubic > c.shipped_cubic * 1.001)
-        .count();
-    let worse1 = inner.iter().filter(|c| ratio(c) > 1.01).count();
-    let worse5 = inner.iter().filter(|c| ratio(c) > 1.05).count();
-    let better5 = inner.iter().filter(|c| ratio(c) < 1.0 / 1.05).count();
-    md.push_str(&format!(
-        "\nOurs worse in relative L2 by more than 0.1 %: {} cells; by more than 1 %: {worse1}; by more than 5 %: {worse5}. Ours better by more than 5 %: {better5}. Under the cubic metric (the one both fits minimise), ours worse by more than 0.1 % in {cubic_worse} of {} cells.\n\nWorst cells for ours (ratio ours/shipped, relative L2):\n",
-        worse.len(),
-        inner.len()
-    ));
-    let mut by_ratio: Vec<&&CellCmp> = worse.clone();
-    by_ratio.sort_by(|a, b| ratio(b).total_cmp(&ratio(a)));
-    for c in by_ratio.iter().take(15) {
-        md.push_str(&format!(
-            "- α = {:.3e}, θ = {:.2}°: ours {:.2} %, shipped {:.2} % (×{:.3}); cubic ours {:.3e}, shipped {:.3e}\n",
-            c.alpha,
-            c.theta_deg,
-            100.0 * c.ours_l2,
-            100.0 * c.shipped_l2,
-            ratio(c),
-            c.ours_cubic,
-            c.shipped_cubic
-        ));
-    }
-    crate::io::write_atomic(&out.join("ltc-compare.md"), md.as_bytes())?;
-    crate::io::write_atomic(
-        &out.join("ltc-compare.json"),
-        serde_json::to_string(&serde_json::json!({"command": format!("cargo run --release -- ltc-compare --shipped {}", shipped_path.display()), "source": source, "norms": if norm_ours { "ours" } else { "shipped" }, "ours_table_mean_l2": ours_mean_l2(results)?, "cell_columns": ["i", "j", "alpha", "theta_deg", "ours_l2", "shipped_l2", "ours_cubic", "shipped_cubic"], "cells": cmp.iter().map(|c| [c.i as f64, c.j as f64, c.alpha, c.theta_deg, c.ours_l2, c.shipped_l2, c.ours_cubic, c.shipped_cubic].map(|x| format!("{x:.5e}").parse::<f64>().unwrap_or(x))).collect::<Vec<_>>()}))
-            .expect("json")
-            .as_bytes(),
-    )?;
-    Ok(format!(
-        "wrote {}: ours no worse in {} of {} cells; mean L2 ours {:.2} % vs shipped {:.2} %",
-        out.join("ltc-compare.md").display(),
-        inner.len() - worse.len(),
-        inner.len(),
-        100.0 * mean(&|c| c.ours_l2),
-        100.0 * mean(&|c| c.shipped_l2)
-    ))
 }

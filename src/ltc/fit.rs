@@ -50,8 +50,8 @@ pub struct Cell {
     pub err_cubic: f64,
     pub err_l2: f64,
     pub iters: u64,
-    /// The binary16 storage of [a, b, c, d, norm, fresnel] (as f64): the f16 neighbours
-    /// of the matrix entries that minimise the training L2 ([`crate::ltc::storage`]).
+    /// The binary16 storage of [a, b, c, d, norm, fresnel] (as f64): each entry rounded
+    /// to nearest, or the f16 neighbours chosen by `ltc::storage::half_storage`.
     pub half: [f64; 6],
     /// Whether the L2 polish (from the cubic solution) was kept.
     pub polished: bool,
@@ -488,7 +488,9 @@ pub fn fit_table<T: LtcTarget>(
                     err_cubic: ec,
                     err_l2: el2,
                     iters,
-                    half: crate::ltc::storage::half_storage(&t, &inv, norm, fresnel, n),
+                    // round to nearest; a study may choose better (`ltc::storage`)
+                    half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
+                        .map(|x| half::f16::from_f64(x).to_f64()),
                     polished,
                 });
                 progress();

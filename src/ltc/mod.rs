@@ -15,6 +15,7 @@
 //! `crate::studies::ltc_ggx`.
 
 pub mod compare;
+pub mod compare_report;
 pub mod dist;
 pub mod fit;
 pub mod pipeline;

@@ -143,6 +143,19 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     Ok((main, variants.into()))
 }
 
+/// The binary16 storage of every cell of the main table (`ltc::storage`).
+fn choose_half_storage(main: &mut Table, n: usize) -> Result<()> {
+    use rayon::prelude::*;
+    main.cells
+        .par_iter_mut()
+        .flatten()
+        .try_for_each(|c| -> Result<()> {
+            let t = GgxTarget::new(c.alpha, c.theta)?;
+            c.half = crate::ltc::storage::half_storage(&t, &c.inv, c.norm, c.fresnel, n);
+            Ok(())
+        })
+}
+
 /// The title, the method and the table error.
 fn intro(spec: &FitSpec, preset: Preset, pl: &Plan, main: &Table) -> String {
     let st = stats(main);
@@ -207,7 +220,8 @@ fn stored(main: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
 /// The study: fit, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
-    let (main, variants) = fit_tables(spec, &pl)?;
+    let (mut main, variants) = fit_tables(spec, &pl)?;
+    choose_half_storage(&mut main, pl.samples)?;
     let st = stats(&main);
     let mut md = intro(spec, preset, &pl, &main);
     md.push_str(&table_report::structure_section(&main));
