@@ -10,6 +10,7 @@ use crate::ltc::target::GgxTarget;
 use nalgebra::Matrix3;
 use std::path::Path;
 
+mod floor;
 mod pipeline;
 mod polygons;
 mod precision;
@@ -78,7 +79,17 @@ pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
 }
 
 /// The main table and the optimiser/metric variants on the sub-grid.
-fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
+/// What fitting the main table cost (wall clock; the only field of the result that differs
+/// between runs).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct FitTime {
+    pub seconds: f64,
+    pub threads: usize,
+    pub cells: usize,
+    pub per_cell_ms: f64,
+}
+
+fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>, FitTime)> {
     let grid = Grid {
         n: pl.n,
         alpha_min: spec.domain.alpha_min,
@@ -87,6 +98,7 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     let pb = indicatif::ProgressBar::new((pl.n * pl.n + 3 * pl.sub * pl.sub) as u64);
     pb.set_message("ltc fit");
     let tick = || pb.inc(1);
+    let clock = std::time::Instant::now();
     let main = fit_table(
         grid,
         &GgxTarget::new,
@@ -96,6 +108,14 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
         iters,
         &tick,
     )?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let cells = pl.n * pl.n;
+    let time = FitTime {
+        seconds,
+        threads: rayon::current_num_threads(),
+        cells,
+        per_cell_ms: 1e3 * seconds * rayon::current_num_threads() as f64 / cells as f64,
+    };
     let sub = Grid {
         n: pl.sub,
         alpha_min: spec.domain.alpha_min,
@@ -140,7 +160,7 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     ];
     pb.finish_and_clear();
     crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
-    Ok((main, variants.into()))
+    Ok((main, variants.into(), time))
 }
 
 /// The binary16 storage of every cell of the main table (`ltc::storage`).
@@ -195,6 +215,10 @@ struct LtcResult<'a> {
     polygons: Vec<serde_json::Value>,
     pipeline: serde_json::Value,
     sphere_horizon: serde_json::Value,
+    /// The floor of a single LTC on a spread of cells.
+    floor: Vec<floor::FloorCell>,
+    /// What the main table's fit cost.
+    fit_time: FitTime,
 }
 
 /// The table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
@@ -220,16 +244,36 @@ fn stored(main: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
 /// The study: fit, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
-    let (mut main, variants) = fit_tables(spec, &pl)?;
+    let (mut main, variants, fit_time) = fit_tables(spec, &pl)?;
     choose_half_storage(&mut main, pl.samples)?;
     let st = stats(&main);
     let mut md = intro(spec, preset, &pl, &main);
+    md.push_str(&format!(
+        "Fit cost (this run): {:.0} s for the {} cells of the main table on {} threads, {:.0} ms of one thread per cell (cubic fit, L2 polish; results/performance.md has criterion's time for single cells).\n\n",
+        fit_time.seconds, fit_time.cells, fit_time.threads, fit_time.per_cell_ms
+    ));
     md.push_str(&table_report::structure_section(&main));
     md.push_str(&table_report::between_section(&main, &pl)?);
     let var_json = table_report::variants_section(&mut md, &pl, &variants);
     table_report::error_heatmap(&main, results)?;
     md.push_str(&shipped::section(results, st.mean_l2));
     md.push_str(&precision::section(&main, 2 * pl.samples)?);
+    crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
+    let floor = floor::compute(&main, pl.samples, spec.optimiser.max_iters.unwrap_or(400))?;
+    let n = main.grid.n;
+    let grazing: Vec<f64> = main
+        .cells
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| 63 * j >= 56 * (n - 1))
+        .flat_map(|(_, col)| col.iter().map(|c| c.err_l2))
+        .collect();
+    md.push_str(&floor::section(
+        &floor,
+        st.mean_l2,
+        grazing.iter().sum::<f64>() / grazing.len().max(1) as f64,
+        n,
+    ));
     let poly = polygons::section(&mut md, &main, pl.mc)?;
     // write the table first: the pipeline looks it up like a renderer would
     let (table, table_f16) = stored(&main);
@@ -255,6 +299,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         polygons: poly.polygons,
         pipeline: pipe,
         sphere_horizon: poly.sphere_horizon,
+        floor,
+        fit_time,
     };
     crate::results::write_result(results, &spec.name, &json)?;
     let passed = st.max_l2 <= spec.tolerance.max_rel;

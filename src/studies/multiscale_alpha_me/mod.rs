@@ -1,5 +1,6 @@
 //! `regen --only multiscale`: fit α_me(‖b̄‖), audit seed 000 Eq 5, write
-//! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots.
+//! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots. Compute
+//! ([`compute`]) → plots ([`plots`]) → report ([`report`]) → files.
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
@@ -8,11 +9,13 @@ use crate::multiscale::alpha_me::{
     fit_nelder_mead, fit_ours, held_out, held_out_alphas, ours_eval_pair_t, ours_eval_t,
     paper_form, paper_method, training_alphas, HeldOut, Table, PAPER,
 };
-use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
-use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper};
 use crate::study::FitOutcome;
 use serde_json::json;
 use std::path::Path;
+
+mod plots;
+mod report;
 
 /// Sign changes of f on a fine grid of (lo, hi), refined by bisection.
 fn roots(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Vec<f64> {
@@ -38,15 +41,36 @@ fn roots(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Vec<f64> {
     out
 }
 
-fn row(name: &str, h: &HeldOut, cost: &str) -> String {
+pub(super) fn row(name: &str, h: &HeldOut, cost: &str) -> String {
     format!(
         "| {name} | {:.3e} | {:.3e} | {:.4e} | {:+.3e} | {:+.3e} | {cost} |\n",
         h.max_rel, h.rms_rel, h.worst_alpha, h.rel_at_min, h.rel_at_max
     )
 }
 
-/// Run the multiscale α_me fit described by `spec`.
-pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome> {
+/// Everything the study computes; the plots and the report only read it.
+pub(super) struct Computed {
+    pub lo: f64,
+    pub hi: f64,
+    pub c: crate::multiscale::alpha_me::OursFit,
+    pub refit: crate::multiscale::alpha_me::Fitted,
+    pub h_ours: HeldOut,
+    pub h_refit: HeldOut,
+    pub h_paper: HeldOut,
+    pub table: Table,
+    pub h_table: HeldOut,
+    pub h_newton: HeldOut,
+    pub whole: WholeRange,
+    pub poles: Vec<f64>,
+    pub zeros: Vec<f64>,
+    pub at_one: f64,
+    pub at_two_thirds: f64,
+    pub sign_alpha: Vec<String>,
+    pub pole_alpha: Vec<String>,
+}
+
+/// The fits, their held-out errors, the whole-range check and the audit of Eq 5.
+fn compute(spec: &FitSpec) -> Result<Computed> {
     if !spec.name.starts_with("multiscale-alpha-me") {
         return Err(Error::InvalidArgument(format!(
             "no fit routine for spec '{}'",
@@ -57,7 +81,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
     let train = training_alphas(spec.training.points, lo, hi);
     let held = held_out_alphas(spec.held_out.points, lo, hi);
-    let pb = indicatif::ProgressBar::new(5);
+    let pb = indicatif::ProgressBar::new(4);
     pb.set_message("multiscale");
     // ours: weighted linear least squares
     let c = fit_ours(spec.terms, spec.terms_large, &train)?;
@@ -106,88 +130,48 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
             )
         })
         .collect();
-    // error curves beyond the fit domain on both sides
-    let curve: Vec<f64> = held_out_alphas(400, 0.01 * lo, 10.0 * hi);
-    let rel = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
-        curve
-            .iter()
-            .map(|&a| {
-                let (b, y) = mrl_pair(a);
-                (a, ((f(b, y) - a) / a).abs().max(1e-17))
-            })
-            .collect()
-    };
-    let abs_curve: Vec<(f64, f64)> = curve
-        .iter()
-        .map(|&a| {
-            let (b, _) = mrl_pair(a);
-            (a, (alpha_me_paper(b) - a).abs().max(1e-17))
-        })
-        .collect();
-    let svg_err = loglog_svg(
-        &[
-            Panel {
-                title: "relative error of α_me(‖b̄‖)".into(),
-                x_label: "true α".into(),
-                y_label: "|α_fit − α| / α".into(),
-                series: vec![
-                    Series {
-                        name: "paper Eq 5".into(),
-                        points: rel(&paper_method),
-                    },
-                    Series {
-                        name: "paper form, refitted".into(),
-                        points: rel(&|b, _y| paper_form(&refit.params, b)),
-                    },
-                    Series {
-                        name: format!("ours ({} + {} terms)", spec.terms, spec.terms_large),
-                        points: rel(&|_b, y| c.eval(y)),
-                    },
-                    Series {
-                        name: format!("table ({} entries)", spec.table_entries),
-                        points: rel(&|_b, y| table.eval(y)),
-                    },
-                ],
-            },
-            Panel {
-                title: "absolute error of paper Eq 5".into(),
-                x_label: "true α".into(),
-                y_label: "|α_Eq5 − α|".into(),
-                series: vec![Series {
-                    name: "paper Eq 5".into(),
-                    points: abs_curve,
-                }],
-            },
-        ],
-        1400,
-        520,
-    )?;
-    let mrl_curve = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
-        curve
-            .iter()
-            .filter_map(|&a| {
-                let (b, y) = mrl_pair(a);
-                let v = f(b, y);
-                (v > 0.0).then_some((y, v))
-            })
-            .collect()
-    };
-    let svg_mrl = loglog_svg(
-        &[Panel {
-            title: "α_me against 1 − ‖b̄‖ (exact closed form vs fits; Eq 5 is drawn only where positive)".into(),
-            x_label: "1 − ‖b̄‖".into(),
-            y_label: "α_me".into(),
-            series: vec![
-                Series { name: "exact (closed form inverse)".into(), points: mrl_curve(&|_b, y| alpha_from_one_minus(y).unwrap_or(f64::NAN)) },
-                Series { name: "paper Eq 5".into(), points: mrl_curve(&paper_method) },
-                Series { name: "ours".into(), points: mrl_curve(&|_b, y| c.eval(y)) },
-            ],
-        }],
-        900,
-        560,
-    )?;
-    pb.inc(1);
+    pb.finish_and_clear();
+    Ok(Computed {
+        lo,
+        hi,
+        c,
+        refit,
+        h_ours,
+        h_refit,
+        h_paper,
+        table,
+        h_table,
+        h_newton,
+        whole,
+        poles,
+        zeros,
+        at_one,
+        at_two_thirds,
+        sign_alpha,
+        pole_alpha,
+    })
+}
 
+/// Run the multiscale α_me fit described by `spec`.
+pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome> {
+    let k = compute(spec)?;
+    let (svg_err, svg_mrl) = plots::render(spec, &k)?;
+    let Computed {
+        ref c,
+        ref refit,
+        ref h_ours,
+        ref h_refit,
+        ref h_paper,
+        ref table,
+        ref h_table,
+        ref h_newton,
+        ref whole,
+        ref poles,
+        ref zeros,
+        at_one,
+        at_two_thirds,
+        ..
+    } = k;
     let passed = h_ours.max_rel <= spec.tolerance.max_rel;
     let json = json!({
         "spec": spec,
@@ -207,83 +191,8 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
         svg_err.as_bytes(),
     )?;
     crate::io::write_atomic(&results.join("multiscale-alpha-me.svg"), svg_mrl.as_bytes())?;
-
-    let mut md = String::from("# Multi-scale LTC: α_me from ‖b̄‖ (seed 000 §3.3)\n\n");
-    md.push_str("Written by `cargo run --release -- regen --only multiscale` from `fits/multiscale-alpha-me.toml`. \
-Ground truth is the closed form ‖b̄‖(α) = (1 − α² artanh(k)/k)/(1 − α²), k = √(1 − α²) (proofs/mrl-closed-form.md; \
-checked against quadrature of Eq 4 to ≤ 1e-10 in results/proofs.md), inverted by safeguarded Newton. \
-Errors are relative errors in α on held-out points (log-uniform, half a step off the training grid).\n\n");
-    md.push_str(&format!(
-        "## Methods on the fit domain α ∈ [{lo}, {hi}] ({} held-out points)\n\n| method | max rel. error | RMS rel. error | worst at α | rel. error at α = {lo} | at α = {hi} | cost |\n|---|---|---|---|---|---|---|\n",
-        spec.held_out.points
-    ));
-    md.push_str(&row(
-        "paper Eq 5 (as printed)",
-        &h_paper,
-        "see performance.md",
-    ));
-    md.push_str(&row(
-        "paper's form, refitted (argmin Nelder–Mead)",
-        &h_refit,
-        "see performance.md",
-    ));
-    md.push_str(&row(
-        &format!(
-            "ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})",
-            spec.terms, spec.terms_large
-        ),
-        &h_ours,
-        "see performance.md",
-    ));
-    md.push_str(&row(
-        &format!(
-            "lookup table, {} entries, linear in (s, ln α)",
-            spec.table_entries
-        ),
-        &h_table,
-        "see performance.md",
-    ));
-    md.push_str(&row(
-        "Newton on the closed form",
-        &h_newton,
-        "see performance.md",
-    ));
-    md.push_str(&format!(
-        "\nGoal: max relative error ≤ {:.0e} on held-out points — ours: **{}** ({:.2e}).\n\n",
-        spec.tolerance.max_rel,
-        if passed { "met" } else { "MISSED" },
-        h_ours.max_rel
-    ));
-    md.push_str(&whole_range_md(&whole));
-    md.push_str("## Audit of Eq 5\n\n");
-    md.push_str(&format!("- At ‖b̄‖ → 1 (α → 0) Eq 5 tends to {at_one:.5}: **negative**. Its numerator changes sign at {}: every footprint smoother than that gets a negative α_me.\n", sign_alpha.join(", ")));
-    md.push_str(&format!("- At α = 1e-3 (fit-domain edge) Eq 5 is off by {:.1} % (relative); at α = 0.01 by {:.1} %.\n",
-        100.0 * (alpha_me_paper(mrl_pair(1e-3).0) - 1e-3) / 1e-3,
-        100.0 * (alpha_me_paper(mrl_pair(1e-2).0) - 1e-2) / 1e-2));
-    md.push_str(&format!(
-        "- At ‖b̄‖ = 2/3 (exact α = 1, where the paper clamps) Eq 5 gives {at_two_thirds:.5}.\n"
-    ));
-    md.push_str(&format!("- Poles of Eq 5 in (0, 1): {} — past it (rougher footprints, α > 1) the rational is meaningless; the paper clamps α at 1, i.e. uses only ‖b̄‖ ≳ 0.667.\n", if pole_alpha.is_empty() { "none".into() } else { pole_alpha.join(", ") }));
-    md.push_str(&format!("- Max relative error of Eq 5 over α ∈ [{lo}, {hi}]: {:.3e} (at α = {:.4e}); it is only accurate where Fig. 2 of the paper shows it (α ≳ 0.05). The absolute error stays ≈ 2e-3 as α → 0 because Eq 5 has no α → 0 limit: a rational function of ‖b̄‖ cannot follow 1 − ‖b̄‖ = α²(ln(2/α) − 1).\n", h_paper.max_rel, h_paper.worst_alpha));
-    md.push_str(&format!("- Refitting the same form (8 coefficients, argmin Nelder–Mead, {} iterations, objective {:.3e}) reaches only {:.3e} max relative error: the form, not the fit, is the limit.\n\n", refit.iterations, refit.objective, h_refit.max_rel));
-    md.push_str("## Our form\n\nα = √(y/R(s)) with y = 1 − ‖b̄‖, s = ln(1/y) and R(s) = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^(−k). \
-The fixed terms are the exact α → 0 asymptote (1 − ‖b̄‖ = α²(ln(2/α) − 1) ⇒ R = s/2 + ½ ln R + ln 2 − 1); \
-the point ‖b̄‖ = 2/3 ↦ α = 1 is pinned. R = y/α² is known exactly at every training point, so the c_k come from one \
-weighted linear least-squares solve (nalgebra SVD), not an iterative optimiser. Pass y = 1 − ‖b̄‖ (the mip chain can \
-store it directly) to keep precision as ‖b̄‖ → 1.\n\n");
-    md.push_str("Above α = 1 (y > 1/3) the same pinned point starts the second branch α = (π/2) g(b)/b, b = ‖b̄‖, \
-g(b) = 1 + Σ d_k b^k: g(0) = 1 is the exact α → ∞ asymptote ‖b̄‖ ~ π/(2α), and g − 1 = 2bα/π − 1 is again linear in the \
-d_k (weights 1/g). Pass b itself where it is small, or y ≥ ½, for which b = 1 − y is exact in binary arithmetic.\n\n");
-    md.push_str(&format!(
-        "Coefficients c_1…c_{}: `{:?}`\n\nCoefficients d_1…d_{}: `{:?}`\n\n",
-        spec.terms, c.small, spec.terms_large, c.large
-    ));
-    md.push_str("![α_me against 1 − ‖b̄‖](multiscale-alpha-me.svg)\n\n![errors](multiscale-alpha-error.svg)\n\n");
-    md.push_str("## Overall roughness (Eq 6–7)\n\nThe spherical convolution γ_me ∗ γ_mi, its one-LTC fits under four metrics, the \
-product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 refit and the engines' rules are in \
-[multiscale-convolution.md](multiscale-convolution.md) (`regen --only multiscale-convolution`).\n");
+    let md = report::markdown(spec, &k);
     crate::io::write_atomic(&results.join("multiscale.md"), md.as_bytes())?;
-    pb.finish_and_clear();
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: h_ours.max_rel,
