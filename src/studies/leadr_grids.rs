@@ -6,15 +6,24 @@ use crate::leadr::*;
 use nalgebra::Vector3;
 type V3 = Vector3<f64>;
 
-/// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
-/// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
-/// micronormal at silhouettes; results/leadr.md, results/leadr-pareto.svg,
-/// results/fits/leadr-grids.json.
-pub fn regen(
-    spec: &crate::fit::spec::FitSpec,
-    results: &std::path::Path,
-) -> Result<crate::study::FitOutcome> {
-    use crate::report::plot::{loglog_svg, Panel, Series};
+/// One row of the N study: N, the fitted spacing, and for each family (paper spacing,
+/// fitted spacing, Gauss–Hermite) the held-out (RMS, max) errors (specular, diffuse).
+type NRow = (usize, f64, Vec<((f64, f64), (f64, f64))>);
+
+/// What the study computes.
+struct Computed {
+    rows: Vec<NRow>,
+    /// (h, specular RMS, diffuse RMS) on the training set at N = 5.
+    scan: Vec<(f64, f64, f64)>,
+    h5: f64,
+    without: f64,
+    with: f64,
+    paper_held: (f64, f64),
+}
+
+/// Error against N for three grid families, the h-scan at N = 5 and the artificial
+/// micronormal at a silhouette.
+fn compute() -> Result<Computed> {
     let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
     let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
     let ns = [3usize, 4, 5, 6, 8, 12, 16, 24, 32];
@@ -66,6 +75,19 @@ pub fn regen(
     let without = grid_estimate(&Grid::paper5(), &s, &v, &env, None);
     let with = grid_estimate(&Grid::paper5(), &s, &v, &env, Some((1.01, 1e-5)));
     let paper_held = grid_error(&Grid::paper5(), &held, true);
+    Ok(Computed {
+        rows,
+        scan,
+        h5,
+        without,
+        with,
+        paper_held,
+    })
+}
+
+/// results/leadr-pareto.svg: held-out max error against the grid size, per family.
+fn pareto_svg(rows: &[NRow]) -> Result<String> {
+    use crate::report::plot::{loglog_svg, Panel, Series};
     let fam_names = [
         "uniform, h = 0.9 (paper)",
         "uniform, fitted h",
@@ -87,7 +109,7 @@ pub fn regen(
             })
             .collect()
     };
-    let svg = loglog_svg(
+    loglog_svg(
         &[
             Panel {
                 title: "rough specular × environment: max rel. error (held-out)".into(),
@@ -104,8 +126,19 @@ pub fn regen(
         ],
         1400,
         520,
-    )?;
-    crate::io::write_atomic(&results.join("leadr-pareto.svg"), svg.as_bytes())?;
+    )
+}
+
+/// results/leadr.md.
+fn markdown(k: &Computed) -> String {
+    let Computed {
+        ref rows,
+        ref scan,
+        h5,
+        without,
+        with,
+        paper_held,
+    } = *k;
     let mut md = String::from("# LEADR numerical integration (seed 001 §3.4–3.7)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only leadr` from `fits/leadr-grids.toml`. Estimator: the paper's simplified \
 algorithms 1 and 3 (weighted sum of L(N) over an N×N slope grid, weights × projected area, normalised). Reference: the same ratio with \
@@ -113,7 +146,7 @@ the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10)
 (sky gradient + a κ = 50 sun) and rough diffuse under one directional light; isotropic Beckmann σ. Training set σ ∈ {0.05, 0.15, 0.3, 0.5} × \
 θ_o ∈ {0°, 30°, 60°, 75°}; held-out σ ∈ {0.1, 0.2, 0.4, 0.6} × θ_o ∈ {15°, 45°, 70°, 80°}.\n\n");
     md.push_str("## Error against N (held-out max relative error; RMS in parentheses)\n\n| N | grid points | paper h | fitted h | specular: paper h | specular: fitted h | specular: Gauss–Hermite | diffuse: paper h | diffuse: fitted h | diffuse: Gauss–Hermite |\n|---|---|---|---|---|---|---|---|---|---|\n");
-    for (n, h, e) in &rows {
+    for (n, h, e) in rows {
         md.push_str(&format!(
             "| {n} | {} | {:.3} | {h:.3} | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) |\n",
             n * n, paper_spacing(*n), e[0].0 .1, e[0].0 .0, e[1].0 .1, e[1].0 .0, e[2].0 .1, e[2].0 .0, e[0].1 .1, e[0].1 .0, e[1].1 .1, e[1].1 .0, e[2].1 .1, e[2].1 .0
@@ -121,7 +154,7 @@ the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10)
     }
     md.push_str("\nCost is the same per grid point for every family (one normal, one projected area, one shading call): ns per evaluation at each N is in results/performance.md (bench group `leadr`). ![Pareto](leadr-pareto.svg)\n\n");
     md.push_str("## Why spacing 0.9 for 5×5\n\nThe paper's weights are exactly the normalised Gaussian density at the nodes (φ(p)/Σφ at h = 0.9 reproduces 0.0725, 0.2443, 0.3663 to four digits), i.e. its grid is a uniform Riemann sum of the slope density. RMS relative error on the training set against the spacing h (N = 5):\n\n| h | specular | diffuse |\n|---|---|---|\n");
-    for (h, a, b) in &scan {
+    for (h, a, b) in scan {
         md.push_str(&format!("| {h:.2} | {a:.2e} | {b:.2e} |\n"));
     }
     let argmin_col = |k: usize| {
@@ -144,6 +177,29 @@ does not dominate at grazing views.\n\n",
         argmin_col(1)
     ));
     md.push_str(&format!("## Artificial micronormal (§3.7)\n\nSilhouette configuration (mean slope 3, σ = 0.05, view at 87.4° on the far side, so every grid normal faces away): without the artificial micronormal the 5×5 estimate is {without} (0/0); with ε = 1.01 and weight 1e-5 it is {with:.6} (finite, from the artificial normal alone). Held-out error of the plain paper grid elsewhere: max {:.2e} (RMS {:.1e}) — unchanged by the 1e-5 weight wherever any grid normal is visible.\n", paper_held.1, paper_held.0));
+    md
+}
+
+/// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
+/// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
+/// micronormal at silhouettes; results/leadr.md, results/leadr-pareto.svg,
+/// results/fits/leadr-grids.json.
+pub fn regen(
+    spec: &crate::fit::spec::FitSpec,
+    results: &std::path::Path,
+) -> Result<crate::study::FitOutcome> {
+    let k = compute()?;
+    let svg = pareto_svg(&k.rows)?;
+    crate::io::write_atomic(&results.join("leadr-pareto.svg"), svg.as_bytes())?;
+    let md = markdown(&k);
+    let Computed {
+        ref rows,
+        ref scan,
+        h5,
+        without,
+        with,
+        ..
+    } = k;
     crate::io::write_atomic(&results.join("leadr.md"), md.as_bytes())?;
     let json = serde_json::json!({
         "spec": spec,

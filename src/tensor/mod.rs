@@ -5,6 +5,7 @@
 pub mod cluster;
 pub mod compare;
 pub mod cp;
+mod mttkrp;
 pub mod pndf;
 pub mod query;
 pub mod sample;

@@ -6,6 +6,7 @@
 //! non-zero if any fails. tests/proofs.rs runs the same checks at the quick preset.
 
 pub mod cases;
+pub mod furnace;
 pub mod jacobians;
 pub mod multiscale;
 pub mod ndf;
@@ -78,11 +79,11 @@ pub fn all() -> Vec<Check> {
         },
         Check {
             id: "weak-white-furnace",
-            run: ndf::weak_white_furnace,
+            run: furnace::weak_white_furnace,
         },
         Check {
             id: "weak-white-furnace-walter",
-            run: ndf::weak_white_furnace_walter,
+            run: furnace::weak_white_furnace_walter,
         },
         Check {
             id: "smith-lambda-closed-forms",

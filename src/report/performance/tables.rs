@@ -1,320 +1,13 @@
-//! `bench-report`: read criterion's estimates (target/criterion/**/new/) and write
-//! results/performance.md with time per call next to the error each configuration
-//! reaches (recomputed deterministically, same seed as the bench).
+//! The per-topic tables of results/performance.md: each study's cost (criterion) next to
+//! the error it buys (its results/fits JSON).
 
-use super::convergence::{integrands, run_engine, Engine};
-use super::plot::{loglog_svg, Panel, Series};
-use crate::error::{Error, Result};
-use serde::Deserialize;
-use std::path::{Path, PathBuf};
-
-#[derive(Deserialize)]
-struct BenchId {
-    group_id: String,
-    function_id: Option<String>,
-    value_str: Option<String>,
-}
-
-#[derive(Deserialize)]
-struct Interval {
-    lower_bound: f64,
-    upper_bound: f64,
-}
-#[derive(Deserialize)]
-struct Stat {
-    point_estimate: f64,
-    confidence_interval: Interval,
-}
-#[derive(Deserialize)]
-struct Estimates {
-    mean: Stat,
-}
-
-/// One timed benchmark.
-pub struct Timed {
-    pub group: String,
-    pub function: String,
-    pub param: String,
-    pub mean_ns: f64,
-    pub lo_ns: f64,
-    pub hi_ns: f64,
-}
-
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    if let Ok(rd) = std::fs::read_dir(dir) {
-        for e in rd.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                walk(&p, out);
-            } else if p.file_name().is_some_and(|n| n == "benchmark.json")
-                && p.parent().is_some_and(|d| d.ends_with("new"))
-            {
-                out.push(p);
-            }
-        }
-    }
-}
-
-/// All benchmarks criterion has results for.
-pub fn read_criterion(dir: &Path) -> Result<Vec<Timed>> {
-    let mut files = Vec::new();
-    walk(dir, &mut files);
-    if files.is_empty() {
-        return Err(Error::InvalidArgument(format!(
-            "no criterion results under '{}': run `cargo bench` first",
-            dir.display()
-        )));
-    }
-    let io = |p: &Path, e: String| Error::Io {
-        path: p.display().to_string(),
-        msg: e,
-    };
-    let mut out = Vec::new();
-    for f in files {
-        let id: BenchId =
-            serde_json::from_str(&std::fs::read_to_string(&f).map_err(|e| io(&f, e.to_string()))?)
-                .map_err(|e| io(&f, e.to_string()))?;
-        let ef = f.with_file_name("estimates.json");
-        let est: Estimates = serde_json::from_str(
-            &std::fs::read_to_string(&ef).map_err(|e| io(&ef, e.to_string()))?,
-        )
-        .map_err(|e| io(&ef, e.to_string()))?;
-        // a time is a positive finite number of nanoseconds, its interval around it
-        let (m, lo, hi) = (
-            est.mean.point_estimate,
-            est.mean.confidence_interval.lower_bound,
-            est.mean.confidence_interval.upper_bound,
-        );
-        if !(m.is_finite() && m > 0.0 && lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
-            return Err(io(
-                &ef,
-                format!(
-                    "criterion estimate is not a positive time (mean {m:e} ns, interval [{lo:e}, {hi:e}])"
-                ),
-            ));
-        }
-        out.push(Timed {
-            group: id.group_id,
-            function: id.function_id.unwrap_or_default(),
-            param: id.value_str.unwrap_or_default(),
-            mean_ns: est.mean.point_estimate,
-            lo_ns: est.mean.confidence_interval.lower_bound,
-            hi_ns: est.mean.confidence_interval.upper_bound,
-        });
-    }
-    out.sort_by(|a, b| (&a.group, &a.function, &a.param).cmp(&(&b.group, &b.function, &b.param)));
-    Ok(out)
-}
-
-/// A speed-up ratio, or "—" where a time is missing.
-fn fmt_ratio(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.2}×")
-    } else {
-        "—".into()
-    }
-}
-
-fn fmt_time(ns: f64) -> String {
-    if !ns.is_finite() {
-        return "—".into();
-    }
-    if ns >= 1e9 {
-        format!("{:.3} s", ns / 1e9)
-    } else if ns >= 1e6 {
-        format!("{:.3} ms", ns / 1e6)
-    } else if ns >= 1e3 {
-        format!("{:.3} µs", ns / 1e3)
-    } else {
-        format!("{ns:.1} ns")
-    }
-}
-
-/// Write results/performance.md.
-pub fn run(criterion: &Path, results: &Path) -> Result<String> {
-    let timed = read_criterion(criterion)?;
-    write_costs(&timed, results)?;
-    let igs = integrands();
-    let mut md = String::from("# Performance\n\n");
-    md.push_str(
-        "Written by `cargo bench --bench engines && cargo run --release -- bench-report`. Times are criterion's mean \
-with its 95 % confidence interval, on the machine that ran the benches (see the machine line). The error columns \
-are recomputed deterministically for the same configuration and seed, so every cost stands next to the accuracy \
-it buys.\n\n",
-    );
-    md.push_str(&format!(
-        "Machine: {} logical cores reported by the OS.\n\n",
-        std::thread::available_parallelism()
-            .map(|n| n.get())
-            .unwrap_or(0)
-    ));
-    md.push_str("## Engines: time and error per integral\n\n| integrand | engine | setting | evals | time per integral (95 % CI) | ns/eval | \\|error\\| | reported error |\n|---|---|---|---|---|---|---|---|\n");
-    let mut ns_per_eval: Vec<(String, Engine, f64)> = Vec::new();
-    for t in timed.iter().filter(|t| t.group.starts_with("engines/")) {
-        let key = t.group.trim_start_matches("engines/");
-        let (Some(ig), Some(e), Ok(level)) = (
-            igs.iter().find(|i| i.key == key),
-            Engine::from_name(&t.function),
-            t.param.parse::<u64>(),
-        ) else {
-            continue;
-        };
-        let est = run_engine(ig, e, level, 7);
-        ns_per_eval.push((ig.key.to_string(), e, t.mean_ns / est.evals as f64));
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {} ({} – {}) | {:.1} | {:.2e} | {:.2e} |\n",
-            ig.title,
-            e.name(),
-            level,
-            est.evals,
-            fmt_time(t.mean_ns),
-            fmt_time(t.lo_ns),
-            fmt_time(t.hi_ns),
-            t.mean_ns / est.evals as f64,
-            (est.value - ig.exact).abs(),
-            est.error
-        ));
-    }
-    md.push_str(&error_vs_time(results, &ns_per_eval)?);
-    let scaling: Vec<&Timed> = timed
-        .iter()
-        .filter(|t| t.group.starts_with("rayon-scaling"))
-        .collect();
-    if !scaling.is_empty() {
-        md.push_str("\n## Rayon scaling (MC, MIS, 2^20 tuples, same result bit for bit at every thread count)\n\n| threads | time (95 % CI) | speed-up vs 1 thread |\n|---|---|---|\n");
-        let base = scaling.iter().find(|t| t.param == "1").map(|t| t.mean_ns);
-        for t in &scaling {
-            md.push_str(&format!(
-                "| {} | {} ({} – {}) | {} |\n",
-                t.param,
-                fmt_time(t.mean_ns),
-                fmt_time(t.lo_ns),
-                fmt_time(t.hi_ns),
-                base.map(|b| fmt_ratio(b / t.mean_ns))
-                    .unwrap_or_else(|| "–".into())
-            ));
-        }
-    }
-    md.push_str(&alpha_me_table(&timed, results));
-    md.push_str(&smith_lambda_table(&timed, results));
-    md.push_str(&leadr_table(&timed, results));
-    md.push_str(&filters_table(&timed, results));
-    md.push_str(&kernels_table(&timed, results)?);
-    md.push_str(&tensor_table(&timed));
-    md.push_str(&ltc_table(&timed, results));
-    let other: Vec<&Timed> = timed
-        .iter()
-        .filter(|t| {
-            !t.group.starts_with("engines/")
-                && !t.group.starts_with("rayon-scaling")
-                && t.group != "alpha-me"
-                && t.group != "filters"
-                && !t.group.starts_with("kernel-")
-                && !t.group.starts_with("tensor-")
-                && !t.group.starts_with("ltc-")
-        })
-        .collect();
-    if !other.is_empty() {
-        md.push_str("\n## Other benchmarks\n\n| group | function | parameter | time (95 % CI) |\n|---|---|---|---|\n");
-        for t in other {
-            md.push_str(&format!(
-                "| {} | {} | {} | {} ({} – {}) |\n",
-                t.group,
-                t.function,
-                t.param,
-                fmt_time(t.mean_ns),
-                fmt_time(t.lo_ns),
-                fmt_time(t.hi_ns)
-            ));
-        }
-    }
-    // a benchmark missing from a partial criterion directory shows as "—", never as NaN
-    let md = missing_as_dash(&md);
-    crate::io::write_atomic(&results.join("performance.md"), md.as_bytes())?;
-    Ok(format!(
-        "wrote {}/performance.md ({} benchmarks)",
-        results.display(),
-        timed.len()
-    ))
-}
-
-/// Error against (estimated) time: the convergence study's points (results/convergence.json)
-/// with time = evaluations × the measured ns/eval of that engine on that integrand.
-fn error_vs_time(results: &Path, ns: &[(String, Engine, f64)]) -> Result<String> {
-    #[derive(Deserialize)]
-    struct Row {
-        integrand: String,
-        engine: Engine,
-        evals: u64,
-        abs_error: f64,
-    }
-    let path = results.join("convergence.json");
-    let Ok(text) = crate::io::read_to_string(&path) else {
-        return Ok("\n(no results/convergence.json: run `cargo run --release -- convergence` for the error-vs-time table)\n".into());
-    };
-    let rows: Vec<Row> = serde_json::from_str(&text).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        msg: e.to_string(),
-    })?;
-    let igs = integrands();
-    let mut md = String::from(
-        "\n## Error against time\n\nTime of each convergence-study point = its evaluations × the ns/eval measured above for \
-that engine and integrand (cost is linear in evaluations for every engine here; the adaptive rule's heap work is \
-included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).\n\n| integrand | engine | est. time to \\|error\\| ≤ 1e-6 | best \\|error\\| | at est. time |\n|---|---|---|---|---|\n",
-    );
-    let mut panels = Vec::new();
-    for ig in &igs {
-        let mut series = Vec::new();
-        for e in Engine::ALL {
-            let Some(&(_, _, c)) = ns.iter().find(|(k, en, _)| k == ig.key && *en == e) else {
-                continue;
-            };
-            let pts: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.integrand == ig.key && r.engine == e)
-                .map(|r| (r.evals as f64 * c * 1e-9, r.abs_error))
-                .collect();
-            let reach = pts
-                .iter()
-                .find(|p| p.1 <= 1e-6)
-                .map(|p| fmt_time(p.0 * 1e9))
-                .unwrap_or_else(|| "not reached".into());
-            if let Some(best) = pts.iter().min_by(|a, b| a.1.total_cmp(&b.1)) {
-                let err = if best.1 == 0.0 {
-                    "0 (exact in f64)".to_string()
-                } else {
-                    format!("{:.2e}", best.1)
-                };
-                md.push_str(&format!(
-                    "| {} | {} | {} | {} | {} |\n",
-                    ig.title,
-                    e.name(),
-                    reach,
-                    err,
-                    fmt_time(best.0 * 1e9)
-                ));
-            }
-            // zero errors are drawn at 1e-17 (log axis)
-            series.push(Series {
-                name: e.name().to_string(),
-                points: pts.iter().map(|p| (p.0, p.1.max(1e-17))).collect(),
-            });
-        }
-        panels.push(Panel {
-            title: ig.title.to_string(),
-            x_label: "seconds (estimated)".into(),
-            y_label: "|error|".into(),
-            series,
-        });
-    }
-    let svg = loglog_svg(&panels, 1500, 480)?;
-    crate::io::write_atomic(&results.join("error-vs-time.svg"), svg.as_bytes())?;
-    Ok(md)
-}
+use super::{fmt_ratio, Timed};
+use crate::error::Result;
+use std::path::Path;
 
 /// Cost next to accuracy for the ways to get α_me from ‖b̄‖ (benches group `alpha-me`,
 /// errors from results/fits/multiscale-alpha-me.json).
-fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "alpha-me").collect();
     if rows.is_empty() {
         return String::new();
@@ -349,61 +42,9 @@ fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     md
 }
 
-/// results/costs.json: ns per evaluation of the footprint filters (f32 forms, group
-/// `filters`) and ns per pixel of each kernel backend at a 4096-pixel batch — the cost
-/// side of the speed/accuracy tables `scene` chooses from. Entries keep what earlier
-/// runs measured when this run lacks them.
-fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
-    let path = results.join("costs.json");
-    let mut costs: serde_json::Map<String, serde_json::Value> = crate::io::read_to_string(&path)
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
-    for t in timed {
-        if t.group == "filters" {
-            costs.insert(
-                format!("filters/{}", t.function),
-                serde_json::json!(t.mean_ns / 1024.0),
-            );
-        } else if t.group == "ltc-polygon" {
-            costs.insert(
-                format!("ltc-polygon/{}", t.function),
-                serde_json::json!(t.mean_ns / 256.0),
-            );
-        } else if t.group == "ltc-fit-cell" {
-            costs.insert(
-                format!("ltc-fit-cell/{}", t.function),
-                serde_json::json!(t.mean_ns),
-            );
-        } else if t.group.starts_with("tensor-") {
-            let key = if t.param.is_empty() {
-                format!("{}/{}", t.group, t.function)
-            } else {
-                format!("{}/{}/{}", t.group, t.function, t.param)
-            };
-            costs.insert(key, serde_json::json!(t.mean_ns));
-        } else if t.group.starts_with("kernel-") && t.param == "4096" {
-            costs.insert(
-                format!("{}/{}", t.group, t.function),
-                serde_json::json!(t.mean_ns / 4096.0),
-            );
-        }
-    }
-    costs.insert(
-        "_note".into(),
-        serde_json::json!("ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch; tensor-*: per query or sample); written by bench-report"),
-    );
-    crate::io::write_atomic(
-        &path,
-        serde_json::to_string_pretty(&serde_json::Value::Object(costs))
-            .expect("json")
-            .as_bytes(),
-    )
-}
-
 /// Fit cost per LTC cell and per-pixel cost of each edge form, next to the
 /// errors results/fits/ltc-ggx.json records (benches `ltc-fit-cell`, `ltc-polygon`).
-fn ltc_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
     let fits: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-fit-cell").collect();
     let polys: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-polygon").collect();
     if fits.is_empty() && polys.is_empty() {
@@ -467,7 +108,7 @@ fn ltc_table(timed: &[Timed], results: &Path) -> String {
 
 /// Seed 002 range queries: time against box size, O(R) SAT vs the naive sum, and one
 /// importance sample (benches `tensor-range`, `tensor-sample`).
-fn tensor_table(timed: &[Timed]) -> String {
+pub(super) fn tensor_table(timed: &[Timed]) -> String {
     let rows: Vec<&Timed> = timed
         .iter()
         .filter(|t| t.group.starts_with("tensor-"))
@@ -525,7 +166,7 @@ fn tensor_table(timed: &[Timed]) -> String {
 /// SIMD kernels: pixels/s of each backend per batch size, the ratio, and each kernel's
 /// measured error next to its speed (benches `kernel-*`; accuracy measured here on 2^16
 /// of the benchmark inputs).
-fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
+pub(super) fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
     let rows: Vec<&Timed> = timed
         .iter()
         .filter(|t| t.group.starts_with("kernel-"))
@@ -608,7 +249,7 @@ fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
 
 /// Cost next to accuracy for the footprint filters (bench group `filters`; errors from
 /// results/fits/filters.json).
-fn filters_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn filters_table(timed: &[Timed], results: &Path) -> String {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "filters").collect();
     if rows.is_empty() {
         return String::new();
@@ -648,7 +289,7 @@ fn filters_table(timed: &[Timed], results: &Path) -> String {
 
 /// Cost next to accuracy for the Beckmann Λ forms (bench group `smith-lambda`; errors from
 /// results/fits/smith-lambda.json).
-fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "smith-lambda").collect();
     if rows.is_empty() {
         return String::new();
@@ -683,7 +324,7 @@ fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
 }
 
 /// LEADR grid cost against N next to the held-out errors of results/fits/leadr-grids.json.
-fn leadr_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> String {
     let mut rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "leadr").collect();
     if rows.is_empty() {
         return String::new();
@@ -723,30 +364,4 @@ fn leadr_table(timed: &[Timed], results: &Path) -> String {
         ));
     }
     md
-}
-
-/// Replace every formatted non-number ("NaN", "inf", "-inf" as whole words, with an
-/// optional unit or × after them) by "—".
-pub fn missing_as_dash(md: &str) -> String {
-    let mut out = String::with_capacity(md.len());
-    let mut word = String::new();
-    let flush = |word: &mut String, out: &mut String| {
-        let core = word.trim_end_matches(['×', '%']);
-        if matches!(core, "NaN" | "inf" | "-inf" | "NaN×" | "+inf") {
-            out.push('—');
-        } else {
-            out.push_str(word);
-        }
-        word.clear();
-    };
-    for ch in md.chars() {
-        if ch.is_whitespace() || ch == '|' || ch == '(' || ch == ')' || ch == ',' {
-            flush(&mut word, &mut out);
-            out.push(ch);
-        } else {
-            word.push(ch);
-        }
-    }
-    flush(&mut word, &mut out);
-    out
 }
