@@ -4,6 +4,18 @@
 use crate::error::Result;
 use std::path::{Path, PathBuf};
 
+/// The names of the result files (results/fits/<name>.json), one per fit spec: readers
+/// name a result through these, never through a string of their own.
+pub mod names {
+    pub const FILTERS: &str = "filters";
+    pub const LEADR_GRIDS: &str = "leadr-grids";
+    pub const LTC_GGX: &str = "ltc-ggx";
+    pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";
+    pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
+    pub const SMITH_LAMBDA: &str = "smith-lambda";
+    pub const TENSOR: &str = "tensor";
+}
+
 /// Where the result of the fit `name` lives under `results`.
 pub fn fit_path(results: &Path, name: &str) -> PathBuf {
     results.join("fits").join(format!("{name}.json"))

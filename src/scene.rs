@@ -251,7 +251,7 @@ struct Measured {
 impl Measured {
     fn load(results: &Path) -> Measured {
         Measured {
-            filters: crate::results::read_result(results, "filters"),
+            filters: crate::results::read_result(results, crate::results::names::FILTERS),
             costs: crate::io::read_to_string(&results.join("costs.json"))
                 .ok()
                 .and_then(|t| serde_json::from_str(&t).ok()),
@@ -357,7 +357,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n| aspect | choice | generated function | measured error | cost (ns/eval, f32) |\n|---|---|---|---|---|\n",
         s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
     );
-    let sl = crate::results::read_result(results, "smith-lambda");
+    let sl = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA);
     let dg1 = sl
         .as_ref()
         .and_then(|v| v["held_out"]["ours"]["max_dg1"].as_f64());
@@ -388,7 +388,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     if s.lights.iter().any(|l| l == "polygon") {
         fns.extend(["ltc_lut_u", "ltc_lut_v", "ltc_quad"]);
-        let lt = crate::results::read_result(results, "ltc-ggx");
+        let lt = crate::results::read_result(results, crate::results::names::LTC_GGX);
         let mean = lt.as_ref().and_then(|v| v["held_out"]["mean_l2"].as_f64());
         let sph = lt
             .as_ref()

@@ -252,3 +252,34 @@ fn second_texture_weights_schlick_fresnel_as_engines_assume() {
         }
     }
 }
+
+#[test]
+fn ltc_compare_reads_the_es_module_back_as_the_same_table() {
+    // the CLI round trip: our ES module as the "shipped" table gives identical f32 errors
+    let out = std::env::temp_dir().join(format!("ndfbench-esm-{}", std::process::id()));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ndfbench"))
+        .args([
+            "ltc-compare",
+            "--shipped",
+            "results/textures/ltc_ggx.js",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("ltc-compare.json")).unwrap())
+            .unwrap();
+    for row in v["cells"].as_array().unwrap() {
+        assert_eq!(row[2], row[3], "f32 cell {row:?}");
+    }
+    for row in v["squares"].as_array().unwrap() {
+        assert_eq!(row[2], row[3], "f32 square {row:?}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

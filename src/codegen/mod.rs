@@ -88,7 +88,8 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
         value: std::f32::consts::PI,
         doc: "π".into(),
     }];
-    let am = read("multiscale-alpha-me")?;
+    use crate::results::names;
+    let am = read(names::MULTISCALE_ALPHA_ME)?;
     let held = num(&am, &["ours", "held_out", "max_rel"], "multiscale-alpha-me")?;
     // both branches of the fit: (JSON key, constant prefix, generated count, what k means)
     for (key, prefix, want, power) in [
@@ -122,7 +123,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             });
         }
     }
-    let sl = read("smith-lambda")?;
+    let sl = read(names::SMITH_LAMBDA)?;
     let dg = num(&sl, &["held_out", "ours", "max_dg1"], "smith-lambda")?;
     for (key, name) in [
         ("a1", "A1"),
@@ -138,7 +139,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             doc: format!("refitted Beckmann Λ(ν), parameter {key} (held-out max |ΔG1| {dg:.2e})"),
         });
     }
-    let fl = read("filters")?;
+    let fl = read(names::FILTERS)?;
     let fitted = fl["fitted"].as_array().cloned().unwrap_or_default();
     let find = |fam: &str, ndf: &str| -> Result<(f32, f64)> {
         fitted
@@ -182,7 +183,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
         value: 0.18,
         doc: "clamp δ_max of seed 003 Eq 10/13".into(),
     });
-    let lg = read("leadr-grids")?;
+    let lg = read(names::LEADR_GRIDS)?;
     let h = num(&lg, &["fitted_h_n5"], "leadr-grids")?;
     out.push(Const {
         name: "LEADR_SPACING_N5".into(),
@@ -202,7 +203,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             doc: format!("5-point slope-grid weight of node ±{k}·h (φ(kh)/Σφ with the fitted h)"),
         });
     }
-    let lt = read("ltc-ggx")?;
+    let lt = read(names::LTC_GGX)?;
     let n = lt["table"].as_array().map_or(0, |t| t.len());
     if n < 2 {
         return Err(Error::InvalidArgument(format!(

@@ -152,7 +152,7 @@ pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Resu
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
 pub fn ours(results: &Path) -> Result<Shipped> {
-    let t = super::table::read(results, "ltc-ggx")?;
+    let t = super::table::read(results, crate::results::names::LTC_GGX)?;
     Ok(Shipped {
         n: t.n,
         mat: t.cells.iter().map(|c| [c[0], c[1], c[2], c[3]]).collect(),
@@ -163,7 +163,7 @@ pub fn ours(results: &Path) -> Result<Shipped> {
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
 /// (identifies the table a comparison was made against).
 pub fn ours_mean_l2(results: &Path) -> Result<f64> {
-    crate::results::read_result(results, "ltc-ggx")
+    crate::results::read_result(results, crate::results::names::LTC_GGX)
         .and_then(|v| v["held_out"]["mean_l2"].as_f64())
         .ok_or_else(|| {
             Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.mean_l2".into())

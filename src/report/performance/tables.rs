@@ -12,7 +12,7 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::results::read_result(results, "multiscale-alpha-me");
+    let fit = crate::results::read_result(results, crate::results::names::MULTISCALE_ALPHA_ME);
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
@@ -50,7 +50,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
     if fits.is_empty() && polys.is_empty() {
         return String::new();
     }
-    let v = crate::results::read_result(results, "ltc-ggx");
+    let v = crate::results::read_result(results, crate::results::names::LTC_GGX);
     let edge_err = |form: &str| -> Option<f64> {
         v.as_ref()?["edge_approximations"]
             .as_array()?
@@ -254,7 +254,7 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::results::read_result(results, "filters");
+    let fit = crate::results::read_result(results, crate::results::names::FILTERS);
     let mut md = String::from(
         "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
     );
@@ -294,7 +294,7 @@ pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let fit = crate::results::read_result(results, "smith-lambda");
+    let fit = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA);
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
@@ -330,7 +330,7 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> String {
         return String::new();
     }
     rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
-    let fit = crate::results::read_result(results, "leadr-grids");
+    let fit = crate::results::read_result(results, crate::results::names::LEADR_GRIDS);
     let err = |n: usize, fam: &str, kind: &str| -> String {
         fit.as_ref()
             .and_then(|v| {
