@@ -35,23 +35,20 @@ fn names(line: &str) -> Vec<String> {
 fn every_source_file_is_named_in_architecture_md() {
     let arch = std::fs::read_to_string("ARCHITECTURE.md").unwrap();
     let named: std::collections::HashSet<String> = arch.lines().flat_map(names).collect();
-    let mut missing = Vec::new();
-    let mut stack = vec![Path::new("src").to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                if !p.ends_with("generated") {
-                    stack.push(p);
-                }
-            } else if p.extension().is_some_and(|x| x == "rs") {
-                let rel = p.strip_prefix("src").unwrap().display().to_string();
-                if !named.contains(&rel) && rel != "lib.rs" {
-                    missing.push(rel);
-                }
+    let mut missing: Vec<String> = sources()
+        .into_iter()
+        .map(|(m, _)| m)
+        .map(|m| {
+            // back from the module path to the file named in ARCHITECTURE.md
+            let f = m.replace("::", "/");
+            if std::path::Path::new(&format!("src/{f}/mod.rs")).exists() {
+                format!("{f}/mod.rs")
+            } else {
+                format!("{f}.rs")
             }
-        }
-    }
+        })
+        .filter(|rel| !named.contains(rel) && rel != "lib.rs")
+        .collect();
     missing.sort();
     assert!(
         missing.is_empty(),

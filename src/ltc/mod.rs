@@ -20,6 +20,7 @@ pub mod dist;
 pub mod fit;
 pub mod pipeline;
 pub mod polygon;
+pub mod smooth;
 pub mod storage;
 pub mod table;
 pub mod target;

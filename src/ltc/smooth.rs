@@ -1,0 +1,265 @@
+//! Fitting a table for what a shader sees: a shader never reads one cell, it reads the
+//! bilinear interpolation of four (the matrix entries a, b, c, d and the norm, each
+//! interpolated linearly). This pass refits every cell's production inverse against its
+//! own lobe and against the lobes at the centres of the (up to four) squares it is a
+//! corner of, each interpolated as a GPU does, so that the table is good between cells
+//! too — not only at them.
+//!
+//! Objective of cell k: Σ_P w_P (e_P/e_P⁰)² over P = the cell (w = 1) and its squares
+//! (w = the square weight), e_P the relative L2 ‖f − norm·γ‖/‖f‖ on the training set (n×n
+//! per technique, offset 0.5) and e_P⁰ the same before the pass: each place counts by its
+//! relative change, so a cell whose lobe fits well is not spent on a square that cannot. Nelder–Mead
+//! (argmin) on (ln a, ln d, b, c) from the current entries; the move is kept only if the
+//! same objective on the validation set ((n + 7)², offset 0.37) drops too. The norm is
+//! not touched (it stays the albedo: energy-exact). Cells are visited in four colours by
+//! (i mod 2, j mod 2): no square has two corners of one colour, so the cells of a colour
+//! are refitted in parallel against a fixed snapshot of the others — deterministic at any
+//! thread count.
+
+use crate::error::{Error, Result};
+use crate::ltc::fit::{inverse_from_production, metrics};
+use crate::ltc::target::LtcTarget;
+use crate::ltc::LtcDist;
+use rayon::prelude::*;
+
+/// The relative L2 of one production-form lobe against a target (∞ where singular).
+fn rel_l2<T: LtcTarget + ?Sized>(t: &T, inv: &[f64; 4], norm: f64, n: usize, off: f64) -> f64 {
+    inverse_from_production(inv)
+        .try_inverse()
+        .and_then(|m| LtcDist::new(m).ok())
+        .map(|l| metrics(t, &l, norm, n, off).1)
+        .filter(|x| x.is_finite())
+        .unwrap_or(f64::INFINITY)
+}
+
+/// The places a cell's entries reach: its own centre, and each square it is a corner of
+/// (its square index and the cell's corner weight, always ¼ at the centre).
+fn places(i: usize, j: usize, n: usize) -> Vec<(usize, usize)> {
+    let mut v = Vec::new();
+    for (di, dj) in [(0usize, 0usize), (1, 0), (0, 1), (1, 1)] {
+        if i >= di && j >= dj && i - di < n - 1 && j - dj < n - 1 {
+            v.push((i - di, j - dj));
+        }
+    }
+    v
+}
+
+/// The cells (a, b, c, d, norm) at i + n·j, the targets at the cells and at the square
+/// centres ((i + ½, j + ½) at i + (n − 1)·j).
+pub struct Lattice<'a, T> {
+    pub n: usize,
+    /// The weight of each square's term against the cell's own (1).
+    pub square_weight: f64,
+    /// The training-set errors of the table before the pass at every cell and square
+    /// centre: each place's term is (e/e₀)², so a place counts by how much it changes
+    /// relative to where it was, and a cell with a small error is not spent on a square
+    /// with a large one. `None`: plain e².
+    pub before: Option<(&'a [f64], &'a [f64])>,
+    pub cells: &'a [[f64; 5]],
+    pub at_cells: &'a [T],
+    pub at_squares: &'a [T],
+}
+
+impl<T: LtcTarget> Lattice<'_, T> {
+    /// Σ e² over the cell's places with cell k's entries replaced by `inv`.
+    fn objective(&self, k: usize, inv: &[f64; 4], n: usize, off: f64) -> f64 {
+        let nn = self.n;
+        let (i, j) = (k % nn, k / nn);
+        let entry = |q: usize| -> [f64; 5] {
+            if q == k {
+                [inv[0], inv[1], inv[2], inv[3], self.cells[k][4]]
+            } else {
+                self.cells[q]
+            }
+        };
+        let scale = |e0: Option<f64>| {
+            e0.filter(|x| *x > 0.0 && x.is_finite())
+                .map(|x| 1.0 / (x * x))
+                .unwrap_or(1.0)
+        };
+        let cell = entry(k);
+        let e = rel_l2(
+            &self.at_cells[k],
+            &[cell[0], cell[1], cell[2], cell[3]],
+            cell[4],
+            n,
+            off,
+        );
+        let mut sum = e * e * scale(self.before.map(|b| b.0[k]));
+        for (si, sj) in places(i, j, nn) {
+            let corners = [
+                entry(si + nn * sj),
+                entry(si + 1 + nn * sj),
+                entry(si + nn * (sj + 1)),
+                entry(si + 1 + nn * (sj + 1)),
+            ];
+            let mid: [f64; 5] =
+                std::array::from_fn(|c| corners.iter().map(|x| x[c]).sum::<f64>() / 4.0);
+            let e = rel_l2(
+                &self.at_squares[si + (nn - 1) * sj],
+                &[mid[0], mid[1], mid[2], mid[3]],
+                mid[4],
+                n,
+                off,
+            );
+            sum += self.square_weight * e * e * scale(self.before.map(|b| b.1[si + (nn - 1) * sj]));
+        }
+        sum
+    }
+}
+
+struct Cost<'a, 'b, T> {
+    grid: &'a Lattice<'b, T>,
+    k: usize,
+    n: usize,
+}
+
+fn inv_of(q: &[f64]) -> [f64; 4] {
+    [
+        q[0].clamp(-60.0, 10.0).exp(),
+        q[2],
+        q[3],
+        q[1].clamp(-60.0, 10.0).exp(),
+    ]
+}
+
+impl<T: LtcTarget> argmin::core::CostFunction for Cost<'_, '_, T> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, q: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        if q.iter().any(|x| !x.is_finite()) {
+            return Ok(1e30);
+        }
+        let v = self.grid.objective(self.k, &inv_of(q), self.n, 0.5);
+        Ok(if v.is_finite() { v } else { 1e30 })
+    }
+}
+
+/// The refitted entries of cell k (or its current ones where nothing better is found).
+fn refit_cell<T: LtcTarget>(
+    grid: &Lattice<'_, T>,
+    k: usize,
+    n: usize,
+    max_iters: u64,
+) -> Result<[f64; 4]> {
+    use argmin::core::{Executor, State};
+    use argmin::solver::neldermead::NelderMead;
+    let c = grid.cells[k];
+    let now = [c[0], c[1], c[2], c[3]];
+    if !(c[0] > 0.0 && c[3] > 0.0) {
+        return Ok(now);
+    }
+    let q0 = vec![c[0].ln(), c[3].ln(), c[1], c[2]];
+    let scale = 1e-3 * c[0].max(c[3]);
+    let steps = [
+        0.01,
+        0.01,
+        0.01 * (c[1].abs() + scale),
+        0.01 * (c[2].abs() + scale),
+    ];
+    let mut simplex = vec![q0.clone()];
+    for (d, st) in steps.iter().enumerate() {
+        let mut q = q0.clone();
+        q[d] += st;
+        simplex.push(q);
+    }
+    let err = |e: argmin::core::Error| Error::InvalidArgument(format!("bilinear refit: {e}"));
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-10)
+        .map_err(err)?;
+    let res = Executor::new(Cost { grid, k, n }, solver)
+        .configure(|s| s.max_iters(max_iters))
+        .run()
+        .map_err(err)?;
+    let best = res.state().get_best_param().cloned().unwrap_or(q0);
+    let cand = inv_of(&best);
+    let (vn, vc) = (
+        grid.objective(k, &now, n + 7, 0.37),
+        grid.objective(k, &cand, n + 7, 0.37),
+    );
+    let (tn, tc) = (
+        grid.objective(k, &now, n, 0.5),
+        grid.objective(k, &cand, n, 0.5),
+    );
+    Ok(if tc < tn && vc < vn { cand } else { now })
+}
+
+/// The training-set errors (n×n, offset 0.5) at every cell and square centre of `cells`:
+/// the `before` of a [`Lattice`].
+pub fn errors<T: LtcTarget>(
+    nn: usize,
+    cells: &[[f64; 5]],
+    at_cells: &[T],
+    at_squares: &[T],
+    n: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let c: Vec<f64> = (0..nn * nn)
+        .into_par_iter()
+        .map(|k| {
+            let e = cells[k];
+            rel_l2(&at_cells[k], &[e[0], e[1], e[2], e[3]], e[4], n, 0.5)
+        })
+        .collect();
+    let s: Vec<f64> = (0..(nn - 1) * (nn - 1))
+        .into_par_iter()
+        .map(|q| {
+            let (si, sj) = (q % (nn - 1), q / (nn - 1));
+            let ks = [
+                si + nn * sj,
+                si + 1 + nn * sj,
+                si + nn * (sj + 1),
+                si + 1 + nn * (sj + 1),
+            ];
+            let mid: [f64; 5] =
+                std::array::from_fn(|c| ks.iter().map(|&k| cells[k][c]).sum::<f64>() / 4.0);
+            rel_l2(
+                &at_squares[q],
+                &[mid[0], mid[1], mid[2], mid[3]],
+                mid[4],
+                n,
+                0.5,
+            )
+        })
+        .collect();
+    (c, s)
+}
+
+/// One sweep over the table in four colours; returns the new cells and how many moved.
+pub fn sweep<T: LtcTarget>(
+    grid: &Lattice<'_, T>,
+    n: usize,
+    max_iters: u64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<(Vec<[f64; 5]>, usize)> {
+    let nn = grid.n;
+    let mut cells = grid.cells.to_vec();
+    let mut moved = 0;
+    for colour in 0..4 {
+        let ks: Vec<usize> = (0..nn * nn)
+            .filter(|k| (k % nn) % 2 + 2 * ((k / nn) % 2) == colour)
+            .collect();
+        let snapshot = Lattice {
+            n: nn,
+            square_weight: grid.square_weight,
+            before: grid.before,
+            cells: &cells,
+            at_cells: grid.at_cells,
+            at_squares: grid.at_squares,
+        };
+        let new: Vec<[f64; 4]> = ks
+            .par_iter()
+            .map(|&k| {
+                let r = refit_cell(&snapshot, k, n, max_iters);
+                progress();
+                r
+            })
+            .collect::<Result<_>>()?;
+        for (&k, inv) in ks.iter().zip(&new) {
+            if inv[..] != cells[k][..4] {
+                moved += 1;
+            }
+            cells[k][..4].copy_from_slice(inv);
+        }
+    }
+    Ok((cells, moved))
+}
