@@ -63,7 +63,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
         let g = |k: &str| ft[k].as_f64().unwrap_or(f64::NAN);
         let held = v.as_ref().map(|v| &v["held_out"]);
         md.push_str(&format!(
-            "The whole GGX table (results/fits/ltc-ggx.json `fit_time`, wall clock of the run that wrote it, not criterion): {:.0} s for {} cells on {} threads, {:.0} ms of one thread per cell (cubic fit, L2 polish), for a held-out relative L2 of mean {:.2} %, max {:.1} % (results/ltc.md).\n\n",
+            "The whole GGX table (results/fits/ltc-ggx.json `fit_time`, wall clock of the run that wrote it, not criterion): {:.0} s for {} cells on {} threads, {:.0} ms of one thread per cell (cubic fit, L2 polish, bilinear pass), for a held-out relative L2 of mean {:.2} %, max {:.1} % (results/ltc.md).\n\n",
             g("seconds"),
             g("cells"),
             g("threads"),
