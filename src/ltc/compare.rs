@@ -152,12 +152,19 @@ pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Resu
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
 pub fn ours(results: &Path) -> Result<Shipped> {
-    let t = super::table::read(results, crate::results::names::LTC_GGX)?;
-    Ok(Shipped {
+    Ok(of_table(&super::table::read(
+        results,
+        crate::results::names::LTC_GGX,
+    )?))
+}
+
+/// A fitted table in the shipped layout (f64 entries).
+pub fn of_table(t: &super::table::FittedTable) -> Shipped {
+    Shipped {
         n: t.n,
         mat: t.cells.iter().map(|c| [c[0], c[1], c[2], c[3]]).collect(),
         mag: t.cells.iter().map(|c| [c[4], c[5]]).collect(),
-    })
+    }
 }
 
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
