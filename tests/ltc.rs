@@ -356,6 +356,10 @@ fn fit_parameters_round_trip_through_the_production_form() {
         (1e-3, 5e-4, -2e-3, 0.05),
         (0.8, 0.3, 0.4, -0.2),
         (2.0, 1.5, -1.0, 0.4),
+        // a bilinear-pass cell at α = 1e-5: m13/m11 ≈ −1550, beyond the fit's box
+        (2.0e-5, 1.96e-5, -0.031, 0.031),
+        // near grazing: a thin lobe, a large shear
+        (1.9987, 3e-4, -89.0, 0.3),
     ] {
         let m = matrix(m11, m22, m13, &turn(&zm, phi));
         let p = production_inverse(&m).unwrap();

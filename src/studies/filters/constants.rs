@@ -116,57 +116,46 @@ pub(super) fn fit_constants(map_cases: &[MapCase], screen_cases: &[ScreenCase]) 
                     Err(_) => c.samples.measure(&|_, _| f64::NAN, &n0),
                 }
             };
-            let (s2, tr, ho, hl) = fit_constant(
-                &sc,
-                &strain,
-                &|c, s2| {
-                    let (du, dv) = (
-                        c.field.normal(1.0, 0.0) - c.field.normal(0.0, 0.0),
-                        c.field.normal(0.0, 1.0) - c.field.normal(0.0, 0.0),
-                    );
-                    let a =
-                        rules::deferred(c.alpha, [du.x, du.y, du.z], [dv.x, dv.y, dv.z], s2, 0.18);
-                    lobe(c, a)
-                },
-                &sgrid,
-            );
-            fits.push(Fitted::new(
-                if pixel == PixelFilter::Gaussian {
-                    "Eq 13 σ² (Gaussian pixel)"
-                } else {
-                    "Eq 13 σ² (box pixel)"
-                },
-                kind,
-                (s2, tr, ho, hl),
-            ));
-            let (s2, tr, ho, hl) = fit_constant(
-                &sc,
-                &strain,
-                &|c, s2| {
-                    let (du, dv) = (
-                        c.field.normal(1.0, 0.0) - c.field.normal(0.0, 0.0),
-                        c.field.normal(0.0, 1.0) - c.field.normal(0.0, 0.0),
-                    );
-                    let a = rules::deferred_on_alpha(
-                        c.alpha,
-                        [du.x, du.y, du.z],
-                        [dv.x, dv.y, dv.z],
-                        s2,
-                        0.18,
-                    );
-                    lobe(c, a)
-                },
-                &sgrid,
-            );
-            fits.push(Fitted::new(
-                if pixel == PixelFilter::Gaussian {
-                    "kernel on α σ² (Gaussian pixel)"
-                } else {
-                    "kernel on α σ² (box pixel)"
-                },
-                kind,
-                (s2, tr, ho, hl),
-            ));
+            // the screen-space kernel added to α² (Eq 13) and to α (Godot), each with its
+            // own fitted σ²
+            type Rule = fn(f64, [f64; 3], [f64; 3], f64, f64) -> f64;
+            let gaussian = pixel == PixelFilter::Gaussian;
+            let families: [(Rule, &'static str); 2] = [
+                (
+                    rules::deferred::<f64>,
+                    if gaussian {
+                        "Eq 13 σ² (Gaussian pixel)"
+                    } else {
+                        "Eq 13 σ² (box pixel)"
+                    },
+                ),
+                (
+                    rules::deferred_on_alpha::<f64>,
+                    if gaussian {
+                        "kernel on α σ² (Gaussian pixel)"
+                    } else {
+                        "kernel on α σ² (box pixel)"
+                    },
+                ),
+            ];
+            for (rule, family) in families {
+                let fitted = fit_constant(
+                    &sc,
+                    &strain,
+                    &|c, s2| {
+                        let (du, dv) = (
+                            c.field.normal(1.0, 0.0) - c.field.normal(0.0, 0.0),
+                            c.field.normal(0.0, 1.0) - c.field.normal(0.0, 0.0),
+                        );
+                        lobe(
+                            c,
+                            rule(c.alpha, [du.x, du.y, du.z], [dv.x, dv.y, dv.z], s2, 0.18),
+                        )
+                    },
+                    &sgrid,
+                );
+                fits.push(Fitted::new(family, kind, fitted));
+            }
         }
     }
 

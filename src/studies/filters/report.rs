@@ -13,6 +13,17 @@ use crate::microfacet::NdfKind;
 use crate::report::plot::{loglog_svg, Panel, Series};
 use std::path::Path;
 
+/// The energy, L2 and peak columns of one NDF for one filter.
+fn agg_cells(a: &super::Agg) -> String {
+    format!(
+        "{} | {:.1} % ± {:.1} | {}",
+        pct(a.energy_mean, a.energy_se),
+        100.0 * a.l2_mean,
+        100.0 * a.l2_se,
+        pct(a.peak_mean, a.peak_se)
+    )
+}
+
 /// The title, the method and the plan.
 pub(super) fn intro(preset: Preset, plan: &Plan) -> String {
     let mut md =
@@ -60,13 +71,7 @@ pub(super) fn map_section(
                 .map(|c| &c.results[fi])
                 .collect();
             let a = aggregate(&rs);
-            cells.push(format!(
-                "{} | {:.1} % ± {:.1} | {}",
-                pct(a.energy_mean, a.energy_se),
-                100.0 * a.l2_mean,
-                100.0 * a.l2_se,
-                pct(a.peak_mean, a.peak_se)
-            ));
+            cells.push(agg_cells(&a));
             aj.push(serde_json::json!({"ndf": kind_name(kind), "all": a}));
         }
         md.push_str(&format!("| {name} | {} |\n", cells.join(" | ")));
@@ -163,13 +168,7 @@ pub(super) fn screen_section(
                     .map(|c| &c.results[fi])
                     .collect();
                 let a = aggregate(&rs);
-                cells.push(format!(
-                    "{} | {:.1} % ± {:.1} | {}",
-                    pct(a.energy_mean, a.energy_se),
-                    100.0 * a.l2_mean,
-                    100.0 * a.l2_se,
-                    pct(a.peak_mean, a.peak_se)
-                ));
+                cells.push(agg_cells(&a));
                 json_screen.push(serde_json::json!({"pixel": format!("{pixel:?}"), "ndf": kind_name(kind), "kernel": name, "all": a}));
             }
             md.push_str(&format!("| {name} | {} |\n", cells.join(" | ")));

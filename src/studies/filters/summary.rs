@@ -7,6 +7,27 @@ use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 
+/// One summary entry: mean L2 ± s.e. of `rs` under `id` (GGX) or `beckmann:id`.
+fn insert(
+    summary: &mut serde_json::Map<String, serde_json::Value>,
+    id: &str,
+    kind: NdfKind,
+    name: &str,
+    rs: &[&CaseResult],
+    study: &str,
+) {
+    let a = aggregate(rs);
+    let key = if kind == NdfKind::Ggx {
+        id.to_string()
+    } else {
+        format!("beckmann:{id}")
+    };
+    summary.insert(
+        key,
+        serde_json::json!({"name": name, "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": study}),
+    );
+}
+
 /// Per filter (GGX unprefixed, Beckmann as `beckmann:<id>`): mean L2 ± s.e. over the
 /// map cases (map filters) or the Gaussian-pixel screen cases (kernels).
 pub(super) fn per_filter(
@@ -29,13 +50,7 @@ pub(super) fn per_filter(
                 .filter(|c| c.kind == kind)
                 .map(|c| &c.results[fi])
                 .collect();
-            let a = aggregate(&rs);
-            let key = if kind == NdfKind::Ggx {
-                id.to_string()
-            } else {
-                format!("beckmann:{id}")
-            };
-            summary.insert(key, serde_json::json!({"name": MAP_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "maps"}));
+            insert(&mut summary, id, kind, MAP_FILTERS[fi], &rs, "maps");
         }
     }
     for (id, fi) in [
@@ -53,16 +68,16 @@ pub(super) fn per_filter(
                 .filter(|c| c.kind == kind && c.pixel == PixelFilter::Gaussian)
                 .map(|c| &c.results[fi])
                 .collect();
-            let a = aggregate(&rs);
-            let key = if kind == NdfKind::Ggx {
-                id.to_string()
-            } else {
-                format!("beckmann:{id}")
-            };
-            summary.insert(key, serde_json::json!({"name": SCREEN_FILTERS[fi], "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": "screen (Gaussian pixel)"}));
+            insert(
+                &mut summary,
+                id,
+                kind,
+                SCREEN_FILTERS[fi],
+                &rs,
+                "screen (Gaussian pixel)",
+            );
         }
     }
-    // per-level aggregates (GGX and Beckmann, every map filter)
     summary
 }
 
