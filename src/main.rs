@@ -266,6 +266,13 @@ fn run_regen(
         Ok(_) => {}
         Err(e) => eprintln!("example scenes skipped: {e}"),
     }
+    // every generated shader through naga's back ends and the validators
+    match in_set("shaders", &results_manifest(results, "shaders"), || {
+        ndfbench::codegen::shaders::write(results)
+    }) {
+        Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
+        Err(e) => eprintln!("shader translation skipped: {e}"),
+    }
     for o in &out {
         println!(
             "{:<5} {:<24} {}",

@@ -176,7 +176,8 @@ fn generated_wgsl_matches_its_rust_twin_on_the_gpu() {
         let args: Vec<f32> = (0..n)
             .flat_map(|i| cols.iter().map(move |&k| c[k][i]))
             .collect();
-        let Some(gpu) = run_gpu(&module(file), name, cols.len(), &args) else {
+        let wgsl = codegen::namespace::wgsl_name(name);
+        let Some(gpu) = run_gpu(&module(file), &wgsl, cols.len(), &args) else {
             return;
         };
         let mut worst = 0.0f64;
@@ -203,7 +204,7 @@ fn generated_wgsl_matches_its_rust_twin_on_the_gpu() {
 fn ltc_table_modules_read_back_exactly_on_the_gpu() {
     use ndfbench::generated::ltc_table as lt;
     let n = lt::LTC_TABLE_N;
-    let wrap = "\nfn texel_component(i: f32, j: f32, q: f32) -> f32 {\n    let v = ltc_table_texel(u32(i), u32(j));\n    return v[u32(q)];\n}\n";
+    let wrap = "\nfn texel_component(i: f32, j: f32, q: f32) -> f32 {\n    let v = ndfb_ltc_table_texel(u32(i), u32(j));\n    return v[u32(q)];\n}\n";
     let args: Vec<f32> = (0..n * n)
         .flat_map(|k| (0..4).flat_map(move |q| [(k % n) as f32, (k / n) as f32, q as f32]))
         .collect();

@@ -47,9 +47,11 @@ fn example_scenes_are_minimal_valid_and_fresh() {
     // the multi-scale scene needs α_me but no screen-space kernel
     let s = Scene::load(Path::new("tests/scenes/multiscale-ltc.toml")).unwrap();
     let w = &build(&s, Path::new("results")).unwrap()[0].1;
-    assert!(w.contains("fn alpha_me") && !w.contains("fn filter_deferred"));
+    assert!(w.contains("fn ndfb_alpha_me") && !w.contains("fn ndfb_filter_deferred"));
     assert!(
-        w.contains("fn ltc_quad") && w.contains("fn ltc_lut_u") && !w.contains("fn leadr5_env")
+        w.contains("fn ndfb_ltc_quad")
+            && w.contains("fn ndfb_ltc_lut_u")
+            && !w.contains("fn ndfb_leadr5_env")
     );
 }
 

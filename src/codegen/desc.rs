@@ -436,3 +436,58 @@ pub const FUNCTIONS: &[FnDesc] = &[
         deps: &["alpha_me_pair"],
     },
 ];
+
+/// What each parameter name means, in the engines' conventions: the sentence each
+/// generated function's doc comment carries for the parameters it takes.
+pub const CONVENTIONS: &[(&[&str], &str)] = &[
+    (
+        &["alpha", "ax", "ay"],
+        "GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`",
+    ),
+    (
+        &["a11", "a12", "a22"],
+        "the SPD roughness matrix in α units (diag(αx, αy) rotated into the tangent frame)",
+    ),
+    (
+        &["hx", "hy", "hz", "lx", "ly", "lz", "vx", "vy", "vz", "ox", "oy", "oz", "ix", "iy", "iz"],
+        "unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN)",
+    ),
+    (
+        &["r"],
+        "r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised)",
+    ),
+    (
+        &["dux", "duy", "duz", "dvx", "dvy", "dvz"],
+        "screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader",
+    ),
+    (
+        &["cos_theta"],
+        "cos θ_v = clamp(dot(N, V), 0, 1)",
+    ),
+    (
+        &["y", "y_me", "y_mi", "b"],
+        "y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small)",
+    ),
+];
+
+/// The "Inputs:" sentence of a function's doc comment (empty when no parameter has a
+/// stated convention).
+pub fn inputs_doc(params: &str) -> String {
+    let names: Vec<&str> = params
+        .split(',')
+        .filter_map(|p| p.split(':').next())
+        .map(str::trim)
+        .collect();
+    let parts: Vec<String> = CONVENTIONS
+        .iter()
+        .filter_map(|(keys, what)| {
+            let used: Vec<&str> = keys.iter().copied().filter(|k| names.contains(k)).collect();
+            (!used.is_empty()).then(|| format!("{}: {what}", used.join(", ")))
+        })
+        .collect();
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!("Inputs — {}.", parts.join("; "))
+    }
+}

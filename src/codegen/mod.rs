@@ -14,10 +14,15 @@
 //! with its f64 reference.
 
 pub mod audit;
+pub mod backends;
 pub mod desc;
+pub mod forms;
+pub mod namespace;
+pub mod shaders;
 pub mod table;
 pub mod textures;
 pub mod validate;
+pub mod validators;
 
 use crate::error::{Error, Result};
 use desc::{FnDesc, FUNCTIONS};
@@ -260,24 +265,28 @@ fn used_consts<'a>(fns: &[&FnDesc], consts: &'a [Const]) -> Vec<&'a Const> {
         .collect()
 }
 
-/// Render a WGSL module with the given functions (and their dependencies).
-pub fn render_wgsl(title: &str, names: &[&str], consts: &[Const], command: &str) -> Result<String> {
-    let fns = closure(names)?;
-    let mut s = format!(
-        "{}// {title}\n\n",
-        header("//", command, "src/codegen/desc.rs and results/fits/*.json")
-    );
-    for c in used_consts(&fns, consts) {
+/// The WGSL text of functions and the constants they use, namespaced (`namespace`):
+/// doc comments (`///`, with each function's input conventions), then the items.
+pub fn render_items(fns: &[&FnDesc], consts: &[Const]) -> String {
+    let used = used_consts(fns, consts);
+    let mut s = String::new();
+    for c in &used {
         s.push_str(&format!(
-            "// {}\nconst {}: f32 = {};\n",
+            "/// {}\nconst {}: f32 = {};\n",
             c.doc,
             c.name,
             lit(c.value)
         ));
     }
     for f in fns {
+        let inputs = desc::inputs_doc(f.params);
+        let inputs = if inputs.is_empty() {
+            String::new()
+        } else {
+            format!("/// {inputs}\n")
+        };
         s.push_str(&format!(
-            "\n// {}\nfn {}({}) -> {} {{\n{}}}\n",
+            "\n/// {}\n{inputs}fn {}({}) -> {} {{\n{}}}\n",
             f.doc,
             f.name,
             f.params,
@@ -285,7 +294,19 @@ pub fn render_wgsl(title: &str, names: &[&str], consts: &[Const], command: &str)
             f.body.text()
         ));
     }
-    Ok(s)
+    let mut idents: Vec<&str> = used.iter().map(|c| c.name.as_str()).collect();
+    idents.extend(FUNCTIONS.iter().map(|f| f.name));
+    namespace::apply(&s, &idents)
+}
+
+/// Render a self-contained WGSL module with the given functions (and their dependencies).
+pub fn render_wgsl(title: &str, names: &[&str], consts: &[Const], command: &str) -> Result<String> {
+    let fns = closure(names)?;
+    Ok(format!(
+        "{}// {title}\n\n{}",
+        header("//", command, "src/codegen/desc.rs and results/fits/*.json"),
+        render_items(&fns, consts)
+    ))
 }
 
 /// Render the Rust twin module with the given functions.
@@ -305,8 +326,14 @@ pub fn render_rust(names: &[&str], consts: &[Const], command: &str) -> Result<St
         ));
     }
     for f in fns {
+        let inputs = desc::inputs_doc(f.params);
+        let inputs = if inputs.is_empty() {
+            String::new()
+        } else {
+            format!("/// {inputs}\n")
+        };
         s.push_str(&format!(
-            "\n/// {}\npub fn {}({}) -> {} {{\n{}}}\n",
+            "\n/// {}\n{inputs}pub fn {}({}) -> {} {{\n{}}}\n",
             f.doc,
             f.name,
             f.params,
@@ -353,21 +380,22 @@ pub const MODULES: [(&str, &str, &[&str]); 5] = [
 pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
     let consts = constants(results)?;
     let mut out = Vec::new();
-    for (file, title, names) in MODULES {
-        out.push((
-            format!("wgsl/{file}"),
-            render_wgsl(title, names, &consts, COMMAND)?,
-        ));
+    for form in [forms::Form::Plain, forms::Form::NagaOil, forms::Form::Wesl] {
+        for (file, title, names) in MODULES {
+            out.push((
+                form.path(forms::stem(file)),
+                forms::render_module(file, title, names, &consts, COMMAND, form)?,
+            ));
+        }
     }
     let table = table::read(results)?;
-    out.push((
-        "wgsl/ltc_table.wgsl".into(),
-        table::render_wgsl(&table, false, COMMAND),
-    ));
-    out.push((
-        "wgsl/ltc_table_f16.wgsl".into(),
-        table::render_wgsl(&table, true, COMMAND),
-    ));
+    for (stem, half) in [("ltc_table", false), ("ltc_table_f16", true)] {
+        let plain = table::render_wgsl(&table, half, COMMAND);
+        for form in [forms::Form::NagaOil, forms::Form::Wesl] {
+            out.push((form.path(stem), forms::render_data(stem, &plain, form)));
+        }
+        out.push((forms::Form::Plain.path(stem), plain));
+    }
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
@@ -389,10 +417,12 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
     let canonical = results == Path::new("results");
     let mut written = Vec::new();
     for (rel, text) in render_all(results, canonical)? {
-        let path = if let Some(w) = rel.strip_prefix("wgsl/") {
+        let path = if rel.starts_with("wgsl/") || rel.starts_with("shaders/") {
             // a module that naga rejects is never written
-            validate::validate_wgsl(&text, &rel)?;
-            results.join("wgsl").join(w)
+            if rel.starts_with("wgsl/") {
+                validate::validate_wgsl(&text, &rel)?;
+            }
+            results.join(&rel)
         } else {
             Path::new(&rel).to_path_buf()
         };

@@ -43,7 +43,7 @@ pub fn pack_half(x: f16, y: f16) -> u32 {
 pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
-        "{}// GGX LTC table ({}×{}, {}); {LAYOUT}. The error this precision costs: results/ltc.md.\n// Most renderers upload the table once as two {} textures and sample it bilinearly at (ltc_lut_u, ltc_lut_v) of ltc.wgsl; the arrays serve compute passes and tests.\n\nconst LTC_TABLE_N: u32 = {}u;\n\n",
+        "{}// GGX LTC table ({}×{}, {}); {LAYOUT}. The error this precision costs: results/ltc.md.\n// Most renderers upload the table once as two {} textures and sample it bilinearly at (ndfb_ltc_lut_u, ndfb_ltc_lut_v) of ltc.wgsl; the arrays serve compute passes and tests.\n\nconst LTC_TABLE_N: u32 = {}u;\n\n",
         super::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,
@@ -72,7 +72,7 @@ pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
             let c = t.half_cell(k);
             s.push_str(&format!("    0x{:08x}u{}\n", pack_half(c[4], c[5]), sep(k)));
         }
-        s.push_str(");\n\n// The texel's (a, b, c, d), widened to f32.\nfn ltc_table_texel(i: u32, j: u32) -> vec4<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    let p = LTC_1[k];\n    return vec4<f32>(unpack2x16float(p.x), unpack2x16float(p.y));\n}\n\n// The texel's (norm, fresnel), widened to f32.\nfn ltc_table_magnitude(i: u32, j: u32) -> vec2<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    return unpack2x16float(LTC_2[k]);\n}\n");
+        s.push_str(");\n\n/// The texel's (a, b, c, d), widened to f32.\nfn ltc_table_texel(i: u32, j: u32) -> vec4<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    let p = LTC_1[k];\n    return vec4<f32>(unpack2x16float(p.x), unpack2x16float(p.y));\n}\n\n/// The texel's (norm, fresnel), widened to f32.\nfn ltc_table_magnitude(i: u32, j: u32) -> vec2<f32> {\n    let k = min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u);\n    return unpack2x16float(LTC_2[k]);\n}\n");
     } else {
         s.push_str(&format!(
             "const LTC_1: array<vec4<f32>, {nn}> = array<vec4<f32>, {nn}>(\n"
@@ -98,10 +98,19 @@ pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
                 sep(k)
             ));
         }
-        s.push_str(");\n\n// The texel's (a, b, c, d).\nfn ltc_table_texel(i: u32, j: u32) -> vec4<f32> {\n    return LTC_1[min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u)];\n}\n\n// The texel's (norm, fresnel).\nfn ltc_table_magnitude(i: u32, j: u32) -> vec2<f32> {\n    return LTC_2[min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u)];\n}\n");
+        s.push_str(");\n\n/// The texel's (a, b, c, d).\nfn ltc_table_texel(i: u32, j: u32) -> vec4<f32> {\n    return LTC_1[min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u)];\n}\n\n/// The texel's (norm, fresnel).\nfn ltc_table_magnitude(i: u32, j: u32) -> vec2<f32> {\n    return LTC_2[min(i, LTC_TABLE_N - 1u) + LTC_TABLE_N * min(j, LTC_TABLE_N - 1u)];\n}\n");
     }
-    s
+    super::namespace::apply(&s, &TABLE_IDENTS)
 }
+
+/// The items of the table modules (namespaced in WGSL).
+pub const TABLE_IDENTS: [&str; 5] = [
+    "LTC_TABLE_N",
+    "LTC_1",
+    "LTC_2",
+    "ltc_table_texel",
+    "ltc_table_magnitude",
+];
 
 /// Rust constants: f32 values and binary16 bit patterns of the same table.
 pub fn render_rust(t: &LtcTableData, command: &str) -> String {

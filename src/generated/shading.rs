@@ -102,6 +102,7 @@ pub const LEADR_W2: f32 = 0.10228751;
 pub const LTC_LUT_SIZE: f32 = 64.0;
 
 /// GGX NDF, isotropic α, unit half-vector in tangent space (seed 003 Eq 15); 0 below the surface. No 1 − (n·h)² cancellation.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; hx, hy, hz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
     if (hz <= 0.0) {
         return 0.0;
@@ -112,6 +113,7 @@ pub fn ggx_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
 }
 
 /// GGX NDF, axis-aligned anisotropic (αx, αy) (seed 003 Eq 15).
+/// Inputs — ax, ay: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; hx, hy, hz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_d_aniso(hx: f32, hy: f32, hz: f32, ax: f32, ay: f32) -> f32 {
     if (hz <= 0.0) {
         return 0.0;
@@ -123,6 +125,7 @@ pub fn ggx_d_aniso(hx: f32, hy: f32, hz: f32, ax: f32, ay: f32) -> f32 {
 }
 
 /// GGX NDF with an SPD roughness matrix A = [[a11, a12], [a12, a22]] (seed 003 Eq 17); adjugate form, accurate to ≈ cond(A)·ε.
+/// Inputs — a11, a12, a22: the SPD roughness matrix in α units (diag(αx, αy) rotated into the tangent frame); hx, hy, hz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_d_matrix(hx: f32, hy: f32, hz: f32, a11: f32, a12: f32, a22: f32) -> f32 {
     if (hz <= 0.0) {
         return 0.0;
@@ -134,6 +137,7 @@ pub fn ggx_d_matrix(hx: f32, hy: f32, hz: f32, a11: f32, a12: f32, a22: f32) -> 
 }
 
 /// GGX Smith Λ(o) = (√(1 + s²) − 1)/2, s = α|o_xy|/o_z = 1/ν (seed 003 Eq 16): s²/(2(1 + √(1 + s²))) for s ≤ 1 (no cancellation as s → 0), (√(1 + s²) − 1)/2 above, and s/2 once s > 1e18 (s² would overflow; the dropped −½ is below the last bit). Finite for every o_z > 0. Callers handle oz ≤ 0.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     let s: f32 = alpha * sqrt(ox * ox + oy * oy) / oz;
     if (s > 1e18) {
@@ -148,6 +152,7 @@ pub fn ggx_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
 }
 
 /// Height-correlated Smith G2 = 1/(1 + Λ(i) + Λ(o)) (seed 003 Eq 14); 0 when either direction is at or below the surface.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz, ix, iy, iz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     if (iz <= 0.0 || oz <= 0.0) {
         return 0.0;
@@ -156,6 +161,7 @@ pub fn ggx_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32) 
 }
 
 /// Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; lx, ly, lz, vx, vy, vz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32) -> f32 {
     if (lz <= 0.0 || vz <= 0.0) {
         return 0.0;
@@ -172,6 +178,7 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
 }
 
 /// Beckmann NDF, isotropic α: exp(−tan²θ/α²)/(π α² cos⁴θ) (seed 001 §1.2); tan² from the components, no cancellation.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; hx, hy, hz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
     if (hz <= 0.0) {
         return 0.0;
@@ -182,6 +189,7 @@ pub fn beckmann_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
 }
 
 /// Beckmann Smith Λ(o) by the refitted rational in ν = oz/(α√(ox² + oy²)) (results/smith-lambda.md; replaces Walter's). Callers handle oz ≤ 0.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     let sxy: f32 = alpha * sqrt(ox * ox + oy * oy);
     if (oz >= BECKMANN_LAMBDA_NU_C * sxy) {
@@ -194,6 +202,7 @@ pub fn beckmann_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
 }
 
 /// Height-correlated G2 for Beckmann with the refitted Λ.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz, ix, iy, iz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     if (iz <= 0.0 || oz <= 0.0) {
         return 0.0;
@@ -202,6 +211,7 @@ pub fn beckmann_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: 
 }
 
 /// √(α² + k), k ≥ 0, without overflow or underflow for any finite f32 α: outside α ∈ [1e-18, 1e18] it is computed as m√((α/m)² + k/m²), m = max(α, √k).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`.
 pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
     if (alpha > 1e18 || alpha < 1e-18) {
         let sk: f32 = sqrt(k);
@@ -214,12 +224,14 @@ pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
 }
 
 /// Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form). r is clamped to [m, 1] (m = smallest normal f32, NaN ↦ m), so r → 0 gives a finite α′ ~ √(c/r).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
 pub fn filter_toksvig(alpha: f32, r: f32, c: f32) -> f32 {
     let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
     return filter_sqrt_sum(alpha, c * (1.0 - rc) / rc);
 }
 
 /// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
 pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
     let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
     let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
@@ -227,11 +239,13 @@ pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
 }
 
 /// vMF filter with the constant refitted against the footprint-averaged GGX BRDF (results/filters.md).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
 pub fn filter_vmf_fitted(alpha: f32, r: f32) -> f32 {
     return filter_vmf(alpha, r, FILTER_VMF_C_GGX);
 }
 
 /// Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32) -> f32 {
     let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let kern: f32 = min(2.0 * sigma2 * n2, delta);
@@ -239,11 +253,13 @@ pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: 
 }
 
 /// Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred_fitted(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32) -> f32 {
     return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
 }
 
 /// Exact isotropic bound (seed 003 Eq 10): α′² = α² + min(2λ_max(Σ), δ), Σ = σ²(Δ_u Δ_uᵀ + Δ_v Δ_vᵀ) of projected-disk derivatives.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, dvx, dvy: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_eq10(alpha: f32, dux: f32, duy: f32, dvx: f32, dvy: f32, sigma2: f32, delta: f32) -> f32 {
     let sxx: f32 = sigma2 * (dux * dux + dvx * dvx);
     let syy: f32 = sigma2 * (duy * duy + dvy * dvy);
@@ -254,6 +270,7 @@ pub fn filter_eq10(alpha: f32, dux: f32, duy: f32, dvx: f32, dvy: f32, sigma2: f
 }
 
 /// Projected-space kernel (Unity HDRP): p = α²/(1 − α²), p′ = p + min(2σ²Σ‖Δn‖², δ), α′² = p′/(1 + p′).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_projected(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32) -> f32 {
     let a2: f32 = alpha * alpha;
     if (a2 >= 1.0) {
@@ -265,12 +282,14 @@ pub fn filter_projected(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy:
 }
 
 /// Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`.
 pub fn ltc_lut_u(alpha: f32) -> f32 {
     let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
     return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
 }
 
 /// Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.
+/// Inputs — cos_theta: cos θ_v = clamp(dot(N, V), 0, 1).
 pub fn ltc_lut_v(cos_theta: f32) -> f32 {
     let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
     return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
@@ -289,6 +308,7 @@ pub fn ltc_edge_factor(x: f32) -> f32 {
 }
 
 /// LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders, clamped to ≤ 1 (a form factor; f32 edges that map to nearly antipodal directions at α → 1e-4 can otherwise push it past 1). Multiply by the table's norm. Two-sided.
+/// Inputs — b: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f32, p1y: f32, p1z: f32, p2x: f32, p2y: f32, p2z: f32, p3x: f32, p3y: f32, p3z: f32) -> f32 {
     // transformed, normalised vertices
     let q0x: f32 = a * p0x + c * p0z;
@@ -334,6 +354,7 @@ pub fn leadr_env(rx: f32, ry: f32, rz: f32) -> f32 {
 }
 
 /// LEADR rough specular under the test environment: the 5×5 slope grid (fitted spacing h, weights φ(kh)/Σφ) of a Beckmann footprint with mean slope (x0, y0), deviations (sx, sy) and correlation rxy; each node's normal n shades L(reflect(v, n)) weighted by its projected area max(0, v·n)/n_z (seed 001 §3.4, algorithm 1). 0 when every node faces away (the §3.7 artificial micronormal is the caller's).
+/// Inputs — vx, vy, vz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn leadr5_env(x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32, vz: f32) -> f32 {
     let sr: f32 = sqrt(max(1.0 - rxy * rxy, 0.0));
     let nx0: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;
@@ -495,6 +516,7 @@ pub fn leadr5_env(x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32
 }
 
 /// α_me from the pair (y, b) = (1 − ‖b̄‖, ‖b̄‖) (seed 000 §3.3), total over every f32 input: y and b are clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Passing both keeps full relative precision at both ends. Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2]; its measured error over the whole range: results/generated-range.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).
+/// Inputs — y, b: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn alpha_me_pair(y: f32, b: f32) -> f32 {
     let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
     if (yc > 0.33333334) {
@@ -510,11 +532,13 @@ pub fn alpha_me_pair(y: f32, b: f32) -> f32 {
 }
 
 /// α_me from y = 1 − ‖b̄‖ alone: alpha_me_pair(y, 1 − y) (1 − y is exact for y ≥ ½). Pass the pair where ‖b̄‖ itself is known and tiny.
+/// Inputs — y: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn alpha_me(y: f32) -> f32 {
     return alpha_me_pair(y, 1.0 - y);
 }
 
 /// Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi and ρ = (1 − y_me)(1 − y_mi), each without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).
+/// Inputs — y_me, y_mi: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn multiscale_alpha(y_me: f32, y_mi: f32) -> f32 {
     return alpha_me_pair(y_me + y_mi - y_me * y_mi, (1.0 - y_me) * (1.0 - y_mi));
 }

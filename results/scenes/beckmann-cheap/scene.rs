@@ -68,6 +68,7 @@ pub const LEADR_W1: f32 = 0.23907457;
 pub const LEADR_W2: f32 = 0.10228751;
 
 /// Beckmann NDF, isotropic α: exp(−tan²θ/α²)/(π α² cos⁴θ) (seed 001 §1.2); tan² from the components, no cancellation.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; hx, hy, hz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
     if (hz <= 0.0) {
         return 0.0;
@@ -78,6 +79,7 @@ pub fn beckmann_d(hx: f32, hy: f32, hz: f32, alpha: f32) -> f32 {
 }
 
 /// Beckmann Smith Λ(o) by the refitted rational in ν = oz/(α√(ox² + oy²)) (results/smith-lambda.md; replaces Walter's). Callers handle oz ≤ 0.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     let sxy: f32 = alpha * sqrt(ox * ox + oy * oy);
     if (oz >= BECKMANN_LAMBDA_NU_C * sxy) {
@@ -90,6 +92,7 @@ pub fn beckmann_lambda(ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
 }
 
 /// Height-correlated G2 for Beckmann with the refitted Λ.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; ox, oy, oz, ix, iy, iz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn beckmann_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: f32) -> f32 {
     if (iz <= 0.0 || oz <= 0.0) {
         return 0.0;
@@ -98,6 +101,7 @@ pub fn beckmann_g2(ix: f32, iy: f32, iz: f32, ox: f32, oy: f32, oz: f32, alpha: 
 }
 
 /// √(α² + k), k ≥ 0, without overflow or underflow for any finite f32 α: outside α ∈ [1e-18, 1e18] it is computed as m√((α/m)² + k/m²), m = max(α, √k).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`.
 pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
     if (alpha > 1e18 || alpha < 1e-18) {
         let sk: f32 = sqrt(k);
@@ -110,12 +114,14 @@ pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
 }
 
 /// Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form). r is clamped to [m, 1] (m = smallest normal f32, NaN ↦ m), so r → 0 gives a finite α′ ~ √(c/r).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
 pub fn filter_toksvig(alpha: f32, r: f32, c: f32) -> f32 {
     let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
     return filter_sqrt_sum(alpha, c * (1.0 - rc) / rc);
 }
 
 /// Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32) -> f32 {
     let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let kern: f32 = min(2.0 * sigma2 * n2, delta);
@@ -123,6 +129,7 @@ pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: 
 }
 
 /// Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred_fitted(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32) -> f32 {
     return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
 }
@@ -134,6 +141,7 @@ pub fn leadr_env(rx: f32, ry: f32, rz: f32) -> f32 {
 }
 
 /// LEADR rough specular under the test environment: the 5×5 slope grid (fitted spacing h, weights φ(kh)/Σφ) of a Beckmann footprint with mean slope (x0, y0), deviations (sx, sy) and correlation rxy; each node's normal n shades L(reflect(v, n)) weighted by its projected area max(0, v·n)/n_z (seed 001 §3.4, algorithm 1). 0 when every node faces away (the §3.7 artificial micronormal is the caller's).
+/// Inputs — vx, vy, vz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn leadr5_env(x0: f32, y0: f32, sx: f32, sy: f32, rxy: f32, vx: f32, vy: f32, vz: f32) -> f32 {
     let sr: f32 = sqrt(max(1.0 - rxy * rxy, 0.0));
     let nx0: f32 = x0 + (-2.0 * LEADR_SPACING_N5) * sx;

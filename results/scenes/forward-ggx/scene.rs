@@ -48,6 +48,7 @@ pub const FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL: f32 = 0.12291626;
 pub const FILTER_DELTA_MAX: f32 = 0.18;
 
 /// Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; lx, ly, lz, vx, vy, vz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32) -> f32 {
     if (lz <= 0.0 || vz <= 0.0) {
         return 0.0;
@@ -64,6 +65,7 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
 }
 
 /// √(α² + k), k ≥ 0, without overflow or underflow for any finite f32 α: outside α ∈ [1e-18, 1e18] it is computed as m√((α/m)² + k/m²), m = max(α, √k).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`.
 pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
     if (alpha > 1e18 || alpha < 1e-18) {
         let sk: f32 = sqrt(k);
@@ -76,6 +78,7 @@ pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
 }
 
 /// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
 pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
     let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
     let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
@@ -83,6 +86,7 @@ pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
 }
 
 /// Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32, sigma2: f32, delta: f32) -> f32 {
     let n2: f32 = dux * dux + duy * duy + duz * duz + dvx * dvx + dvy * dvy + dvz * dvz;
     let kern: f32 = min(2.0 * sigma2 * n2, delta);
@@ -90,6 +94,7 @@ pub fn filter_deferred(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: 
 }
 
 /// Eq 13 with the σ² refitted for a Gaussian pixel footprint of variance 0.25 px² (the kernels' own model) and δ = 0.18 (results/filters.md).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; dux, duy, duz, dvx, dvy, dvz: screen-space derivatives of the shading normal: dpdx(N) and dpdy(N) in a fragment shader.
 pub fn filter_deferred_fitted(alpha: f32, dux: f32, duy: f32, duz: f32, dvx: f32, dvy: f32, dvz: f32) -> f32 {
     return filter_deferred(alpha, dux, duy, duz, dvx, dvy, dvz, FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL, FILTER_DELTA_MAX);
 }

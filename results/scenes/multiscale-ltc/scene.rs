@@ -76,6 +76,7 @@ pub const ALPHA_ME_D8: f32 = -0.16984369;
 pub const LTC_LUT_SIZE: f32 = 64.0;
 
 /// Point-light GGX specular times the cosine, D·G2/(4 v_z) (F = 1), tangent-space unit l and v, fused: with u = l + v, Q = √(z² + α²(x² + y²)), f = α²|u|⁴ l_z / (2π (u_x² + u_y² + α² u_z²)² (Q_l v_z + Q_v l_z)) — one division, two square roots, no normalisation (D, G2 of seed 003 Eq 14–16 combined).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; lx, ly, lz, vx, vy, vz: unit directions in tangent space, z along the shading normal (Bevy: the world-space vectors times the transposed TBN).
 pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha: f32) -> f32 {
     if (lz <= 0.0 || vz <= 0.0) {
         return 0.0;
@@ -92,12 +93,14 @@ pub fn ggx_specular(lx: f32, ly: f32, lz: f32, vx: f32, vy: f32, vz: f32, alpha:
 }
 
 /// Texture coordinate u of the LTC table for roughness α: the table is uniform in r = √α over texel centres, u = (r(n − 1) + ½)/n (bilinear filtering then reproduces the table's interpolation).
+/// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`.
 pub fn ltc_lut_u(alpha: f32) -> f32 {
     let r: f32 = sqrt(clamp(alpha, 0.0, 1.0));
     return (r * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
 }
 
 /// Texture coordinate v of the LTC table for the view cosine: uniform in t = √(1 − cos θ), v = (t(n − 1) + ½)/n.
+/// Inputs — cos_theta: cos θ_v = clamp(dot(N, V), 0, 1).
 pub fn ltc_lut_v(cos_theta: f32) -> f32 {
     let t: f32 = sqrt(1.0 - clamp(cos_theta, 0.0, 1.0));
     return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
@@ -116,6 +119,7 @@ pub fn ltc_edge_factor(x: f32) -> f32 {
 }
 
 /// LTC integral over a quad light (vertices p0…p3 in the shading frame: x toward the view, z the normal) with M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (the table's production form): vertices → M⁻¹p, normalised, edge vectors summed (Heitz et al. 2016), horizon by the clipped-sphere approximation max((|F|² + F_z)/(|F| + 1), 0) of the shipped shaders, clamped to ≤ 1 (a form factor; f32 edges that map to nearly antipodal directions at α → 1e-4 can otherwise push it past 1). Multiply by the table's norm. Two-sided.
+/// Inputs — b: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1x: f32, p1y: f32, p1z: f32, p2x: f32, p2y: f32, p2z: f32, p3x: f32, p3y: f32, p3z: f32) -> f32 {
     // transformed, normalised vertices
     let q0x: f32 = a * p0x + c * p0z;
@@ -155,6 +159,7 @@ pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1
 }
 
 /// α_me from the pair (y, b) = (1 − ‖b̄‖, ‖b̄‖) (seed 000 §3.3), total over every f32 input: y and b are clamped to [m, 1] (m = the smallest normal f32; NaN ↦ m). y ≤ 1/3 (α ≤ 1): α = √(y/R(s)), s = −ln y, R = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^−k (exact α → 0 limit); y > 1/3: α = (π/2) g(b)/b, g = 1 + Σ d_k b^k (exact α ~ π/(2‖b̄‖) limit). Passing both keeps full relative precision at both ends. Max rel. error ≤ 1e-3 on α ∈ [1e-4, 1e2]; its measured error over the whole range: results/generated-range.md. α is the GGX/LTC roughness (Bevy: perceptual roughness²).
+/// Inputs — y, b: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn alpha_me_pair(y: f32, b: f32) -> f32 {
     let yc: f32 = clamp(y, 1.1754944e-38, 1.0);
     if (yc > 0.33333334) {
@@ -170,6 +175,7 @@ pub fn alpha_me_pair(y: f32, b: f32) -> f32 {
 }
 
 /// Overall α of the multi-scale lobe by the product identity ρ = ρ_me·ρ_mi (proofs/mrl-product.md), from y_me = 1 − ‖μ‖ of the mip and the per-material y_mi = 1 − ρ(α_mi): 1 − ρ = y_me + y_mi − y_me·y_mi and ρ = (1 − y_me)(1 − y_mi), each without cancellation (pass the y's, not ‖μ‖ and ρ: in f32 1 − ‖μ‖ρ loses ε/y relative).
+/// Inputs — y_me, y_mi: y = 1 − ‖b̄‖ and b = ‖b̄‖, the mean-vector length of a lobe or of a mip's normals (pass y, not ‖b̄‖, when it is small).
 pub fn multiscale_alpha(y_me: f32, y_mi: f32) -> f32 {
     return alpha_me_pair(y_me + y_mi - y_me * y_mi, (1.0 - y_me) * (1.0 - y_mi));
 }

@@ -1,0 +1,257 @@
+//! Every generated WGSL module through naga's four back ends (SPIR-V, MSL, HLSL, GLSL).
+//!
+//! A library module has no entry point, and three of the four back ends write only what
+//! an entry point reaches, so each module is translated with a generated harness: one
+//! compute entry point that calls every function of the module on arguments read from a
+//! storage buffer and writes every result to another. The harness is the only place that
+//! declares `@group`/`@binding` globals; the library modules never do.
+
+use crate::error::{Error, Result};
+
+/// A naga back end, with the target it is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Backend {
+    Spv,
+    Msl,
+    Hlsl,
+    Glsl,
+}
+
+/// The four back ends, in report order.
+pub const BACKENDS: [Backend; 4] = [Backend::Spv, Backend::Msl, Backend::Hlsl, Backend::Glsl];
+
+impl Backend {
+    /// The target in words.
+    pub fn target(self) -> &'static str {
+        match self {
+            Backend::Spv => "SPIR-V 1.0 (Vulkan)",
+            Backend::Msl => "MSL 2.0 (Metal)",
+            Backend::Hlsl => "HLSL SM 5.1 (D3D12)",
+            Backend::Glsl => "GLSL 450 core (OpenGL, Godot)",
+        }
+    }
+    /// Short name (table columns, file extensions).
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Spv => "spv",
+            Backend::Msl => "msl",
+            Backend::Hlsl => "hlsl",
+            Backend::Glsl => "glsl",
+        }
+    }
+}
+
+/// What the shaders may use: naga's defaults plus `SHADER_FLOAT16_IN_FLOAT32`, which
+/// the core WGSL built-in `unpack2x16float` of the binary16 LTC table needs (every WebGPU
+/// implementation has it; GLSL ≥ 4.20 `unpackHalf2x16`, HLSL `f16tof32`, MSL `half2`).
+pub const CAPABILITIES: naga::valid::Capabilities =
+    naga::valid::Capabilities::SHADER_FLOAT16_IN_FLOAT32
+        .union(naga::valid::Capabilities::MULTISAMPLED_SHADING)
+        .union(naga::valid::Capabilities::CUBE_ARRAY_TEXTURES);
+
+/// The entry point of the harness.
+pub const ENTRY: &str = "ndfb_harness_main";
+
+/// One function of a module as the harness calls it: its name, whether each argument is
+/// u32 (else f32), and how many components its result has.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Call {
+    pub name: String,
+    pub uint_args: Vec<bool>,
+    pub components: u32,
+}
+
+fn parse(src: &str, what: &str) -> Result<naga::Module> {
+    naga::front::wgsl::parse_str(src).map_err(|e| {
+        Error::InvalidArgument(format!("{what}: WGSL does not parse: {}", e.message()))
+    })
+}
+
+fn validate(module: &naga::Module, what: &str) -> Result<naga::valid::ModuleInfo> {
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), CAPABILITIES)
+        .validate(module)
+        .map_err(|e| {
+            Error::InvalidArgument(format!("{what}: WGSL does not validate: {}", e.as_inner()))
+        })
+}
+
+/// Every function of a WGSL library module (in source order), with its signature as
+/// the harness needs it. Only scalar f32/u32 arguments and f32 scalar or vector results
+/// occur in the generated modules; anything else is a typed error naming the function.
+pub fn calls(src: &str, what: &str) -> Result<Vec<Call>> {
+    let module = parse(src, what)?;
+    let mut out = Vec::new();
+    for (_, f) in module.functions.iter() {
+        let name = f.name.clone().unwrap_or_default();
+        let bad = || {
+            Error::InvalidArgument(format!(
+                "{what}: {name} has a signature the harness cannot call"
+            ))
+        };
+        let scalar = |ty: naga::Handle<naga::Type>| match module.types[ty].inner {
+            naga::TypeInner::Scalar(s) => Some((s.kind, 1)),
+            naga::TypeInner::Vector { size, scalar } => Some((scalar.kind, size as u32)),
+            _ => None,
+        };
+        let mut uint_args = Vec::new();
+        for a in &f.arguments {
+            match scalar(a.ty).ok_or_else(bad)? {
+                (naga::ScalarKind::Float, 1) => uint_args.push(false),
+                (naga::ScalarKind::Uint, 1) => uint_args.push(true),
+                _ => return Err(bad()),
+            }
+        }
+        let components = match f.result.as_ref().map(|r| scalar(r.ty)) {
+            Some(Some((naga::ScalarKind::Float, n))) => n,
+            _ => return Err(bad()),
+        };
+        out.push(Call {
+            name,
+            uint_args,
+            components,
+        });
+    }
+    Ok(out)
+}
+
+/// The harness: two storage buffers and one compute entry point. Invocation i reads
+/// its arguments from args[i·K …] (K = the largest arity) and writes result j of M to
+/// out[i·M + j] (vector results summed, so every component is live).
+pub fn harness(calls: &[Call]) -> String {
+    let k = calls
+        .iter()
+        .map(|c| c.uint_args.len())
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    let m = calls.len().max(1);
+    let mut s = format!(
+        "\n// Harness (not part of the library): calls every function once per invocation.\n@group(0) @binding(0) var<storage, read> ndfb_harness_args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> ndfb_harness_out: array<f32>;\n\n@compute @workgroup_size(64)\nfn {ENTRY}(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i >= arrayLength(&ndfb_harness_out) / {m}u) {{\n        return;\n    }}\n    let a = i * {k}u;\n"
+    );
+    for (j, c) in calls.iter().enumerate() {
+        let args: Vec<String> = c
+            .uint_args
+            .iter()
+            .enumerate()
+            .map(|(q, &u)| {
+                let x = format!("ndfb_harness_args[a + {q}u]");
+                if u {
+                    format!("u32({x})")
+                } else {
+                    x
+                }
+            })
+            .collect();
+        let call = format!("{}({})", c.name, args.join(", "));
+        let value = match c.components {
+            1 => call,
+            n => format!("dot({call}, vec{n}<f32>(1.0))"),
+        };
+        s.push_str(&format!(
+            "    ndfb_harness_out[i * {m}u + {j}u] = {value};\n"
+        ));
+    }
+    s.push_str("}\n");
+    s
+}
+
+/// A library module with its harness appended: a complete compute shader.
+pub fn harnessed(src: &str, what: &str) -> Result<String> {
+    Ok(format!("{src}{}", harness(&calls(src, what)?)))
+}
+
+/// What one back end produced from a shader: its bytes, or naga's error message.
+#[derive(Clone, Debug)]
+pub struct Output {
+    pub backend: Backend,
+    pub result: std::result::Result<Vec<u8>, String>,
+}
+
+/// Translate a complete compute shader (entry point [`ENTRY`]) with every back end.
+/// The WGSL must parse and validate (else a typed error); each back end's own failure
+/// is recorded in its [`Output`].
+pub fn translate(shader: &str, what: &str) -> Result<Vec<Output>> {
+    let module = parse(shader, what)?;
+    let info = validate(&module, what)?;
+    Ok(BACKENDS
+        .iter()
+        .map(|&b| Output {
+            backend: b,
+            result: write(b, &module, &info),
+        })
+        .collect())
+}
+
+/// One back end over a validated module.
+pub fn write(
+    b: Backend,
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+) -> std::result::Result<Vec<u8>, String> {
+    use naga::back::{glsl, hlsl, msl, spv};
+    let stage = naga::ShaderStage::Compute;
+    match b {
+        Backend::Spv => {
+            let options = spv::Options {
+                // no debug info: the bytes depend only on the shader and naga's version
+                flags: spv::WriterFlags::empty(),
+                ..Default::default()
+            };
+            let pipeline = spv::PipelineOptions {
+                shader_stage: stage,
+                entry_point: ENTRY.into(),
+            };
+            spv::write_vec(module, info, &options, Some(&pipeline))
+                .map(|w| w.iter().flat_map(|x| x.to_le_bytes()).collect())
+                .map_err(|e| e.to_string())
+        }
+        Backend::Msl => {
+            let options = msl::Options {
+                lang_version: (2, 0),
+                ..Default::default()
+            };
+            let pipeline = msl::PipelineOptions {
+                entry_point: Some((stage, ENTRY.into())),
+                ..Default::default()
+            };
+            msl::write_string(module, info, &options, &pipeline)
+                .map(|(s, _)| s.into_bytes())
+                .map_err(|e| e.to_string())
+        }
+        Backend::Hlsl => {
+            let options = hlsl::Options::default();
+            let pipeline = hlsl::PipelineOptions {
+                entry_point: Some((stage, ENTRY.into())),
+            };
+            let mut s = String::new();
+            hlsl::Writer::new(&mut s, &options, &pipeline)
+                .write(module, info, None)
+                .map(|_| s.into_bytes())
+                .map_err(|e| e.to_string())
+        }
+        Backend::Glsl => {
+            let options = glsl::Options {
+                version: glsl::Version::Desktop(450),
+                writer_flags: glsl::WriterFlags::empty(),
+                ..Default::default()
+            };
+            let pipeline = glsl::PipelineOptions {
+                shader_stage: stage,
+                entry_point: ENTRY.into(),
+                multiview: None,
+            };
+            let mut s = String::new();
+            glsl::Writer::new(
+                &mut s,
+                module,
+                info,
+                &options,
+                &pipeline,
+                naga::proc::BoundsCheckPolicies::default(),
+            )
+            .and_then(|mut w| w.write())
+            .map(|_| s.into_bytes())
+            .map_err(|e| e.to_string())
+        }
+    }
+}

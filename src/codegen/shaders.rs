@@ -1,0 +1,197 @@
+//! results/shaders.md and results/shaders/spv/: every generated module (results/wgsl/)
+//! and every scene shader (results/scenes/*/scene.wgsl), with its harness, through each
+//! naga back end (`backends`), and each translation through its validator
+//! (`validators`). Compute (`measure`) → markdown (`markdown`) → files (`write`).
+
+use super::backends::{self, Backend, BACKENDS};
+use super::validators::{self, Verdict};
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// One shader and what became of it.
+#[derive(Clone, Debug)]
+pub struct Entry {
+    /// Its name in the report and in results/shaders/spv/<name>.spv.
+    pub name: String,
+    /// Where its library text lives, relative to results/.
+    pub source: String,
+    pub functions: usize,
+    pub wgsl_bytes: usize,
+    /// Per back end: the output (or naga's error) and the validator's verdict.
+    pub outputs: Vec<(backends::Output, Verdict)>,
+}
+
+/// The shaders to translate: (name, path relative to `results`), modules first, then
+/// the scenes present under `results`/scenes, in name order.
+pub fn sources(results: &Path) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = super::MODULES
+        .iter()
+        .map(|(f, _, _)| super::forms::stem(f).to_string())
+        .chain(["ltc_table".to_string(), "ltc_table_f16".to_string()])
+        .map(|s| (s.clone(), format!("wgsl/{s}.wgsl")))
+        .collect();
+    let mut scenes: Vec<String> = std::fs::read_dir(results.join("scenes"))
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .filter(|e| e.path().join("scene.wgsl").is_file())
+                .filter_map(|e| e.file_name().to_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    scenes.sort();
+    out.extend(
+        scenes
+            .into_iter()
+            .map(|s| (format!("scene-{s}"), format!("scenes/{s}/scene.wgsl"))),
+    );
+    out
+}
+
+/// Translate and validate every shader of `results` (`validate`: run the external
+/// validators; without it every verdict is "not run").
+pub fn measure(results: &Path, validate: bool) -> Result<Vec<Entry>> {
+    let mut entries = Vec::new();
+    for (name, rel) in sources(results) {
+        let path = results.join(&rel);
+        let src = crate::io::read_to_string(&path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            msg: e.to_string(),
+        })?;
+        let calls = backends::calls(&src, &rel)?;
+        let shader = format!("{src}{}", backends::harness(&calls));
+        let outputs = backends::translate(&shader, &rel)?
+            .into_iter()
+            .map(|o| {
+                let v = match (&o.result, validate) {
+                    (Ok(bytes), true) => validators::validate(o.backend, bytes),
+                    (Ok(_), false) if validators::tool(o.backend).is_none() => Verdict::NoValidator,
+                    (Ok(_), false) => Verdict::ToolAbsent,
+                    (Err(_), _) => Verdict::NoValidator,
+                };
+                (o, v)
+            })
+            .collect();
+        entries.push(Entry {
+            name,
+            source: rel,
+            functions: calls.len(),
+            wgsl_bytes: src.len(),
+            outputs,
+        });
+    }
+    Ok(entries)
+}
+
+fn kib(n: usize) -> String {
+    format!("{:.1} KiB", n as f64 / 1024.0)
+}
+
+/// The report's line naming the validators (a test masks it where they are absent).
+pub const VALIDATORS_LINE: &str = "Validators:";
+
+/// results/shaders.md.
+pub fn markdown(entries: &[Entry], command: &str) -> String {
+    let mut s = super::header(
+        "<!--",
+        command,
+        "results/wgsl/*.wgsl and results/scenes/*/scene.wgsl",
+    );
+    s.push_str("# Generated shaders through every naga back end\n\n");
+    s.push_str(&format!(
+        "Each library module (no entry point, no bindings) is completed by a generated harness — two storage buffers and one compute entry point `{}` that calls every function of the module — parsed and validated by naga {}, and written by naga's four back ends. The SPIR-V is kept in results/shaders/spv/<module>.spv so that anyone can re-validate it (`spirv-val --target-env vulkan1.0 FILE`). Importable forms of the same modules: results/shaders/naga_oil/ (`#define_import_path ndfbench::<module>`) and results/shaders/wesl/ (package `ndfbench`); tests/shaders.rs composes both with the real composers (naga_oil, wesl-rs) into a shader that calls every function and validates it.\n\n",
+        backends::ENTRY,
+        naga_version()
+    ));
+    let tools: Vec<String> = BACKENDS
+        .iter()
+        .filter_map(|&b| validators::tool(b))
+        .map(|(p, args, _)| {
+            format!(
+                "`{p}{}{}` ({})",
+                if args.is_empty() { "" } else { " " },
+                args.join(" "),
+                validators::version(p).unwrap_or_else(|| "absent".into())
+            )
+        })
+        .collect();
+    s.push_str(&format!(
+        "{VALIDATORS_LINE} {}. MSL and HLSL have no validator on Linux (Apple's `metal` and Microsoft's `dxc` are not packaged); they are reported as translated only.\n\n",
+        tools.join(", ")
+    ));
+    let mut ok = 0;
+    let mut valid = 0;
+    let mut total = 0;
+    s.push_str("| shader | source | functions | WGSL | back end | translated | size | validator |\n|---|---|---:|---:|---|---|---:|---|\n");
+    for e in entries {
+        for (o, v) in &e.outputs {
+            total += 1;
+            let tool = validators::tool(o.backend).map_or("", |t| t.0);
+            let (tr, size) = match &o.result {
+                Ok(b) => {
+                    ok += 1;
+                    ("yes".to_string(), kib(b.len()))
+                }
+                Err(m) => (
+                    format!("NO: {}", m.lines().next().unwrap_or("")),
+                    "—".into(),
+                ),
+            };
+            if *v == Verdict::Valid {
+                valid += 1;
+            }
+            s.push_str(&format!(
+                "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                e.name,
+                e.source,
+                e.functions,
+                kib(e.wgsl_bytes),
+                o.backend.target(),
+                tr,
+                size,
+                v.cell(tool)
+            ));
+        }
+    }
+    let validated = entries.len()
+        * BACKENDS
+            .iter()
+            .filter(|b| validators::tool(**b).is_some())
+            .count();
+    s.push_str(&format!(
+        "\n{ok} of {total} translations succeeded; {valid} of the {validated} that have a validator passed it.\n\nThe time each translation and validation takes: results/performance.md (criterion, `shaders/…`).\n"
+    ));
+    s
+}
+
+/// The naga version the crate is built with (Cargo.lock).
+pub fn naga_version() -> &'static str {
+    "30.0.2"
+}
+
+/// Every file of the shader report: (path relative to `results`, bytes).
+pub fn render(entries: &[Entry], command: &str) -> Vec<(String, Vec<u8>)> {
+    let mut out = vec![(
+        "shaders.md".to_string(),
+        markdown(entries, command).into_bytes(),
+    )];
+    for e in entries {
+        for (o, _) in &e.outputs {
+            if let (Backend::Spv, Ok(bytes)) = (o.backend, &o.result) {
+                out.push((format!("shaders/spv/{}.spv", e.name), bytes.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// Measure and write results/shaders.md and the SPIR-V files; returns the paths.
+pub fn write(results: &Path) -> Result<Vec<String>> {
+    let entries = measure(results, true)?;
+    let mut written = Vec::new();
+    for (rel, bytes) in render(&entries, super::COMMAND) {
+        let p = results.join(rel);
+        crate::io::write_atomic(&p, &bytes)?;
+        written.push(p.display().to_string());
+    }
+    Ok(written)
+}
