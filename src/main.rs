@@ -51,29 +51,11 @@ enum Cmd {
     },
     /// Evaluate one model quantity and print JSON (for scripting). See `eval --help`.
     Eval(cli::EvalArgs),
-    /// Measure every footprint filter on your normal map (PNG) against the
-    /// footprint-averaged BRDF; writes a report, JSON and per-level α′ maps to --out.
-    Prefilter {
-        /// tangent-space normal map, 8/16-bit RGB(A) PNG, power-of-two sides
-        #[arg(long, conflicts_with = "generator")]
-        input: Option<PathBuf>,
-        /// a procedural map instead of a PNG: isotropic-noise, brushed-metal, flakes,
-        /// sharp-bumps, scratches (64×64)
-        #[arg(long)]
-        generator: Option<String>,
-        /// output directory
-        #[arg(long, default_value = "prefilter-out")]
-        out: PathBuf,
-        /// base (micro-scale) roughness α (footprint-filter study)
-        #[arg(long, default_value_t = 0.1)]
-        alpha: f64,
-        /// compress the map's P-NDF blocks at this CP rank (seed 002) instead of the
-        /// footprint-filter study
-        #[arg(long)]
-        rank: Option<usize>,
-        #[arg(long, value_enum, default_value_t = Preset::Default)]
-        preset: Preset,
-    },
+    /// Roughness mips from your normal map (PNG): the footprint variance of every mip
+    /// folded into roughness by a measured rule, written as KTX2 (every level) and PNGs,
+    /// with the normal mips and a report of the rule's measured error. With --study, the
+    /// footprint-filter study on the map instead; with --rank, its P-NDF compression.
+    Prefilter(ndfbench::cli::prefilter::PrefilterArgs),
     /// Write only the WGSL and Rust a scene needs (scene TOML), with a report of each
     /// chosen approximation's measured error and cost.
     Scene {
@@ -190,29 +172,60 @@ fn run_verify(
 }
 
 fn run_prefilter(
-    input: Option<PathBuf>,
-    generator: Option<String>,
-    dir: &std::path::Path,
-    alpha: f64,
-    rank: Option<usize>,
-    preset: Preset,
+    a: ndfbench::cli::prefilter::PrefilterArgs,
+    results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
+    let dir = a.out.clone();
     in_set("prefilter", &dir.join(".manifest.json"), || {
-        prefilter_set(input, generator, dir, alpha, rank, preset)
+        prefilter_set(a, &dir, results)
     })
 }
 
 fn prefilter_set(
-    input: Option<PathBuf>,
-    generator: Option<String>,
+    a: ndfbench::cli::prefilter::PrefilterArgs,
     dir: &std::path::Path,
-    alpha: f64,
-    rank: Option<usize>,
-    preset: Preset,
+    results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
+    let tool = a.options(results);
+    let ndfbench::cli::prefilter::PrefilterArgs {
+        input,
+        generator,
+        alpha,
+        study,
+        rank,
+        preset,
+        ..
+    } = a;
     let msg = match (input, generator, rank) {
-        (Some(p), None, None) => ndfbench::studies::filters::prefilter(&p, dir, alpha, preset)?,
+        (Some(p), None, None) if study => {
+            ndfbench::studies::filters::prefilter(&p, dir, alpha.unwrap_or(0.1), preset)?
+        }
+        (Some(_), None, None) => {
+            let options = tool.expect("tool options with --input");
+            let command = format!(
+                "ndfbench prefilter --input {} {} --filter {}",
+                options.input.display(),
+                match (&options.roughness, options.alpha) {
+                    (Some(r), _) => format!("--roughness {}", r.display()),
+                    (None, Some(x)) => format!("--alpha {x}"),
+                    _ => String::new(),
+                },
+                options.filter.name()
+            );
+            let outcome = ndfbench::prefilter::run(options)?;
+            let files = ndfbench::prefilter::output::render(&outcome, &command)?;
+            for (name, bytes) in &files {
+                ndfbench::io::write_atomic(&dir.join(name), bytes)?;
+            }
+            format!(
+                "wrote {} files to {} ({} levels, rule {})",
+                files.len(),
+                dir.display(),
+                outcome.levels.len(),
+                outcome.filter.name()
+            )
+        }
         (Some(p), None, Some(r)) => {
             let map = NormalMap::from_png(&p)?;
             ndfbench::studies::tensor::prefilter_tensor(&map, dir, r, preset)?
@@ -340,14 +353,7 @@ fn main() -> ExitCode {
             out(&json);
             true
         }),
-        Some(Cmd::Prefilter {
-            input,
-            generator,
-            out: dir,
-            alpha,
-            rank,
-            preset,
-        }) => run_prefilter(input, generator, &dir, alpha, rank, preset),
+        Some(Cmd::Prefilter(a)) => run_prefilter(a, &cli.results),
         Some(Cmd::Scene { file, out: dir }) => in_set("scene", &dir.join(".manifest.json"), || {
             ndfbench::scene::run(&file, &dir, &cli.results)
         })

@@ -133,7 +133,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
         .arg(&png)
         .arg("--out")
         .arg(&dir)
-        .args(["--alpha", "0.1", "--preset", "quick"])
+        .args(["--study", "--alpha", "0.1", "--preset", "quick"])
         .output()
         .unwrap();
     assert!(
@@ -146,7 +146,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
     assert!(dir.join("flakes16-alpha-L1.png").exists());
     std::fs::write(dir.join("broken.png"), b"not a png").unwrap();
     let out = bin()
-        .args(["prefilter", "--input"])
+        .args(["prefilter", "--study", "--input"])
         .arg(dir.join("broken.png"))
         .arg("--out")
         .arg(&dir)

@@ -793,7 +793,7 @@ fn broken_and_non_normal_pngs_write_nothing() {
         ]
     };
     for (what, input, needle) in cases {
-        for extra in [vec![], vec!["--rank", "4"]] {
+        for extra in [vec!["--alpha", "0.1"], vec!["--study"], vec!["--rank", "4"]] {
             let out_dir = d.join("out");
             let out = bin()
                 .arg("prefilter")

@@ -1,8 +1,9 @@
 //! `eval`: evaluate one model quantity from the command line, JSON out. The argument
 //! types and the dispatch live here; the quantities in [`quantities`], the footprint
-//! filters in [`filter`].
+//! filters in [`filter`]; the `prefilter` arguments in [`prefilter`].
 
 mod filter;
+pub mod prefilter;
 mod quantities;
 
 use filter::filter_eval;

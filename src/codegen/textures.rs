@@ -25,6 +25,7 @@
 //! Every f16 file holds the table's binary16 storage (`FittedTable::half_cell`); every
 //! f32 file the f64 table rounded to nearest f32.
 
+use crate::ktx2::u32le;
 use crate::ltc::table::FittedTable;
 use half::f16;
 
@@ -76,91 +77,38 @@ fn bytes_f32(texels: &[[f32; 4]]) -> Vec<u8> {
         .collect()
 }
 
-fn u32le(out: &mut Vec<u8>, v: u32) {
-    out.extend_from_slice(&v.to_le_bytes());
-}
-
-fn u64le(out: &mut Vec<u8>, v: u64) {
-    out.extend_from_slice(&v.to_le_bytes());
-}
-
 /// VK_FORMAT_R16G16B16A16_SFLOAT.
-pub const VK_FORMAT_R16G16B16A16_SFLOAT: u32 = 97;
+pub const VK_FORMAT_R16G16B16A16_SFLOAT: u32 = crate::ktx2::R16G16B16A16_SFLOAT;
 
-/// The basic data-format descriptor of R16G16B16A16_SFLOAT (KTX 2.0 §3.10, Khronos
-/// Data Format 1.3 §5): RGBSDA colour model, BT.709 primaries, linear transfer, four
-/// 16-bit signed-float samples R, G, B, A (channel ids 0, 1, 2, 15) with the float
-/// sample bounds −1.0 and 1.0.
-fn dfd_rgba16f() -> Vec<u8> {
-    let mut b = Vec::new();
-    let block_size = 24 + 16 * 4;
-    u32le(&mut b, 4 + block_size); // dfdTotalSize
-    u32le(&mut b, 0); // vendorId 0 (Khronos), descriptorType 0 (basic)
-    b.extend_from_slice(&2u16.to_le_bytes()); // versionNumber (1.3)
-    b.extend_from_slice(&(block_size as u16).to_le_bytes());
-    b.extend_from_slice(&[1, 1, 1, 0]); // RGBSDA, BT709, LINEAR, straight alpha
-    b.extend_from_slice(&[0, 0, 0, 0]); // texel block 1×1×1×1
-    b.extend_from_slice(&[8, 0, 0, 0, 0, 0, 0, 0]); // bytesPlane0 = 8
-    for (k, channel) in [0u8, 1, 2, 15].iter().enumerate() {
-        b.extend_from_slice(&((16 * k) as u16).to_le_bytes()); // bitOffset
-        b.push(15); // bitLength − 1
-        b.push(channel | 0x80 | 0x40); // FLOAT | SIGNED qualifiers
-        b.extend_from_slice(&[0, 0, 0, 0]); // samplePosition
-        u32le(&mut b, (-1.0f32).to_bits()); // sampleLower
-        u32le(&mut b, 1.0f32.to_bits()); // sampleUpper
-    }
-    b
-}
-
-/// One key/value entry of the KTX2 key/value data, padded to 4 bytes.
-fn kv(out: &mut Vec<u8>, key: &str, value: &str) {
-    let len = key.len() + 1 + value.len() + 1;
-    u32le(out, len as u32);
-    out.extend_from_slice(key.as_bytes());
-    out.push(0);
-    out.extend_from_slice(value.as_bytes());
-    out.push(0);
-    while out.len() % 4 != 0 {
-        out.push(0);
-    }
-}
-
-/// The KTX2 file: both layers in one 2D array texture of R16G16B16A16_SFLOAT.
+/// The KTX2 file: both layers in one 2D array texture of R16G16B16A16_SFLOAT (four
+/// 16-bit signed-float samples R, G, B, A; `crate::ktx2`).
 pub fn ktx2(t: &FittedTable, writer: &str) -> Vec<u8> {
-    let n = t.n as u32;
-    let dfd = dfd_rgba16f();
-    let mut kvd = Vec::new();
-    kv(&mut kvd, "KTXorientation", "rd");
-    kv(&mut kvd, "KTXwriter", writer);
+    let samples: Vec<crate::ktx2::Sample> = [0u8, 1, 2, 15]
+        .iter()
+        .enumerate()
+        .map(|(k, &channel)| crate::ktx2::Sample {
+            bit_offset: 16 * k as u16,
+            bit_length: 16,
+            channel,
+            float: true,
+        })
+        .collect();
     let mut level = bytes_f16(&texels_f16(t, 0));
     level.extend(bytes_f16(&texels_f16(t, 1)));
-    let index_end = 80 + 24; // header + index, then one level index entry
-    let dfd_off = index_end as u32;
-    let kvd_off = dfd_off + dfd.len() as u32;
-    let mut data_off = (kvd_off as usize + kvd.len()) as u64;
-    data_off = data_off.div_ceil(8) * 8; // lcm(texel size 8, 4)
-    let mut out = Vec::new();
-    out.extend_from_slice(&[
-        0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
-    ]);
-    for v in [VK_FORMAT_R16G16B16A16_SFLOAT, 2, n, n, 0, 2, 1, 1, 0] {
-        u32le(&mut out, v); // format, typeSize, w, h, depth, layers, faces, levels, scheme
-    }
-    u32le(&mut out, dfd_off);
-    u32le(&mut out, dfd.len() as u32);
-    u32le(&mut out, kvd_off);
-    u32le(&mut out, kvd.len() as u32);
-    u64le(&mut out, 0); // no supercompression global data
-    u64le(&mut out, 0);
-    u64le(&mut out, data_off);
-    u64le(&mut out, level.len() as u64);
-    u64le(&mut out, level.len() as u64);
-    debug_assert_eq!(out.len(), index_end);
-    out.extend(dfd);
-    out.extend(kvd);
-    out.resize(data_off as usize, 0);
-    out.extend(level);
-    out
+    crate::ktx2::write(&crate::ktx2::Texture {
+        vk_format: VK_FORMAT_R16G16B16A16_SFLOAT,
+        type_size: 2,
+        texel_bytes: 8,
+        width: t.n as u32,
+        height: t.n as u32,
+        layers: 2,
+        levels: vec![level],
+        dfd: crate::ktx2::dfd_basic(8, &samples),
+        key_values: vec![
+            ("KTXorientation".into(), "rd".into()),
+            ("KTXwriter".into(), writer.into()),
+        ],
+    })
 }
 
 /// DXGI_FORMAT_R16G16B16A16_FLOAT.

@@ -1,0 +1,71 @@
+//! The `prefilter` subcommand's arguments.
+
+use crate::integrate::Preset;
+use std::path::{Path, PathBuf};
+
+/// Roughness mips from a normal map; or, with --study, the footprint-filter study on it;
+/// or, with --rank, its P-NDF compression (seed 002).
+#[derive(clap::Args, Debug, Clone)]
+pub struct PrefilterArgs {
+    /// tangent-space normal map, 8/16-bit RGB(A) PNG, power-of-two sides ≤ 8192
+    #[arg(long, conflicts_with = "generator")]
+    pub input: Option<PathBuf>,
+    /// a procedural map instead of a PNG (with --rank): isotropic-noise, brushed-metal,
+    /// flakes, sharp-bumps, scratches (64×64)
+    #[arg(long)]
+    pub generator: Option<String>,
+    /// perceptual-roughness map (glTF: α = value²), 8/16-bit PNG, the normal map's size
+    /// or smaller by a power of two (each texel then covers that block)
+    #[arg(long, conflicts_with = "alpha")]
+    pub roughness: Option<PathBuf>,
+    /// the roughness map's channel: auto = grey, or G of RGB(A) (glTF metallicRoughness)
+    #[arg(long, value_enum, default_value_t = crate::prefilter::input::Channel::Auto)]
+    pub channel: crate::prefilter::input::Channel,
+    /// one base α for the whole map (the study's base roughness with --study; default 0.1 there)
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// the rule: best = the measured one with the smallest error (results/fits/filters.json)
+    #[arg(long, value_enum, default_value_t = crate::prefilter::Filter::Best)]
+    pub filter: crate::prefilter::Filter,
+    /// what the roughness texels hold
+    #[arg(long, value_enum, default_value_t = crate::prefilter::Store::Perceptual)]
+    pub store: crate::prefilter::Store,
+    /// the roughness chain's texel format
+    #[arg(long, value_enum, default_value_t = crate::prefilter::Format::R8)]
+    pub format: crate::prefilter::Format,
+    /// the normal mips: renormalised, or the mean normal as it is
+    #[arg(long, value_enum, default_value_t = crate::prefilter::NormalMips::Renormalised)]
+    pub normals: crate::prefilter::NormalMips,
+    /// ignore the blue channel and rebuild n_z = √(1 − x² − y²) (two-channel maps)
+    #[arg(long)]
+    pub reconstruct_z: bool,
+    /// run the footprint-filter study on the map instead (report, JSON, α′ maps)
+    #[arg(long)]
+    pub study: bool,
+    /// output directory
+    #[arg(long, default_value = "prefilter-out")]
+    pub out: PathBuf,
+    /// compress the map's P-NDF blocks at this CP rank (seed 002) instead
+    #[arg(long)]
+    pub rank: Option<usize>,
+    #[arg(long, value_enum, default_value_t = Preset::Default)]
+    pub preset: Preset,
+}
+
+impl PrefilterArgs {
+    /// The mip-chain tool's options (None without --input).
+    pub fn options(&self, results: &Path) -> Option<crate::prefilter::Options> {
+        self.input.clone().map(|input| crate::prefilter::Options {
+            input,
+            roughness: self.roughness.clone(),
+            alpha: self.alpha,
+            channel: self.channel,
+            filter: self.filter,
+            store: self.store,
+            format: self.format,
+            normals: self.normals,
+            reconstruct_z: self.reconstruct_z,
+            results: PathBuf::from(results),
+        })
+    }
+}
