@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+mod deliverables;
 mod tables;
 use tables::{
     alpha_me_table, filters_table, kernels_table, leadr_table, ltc_table, smith_lambda_table,
@@ -208,6 +209,8 @@ it buys.\n\n",
     md.push_str(&kernels_table(&timed, results)?);
     md.push_str(&tensor_table(&timed));
     md.push_str(&ltc_table(&timed, results));
+    md.push_str(&deliverables::shaders_table(&timed));
+    md.push_str(&deliverables::prefilter_table(&timed));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -218,6 +221,8 @@ it buys.\n\n",
                 && !t.group.starts_with("kernel-")
                 && !t.group.starts_with("tensor-")
                 && !t.group.starts_with("ltc-")
+                && !t.group.starts_with("shaders/")
+                && t.group != "prefilter"
         })
         .collect();
     if !other.is_empty() {
