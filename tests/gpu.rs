@@ -1,18 +1,23 @@
 //! The generated WGSL run on a GPU: each function is called from a compute
-//! shader over the same inputs as its Rust twin and the outputs are compared. Without a
-//! wgpu adapter (e.g. a CI machine with no GPU and no software Vulkan/GL driver) the test
-//! prints why and skips.
+//! shader over the same inputs as its Rust twin and the outputs are compared. The adapter
+//! is wgpu's high-performance choice (a hardware GPU where one exists), restricted by
+//! `WGPU_BACKEND` (.ci/run runs this file once on llvmpipe's GL and once on lavapipe's
+//! Vulkan); every run prints the adapter it used. Without a wgpu adapter (e.g. a CI
+//! machine with no GPU and no software Vulkan/GL driver) the test prints why and skips.
 
 use ndfbench::codegen;
 use ndfbench::generated::shading as g;
 
-/// Run `name` (with `nparams` f32 parameters) from the WGSL module `src` on the GPU over
-/// packed arguments; None when no adapter is available.
-fn run_gpu(src: &str, name: &str, nparams: usize, args: &[f32]) -> Option<Vec<f32>> {
+/// The adapter of this run, or None (with the reason printed) when there is none.
+fn adapter() -> Option<(wgpu::Adapter, wgpu::AdapterInfo)> {
     pollster::block_on(async {
-        let instance = wgpu::Instance::default();
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = match instance
-            .request_adapter(&wgpu::RequestAdapterOptions::default())
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                ..Default::default()
+            })
             .await
         {
             Ok(a) => a,
@@ -23,9 +28,18 @@ fn run_gpu(src: &str, name: &str, nparams: usize, args: &[f32]) -> Option<Vec<f3
         };
         let info = adapter.get_info();
         eprintln!(
-            "GPU check on {} ({:?}, {:?})",
-            info.name, info.backend, info.device_type
+            "GPU check on {} ({:?}, {:?}, driver {} {})",
+            info.name, info.backend, info.device_type, info.driver, info.driver_info
         );
+        Some((adapter, info))
+    })
+}
+
+/// Run `name` (with `nparams` f32 parameters) from the WGSL module `src` on the GPU over
+/// packed arguments; None when no adapter is available.
+fn run_gpu(src: &str, name: &str, nparams: usize, args: &[f32]) -> Option<Vec<f32>> {
+    let (adapter, _) = adapter()?;
+    pollster::block_on(async {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor::default())
             .await
@@ -208,6 +222,18 @@ fn ltc_table_modules_read_back_exactly_on_the_gpu() {
     let args: Vec<f32> = (0..n * n)
         .flat_map(|k| (0..4).flat_map(move |q| [(k % n) as f32, (k / n) as f32, q as f32]))
         .collect();
+    if let Some((_, info)) = adapter() {
+        if info.backend == wgpu::Backend::Vulkan && info.device_type == wgpu::DeviceType::Cpu {
+            // measured on lavapipe (Mesa 22.3.6, LLVM 15): the pipeline of the f32 table
+            // module had not compiled after 15 min (672 s of CPU), nor with the arrays as
+            // var<private> after 5 min; llvmpipe's GL path runs it in seconds
+            eprintln!(
+                "skipping the const-array table read-back on {}: lavapipe does not compile a dynamically indexed 4096-entry const array in reasonable time (> 15 min measured); engines sample results/textures instead",
+                info.name
+            );
+            return;
+        }
+    }
     for (file, half) in [("ltc_table.wgsl", false), ("ltc_table_f16.wgsl", true)] {
         let src = module(file) + wrap;
         let Some(gpu) = run_gpu(&src, "texel_component", 3, &args) else {

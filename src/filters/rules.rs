@@ -83,6 +83,26 @@ pub fn lean<T: Float>(alpha: T, cov: [T; 3]) -> [T; 3] {
     [a2 + two * cov[0], a2 + two * cov[1], two * cov[2]]
 }
 
+/// Filament's roughness-prefilter tool (tools/roughness-prefilter, after Karis 2018):
+/// p′ = √(p² + 2/κ) on the perceptual roughness p = √α, i.e. α′ = α + 2/κ — the vMF term
+/// added to α rather than to α². Same κ as [`vmf`].
+pub fn filament_prefilter<T: Float>(alpha: T, r: T) -> T {
+    let one = T::one();
+    let r = clamp_r(r);
+    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    alpha + k::<T>(2.0) * inv_kappa
+}
+
+/// Godot's import-time roughness limiter (core/io/image.cpp, `generate_mipmap_roughness`):
+/// variance = 0.25/κ, p′ = √(p² + min(3·variance, 0.4²)) on the perceptual roughness,
+/// i.e. α′ = α + min(0.75/κ, 0.16).
+pub fn godot_limiter<T: Float>(alpha: T, r: T) -> T {
+    let one = T::one();
+    let r = clamp_r(r);
+    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    alpha + (k::<T>(0.75) * inv_kappa).min(k::<T>(0.16))
+}
+
 /// Seed 000 Eq 5 (α_me from ‖b̄‖ = |μ|), clamped at 0 (it is negative for
 /// ‖b̄‖ > 0.999725, results/multiscale.md), combined with the base α by Eq 7.
 pub fn seed000_paper<T: Float>(alpha: T, r: T) -> T {

@@ -13,7 +13,7 @@ use nalgebra::{Vector2, Vector3};
 type V3 = Vector3<f64>;
 
 /// Names of the map filters, in report order.
-pub const MAP_FILTERS: [&str; 10] = [
+pub const MAP_FILTERS: [&str; 12] = [
     "none (renormalised mip normal)",
     "Toksvig, Blinn–Phong form",
     "Toksvig α² + 2σ²",
@@ -24,11 +24,19 @@ pub const MAP_FILTERS: [&str; 10] = [
     "LEAN (Eq 19: A = α²I + 2Σ, mean slope)",
     "seed 000 Eq 5 + Eq 7",
     "seed 000 moment: ρ⁻¹(‖μ‖ρ(α))",
+    "Filament roughness-prefilter: α + 2/κ",
+    "Godot roughness limiter: α + min(0.75/κ, 0.16)",
 ];
+
+/// The first map filters, whose lobes are the importance-sampling proposals of every map
+/// case; the engines' tool rules after them are measured on the same samples (their
+/// lobes lie between the vMF variants', and the defensive mixture covers every lobe), so
+/// adding them left the other filters' numbers unchanged.
+pub const PROPOSING_MAP_FILTERS: usize = 10;
 
 /// α′ of every isotropic map filter (f64 references), indexed like [`MAP_FILTERS`]
 /// (LEAN, index 7, is anisotropic: NaN here).
-pub fn map_alphas(alpha: f64, r: f64) -> Result<[f64; 10]> {
+pub fn map_alphas(alpha: f64, r: f64) -> Result<[f64; 12]> {
     let y = 1.0 - r * mrl_pair(alpha).0;
     let moment = alpha_from_one_minus(y.max(1e-300))?;
     Ok([
@@ -42,6 +50,8 @@ pub fn map_alphas(alpha: f64, r: f64) -> Result<[f64; 10]> {
         f64::NAN,
         rules::seed000_paper(alpha, r),
         moment,
+        rules::filament_prefilter(alpha, r),
+        rules::godot_limiter(alpha, r),
     ])
 }
 

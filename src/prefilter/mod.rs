@@ -83,6 +83,8 @@ impl Filter {
             Filter::ToksvigBp => Some("toksvig-bp"),
             Filter::Toksvig => Some("toksvig"),
             Filter::Vmf => Some("vmf"),
+            Filter::Filament => Some("filament"),
+            Filter::Godot => Some("godot"),
             _ => None,
         }
     }
@@ -91,19 +93,15 @@ impl Filter {
     /// roughness p (f64; r is clamped as in the shading forms, r = 1 gives the base).
     pub fn alpha(self, r: f64, mean_a2: f64, mean_p: f64, fitted_c: f64) -> f64 {
         let a = mean_a2.max(0.0).sqrt();
-        let inv_kappa = |r: f64| {
-            let r = rules::clamp_r(r);
-            (1.0 - r) * (1.0 + r) / (r * (3.0 - r * r))
-        };
         match self {
             Filter::Best | Filter::Vmf => rules::vmf(a, r, 2.0),
             Filter::None => a,
             Filter::ToksvigBp => rules::toksvig_bp(a, r),
             Filter::Toksvig => rules::toksvig_alpha2(a, r, 2.0),
             Filter::VmfFitted => rules::vmf(a, r, fitted_c),
-            // α′ = p′² with p′² as the engines compute it
-            Filter::Filament => mean_p * mean_p + 2.0 * inv_kappa(r),
-            Filter::Godot => mean_p * mean_p + (0.75 * inv_kappa(r)).min(0.16),
+            // α′ = p′² with p′² as the engines compute it, on their box-filtered p
+            Filter::Filament => rules::filament_prefilter(mean_p * mean_p, r),
+            Filter::Godot => rules::godot_limiter(mean_p * mean_p, r),
         }
     }
 }

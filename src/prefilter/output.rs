@@ -194,7 +194,7 @@ fn pct(m: f64, s: f64) -> String {
 fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
     let chosen = o.measured.iter().find(|m| m.filter == o.filter);
     let error = chosen.map_or(
-        "not measured by the footprint study (results/filters.md measures the rules on α²; the engines' rules on perceptual roughness are not among them)".to_string(),
+        "not measured here: results/fits/filters.json is absent or lacks this rule (run `cargo run --release -- regen --only filters`)".to_string(),
         |m| format!("mean lobe L2 error {} ({})", pct(m.l2_mean, m.l2_se), m.what),
     );
     let mut md = format!(

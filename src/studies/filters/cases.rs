@@ -131,7 +131,11 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
                 let (t, p) = plan.views_deg[vi];
                 let v = dir(t, p);
                 let cands = study::map_candidates(kind, alpha, &stats)?;
-                let props: Vec<(V3, f64)> = cands.iter().map(|c| c.proposal).collect();
+                let props: Vec<(V3, f64)> = cands
+                    .iter()
+                    .take(study::PROPOSING_MAP_FILTERS)
+                    .map(|c| c.proposal)
+                    .collect();
                 let samples = draw(&truth, &v, &props, plan.samples, seed_of(seed, ci))?;
                 let results = cands
                     .iter()

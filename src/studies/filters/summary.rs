@@ -43,6 +43,8 @@ pub(super) fn per_filter(
         ("lean", 7),
         ("seed000-paper", 8),
         ("seed000-moment", 9),
+        ("filament", 10),
+        ("godot", 11),
     ] {
         for kind in KINDS {
             let rs: Vec<&CaseResult> = map_cases
