@@ -86,6 +86,7 @@ fn prefilter_benches(c: &mut Criterion) {
         filter: prefilter::Filter::Vmf,
         store: prefilter::Store::Perceptual,
         format: prefilter::Format::R8,
+        layout: prefilter::Layout::R,
         normals: prefilter::NormalMips::Renormalised,
         reconstruct_z: false,
         results: "results".into(),

@@ -49,6 +49,7 @@ fn options(input: &Path) -> Options {
         filter: Filter::Vmf,
         store: Store::Perceptual,
         format: Format::R16f,
+        layout: prefilter::Layout::R,
         normals: NormalMips::Renormalised,
         reconstruct_z: false,
         results: PathBuf::from("results"),
@@ -341,7 +342,7 @@ proptest! {
             [(s * phi.cos()) as f32, (s * phi.sin()) as f32, z as f32]
         }).collect();
         let perceptual: Vec<f32> = (0..w * h).map(|_| rng.random::<f32>() * p_scale).collect();
-        let rough = input::Roughness::Map { width: w, height: h, bits: 16, scale: 1, perceptual };
+        let rough = input::Roughness::Map { width: w, height: h, bits: 16, scale: 1, perceptual, others: None };
         let levels = chain::pyramid(input::Normals { width: w, height: h, bits: 8, n }, &rough);
         prop_assert_eq!(levels.len(), lw.max(lh) + 1);
         for (l, lv) in levels.iter().enumerate() {
@@ -495,5 +496,74 @@ fn bad_input_is_a_typed_error_and_writes_nothing() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn gltf_layout_carries_occlusion_and_metallic_with_roughness_in_green() {
+    let d = scratch("gltf");
+    let png = d.join("n.png");
+    normal_png(&png, 16, 16, checker(0.3));
+    // an 8×8 ORM texture: R occlusion, G roughness, B metallic (two halves: 0 and 255)
+    let orm = d.join("orm.png");
+    image::RgbImage::from_fn(8, 8, |x, y| {
+        image::Rgb([(100 + 10 * y) as u8, 128, if x < 4 { 0 } else { 255 }])
+    })
+    .save(&orm)
+    .unwrap();
+    let out = d.join("out");
+    let run = bin()
+        .args(["prefilter", "--input"])
+        .arg(&png)
+        .arg("--roughness")
+        .arg(&orm)
+        .args(["--layout", "gltf", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(!out.join("roughness.ktx2").exists());
+    let file = read_ktx2(&out.join("metallic_roughness.ktx2"));
+    let r = ktx2::Reader::new(&file[..]).unwrap();
+    assert_eq!(r.header().format, Some(ktx2::Format::R8G8B8A8_UNORM));
+    assert_eq!(r.header().level_count, 5);
+    let (want, _) = ktx2::dfd::Basic::from_format(ktx2::Format::R8G8B8A8_UNORM).unwrap();
+    assert_eq!(
+        r.basic_dfd().unwrap().sample_information,
+        want.sample_information
+    );
+    let levels: Vec<Vec<u8>> = r.levels().map(|l| l.data.to_vec()).collect();
+    // level 0, texel (x, y): the ORM texel (x/2, y/2) — R and B as given, G the
+    // roughness 128/255 (r = 1 at level 0), A = 255
+    for (x, y) in [(0usize, 0usize), (9, 3), (15, 15)] {
+        let t = &levels[0][4 * (y * 16 + x)..4 * (y * 16 + x) + 4];
+        assert_eq!(t[0] as usize, 100 + 10 * (y / 2), "R at ({x}, {y})");
+        assert_eq!(t[1], 128, "G at ({x}, {y})");
+        assert_eq!(t[2], if x / 2 < 4 { 0 } else { 255 }, "B at ({x}, {y})");
+        assert_eq!(t[3], 255);
+    }
+    // level 3 (2×2): each texel averages a 4×4 block of the ORM map: metallic 0 or 1 by
+    // half, occlusion the mean of four rows; the last level (1×1) averages everything
+    let l3 = &levels[3];
+    assert_eq!(l3.len(), 16);
+    assert_eq!((l3[2], l3[4 + 2]), (0, 255));
+    let occ_top = (0..4).map(|y| 100.0 + 10.0 * y as f64).sum::<f64>() / 4.0;
+    assert!(
+        (l3[0] as f64 - occ_top).abs() <= 0.5,
+        "{} vs {occ_top}",
+        l3[0]
+    );
+    let l4 = &levels[4];
+    assert!(
+        (l4[2] as f64 - 127.5).abs() <= 0.5,
+        "metallic mean {}",
+        l4[2]
+    );
+    // G is filtered: the checkerboard's variance raises it above the base at every level ≥ 1
+    assert!(levels[1..].iter().all(|l| l[1] > 128));
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -33,6 +33,9 @@ pub struct PrefilterArgs {
     /// the roughness chain's texel format
     #[arg(long, value_enum, default_value_t = crate::prefilter::Format::R8)]
     pub format: crate::prefilter::Format,
+    /// one channel, or glTF metallicRoughness (G roughness; R, B carried from an RGB(A) input)
+    #[arg(long, value_enum, default_value_t = crate::prefilter::Layout::R)]
+    pub layout: crate::prefilter::Layout,
     /// the normal mips: renormalised, or the mean normal as it is
     #[arg(long, value_enum, default_value_t = crate::prefilter::NormalMips::Renormalised)]
     pub normals: crate::prefilter::NormalMips,
@@ -63,6 +66,7 @@ impl PrefilterArgs {
             filter: self.filter,
             store: self.store,
             format: self.format,
+            layout: self.layout,
             normals: self.normals,
             reconstruct_z: self.reconstruct_z,
             results: PathBuf::from(results),

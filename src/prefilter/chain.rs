@@ -127,3 +127,35 @@ pub fn direct(base: &Level, l: usize, i: usize, j: usize) -> ([f64; 3], f64, f64
     let c = (sx * sy) as f64;
     ([s[0] / c, s[1] / c, s[2] / c], s[3] / c, s[4] / c)
 }
+
+/// Box mips of a two-channel map (w × h, row-major) down to 1×1: each level the 2×2
+/// average of the one above. For the channels a glTF-layout output carries along
+/// (occlusion, metallic), at the roughness map's own resolution.
+pub fn box_mips(w: usize, h: usize, v: Vec<[f32; 2]>) -> Vec<(usize, usize, Vec<[f32; 2]>)> {
+    let mut out = vec![(w, h, v)];
+    loop {
+        let (pw, ph, prev) = out.last().expect("level");
+        if *pw == 1 && *ph == 1 {
+            break;
+        }
+        let (nw, nh) = ((pw / 2).max(1), (ph / 2).max(1));
+        let (sx, sy) = (pw / nw, ph / nh);
+        let mut next = Vec::with_capacity(nw * nh);
+        for j in 0..nh {
+            for i in 0..nw {
+                let mut s = [0f64; 2];
+                for dy in 0..sy {
+                    for dx in 0..sx {
+                        let t = prev[(j * sy + dy) * pw + i * sx + dx];
+                        s[0] += t[0] as f64;
+                        s[1] += t[1] as f64;
+                    }
+                }
+                let c = (sx * sy) as f64;
+                next.push([(s[0] / c) as f32, (s[1] / c) as f32]);
+            }
+        }
+        out.push((nw, nh, next));
+    }
+    out
+}

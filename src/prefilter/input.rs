@@ -26,6 +26,9 @@ pub enum Roughness {
         bits: u8,
         scale: usize,
         perceptual: Vec<f32>,
+        /// The other two channels of an RGB(A) glTF texture, (R, B) = (occlusion,
+        /// metallic) of an ORM map, carried into a glTF-layout output; None for grey maps.
+        others: Option<Vec<[f32; 2]>>,
     },
 }
 
@@ -206,6 +209,7 @@ pub fn roughness(path: &Path, channel: Channel, nw: usize, nh: usize) -> Result<
         }
     };
     let data = img.into_rgba32f();
+    let others = (channels >= 3).then(|| data.pixels().map(|p| [p[0], p[2]]).collect());
     let perceptual: Vec<f32> = data
         .pixels()
         .map(|p| {
@@ -219,5 +223,6 @@ pub fn roughness(path: &Path, channel: Channel, nw: usize, nh: usize) -> Result<
         bits: b,
         scale: nw / w,
         perceptual,
+        others,
     })
 }

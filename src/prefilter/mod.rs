@@ -180,6 +180,18 @@ pub enum Format {
     R16f,
 }
 
+/// How the roughness chain is laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Layout {
+    /// one channel (Godot's roughness_texture with its channel set to R; Filament; any
+    /// engine that reads a single-channel roughness map)
+    R,
+    /// a glTF metallicRoughness / ORM texture: R occlusion, G roughness, B metallic, A 1
+    /// (Bevy's metallic_roughness_texture, three.js roughnessMap/metalnessMap, glTF);
+    /// R and B carried from an RGB(A) roughness input (box mips), else 1 and 0
+    Gltf,
+}
+
 /// Whether the normal mips are renormalised.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 pub enum NormalMips {
@@ -199,6 +211,7 @@ pub struct Options {
     pub filter: Filter,
     pub store: Store,
     pub format: Format,
+    pub layout: Layout,
     pub normals: NormalMips,
     pub reconstruct_z: bool,
     /// Where results/fits/filters.json is read from (the measured errors).
@@ -220,6 +233,30 @@ pub struct Outcome {
     pub stored: Vec<Vec<f32>>,
     /// Per level, texels whose α′ exceeded 1 and were clamped.
     pub clamped: Vec<usize>,
+    /// The glTF layout's other channels: (texels per roughness texel at level 0, their
+    /// box mips at the roughness map's resolution); None without an RGB(A) input.
+    pub others: Option<(usize, Vec<(usize, usize, Vec<[f32; 2]>)>)>,
+}
+
+impl Outcome {
+    /// (occlusion, metallic) under texel k of level l (glTF layout): the roughness map's
+    /// own mip where it has one of that size, else its base read nearest; (1, 0) without one.
+    pub fn others_at(&self, l: usize, k: usize) -> [f32; 2] {
+        let Some((scale, mips)) = &self.others else {
+            return [1.0, 0.0];
+        };
+        let lv = &self.levels[l];
+        let (x, y) = (k % lv.width, k / lv.width);
+        let shift = scale.trailing_zeros() as usize;
+        if l >= shift {
+            let (w, _, v) = &mips[(l - shift).min(mips.len() - 1)];
+            v[y.min(v.len() / w - 1) * w + x.min(w - 1)]
+        } else {
+            let s = 1usize << (shift - l);
+            let (w, _, v) = &mips[0];
+            v[(y / s) * w + x / s]
+        }
+    }
 }
 
 /// Decode, check and compute (no file is touched).
@@ -260,6 +297,19 @@ pub fn run(options: Options) -> Result<Outcome> {
             .map_or(Filter::Vmf, |m| m.filter),
         f => f,
     };
+    let others = match (&rough, options.layout) {
+        (
+            input::Roughness::Map {
+                width,
+                height,
+                scale,
+                others: Some(o),
+                ..
+            },
+            Layout::Gltf,
+        ) => Some((*scale, chain::box_mips(*width, *height, o.clone()))),
+        _ => None,
+    };
     let levels = chain::pyramid(normals, &rough);
     let mut stored = Vec::with_capacity(levels.len());
     let mut clamped = Vec::with_capacity(levels.len());
@@ -293,5 +343,6 @@ pub fn run(options: Options) -> Result<Outcome> {
         levels,
         stored,
         clamped,
+        others,
     })
 }

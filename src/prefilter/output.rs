@@ -3,7 +3,7 @@
 //! and one PNG per level, and a report (markdown + JSON) with the rule's measured error.
 //! Rendered to bytes here; the caller publishes them as one set.
 
-use super::{Filter, Format, NormalMips, Outcome, Store};
+use super::{Filter, Format, Layout, NormalMips, Outcome, Store};
 use crate::error::{Error, Result};
 use crate::ktx2;
 
@@ -29,6 +29,85 @@ fn q8(v: f32) -> u8 {
 
 fn q16(v: f32) -> u16 {
     (v.clamp(0.0, 1.0) * 65535.0).round() as u16
+}
+
+/// The glTF-layout chain (R occlusion, G roughness, B metallic, A 1): KTX2 and one
+/// RGBA PNG per level.
+fn gltf_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut out = Vec::new();
+    let mut levels = Vec::new();
+    for (l, (lv, vals)) in o.levels.iter().zip(&o.stored).enumerate() {
+        let (w, h) = (lv.width as u32, lv.height as u32);
+        let texels: Vec<[f32; 4]> = (0..vals.len())
+            .map(|k| {
+                let [occ, metal] = o.others_at(l, k);
+                [occ, vals[k], metal, 1.0]
+            })
+            .collect();
+        let name = format!("metallic_roughness-L{l}.png");
+        let (bytes, img) = match o.options.format {
+            Format::R8 => {
+                let px: Vec<u8> = texels.iter().flat_map(|t| t.map(q8)).collect();
+                let img = image::RgbaImage::from_raw(w, h, px.clone()).expect("size");
+                (px, image::DynamicImage::ImageRgba8(img))
+            }
+            f => {
+                let px: Vec<u16> = texels.iter().flat_map(|t| t.map(q16)).collect();
+                let bytes: Vec<u8> = if f == Format::R16 {
+                    px.iter().flat_map(|v| v.to_le_bytes()).collect()
+                } else {
+                    texels
+                        .iter()
+                        .flat_map(|t| t.map(|v| half::f16::from_f32(v).to_bits()))
+                        .flat_map(|v| v.to_le_bytes())
+                        .collect()
+                };
+                let img =
+                    image::ImageBuffer::<image::Rgba<u16>, _>::from_raw(w, h, px).expect("size");
+                (bytes, image::DynamicImage::ImageRgba16(img))
+            }
+        };
+        out.push((name.clone(), png(img, &name)?));
+        levels.push(bytes);
+    }
+    let (vk, size, float) = match o.options.format {
+        Format::R8 => (ktx2::R8G8B8A8_UNORM, 1u32, false),
+        Format::R16 => (R16G16B16A16_UNORM, 2, false),
+        Format::R16f => (ktx2::R16G16B16A16_SFLOAT, 2, true),
+    };
+    let samples: Vec<ktx2::Sample> = [0u8, 1, 2, 15]
+        .iter()
+        .enumerate()
+        .map(|(k, &channel)| ktx2::Sample {
+            bit_offset: (8 * size as usize * k) as u16,
+            bit_length: 8 * size as u8,
+            channel,
+            float,
+        })
+        .collect();
+    let texture = ktx2::Texture {
+        vk_format: vk,
+        type_size: size,
+        texel_bytes: 4 * size,
+        width: o.width as u32,
+        height: o.height as u32,
+        layers: 0,
+        levels,
+        dfd: ktx2::dfd_basic((4 * size) as u8, &samples),
+        key_values: vec![
+            ("KTXorientation".into(), "rd".into()),
+            ("KTXwriter".into(), writer.into()),
+            (
+                "ndfbench.roughness".into(),
+                format!(
+                    "G: {}; R occlusion, B metallic (box mips)",
+                    stored_meaning(o)
+                ),
+            ),
+        ],
+    };
+    out.insert(0, ("metallic_roughness.ktx2".into(), ktx2::write(&texture)));
+    Ok(out)
 }
 
 /// The roughness chain: KTX2 bytes and one PNG per level.
@@ -198,7 +277,7 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         |m| format!("mean lobe L2 error {} ({})", pct(m.l2_mean, m.l2_se), m.what),
     );
     let mut md = format!(
-        "# Roughness mips of {}\n\nWritten by `{command}`.\n\n- Normal map: {}×{}, {}-bit{}; {} levels (to 1×1).\n- Base roughness: {}.\n- Rule: **{}** — {}.\n- Its measured error: {error}.{}\n- Stored: {}; α′ > 1 is clamped to 1 (texels clamped per level: {:?}).\n- Normal mips: {}.\n\n",
+        "# Roughness mips of {}\n\nWritten by `{command}`.\n\n- Normal map: {}×{}, {}-bit{}; {} levels (to 1×1).\n- Base roughness: {}.\n- Rule: **{}** — {}.\n- Its measured error: {error}.{}\n- Stored: {}{}; α′ > 1 is clamped to 1 (texels clamped per level: {:?}).\n- Normal mips: {}.\n\n",
         o.options.input.display(),
         o.width,
         o.height,
@@ -229,6 +308,11 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         match o.options.store {
             Store::Perceptual => "perceptual roughness p′ = √α′ (glTF, Bevy, three.js, Godot, Filament)",
             Store::Alpha => "α′ itself",
+        },
+        match (o.options.layout, &o.others) {
+            (Layout::R, _) => ", one channel".to_string(),
+            (Layout::Gltf, Some(_)) => ", in G of a glTF metallicRoughness texture (R occlusion and B metallic box-filtered from the input's R and B)".to_string(),
+            (Layout::Gltf, None) => ", in G of a glTF metallicRoughness texture (R = 1, B = metallic 0: the input had no R/B channels)".to_string(),
         },
         o.clamped,
         match o.options.normals {
@@ -265,6 +349,7 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         "measured": o.measured,
         "store": o.options.store,
         "format": o.options.format,
+        "layout": o.options.layout,
         "normals": o.options.normals,
         "levels": o.levels.iter().map(|l| [l.width, l.height]).collect::<Vec<_>>(),
         "clamped": o.clamped,
@@ -276,7 +361,10 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
 /// Every file of the output set: (name, bytes).
 pub fn render(o: &Outcome, command: &str) -> Result<Vec<(String, Vec<u8>)>> {
     let writer = format!("ndfbench {} prefilter", env!("CARGO_PKG_VERSION"));
-    let mut files = roughness_files(o, &writer)?;
+    let mut files = match o.options.layout {
+        Layout::R => roughness_files(o, &writer)?,
+        Layout::Gltf => gltf_files(o, &writer)?,
+    };
     files.extend(normal_files(o, &writer)?);
     let names: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     let (md, json) = report(o, &names, command);
