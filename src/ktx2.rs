@@ -169,3 +169,43 @@ pub fn write(t: &Texture) -> Vec<u8> {
     }
     out
 }
+
+/// An uncompressed texture whose texels are `channels` (RGBSDA ids: 0 R, 1 G, 2 B,
+/// 15 A) of `component_bytes` each, unsigned normalised or (`float`) IEEE float, with
+/// its data-format descriptor; `levels` level 0 first, each holding every layer.
+#[allow(clippy::too_many_arguments)]
+pub fn uncompressed(
+    vk_format: u32,
+    channels: &[u8],
+    component_bytes: u32,
+    float: bool,
+    (width, height, layers): (u32, u32, u32),
+    levels: Vec<Vec<u8>>,
+    key_values: Vec<(String, String)>,
+) -> Texture {
+    let samples: Vec<Sample> = channels
+        .iter()
+        .enumerate()
+        .map(|(k, &channel)| Sample {
+            bit_offset: (8 * component_bytes as usize * k) as u16,
+            bit_length: 8 * component_bytes as u8,
+            channel,
+            float,
+        })
+        .collect();
+    let texel = component_bytes * channels.len() as u32;
+    Texture {
+        vk_format,
+        type_size: component_bytes,
+        texel_bytes: texel,
+        width,
+        height,
+        layers,
+        levels,
+        dfd: dfd_basic(texel as u8, &samples),
+        key_values,
+    }
+}
+
+/// The RGBA channel ids.
+pub const RGBA: [u8; 4] = [0, 1, 2, 15];

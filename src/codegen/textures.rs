@@ -83,32 +83,20 @@ pub const VK_FORMAT_R16G16B16A16_SFLOAT: u32 = crate::ktx2::R16G16B16A16_SFLOAT;
 /// The KTX2 file: both layers in one 2D array texture of R16G16B16A16_SFLOAT (four
 /// 16-bit signed-float samples R, G, B, A; `crate::ktx2`).
 pub fn ktx2(t: &FittedTable, writer: &str) -> Vec<u8> {
-    let samples: Vec<crate::ktx2::Sample> = [0u8, 1, 2, 15]
-        .iter()
-        .enumerate()
-        .map(|(k, &channel)| crate::ktx2::Sample {
-            bit_offset: 16 * k as u16,
-            bit_length: 16,
-            channel,
-            float: true,
-        })
-        .collect();
     let mut level = bytes_f16(&texels_f16(t, 0));
     level.extend(bytes_f16(&texels_f16(t, 1)));
-    crate::ktx2::write(&crate::ktx2::Texture {
-        vk_format: VK_FORMAT_R16G16B16A16_SFLOAT,
-        type_size: 2,
-        texel_bytes: 8,
-        width: t.n as u32,
-        height: t.n as u32,
-        layers: 2,
-        levels: vec![level],
-        dfd: crate::ktx2::dfd_basic(8, &samples),
-        key_values: vec![
+    crate::ktx2::write(&crate::ktx2::uncompressed(
+        VK_FORMAT_R16G16B16A16_SFLOAT,
+        &crate::ktx2::RGBA,
+        2,
+        true,
+        (t.n as u32, t.n as u32, 2),
+        vec![level],
+        vec![
             ("KTXorientation".into(), "rd".into()),
             ("KTXwriter".into(), writer.into()),
         ],
-    })
+    ))
 }
 
 /// DXGI_FORMAT_R16G16B16A16_FLOAT.

@@ -240,22 +240,7 @@ impl NormalMap {
     /// decoded normal is zero or points below the surface (n_z ≤ 0), or a size that is
     /// not a power of two (the mip chain needs whole 2×2 blocks).
     pub fn from_png(path: &Path) -> Result<NormalMap> {
-        let bad_file = |e: String| Error::Io {
-            path: path.display().to_string(),
-            msg: format!("cannot read the normal map: {e}"),
-        };
-        // sizes come from the file: bounded before anything is decoded
-        let mut reader = image::ImageReader::open(path)
-            .map_err(|e| bad_file(e.to_string()))?
-            .with_guessed_format()
-            .map_err(|e| bad_file(e.to_string()))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_MAP_SIDE as u32);
-        limits.max_image_height = Some(MAX_MAP_SIDE as u32);
-        limits.max_alloc = Some(2 << 30);
-        reader.limits(limits);
-        let img = reader.decode().map_err(|e| bad_file(e.to_string()))?;
-        let rgb = img.to_rgb32f();
+        let rgb = open_image(path, "normal map")?.to_rgb32f();
         let (w, h) = (rgb.width() as usize, rgb.height() as usize);
         if w < 2 || h < 2 || !w.is_power_of_two() || !h.is_power_of_two() {
             return Err(Error::InvalidArgument(format!(
@@ -446,4 +431,24 @@ impl MipChain {
         }
         MipChain { levels }
     }
+}
+
+/// Decode an image file whose sizes are bounded before anything is decoded (≤
+/// MAX_MAP_SIDE per side, ≤ 3 GiB of allocation); a missing, unreadable or broken file is
+/// a typed error naming it and `what` it was meant to be.
+pub fn open_image(path: &Path, what: &str) -> Result<image::DynamicImage> {
+    let bad = |e: String| Error::Io {
+        path: path.display().to_string(),
+        msg: format!("cannot read the {what}: {e}"),
+    };
+    let mut reader = image::ImageReader::open(path)
+        .map_err(|e| bad(e.to_string()))?
+        .with_guessed_format()
+        .map_err(|e| bad(e.to_string()))?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_MAP_SIDE as u32);
+    limits.max_image_height = Some(MAX_MAP_SIDE as u32);
+    limits.max_alloc = Some(3 << 30);
+    reader.limits(limits);
+    reader.decode().map_err(|e| bad(e.to_string()))
 }

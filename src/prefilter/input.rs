@@ -50,21 +50,7 @@ impl Roughness {
 }
 
 fn open(path: &Path, what: &str) -> Result<image::DynamicImage> {
-    let bad = |e: String| Error::Io {
-        path: path.display().to_string(),
-        msg: format!("cannot read the {what}: {e}"),
-    };
-    // sizes come from the file: bounded before anything is decoded
-    let mut reader = image::ImageReader::open(path)
-        .map_err(|e| bad(e.to_string()))?
-        .with_guessed_format()
-        .map_err(|e| bad(e.to_string()))?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_MAP_SIDE as u32);
-    limits.max_image_height = Some(MAX_MAP_SIDE as u32);
-    limits.max_alloc = Some(3 << 30);
-    reader.limits(limits);
-    let img = reader.decode().map_err(|e| bad(e.to_string()))?;
+    let img = crate::filters::footprint::open_image(path, what)?;
     let (w, h) = (img.width() as usize, img.height() as usize);
     if !w.is_power_of_two() || !h.is_power_of_two() {
         return Err(Error::InvalidArgument(format!(

@@ -75,26 +75,14 @@ fn gltf_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
         Format::R16 => (R16G16B16A16_UNORM, 2, false),
         Format::R16f => (ktx2::R16G16B16A16_SFLOAT, 2, true),
     };
-    let samples: Vec<ktx2::Sample> = [0u8, 1, 2, 15]
-        .iter()
-        .enumerate()
-        .map(|(k, &channel)| ktx2::Sample {
-            bit_offset: (8 * size as usize * k) as u16,
-            bit_length: 8 * size as u8,
-            channel,
-            float,
-        })
-        .collect();
-    let texture = ktx2::Texture {
-        vk_format: vk,
-        type_size: size,
-        texel_bytes: 4 * size,
-        width: o.width as u32,
-        height: o.height as u32,
-        layers: 0,
+    let texture = ktx2::uncompressed(
+        vk,
+        &ktx2::RGBA,
+        size,
+        float,
+        (o.width as u32, o.height as u32, 0),
         levels,
-        dfd: ktx2::dfd_basic((4 * size) as u8, &samples),
-        key_values: vec![
+        vec![
             ("KTXorientation".into(), "rd".into()),
             ("KTXwriter".into(), writer.into()),
             (
@@ -105,7 +93,7 @@ fn gltf_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
                 ),
             ),
         ],
-    };
+    );
     out.insert(0, ("metallic_roughness.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
 }
@@ -142,29 +130,19 @@ fn roughness_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> 
         Format::R16 => (ktx2::R16_UNORM, 2, false),
         Format::R16f => (ktx2::R16_SFLOAT, 2, true),
     };
-    let texture = ktx2::Texture {
-        vk_format: vk,
-        type_size: size,
-        texel_bytes: size,
-        width: o.width as u32,
-        height: o.height as u32,
-        layers: 0,
+    let texture = ktx2::uncompressed(
+        vk,
+        &[0],
+        size,
+        float,
+        (o.width as u32, o.height as u32, 0),
         levels,
-        dfd: ktx2::dfd_basic(
-            size as u8,
-            &[ktx2::Sample {
-                bit_offset: 0,
-                bit_length: 8 * size as u8,
-                channel: 0,
-                float,
-            }],
-        ),
-        key_values: vec![
+        vec![
             ("KTXorientation".into(), "rd".into()),
             ("KTXwriter".into(), writer.into()),
             ("ndfbench.roughness".into(), stored_meaning(o)),
         ],
-    };
+    );
     out.insert(0, ("roughness.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
 }
@@ -233,34 +211,23 @@ fn normal_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
         }
     }
     let size = if wide { 2u32 } else { 1 };
-    let samples: Vec<ktx2::Sample> = [0u8, 1, 2, 15]
-        .iter()
-        .enumerate()
-        .map(|(k, &channel)| ktx2::Sample {
-            bit_offset: (8 * size as usize * k) as u16,
-            bit_length: 8 * size as u8,
-            channel,
-            float: false,
-        })
-        .collect();
-    let texture = ktx2::Texture {
-        vk_format: if wide {
-            R16G16B16A16_UNORM
-        } else {
-            ktx2::R8G8B8A8_UNORM
-        },
-        type_size: size,
-        texel_bytes: 4 * size,
-        width: o.width as u32,
-        height: o.height as u32,
-        layers: 0,
+    let vk = if wide {
+        R16G16B16A16_UNORM
+    } else {
+        ktx2::R8G8B8A8_UNORM
+    };
+    let texture = ktx2::uncompressed(
+        vk,
+        &ktx2::RGBA,
+        size,
+        false,
+        (o.width as u32, o.height as u32, 0),
         levels,
-        dfd: ktx2::dfd_basic((4 * size) as u8, &samples),
-        key_values: vec![
+        vec![
             ("KTXorientation".into(), "rd".into()),
             ("KTXwriter".into(), writer.into()),
         ],
-    };
+    );
     out.insert(0, ("normal.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
 }

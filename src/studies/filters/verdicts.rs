@@ -66,39 +66,7 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         100.0 * all[0].1.l2_mean,
         100.0 * all[0].1.l2_se
     ));
-    // the engines' import-time tools add the vMF variance to α (their perceptual
-    // roughness squared) instead of α²; paired over the same cases against vMF α² + 2/κ
-    for (fi, tool) in [
-        (10usize, "Filament's roughness-prefilter"),
-        (11, "Godot's roughness limiter"),
-    ] {
-        let d: Vec<f64> = map_cases
-            .iter()
-            .filter(|c| c.kind == NdfKind::Ggx)
-            .map(|c| c.results[fi].l2.value - c.results[4].l2.value)
-            .collect();
-        let (dm, ds) = mean_se(&d);
-        let e = map_l2(NdfKind::Ggx, fi);
-        s.push_str(&format!(
-            "- **{tool} (GGX, all maps)**: {} mean L2 {:.1} % ± {:.1}, peak {} (vMF α² + 2/κ: {:.1} % ± {:.1}, peak {}); paired difference {:+.1} % ± {:.1} — {}.\n",
-            MAP_FILTERS[fi],
-            100.0 * e.l2_mean,
-            100.0 * e.l2_se,
-            pct(e.peak_mean, e.peak_se),
-            100.0 * all[4].1.l2_mean,
-            100.0 * all[4].1.l2_se,
-            pct(all[4].1.peak_mean, all[4].1.peak_se),
-            100.0 * dm,
-            100.0 * ds,
-            if dm > 2.0 * ds {
-                "**worse than vMF on α² (> 2 s.e.)**: the term added to α rather than α² under-filters (α′² = (α + c/κ)² ≈ α² + 2αc/κ: 2α times the variance vMF adds, too little for α < ½; the peak is too high)"
-            } else if -dm > 2.0 * ds {
-                "better than vMF on α² (> 2 s.e.)"
-            } else {
-                "no significant difference (< 2 s.e.)"
-            }
-        ));
-    }
+    s.push_str(&engine_tool_verdicts(map_cases, &map_l2(NdfKind::Ggx, 4)));
     let fitted = |fam: &str, kind: NdfKind| {
         fits.iter()
             .find(|f| f.family == fam && f.kind == kind)
@@ -173,5 +141,49 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         100.0 * e13.l2_mean, 100.0 * e13.l2_se, 100.0 * e10.l2_mean, 100.0 * e10.l2_se,
         pct(e13.energy_mean, e13.energy_se), pct(e10.energy_mean, e10.energy_se)
     ));
+    s
+}
+
+/// The engines' import-time tools (Filament's roughness-prefilter, Godot's limiter) add
+/// the vMF variance to α (their perceptual roughness squared) instead of α²: their mean
+/// error next to vMF α² + 2/κ (`vmf`), and the paired difference over the same cases.
+fn engine_tool_verdicts(map_cases: &[MapCase], vmf: &Agg) -> String {
+    let mut s = String::new();
+    for (fi, tool) in [
+        (10usize, "Filament's roughness-prefilter"),
+        (11, "Godot's roughness limiter"),
+    ] {
+        let rs: Vec<&CaseResult> = map_cases
+            .iter()
+            .filter(|c| c.kind == NdfKind::Ggx)
+            .map(|c| &c.results[fi])
+            .collect();
+        let e = aggregate(&rs);
+        let d: Vec<f64> = map_cases
+            .iter()
+            .filter(|c| c.kind == NdfKind::Ggx)
+            .map(|c| c.results[fi].l2.value - c.results[4].l2.value)
+            .collect();
+        let (dm, ds) = mean_se(&d);
+        s.push_str(&format!(
+            "- **{tool} (GGX, all maps)**: {} mean L2 {:.1} % ± {:.1}, peak {} (vMF α² + 2/κ: {:.1} % ± {:.1}, peak {}); paired difference {:+.1} % ± {:.1} — {}.\n",
+            MAP_FILTERS[fi],
+            100.0 * e.l2_mean,
+            100.0 * e.l2_se,
+            pct(e.peak_mean, e.peak_se),
+            100.0 * vmf.l2_mean,
+            100.0 * vmf.l2_se,
+            pct(vmf.peak_mean, vmf.peak_se),
+            100.0 * dm,
+            100.0 * ds,
+            if dm > 2.0 * ds {
+                "**worse than vMF on α² (> 2 s.e.)**: the term added to α rather than α² under-filters (α′² = (α + c/κ)² ≈ α² + 2αc/κ: 2α times the variance vMF adds, too little for α < ½; the peak is too high)"
+            } else if -dm > 2.0 * ds {
+                "better than vMF on α² (> 2 s.e.)"
+            } else {
+                "no significant difference (< 2 s.e.)"
+            }
+        ));
+    }
     s
 }
