@@ -16,10 +16,13 @@
 
 pub mod compare;
 pub mod compare_report;
+pub mod diffuse;
 pub mod dist;
 pub mod fit;
+pub mod hemisphere;
 pub mod pipeline;
 pub mod polygon;
+pub mod sheen;
 pub mod smooth;
 pub mod storage;
 pub mod table;

@@ -1,0 +1,85 @@
+//! Burley's diffuse lobe as an LTC target (Burley 2012, "Physically-Based Shading at
+//! Disney", §5.3): f = (1/π)(1 + (F_D90 − 1)(1 − l_z)⁵)(1 + (F_D90 − 1)(1 − v_z)⁵),
+//! F_D90 = ½ + 2·ρ·cos²θ_d with cos θ_d = l·h — the retro-reflection term that brightens
+//! rough surfaces at grazing angles and darkens smooth ones. The paper's ρ is the
+//! artist's (perceptual) roughness r = √α; Filament and Bevy pass α itself
+//! (`Fd_Burley(roughness = perceptualRoughness², …)`): both conventions are targets.
+//! Sampled by the cosine hemisphere; albedo by nested adaptive quadrature.
+
+use super::hemisphere;
+use super::target::LtcTarget;
+use crate::error::{Error, Result};
+use nalgebra::Vector3;
+
+type V3 = Vector3<f64>;
+
+/// What F_D90's roughness is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum BurleyRoughness {
+    /// Burley 2012: the perceptual roughness r = √α.
+    Paper,
+    /// Filament / Bevy: α = r².
+    Engines,
+}
+
+/// The Burley diffuse BRDF of one cell (albedo 1), cosine-weighted.
+#[derive(Clone, Copy, Debug)]
+pub struct BurleyTarget {
+    pub alpha: f64,
+    pub v: V3,
+    pub roughness: BurleyRoughness,
+}
+
+impl BurleyTarget {
+    /// θ in radians (clamped to ≤ 89.99°), α ∈ (0, 1] finite.
+    pub fn new(alpha: f64, theta: f64, roughness: BurleyRoughness) -> Result<BurleyTarget> {
+        if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+            return Err(Error::InvalidRoughness(alpha));
+        }
+        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        Ok(BurleyTarget {
+            alpha,
+            v: V3::new(th.sin(), 0.0, th.cos()),
+            roughness,
+        })
+    }
+
+    /// F_D90 for a light direction l.
+    pub fn fd90(&self, l: &V3) -> f64 {
+        let h = (self.v + l).normalize();
+        let ld = l.dot(&h);
+        let rho = match self.roughness {
+            BurleyRoughness::Paper => self.alpha.sqrt(),
+            BurleyRoughness::Engines => self.alpha,
+        };
+        0.5 + 2.0 * rho * ld * ld
+    }
+
+    /// BRDF(l, v)·l_z (0 below the horizon).
+    pub fn value(&self, l: &V3) -> f64 {
+        if l.z <= 0.0 {
+            return 0.0;
+        }
+        let f90 = self.fd90(l);
+        let s = |c: f64| 1.0 + (f90 - 1.0) * (1.0 - c).max(0.0).powi(5);
+        s(l.z) * s(self.v.z) * l.z / std::f64::consts::PI
+    }
+}
+
+impl LtcTarget for BurleyTarget {
+    fn view(&self) -> V3 {
+        self.v
+    }
+    fn eval(&self, l: &V3) -> (f64, f64) {
+        (self.value(l), hemisphere::cosine_pdf(l))
+    }
+    fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        hemisphere::cosine_sample(u)
+    }
+    fn width(&self) -> f64 {
+        1.0
+    }
+    fn albedo(&self, tol: f64) -> (f64, f64, f64) {
+        hemisphere::albedo(&|l| self.value(l), &self.v, &[], tol)
+    }
+}

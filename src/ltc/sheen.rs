@@ -1,0 +1,118 @@
+//! The Charlie sheen lobe as an LTC target (Estevez & Kulla 2017, "Production Friendly
+//! Microfacet Sheen BRDF"): the inverted-Gaussian-like NDF
+//! D(h) = (2 + 1/α) sin^(1/α)θ_h / (2π), with either of the two visibility terms in use:
+//! - `EstevezKulla`: their height-correlated Smith form 1/((1 + Λ(v) + Λ(l))·4 v_z l_z)
+//!   with their fitted Λ (five coefficients interpolated in (1 − α)², Λ(cos θ) =
+//!   exp(L(cos θ)) below cos θ = ½ and exp(2L(½) − L(1 − cos θ)) above; without the
+//!   optional terminator softening);
+//! - `Neubelt`: the simpler 1/(4(l_z + v_z − l_z v_z)) of Neubelt & Pettineo 2013 that
+//!   glTF's KHR_materials_sheen names as the cheap alternative.
+//!
+//! α is the sheen α of glTF (α = sheenRoughness²). Sampled by the cosine hemisphere (the
+//! lobe is broad); albedo by nested adaptive quadrature (`hemisphere`).
+
+use super::hemisphere;
+use super::target::LtcTarget;
+use crate::error::{Error, Result};
+use nalgebra::Vector3;
+
+type V3 = Vector3<f64>;
+
+/// Which visibility term multiplies the Charlie NDF.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum SheenVisibility {
+    EstevezKulla,
+    Neubelt,
+}
+
+/// The Charlie sheen BRDF of one cell (F = 1), cosine-weighted.
+#[derive(Clone, Copy, Debug)]
+pub struct CharlieTarget {
+    pub alpha: f64,
+    pub v: V3,
+    pub visibility: SheenVisibility,
+}
+
+/// Estevez & Kulla's L(x) of their Λ fit, with the coefficients interpolated in
+/// t = (1 − α)² between their α = 1 and α = 0 values.
+pub fn ek_l(x: f64, alpha: f64) -> f64 {
+    let t = (1.0 - alpha.clamp(0.0, 1.0)).powi(2);
+    let mix = |at1: f64, at0: f64| at1 * (1.0 - t) + at0 * t;
+    let a = mix(21.5473, 25.3245);
+    let b = mix(3.82987, 3.32435);
+    let c = mix(0.19823, 0.16801);
+    let d = mix(-1.97760, -1.27393);
+    let e = mix(-4.32054, -4.85967);
+    a / (1.0 + b * x.powf(c)) + d * x + e
+}
+
+/// Estevez & Kulla's fitted Smith Λ of the Charlie NDF at cos θ ∈ (0, 1].
+pub fn ek_lambda(cos_theta: f64, alpha: f64) -> f64 {
+    if cos_theta < 0.5 {
+        ek_l(cos_theta, alpha).exp()
+    } else {
+        (2.0 * ek_l(0.5, alpha) - ek_l(1.0 - cos_theta, alpha)).exp()
+    }
+}
+
+/// The Charlie NDF at a half-vector with cosine `hz` (normalised: ∫ D h_z dh = 1).
+pub fn charlie_d(hz: f64, alpha: f64) -> f64 {
+    let inv = 1.0 / alpha;
+    let s2 = (1.0 - hz * hz).max(0.0);
+    (2.0 + inv) * s2.powf(0.5 * inv) / (2.0 * std::f64::consts::PI)
+}
+
+impl CharlieTarget {
+    /// θ in radians (clamped to ≤ 89.99°), α ∈ (0, 1] finite.
+    pub fn new(alpha: f64, theta: f64, visibility: SheenVisibility) -> Result<CharlieTarget> {
+        if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+            return Err(Error::InvalidRoughness(alpha));
+        }
+        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        Ok(CharlieTarget {
+            alpha,
+            v: V3::new(th.sin(), 0.0, th.cos()),
+            visibility,
+        })
+    }
+
+    /// BRDF(l, v)·l_z (0 below the horizon).
+    pub fn value(&self, l: &V3) -> f64 {
+        if l.z <= 0.0 {
+            return 0.0;
+        }
+        let h = (self.v + l).normalize();
+        let d = charlie_d(h.z, self.alpha);
+        let (lz, vz) = (l.z, self.v.z);
+        match self.visibility {
+            SheenVisibility::EstevezKulla => {
+                let g = 1.0 / (1.0 + ek_lambda(vz, self.alpha) + ek_lambda(lz, self.alpha));
+                d * g / (4.0 * vz)
+            }
+            SheenVisibility::Neubelt => d * lz / (4.0 * (lz + vz - lz * vz)),
+        }
+    }
+}
+
+impl LtcTarget for CharlieTarget {
+    fn view(&self) -> V3 {
+        self.v
+    }
+    fn eval(&self, l: &V3) -> (f64, f64) {
+        (self.value(l), hemisphere::cosine_pdf(l))
+    }
+    fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        hemisphere::cosine_sample(u)
+    }
+    fn width(&self) -> f64 {
+        1.0
+    }
+    fn albedo(&self, tol: f64) -> (f64, f64, f64) {
+        // Λ's two branches meet at l_z = ½ with a kink
+        let kinks: &[f64] = match self.visibility {
+            SheenVisibility::EstevezKulla => &[0.5],
+            SheenVisibility::Neubelt => &[],
+        };
+        hemisphere::albedo(&|l| self.value(l), &self.v, kinks, tol)
+    }
+}

@@ -1,0 +1,206 @@
+//! The LTC targets beyond GGX (Charlie sheen with both visibility terms, Burley diffuse in
+//! both roughness conventions): their closed-form properties, their albedo by the targets'
+//! own nested adaptive quadrature against an independent Gauss–Legendre product in other
+//! variables (to 1e-6) and against Monte Carlo within its error, and the generic fitter
+//! running on them.
+
+mod common;
+
+use nalgebra::Vector3;
+use ndfbench::integrate::quad::{gk15, gl_2d, Tol};
+use ndfbench::ltc::diffuse::{BurleyRoughness, BurleyTarget};
+use ndfbench::ltc::fit::{self, Method, Metric};
+use ndfbench::ltc::sheen::{charlie_d, ek_lambda, CharlieTarget, SheenVisibility};
+use ndfbench::ltc::target::LtcTarget;
+use proptest::prelude::*;
+use std::f64::consts::PI;
+
+type V3 = Vector3<f64>;
+
+#[test]
+fn charlie_ndf_projects_to_unit_area() {
+    // ∫ D(h) h_z dh = 2π ∫_0^{π/2} D(θ) cos θ sin θ dθ = 1 for every α (closed form:
+    // (2 + 1/α) / (1/α + 2))
+    for alpha in [1e-3, 0.01, 0.1, 0.3, 0.7, 1.0] {
+        let t = Tol::new(1e-14, 1e-12, 1_000_000);
+        let e = gk15(
+            &|th: f64| 2.0 * PI * charlie_d(th.cos(), alpha) * th.cos() * th.sin(),
+            0.0,
+            PI / 2.0,
+            t,
+        );
+        assert!((e.value - 1.0).abs() < 1e-9, "α = {alpha}: {}", e.value);
+    }
+}
+
+#[test]
+fn estevez_kulla_lambda_is_continuous_and_positive() {
+    // the two branches meet at cos θ = ½ (by construction of the fit) and Λ → 0 at normal
+    // incidence is not required, but Λ must be positive and decreasing in cos θ
+    for alpha in [0.01, 0.2, 0.5, 1.0] {
+        let below = ek_lambda(0.5 - 1e-12, alpha);
+        let above = ek_lambda(0.5, alpha);
+        assert!((below - above).abs() <= 1e-9 * above, "α = {alpha}");
+        let mut prev = f64::INFINITY;
+        for k in 1..=100 {
+            let c = k as f64 / 100.0;
+            let l = ek_lambda(c, alpha);
+            assert!(
+                l > 0.0 && l <= prev * (1.0 + 1e-12),
+                "α = {alpha}, cos {c}: {l} after {prev}"
+            );
+            prev = l;
+        }
+    }
+}
+
+/// ∫ f dl by a Gauss–Legendre product in (θ_l, φ) over the whole hemisphere, φ ∈ [0, 2π]
+/// (no symmetry used), n × n nodes.
+/// (split at θ_l = 60°, where Estevez & Kulla's Λ switches branch with a kink).
+/// Cells of n × n nodes each.
+fn gl_albedo(t: &dyn LtcTarget, n: usize) -> f64 {
+    let f = |th: f64, phi: f64| {
+        let l = V3::new(th.sin() * phi.cos(), th.sin() * phi.sin(), th.cos());
+        t.eval(&l).0 * th.sin()
+    };
+    // also split at the mirror direction θ_v, φ = π (the Charlie lobe's cone point for α ≥ ½)
+    let tv = t.view().z.acos();
+    let mut cuts = vec![0.0, PI / 3.0, tv, PI / 2.0];
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let mut sum = 0.0;
+    for w in cuts.windows(2) {
+        for ph in [[0.0, PI], [PI, 2.0 * PI]] {
+            sum += gl_2d(&f, [w[0], w[1]], ph, n, n).value;
+        }
+    }
+    sum
+}
+
+fn targets() -> Vec<(String, Box<dyn LtcTarget>)> {
+    let mut out: Vec<(String, Box<dyn LtcTarget>)> = Vec::new();
+    for &alpha in &[0.05, 0.25, 0.6, 1.0] {
+        for &deg in &[0.0, 40.0, 75.0, 88.0] {
+            let th = f64::to_radians(deg);
+            for r in [BurleyRoughness::Paper, BurleyRoughness::Engines] {
+                out.push((
+                    format!("Burley {r:?} α {alpha} θ {deg}"),
+                    Box::new(BurleyTarget::new(alpha, th, r).unwrap()),
+                ));
+            }
+            for v in [SheenVisibility::EstevezKulla, SheenVisibility::Neubelt] {
+                out.push((
+                    format!("Charlie {v:?} α {alpha} θ {deg}"),
+                    Box::new(CharlieTarget::new(alpha, th, v).unwrap()),
+                ));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn albedo_quadrature_agrees_with_an_independent_product_rule_to_1e_6() {
+    let mut worst = (0.0f64, String::new());
+    for (name, t) in targets() {
+        let (a, err, fres) = t.albedo(1e-10);
+        let g = gl_albedo(&*t, 200);
+        if (a - g).abs() / a > worst.0 {
+            worst = ((a - g).abs() / a, name.clone());
+        }
+        assert!(
+            (a - g).abs() <= 1e-6 * a,
+            "{name}: adaptive {a} (± {err:.1e}) vs Gauss–Legendre {g}"
+        );
+        assert!(a > 0.0 && fres >= 0.0 && fres < a, "{name}: {a} {fres}");
+    }
+    eprintln!("largest relative difference {:.1e} ({})", worst.0, worst.1);
+}
+
+#[test]
+fn albedo_quadrature_agrees_with_monte_carlo_within_its_error() {
+    for (name, t) in targets() {
+        let (a, _, _) = t.albedo(1e-9);
+        let (mc, _, se, _) = t.moments(256);
+        assert!(
+            (a - mc).abs() <= 4.0 * se + 1e-12,
+            "{name}: quadrature {a} vs MC {mc} ± {se:.2e}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(common::config(10_000))]
+
+    /// Both lobes are reciprocal: BRDF(l, v) = BRDF(v, l), on random directions down to
+    /// 89.99° (the values divided by the cosine they carry).
+    #[test]
+    fn sheen_and_burley_are_reciprocal(
+        a in 1e-3f64..1.0, tv in 0.0f64..89.99, tl in 0.0f64..89.99, phi in 0.0f64..(2.0 * PI),
+        which in 0usize..4,
+    ) {
+        let (tv, tl) = (tv.to_radians(), tl.to_radians());
+        let l = V3::new(tl.sin() * phi.cos(), tl.sin() * phi.sin(), tl.cos());
+        // the swapped pair, rotated so that the new view lies in the xz-plane
+        let v_old = V3::new(tv.sin(), 0.0, tv.cos());
+        let rot = nalgebra::Rotation3::from_axis_angle(&V3::z_axis(), -phi);
+        let v_new = rot * v_old;
+        let brdf = |view: f64, l: &V3| -> f64 {
+            let f = match which {
+                0 => BurleyTarget::new(a, view, BurleyRoughness::Paper).unwrap().value(l),
+                1 => BurleyTarget::new(a, view, BurleyRoughness::Engines).unwrap().value(l),
+                2 => CharlieTarget::new(a, view, SheenVisibility::EstevezKulla).unwrap().value(l),
+                _ => CharlieTarget::new(a, view, SheenVisibility::Neubelt).unwrap().value(l),
+            };
+            f / l.z
+        };
+        let x = brdf(tv, &l);
+        let y = brdf(tl, &v_new);
+        prop_assert!((x - y).abs() <= 1e-10 * x.abs().max(1e-300), "{} vs {}", x, y);
+        prop_assert!(x.is_finite() && x >= 0.0);
+    }
+}
+
+#[test]
+fn the_generic_fitter_beats_the_plain_cosine_on_every_new_target() {
+    // one cell of each target at a moderate view: the fitted LTC's held-out relative L2
+    // must be below that of M = I (the clamped cosine, scaled to the same norm)
+    for (name, t) in targets().into_iter().filter(|(n, _)| n.contains("θ 40")) {
+        let (norm, _, _) = t.albedo(1e-9);
+        let (_, _, _, z) = t.moments(32);
+        let (p, _) = fit::fit_cell(
+            &*t,
+            &z,
+            norm,
+            &[0.0; 4],
+            16,
+            Metric::Cubic,
+            Method::NelderMead,
+            200,
+        )
+        .unwrap();
+        let zt = fit::turn(&z, p[3]);
+        let (m11, m22, m13) = fit::params_to_m(&p);
+        let ltc = ndfbench::ltc::dist::LtcDist::new(fit::matrix(m11, m22, m13, &zt)).unwrap();
+        let (_, fitted) = fit::metrics(&*t, &ltc, norm, 32, 0.25);
+        let cosine = ndfbench::ltc::dist::LtcDist::new(nalgebra::Matrix3::identity()).unwrap();
+        let (_, plain) = fit::metrics(&*t, &cosine, norm, 32, 0.25);
+        eprintln!(
+            "{name}: fitted L2 {:.2} % vs cosine {:.2} %",
+            100.0 * fitted,
+            100.0 * plain
+        );
+        assert!(
+            fitted <= plain * (1.0 + 1e-9),
+            "{name}: fitted {fitted} vs cosine {plain}"
+        );
+    }
+}
+
+#[test]
+fn bad_roughness_is_a_typed_error() {
+    for a in [0.0, -1.0, f64::NAN, f64::INFINITY, 1.5] {
+        assert!(CharlieTarget::new(a, 0.3, SheenVisibility::Neubelt).is_err());
+        assert!(BurleyTarget::new(a, 0.3, BurleyRoughness::Paper).is_err());
+    }
+}
