@@ -290,6 +290,26 @@ fn sixteen_bit_input_gives_sixteen_bit_normal_mips_and_raw_mips_keep_the_length(
     let l1 = r.levels().nth(1).unwrap().data;
     let z = u16::from_le_bytes([l1[4], l1[5]]) as f64 / 65535.0 * 2.0 - 1.0;
     assert!((z - 0.5f64.cos()).abs() < 1e-3, "{z}");
+    // a 16-bit roughness map (half the size) is read at full precision: level 0 holds
+    // its values to the f16 step of the R16F output
+    let rough = d.join("r16.png");
+    image::ImageBuffer::<image::Luma<u16>, _>::from_fn(8, 8, |x, y| {
+        image::Luma([(20000 + 3001 * x + 17 * y) as u16])
+    })
+    .save(&rough)
+    .unwrap();
+    let o = prefilter::run(Options {
+        roughness: Some(rough),
+        alpha: None,
+        ..options(&png)
+    })
+    .unwrap();
+    assert_eq!(o.roughness_size, Some((8, 8, 16)));
+    for (x, y) in [(0usize, 0usize), (5, 9), (15, 15)] {
+        let want = (20000 + 3001 * (x / 2) + 17 * (y / 2)) as f64 / 65535.0;
+        let got = o.stored[0][y * 16 + x] as f64;
+        assert!((got - want).abs() < 1e-6, "({x}, {y}): {got} vs {want}");
+    }
 }
 
 #[test]
