@@ -13,7 +13,7 @@
 
 use super::hemisphere;
 use super::target::LtcTarget;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -65,13 +65,9 @@ pub fn charlie_d(hz: f64, alpha: f64) -> f64 {
 impl CharlieTarget {
     /// θ in radians (clamped to ≤ 89.99°), α ∈ (0, 1] finite.
     pub fn new(alpha: f64, theta: f64, visibility: SheenVisibility) -> Result<CharlieTarget> {
-        if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
-            return Err(Error::InvalidRoughness(alpha));
-        }
-        let th = theta.clamp(0.0, 89.99f64.to_radians());
         Ok(CharlieTarget {
             alpha,
-            v: V3::new(th.sin(), 0.0, th.cos()),
+            v: hemisphere::checked_view(alpha, theta)?,
             visibility,
         })
     }

@@ -23,6 +23,19 @@ fn png(img: image::DynamicImage, name: &str) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
+/// The key/value data of every file: orientation, writer and, where given, what the
+/// roughness texels mean.
+fn key_values(writer: &str, meaning: Option<String>) -> Vec<(String, String)> {
+    let mut kv = vec![
+        ("KTXorientation".into(), "rd".into()),
+        ("KTXwriter".into(), writer.into()),
+    ];
+    if let Some(m) = meaning {
+        kv.push(("ndfbench.roughness".into(), m));
+    }
+    kv
+}
+
 fn q8(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
@@ -82,17 +95,13 @@ fn gltf_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
         float,
         (o.width as u32, o.height as u32, 0),
         levels,
-        vec![
-            ("KTXorientation".into(), "rd".into()),
-            ("KTXwriter".into(), writer.into()),
-            (
-                "ndfbench.roughness".into(),
-                format!(
-                    "G: {}; R occlusion, B metallic (box mips)",
-                    stored_meaning(o)
-                ),
-            ),
-        ],
+        key_values(
+            writer,
+            Some(format!(
+                "G: {}; R occlusion, B metallic (box mips)",
+                stored_meaning(o)
+            )),
+        ),
     );
     out.insert(0, ("metallic_roughness.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
@@ -137,11 +146,7 @@ fn roughness_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> 
         float,
         (o.width as u32, o.height as u32, 0),
         levels,
-        vec![
-            ("KTXorientation".into(), "rd".into()),
-            ("KTXwriter".into(), writer.into()),
-            ("ndfbench.roughness".into(), stored_meaning(o)),
-        ],
+        key_values(writer, Some(stored_meaning(o))),
     );
     out.insert(0, ("roughness.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
@@ -223,10 +228,7 @@ fn normal_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
         false,
         (o.width as u32, o.height as u32, 0),
         levels,
-        vec![
-            ("KTXorientation".into(), "rd".into()),
-            ("KTXwriter".into(), writer.into()),
-        ],
+        key_values(writer, None),
     );
     out.insert(0, ("normal.ktx2".into(), ktx2::write(&texture)));
     Ok(out)
