@@ -342,6 +342,29 @@ fn the_pyramid_is_bit_identical_at_any_thread_count() {
 proptest! {
     #![proptest_config(common::config(10_000))]
 
+    /// Every rule over the whole input range a footprint can produce, extremes included
+    /// (r from 0 to 1 and NaN, base α from 0 and the smallest accepted 1e-12 to 1): α′ is
+    /// finite and non-negative,
+    /// never below the base roughness it starts from (each rule only adds variance), and
+    /// equal to it at r = 1.
+    #[test]
+    fn every_rule_is_total_and_only_widens(
+        r in prop_oneof![0.0f64..=1.0, Just(0.0), Just(1.0), Just(1.0 - 1e-16), Just(f64::NAN), Just(1e-300)],
+        p in prop_oneof![0.0f64..=1.0, Just(0.0), Just(1e-6), Just(1e-2), Just(1.0)],
+        which in 0usize..7,
+    ) {
+        let f = Filter::ALL[which];
+        // ⟨α²⟩ is held in f32 by the pyramid, as here
+        let a2 = p.powi(4) as f32 as f64;
+        let a = f.alpha(r, a2, p, 1.864);
+        prop_assert!(a.is_finite() && a >= 0.0, "{:?}: α′ = {} at r {} p {}", f, a, r, p);
+        // the base the rule starts from: √⟨α²⟩ for the α² rules, ⟨p⟩² for the engines'
+        let base = if which >= 5 { p * p } else { a2.sqrt() };
+        prop_assert!(a >= base * (1.0 - 1e-12), "{:?}: α′ {} < base {} (r {}, p {})", f, a, base, r, p);
+        let at_one = f.alpha(1.0, a2, p, 1.864);
+        prop_assert!((at_one - base).abs() <= 1e-12 * base.max(1e-300), "{:?}: {} vs {}", f, at_one, base);
+    }
+
     /// The O(N) pyramid (2×2 averages of averages, f32 storage) against the f64 direct
     /// average of the base block, on random unit normals including grazing ones
     /// (n_z → 0) and extreme roughness: |Δμ| ≤ 4e-7 per component, |Δ⟨α²⟩|, |Δ⟨p⟩| ≤
@@ -434,6 +457,10 @@ fn bad_input_is_a_typed_error_and_writes_nothing() {
         (
             vec!["--input".into(), s(&n), "--alpha".into(), "1.5".into()],
             "1.5",
+        ),
+        (
+            vec!["--input".into(), s(&n), "--alpha".into(), "1e-13".into()],
+            "[1e-12, 1]",
         ),
         (
             vec!["--input".into(), s(&n), "--roughness".into(), s(&big_r)],

@@ -259,6 +259,11 @@ impl Outcome {
     }
 }
 
+/// The smallest accepted constant α: the pyramid holds ⟨α²⟩ in f32, whose normal range
+/// ends near 1e-38 (a 16-bit map's smallest step, 1/65535 in perceptual roughness, is
+/// α ≈ 2.3e-10, above it).
+pub const MIN_ALPHA: f64 = 1e-12;
+
 /// Decode, check and compute (no file is touched).
 pub fn run(options: Options) -> Result<Outcome> {
     match (options.roughness.is_some(), options.alpha) {
@@ -267,8 +272,11 @@ pub fn run(options: Options) -> Result<Outcome> {
                 "give exactly one of --roughness ROUGH.png and --alpha A".into(),
             ))
         }
-        (_, Some(a)) if !(a.is_finite() && a > 0.0 && a <= 1.0) => {
-            return Err(Error::InvalidRoughness(a))
+        // ⟨α²⟩ is held in f32: α below 1e-12 would lose its square to underflow
+        (_, Some(a)) if !(a.is_finite() && (MIN_ALPHA..=1.0).contains(&a)) => {
+            return Err(Error::InvalidArgument(format!(
+                "--alpha {a:e}: the base α must lie in [{MIN_ALPHA:e}, 1]"
+            )))
         }
         _ => {}
     }
