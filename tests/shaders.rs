@@ -337,3 +337,37 @@ fn the_harness_rejects_what_it_cannot_call() {
     assert!(e.to_string().contains("f has a signature"), "{e}");
     assert!(backends::calls("fn f(", "t").is_err());
 }
+
+#[test]
+fn the_const_array_tables_are_copied_into_function_memory_and_the_modules_are_not() {
+    // the counter reads what spirv-dis shows for ltc_table.spv: two Function-class
+    // variables of 4096-element arrays (LTC_1 and LTC_2), none for the function modules
+    let copies = |name: &str| {
+        backends::function_array_copies(
+            &std::fs::read(format!("results/shaders/spv/{name}.spv")).unwrap(),
+        )
+    };
+    assert_eq!(copies("ltc_table"), vec![4096, 4096]);
+    assert_eq!(copies("ltc_table_f16"), vec![4096, 4096]);
+    for m in ["ndf", "filters", "ltc", "multiscale"] {
+        assert!(copies(m).iter().all(|&n| n < 256), "{m}: {:?}", copies(m));
+    }
+    // and against SPIRV-Tools' disassembler, where installed
+    if validators::version("spirv-dis").is_none() {
+        eprintln!("spirv-dis absent: the word counter checked against fixed expectations only");
+        return;
+    }
+    for (name, _) in shaders::sources(Path::new("results")) {
+        let path = format!("results/shaders/spv/{name}.spv");
+        let out = std::process::Command::new("spirv-dis")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        let dis = text
+            .lines()
+            .filter(|l| l.contains("= OpVariable %_ptr_Function__arr_"))
+            .count();
+        assert_eq!(dis, copies(&name).len(), "{name}");
+    }
+}

@@ -255,3 +255,48 @@ pub fn write(
         }
     }
 }
+
+/// The element counts of the arrays a SPIR-V module copies into function memory
+/// (`OpVariable … Function` whose type is an array): what naga emits when a shader
+/// indexes a `const` array with a dynamic index — a per-invocation copy of the whole
+/// array, which drivers must then compile and run. Unknown lengths count as 0.
+pub fn function_array_copies(spirv: &[u8]) -> Vec<u64> {
+    use std::collections::HashMap;
+    let words: Vec<u32> = spirv
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let (mut consts, mut arrays, mut fn_ptrs) = (HashMap::new(), HashMap::new(), HashMap::new());
+    let mut out = Vec::new();
+    let mut i = 5; // after the header
+    while i < words.len() {
+        let (count, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if count == 0 || i + count > words.len() {
+            break;
+        }
+        let w = &words[i..i + count];
+        match op {
+            // OpConstant: result type, id, value (32-bit integers suffice for lengths)
+            43 if count >= 4 => {
+                consts.insert(w[2], w[3] as u64);
+            }
+            // OpTypeArray: id, element type, length id
+            28 if count >= 4 => {
+                arrays.insert(w[1], w[3]);
+            }
+            // OpTypePointer: id, storage class (7 = Function), type
+            32 if count >= 4 && w[2] == 7 => {
+                fn_ptrs.insert(w[1], w[3]);
+            }
+            // OpVariable: result type, id, storage class
+            59 if count >= 4 && w[3] == 7 => {
+                if let Some(len) = fn_ptrs.get(&w[1]).and_then(|t| arrays.get(t)) {
+                    out.push(consts.get(len).copied().unwrap_or(0));
+                }
+            }
+            _ => {}
+        }
+        i += count;
+    }
+    out
+}

@@ -158,8 +158,30 @@ pub fn markdown(entries: &[Entry], command: &str) -> String {
             .filter(|b| validators::tool(**b).is_some())
             .count();
     s.push_str(&format!(
-        "\n{ok} of {total} translations succeeded; {valid} of the {validated} that have a validator passed it.\n\nThe time each translation and validation takes: results/performance.md (criterion, `shaders/…`).\n"
+        "\n{ok} of {total} translations succeeded; {valid} of the {validated} that have a validator passed it.\n"
     ));
+    // what the SPIR-V copies into function memory per invocation (dynamically indexed
+    // const arrays), counted from the words of each module
+    let copies: Vec<String> = entries
+        .iter()
+        .filter_map(|e| {
+            let spv = e.outputs.iter().find(|(o, _)| o.backend == Backend::Spv)?;
+            let n = backends::function_array_copies(spv.0.result.as_ref().ok()?);
+            let big: Vec<String> = n
+                .iter()
+                .filter(|&&k| k >= 256)
+                .map(|k| k.to_string())
+                .collect();
+            (!big.is_empty()).then(|| format!("{} (arrays of {} elements)", e.name, big.join(", ")))
+        })
+        .collect();
+    if !copies.is_empty() {
+        s.push_str(&format!(
+            "\nFunction-memory copies in the SPIR-V (`OpVariable … Function` of an array type, counted from the module's words): {}. naga indexes a `const` array with a dynamic index through a per-invocation copy of the whole array; drivers have to compile and run that copy (tests/gpu.rs measured lavapipe, Mesa 22.3.6, not finishing the f32 table's pipeline in 15 min). Renderers should sample the tables as textures (results/textures/); the const-array modules serve compute passes and tests.\n",
+            copies.join("; ")
+        ));
+    }
+    s.push_str("\nThe time each translation and validation takes: results/performance.md (criterion, `shaders/…`).\n");
     s
 }
 
