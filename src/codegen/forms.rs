@@ -92,34 +92,31 @@ pub fn render_module(
     command: &str,
     form: Form,
 ) -> Result<String> {
+    if form == Form::Plain {
+        return super::render_wgsl(title, names, consts, command);
+    }
     let st = stem(file);
     let all = closure(names)?;
-    let (own, imports): (Vec<&FnDesc>, Vec<(&str, Vec<String>)>) = match form {
-        Form::Plain => (all, Vec::new()),
-        _ => {
-            let own: Vec<&FnDesc> = all
-                .iter()
-                .copied()
-                .filter(|f| owner(f.name) == Some(st))
-                .collect();
-            let mut imports: Vec<(&str, Vec<String>)> = Vec::new();
-            for f in &own {
-                for d in f.deps {
-                    let o = owner(d).unwrap_or(st);
-                    if o == st {
-                        continue;
-                    }
-                    let name = super::namespace::wgsl_name(d);
-                    match imports.iter_mut().find(|(m, _)| *m == o) {
-                        Some((_, v)) if !v.contains(&name) => v.push(name),
-                        Some(_) => {}
-                        None => imports.push((o, vec![name])),
-                    }
-                }
+    let own: Vec<&FnDesc> = all
+        .iter()
+        .copied()
+        .filter(|f| owner(f.name) == Some(st))
+        .collect();
+    let mut imports: Vec<(&str, Vec<String>)> = Vec::new();
+    for f in &own {
+        for d in f.deps {
+            let o = owner(d).unwrap_or(st);
+            if o == st {
+                continue;
             }
-            (own, imports)
+            let name = super::namespace::wgsl_name(d);
+            match imports.iter_mut().find(|(m, _)| *m == o) {
+                Some((_, v)) if !v.contains(&name) => v.push(name),
+                Some(_) => {}
+                None => imports.push((o, vec![name])),
+            }
         }
-    };
+    }
     Ok(format!(
         "{}// {title}\n\n{}{}",
         header("//", command, "src/codegen/desc.rs and results/fits/*.json"),

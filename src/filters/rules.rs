@@ -63,14 +63,20 @@ pub fn toksvig_alpha2<T: Float>(alpha: T, r: T, c: T) -> T {
     sqrt_sum(alpha, c * toksvig_sigma2(r))
 }
 
+/// 1/κ of Banerjee et al.'s κ ≈ (3r − r³)/(1 − r²), written (1 − r)(1 + r)/(r(3 − r²))
+/// so that r → 1 gives 0 without cancellation; r clamped as in [`clamp_r`].
+pub fn inv_kappa<T: Float>(r: T) -> T {
+    let one = T::one();
+    let r = clamp_r(r);
+    (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r))
+}
+
 /// vMF filter (Banerjee et al.'s κ ≈ (3r − r³)/(1 − r²)): α′² = α² + c/κ,
 /// c/κ = c(1 − r)(1 + r)/(r(3 − r²)) — written with 1 − r so that r → 1 gives 0 without
 /// cancellation (an f32 r carries relative error ε, so c/κ's relative error is
 /// ≈ ε/(1 − r): the input, not this form, limits it).
 pub fn vmf<T: Float>(alpha: T, r: T, c: T) -> T {
-    let one = T::one();
-    let r = clamp_r(r);
-    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    let inv_kappa = inv_kappa(r);
     sqrt_sum(alpha, c * inv_kappa)
 }
 
@@ -87,9 +93,7 @@ pub fn lean<T: Float>(alpha: T, cov: [T; 3]) -> [T; 3] {
 /// p′ = √(p² + 2/κ) on the perceptual roughness p = √α, i.e. α′ = α + 2/κ — the vMF term
 /// added to α rather than to α². Same κ as [`vmf`].
 pub fn filament_prefilter<T: Float>(alpha: T, r: T) -> T {
-    let one = T::one();
-    let r = clamp_r(r);
-    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    let inv_kappa = inv_kappa(r);
     alpha + k::<T>(2.0) * inv_kappa
 }
 
@@ -97,9 +101,7 @@ pub fn filament_prefilter<T: Float>(alpha: T, r: T) -> T {
 /// variance = 0.25/κ, p′ = √(p² + min(3·variance, 0.4²)) on the perceptual roughness,
 /// i.e. α′ = α + min(0.75/κ, 0.16).
 pub fn godot_limiter<T: Float>(alpha: T, r: T) -> T {
-    let one = T::one();
-    let r = clamp_r(r);
-    let inv_kappa = (one - r) * (one + r) / (r * (k::<T>(3.0) - r * r));
+    let inv_kappa = inv_kappa(r);
     alpha + (k::<T>(0.75) * inv_kappa).min(k::<T>(0.16))
 }
 
