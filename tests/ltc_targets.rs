@@ -79,7 +79,7 @@ fn gl_albedo(t: &dyn LtcTarget, n: usize) -> f64 {
 
 fn targets() -> Vec<(String, Box<dyn LtcTarget>)> {
     let mut out: Vec<(String, Box<dyn LtcTarget>)> = Vec::new();
-    for &alpha in &[0.05, 0.25, 0.6, 1.0] {
+    for &alpha in &[0.01, 0.02, 0.05, 0.25, 0.6, 1.0] {
         for &deg in &[0.0, 40.0, 75.0, 88.0] {
             let th = f64::to_radians(deg);
             for r in [BurleyRoughness::Paper, BurleyRoughness::Engines] {
@@ -108,8 +108,10 @@ fn albedo_quadrature_agrees_with_an_independent_product_rule_to_1e_6() {
         if (a - g).abs() / a > worst.0 {
             worst = ((a - g).abs() / a, name.clone());
         }
+        // an absolute floor of 1e-12: the Charlie lobe at α = 0.01 seen head-on has an
+        // albedo of 5e-18 (all its energy sits at grazing half-vectors)
         assert!(
-            (a - g).abs() <= 1e-6 * a,
+            (a - g).abs() <= 1e-6 * a + 1e-12,
             "{name}: adaptive {a} (± {err:.1e}) vs Gauss–Legendre {g}"
         );
         assert!(a > 0.0 && fres >= 0.0 && fres < a, "{name}: {a} {fres}");
@@ -122,8 +124,10 @@ fn albedo_quadrature_agrees_with_monte_carlo_within_its_error() {
     for (name, t) in targets() {
         let (a, _, _) = t.albedo(1e-9);
         let (mc, _, se, _) = t.moments(256);
+        // an absolute floor of 1e-9 (invisible energy): at α ≤ 0.02 head-on the Charlie
+        // lobe (albedo ~3e-10) lies where neither sampler puts 256² samples
         assert!(
-            (a - mc).abs() <= 4.0 * se + 1e-12,
+            (a - mc).abs() <= 4.0 * se + 1e-9,
             "{name}: quadrature {a} vs MC {mc} ± {se:.2e}"
         );
     }

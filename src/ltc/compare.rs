@@ -11,7 +11,7 @@
 
 use crate::error::{Error, Result};
 use crate::ltc::fit::{inverse_from_production, metrics};
-use crate::ltc::target::GgxTarget;
+use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::ltc::LtcDist;
 use std::path::Path;
 
@@ -105,7 +105,7 @@ impl Shipped {
     }
 }
 
-/// Error of one production-form cell against the BRDF (relative L2, cubic).
+/// Error of one production-form cell against the GGX BRDF (relative L2, cubic).
 pub fn cell_error(
     inv: &[f64; 4],
     norm: f64,
@@ -113,12 +113,22 @@ pub fn cell_error(
     theta: f64,
     n: usize,
 ) -> Result<(f64, f64)> {
+    cell_error_of(&GgxTarget::new(alpha, theta)?, inv, norm, n)
+}
+
+/// Error of one production-form cell against any target (relative L2, cubic) on the
+/// held-out sample set (n×n per technique, offset ¼).
+pub fn cell_error_of<T: LtcTarget + ?Sized>(
+    t: &T,
+    inv: &[f64; 4],
+    norm: f64,
+    n: usize,
+) -> Result<(f64, f64)> {
     let m = inverse_from_production(inv)
         .try_inverse()
         .ok_or_else(|| Error::InvalidArgument("singular LTC inverse in the table".into()))?;
     let ltc = LtcDist::new(m)?;
-    let t = GgxTarget::new(alpha, theta)?;
-    let (c, l2) = metrics(&t, &ltc, norm, n, 0.25);
+    let (c, l2) = metrics(t, &ltc, norm, n, 0.25);
     Ok((l2, c))
 }
 
@@ -128,6 +138,17 @@ pub fn cell_error(
 /// quadrature, so only the interpolated matrix is tested). `None` when a corner is
 /// missing (NaN). Relative L2.
 pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Result<Option<f64>> {
+    midpoint_error_of(t, i, j, n_samples, &GgxTarget::new)
+}
+
+/// [`midpoint_error`] against any target (`target(α, θ)`, its norm by its own quadrature).
+pub fn midpoint_error_of<T: LtcTarget>(
+    t: &Shipped,
+    i: usize,
+    j: usize,
+    n_samples: usize,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+) -> Result<Option<f64>> {
     let n = t.n;
     if i + 1 >= n || j + 1 >= n {
         return Ok(None);
@@ -146,8 +167,9 @@ pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Resu
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
     let alpha = r * r;
     let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
-    let (norm, _, _) = GgxTarget::new(alpha, theta)?.norm_quad(1e-8);
-    cell_error(&inv, norm, alpha, theta, n_samples).map(|(l2, _)| Some(l2))
+    let lobe = target(alpha, theta)?;
+    let (norm, _, _) = lobe.albedo(1e-8);
+    cell_error_of(&lobe, &inv, norm, n_samples).map(|(l2, _)| Some(l2))
 }
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.

@@ -539,3 +539,32 @@ pub fn fit_table<T: LtcTarget>(
         cells: cols,
     })
 }
+
+/// The held-out error of a fitted table over its cells.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Stats {
+    pub max_l2: f64,
+    pub mean_l2: f64,
+    /// (α, θ in degrees) of the cell with the largest relative L2.
+    pub worst_cell: (f64, f64),
+    pub mean_cubic: f64,
+    pub mean_iters: f64,
+}
+
+/// The held-out errors of every cell of `t`, summarised.
+pub fn held_out_stats(t: &Table) -> Stats {
+    let cells: Vec<&Cell> = t.cells.iter().flatten().collect();
+    let n = cells.len() as f64;
+    let worst = cells
+        .iter()
+        .max_by(|a, b| a.err_l2.total_cmp(&b.err_l2))
+        .map(|c| (c.alpha, c.theta.to_degrees()))
+        .unwrap_or((f64::NAN, f64::NAN));
+    Stats {
+        max_l2: cells.iter().map(|c| c.err_l2).fold(0.0, f64::max),
+        mean_l2: cells.iter().map(|c| c.err_l2).sum::<f64>() / n,
+        worst_cell: worst,
+        mean_cubic: cells.iter().map(|c| c.err_cubic).sum::<f64>() / n,
+        mean_iters: cells.iter().map(|c| c.iters as f64).sum::<f64>() / n,
+    }
+}

@@ -20,6 +20,7 @@ pub mod diffuse;
 pub mod dist;
 pub mod fit;
 pub mod hemisphere;
+pub mod lobes;
 pub mod pipeline;
 pub mod polygon;
 pub mod sheen;

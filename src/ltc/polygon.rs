@@ -279,3 +279,65 @@ pub fn mc_polygon(
     let var = (s2 / n as f64 - m * m).max(0.0);
     Ok((m, (var / n as f64).sqrt()))
 }
+
+/// The quad lights every table is checked against at a view angle θ (radians): one
+/// overhead, one large and one small on the mirror direction, one straddling the horizon.
+pub fn check_lights(theta: f64) -> Vec<(&'static str, Light)> {
+    let mirror = V3::new(-theta.sin(), 0.0, theta.cos().max(0.05)).normalize();
+    let side = V3::y().cross(&mirror).normalize();
+    vec![
+        (
+            "quad 1×1 overhead at 2",
+            Light::rect(V3::new(0.0, 0.0, 2.0), V3::x(), V3::y(), 0.5, 0.5),
+        ),
+        (
+            "quad 2×0.5 facing the mirror direction, 2 away",
+            Light::rect(mirror * 2.0, side, V3::y(), 1.0, 0.25),
+        ),
+        (
+            "small quad 0.1×0.1 on the mirror direction, 1 away",
+            Light::rect(mirror, side, V3::y(), 0.05, 0.05),
+        ),
+        (
+            "quad straddling the horizon",
+            Light::rect(V3::new(0.0, 2.0, 0.2), V3::x(), V3::z(), 1.0, 0.5),
+        ),
+    ]
+}
+
+/// One fitted cell × one light: the MC truth of the true lobe with its standard error,
+/// and the LTC integral with the exact and the rational edge forms.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PolygonCheck {
+    pub light: &'static str,
+    pub mc: f64,
+    pub mc_se: f64,
+    pub ltc_exact: f64,
+    pub ltc_rational: f64,
+}
+
+/// Every light of [`check_lights`] for one cell: truth by [`mc_polygon`] (`mc` samples
+/// per technique, seeds 17, 18, …) of the target, against norm × the LTC integral of
+/// the cell's M⁻¹.
+pub fn check_cell<T: crate::ltc::target::LtcTarget + ?Sized>(
+    t: &T,
+    m_inv: &Matrix3<f64>,
+    norm: f64,
+    theta: f64,
+    mc: usize,
+) -> Result<Vec<PolygonCheck>> {
+    check_lights(theta)
+        .into_iter()
+        .enumerate()
+        .map(|(k, (light_name, light))| {
+            let (m, se) = mc_polygon(&light, &|l| t.eval(l), &|u| t.sample(u), mc, 17 + k as u64)?;
+            Ok(PolygonCheck {
+                light: light_name,
+                mc: m,
+                mc_se: se,
+                ltc_exact: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Exact),
+                ltc_rational: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Rational),
+            })
+        })
+        .collect()
+}

@@ -8,8 +8,11 @@
 //! - `Neubelt`: the simpler 1/(4(l_z + v_z − l_z v_z)) of Neubelt & Pettineo 2013 that
 //!   glTF's KHR_materials_sheen names as the cheap alternative.
 //!
-//! α is the sheen α of glTF (α = sheenRoughness²). Sampled by the cosine hemisphere (the
-//! lobe is broad); albedo by nested adaptive quadrature (`hemisphere`).
+//! α is the sheen α of glTF (α = sheenRoughness²). Sampled by a defensive mixture: half
+//! the samples from the cosine hemisphere, half from the Charlie NDF (sin θ_h = u^(1/(2 + 1/α)),
+//! the exact inverse of its projected CDF) reflected about h — at small α the lobe lives at
+//! grazing half-vectors, where the cosine density alone vanishes; albedo by nested
+//! adaptive quadrature (`hemisphere`).
 
 use super::hemisphere;
 use super::target::LtcTarget;
@@ -72,6 +75,25 @@ impl CharlieTarget {
         })
     }
 
+    /// A half-vector from the Charlie NDF's projected density D(h)·h_z: its CDF in
+    /// s = sin θ_h is s^(2 + 1/α), so s = u₀^(1/(2 + 1/α)); φ = 2π u₁.
+    pub fn sample_h(&self, u: [f64; 2]) -> V3 {
+        let s = u[0].max(0.0).powf(1.0 / (2.0 + 1.0 / self.alpha)).min(1.0);
+        let c = (1.0 - s * s).max(0.0).sqrt();
+        let phi = 2.0 * std::f64::consts::PI * u[1];
+        V3::new(s * phi.cos(), s * phi.sin(), c)
+    }
+
+    /// The density of [`LtcTarget::sample`] at l: ½ cosine + ½ D(h)·h_z/(4 |v·h|).
+    pub fn pdf(&self, l: &V3) -> f64 {
+        if l.z <= 0.0 {
+            return 0.0;
+        }
+        let h = (self.v + l).normalize();
+        let vh = self.v.dot(&h).abs().max(1e-300);
+        0.5 * hemisphere::cosine_pdf(l) + 0.5 * charlie_d(h.z, self.alpha) * h.z / (4.0 * vh)
+    }
+
     /// BRDF(l, v)·l_z (0 below the horizon).
     pub fn value(&self, l: &V3) -> f64 {
         if l.z <= 0.0 {
@@ -95,10 +117,16 @@ impl LtcTarget for CharlieTarget {
         self.v
     }
     fn eval(&self, l: &V3) -> (f64, f64) {
-        (self.value(l), hemisphere::cosine_pdf(l))
+        (self.value(l), self.pdf(l))
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
-        hemisphere::cosine_sample(u)
+        if u[0] < 0.5 {
+            hemisphere::cosine_sample([2.0 * u[0], u[1]])
+        } else {
+            let h = self.sample_h([(2.0 * u[0] - 1.0).min(1.0), u[1]]);
+            let l = h * (2.0 * self.v.dot(&h)) - self.v;
+            (l.z > 0.0).then_some(l)
+        }
     }
     fn width(&self) -> f64 {
         1.0

@@ -263,3 +263,90 @@ pub fn sweep<T: LtcTarget>(
     }
     Ok((cells, moved))
 }
+
+/// What the bilinear pass did.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct BilinearPass {
+    pub square_weight: f64,
+    pub max_iters: u64,
+    pub cells_moved: usize,
+    pub seconds: f64,
+}
+
+/// One sweep of the bilinear-aware refit over a fitted table: each cell against its own
+/// lobe and, with weight ¼ each, the lobes (`target(α, θ)`) at the centres of its squares
+/// as a GPU interpolates them, every term relative to its error before the pass; then the
+/// moved cells' held-out errors and fit parameters are recomputed.
+pub fn bilinear_pass<T: LtcTarget>(
+    main: &mut crate::ltc::fit::Table,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    n: usize,
+) -> Result<BilinearPass> {
+    use crate::ltc::fit::{self, Cell};
+    let clock = std::time::Instant::now();
+    let g = main.grid.n;
+    let alpha_min = main.grid.alpha_min;
+    let flat: Vec<&Cell> = (0..g * g).map(|k| &main.cells[k / g][k % g]).collect();
+    let cells: Vec<[f64; 5]> = flat
+        .iter()
+        .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm])
+        .collect();
+    let at_cells: Vec<T> = flat
+        .iter()
+        .map(|c| target(c.alpha, c.theta))
+        .collect::<Result<_>>()?;
+    let at_squares: Vec<T> = (0..(g - 1) * (g - 1))
+        .map(|k| {
+            let r = ((k % (g - 1)) as f64 + 0.5) / (g - 1) as f64;
+            let t = ((k / (g - 1)) as f64 + 0.5) / (g - 1) as f64;
+            target((r * r).max(alpha_min), (1.0 - t * t).clamp(0.0, 1.0).acos())
+        })
+        .collect::<Result<_>>()?;
+    let (square_weight, max_iters) = (0.25, 40);
+    let before = errors(g, &cells, &at_cells, &at_squares, n);
+    let lattice = Lattice {
+        n: g,
+        square_weight,
+        before: Some((&before.0, &before.1)),
+        cells: &cells,
+        at_cells: &at_cells,
+        at_squares: &at_squares,
+    };
+    let pb = indicatif::ProgressBar::new((g * g) as u64);
+    pb.set_message("ltc bilinear pass");
+    let (new, cells_moved) = sweep(&lattice, n, max_iters, &|| pb.inc(1))?;
+    pb.finish_and_clear();
+    // write back, with the held-out errors and the fit parameters of the moved cells
+    main.cells
+        .par_iter_mut()
+        .enumerate()
+        .try_for_each(|(j, col)| -> Result<()> {
+            for (i, c) in col.iter_mut().enumerate() {
+                let e = new[i + g * j];
+                let inv = [e[0], e[1], e[2], e[3]];
+                if inv == c.inv {
+                    continue;
+                }
+                let t = target(c.alpha, c.theta)?;
+                let (_, _, _, zm) = t.moments(32);
+                c.inv = inv;
+                if let Some((m11, m22, m13, phi)) = fit::params_from_production(&inv, &zm) {
+                    let z = fit::turn(&zm, phi);
+                    (c.m11, c.m22, c.m13, c.turn, c.z_dir) = (m11, m22, m13, phi, [z.x, z.z]);
+                }
+                let m = inverse_from_production(&inv)
+                    .try_inverse()
+                    .ok_or_else(|| Error::InvalidArgument("bilinear pass: singular cell".into()))?;
+                let ltc = LtcDist::new(m)?;
+                let (ec, el2) = metrics(&t, &ltc, c.norm, 2 * n, 0.25);
+                (c.err_cubic, c.err_l2) = (ec, el2);
+            }
+            Ok(())
+        })?;
+    Ok(BilinearPass {
+        square_weight,
+        max_iters,
+        cells_moved,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}

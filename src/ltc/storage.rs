@@ -104,3 +104,22 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
         f16::from_f64(fresnel).to_f64(),
     ]
 }
+
+/// The binary16 storage of every cell of a fitted table (`Cell::half`), each chosen by
+/// [`half_storage`] against its own target (`target(α, θ)`).
+pub fn store_table<T: LtcTarget>(
+    table: &mut crate::ltc::fit::Table,
+    target: &(dyn Fn(f64, f64) -> crate::error::Result<T> + Sync),
+    n: usize,
+) -> crate::error::Result<()> {
+    use rayon::prelude::*;
+    table
+        .cells
+        .par_iter_mut()
+        .flatten()
+        .try_for_each(|c| -> crate::error::Result<()> {
+            let t = target(c.alpha, c.theta)?;
+            c.half = half_storage(&t, &c.inv, c.norm, c.fresnel, n);
+            Ok(())
+        })
+}

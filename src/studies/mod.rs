@@ -13,6 +13,7 @@ use std::path::Path;
 pub mod filters;
 pub mod leadr_grids;
 pub mod ltc_ggx;
+pub mod ltc_lobes;
 pub mod multiscale_alpha_me;
 pub mod multiscale_convolution;
 pub mod smith_lambda;
@@ -49,6 +50,9 @@ fn filters(c: &Ctx) -> Result<FitOutcome> {
 fn ltc_ggx(c: &Ctx) -> Result<FitOutcome> {
     ltc_ggx::run(c.spec, c.results, c.preset)
 }
+fn ltc_lobes(c: &Ctx) -> Result<FitOutcome> {
+    ltc_lobes::run(c.spec, c.results, c.preset)
+}
 fn tensor(c: &Ctx) -> Result<FitOutcome> {
     tensor::run(c.spec, c.results, c.preset)
 }
@@ -67,9 +71,19 @@ pub static STUDIES: &[&dyn Study] = &[
         run: leadr_grids,
     },
     &Entry {
+        name: "ltc-diffuse",
+        after: &[],
+        run: ltc_lobes,
+    },
+    &Entry {
         name: "ltc-ggx",
         after: &[],
         run: ltc_ggx,
+    },
+    &Entry {
+        name: "ltc-sheen",
+        after: &[],
+        run: ltc_lobes,
     },
     &Entry {
         name: "multiscale-alpha-me",

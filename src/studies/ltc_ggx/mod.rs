@@ -5,7 +5,10 @@
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table};
+use crate::ltc::fit::{
+    self, fit_table, held_out_stats as stats, Cell, Grid, Method, Metric, Stats, Table,
+};
+use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::ltc::target::GgxTarget;
 use nalgebra::Matrix3;
 use std::path::Path;
@@ -44,32 +47,6 @@ fn plan(p: Preset) -> Plan {
             sub: 16,
             mc: 1 << 18,
         },
-    }
-}
-
-#[derive(serde::Serialize)]
-struct Stats {
-    max_l2: f64,
-    mean_l2: f64,
-    worst_cell: (f64, f64),
-    mean_cubic: f64,
-    mean_iters: f64,
-}
-
-fn stats(t: &Table) -> Stats {
-    let cells: Vec<&Cell> = t.cells.iter().flatten().collect();
-    let n = cells.len() as f64;
-    let worst = cells
-        .iter()
-        .max_by(|a, b| a.err_l2.total_cmp(&b.err_l2))
-        .map(|c| (c.alpha, c.theta.to_degrees()))
-        .unwrap_or((f64::NAN, f64::NAN));
-    Stats {
-        max_l2: cells.iter().map(|c| c.err_l2).fold(0.0, f64::max),
-        mean_l2: cells.iter().map(|c| c.err_l2).sum::<f64>() / n,
-        worst_cell: worst,
-        mean_cubic: cells.iter().map(|c| c.err_cubic).sum::<f64>() / n,
-        mean_iters: cells.iter().map(|c| c.iters as f64).sum::<f64>() / n,
     }
 }
 
@@ -163,108 +140,6 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     Ok((main, variants.into(), time))
 }
 
-/// What the bilinear pass did.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct BilinearPass {
-    pub square_weight: f64,
-    pub max_iters: u64,
-    pub cells_moved: usize,
-    pub seconds: f64,
-}
-
-/// One sweep of the bilinear-aware refit (`ltc::smooth`): each cell against its own lobe
-/// and, with weight ¼ each, the lobes at the centres of its squares as a GPU interpolates
-/// them, every term relative to its error before the pass; then the moved cells' held-out errors and fit parameters are recomputed.
-fn bilinear_pass(main: &mut Table, n: usize, alpha_min: f64) -> Result<BilinearPass> {
-    use crate::ltc::smooth::{sweep, Lattice};
-    use rayon::prelude::*;
-    let clock = std::time::Instant::now();
-    let g = main.grid.n;
-    let flat: Vec<&Cell> = (0..g * g).map(|k| &main.cells[k / g][k % g]).collect();
-    let cells: Vec<[f64; 5]> = flat
-        .iter()
-        .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm])
-        .collect();
-    let at_cells: Vec<GgxTarget> = flat
-        .iter()
-        .map(|c| GgxTarget::new(c.alpha, c.theta))
-        .collect::<Result<_>>()?;
-    let at_squares: Vec<GgxTarget> = (0..(g - 1) * (g - 1))
-        .map(|k| {
-            let r = ((k % (g - 1)) as f64 + 0.5) / (g - 1) as f64;
-            let t = ((k / (g - 1)) as f64 + 0.5) / (g - 1) as f64;
-            GgxTarget::new((r * r).max(alpha_min), (1.0 - t * t).clamp(0.0, 1.0).acos())
-        })
-        .collect::<Result<_>>()?;
-    let (square_weight, max_iters) = (0.25, 40);
-    let before = crate::ltc::smooth::errors(g, &cells, &at_cells, &at_squares, n);
-    let lattice = Lattice {
-        n: g,
-        square_weight,
-        before: Some((&before.0, &before.1)),
-        cells: &cells,
-        at_cells: &at_cells,
-        at_squares: &at_squares,
-    };
-    let pb = indicatif::ProgressBar::new((g * g) as u64);
-    pb.set_message("ltc bilinear pass");
-    let (new, cells_moved) = sweep(&lattice, n, max_iters, &|| pb.inc(1))?;
-    pb.finish_and_clear();
-    // write back, with the held-out errors and the fit parameters of the moved cells
-    main.cells
-        .par_iter_mut()
-        .enumerate()
-        .try_for_each(|(j, col)| -> Result<()> {
-            for (i, c) in col.iter_mut().enumerate() {
-                let e = new[i + g * j];
-                let inv = [e[0], e[1], e[2], e[3]];
-                if inv == c.inv {
-                    continue;
-                }
-                let t = GgxTarget::new(c.alpha, c.theta)?;
-                let (_, _, _, zm) = crate::ltc::target::LtcTarget::moments(&t, 32);
-                c.inv = inv;
-                if let Some((m11, m22, m13, phi)) =
-                    crate::ltc::fit::params_from_production(&inv, &zm)
-                {
-                    let z = crate::ltc::fit::turn(&zm, phi);
-                    (c.m11, c.m22, c.m13, c.turn, c.z_dir) = (m11, m22, m13, phi, [z.x, z.z]);
-                }
-                let ltc = crate::ltc::LtcDist::new(
-                    crate::ltc::fit::inverse_from_production(&inv)
-                        .try_inverse()
-                        .ok_or_else(|| {
-                            crate::error::Error::InvalidArgument(
-                                "bilinear pass: singular cell".into(),
-                            )
-                        })?,
-                )?;
-                let (ec, el2) = crate::ltc::fit::metrics(&t, &ltc, c.norm, 2 * n, 0.25);
-                (c.err_cubic, c.err_l2) = (ec, el2);
-            }
-            Ok(())
-        })?;
-    Ok(BilinearPass {
-        square_weight,
-        max_iters,
-        cells_moved,
-        seconds: clock.elapsed().as_secs_f64(),
-    })
-}
-
-/// The binary16 storage of every cell of the main table (`ltc::storage`).
-fn choose_half_storage(main: &mut Table, n: usize) -> Result<()> {
-    use rayon::prelude::*;
-    main.cells
-        .par_iter_mut()
-        .flatten()
-        .try_for_each(|c| -> Result<()> {
-            let t = GgxTarget::new(c.alpha, c.theta)?;
-            c.half = crate::ltc::storage::half_storage(&t, &c.inv, c.norm, c.fresnel, n);
-            Ok(())
-        })
-}
-
 /// The title, the method and the table error.
 fn intro(spec: &FitSpec, preset: Preset, pl: &Plan, main: &Table) -> String {
     let st = stats(main);
@@ -336,10 +211,10 @@ fn stored(main: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
     let (mut main, variants, mut fit_time) = fit_tables(spec, &pl)?;
-    let bilinear = bilinear_pass(&mut main, pl.samples, spec.domain.alpha_min)?;
+    let bilinear = bilinear_pass(&mut main, &GgxTarget::new, pl.samples)?;
     fit_time.seconds += bilinear.seconds;
     fit_time.per_cell_ms = 1e3 * fit_time.seconds * fit_time.threads as f64 / fit_time.cells as f64;
-    choose_half_storage(&mut main, pl.samples)?;
+    crate::ltc::storage::store_table(&mut main, &GgxTarget::new, pl.samples)?;
     let st = stats(&main);
     let mut md = intro(spec, preset, &pl, &main);
     md.push_str(&format!(

@@ -155,30 +155,7 @@ pub(super) fn variants_section(
 
 /// The heat map of the held-out relative L2 error (results/ltc-error.svg).
 pub(super) fn error_heatmap(main: &Table, results: &Path) -> Result<()> {
-    let n = main.grid.n;
-    let hx: Vec<f64> = (0..n).map(|i| main.grid.alpha(i).sqrt()).collect();
-    let hy: Vec<f64> = (0..n)
-        .map(|j| (1.0 - main.grid.theta(j).cos()).max(0.0).sqrt())
-        .collect();
-    let vals: Vec<Vec<f64>> = (0..n)
-        .map(|j| (0..n).map(|i| main.cells[j][i].err_l2.max(1e-8)).collect())
-        .collect();
-    let svg = crate::report::plot::heatmap_svg(
-        &[crate::report::plot::HeatPanel {
-            title: "LTC fit: relative L2 error".into(),
-            x: hx,
-            y: hy,
-            values: vals,
-            log_range: (-4.0, 0.0),
-            x_label: "r = √α".into(),
-            y_label: "t = √(1 − cos θ)  (t = 0: normal incidence, top)".into(),
-            log_axes: false,
-            y_down: true,
-            colour_label: "log10 relative L2 (held out)".into(),
-        }],
-        720,
-        620,
-    )?;
+    let svg = crate::report::plot::ltc_error_heatmap(main, "LTC fit: relative L2 error")?;
     crate::io::write_atomic(&results.join("ltc-error.svg"), svg.as_bytes())?;
     Ok(())
 }

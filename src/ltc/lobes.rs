@@ -1,0 +1,102 @@
+//! The named lobes LTC tables are fitted to, as one target type: the GGX specular lobe
+//! (Heitz et al. 2016), the Charlie sheen lobe with either visibility term (Estevez &
+//! Kulla 2017's fitted Λ, or Neubelt & Pettineo 2013's, which glTF's KHR_materials_sheen
+//! names as the cheap alternative and three.js and Filament ship) and Burley's diffuse
+//! (Burley 2012 §5.3) with either roughness convention in F_D90. A study picks a lobe
+//! by name and fits, reports and writes it like any other target.
+
+use super::diffuse::{BurleyRoughness, BurleyTarget};
+use super::sheen::{CharlieTarget, SheenVisibility};
+use super::target::{GgxTarget, LtcTarget};
+use crate::error::Result;
+use nalgebra::Vector3;
+
+type V3 = Vector3<f64>;
+
+/// A lobe a table can be fitted to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Lobe {
+    Ggx,
+    SheenEstevezKulla,
+    SheenNeubelt,
+    BurleyPaper,
+    BurleyEngines,
+}
+
+impl Lobe {
+    /// The target of cell (α, θ).
+    pub fn target(self, alpha: f64, theta: f64) -> Result<LobeTarget> {
+        Ok(match self {
+            Lobe::Ggx => LobeTarget::Ggx(Box::new(GgxTarget::new(alpha, theta)?)),
+            Lobe::SheenEstevezKulla => LobeTarget::Charlie(CharlieTarget::new(
+                alpha,
+                theta,
+                SheenVisibility::EstevezKulla,
+            )?),
+            Lobe::SheenNeubelt => {
+                LobeTarget::Charlie(CharlieTarget::new(alpha, theta, SheenVisibility::Neubelt)?)
+            }
+            Lobe::BurleyPaper => {
+                LobeTarget::Burley(BurleyTarget::new(alpha, theta, BurleyRoughness::Paper)?)
+            }
+            Lobe::BurleyEngines => {
+                LobeTarget::Burley(BurleyTarget::new(alpha, theta, BurleyRoughness::Engines)?)
+            }
+        })
+    }
+    /// What the lobe is, in one phrase, with its source.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Lobe::Ggx => "GGX, height-correlated Smith G2, F = 1 (Heitz et al. 2016)",
+            Lobe::SheenEstevezKulla => "Charlie sheen NDF with Estevez & Kulla 2017's height-correlated visibility from their fitted Λ (the form glTF's KHR_materials_sheen specifies), F = 1",
+            Lobe::SheenNeubelt => "Charlie sheen NDF with Neubelt & Pettineo 2013's visibility 1/(4(l_z + v_z − l_z v_z)) (three.js's and Filament's V_Neubelt), F = 1",
+            Lobe::BurleyPaper => "Burley 2012 diffuse with its retro-reflection term, F_D90 = ½ + 2 r cos²θ_d with the paper's (perceptual) roughness r = √α, albedo 1",
+            Lobe::BurleyEngines => "Burley 2012 diffuse as Filament and Bevy evaluate it, F_D90 = ½ + 2 α cos²θ_d with α = r², albedo 1",
+        }
+    }
+    /// A short name for tables and file names.
+    pub fn short(self) -> &'static str {
+        match self {
+            Lobe::Ggx => "GGX",
+            Lobe::SheenEstevezKulla => "Charlie, Estevez–Kulla Λ",
+            Lobe::SheenNeubelt => "Charlie, Neubelt visibility",
+            Lobe::BurleyPaper => "Burley, paper's roughness",
+            Lobe::BurleyEngines => "Burley, engines' α",
+        }
+    }
+}
+
+/// The target of one cell of any [`Lobe`].
+pub enum LobeTarget {
+    Ggx(Box<GgxTarget>),
+    Charlie(CharlieTarget),
+    Burley(BurleyTarget),
+}
+
+impl LobeTarget {
+    fn inner(&self) -> &dyn LtcTarget {
+        match self {
+            LobeTarget::Ggx(t) => t.as_ref(),
+            LobeTarget::Charlie(t) => t,
+            LobeTarget::Burley(t) => t,
+        }
+    }
+}
+
+impl LtcTarget for LobeTarget {
+    fn view(&self) -> V3 {
+        self.inner().view()
+    }
+    fn eval(&self, l: &V3) -> (f64, f64) {
+        self.inner().eval(l)
+    }
+    fn sample(&self, u: [f64; 2]) -> Option<V3> {
+        self.inner().sample(u)
+    }
+    fn width(&self) -> f64 {
+        self.inner().width()
+    }
+    fn albedo(&self, tol: f64) -> (f64, f64, f64) {
+        self.inner().albedo(tol)
+    }
+}

@@ -1,0 +1,237 @@
+//! `regen --only ltc-sheen` and `regen --only ltc-diffuse`: LTC tables of the lobes
+//! engines ask for beyond GGX — the Charlie sheen lobe (Estevez & Kulla 2017) and
+//! Burley's diffuse (Burley 2012) — through the same generic fitter, bilinear pass and
+//! binary16 storage as the GGX table (`ltc::{fit, smooth, storage}`), judged the same
+//! way. Each family has a main lobe (its table is shipped) and a variant (the other
+//! visibility term, the other roughness convention), fitted on the same grid and shipped
+//! too, with the error of shading one with the other's table. Compute (this file) → the
+//! report (`report`) → results/fits/<name>.json, results/<name>.md, results/<name>-error.svg.
+
+use crate::error::{Error, Result};
+use crate::fit::spec::FitSpec;
+use crate::integrate::Preset;
+use crate::ltc::fit::{fit_table, held_out_stats, Grid, Method, Metric, Table};
+use crate::ltc::lobes::{Lobe, LobeTarget};
+use crate::ltc::smooth::{bilinear_pass, BilinearPass};
+use std::path::Path;
+
+mod report;
+
+/// A table family: the lobe of its main table and of its variant.
+#[derive(Clone, Copy, Debug)]
+pub struct Family {
+    pub name: &'static str,
+    pub title: &'static str,
+    pub main: Lobe,
+    pub variant: Lobe,
+    /// The spec name of the variant's table (results/fits/<variant_name>.json).
+    pub variant_name: &'static str,
+}
+
+/// The families, by spec name.
+pub fn family(name: &str) -> Option<Family> {
+    match name {
+        "ltc-sheen" => Some(Family {
+            name: "ltc-sheen",
+            title: "Charlie sheen LTC tables",
+            main: Lobe::SheenEstevezKulla,
+            variant: Lobe::SheenNeubelt,
+            variant_name: "ltc-sheen-neubelt",
+        }),
+        "ltc-diffuse" => Some(Family {
+            name: "ltc-diffuse",
+            title: "Burley diffuse LTC tables",
+            main: Lobe::BurleyPaper,
+            variant: Lobe::BurleyEngines,
+            variant_name: "ltc-diffuse-engines",
+        }),
+        _ => None,
+    }
+}
+
+pub(crate) struct Plan {
+    pub n: usize,
+    pub samples: usize,
+    pub mc: usize,
+}
+
+fn plan(p: Preset) -> Plan {
+    match p {
+        Preset::Quick => Plan {
+            n: 8,
+            samples: 12,
+            mc: 1 << 12,
+        },
+        Preset::Default => Plan {
+            n: 64,
+            samples: 16,
+            mc: 1 << 16,
+        },
+        Preset::Precise => Plan {
+            n: 64,
+            samples: 32,
+            mc: 1 << 18,
+        },
+    }
+}
+
+/// What fitting one table cost (wall clock; the only fields of a result that differ
+/// between runs).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct FitTime {
+    pub seconds: f64,
+    pub threads: usize,
+    pub cells: usize,
+    pub per_cell_ms: f64,
+}
+
+/// A fitted, bilinear-refitted, binary16-stored table of one lobe.
+pub(crate) struct Fitted {
+    pub lobe: Lobe,
+    pub table: Table,
+    pub bilinear: BilinearPass,
+    pub time: FitTime,
+}
+
+/// The target constructor of a lobe.
+fn target_of(lobe: Lobe) -> impl Fn(f64, f64) -> Result<LobeTarget> + Sync {
+    move |a, t| lobe.target(a, t)
+}
+
+/// Fit one lobe's table: the per-cell fit (cubic metric, L2 polish), one bilinear pass,
+/// the binary16 storage.
+fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
+    let grid = Grid {
+        n: pl.n,
+        alpha_min: spec.domain.alpha_min,
+    };
+    let iters = spec.optimiser.max_iters.unwrap_or(400);
+    let pb = indicatif::ProgressBar::new((pl.n * pl.n) as u64);
+    pb.set_message(format!("ltc fit: {}", lobe.short()));
+    let clock = std::time::Instant::now();
+    let target = target_of(lobe);
+    let mut table = fit_table(
+        grid,
+        &target,
+        pl.samples,
+        Metric::Cubic,
+        Method::NelderMead,
+        iters,
+        &|| pb.inc(1),
+    )?;
+    pb.finish_and_clear();
+    let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
+    crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let threads = rayon::current_num_threads();
+    let cells = pl.n * pl.n;
+    Ok(Fitted {
+        lobe,
+        table,
+        bilinear,
+        time: FitTime {
+            seconds,
+            threads,
+            cells,
+            per_cell_ms: 1e3 * seconds * threads as f64 / cells as f64,
+        },
+    })
+}
+
+/// The table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
+/// storage in the same layout.
+pub(crate) fn stored(t: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
+    let full = t
+        .cells
+        .iter()
+        .map(|col| {
+            col.iter()
+                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
+                .collect()
+        })
+        .collect();
+    let half = t
+        .cells
+        .iter()
+        .map(|col| col.iter().map(|c| c.half).collect())
+        .collect();
+    (full, half)
+}
+
+/// The study: fit both tables of the family, report, write.
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+    let fam = family(&spec.name).ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "fits/{}.toml: no LTC table family of that name (ltc-sheen, ltc-diffuse)",
+            spec.name
+        ))
+    })?;
+    let pl = plan(preset);
+    let main = fit_lobe(fam.main, spec, &pl)?;
+    crate::report::stage(&format!(
+        "regen {}: {} fitted in {:.0} s; the variant next",
+        fam.name,
+        fam.main.short(),
+        main.time.seconds
+    ));
+    let variant = fit_lobe(fam.variant, spec, &pl)?;
+    crate::report::stage(&format!(
+        "regen {}: {} fitted in {:.0} s; report next",
+        fam.name,
+        fam.variant.short(),
+        variant.time.seconds
+    ));
+    let rep = report::compute(&fam, &main, &variant, &pl)?;
+    let command = format!("cargo run --release -- regen --only {}", fam.name);
+    let md = report::markdown(&fam, spec, preset, &pl, &main, &variant, &rep, &command);
+    let svg = report::heatmaps(&main, &variant)?;
+    // results/fits/<name>.json and the variant's: the one reader (`ltc::table`) reads both
+    for (name, f, r) in [
+        (fam.name, &main, &rep.main),
+        (fam.variant_name, &variant, &rep.variant),
+    ] {
+        let (table, table_f16) = stored(&f.table);
+        let json = serde_json::json!({
+            "spec": spec,
+            "command": command,
+            "preset": preset.name(),
+            "lobe": f.lobe,
+            "target": f.lobe.describe(),
+            "grid": f.table.grid,
+            "layout": "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
+            "table": table,
+            "table_f16": table_f16,
+            "held_out": held_out_stats(&f.table),
+            "held_out_l2": f.table.cells.iter().map(|col| col.iter().map(|c| c.err_l2).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            "report": r,
+            "cross": rep.cross,
+            "fit_time": f.time,
+            "bilinear_pass": f.bilinear,
+        });
+        crate::results::write_result(results, name, &json)?;
+    }
+    crate::io::write_atomic(&results.join(format!("{}.md", fam.name)), md.as_bytes())?;
+    crate::io::write_atomic(
+        &results.join(format!("{}-error.svg", fam.name)),
+        svg.as_bytes(),
+    )?;
+    let st = held_out_stats(&main.table);
+    let sv = held_out_stats(&variant.table);
+    let worst = st.max_l2.max(sv.max_l2);
+    Ok(crate::study::FitOutcome {
+        name: spec.name.clone(),
+        held_out_max_rel: worst,
+        tolerance: spec.tolerance.max_rel,
+        passed: worst <= spec.tolerance.max_rel,
+        summary: format!(
+            "{n}×{n} tables: {} mean {:.2} % (max {:.1} %), {} mean {:.2} % (max {:.1} %) held-out rel. L2",
+            fam.main.short(),
+            100.0 * st.mean_l2,
+            100.0 * st.max_l2,
+            fam.variant.short(),
+            100.0 * sv.mean_l2,
+            100.0 * sv.max_l2,
+            n = pl.n
+        ),
+    })
+}
