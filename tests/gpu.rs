@@ -260,3 +260,207 @@ fn ltc_table_modules_read_back_exactly_on_the_gpu() {
         assert_eq!(mismatches, 0, "{file}");
     }
 }
+
+/// Run `ndfb_ltc_lut_matrix` and `ndfb_ltc_lut_weights` of results/wgsl/ltc_lut.wgsl
+/// over (α, cos θ) pairs with the table's two f16 layers bound as an rgba16float array
+/// texture and a linear clamp-to-edge sampler: per pair (a, b, c, d, norm, fresnel).
+fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f32; 6]>> {
+    use ndfbench::codegen::textures;
+    use wgpu::util::DeviceExt;
+    let (adapter, _) = adapter()?;
+    pollster::block_on(async {
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor::default())
+            .await
+            .ok()?;
+        let n = args.len() / 2;
+        let shader = format!(
+            "{}\n@group(0) @binding(0) var<storage, read> args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> out: array<f32>;\n@group(0) @binding(2) var lut: texture_2d_array<f32>;\n@group(0) @binding(3) var samp: sampler;\n@compute @workgroup_size(64) fn gpu_main(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i < arrayLength(&out) / 6u) {{\n        let m = ndfb_ltc_lut_matrix(lut, samp, args[2u * i], args[2u * i + 1u]);\n        let w = ndfb_ltc_lut_weights(lut, samp, args[2u * i], args[2u * i + 1u]);\n        out[6u * i] = m[0].x; out[6u * i + 1u] = m[0].z; out[6u * i + 2u] = m[2].x; out[6u * i + 3u] = m[2].z;\n        out[6u * i + 4u] = w.x; out[6u * i + 5u] = w.y;\n    }}\n}}\n",
+            module("ltc_lut.wgsl")
+        );
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("ltc_lut"),
+            source: wgpu::ShaderSource::Wgsl(shader.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: None,
+            module: &module,
+            entry_point: Some("gpu_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let mut texels: Vec<u8> = Vec::new();
+        for layer in 0..2 {
+            for px in textures::texels_f16(t, layer) {
+                for h in px {
+                    texels.extend(h.to_bits().to_le_bytes());
+                }
+            }
+        }
+        let tex = device.create_texture_with_data(
+            &queue,
+            &wgpu::TextureDescriptor {
+                label: None,
+                size: wgpu::Extent3d {
+                    width: t.n as u32,
+                    height: t.n as u32,
+                    depth_or_array_layers: 2,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &texels,
+        );
+        let view = tex.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let samp = device.create_sampler(&wgpu::SamplerDescriptor {
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let bytes: Vec<u8> = args.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let inb = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents: &bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let size = (n * 6 * 4) as u64;
+        let outb = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: inb.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: outb.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&samp),
+                },
+            ],
+        });
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bg, &[]);
+            pass.dispatch_workgroups(n.div_ceil(64) as u32, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&outb, 0, &read, 0, size);
+        queue.submit([enc.finish()]);
+        let slice = read.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+        device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
+        let data = slice.get_mapped_range().ok()?;
+        let f: Vec<f32> = data
+            .chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        Some(f.chunks(6).map(|c| std::array::from_fn(|k| c[k])).collect())
+    })
+}
+
+/// Every shipped LTC table read through the WGSL lookup (texture + sampler) against the
+/// f64 bilinear reference of its stored binary16 entries (`FittedTable::bilinear`): at
+/// texel centres exactly the stored texel (to 1e-3 of the channel's local spread, f32
+/// coordinates), between them within 2⁻⁴ of the four corners' spread — the Vulkan
+/// minimum of 4 sub-texel bits for the filter weights — plus f32 rounding. The observed
+/// worst fraction is printed.
+#[test]
+fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
+    use ndfbench::codegen::textures::TABLES;
+    let results = std::path::Path::new("results");
+    for kind in &TABLES {
+        let Ok(t) = ndfbench::ltc::table::read(results, kind.fit) else {
+            eprintln!("{}: results/fits/{}.json absent, skipped", kind.stem, kind.fit);
+            continue;
+        };
+        let n = t.n;
+        // texel centres, then a 97 × 89 lattice between them, α and cos θ over [0, 1]
+        let mut pts: Vec<(f64, f64, bool)> = Vec::new();
+        for j in (0..n).step_by(7) {
+            for i in (0..n).step_by(5) {
+                let r = i as f64 / (n - 1) as f64;
+                let tt = j as f64 / (n - 1) as f64;
+                pts.push((r * r, 1.0 - tt * tt, true));
+            }
+        }
+        for j in 0..89 {
+            for i in 0..97 {
+                let a = i as f64 / 96.0;
+                let c = j as f64 / 88.0;
+                pts.push((a * a, c, false));
+            }
+        }
+        let args: Vec<f32> = pts
+            .iter()
+            .flat_map(|p| [p.0 as f32, p.1 as f32])
+            .collect();
+        let Some(got) = run_lut(&t, &args) else {
+            return;
+        };
+        let mut worst = 0.0f64;
+        for (p, g) in pts.iter().zip(&got) {
+            // the reference at the f32 inputs the GPU received
+            let want = t.bilinear(p.0 as f32 as f64, p.1 as f32 as f64, true);
+            // the local spread of each channel: the four corners' range
+            let r = (p.0 as f32 as f64).clamp(0.0, 1.0).sqrt();
+            let tt = (1.0 - (p.1 as f32 as f64).clamp(0.0, 1.0)).sqrt();
+            let i0 = ((r * (n - 1) as f64).floor() as usize).min(n - 2);
+            let j0 = ((tt * (n - 1) as f64).floor() as usize).min(n - 2);
+            for c in 0..6 {
+                let corners: Vec<f64> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .iter()
+                    .map(|(di, dj)| t.half_cell(i0 + di + n * (j0 + dj))[c].to_f64())
+                    .collect();
+                let spread = corners.iter().cloned().fold(f64::MIN, f64::max)
+                    - corners.iter().cloned().fold(f64::MAX, f64::min);
+                let e = (g[c] as f64 - want[c]).abs();
+                let frac = if p.2 { 1e-3 } else { 0.0625 };
+                let bound = frac * spread + 4e-7 * want[c].abs().max(1e-30) + 1e-12;
+                assert!(
+                    e <= bound,
+                    "{} at α {} cos θ {} channel {c}: GPU {} vs reference {} (corner spread {spread:.3e})",
+                    kind.stem, p.0, p.1, g[c], want[c]
+                );
+                if spread > 0.0 && !p.2 {
+                    worst = worst.max(e / spread);
+                }
+            }
+        }
+        eprintln!(
+            "{}: {} lookups agree; worst error between texel centres {:.2e} of the corners' spread",
+            kind.stem,
+            pts.len(),
+            worst
+        );
+    }
+}

@@ -76,16 +76,47 @@ fn f16s(bytes: &[u8]) -> Vec<f16> {
 
 #[test]
 fn engine_files_are_fresh() {
-    let t = table();
-    for (rel, bytes) in textures::render(&t, ndfbench::codegen::COMMAND) {
-        let p = Path::new("results").join(&rel);
-        let on_disk = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-        assert!(
-            on_disk == bytes,
-            "{} is stale with respect to results/fits/ltc-ggx.json: run `{}`",
-            p.display(),
-            ndfbench::codegen::COMMAND
-        );
+    for kind in &textures::TABLES {
+        let t = table::read(Path::new("results"), kind.fit)
+            .unwrap_or_else(|e| panic!("results/fits/{}.json: {e}", kind.fit));
+        for (rel, bytes) in textures::render(&t, kind, ndfbench::codegen::COMMAND) {
+            let p = Path::new("results").join(&rel);
+            let on_disk = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            assert!(
+                on_disk == bytes,
+                "{} is stale with respect to results/fits/{}.json: run `{}`",
+                p.display(),
+                kind.fit,
+                ndfbench::codegen::COMMAND
+            );
+        }
+    }
+}
+
+/// Every table's KTX2 reads back with the `ktx2` crate as 64×64×2 R16G16B16A16_SFLOAT
+/// holding exactly its stored binary16 table (layer 0 = a, b, c, d; layer 1 = norm,
+/// fresnel, 0, 0).
+#[test]
+fn every_tables_ktx2_holds_its_stored_binary16_table() {
+    for kind in &textures::TABLES {
+        let t = table::read(Path::new("results"), kind.fit).unwrap();
+        let bytes = read(&format!("{}.ktx2", kind.stem));
+        let r = ktx2::Reader::new(&bytes[..]).expect("a valid KTX2 file");
+        let h = r.header();
+        assert_eq!(h.format, Some(ktx2::Format::R16G16B16A16_SFLOAT), "{}", kind.stem);
+        assert_eq!((h.pixel_width as usize, h.layer_count), (t.n, 2), "{}", kind.stem);
+        let level = r.levels().next().expect("one level");
+        let v = f16s(level.data);
+        let nn = t.n * t.n;
+        assert_eq!(v.len(), 2 * nn * 4, "{}", kind.stem);
+        for k in 0..nn {
+            let c = t.half_cell(k);
+            let want = [c[0], c[1], c[2], c[3], c[4], c[5], f16::ZERO, f16::ZERO];
+            for (q, w) in want.iter().enumerate() {
+                let got = v[(q / 4) * nn * 4 + k * 4 + q % 4];
+                assert_eq!(got.to_bits(), w.to_bits(), "{} texel {k} value {q}", kind.stem);
+            }
+        }
     }
 }
 

@@ -52,12 +52,23 @@ pub const CAPABILITIES: naga::valid::Capabilities =
 /// The entry point of the harness.
 pub const ENTRY: &str = "ndfb_harness_main";
 
-/// One function of a module as the harness calls it: its name, whether each argument is
-/// u32 (else f32), and how many components its result has.
+/// What the harness passes for one argument.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arg {
+    F32,
+    U32,
+    /// A `texture_2d_array<f32>` (the harness binds one at binding 2).
+    TextureArray,
+    /// A `sampler` (the harness binds one at binding 3).
+    Sampler,
+}
+
+/// One function of a module as the harness calls it: its name, what each argument is,
+/// and how many components its result has (a mat3x3 counts 9).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Call {
     pub name: String,
-    pub uint_args: Vec<bool>,
+    pub args: Vec<Arg>,
     pub components: u32,
 }
 
@@ -76,8 +87,9 @@ fn validate(module: &naga::Module, what: &str) -> Result<naga::valid::ModuleInfo
 }
 
 /// Every function of a WGSL library module (in source order), with its signature as
-/// the harness needs it. Only scalar f32/u32 arguments and f32 scalar or vector results
-/// occur in the generated modules; anything else is a typed error naming the function.
+/// the harness needs it. Only scalar f32/u32, `texture_2d_array<f32>` and `sampler`
+/// arguments and f32 scalar, vector or 3×3 matrix results occur in the generated modules;
+/// anything else is a typed error naming the function.
 pub fn calls(src: &str, what: &str) -> Result<Vec<Call>> {
     let module = parse(src, what)?;
     let mut out = Vec::new();
@@ -93,21 +105,41 @@ pub fn calls(src: &str, what: &str) -> Result<Vec<Call>> {
             naga::TypeInner::Vector { size, scalar } => Some((scalar.kind, size as u32)),
             _ => None,
         };
-        let mut uint_args = Vec::new();
+        let mut args = Vec::new();
         for a in &f.arguments {
-            match scalar(a.ty).ok_or_else(bad)? {
-                (naga::ScalarKind::Float, 1) => uint_args.push(false),
-                (naga::ScalarKind::Uint, 1) => uint_args.push(true),
-                _ => return Err(bad()),
-            }
+            let arg = match module.types[a.ty].inner {
+                naga::TypeInner::Image {
+                    dim: naga::ImageDimension::D2,
+                    arrayed: true,
+                    class:
+                        naga::ImageClass::Sampled {
+                            kind: naga::ScalarKind::Float,
+                            multi: false,
+                        },
+                } => Arg::TextureArray,
+                naga::TypeInner::Sampler { comparison: false } => Arg::Sampler,
+                _ => match scalar(a.ty).ok_or_else(bad)? {
+                    (naga::ScalarKind::Float, 1) => Arg::F32,
+                    (naga::ScalarKind::Uint, 1) => Arg::U32,
+                    _ => return Err(bad()),
+                },
+            };
+            args.push(arg);
         }
-        let components = match f.result.as_ref().map(|r| scalar(r.ty)) {
-            Some(Some((naga::ScalarKind::Float, n))) => n,
-            _ => return Err(bad()),
+        let components = match f.result.as_ref().map(|r| &module.types[r.ty].inner) {
+            Some(naga::TypeInner::Matrix {
+                columns: naga::VectorSize::Tri,
+                rows: naga::VectorSize::Tri,
+                scalar,
+            }) if scalar.kind == naga::ScalarKind::Float => 9,
+            _ => match f.result.as_ref().map(|r| scalar(r.ty)) {
+                Some(Some((naga::ScalarKind::Float, n))) => n,
+                _ => return Err(bad()),
+            },
         };
         out.push(Call {
             name,
-            uint_args,
+            args,
             components,
         });
     }
@@ -118,33 +150,39 @@ pub fn calls(src: &str, what: &str) -> Result<Vec<Call>> {
 /// its arguments from args[i·K …] (K = the largest arity) and writes result j of M to
 /// out[i·M + j] (vector results summed, so every component is live).
 pub fn harness(calls: &[Call]) -> String {
-    let k = calls
+    let k = calls.iter().map(|c| c.args.len()).max().unwrap_or(0).max(1);
+    let resources = calls
         .iter()
-        .map(|c| c.uint_args.len())
-        .max()
-        .unwrap_or(0)
-        .max(1);
+        .flat_map(|c| &c.args)
+        .any(|a| matches!(a, Arg::TextureArray | Arg::Sampler));
     let m = calls.len().max(1);
     let mut s = format!(
-        "\n// Harness (not part of the library): calls every function once per invocation.\n@group(0) @binding(0) var<storage, read> ndfb_harness_args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> ndfb_harness_out: array<f32>;\n\n@compute @workgroup_size(64)\nfn {ENTRY}(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i >= arrayLength(&ndfb_harness_out) / {m}u) {{\n        return;\n    }}\n    let a = i * {k}u;\n"
+        "\n// Harness (not part of the library): calls every function once per invocation.\n@group(0) @binding(0) var<storage, read> ndfb_harness_args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> ndfb_harness_out: array<f32>;\n{}\n@compute @workgroup_size(64)\nfn {ENTRY}(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i >= arrayLength(&ndfb_harness_out) / {m}u) {{\n        return;\n    }}\n    let a = i * {k}u;\n",
+        if resources {
+            "@group(0) @binding(2) var ndfb_harness_lut: texture_2d_array<f32>;\n@group(0) @binding(3) var ndfb_harness_sampler: sampler;\n"
+        } else {
+            ""
+        }
     );
     for (j, c) in calls.iter().enumerate() {
         let args: Vec<String> = c
-            .uint_args
+            .args
             .iter()
             .enumerate()
             .map(|(q, &u)| {
                 let x = format!("ndfb_harness_args[a + {q}u]");
-                if u {
-                    format!("u32({x})")
-                } else {
-                    x
+                match u {
+                    Arg::F32 => x,
+                    Arg::U32 => format!("u32({x})"),
+                    Arg::TextureArray => "ndfb_harness_lut".into(),
+                    Arg::Sampler => "ndfb_harness_sampler".into(),
                 }
             })
             .collect();
         let call = format!("{}({})", c.name, args.join(", "));
         let value = match c.components {
             1 => call,
+            9 => format!("dot({call} * vec3<f32>(1.0), vec3<f32>(1.0))"),
             n => format!("dot({call}, vec{n}<f32>(1.0))"),
         };
         s.push_str(&format!(

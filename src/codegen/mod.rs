@@ -17,6 +17,7 @@ pub mod audit;
 pub mod backends;
 pub mod desc;
 pub mod forms;
+pub mod lut;
 pub mod namespace;
 pub mod shaders;
 pub mod table;
@@ -396,6 +397,11 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
         }
         out.push((forms::Form::Plain.path(stem), plain));
     }
+    let lut = lut::render_wgsl(COMMAND);
+    for form in [forms::Form::NagaOil, forms::Form::Wesl] {
+        out.push((form.path("ltc_lut"), forms::render_data("ltc_lut", &lut, form)));
+    }
+    out.push((forms::Form::Plain.path("ltc_lut"), lut));
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
@@ -429,10 +435,18 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         crate::io::write_atomic(&path, text.as_bytes())?;
         written.push(path.display().to_string());
     }
-    for (rel, bytes) in textures::render(&table::read(results)?, COMMAND) {
-        let path = results.join(rel);
-        crate::io::write_atomic(&path, &bytes)?;
-        written.push(path.display().to_string());
+    for kind in &textures::TABLES {
+        // the GGX table is required; a table of another lobe only once its study has run
+        let t = match crate::ltc::table::read(results, kind.fit) {
+            Ok(t) => t,
+            Err(_) if *kind != textures::GGX => continue,
+            Err(e) => return Err(e),
+        };
+        for (rel, bytes) in textures::render(&t, kind, COMMAND) {
+            let path = results.join(rel);
+            crate::io::write_atomic(&path, &bytes)?;
+            written.push(path.display().to_string());
+        }
     }
     if canonical {
         // the audit runs the compiled twins: only meaningful when they are the text just

@@ -1,5 +1,5 @@
-//! The fitted GGX LTC table as the files engines load, all from the same table and in
-//! the shipped layout (texel (i, j) at i + n·j, i = roughness index with r = √α =
+//! Every fitted LTC table (GGX, Charlie sheen, Burley diffuse: [`TABLES`]) as the files
+//! engines load, each from its table and in the shipped layout (texel (i, j) at i + n·j, i = roughness index with r = √α =
 //! i/(n − 1) across, j = view index with t = √(1 − cos θ) = j/(n − 1) down; the shader
 //! samples uv = (r, t)·(n − 1)/n + 0.5/n):
 //!
@@ -10,15 +10,15 @@
 //!   ltc_code's second texture (a clipped-sphere table that three.js leaves commented
 //!   out) is 0 here.
 //!
-//! Files (under results/textures/):
-//! - `ltc_ggx.ktx2`: KTX 2.0, VK_FORMAT_R16G16B16A16_SFLOAT, n×n, 2 array layers, one
+//! Files (under results/textures/, `<stem>` = `ltc_ggx`, `ltc_sheen`, …):
+//! - `<stem>.ktx2`: KTX 2.0, VK_FORMAT_R16G16B16A16_SFLOAT, n×n, 2 array layers, one
 //!   level, no supercompression, a basic data-format descriptor (Bevy's `AreaLightLuts`
 //!   layout: layer 0 the matrix, layer 1 the weights);
-//! - `ltc_ggx_1.dds`, `ltc_ggx_2.dds`: DDS with a DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT
+//! - `<stem>_1.dds`, `<stem>_2.dds`: DDS with a DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT
 //!   (what Godot's DDS loader reads);
-//! - `ltc_ggx_{1,2}_{f16,f32}.bin`: raw little-endian RGBA texels, described by
-//!   `ltc_ggx.json` (three.js DataTexture, Babylon RawTexture);
-//! - `ltc_ggx.js`: an ES module exporting `LTC_MAT_1` and `LTC_MAT_2` as decimal
+//! - `<stem>_{1,2}_{f16,f32}.bin`: raw little-endian RGBA texels, described by
+//!   `<stem>.json` (three.js DataTexture, Babylon RawTexture);
+//! - `<stem>.js`: an ES module exporting `LTC_MAT_1` and `LTC_MAT_2` as decimal
 //!   literals in the shape of three.js's RectAreaLightTexturesLib (shortest f32
 //!   round-trip decimals, so `new Float32Array(LTC_MAT_1)` is bit-exact).
 //!
@@ -31,6 +31,47 @@ use half::f16;
 
 /// Where the engine files go, relative to the results directory.
 pub const DIR: &str = "textures";
+
+/// One shipped table: its fit (results/fits/<fit>.json), the stem of its files and what
+/// it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableKind {
+    pub fit: &'static str,
+    pub stem: &'static str,
+    pub title: &'static str,
+}
+
+/// Every table shipped as engine files (a table whose fit is absent is skipped).
+pub const TABLES: [TableKind; 5] = [
+    TableKind {
+        fit: "ltc-ggx",
+        stem: "ltc_ggx",
+        title: "GGX LTC table",
+    },
+    TableKind {
+        fit: "ltc-sheen",
+        stem: "ltc_sheen",
+        title: "Charlie sheen LTC table (Estevez & Kulla visibility; sheen α = sheenRoughness²)",
+    },
+    TableKind {
+        fit: "ltc-sheen-neubelt",
+        stem: "ltc_sheen_neubelt",
+        title: "Charlie sheen LTC table (Neubelt visibility, as three.js and Filament shade sheen)",
+    },
+    TableKind {
+        fit: "ltc-diffuse",
+        stem: "ltc_diffuse",
+        title: "Burley diffuse LTC table (F_D90 with the paper's roughness √α)",
+    },
+    TableKind {
+        fit: "ltc-diffuse-engines",
+        stem: "ltc_diffuse_engines",
+        title: "Burley diffuse LTC table (F_D90 with α, as Filament and Bevy evaluate it)",
+    },
+];
+
+/// The GGX table's kind.
+pub const GGX: TableKind = TABLES[0];
 
 /// The RGBA texels of texture `layer` (0: matrix, 1: weights) in f32.
 pub fn texels_f32(t: &FittedTable, layer: usize) -> Vec<[f32; 4]> {
@@ -143,7 +184,7 @@ pub fn dds(n: usize, texels: &[[f16; 4]]) -> Vec<u8> {
 }
 
 /// The ES module in the shape of RectAreaLightTexturesLib's arrays.
-pub fn es_module(t: &FittedTable, header: &str) -> String {
+pub fn es_module(t: &FittedTable, kind: &TableKind, header: &str) -> String {
     let list = |layer: usize| {
         texels_f32(t, layer)
             .iter()
@@ -153,50 +194,53 @@ pub fn es_module(t: &FittedTable, header: &str) -> String {
             .join(", ")
     };
     format!(
-        "{header}// GGX LTC table, {n}×{n} RGBA texels at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹, LTC_MAT_2 = (norm, fresnel, 0, 0). Drop-in for three.js's RectAreaLightTexturesLib arrays (see README).\nexport const LTC_SIZE = {n};\nexport const LTC_MAT_1 = [ {} ];\nexport const LTC_MAT_2 = [ {} ];\n",
+        "{header}// {title}, {n}×{n} RGBA texels at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹, LTC_MAT_2 = (norm, fresnel, 0, 0). Drop-in for three.js's RectAreaLightTexturesLib arrays (see README).\nexport const LTC_SIZE = {n};\nexport const LTC_MAT_1 = [ {} ];\nexport const LTC_MAT_2 = [ {} ];\n",
         list(0),
         list(1),
-        n = t.n
+        n = t.n,
+        title = kind.title
     )
 }
 
 /// The JSON manifest of the raw files.
-pub fn manifest(t: &FittedTable, command: &str) -> String {
+pub fn manifest(t: &FittedTable, kind: &TableKind, command: &str) -> String {
+    let st = kind.stem;
     let v = serde_json::json!({
-        "generated": format!("by `{command}` from results/fits/ltc-ggx.json; do not edit"),
+        "generated": format!("by `{command}` from results/fits/{}.json; do not edit", kind.fit),
+        "table": kind.title,
         "width": t.n,
         "height": t.n,
         "channels": 4,
         "byte_order": "little-endian",
         "texel_index": "i + width·j: i = roughness index (r = √α = i/(width − 1)), j = view index (t = √(1 − cos θ) = j/(height − 1)); sample uv = (r, t)·(n − 1)/n + 0.5/n",
         "textures": [
-            {"name": "LTC_MAT_1", "channels": "a, b, c, d of M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]", "f16": "ltc_ggx_1_f16.bin", "f32": "ltc_ggx_1_f32.bin"},
-            {"name": "LTC_MAT_2", "channels": "norm, fresnel, 0, 0 (specular weight F0·norm + (1 − F0)·fresnel)", "f16": "ltc_ggx_2_f16.bin", "f32": "ltc_ggx_2_f32.bin"}
+            {"name": "LTC_MAT_1", "channels": "a, b, c, d of M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]", "f16": format!("{st}_1_f16.bin"), "f32": format!("{st}_1_f32.bin")},
+            {"name": "LTC_MAT_2", "channels": "norm, fresnel, 0, 0 (specular weight F0·norm + (1 − F0)·fresnel)", "f16": format!("{st}_2_f16.bin"), "f32": format!("{st}_2_f32.bin")}
         ],
-        "f16": "IEEE binary16: the table's binary16 storage (results/fits/ltc-ggx.json `table_f16`)",
+        "f16": format!("IEEE binary16: the table's binary16 storage (results/fits/{}.json `table_f16`)", kind.fit),
         "f32": "IEEE binary32, the f64 table rounded to nearest",
-        "ktx2": "ltc_ggx.ktx2 (R16G16B16A16_SFLOAT, 2 layers)",
-        "dds": ["ltc_ggx_1.dds", "ltc_ggx_2.dds"],
-        "es_module": "ltc_ggx.js"
+        "ktx2": format!("{st}.ktx2 (R16G16B16A16_SFLOAT, 2 layers)"),
+        "dds": [format!("{st}_1.dds"), format!("{st}_2.dds")],
+        "es_module": format!("{st}.js")
     });
     serde_json::to_string_pretty(&v).expect("json") + "\n"
 }
 
-/// Every engine file: (path relative to the results directory, bytes).
-pub fn render(t: &FittedTable, command: &str) -> Vec<(String, Vec<u8>)> {
-    let p = |f: &str| format!("{DIR}/{f}");
-    let mut out = vec![(p("ltc_ggx.ktx2"), ktx2(t, &format!("ndfbench ({command})")))];
+/// Every engine file of one table: (path relative to the results directory, bytes).
+pub fn render(t: &FittedTable, kind: &TableKind, command: &str) -> Vec<(String, Vec<u8>)> {
+    let p = |f: &str| format!("{DIR}/{}{f}", kind.stem);
+    let mut out = vec![(p(".ktx2"), ktx2(t, &format!("ndfbench ({command})")))];
     for layer in 0..2 {
         let h = texels_f16(t, layer);
-        out.push((p(&format!("ltc_ggx_{}.dds", layer + 1)), dds(t.n, &h)));
-        out.push((p(&format!("ltc_ggx_{}_f16.bin", layer + 1)), bytes_f16(&h)));
+        out.push((p(&format!("_{}.dds", layer + 1)), dds(t.n, &h)));
+        out.push((p(&format!("_{}_f16.bin", layer + 1)), bytes_f16(&h)));
         out.push((
-            p(&format!("ltc_ggx_{}_f32.bin", layer + 1)),
+            p(&format!("_{}_f32.bin", layer + 1)),
             bytes_f32(&texels_f32(t, layer)),
         ));
     }
-    out.push((p("ltc_ggx.json"), manifest(t, command).into_bytes()));
-    let header = super::header("//", command, "results/fits/ltc-ggx.json");
-    out.push((p("ltc_ggx.js"), es_module(t, &header).into_bytes()));
+    out.push((p(".json"), manifest(t, kind, command).into_bytes()));
+    let header = super::header("//", command, &format!("results/fits/{}.json", kind.fit));
+    out.push((p(".js"), es_module(t, kind, &header).into_bytes()));
     out
 }

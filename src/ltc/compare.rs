@@ -138,15 +138,17 @@ pub fn cell_error_of<T: LtcTarget + ?Sized>(
 /// quadrature, so only the interpolated matrix is tested). `None` when a corner is
 /// missing (NaN). Relative L2.
 pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Result<Option<f64>> {
-    midpoint_error_of(t, i, j, n_samples, &GgxTarget::new)
+    midpoint_error_of(t, i, j, n_samples, 0.0, &GgxTarget::new)
 }
 
-/// [`midpoint_error`] against any target (`target(α, θ)`, its norm by its own quadrature).
+/// [`midpoint_error`] against any target (`target(α, θ)`, its norm by its own
+/// quadrature), at α = max(r², `alpha_min`) as the table's cells are.
 pub fn midpoint_error_of<T: LtcTarget>(
     t: &Shipped,
     i: usize,
     j: usize,
     n_samples: usize,
+    alpha_min: f64,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
 ) -> Result<Option<f64>> {
     let n = t.n;
@@ -165,7 +167,7 @@ pub fn midpoint_error_of<T: LtcTarget>(
     let inv: [f64; 4] = std::array::from_fn(|k| corners.iter().map(|c| c[k]).sum::<f64>() / 4.0);
     let r = (i as f64 + 0.5) / (n - 1) as f64;
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
-    let alpha = r * r;
+    let alpha = (r * r).max(alpha_min);
     let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
     let lobe = target(alpha, theta)?;
     let (norm, _, _) = lobe.albedo(1e-8);

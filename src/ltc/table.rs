@@ -93,3 +93,32 @@ pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
     };
     Ok(FittedTable { n, cells, half })
 }
+
+impl FittedTable {
+    /// The table interpolated bilinearly at (α, cos θ) as a GPU's linear, clamp-to-edge
+    /// sampler reads the texture at uv = ((r, t)(n − 1) + ½)/n: texel coordinates
+    /// x = r(n − 1), y = t(n − 1) with r = √α, t = √(1 − cos θ) (α and cos θ clamped to
+    /// [0, 1]). `half`: the binary16 entries as stored in every f16 file, else the f64
+    /// table. The f64 reference of the WGSL lookup (codegen/lut.rs).
+    pub fn bilinear(&self, alpha: f64, cos_theta: f64, half: bool) -> [f64; 6] {
+        let n = self.n;
+        let r = alpha.clamp(0.0, 1.0).sqrt();
+        let t = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt();
+        let (x, y) = (r * (n - 1) as f64, t * (n - 1) as f64);
+        let (i0, j0) = ((x.floor() as usize).min(n - 2), (y.floor() as usize).min(n - 2));
+        let (fx, fy) = (x - i0 as f64, y - j0 as f64);
+        let at = |i: usize, j: usize| -> [f64; 6] {
+            let k = i + n * j;
+            if half {
+                self.half_cell(k).map(|h| h.to_f64())
+            } else {
+                self.cells[k]
+            }
+        };
+        let (c00, c10, c01, c11) = (at(i0, j0), at(i0 + 1, j0), at(i0, j0 + 1), at(i0 + 1, j0 + 1));
+        std::array::from_fn(|c| {
+            (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy)
+                + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
+        })
+    }
+}

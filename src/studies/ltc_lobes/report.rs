@@ -61,6 +61,9 @@ pub struct StorageCost {
     pub singular: usize,
 }
 
+/// The smallest normal binary16 number.
+const F16_NORMAL_MIN: f64 = 6.103515625e-5;
+
 /// One table's measures.
 #[derive(Clone, Debug, Serialize)]
 pub struct TableReport {
@@ -69,6 +72,8 @@ pub struct TableReport {
     pub between: Spread,
     /// f32, binary16 to nearest, binary16 as stored.
     pub storage: [StorageCost; 3],
+    /// Cells with an albedo below binary16's normal range (left out of `storage`).
+    pub storage_left_out: usize,
     /// Largest quadrature error estimate of the norm.
     pub norm_error_max: f64,
     /// Largest |quadrature − MC| in units of the MC standard error over the checked cells.
@@ -87,6 +92,11 @@ pub struct Cross {
     pub main_table_for_variant: Spread,
     /// The variant's table against the main lobe.
     pub variant_table_for_main: Spread,
+    /// The clamped cosine (M = I) with weight 1 against the main lobe: Lambert, what an
+    /// engine without this table shades area lights with.
+    pub cosine_unit_for_main: Spread,
+    /// The clamped cosine with the main table's norm (energy-correct Lambert).
+    pub cosine_norm_for_main: Spread,
 }
 
 /// Everything the report shows.
@@ -161,13 +171,12 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let mids: Vec<(f64, (f64, f64))> = squares
         .par_iter()
         .map(|&(i, j)| {
-            let e = midpoint_error_of(&sh, i, j, held, &target)?.unwrap_or(f64::NAN);
+            let e = midpoint_error_of(&sh, i, j, held, t.grid.alpha_min, &target)?
+                .unwrap_or(f64::NAN);
             let r = (i as f64 + 0.5) / (n - 1) as f64;
             let tt = (j as f64 + 0.5) / (n - 1) as f64;
-            Ok((
-                e,
-                (r * r, (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees()),
-            ))
+            let alpha = (r * r).max(t.grid.alpha_min);
+            Ok((e, (alpha, (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees())))
         })
         .collect::<Result<_>>()?;
     // storage: f64, f32, f16 nearest, f16 stored
@@ -181,7 +190,11 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
             _ => c.half,
         })?;
         let (mut sum, mut cnt, mut worst, mut at, mut sing) = (0.0, 0usize, 0.0f64, (0.0, 0.0), 0);
-        for (b, s) in base.iter().zip(&e) {
+        for ((b, s), c) in base.iter().zip(&e).zip(flat(t)) {
+            // an albedo below binary16's normal range is stored as (nearly) nothing
+            if c.norm < F16_NORMAL_MIN {
+                continue;
+            }
             match (b.0.is_finite(), s.0.is_finite()) {
                 (true, true) => {
                     let d = s.0 - b.0;
@@ -238,6 +251,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         worst,
         between: spread(&mids),
         storage: [storage[0], storage[1], storage[2]],
+        storage_left_out: flat(t).iter().filter(|c| c.norm < F16_NORMAL_MIN).count(),
         norm_error_max: flat(t).iter().map(|c| c.norm_se).fold(0.0, f64::max),
         norm_vs_mc_max_se: zs.iter().flatten().cloned().fold(0.0, f64::max),
         norm_mc_cells: zs.iter().flatten().count(),
@@ -256,6 +270,12 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         cross: Cross {
             main_table_for_variant: spread(&against(&main.table, fam.variant, held, &full)?),
             variant_table_for_main: spread(&against(&variant.table, fam.main, held, &full)?),
+            cosine_unit_for_main: spread(&against(&main.table, fam.main, held, &|_| {
+                [1.0, 0.0, 0.0, 1.0, 1.0, 0.0]
+            })?),
+            cosine_norm_for_main: spread(&against(&main.table, fam.main, held, &|c| {
+                [1.0, 0.0, 0.0, 1.0, c.norm, 0.0]
+            })?),
         },
     })
 }
@@ -301,6 +321,9 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
             s.mean_change, s.largest_change, s.at.0, s.at.1, s.singular
         ));
     }
+    if r.storage_left_out > 0 {
+        md.push_str(&format!("\n{} cells have an albedo below binary16's normal range (6.1e-5) and are left out above: binary16 stores their weight as a subnormal or 0, which is what they are worth on screen.\n", r.storage_left_out));
+    }
     md.push_str(&format!(
         "\nnorm (the directional albedo, stored as the weight) by nested adaptive Gauss–Kronrod (tolerance 1e-9; largest error estimate {:.1e}); against stratified MC of the lobe's own sampler (256² samples) on {} cells: largest difference {:.2} standard errors ({} cells with an albedo below 1e-6 left out). tests/ltc_targets.rs checks the quadrature against an independent Gauss–Legendre product rule to 1e-6 (relative, with an absolute floor of 1e-12).\n\n",
         r.norm_error_max, r.norm_mc_cells, r.norm_vs_mc_max_se, r.norm_mc_left_out
@@ -319,7 +342,7 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
             }
         };
         md.push_str(&format!(
-            "| {a:.3} | {th:.1}° | {} | {:.4e} ± {:.1e} | {:.4e} | {} | {:+.2} % ± {:.2} | {:.4e} | {} |\n",
+            "| {a:.3} | {th:.1}° | {} | {:.4e} ± {:.1e} | {:.4e} | {} | {:+.3} % ± {:.3} | {:.4e} | {} |\n",
             p.light, p.mc, p.mc_se, p.ltc_exact, rel(p.ltc_exact), 100.0 * (p.ltc_exact - p.mc) / norm, 100.0 * p.mc_se / norm, p.ltc_rational, rel(p.ltc_rational)
         ));
     }
@@ -354,6 +377,20 @@ pub(super) fn markdown(
         "## One lobe shaded with the other's table\n\nHeld-out relative L2 per cell, with the table's own norm:\n\n| table | judged against | mean | max | where (α, θ) |\n|---|---|---|---|---|\n| {} | {} | {} | {} | ({:.3}, {:.1}°) |\n| {} | {} | {} | {} | ({:.3}, {:.1}°) |\n\n",
         main.lobe.short(), variant.lobe.short(), pct(r.cross.main_table_for_variant.mean), pct(r.cross.main_table_for_variant.max), r.cross.main_table_for_variant.at.0, r.cross.main_table_for_variant.at.1,
         variant.lobe.short(), main.lobe.short(), pct(r.cross.variant_table_for_main.mean), pct(r.cross.variant_table_for_main.max), r.cross.variant_table_for_main.at.0, r.cross.variant_table_for_main.at.1,
+    ));
+    let c = &r.cross;
+    let unit = if matches!(main.lobe, Lobe::BurleyPaper | Lobe::BurleyEngines) {
+        format!(
+            "with weight 1 (Lambert, as Bevy shades area lights' diffuse) mean {}, max {} at ({:.3}, {:.1}°); ",
+            pct(c.cosine_unit_for_main.mean), pct(c.cosine_unit_for_main.max), c.cosine_unit_for_main.at.0, c.cosine_unit_for_main.at.1
+        )
+    } else {
+        String::new()
+    };
+    md.push_str(&format!(
+        "Without a table: the clamped cosine (M = I) against the {} lobe — {unit}with the table's norm (energy-correct) mean {}, max {} at ({:.3}, {:.1}°).\n\n",
+        main.lobe.short(),
+        pct(c.cosine_norm_for_main.mean), pct(c.cosine_norm_for_main.max), c.cosine_norm_for_main.at.0, c.cosine_norm_for_main.at.1,
     ));
     md
 }
