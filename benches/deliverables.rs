@@ -2,7 +2,8 @@
 //! naga (parse + validate, each back end) and through the Khronos validators where they
 //! are installed; the prefilter tool on a 2048² normal map (the whole chain, and the
 //! per-mip re-read of the base level that a one-pass-per-mip tool such as Filament's
-//! roughness-prefilter does). `cargo run --release -- bench-report` renders them into
+//! roughness-prefilter does); every shipped LTC table's per-pixel cost (the bilinear
+//! lookup of its binary16 entries and the quad integral). `cargo run --release -- bench-report` renders them into
 //! results/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -143,5 +144,65 @@ fn prefilter_benches(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, prefilter_benches, shader_benches);
+/// Per pixel with each shipped LTC table: the bilinear lookup of the stored binary16
+/// entries at (α, cos θ) and norm × the quad integral of M⁻¹P with the rational edge
+/// form, over 1024 deterministic pixels (α, cos θ on a lattice; four quads).
+fn ltc_table_benches(c: &mut Criterion) {
+    use ndfbench::ltc::fit::inverse_from_production;
+    use ndfbench::ltc::polygon::{check_lights, ltc_integral, EdgeForm};
+    let mut g = c.benchmark_group("ltc-tables");
+    g.measurement_time(Duration::from_secs(3));
+    let pixels: Vec<(f64, f64, usize)> = (0..1024)
+        .map(|k| {
+            let a = ((k % 32) as f64 + 0.5) / 32.0;
+            let ct = ((k / 32) as f64 + 0.5) / 32.0;
+            (a * a, ct, k % 4)
+        })
+        .collect();
+    let lights: Vec<Vec<nalgebra::Vector3<f64>>> = check_lights(0.6)
+        .into_iter()
+        .map(|(_, l)| l.vertices)
+        .collect();
+    for kind in &ndfbench::codegen::textures::TABLES {
+        let Ok(t) = ndfbench::ltc::table::read(Path::new("results"), kind.fit) else {
+            continue;
+        };
+        g.bench_function(format!("{}: 1024 pixels", kind.stem), |b| {
+            b.iter(|| {
+                let mut sum = 0.0;
+                for &(a, ct, q) in &pixels {
+                    let e = t.bilinear(black_box(a), black_box(ct), true);
+                    let minv = inverse_from_production(&[e[0], e[1], e[2], e[3]]);
+                    sum += e[4] * ltc_integral(&minv, &lights[q], EdgeForm::Rational);
+                }
+                sum
+            })
+        });
+    }
+    if let Ok(t) = ndfbench::ltc::aniso_table::read(Path::new("results")) {
+        let h = t.to_half();
+        g.bench_function("ltc_ggx_aniso: 1024 pixels", |b| {
+            b.iter(|| {
+                let mut sum = 0.0;
+                for (k, &(a, ct, q)) in pixels.iter().enumerate() {
+                    let ay = a * (0.25 + 0.75 * ((k * 7) % 32) as f64 / 31.0);
+                    let phi = 0.1 * (k % 31) as f64;
+                    let e = h.lookup(black_box(a), black_box(ay), black_box(phi), black_box(ct));
+                    let minv =
+                        ndfbench::ltc::aniso::inverse_of(&ndfbench::ltc::aniso_table::inv7(&e));
+                    sum += e[7] * ltc_integral(&minv, &lights[q], EdgeForm::Rational);
+                }
+                sum
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    prefilter_benches,
+    shader_benches,
+    ltc_table_benches
+);
 criterion_main!(benches);

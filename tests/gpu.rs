@@ -64,58 +64,7 @@ fn run_gpu(src: &str, name: &str, nparams: usize, args: &[f32]) -> Option<Vec<f3
             compilation_options: Default::default(),
             cache: None,
         });
-        use wgpu::util::DeviceExt;
-        let bytes: Vec<u8> = args.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let inb = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents: &bytes,
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let size = (n * 4) as u64;
-        let outb = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let read = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: inb.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: outb.as_entire_binding(),
-                },
-            ],
-        });
-        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bg, &[]);
-            pass.dispatch_workgroups(n.div_ceil(64) as u32, 1, 1);
-        }
-        enc.copy_buffer_to_buffer(&outb, 0, &read, 0, size);
-        queue.submit([enc.finish()]);
-        let slice = read.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-        device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
-        let data = slice.get_mapped_range().ok()?;
-        Some(
-            data.chunks(4)
-                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-                .collect(),
-        )
+        dispatch(&device, &queue, &pipeline, args, n, &[])
     })
 }
 
@@ -261,11 +210,18 @@ fn ltc_table_modules_read_back_exactly_on_the_gpu() {
     }
 }
 
-/// Run `ndfb_ltc_lut_matrix` and `ndfb_ltc_lut_weights` of results/wgsl/ltc_lut.wgsl
-/// over (α, cos θ) pairs with the table's two f16 layers bound as an rgba16float array
-/// texture and a linear clamp-to-edge sampler: per pair (a, b, c, d, norm, fresnel).
-fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f32; 6]>> {
-    use ndfbench::codegen::textures;
+/// Run `body` (WGSL statements computing `out[6u * i + …]` from `args[…]`, with `lut` and
+/// `samp` bound) over `cases` cases, with binary16 RGBA texels bound as a
+/// (width × height × layers) rgba16float array texture and a linear clamp-to-edge
+/// sampler: six outputs per case.
+fn run_textured(
+    module_src: &str,
+    body: &str,
+    (width, height, layers): (u32, u32, u32),
+    texels: &[u8],
+    args: &[f32],
+    cases: usize,
+) -> Option<Vec<[f32; 6]>> {
     use wgpu::util::DeviceExt;
     let (adapter, _) = adapter()?;
     pollster::block_on(async {
@@ -273,13 +229,12 @@ fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f
             .request_device(&wgpu::DeviceDescriptor::default())
             .await
             .ok()?;
-        let n = args.len() / 2;
+        let n = cases;
         let shader = format!(
-            "{}\n@group(0) @binding(0) var<storage, read> args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> out: array<f32>;\n@group(0) @binding(2) var lut: texture_2d_array<f32>;\n@group(0) @binding(3) var samp: sampler;\n@compute @workgroup_size(64) fn gpu_main(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i < arrayLength(&out) / 6u) {{\n        let m = ndfb_ltc_lut_matrix(lut, samp, args[2u * i], args[2u * i + 1u]);\n        let w = ndfb_ltc_lut_weights(lut, samp, args[2u * i], args[2u * i + 1u]);\n        out[6u * i] = m[0].x; out[6u * i + 1u] = m[0].z; out[6u * i + 2u] = m[2].x; out[6u * i + 3u] = m[2].z;\n        out[6u * i + 4u] = w.x; out[6u * i + 5u] = w.y;\n    }}\n}}\n",
-            module("ltc_lut.wgsl")
+            "{module_src}\n@group(0) @binding(0) var<storage, read> args: array<f32>;\n@group(0) @binding(1) var<storage, read_write> out: array<f32>;\n@group(0) @binding(2) var lut: texture_2d_array<f32>;\n@group(0) @binding(3) var samp: sampler;\n@compute @workgroup_size(64) fn gpu_main(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let i = id.x;\n    if (i < arrayLength(&out) / 6u) {{\n{body}\n    }}\n}}\n"
         );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ltc_lut"),
+            label: Some("lut"),
             source: wgpu::ShaderSource::Wgsl(shader.into()),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -290,22 +245,14 @@ fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f
             compilation_options: Default::default(),
             cache: None,
         });
-        let mut texels: Vec<u8> = Vec::new();
-        for layer in 0..2 {
-            for px in textures::texels_f16(t, layer) {
-                for h in px {
-                    texels.extend(h.to_bits().to_le_bytes());
-                }
-            }
-        }
         let tex = device.create_texture_with_data(
             &queue,
             &wgpu::TextureDescriptor {
                 label: None,
                 size: wgpu::Extent3d {
-                    width: t.n as u32,
-                    height: t.n as u32,
-                    depth_or_array_layers: 2,
+                    width,
+                    height,
+                    depth_or_array_layers: layers,
                 },
                 mip_level_count: 1,
                 sample_count: 1,
@@ -315,7 +262,7 @@ fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            &texels,
+            texels,
         );
         let view = tex.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -326,37 +273,13 @@ fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let bytes: Vec<u8> = args.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let inb = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents: &bytes,
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let size = (n * 6 * 4) as u64;
-        let outb = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let read = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: inb.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: outb.as_entire_binding(),
-                },
+        let f = dispatch(
+            &device,
+            &queue,
+            &pipeline,
+            args,
+            n * 6,
+            &[
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: wgpu::BindingResource::TextureView(&view),
@@ -366,26 +289,100 @@ fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f
                     resource: wgpu::BindingResource::Sampler(&samp),
                 },
             ],
-        });
-        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bg, &[]);
-            pass.dispatch_workgroups(n.div_ceil(64) as u32, 1, 1);
-        }
-        enc.copy_buffer_to_buffer(&outb, 0, &read, 0, size);
-        queue.submit([enc.finish()]);
-        let slice = read.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-        device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
-        let data = slice.get_mapped_range().ok()?;
-        let f: Vec<f32> = data
-            .chunks(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect();
+        )?;
         Some(f.chunks(6).map(|c| std::array::from_fn(|k| c[k])).collect())
     })
+}
+
+/// Bind `args` (binding 0), an output of `out_floats` f32 (binding 1) and `extra`, run
+/// `pipeline` over ⌈out/64⌉ workgroups (one invocation per output row) and read the
+/// output back.
+fn dispatch(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    pipeline: &wgpu::ComputePipeline,
+    args: &[f32],
+    out_floats: usize,
+    extra: &[wgpu::BindGroupEntry],
+) -> Option<Vec<f32>> {
+    use wgpu::util::DeviceExt;
+    let bytes: Vec<u8> = args.iter().flat_map(|x| x.to_le_bytes()).collect();
+    let inb = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: &bytes,
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (out_floats * 4) as u64;
+    let outb = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: inb.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 1,
+            resource: outb.as_entire_binding(),
+        },
+    ];
+    entries.extend(extra.iter().cloned());
+    let bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let rows = args.len().max(out_floats);
+    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.dispatch_workgroups(rows.div_ceil(64) as u32, 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&outb, 0, &read, 0, size);
+    queue.submit([enc.finish()]);
+    let slice = read.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+    device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
+    let data = slice.get_mapped_range().ok()?;
+    Some(
+        data.chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect(),
+    )
+}
+
+/// `ndfb_ltc_lut_matrix` and `ndfb_ltc_lut_weights` of results/wgsl/ltc_lut.wgsl over
+/// (α, cos θ) pairs on the table's two f16 layers: per pair (a, b, c, d, norm, fresnel).
+fn run_lut(t: &ndfbench::ltc::table::FittedTable, args: &[f32]) -> Option<Vec<[f32; 6]>> {
+    use ndfbench::codegen::textures;
+    let mut texels: Vec<u8> = Vec::new();
+    for layer in 0..2 {
+        for px in textures::texels_f16(t, layer) {
+            for h in px {
+                texels.extend(h.to_bits().to_le_bytes());
+            }
+        }
+    }
+    let body = "        let m = ndfb_ltc_lut_matrix(lut, samp, args[2u * i], args[2u * i + 1u]);\n        let w = ndfb_ltc_lut_weights(lut, samp, args[2u * i], args[2u * i + 1u]);\n        out[6u * i] = m[0].x; out[6u * i + 1u] = m[0].z; out[6u * i + 2u] = m[2].x; out[6u * i + 3u] = m[2].z;\n        out[6u * i + 4u] = w.x; out[6u * i + 5u] = w.y;";
+    run_textured(
+        &module("ltc_lut.wgsl"),
+        body,
+        (t.n as u32, t.n as u32, 2),
+        &texels,
+        args,
+        args.len() / 2,
+    )
 }
 
 /// Every shipped LTC table read through the WGSL lookup (texture + sampler) against the
@@ -400,7 +397,10 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
     let results = std::path::Path::new("results");
     for kind in &TABLES {
         let Ok(t) = ndfbench::ltc::table::read(results, kind.fit) else {
-            eprintln!("{}: results/fits/{}.json absent, skipped", kind.stem, kind.fit);
+            eprintln!(
+                "{}: results/fits/{}.json absent, skipped",
+                kind.stem, kind.fit
+            );
             continue;
         };
         let n = t.n;
@@ -420,10 +420,7 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
                 pts.push((a * a, c, false));
             }
         }
-        let args: Vec<f32> = pts
-            .iter()
-            .flat_map(|p| [p.0 as f32, p.1 as f32])
-            .collect();
+        let args: Vec<f32> = pts.iter().flat_map(|p| [p.0 as f32, p.1 as f32]).collect();
         let Some(got) = run_lut(&t, &args) else {
             return;
         };
@@ -463,4 +460,84 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
             worst
         );
     }
+}
+
+/// The anisotropic table read through `ltc_aniso.wgsl` (texture + sampler) against its
+/// f64 reference `AnisoTable::lookup` on the binary16 entries, at random (α_x, α_y, φ,
+/// cos θ) with φ over [0, 2π) (every fold of the symmetry): a, c, e, g, h and norm within
+/// 2⁻⁴ of the 16 corners' spread (the Vulkan minimum of 4 sub-texel bits for the two
+/// hardware-filtered coordinates) plus f32 rounding. The observed worst is printed.
+#[test]
+fn ltc_aniso_lookup_interpolates_as_its_reference() {
+    use ndfbench::ltc::aniso_table;
+    let Ok(t) = aniso_table::read(std::path::Path::new("results")) else {
+        eprintln!("results/fits/ltc-aniso.json absent: skipped");
+        return;
+    };
+    let h = t.to_half();
+    let g = t.grid;
+    let texels: Vec<u8> = ndfbench::codegen::aniso::texels(&t)
+        .iter()
+        .flatten()
+        .flat_map(|x| x.to_bits().to_le_bytes())
+        .collect();
+    let mut s = 0x9e3779b97f4a7c15u64;
+    let mut rnd = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let pts: Vec<[f32; 4]> = (0..4096)
+        .map(|_| {
+            let (rx, ry) = (rnd(), rnd());
+            [
+                (rx * rx) as f32,
+                (ry * ry) as f32,
+                (rnd() * std::f64::consts::TAU) as f32,
+                rnd() as f32,
+            ]
+        })
+        .collect();
+    let args: Vec<f32> = pts.iter().flatten().copied().collect();
+    let body = "        let a = args[4u * i]; let b = args[4u * i + 1u]; let p = args[4u * i + 2u]; let c = args[4u * i + 3u];\n        let m = ndfb_ltc_aniso_matrix(lut, samp, a, b, p, c);\n        let w = ndfb_ltc_aniso_weights(lut, samp, a, b, p, c);\n        out[6u * i] = m[0].x; out[6u * i + 1u] = m[2].x; out[6u * i + 2u] = m[0].y; out[6u * i + 3u] = m[2].y;\n        out[6u * i + 4u] = m[1].z; out[6u * i + 5u] = w.x;";
+    let Some(got) = run_textured(
+        &module("ltc_aniso.wgsl"),
+        body,
+        (g.n_r as u32, g.n_t as u32, (3 * g.n_r * g.n_phi) as u32),
+        &texels,
+        &args,
+        pts.len(),
+    ) else {
+        return;
+    };
+    // (a, c, e, g, h, norm) at entries 0, 2, 4, 5, 6, 7
+    let pick = [0usize, 2, 4, 5, 6, 7];
+    let spread: Vec<f64> = pick
+        .iter()
+        .map(|&q| {
+            let v: Vec<f64> = h.cells.iter().map(|c| c[q].abs()).collect();
+            v.iter().cloned().fold(0.0, f64::max)
+        })
+        .collect();
+    let mut worst = 0.0f64;
+    for (p, o) in pts.iter().zip(&got) {
+        let want = h.lookup(p[0] as f64, p[1] as f64, p[2] as f64, p[3] as f64);
+        for (k, &q) in pick.iter().enumerate() {
+            let e = (o[k] as f64 - want[q]).abs();
+            // the table's own range of the entry bounds every corner spread
+            let bound = 0.0625 * spread[k] + 1e-5 * want[q].abs() + 1e-9;
+            assert!(
+                e <= bound,
+                "at {p:?} entry {q}: GPU {} vs reference {}",
+                o[k],
+                want[q]
+            );
+            worst = worst.max(e / spread[k].max(1e-300));
+        }
+    }
+    eprintln!(
+        "ltc_ggx_aniso: {} lookups agree; worst error {worst:.2e} of the entry's range",
+        pts.len()
+    );
 }

@@ -221,7 +221,16 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
         n: 4,
         alpha_min: 1e-4,
     };
-    let a = fit_table(grid, &GgxTarget::new, 8, Metric::Cubic, Method::NelderMead, 60, &|| {}).unwrap();
+    let a = fit_table(
+        grid,
+        &GgxTarget::new,
+        8,
+        Metric::Cubic,
+        Method::NelderMead,
+        60,
+        &|| {},
+    )
+    .unwrap();
     let b = fit_table(
         grid,
         &|al, th| Lobe::Ggx.target(al, th),
@@ -246,13 +255,9 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
 fn charlie_mixture_density_integrates_to_its_acceptance() {
     for &alpha in &[0.01, 0.1, 0.5, 1.0] {
         for &deg in &[0.0, 45.0, 80.0, 89.0] {
-            let t = CharlieTarget::new(alpha, f64::to_radians(deg), SheenVisibility::Neubelt).unwrap();
-            let (mass, _, _) = ndfbench::ltc::hemisphere::albedo(
-                &|l| t.pdf(l),
-                &t.v,
-                &[],
-                1e-9,
-            );
+            let t =
+                CharlieTarget::new(alpha, f64::to_radians(deg), SheenVisibility::Neubelt).unwrap();
+            let (mass, _, _) = ndfbench::ltc::hemisphere::albedo(&|l| t.pdf(l), &t.v, &[], 1e-9);
             let n = 512;
             let mut hit = 0usize;
             for i in 0..n {
@@ -269,7 +274,10 @@ fn charlie_mixture_density_integrates_to_its_acceptance() {
                 (mass - frac).abs() < 5e-3,
                 "α {alpha} θ {deg}: ∫p = {mass} but {frac} of the samples land above the horizon"
             );
-            assert!(mass <= 1.0 + 1e-6 && mass >= 0.5 - 1e-6, "α {alpha} θ {deg}: {mass}");
+            assert!(
+                mass <= 1.0 + 1e-6 && mass >= 0.5 - 1e-6,
+                "α {alpha} θ {deg}: {mass}"
+            );
         }
     }
 }
@@ -281,16 +289,36 @@ fn charlie_mixture_density_integrates_to_its_acceptance() {
 fn table_bilinear_reference_is_exact_on_linear_tables() {
     use ndfbench::ltc::table::FittedTable;
     let n = 9;
-    let lin = |x: f64, y: f64| -> [f64; 6] { std::array::from_fn(|c| 0.5 + c as f64 * x - 0.25 * y + 0.1 * x * y) };
-    let cells: Vec<[f64; 6]> = (0..n * n).map(|k| lin((k % n) as f64, (k / n) as f64)).collect();
-    let t = FittedTable { n, cells, half: None };
-    for &(alpha, cos_theta) in &[(0.0, 1.0), (1.0, 0.0), (0.3, 0.7), (0.05, 0.999), (0.99, 0.01), (2.0, -1.0)] {
+    let lin = |x: f64, y: f64| -> [f64; 6] {
+        std::array::from_fn(|c| 0.5 + c as f64 * x - 0.25 * y + 0.1 * x * y)
+    };
+    let cells: Vec<[f64; 6]> = (0..n * n)
+        .map(|k| lin((k % n) as f64, (k / n) as f64))
+        .collect();
+    let t = FittedTable {
+        n,
+        cells,
+        half: None,
+    };
+    for &(alpha, cos_theta) in &[
+        (0.0, 1.0),
+        (1.0, 0.0),
+        (0.3, 0.7),
+        (0.05, 0.999),
+        (0.99, 0.01),
+        (2.0, -1.0),
+    ] {
         let got = t.bilinear(alpha, cos_theta, false);
         let x = f64::clamp(alpha, 0.0, 1.0).sqrt() * (n - 1) as f64;
         let y = (1.0 - f64::clamp(cos_theta, 0.0, 1.0)).sqrt() * (n - 1) as f64;
         let want = lin(x, y);
         for c in 0..6 {
-            assert!((got[c] - want[c]).abs() < 1e-12, "α {alpha} cos θ {cos_theta} channel {c}: {} vs {}", got[c], want[c]);
+            assert!(
+                (got[c] - want[c]).abs() < 1e-12,
+                "α {alpha} cos θ {cos_theta} channel {c}: {} vs {}",
+                got[c],
+                want[c]
+            );
         }
     }
 }

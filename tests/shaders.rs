@@ -16,7 +16,12 @@ fn modules() -> Vec<(String, String, String, String)> {
     codegen::MODULES
         .iter()
         .map(|(f, _, _)| forms::stem(f).to_string())
-        .chain(["ltc_table".into(), "ltc_table_f16".into(), "ltc_lut".into()])
+        .chain([
+            "ltc_table".into(),
+            "ltc_table_f16".into(),
+            "ltc_lut".into(),
+            "ltc_aniso".into(),
+        ])
         .map(|s| {
             (
                 s.clone(),

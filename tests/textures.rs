@@ -103,8 +103,18 @@ fn every_tables_ktx2_holds_its_stored_binary16_table() {
         let bytes = read(&format!("{}.ktx2", kind.stem));
         let r = ktx2::Reader::new(&bytes[..]).expect("a valid KTX2 file");
         let h = r.header();
-        assert_eq!(h.format, Some(ktx2::Format::R16G16B16A16_SFLOAT), "{}", kind.stem);
-        assert_eq!((h.pixel_width as usize, h.layer_count), (t.n, 2), "{}", kind.stem);
+        assert_eq!(
+            h.format,
+            Some(ktx2::Format::R16G16B16A16_SFLOAT),
+            "{}",
+            kind.stem
+        );
+        assert_eq!(
+            (h.pixel_width as usize, h.layer_count),
+            (t.n, 2),
+            "{}",
+            kind.stem
+        );
         let level = r.levels().next().expect("one level");
         let v = f16s(level.data);
         let nn = t.n * t.n;
@@ -114,7 +124,12 @@ fn every_tables_ktx2_holds_its_stored_binary16_table() {
             let want = [c[0], c[1], c[2], c[3], c[4], c[5], f16::ZERO, f16::ZERO];
             for (q, w) in want.iter().enumerate() {
                 let got = v[(q / 4) * nn * 4 + k * 4 + q % 4];
-                assert_eq!(got.to_bits(), w.to_bits(), "{} texel {k} value {q}", kind.stem);
+                assert_eq!(
+                    got.to_bits(),
+                    w.to_bits(),
+                    "{} texel {k} value {q}",
+                    kind.stem
+                );
             }
         }
     }

@@ -13,6 +13,7 @@
 //! differs (stale), validates every WGSL module with naga, and compares each Rust twin
 //! with its f64 reference.
 
+pub mod aniso;
 pub mod audit;
 pub mod backends;
 pub mod desc;
@@ -399,9 +400,20 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
     }
     let lut = lut::render_wgsl(COMMAND);
     for form in [forms::Form::NagaOil, forms::Form::Wesl] {
-        out.push((form.path("ltc_lut"), forms::render_data("ltc_lut", &lut, form)));
+        out.push((
+            form.path("ltc_lut"),
+            forms::render_data("ltc_lut", &lut, form),
+        ));
     }
     out.push((forms::Form::Plain.path("ltc_lut"), lut));
+    let an = aniso::render_wgsl(COMMAND);
+    for form in [forms::Form::NagaOil, forms::Form::Wesl] {
+        out.push((
+            form.path("ltc_aniso"),
+            forms::render_data("ltc_aniso", &an, form),
+        ));
+    }
+    out.push((forms::Form::Plain.path("ltc_aniso"), an));
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
@@ -443,6 +455,14 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
             Err(e) => return Err(e),
         };
         for (rel, bytes) in textures::render(&t, kind, COMMAND) {
+            let path = results.join(rel);
+            crate::io::write_atomic(&path, &bytes)?;
+            written.push(path.display().to_string());
+        }
+    }
+    // the anisotropic table once its study has run
+    if let Ok(t) = crate::ltc::aniso_table::read(results) {
+        for (rel, bytes) in aniso::render(&t, COMMAND) {
             let path = results.join(rel);
             crate::io::write_atomic(&path, &bytes)?;
             written.push(path.display().to_string());

@@ -27,7 +27,7 @@ pub fn sources(results: &Path) -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = super::MODULES
         .iter()
         .map(|(f, _, _)| super::forms::stem(f).to_string())
-        .chain(["ltc_table", "ltc_table_f16", "ltc_lut"].map(String::from))
+        .chain(["ltc_table", "ltc_table_f16", "ltc_lut", "ltc_aniso"].map(String::from))
         .map(|s| (s.clone(), format!("wgsl/{s}.wgsl")))
         .collect();
     let mut scenes: Vec<String> = std::fs::read_dir(results.join("scenes"))

@@ -145,7 +145,7 @@ pub fn limits_for(name: &str) -> Limits {
             alpha_max: 1e3,
             ..g
         },
-        "ltc-ggx" | "ltc-sheen" | "ltc-diffuse" => Limits {
+        "ltc-ggx" | "ltc-sheen" | "ltc-diffuse" | "ltc-aniso" => Limits {
             terms: 4,
             points: 16_384,
             max_iters: 100_000,

@@ -568,3 +568,23 @@ pub fn held_out_stats(t: &Table) -> Stats {
         mean_iters: cells.iter().map(|c| c.iters as f64).sum::<f64>() / n,
     }
 }
+
+/// A table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
+/// storage in the same layout.
+pub fn stored(t: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
+    let full = t
+        .cells
+        .iter()
+        .map(|col| {
+            col.iter()
+                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
+                .collect()
+        })
+        .collect();
+    let half = t
+        .cells
+        .iter()
+        .map(|col| col.iter().map(|c| c.half).collect())
+        .collect();
+    (full, half)
+}

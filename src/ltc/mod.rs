@@ -14,6 +14,8 @@
 //! The `ltc-ggx` study that fits the table and measures all of the above is
 //! `crate::studies::ltc_ggx`.
 
+pub mod aniso;
+pub mod aniso_table;
 pub mod compare;
 pub mod compare_report;
 pub mod diffuse;

@@ -105,7 +105,10 @@ impl FittedTable {
         let r = alpha.clamp(0.0, 1.0).sqrt();
         let t = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt();
         let (x, y) = (r * (n - 1) as f64, t * (n - 1) as f64);
-        let (i0, j0) = ((x.floor() as usize).min(n - 2), (y.floor() as usize).min(n - 2));
+        let (i0, j0) = (
+            (x.floor() as usize).min(n - 2),
+            (y.floor() as usize).min(n - 2),
+        );
         let (fx, fy) = (x - i0 as f64, y - j0 as f64);
         let at = |i: usize, j: usize| -> [f64; 6] {
             let k = i + n * j;
@@ -115,7 +118,12 @@ impl FittedTable {
                 self.cells[k]
             }
         };
-        let (c00, c10, c01, c11) = (at(i0, j0), at(i0 + 1, j0), at(i0, j0 + 1), at(i0 + 1, j0 + 1));
+        let (c00, c10, c01, c11) = (
+            at(i0, j0),
+            at(i0 + 1, j0),
+            at(i0, j0 + 1),
+            at(i0 + 1, j0 + 1),
+        );
         std::array::from_fn(|c| {
             (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy)
                 + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy

@@ -104,30 +104,43 @@ impl GgxTarget {
     /// half-vector space: ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian
     /// 4 v·h), where the lobe sits at the pole for every view.
     pub fn norm_quad(&self, tol: f64) -> (f64, f64, f64) {
-        use crate::integrate::quad::Tol;
-        use crate::integrate::sphere::{integrate_sphere, SphereRule};
-        let rule = SphereRule::hemisphere(self.alpha);
-        let g = |h: &V3, fres: bool| {
-            let vh = self.v.dot(h);
-            if vh <= 0.0 || h.z <= 0.0 {
-                return 0.0;
-            }
-            let l = h * (2.0 * vh) - self.v;
-            if l.z <= 0.0 {
-                return 0.0;
-            }
-            let w = self.surface.d(h) * self.surface.g2_correlated(&l, &self.v, h) * vh / self.v.z;
-            if fres {
-                w * (1.0 - vh).powi(5)
-            } else {
-                w
-            }
-        };
-        let t = Tol::new(tol, tol, 20_000_000);
-        let a = integrate_sphere(&|h| g(h, false), &rule, t);
-        let b = integrate_sphere(&|h| g(h, true), &rule, t);
-        (a.value, a.error, b.value)
+        let rule = crate::integrate::sphere::SphereRule::hemisphere(self.alpha);
+        microfacet_albedo(&self.surface, &self.v, &rule, tol)
     }
+}
+
+/// (∫f, its error estimate, ∫f(1 − v·h)⁵) of the cosine-weighted microfacet lobe of
+/// `surface` (height-correlated G2, F = 1) seen from `v`, by nested adaptive sphere
+/// quadrature in half-vector space on the polar layout `rule`:
+/// ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian 4 v·h).
+pub fn microfacet_albedo(
+    surface: &Microsurface,
+    v: &V3,
+    rule: &crate::integrate::sphere::SphereRule,
+    tol: f64,
+) -> (f64, f64, f64) {
+    use crate::integrate::quad::Tol;
+    use crate::integrate::sphere::integrate_sphere;
+    let g = |h: &V3, fres: bool| {
+        let vh = v.dot(h);
+        if vh <= 0.0 || h.z <= 0.0 {
+            return 0.0;
+        }
+        let l = h * (2.0 * vh) - v;
+        if l.z <= 0.0 {
+            return 0.0;
+        }
+        let w = surface.d(h) * surface.g2_correlated(&l, v, h) * vh / v.z;
+        if fres {
+            w * (1.0 - vh).powi(5)
+        } else {
+            w
+        }
+    };
+    let t = Tol::new(tol, tol, 20_000_000);
+    let a = integrate_sphere(&|h| g(h, false), rule, t);
+    let b = integrate_sphere(&|h| g(h, true), rule, t);
+    (a.value, a.error, b.value)
 }
 
 impl LtcTarget for GgxTarget {

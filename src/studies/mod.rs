@@ -12,6 +12,7 @@ use std::path::Path;
 
 pub mod filters;
 pub mod leadr_grids;
+pub mod ltc_aniso;
 pub mod ltc_ggx;
 pub mod ltc_lobes;
 pub mod multiscale_alpha_me;
@@ -52,6 +53,9 @@ fn ltc_ggx(c: &Ctx) -> Result<FitOutcome> {
 }
 fn ltc_lobes(c: &Ctx) -> Result<FitOutcome> {
     ltc_lobes::run(c.spec, c.results, c.preset)
+}
+fn ltc_aniso(c: &Ctx) -> Result<FitOutcome> {
+    ltc_aniso::run(c.spec, c.results, c.preset)
 }
 fn tensor(c: &Ctx) -> Result<FitOutcome> {
     tensor::run(c.spec, c.results, c.preset)
@@ -104,6 +108,12 @@ pub static STUDIES: &[&dyn Study] = &[
         name: "tensor",
         after: &[],
         run: tensor,
+    },
+    // the anisotropic fits start from the isotropic GGX table
+    &Entry {
+        name: "ltc-aniso",
+        after: &["ltc-ggx"],
+        run: ltc_aniso,
     },
     // results/filters.md embeds the LEADR and Λ reports
     &Entry {

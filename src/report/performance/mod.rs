@@ -211,6 +211,7 @@ it buys.\n\n",
     md.push_str(&ltc_table(&timed, results));
     md.push_str(&deliverables::shaders_table(&timed));
     md.push_str(&deliverables::prefilter_table(&timed));
+    md.push_str(&deliverables::ltc_tables_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {

@@ -187,26 +187,6 @@ struct LtcResult<'a> {
     bilinear_pass: BilinearPass,
 }
 
-/// The table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
-/// storage in the same layout.
-fn stored(main: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
-    let full = main
-        .cells
-        .iter()
-        .map(|col| {
-            col.iter()
-                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
-                .collect()
-        })
-        .collect();
-    let half = main
-        .cells
-        .iter()
-        .map(|col| col.iter().map(|c| c.half).collect())
-        .collect();
-    (full, half)
-}
-
 /// The study: fit, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
@@ -246,7 +226,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     ));
     let poly = polygons::section(&mut md, &main, pl.mc)?;
     // write the table first: the pipeline looks it up like a renderer would
-    let (table, table_f16) = stored(&main);
+    let (table, table_f16) = crate::ltc::fit::stored(&main);
     crate::results::write_result(
         results,
         &spec.name,

@@ -138,26 +138,6 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
     })
 }
 
-/// The table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
-/// storage in the same layout.
-pub(crate) fn stored(t: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
-    let full = t
-        .cells
-        .iter()
-        .map(|col| {
-            col.iter()
-                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
-                .collect()
-        })
-        .collect();
-    let half = t
-        .cells
-        .iter()
-        .map(|col| col.iter().map(|c| c.half).collect())
-        .collect();
-    (full, half)
-}
-
 /// The study: fit both tables of the family, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let fam = family(&spec.name).ok_or_else(|| {
@@ -190,7 +170,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         (fam.name, &main, &rep.main),
         (fam.variant_name, &variant, &rep.variant),
     ] {
-        let (table, table_f16) = stored(&f.table);
+        let (table, table_f16) = crate::ltc::fit::stored(&f.table);
         let json = serde_json::json!({
             "spec": spec,
             "command": command,

@@ -171,12 +171,15 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let mids: Vec<(f64, (f64, f64))> = squares
         .par_iter()
         .map(|&(i, j)| {
-            let e = midpoint_error_of(&sh, i, j, held, t.grid.alpha_min, &target)?
-                .unwrap_or(f64::NAN);
+            let e =
+                midpoint_error_of(&sh, i, j, held, t.grid.alpha_min, &target)?.unwrap_or(f64::NAN);
             let r = (i as f64 + 0.5) / (n - 1) as f64;
             let tt = (j as f64 + 0.5) / (n - 1) as f64;
             let alpha = (r * r).max(t.grid.alpha_min);
-            Ok((e, (alpha, (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees())))
+            Ok((
+                e,
+                (alpha, (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees()),
+            ))
         })
         .collect::<Result<_>>()?;
     // storage: f64, f32, f16 nearest, f16 stored
