@@ -46,7 +46,7 @@ fn plan(p: Preset, alpha_min: f64) -> Plan {
             cases: 24,
         },
         Preset::Default => Plan {
-            grid: g(8, 6, 8),
+            grid: g(8, 6, 9),
             samples: 16,
             iters: 800,
             line: 21,
