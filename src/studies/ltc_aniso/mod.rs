@@ -28,6 +28,8 @@ pub(crate) struct Plan {
     pub line: usize,
     /// Random cases between cells.
     pub cases: usize,
+    /// MC samples per technique of the polygon checks.
+    pub mc: usize,
 }
 
 fn plan(p: Preset, alpha_min: f64) -> Plan {
@@ -44,6 +46,7 @@ fn plan(p: Preset, alpha_min: f64) -> Plan {
             iters: 120,
             line: 5,
             cases: 24,
+            mc: 1 << 12,
         },
         Preset::Default => Plan {
             grid: g(8, 6, 9),
@@ -51,6 +54,7 @@ fn plan(p: Preset, alpha_min: f64) -> Plan {
             iters: 800,
             line: 21,
             cases: 256,
+            mc: 1 << 16,
         },
         Preset::Precise => Plan {
             grid: g(8, 8, 8),
@@ -58,6 +62,7 @@ fn plan(p: Preset, alpha_min: f64) -> Plan {
             iters: 1000,
             line: 41,
             cases: 1024,
+            mc: 1 << 18,
         },
     }
 }
@@ -246,6 +251,57 @@ fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Betwe
         .collect()
 }
 
+/// One polygon check: a case, the table's lookup there × the quad, against MC of the true
+/// lobe, and the isotropic table at √(α_x α_y) × the same quad.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PolygonRow {
+    pub case: Case,
+    pub albedo: f64,
+    pub check: crate::ltc::polygon::PolygonCheck,
+    pub iso_geo_exact: f64,
+}
+
+/// Four anisotropic cases × the four check lights (one straddling the horizon): the
+/// shipped table as a shader reads it (binary16, interpolated), the isotropic table at
+/// √(α_x α_y), and MC of the true lobe (`mc` samples per technique).
+fn polygons(iso: &FittedTable, table: &AnisoTable, mc: usize) -> Result<Vec<PolygonRow>> {
+    use crate::ltc::polygon::{check_cell, ltc_integral, EdgeForm};
+    let half = table.to_half();
+    let cases = [
+        (0.3, 0.03, 0.3, 30.0),
+        (0.05, 0.4, 1.0, 55.0),
+        (0.6, 0.15, 2.2, 75.0),
+        (0.2, 0.1, 0.0, 10.0),
+    ];
+    let mut out = Vec::new();
+    for (ax, ay, phi, deg) in cases {
+        let c = Case {
+            ax,
+            ay,
+            phi,
+            theta: f64::to_radians(deg),
+        };
+        let t = AnisoGgxTarget::new(ax, ay, c.theta, phi)?;
+        let v = half.lookup(ax, ay, phi, c.theta.cos());
+        let minv = crate::ltc::aniso::inverse_of(&crate::ltc::aniso_table::inv7(&v));
+        let (g, gn) = iso_at(iso, (ax * ay).sqrt(), c.theta);
+        let giso = crate::ltc::aniso::inverse_of(&g);
+        let lights = crate::ltc::polygon::check_lights(c.theta);
+        for (k, chk) in check_cell(&t, &minv, v[7], c.theta, mc)?
+            .into_iter()
+            .enumerate()
+        {
+            out.push(PolygonRow {
+                case: c,
+                albedo: t.albedo(1e-7).0,
+                iso_geo_exact: gn * ltc_integral(&giso, &lights[k].1.vertices, EdgeForm::Exact),
+                check: chk,
+            });
+        }
+    }
+    Ok(out)
+}
+
 /// The study: fit, design study, cases between cells, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let iso = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
@@ -261,7 +317,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let cases = between(&iso, &table, &pl)?;
     let command = "cargo run --release -- regen --only ltc-aniso";
     let rep = report::summarise(&fitted, &cases, &design, &pl, fit_seconds);
-    let md = report::markdown(spec, preset, &pl, &rep, command);
+    let poly = polygons(&iso, &table, pl.mc)?;
+    let mut md = report::markdown(spec, preset, &pl, &rep, command);
+    md.push_str(&report::polygon_section(&poly, pl.mc));
     crate::io::write_atomic(&results.join("ltc-aniso.md"), md.as_bytes())?;
     let svg = report::plot(&design, &pl)?;
     crate::io::write_atomic(&results.join("ltc-aniso.svg"), svg.as_bytes())?;
@@ -276,6 +334,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             "layout": "cells[i_x + n_r·(i_y + n_r·(k + n_phi·j))] = [a, b, c, d, e, g, h, norm, fresnel]; r_x = √α_x = i_x/(n_r − 1), r_y likewise, φ = (π/2)·k/(n_phi − 1) the α_x tangent's azimuth from T1, t = √(1 − cos θ) = j/(n_t − 1); M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (rows)",
             "cells": table.cells,
             "summary": rep,
+            "polygons": poly,
         }),
     )?;
     let worst = rep.between_table.max;

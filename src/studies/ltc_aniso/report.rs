@@ -395,3 +395,28 @@ pub(super) fn plot(d: &Design, pl: &Plan) -> Result<String> {
         480,
     )
 }
+
+/// The polygon-light section.
+pub(super) fn polygon_section(rows: &[super::PolygonRow], mc: usize) -> String {
+    let mut md = format!("\n## Polygon lights\n\nThe table as a shader reads it (binary16, interpolated at the case) × the quad (exact edges), and the isotropic table at √(α_x α_y), against MC of the true lobe over the quad (MIS of light-area and VNDF sampling, {mc} samples each, ± standard error); the error also as a fraction of the lobe's albedo:\n\n| α_x | α_y | φ | θ | light | MC truth | this table | rel. error | error / albedo | isotropic at √(α_x α_y) | rel. error |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for r in rows {
+        let c = &r.check;
+        let rel = |x: f64| {
+            if c.mc > 0.0 {
+                format!(
+                    "{:+.1} % ± {:.1}",
+                    100.0 * (x / c.mc - 1.0),
+                    100.0 * c.mc_se / c.mc
+                )
+            } else {
+                "—".into()
+            }
+        };
+        md.push_str(&format!(
+            "| {:.3} | {:.3} | {:.0}° | {:.0}° | {} | {:.4e} ± {:.1e} | {:.4e} | {} | {:+.2} % | {:.4e} | {} |\n",
+            r.case.ax, r.case.ay, r.case.phi.to_degrees(), r.case.theta.to_degrees(), c.light, c.mc, c.mc_se, c.ltc_exact, rel(c.ltc_exact),
+            100.0 * (c.ltc_exact - c.mc) / r.albedo.max(1e-300), r.iso_geo_exact, rel(r.iso_geo_exact)
+        ));
+    }
+    md
+}
