@@ -321,6 +321,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let mut md = report::markdown(spec, preset, &pl, &rep, command);
     md.push_str(&report::polygon_section(&poly, pl.mc));
     crate::io::write_atomic(&results.join("ltc-aniso.md"), md.as_bytes())?;
+    let heat = report::heatmap(&fitted, &pl)?;
+    crate::io::write_atomic(&results.join("ltc-aniso-error.svg"), heat.as_bytes())?;
     let svg = report::plot(&design, &pl)?;
     crate::io::write_atomic(&results.join("ltc-aniso.svg"), svg.as_bytes())?;
     crate::results::write_result(

@@ -343,7 +343,7 @@ pub(super) fn markdown(
         g.n_r, g.n_r, g.n_phi, g.n_t, s.between_table.count, pct(s.between_rms), pct(s.between_table.mean), pct(s.predictions[0].predicted_mean)
     ));
     md.push_str(&format!(
-        "## Against what engines do today\n\nAt the table's cells (held-out relative L2; mean / max over {} fitted cells): this fit {} / {}; the isotropic table at α = √(α_x α_y) {} / {}; at max(α_x, α_y) {} / {}.\n\nAt {} random cases between cells (α_x, α_y uniform in √α, φ uniform on [0, π), θ uniform in t), each with the lookup a shader does (the interpolated norm included):\n\n| | mean | max |\n|---|---|---|\n| this table (f64) | {} | {} |\n| this table (binary16, as stored in the texture) | {} | {} |\n| isotropic table at √(α_x α_y) | {} | {} |\n| isotropic table at max(α_x, α_y) | {} | {} |\n\nBy anisotropy (mean / max):\n\n| α_max/α_min | cases | this table | isotropic at √(α_x α_y) | isotropic at max |\n|---|---|---|---|---|\n",
+        "## Against what engines do today\n\n![cell errors](ltc-aniso-error.svg)\n\nAt the table's cells (held-out relative L2; mean / max over {} fitted cells): this fit {} / {}; the isotropic table at α = √(α_x α_y) {} / {}; at max(α_x, α_y) {} / {}.\n\nAt {} random cases between cells (α_x, α_y uniform in √α, φ uniform on [0, π), θ uniform in t), each with the lookup a shader does (the interpolated norm included):\n\n| | mean | max |\n|---|---|---|\n| this table (f64) | {} | {} |\n| this table (binary16, as stored in the texture) | {} | {} |\n| isotropic table at √(α_x α_y) | {} | {} |\n| isotropic table at max(α_x, α_y) | {} | {} |\n\nBy anisotropy (mean / max):\n\n| α_max/α_min | cases | this table | isotropic at √(α_x α_y) | isotropic at max |\n|---|---|---|---|---|\n",
         s.cells.ours.count, pct(s.cells.ours.mean), pct(s.cells.ours.max), pct(s.cells.iso_geo.mean), pct(s.cells.iso_geo.max), pct(s.cells.iso_max.mean), pct(s.cells.iso_max.max),
         s.between_table.count,
         pct(s.between_table.mean), pct(s.between_table.max), pct(s.between_table_f16.mean), pct(s.between_table_f16.max),
@@ -419,4 +419,69 @@ pub(super) fn polygon_section(rows: &[super::PolygonRow], mc: usize) -> String {
         ));
     }
     md
+}
+
+/// results/ltc-aniso-error.svg: the fitted cells' held-out error, averaged over (φ, t)
+/// on the (r_x, r_y) plane (fitted cells have r_x ≥ r_y; the mirror half is grey) and
+/// over (r_x, r_y) on the (φ, t) plane.
+pub(super) fn heatmap(fitted: &[Fitted], pl: &Plan) -> Result<String> {
+    use crate::report::plot::{heatmap_svg, HeatPanel};
+    let g = pl.grid;
+    let idx = |x: f64, n: usize| ((x * (n - 1) as f64).round() as usize).min(n - 1);
+    let mut a = vec![vec![(0.0, 0usize); g.n_r]; g.n_r];
+    let mut b = vec![vec![(0.0, 0usize); g.n_phi]; g.n_t];
+    for f in fitted.iter().filter(|f| f.err.is_finite()) {
+        let c = &f.case;
+        let (ix, iy) = (idx(c.ax.sqrt(), g.n_r), idx(c.ay.sqrt(), g.n_r));
+        let k = idx(c.phi / std::f64::consts::FRAC_PI_2, g.n_phi);
+        let j = idx((1.0 - c.theta.cos()).max(0.0).sqrt(), g.n_t);
+        a[iy][ix].0 += f.err;
+        a[iy][ix].1 += 1;
+        b[j][k].0 += f.err;
+        b[j][k].1 += 1;
+    }
+    let mean = |m: Vec<Vec<(f64, usize)>>| -> Vec<Vec<f64>> {
+        m.into_iter()
+            .map(|r| {
+                r.into_iter()
+                    .map(|(s, n)| if n > 0 { (s / n as f64).max(1e-8) } else { 0.0 })
+                    .collect()
+            })
+            .collect()
+    };
+    let axis = |n: usize, top: f64| {
+        (0..n)
+            .map(|i| top * i as f64 / (n - 1) as f64)
+            .collect::<Vec<f64>>()
+    };
+    heatmap_svg(
+        &[
+            HeatPanel {
+                title: "mean over φ and θ (α_x ≥ α_y fitted)".into(),
+                x: axis(g.n_r, 1.0),
+                y: axis(g.n_r, 1.0),
+                values: mean(a),
+                log_range: (-2.0, 0.3),
+                x_label: "r_x = √α_x".into(),
+                y_label: "r_y = √α_y".into(),
+                log_axes: false,
+                y_down: false,
+                colour_label: "log10 relative L2 (held out)".into(),
+            },
+            HeatPanel {
+                title: "mean over α_x and α_y".into(),
+                x: axis(g.n_phi, 90.0),
+                y: axis(g.n_t, 1.0),
+                values: mean(b),
+                log_range: (-2.0, 0.3),
+                x_label: "φ (degrees)".into(),
+                y_label: "t = √(1 − cos θ)  (t = 0: normal incidence, top)".into(),
+                log_axes: false,
+                y_down: true,
+                colour_label: "log10 relative L2 (held out)".into(),
+            },
+        ],
+        1300,
+        620,
+    )
 }
