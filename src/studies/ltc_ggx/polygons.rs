@@ -161,13 +161,7 @@ fn mc_section(md: &mut String, main: &Table, mc_samples: usize) -> Result<Vec<se
         let (minv, norm) = cell_ltc(cell);
         for c in polygon::check_cell(&t, &minv, norm, cell.theta, mc_samples)? {
             let (mc, se, ex, ra, lname) = (c.mc, c.mc_se, c.ltc_exact, c.ltc_rational, c.light);
-            let rel = |x: f64| {
-                if mc > 0.0 {
-                    format!("{:+.1} % ± {:.1}", 100.0 * (x / mc - 1.0), 100.0 * se / mc)
-                } else {
-                    "—".into()
-                }
-            };
+            let rel = |x: f64| crate::report::rel_vs_mc(x, mc, se);
             md.push_str(&format!("| {:.3} | {:.1}° | {lname} | {mc:.4e} ± {se:.1e} | {ex:.4e} | {} | {ra:.4e} | {} |\n", cell.alpha, cell.theta.to_degrees(), rel(ex), rel(ra)));
             poly_json.push(serde_json::json!({"alpha": cell.alpha, "theta": cell.theta, "light": lname, "mc": mc, "mc_se": se, "ltc_exact": ex, "ltc_rational": ra}));
         }

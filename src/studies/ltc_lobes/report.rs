@@ -333,17 +333,7 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
     ));
     md.push_str("Polygon lights: the fitted cell's norm × the LTC integral of M⁻¹P against MC of the true lobe over the quad (MIS of light-area and lobe sampling, ± standard error):\n\n| α | θ | light | MC truth | LTC (exact edges) | rel. error | error / albedo | LTC (rational edges) | rel. error |\n|---|---|---|---|---|---|---|---|---|\n");
     for (a, th, norm, p) in &r.polygons {
-        let rel = |x: f64| {
-            if p.mc > 0.0 {
-                format!(
-                    "{:+.1} % ± {:.1}",
-                    100.0 * (x / p.mc - 1.0),
-                    100.0 * p.mc_se / p.mc
-                )
-            } else {
-                "—".into()
-            }
-        };
+        let rel = |x: f64| crate::report::rel_vs_mc(x, p.mc, p.mc_se);
         md.push_str(&format!(
             "| {a:.3} | {th:.1}° | {} | {:.4e} ± {:.1e} | {:.4e} | {} | {:+.3} % ± {:.3} | {:.4e} | {} |\n",
             p.light, p.mc, p.mc_se, p.ltc_exact, rel(p.ltc_exact), 100.0 * (p.ltc_exact - p.mc) / norm, 100.0 * p.mc_se / norm, p.ltc_rational, rel(p.ltc_rational)
