@@ -56,14 +56,7 @@ fn run_gpu(src: &str, name: &str, nparams: usize, args: &[f32]) -> Option<Vec<f3
             label: Some(name),
             source: wgpu::ShaderSource::Wgsl(shader.into()),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("gpu_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = pipeline(&device, &module);
         dispatch(&device, &queue, &pipeline, args, n, &[])
     })
 }
@@ -237,14 +230,7 @@ fn run_textured(
             label: Some("lut"),
             source: wgpu::ShaderSource::Wgsl(shader.into()),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("gpu_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = pipeline(&device, &module);
         let tex = device.create_texture_with_data(
             &queue,
             &wgpu::TextureDescriptor {
@@ -291,6 +277,18 @@ fn run_textured(
             ],
         )?;
         Some(f.chunks(6).map(|c| std::array::from_fn(|k| c[k])).collect())
+    })
+}
+
+/// The compute pipeline of `module`'s entry point `gpu_main` (layout from the shader).
+fn pipeline(device: &wgpu::Device, module: &wgpu::ShaderModule) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module,
+        entry_point: Some("gpu_main"),
+        compilation_options: Default::default(),
+        cache: None,
     })
 }
 

@@ -181,3 +181,46 @@ fn the_lookup_honours_the_symmetries_and_hits_its_nodes() {
         }
     }
 }
+
+/// Bad input is a typed error, never a panic: NaN, zero, negative or infinite roughness,
+/// a NaN angle; the extremes of the domain (α 1e-4 across 1, 89.99°) give finite lobes.
+#[test]
+fn bad_input_is_a_typed_error_and_the_extremes_are_finite() {
+    for (ax, ay, th, phi) in [
+        (f64::NAN, 0.1, 0.3, 0.0),
+        (0.0, 0.1, 0.3, 0.0),
+        (-0.2, 0.1, 0.3, 0.0),
+        (0.2, f64::INFINITY, 0.3, 0.0),
+        (0.2, 0.1, 0.3, f64::NAN),
+    ] {
+        assert!(
+            AnisoGgxTarget::new(ax, ay, th, phi).is_err(),
+            "{ax} {ay} {th} {phi}"
+        );
+    }
+    let t = AnisoGgxTarget::new(1e-4, 1.0, f64::to_radians(89.99), 0.7).unwrap();
+    let (a, e, f) = t.albedo(1e-6);
+    assert!(
+        a.is_finite() && a > 0.0 && e.is_finite() && f.is_finite() && f < a,
+        "{a} {e} {f}"
+    );
+}
+
+/// A malformed results/fits/ltc-aniso.json is a typed error naming the file.
+#[test]
+fn a_malformed_table_file_is_a_typed_error() {
+    let dir = std::env::temp_dir().join(format!("ndfb-aniso-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    for body in [
+        "{",
+        r#"{"grid": {"n_r": 2, "n_phi": 2, "n_t": 2, "alpha_min": 0.001}, "cells": []}"#,
+        r#"{"grid": {"n_r": 100000, "n_phi": 2, "n_t": 2, "alpha_min": 0.001}, "cells": []}"#,
+    ] {
+        std::fs::write(dir.join("fits/ltc-aniso.json"), body).unwrap();
+        let e = ndfbench::ltc::aniso_table::read(&dir)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ltc-aniso.json"), "{e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

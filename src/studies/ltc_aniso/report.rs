@@ -127,17 +127,28 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct MeanMax {
     pub mean: f64,
+    /// Standard error of the mean (for a random sample of cases).
+    pub se: f64,
     pub max: f64,
     pub count: usize,
 }
 
 fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
     let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
+    let n = v.len().max(1) as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
     MeanMax {
-        mean: v.iter().sum::<f64>() / v.len().max(1) as f64,
+        mean,
+        se: (var / n).sqrt(),
         max: v.iter().cloned().fold(0.0, f64::max),
         count: v.len(),
     }
+}
+
+/// A sample mean with its standard error, in percent.
+fn pct_se(m: &MeanMax) -> String {
+    format!("{:.2} % ± {:.2}", 100.0 * m.mean, 100.0 * m.se)
 }
 
 /// A row of the per-anisotropy tables.
@@ -343,22 +354,22 @@ pub(super) fn markdown(
         g.n_r, g.n_r, g.n_phi, g.n_t, s.between_table.count, pct(s.between_rms), pct(s.between_table.mean), pct(s.predictions[0].predicted_mean)
     ));
     md.push_str(&format!(
-        "## Against what engines do today\n\n![cell errors](ltc-aniso-error.svg)\n\nAt the table's cells (held-out relative L2; mean / max over {} fitted cells): this fit {} / {}; the isotropic table at α = √(α_x α_y) {} / {}; at max(α_x, α_y) {} / {}.\n\nAt {} random cases between cells (α_x, α_y uniform in √α, φ uniform on [0, π), θ uniform in t), each with the lookup a shader does (the interpolated norm included):\n\n| | mean | max |\n|---|---|---|\n| this table (f64) | {} | {} |\n| this table (binary16, as stored in the texture) | {} | {} |\n| isotropic table at √(α_x α_y) | {} | {} |\n| isotropic table at max(α_x, α_y) | {} | {} |\n\nBy anisotropy (mean / max):\n\n| α_max/α_min | cases | this table | isotropic at √(α_x α_y) | isotropic at max |\n|---|---|---|---|---|\n",
+        "## Against what engines do today\n\n![cell errors](ltc-aniso-error.svg)\n\nAt the table's cells (held-out relative L2; mean / max over {} fitted cells): this fit {} / {}; the isotropic table at α = √(α_x α_y) {} / {}; at max(α_x, α_y) {} / {}.\n\nAt {} random cases between cells (α_x, α_y uniform in √α, φ uniform on [0, π), θ uniform in t), each with the lookup a shader does (the interpolated norm included):\n\n| | mean ± s.e. | max |\n|---|---|---|\n| this table (f64) | {} | {} |\n| this table (binary16, as stored in the texture) | {} | {} |\n| isotropic table at √(α_x α_y) | {} | {} |\n| isotropic table at max(α_x, α_y) | {} | {} |\n\nBy anisotropy (mean ± s.e. / max):\n\n| α_max/α_min | cases | this table | isotropic at √(α_x α_y) | isotropic at max |\n|---|---|---|---|---|\n",
         s.cells.ours.count, pct(s.cells.ours.mean), pct(s.cells.ours.max), pct(s.cells.iso_geo.mean), pct(s.cells.iso_geo.max), pct(s.cells.iso_max.mean), pct(s.cells.iso_max.max),
         s.between_table.count,
-        pct(s.between_table.mean), pct(s.between_table.max), pct(s.between_table_f16.mean), pct(s.between_table_f16.max),
-        pct(s.between_iso_geo.mean), pct(s.between_iso_geo.max), pct(s.between_iso_max.mean), pct(s.between_iso_max.max)
+        pct_se(&s.between_table), pct(s.between_table.max), pct_se(&s.between_table_f16), pct(s.between_table_f16.max),
+        pct_se(&s.between_iso_geo), pct(s.between_iso_geo.max), pct_se(&s.between_iso_max), pct(s.between_iso_max.max)
     ));
     for b in &s.by_anisotropy {
         md.push_str(&format!(
             "| {} | {} | {} / {} | {} / {} | {} / {} |\n",
             b.label,
             b.ours.count,
-            pct(b.ours.mean),
+            pct_se(&b.ours),
             pct(b.ours.max),
-            pct(b.iso_geo.mean),
+            pct_se(&b.iso_geo),
             pct(b.iso_geo.max),
-            pct(b.iso_max.mean),
+            pct_se(&b.iso_max),
             pct(b.iso_max.max)
         ));
     }
