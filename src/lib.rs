@@ -38,6 +38,7 @@ pub mod microfacet;
 pub mod multiscale;
 pub mod optimize;
 pub mod prefilter;
+pub mod render;
 pub mod report;
 pub mod results;
 pub mod scene;

@@ -65,6 +65,18 @@ enum Cmd {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Render one scene (TOML; fits/render/ holds the examples) with the truth and every
+    /// method of its set: DIR/<name>.md (error ± s.e., ꟻLIP, flicker, ms), DIR/<name>.json
+    /// and the PNG grid (and frame strip for a camera path).
+    Render {
+        /// scene file (TOML)
+        file: PathBuf,
+        /// output directory
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
     /// Compare our GGX LTC table (results/fits/ltc-ggx.json) with a shipped one read from
     /// FILE (selfshadow ltc.js or three.js RectAreaLightTexturesLib.js); writes
     /// DIR/ltc-compare.md. The file is only read.
@@ -356,6 +368,13 @@ fn main() -> ExitCode {
         Some(Cmd::Prefilter(a)) => run_prefilter(a, &cli.results),
         Some(Cmd::Scene { file, out: dir }) => in_set("scene", &dir.join(".manifest.json"), || {
             ndfbench::scene::run(&file, &dir, &cli.results)
+        })
+        .map(|w| {
+            println!("wrote {}", w.join(", "));
+            true
+        }),
+        Some(Cmd::Render { file, out: dir, preset }) => in_set("render", &dir.join(".manifest.json"), || {
+            ndfbench::studies::render::render_file(&file, &dir, &cli.results, preset)
         })
         .map(|w| {
             println!("wrote {}", w.join(", "));

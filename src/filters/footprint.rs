@@ -101,6 +101,61 @@ fn waves(
         .collect()
 }
 
+/// Jittered Voronoi flakes: one site per cell of 8×8 texels, each with a normal tilted
+/// up to 25°; a texel takes its nearest site's normal (periodic distance, the first site
+/// in index order on a tie). `full_scan` searches every site (O(texels × sites), the
+/// reference); otherwise the 5×5 cells around the texel's, which hold the nearest site (a
+/// site lies within √2 cells of its own cell's corner, any site three cells away is ≥ 2
+/// cells off) and are visited in index order — the same result in O(texels).
+pub fn flakes(size: usize, seed: u64, full_scan: bool) -> Vec<Vector3<f64>> {
+    let s = size as f64;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let cells = (size / 8).max(1);
+    let cs = s / cells as f64;
+    let pts: Vec<(f64, f64, Vector3<f64>)> = (0..cells * cells)
+        .map(|c| {
+            let (cx, cy) = ((c % cells) as f64, (c / cells) as f64);
+            let px = (cx + rng.random::<f64>()) * cs;
+            let py = (cy + rng.random::<f64>()) * cs;
+            let th = (25f64).to_radians() * rng.random::<f64>().sqrt();
+            let ph = rng.random::<f64>() * 2.0 * PI;
+            let n = Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+            (px, py, n)
+        })
+        .collect();
+    let near = |x: f64, y: f64| -> Vec<usize> {
+        if full_scan {
+            return (0..pts.len()).collect();
+        }
+        let (ci, cj) = ((x / cs) as i64, (y / cs) as i64);
+        let n = cells as i64;
+        let mut v: Vec<usize> = (-2..=2)
+            .flat_map(|dj: i64| {
+                (-2..=2).map(move |di: i64| ((cj + dj).rem_euclid(n) * n + (ci + di).rem_euclid(n)) as usize)
+            })
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    (0..size * size)
+        .map(|i| {
+            let (x, y) = ((i % size) as f64 + 0.5, (i / size) as f64 + 0.5);
+            let mut best = (f64::INFINITY, Vector3::z());
+            for &(px, py, n) in near(x, y).iter().map(|&c| &pts[c]) {
+                // periodic distance
+                let dx = (x - px).abs().min(s - (x - px).abs());
+                let dy = (y - py).abs().min(s - (y - py).abs());
+                let d = dx * dx + dy * dy;
+                if d < best.0 {
+                    best = (d, n);
+                }
+            }
+            best.1
+        })
+        .collect()
+}
+
 /// Largest side of a normal-map PNG that is read (8K).
 pub const MAX_MAP_SIDE: usize = 8192;
 /// A decoded texel is a unit normal when its length is within this of 1: 8-bit storage
@@ -142,38 +197,7 @@ impl NormalMap {
                 },
                 0.25,
             ),
-            Procedural::Flakes => {
-                let mut rng = ChaCha8Rng::seed_from_u64(seed);
-                let cells = (size / 8).max(1);
-                let cs = s / cells as f64;
-                let pts: Vec<(f64, f64, Vector3<f64>)> = (0..cells * cells)
-                    .map(|c| {
-                        let (cx, cy) = ((c % cells) as f64, (c / cells) as f64);
-                        let px = (cx + rng.random::<f64>()) * cs;
-                        let py = (cy + rng.random::<f64>()) * cs;
-                        let th = (25f64).to_radians() * rng.random::<f64>().sqrt();
-                        let ph = rng.random::<f64>() * 2.0 * PI;
-                        let n = Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-                        (px, py, n)
-                    })
-                    .collect();
-                (0..size * size)
-                    .map(|i| {
-                        let (x, y) = ((i % size) as f64 + 0.5, (i / size) as f64 + 0.5);
-                        let mut best = (f64::INFINITY, Vector3::z());
-                        for &(px, py, n) in &pts {
-                            // periodic distance
-                            let dx = (x - px).abs().min(s - (x - px).abs());
-                            let dy = (y - py).abs().min(s - (y - py).abs());
-                            let d = dx * dx + dy * dy;
-                            if d < best.0 {
-                                best = (d, n);
-                            }
-                        }
-                        best.1
-                    })
-                    .collect()
-            }
+            Procedural::Flakes => flakes(size, seed, false),
             Procedural::Scratches => {
                 let mut rng = ChaCha8Rng::seed_from_u64(seed);
                 let lines: Vec<(f64, f64, f64)> = (0..(size / 4).max(2))

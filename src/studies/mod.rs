@@ -17,6 +17,7 @@ pub mod ltc_ggx;
 pub mod ltc_lobes;
 pub mod multiscale_alpha_me;
 pub mod multiscale_convolution;
+pub mod render;
 pub mod smith_lambda;
 pub mod tensor;
 
@@ -59,6 +60,9 @@ fn ltc_aniso(c: &Ctx) -> Result<FitOutcome> {
 }
 fn tensor(c: &Ctx) -> Result<FitOutcome> {
     tensor::run(c.spec, c.results, c.preset)
+}
+fn render(c: &Ctx) -> Result<FitOutcome> {
+    render::run(c.spec, c.results, c.preset)
 }
 fn multiscale_alpha_me(c: &Ctx) -> Result<FitOutcome> {
     multiscale_alpha_me::run(c.spec, c.results, c.preset)
@@ -114,6 +118,12 @@ pub static STUDIES: &[&dyn Study] = &[
         name: "ltc-aniso",
         after: &["ltc-ggx"],
         run: ltc_aniso,
+    },
+    // the renders read the footprint study's refitted constants
+    &Entry {
+        name: "render",
+        after: &["filters"],
+        run: render,
     },
     // results/filters.md embeds the LEADR and Λ reports
     &Entry {

@@ -1,0 +1,219 @@
+//! Measures of a method's image against the truth, over the pixels the surface covers
+//! entirely (silhouette pixels are left out: a one-sample shader aliases there whatever
+//! its filter, and that is not what these figures judge).
+//!
+//! - RMSE of the linear radiance and the relative MSE Σ(m − t)²/Σt²; standard errors
+//!   from the pixels' spread (√(var/N), pixels taken as independent), and the truth's own
+//!   noise floor √(mean s.e.²) beside them (the measured MSE exceeds the true one by the
+//!   noise floor squared, on average).
+//! - ꟻLIP (NVIDIA, LDR, through `nv-flip`) on the tone-mapped images, its mean ± s.e.
+//! - Flicker along a camera path: the mean absolute frame-to-frame change of the
+//!   displayed value, the method's minus the truth's, and the temporal RMSE
+//!   √mean((Δm − Δt)²); s.e. over the frame pairs.
+//!
+//! One tone map everywhere: exposure, then Reinhard x/(1 + x), then the sRGB curve.
+
+use super::truth::PixelTruth;
+use serde::Serialize;
+
+/// A mean and its standard error.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct Est {
+    pub value: f64,
+    pub se: f64,
+}
+
+fn mean_se(v: &[f64]) -> Est {
+    let n = v.len().max(1) as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    Est {
+        value: m,
+        se: (var / n).sqrt(),
+    }
+}
+
+/// The displayed value in [0, 1] of a linear radiance.
+pub fn tone(x: f64, exposure: f64) -> f64 {
+    let y = (x * exposure).max(0.0);
+    let y = if y.is_finite() { y / (1.0 + y) } else { 1.0 };
+    if y <= 0.0031308 {
+        12.92 * y
+    } else {
+        1.055 * y.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// An image's measures against the truth.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Measures {
+    pub rmse: Est,
+    pub rel_mse: Est,
+    pub flip: Est,
+    /// The truth's noise floor √(mean s.e.²) over the same pixels.
+    pub truth_noise: f64,
+    pub pixels: usize,
+}
+
+/// The mask of pixels the surface covers entirely.
+pub fn mask(truth: &[PixelTruth]) -> Vec<bool> {
+    truth.iter().map(|t| t.covered).collect()
+}
+
+/// RMSE, relative MSE and the truth's noise floor of `img` against `truth`.
+pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Est, Est, f64, usize) {
+    let on: Vec<usize> = (0..truth.len()).filter(|&k| truth[k].covered).collect();
+    let mean_t = on.iter().map(|&k| truth[k].value).sum::<f64>() / on.len().max(1) as f64;
+    let _ = mean_t;
+    let sq: Vec<f64> = on.iter().map(|&k| (img[k] as f64 - truth[k].value).powi(2)).collect();
+    let t2 = on.iter().map(|&k| truth[k].value.powi(2)).sum::<f64>() / on.len().max(1) as f64;
+    let mse = mean_se(&sq);
+    let rel = Est {
+        value: mse.value / t2.max(1e-300),
+        se: mse.se / t2.max(1e-300),
+    };
+    let rmse = mse.value.sqrt();
+    let noise = (on.iter().map(|&k| truth[k].se.powi(2)).sum::<f64>() / on.len().max(1) as f64).sqrt();
+    (
+        Est {
+            value: rmse,
+            se: if rmse > 0.0 { mse.se / (2.0 * rmse) } else { 0.0 },
+        },
+        rel,
+        noise,
+        on.len(),
+    )
+}
+
+/// 8-bit sRGB (grey) of a linear image after the tone map.
+pub fn to_rgb8(img: &[f64], exposure: f64) -> Vec<u8> {
+    img.iter()
+        .flat_map(|&x| {
+            let v = (tone(x, exposure) * 255.0).round().clamp(0.0, 255.0) as u8;
+            [v, v, v]
+        })
+        .collect()
+}
+
+/// ꟻLIP of `test` against `reference` (both linear, tone-mapped here): the per-pixel
+/// error map and its mean ± s.e. over the mask.
+pub fn flip(reference: &[f64], test: &[f64], w: usize, h: usize, exposure: f64, on: &[bool]) -> (Vec<f32>, Est) {
+    let r = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(reference, exposure));
+    let t = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(test, exposure));
+    let e = nv_flip::flip(r, t, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
+    let vals: Vec<f64> = e.iter().zip(on).filter(|(_, m)| **m).map(|(v, _)| *v as f64).collect();
+    (e, mean_se(&vals))
+}
+
+/// Flicker of a frame sequence against the truth's: (excess mean |Δ|, temporal RMSE),
+/// on displayed values, over pixels covered in both frames of each pair.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Flicker {
+    /// Mean |frame-to-frame change| of the method.
+    pub change: Est,
+    /// The method's minus the truth's.
+    pub excess: Est,
+    pub temporal_rmse: Est,
+}
+
+pub fn flicker(truth: &[&[PixelTruth]], frames: &[&[f32]], exposure: f64) -> Flicker {
+    let mut change = Vec::new();
+    let mut excess = Vec::new();
+    let mut trmse = Vec::new();
+    for k in 1..frames.len().min(truth.len()) {
+        let (t0, t1, m0, m1) = (truth[k - 1], truth[k], frames[k - 1], frames[k]);
+        let (mut c, mut e, mut s, mut n) = (0.0, 0.0, 0.0, 0usize);
+        for p in 0..t0.len() {
+            if !(t0[p].covered && t1[p].covered) {
+                continue;
+            }
+            let dm = tone(m1[p] as f64, exposure) - tone(m0[p] as f64, exposure);
+            let dt = tone(t1[p].value, exposure) - tone(t0[p].value, exposure);
+            c += dm.abs();
+            e += dm.abs() - dt.abs();
+            s += (dm - dt).powi(2);
+            n += 1;
+        }
+        let n = n.max(1) as f64;
+        change.push(c / n);
+        excess.push(e / n);
+        trmse.push((s / n).sqrt());
+    }
+    Flicker {
+        change: mean_se(&change),
+        excess: mean_se(&excess),
+        temporal_rmse: mean_se(&trmse),
+    }
+}
+
+/// One method's measures in one view, with its ꟻLIP map.
+#[derive(Clone, Debug)]
+pub struct Scored {
+    pub key: String,
+    pub label: String,
+    pub m: Measures,
+    pub ms: f64,
+    pub flip_map: Vec<f32>,
+}
+
+/// Every view's scores and, along a camera path, every method's flicker (the truth's
+/// own mean |Δ| first, as `truth`).
+#[derive(Clone, Debug)]
+pub struct Measured {
+    pub views: Vec<Vec<Scored>>,
+    pub flicker: Vec<(String, String, Flicker)>,
+    pub truth_change: Option<Est>,
+}
+
+pub fn measure_render(r: &super::Render) -> Measured {
+    let exp = r.scene.render.exposure;
+    let views = r
+        .views
+        .iter()
+        .map(|v| {
+            let on = mask(&v.truth);
+            let t: Vec<f64> = v.truth.iter().map(|p| p.value).collect();
+            v.methods
+                .iter()
+                .map(|mi| {
+                    let (rmse, rel_mse, noise, pixels) = errors(&v.truth, &mi.pixels);
+                    let test: Vec<f64> = mi.pixels.iter().map(|&x| x as f64).collect();
+                    let (flip_map, flip) = flip(&t, &test, r.width, r.height, exp, &on);
+                    Scored {
+                        key: mi.key.clone(),
+                        label: mi.label.clone(),
+                        m: Measures {
+                            rmse,
+                            rel_mse,
+                            flip,
+                            truth_noise: noise,
+                            pixels,
+                        },
+                        ms: mi.ms,
+                        flip_map,
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let (mut fl, mut truth_change) = (Vec::new(), None);
+    if r.scene.frames() > 1 {
+        let truths: Vec<&[PixelTruth]> = r.views.iter().map(|v| v.truth.as_slice()).collect();
+        let tv: Vec<Vec<f32>> = r
+            .views
+            .iter()
+            .map(|v| v.truth.iter().map(|p| p.value as f32).collect())
+            .collect();
+        let tr: Vec<&[f32]> = tv.iter().map(|v| v.as_slice()).collect();
+        truth_change = Some(flicker(&truths, &tr, exp).change);
+        for (i, mi) in r.views[0].methods.iter().enumerate() {
+            let frames: Vec<&[f32]> = r.views.iter().map(|v| v.methods[i].pixels.as_slice()).collect();
+            fl.push((mi.key.clone(), mi.label.clone(), flicker(&truths, &frames, exp)));
+        }
+    }
+    Measured {
+        views,
+        flicker: fl,
+        truth_change,
+    }
+}

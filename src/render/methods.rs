@@ -1,0 +1,360 @@
+//! The approximations as an engine shades them: one sample at the pixel centre, the map
+//! read through its mip chain at the footprint's level, the roughness filter and the
+//! lobe evaluated by the shipped f32 code — the generated twins of the WGSL
+//! (`crate::generated::shading`), the f32 forms of `crate::filters::rules`, and the GGX
+//! LTC table in the binary16 storage every texture ships (`crate::generated::ltc_table`,
+//! bilinear as the sampler reads it). A G-buffer pass first stores what a deferred
+//! renderer would (normal, view, footprint statistics), then each method shades every
+//! pixel with its 2×2 quad's derivatives (coarse, as `dpdx`/`dpdy` form them).
+
+use super::geometry::{footprint, Camera, Hit, Surface};
+use super::light::Light;
+use super::texture::Texture;
+use super::truth::shading_frame;
+use crate::filters::footprint::Stats;
+use crate::filters::rules;
+use crate::generated::ltc_table::{LTC_1_F16, LTC_2_F16, LTC_TABLE_N};
+use crate::generated::shading as gs;
+use crate::microfacet::lobe::Frame;
+use half::f16;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+type V3 = Vector3<f64>;
+
+/// What the G-buffer holds for one pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct GPixel {
+    pub hit: Hit,
+    /// Unit view direction (world).
+    pub view: V3,
+    pub stats: Stats,
+    /// The renormalised filtered normal, tangent space and world space.
+    pub n_t: V3,
+    pub n_w: V3,
+}
+
+/// The G-buffer of one frame: `None` where the centre ray misses.
+pub fn gbuffer(cam: &Camera, surf: &Surface, tex: &Texture) -> Vec<Option<GPixel>> {
+    (0..cam.width * cam.height)
+        .into_par_iter()
+        .map(|k| {
+            let (x, y) = ((k % cam.width) as f64 + 0.5, (k / cam.width) as f64 + 0.5);
+            let d = cam.dir(x, y);
+            let hit = surf.intersect(&cam.eye, &d)?;
+            let fp = footprint(cam, &hit, x, y);
+            let stats = tex.stats(hit.uv, tex.lod(&fp));
+            let mu = V3::from(stats.mean_normal);
+            let n_t = if mu.norm() > 1e-12 { mu.normalize() } else { V3::z() };
+            Some(GPixel {
+                hit,
+                view: -d,
+                stats,
+                n_t,
+                n_w: hit.frame.world(&n_t),
+            })
+        })
+        .collect()
+}
+
+/// Every approximate method, in report order within its set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Method {
+    MipNormal,
+    Seed000Paper,
+    Seed000Ours,
+    Vmf2,
+    VmfRefit,
+    Lean,
+    NoAa,
+    TokuyoshiDeferred,
+    Eq13Refit,
+    TokuyoshiForward,
+    Kaplanyan,
+    Filament,
+    Unity,
+    Godot,
+    GodotRefit,
+}
+
+/// The refitted constants the methods read (results/fits/filters.json, box pixel).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Constants {
+    pub vmf_c: f32,
+    pub eq13_sigma2_box: f32,
+    pub alpha_sigma2_box: f32,
+}
+
+impl Method {
+    pub const MULTISCALE: [Method; 6] = [
+        Method::MipNormal,
+        Method::Seed000Paper,
+        Method::Seed000Ours,
+        Method::Vmf2,
+        Method::VmfRefit,
+        Method::Lean,
+    ];
+    pub const SPECULAR_AA: [Method; 9] = [
+        Method::NoAa,
+        Method::TokuyoshiDeferred,
+        Method::Eq13Refit,
+        Method::TokuyoshiForward,
+        Method::Kaplanyan,
+        Method::Filament,
+        Method::Unity,
+        Method::Godot,
+        Method::GodotRefit,
+    ];
+    /// Short file-name key.
+    pub fn key(self) -> &'static str {
+        match self {
+            Method::MipNormal => "mip-normal",
+            Method::Seed000Paper => "seed000-eq5-eq7",
+            Method::Seed000Ours => "alpha-me-product",
+            Method::Vmf2 => "vmf-2",
+            Method::VmfRefit => "vmf-refit",
+            Method::Lean => "lean",
+            Method::NoAa => "none",
+            Method::TokuyoshiDeferred => "tokuyoshi-deferred",
+            Method::Eq13Refit => "eq13-refit",
+            Method::TokuyoshiForward => "tokuyoshi-forward",
+            Method::Kaplanyan => "kaplanyan",
+            Method::Filament => "filament",
+            Method::Unity => "unity",
+            Method::Godot => "godot",
+            Method::GodotRefit => "godot-refit",
+        }
+    }
+    /// The name in reports, with its constants.
+    pub fn label(self, c: &Constants) -> String {
+        match self {
+            Method::MipNormal => "renormalised mip normal (baseline)".into(),
+            Method::Seed000Paper => "seed 000 Eq 5 + Eq 7 as printed".into(),
+            Method::Seed000Ours => "our α_me + product identity".into(),
+            Method::Vmf2 => "vMF α² + 2/κ".into(),
+            Method::VmfRefit => format!("vMF α² + c/κ, refitted c = {:.3}", c.vmf_c),
+            Method::Lean => "LEAN (isotropic LTC at (det A)^¼)".into(),
+            Method::NoAa => "none (mip normal, base α)".into(),
+            Method::TokuyoshiDeferred => "Tokuyoshi deferred (Eq 13, σ² 0.25, δ 0.18)".into(),
+            Method::Eq13Refit => format!(
+                "Eq 13 = Filament's form, refitted σ² {:.4}, δ 0.18",
+                c.eq13_sigma2_box
+            ),
+            Method::TokuyoshiForward => "Tokuyoshi forward (Eq 7, σ² 0.25)".into(),
+            Method::Kaplanyan => "Kaplanyan rect (σ² 0.25, δ 0.18)".into(),
+            Method::Filament => "Filament (σ² 0.15, δ 0.04)".into(),
+            Method::Unity => "Unity HDRP projected (σ² 0.1, δ 0.04)".into(),
+            Method::Godot => "Godot (on α, σ² 0.25, δ 0.18)".into(),
+            Method::GodotRefit => format!(
+                "Godot's form, refitted σ² {:.4}, δ 0.18",
+                c.alpha_sigma2_box
+            ),
+        }
+    }
+}
+
+/// The filtered lobe a method hands to the shading code.
+enum Filtered {
+    Iso { n_w: V3, alpha: f32 },
+    /// Roughness matrix (xx, yy, xy) in `frame` (world; z the filtered normal).
+    Matrix { frame: Frame, a: [f32; 3] },
+}
+
+/// The 2×2 quad of pixel k: (n00, n10, n01) world normals, the top-left's frame.
+fn quad(g: &[Option<GPixel>], w: usize, k: usize) -> Option<[GPixel; 4]> {
+    let (x0, y0) = ((k % w) & !1, (k / w) & !1);
+    let at = |x: usize, y: usize| g.get(y * w + x).copied().flatten();
+    Some([at(x0, y0)?, at(x0 + 1, y0)?, at(x0, y0 + 1)?, at(x0 + 1, y0 + 1)?])
+}
+
+fn a3(v: V3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// The point (or directional) lights' unit direction and irradiance at p.
+fn light_dir(light: &Light, p: &V3) -> Option<(V3, f64)> {
+    match light {
+        Light::Point { pos, intensity } => {
+            let d = pos - p;
+            let r2 = d.norm_squared();
+            Some((d / r2.sqrt(), intensity / r2))
+        }
+        Light::Directional { dir, irradiance } => Some((*dir, *irradiance)),
+        Light::Quad { .. } => None,
+    }
+}
+
+fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &[Light], c: &Constants) -> Filtered {
+    let r = gs_r(&gp.stats);
+    let iso = |a: f32| Filtered::Iso {
+        n_w: gp.n_w,
+        alpha: a.max(1e-4),
+    };
+    // coarse derivatives of the world normal across the quad (zero at a silhouette)
+    let (du, dv) = match q {
+        Some(q) => (q[1].n_w - q[0].n_w, q[2].n_w - q[0].n_w),
+        None => (V3::zeros(), V3::zeros()),
+    };
+    let (du3, dv3) = (a3(du), a3(dv));
+    let ded = |s2: f32, d: f32| gs::filter_deferred(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], s2, d);
+    match m {
+        Method::MipNormal | Method::NoAa => iso(alpha),
+        Method::Seed000Paper => iso(rules::seed000_paper(alpha, r)),
+        Method::Seed000Ours => {
+            let y_mi = (1.0 - crate::multiscale::mrl::mrl(alpha as f64)) as f32;
+            iso(gs::multiscale_alpha(1.0 - r, y_mi))
+        }
+        Method::Vmf2 => iso(gs::filter_vmf(alpha, r, 2.0)),
+        Method::VmfRefit => iso(gs::filter_vmf(alpha, r, c.vmf_c)),
+        Method::Lean => {
+            let cov = gp.stats.covariance().map(|x| x as f32);
+            let a = rules::lean(alpha, cov);
+            let ms = gp.stats.mean_slope();
+            let n_t = V3::new(-ms.x, -ms.y, 1.0).normalize();
+            // the slope covariance's axes are the tangent's: keep them about the mean normal
+            let n_w = gp.hit.frame.world(&n_t);
+            let t = gp.hit.frame.t - n_w * n_w.dot(&gp.hit.frame.t);
+            Filtered::Matrix {
+                frame: Frame {
+                    t: t.normalize(),
+                    b: n_w.cross(&t.normalize()),
+                    n: n_w,
+                },
+                a,
+            }
+        }
+        Method::TokuyoshiDeferred => iso(ded(0.25, 0.18)),
+        Method::Eq13Refit => iso(ded(c.eq13_sigma2_box, 0.18)),
+        Method::Filament => iso(ded(0.15, 0.04)),
+        Method::Unity => iso(gs::filter_projected(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], 0.1, 0.04)),
+        Method::Godot => iso(rules::deferred_on_alpha(alpha, du3, dv3, 0.25, 0.18)),
+        Method::GodotRefit => iso(rules::deferred_on_alpha(alpha, du3, dv3, c.alpha_sigma2_box, 0.18)),
+        Method::Kaplanyan => {
+            let Some(q) = q else { return iso(alpha) };
+            let avg = (q[0].n_w + q[1].n_w + q[2].n_w + q[3].n_w).normalize();
+            let f = Frame::around(avg);
+            let s = |n: &V3| {
+                let l = f.local(n);
+                [(l.x / l.z.abs()) as f32, (l.y / l.z.abs()) as f32]
+            };
+            let (s0, s1, s2) = (s(&q[0].n_w), s(&q[1].n_w), s(&q[2].n_w));
+            iso(rules::kaplanyan_rect(alpha, [s1[0] - s0[0], s1[1] - s0[1]], [s2[0] - s0[0], s2[1] - s0[1]], 0.25, 0.18))
+        }
+        Method::TokuyoshiForward => {
+            // the half-vector of the first point/directional light, on each pixel's own
+            // projected disk (seed 003 Eq 7)
+            let Some(q) = q else { return iso(alpha) };
+            let Some(light) = lights.iter().find(|l| !matches!(l, Light::Quad { .. })) else {
+                return iso(alpha);
+            };
+            let h = |p: &GPixel| -> [f32; 2] {
+                let (l, _) = light_dir(light, &p.hit.p).unwrap_or((V3::z(), 0.0));
+                let hl = Frame::around(p.n_w).local(&(p.view + l).normalize());
+                [hl.x as f32, hl.y as f32]
+            };
+            let (h0, h1, h2) = (h(&q[0]), h(&q[1]), h(&q[2]));
+            let a = rules::forward_matrix(alpha, [h1[0] - h0[0], h1[1] - h0[1]], [h2[0] - h0[0], h2[1] - h0[1]], 0.25);
+            Filtered::Matrix {
+                frame: Frame::around(gp.n_w),
+                a,
+            }
+        }
+    }
+}
+
+/// |μ| of the filtered statistics, as the f32 texture fetch returns it.
+fn gs_r(s: &Stats) -> f32 {
+    let m = s.mean_normal.map(|x| x as f32);
+    (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt()
+}
+
+/// The GGX LTC table as shipped (binary16), bilinear at (α, cos θ) like the sampler:
+/// ((a, b, c, d), norm) in f32.
+pub fn ltc_lookup(alpha: f32, cos_theta: f32) -> ([f32; 4], f32) {
+    let n = LTC_TABLE_N;
+    let r = alpha.clamp(0.0, 1.0).sqrt();
+    let t = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt();
+    let (x, y) = (r * (n - 1) as f32, t * (n - 1) as f32);
+    let (i0, j0) = ((x.floor() as usize).min(n - 2), (y.floor() as usize).min(n - 2));
+    let (fx, fy) = (x - i0 as f32, y - j0 as f32);
+    let un = |p: u32| [f16::from_bits(p as u16).to_f32(), f16::from_bits((p >> 16) as u16).to_f32()];
+    let texel = |i: usize, j: usize| -> [f32; 5] {
+        let k = i + n * j;
+        let (ab, cd, m) = (un(LTC_1_F16[k][0]), un(LTC_1_F16[k][1]), un(LTC_2_F16[k][0]));
+        [ab[0], ab[1], cd[0], cd[1], m[0]]
+    };
+    let (c00, c10, c01, c11) = (texel(i0, j0), texel(i0 + 1, j0), texel(i0, j0 + 1), texel(i0 + 1, j0 + 1));
+    let v: [f32; 5] = std::array::from_fn(|c| {
+        (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy) + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
+    });
+    ([v[0], v[1], v[2], v[3]], v[4])
+}
+
+/// A quad light through the LTC table: vertices in the shading frame (x toward the view),
+/// `generated::shading::ltc_quad`, times the table's norm and the radiance.
+fn ltc_light(light: &Light, gp: &GPixel, n_w: &V3, alpha: f32) -> f32 {
+    let (Some(cs), Light::Quad { radiance, .. }) = (light.corners(), light) else {
+        return 0.0;
+    };
+    let f = shading_frame(n_w, &gp.view);
+    let cos_v = gp.view.dot(n_w).clamp(0.0, 1.0) as f32;
+    let (m, norm) = ltc_lookup(alpha, cos_v);
+    let p: Vec<[f32; 3]> = cs.iter().map(|c| a3(f.local(&(c - gp.hit.p)))).collect();
+    let i = gs::ltc_quad(
+        m[0], m[1], m[2], m[3], p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1], p[2][2], p[3][0],
+        p[3][1], p[3][2],
+    );
+    *radiance as f32 * norm * i
+}
+
+/// GGX with the roughness matrix A in frame f, D by `ggx_d_matrix` and Smith's G2 with
+/// each direction's projected roughness (exact for the anisotropic GGX).
+fn matrix_specular(f: &Frame, a: [f32; 3], v: &V3, l: &V3) -> f32 {
+    let (vl, ll) = (f.local(v), f.local(l));
+    if vl.z <= 0.0 || ll.z <= 0.0 {
+        return 0.0;
+    }
+    let h = (vl + ll).normalize();
+    let (h3, v3, l3) = (a3(h), a3(vl), a3(ll));
+    let d = gs::ggx_d_matrix(h3[0], h3[1], h3[2], a[0], a[2], a[1]);
+    let proj = |o: [f32; 3]| {
+        let q = o[0] * o[0] + o[1] * o[1];
+        if q > 0.0 {
+            ((a[0] * o[0] * o[0] + 2.0 * a[2] * o[0] * o[1] + a[1] * o[1] * o[1]) / q).max(0.0).sqrt()
+        } else {
+            a[0].max(a[1]).sqrt()
+        }
+    };
+    let lv = gs::ggx_lambda(v3[0], v3[1], v3[2], proj(v3));
+    let ll_ = gs::ggx_lambda(l3[0], l3[1], l3[2], proj(l3));
+    d / (4.0 * v3[2] * (1.0 + lv + ll_))
+}
+
+/// The radiance of pixel `k` by method `m`; 0 where the centre ray misses.
+pub fn shade(m: Method, g: &[Option<GPixel>], w: usize, k: usize, alpha: f32, lights: &[Light], c: &Constants) -> f32 {
+    let Some(gp) = g[k] else { return 0.0 };
+    let q = quad(g, w, k);
+    let flt = filter(m, alpha, &gp, q.as_ref(), lights, c);
+    let mut sum = 0.0f32;
+    for light in lights {
+        sum += match (&flt, light_dir(light, &gp.hit.p)) {
+            (Filtered::Iso { n_w, alpha }, Some((l, e))) => {
+                let f = Frame::around(*n_w);
+                let (vl, ll) = (a3(f.local(&gp.view)), a3(f.local(&l)));
+                e as f32 * gs::ggx_specular(ll[0], ll[1], ll[2], vl[0], vl[1], vl[2], *alpha)
+            }
+            (Filtered::Matrix { frame, a }, Some((l, e))) => e as f32 * matrix_specular(frame, *a, &gp.view, &l),
+            (Filtered::Iso { n_w, alpha }, None) => ltc_light(light, &gp, n_w, *alpha),
+            (Filtered::Matrix { frame, a }, None) => {
+                let det = (a[0] * a[1] - a[2] * a[2]).max(0.0);
+                ltc_light(light, &gp, &frame.n, det.sqrt().sqrt())
+            }
+        };
+    }
+    // the geometric horizon: a surface facing away from the eye reflects nothing
+    if gp.view.dot(&gp.hit.frame.n) <= 0.0 {
+        return 0.0;
+    }
+    sum
+}

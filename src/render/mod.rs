@@ -1,0 +1,307 @@
+//! A small deterministic CPU renderer for rendered evidence: a scene (TOML, `scene`) →
+//! camera and surface hits (`geometry`) → the normal map and its mip chain as a shader
+//! reads them (`texture`) → the ground truth, the footprint-averaged BRDF with per-pixel
+//! standard errors (`truth`, lights in `light`) → the approximations through the shipped
+//! f32 code (`methods`; seed 002's glints in `glints`) → error, perceptual error and
+//! flicker (`measure`) → tone-mapped pictures (`picture`).
+//!
+//! Determinism: every pixel draws from its own ChaCha8 stream keyed by (seed, x, y), the
+//! same in every frame; rayon maps pixels and collects by index, so the bits do not
+//! depend on the thread count.
+
+pub mod check;
+pub mod coverage;
+pub mod geometry;
+pub mod glints;
+pub mod light;
+pub mod measure;
+pub mod methods;
+pub mod picture;
+pub mod scene;
+pub mod texture;
+pub mod truth;
+
+use crate::error::{Error, Result};
+use crate::filters::footprint::{NormalMap, Procedural};
+use geometry::{Camera, Surface};
+use methods::{Constants, Method};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use scene::{MethodSet, Scene};
+use std::path::Path;
+use std::time::Instant;
+use texture::Texture;
+use truth::{PixelTruth, Shader};
+
+/// One rendered image of a method.
+#[derive(Clone, Debug)]
+pub struct MethodImage {
+    pub key: String,
+    pub label: String,
+    pub pixels: Vec<f32>,
+    /// Wall-clock milliseconds of this image on this machine (reported, never asserted).
+    pub ms: f64,
+}
+
+/// Everything of one view (a scale of the map and a frame of the camera path).
+#[derive(Clone, Debug)]
+pub struct View {
+    pub scale: f64,
+    pub frame: usize,
+    pub truth: Vec<PixelTruth>,
+    pub truth_ms: f64,
+    pub methods: Vec<MethodImage>,
+}
+
+/// A whole render.
+#[derive(Clone, Debug)]
+pub struct Render {
+    pub scene: Scene,
+    pub width: usize,
+    pub height: usize,
+    pub views: Vec<View>,
+    /// Extra per-method numbers (the CP models' error and storage).
+    pub notes: Vec<String>,
+}
+
+/// The scene's normal map: a generator name, "flat", or a PNG relative to `base`, its
+/// slopes scaled by `normal_scale`.
+pub fn normal_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
+    let mut map = unscaled_map(scene, base)?;
+    let k = scene.material.normal_scale;
+    if k != 1.0 {
+        for n in &mut map.normals {
+            *n = Vector3::new(n.x * k / n.z, n.y * k / n.z, 1.0).normalize();
+        }
+    }
+    Ok(map)
+}
+
+fn unscaled_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
+    let m = &scene.material;
+    let kinds = Procedural::ALL.into_iter().chain([Procedural::Scratches]);
+    if let Some(k) = kinds.clone().find(|k| k.name() == m.normal_map) {
+        return NormalMap::procedural(k, m.map_size, m.map_seed);
+    }
+    if m.normal_map == "flat" {
+        return Ok(NormalMap {
+            name: "flat".into(),
+            width: m.map_size,
+            height: m.map_size,
+            normals: vec![Vector3::z(); m.map_size * m.map_size],
+        });
+    }
+    let p = base.join(&m.normal_map);
+    if !p.is_file() {
+        return Err(Error::InvalidArgument(format!(
+            "scene {}: normal_map '{}' is neither a generator ({}, flat) nor a file",
+            scene.name,
+            m.normal_map,
+            kinds.map(|k| k.name()).collect::<Vec<_>>().join(", ")
+        )));
+    }
+    NormalMap::from_png(&p)
+}
+
+/// The refitted constants from results/fits/filters.json (box-pixel fits).
+pub fn constants(results: &Path) -> Result<Constants> {
+    let path = results.join("fits").join("filters.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        msg: format!("{e} (run `regen --only filters` first)"),
+    })?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        msg: e.to_string(),
+    })?;
+    let get = |family: &str| -> Result<f32> {
+        v["fitted"]
+            .as_array()
+            .and_then(|a| {
+                a.iter()
+                    .find(|f| f["family"] == family && f["ndf"] == "GGX")
+                    .and_then(|f| f["constant"].as_f64())
+            })
+            .map(|c| c as f32)
+            .ok_or_else(|| Error::Io {
+                path: path.display().to_string(),
+                msg: format!("no GGX constant for '{family}'"),
+            })
+    };
+    Ok(Constants {
+        vmf_c: get("vMF α² + c/κ")?,
+        eq13_sigma2_box: get("Eq 13 σ² (box pixel)")?,
+        alpha_sigma2_box: get("kernel on α σ² (box pixel)")?,
+    })
+}
+
+/// How the glint set's CP models are built (the preset's scale).
+#[derive(Clone, Copy, Debug)]
+pub struct GlintPlan {
+    pub res: usize,
+    pub stride: usize,
+    pub t: usize,
+    pub ranks: [usize; 3],
+    pub iters: usize,
+}
+
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let v = f();
+    (v, 1e3 * t.elapsed().as_secs_f64())
+}
+
+/// Render every scale × frame of a scene: the truth and each method of its set.
+pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Result<Render> {
+    let tex = Texture::new(normal_map(scene, base)?);
+    let lights = light::resolve(&scene.lights);
+    let m = &scene.material;
+    let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex)?;
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut views = Vec::new();
+    let mut notes = Vec::new();
+    let mut cps: Vec<(glints::CpGlints, f64)> = Vec::new();
+    for &scale in &scene.render.scales {
+        let surf = Surface::new(&scene.surface, scale);
+        for frame in 0..scene.frames() {
+            let cam = Camera::at_frame(&scene.camera, frame);
+            let (truth, truth_ms) = timed(|| {
+                (0..w * h)
+                    .into_par_iter()
+                    .map(|k| truth::pixel(&cam, &surf, &sh, k % w, k / w, scene.render.truth_samples, scene.render.seed))
+                    .collect::<Vec<_>>()
+            });
+            let (g, g_ms) = timed(|| methods::gbuffer(&cam, &surf, &tex));
+            let alpha = m.alpha as f32;
+            let mut out = Vec::new();
+            let list: &[Method] = match scene.render.methods {
+                MethodSet::Multiscale => &Method::MULTISCALE,
+                MethodSet::SpecularAa => &Method::SPECULAR_AA,
+                _ => &[],
+            };
+            for &meth in list {
+                let (pixels, ms) = timed(|| {
+                    (0..w * h)
+                        .into_par_iter()
+                        .map(|k| methods::shade(meth, &g, w, k, alpha, &lights, c))
+                        .collect::<Vec<f32>>()
+                });
+                out.push(MethodImage {
+                    key: meth.key().into(),
+                    label: meth.label(c),
+                    pixels,
+                    ms: ms + g_ms,
+                });
+            }
+            if scene.render.methods == MethodSet::Glints {
+                if cps.is_empty() {
+                    cps = build_cps(&tex, &cam, &surf, m.sigma_r, plan, scene.render.seed, &mut notes)?;
+                }
+                out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps, g_ms));
+            }
+            views.push(View {
+                scale,
+                frame,
+                truth,
+                truth_ms,
+                methods: out,
+            });
+        }
+    }
+    Ok(Render {
+        scene: scene.clone(),
+        width: w,
+        height: h,
+        views,
+        notes,
+    })
+}
+
+/// The CP models at the plan's ranks, σ_P from the centre pixel's footprint.
+fn build_cps(
+    tex: &Texture,
+    cam: &Camera,
+    surf: &Surface,
+    sigma_r: f64,
+    plan: &GlintPlan,
+    seed: u64,
+    notes: &mut Vec<String>,
+) -> Result<Vec<(glints::CpGlints, f64)>> {
+    let (cx, cy) = (cam.width as f64 * 0.5, cam.height as f64 * 0.5);
+    let hit = surf
+        .intersect(&cam.eye, &cam.dir(cx, cy))
+        .ok_or_else(|| Error::InvalidArgument("glints: the centre ray misses the surface".into()))?;
+    let fp = geometry::footprint(cam, &hit, cx, cy);
+    let s = tex.map.width as f64;
+    let var = (fp[0][0].powi(2) + fp[0][1].powi(2) + fp[1][0].powi(2) + fp[1][1].powi(2)) * s * s / 24.0;
+    let sigma_p = (var + 1.0 / 12.0).sqrt();
+    let (images, pndf_ms) = timed(|| glints::pndf_grid(tex, plan.res, plan.stride, sigma_p, sigma_r));
+    let images = images?;
+    notes.push(format!(
+        "P-NDF grid: {}² footprints (stride {}, σ_P = {sigma_p:.2} texels from the centre pixel's footprint), {}² images, {:.0} ms",
+        tex.map.width / plan.stride,
+        plan.stride,
+        plan.res,
+        pndf_ms
+    ));
+    let mut out = Vec::new();
+    for &rank in &plan.ranks {
+        let (cp, ms) = timed(|| glints::CpGlints::build(&images, plan.res, plan.stride, plan.t, rank, plan.iters, seed));
+        let cp = cp?;
+        notes.push(format!(
+            "CP rank {rank}: relative reconstruction error {:.2} %, {} of {} numbers ({:.2} %), compressed in {:.0} ms",
+            100.0 * cp.rel_error,
+            cp.stored,
+            cp.dense,
+            100.0 * cp.stored as f64 / cp.dense.max(1) as f64,
+            ms
+        ));
+        out.push((cp, ms));
+    }
+    Ok(out)
+}
+
+fn glint_images(
+    cam: &Camera,
+    g: &[Option<methods::GPixel>],
+    tex: &Texture,
+    lights: &[light::Light],
+    sigma_r: f64,
+    cps: &[(glints::CpGlints, f64)],
+    g_ms: f64,
+) -> Vec<MethodImage> {
+    let w = cam.width;
+    let img = |f: &(dyn Fn(usize, &methods::GPixel) -> f32 + Sync)| -> (Vec<f32>, f64) {
+        timed(|| {
+            (0..g.len())
+                .into_par_iter()
+                .map(|k| g[k].as_ref().map_or(0.0, |gp| f(k, gp)))
+                .collect()
+        })
+    };
+    let mut out = Vec::new();
+    let (p, ms) = img(&|k, gp| glints::brute(cam, gp, tex, lights, sigma_r, (k % w) as f64 + 0.5, (k / w) as f64 + 0.5));
+    out.push(MethodImage {
+        key: "pndf-brute".into(),
+        label: "brute-force P-NDF footprint query (Eq 2)".into(),
+        pixels: p,
+        ms: ms + g_ms,
+    });
+    for (cp, _) in cps {
+        let (p, ms) = img(&|_, gp| cp.shade(gp, tex, lights));
+        out.push(MethodImage {
+            key: format!("cp-r{}", cp.rank),
+            label: format!("CP range query, R = {}", cp.rank),
+            pixels: p,
+            ms: ms + g_ms,
+        });
+    }
+    let (p, ms) = img(&|_, gp| glints::mip(gp, lights, sigma_r));
+    out.push(MethodImage {
+        key: "plain-mip".into(),
+        label: "plain mip (renormalised normal)".into(),
+        pixels: p,
+        ms: ms + g_ms,
+    });
+    out
+}

@@ -1,0 +1,331 @@
+//! The ground truth: the footprint-averaged BRDF (seed 004 Eq 11) as a pixel sees it
+//! (box pixel filter). Every texel the pixel covers is shaded with its own lobe at the
+//! base roughness (the f64 reference [`crate::microfacet::Microsurface`], or seed 002's
+//! Gaussian, or an LTC) and weighted by its exact coverage; footprints too large for that
+//! are supersampled on jittered grids. Point and directional lights are evaluated
+//! exactly; a quad light is integrated by one-sample MIS of light-area and visible-normal
+//! sampling (balance heuristic). Two independent replicates give each pixel's standard
+//! error (see [`pixel`]).
+
+use super::geometry::{Camera, Hit, Surface};
+use super::light::Light;
+use super::scene::Lobe;
+use super::texture::Texture;
+use crate::integrate::mc::Strategy;
+use crate::ltc::dist::LtcDist;
+use crate::microfacet::lobe::{lobe, Frame};
+use crate::microfacet::sampling::VndfSampler;
+use crate::microfacet::{Microsurface, Roughness};
+use nalgebra::Vector3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
+
+type V3 = Vector3<f64>;
+
+/// The per-texel lobe and the scene's lights.
+pub struct Shader<'a> {
+    pub kind: Lobe,
+    pub alpha: f64,
+    pub sigma_r: f64,
+    pub lights: &'a [Light],
+    pub tex: &'a Texture,
+    surface: Microsurface,
+    ltc: Option<LtcDist>,
+}
+
+/// One pixel of the truth: mean radiance and its standard error.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PixelTruth {
+    pub value: f64,
+    pub se: f64,
+    /// Every footprint sample hit the surface.
+    pub covered: bool,
+}
+
+impl<'a> Shader<'a> {
+    pub fn new(
+        kind: Lobe,
+        alpha: f64,
+        sigma_r: f64,
+        lights: &'a [Light],
+        tex: &'a Texture,
+    ) -> crate::error::Result<Shader<'a>> {
+        Ok(Shader {
+            kind,
+            alpha,
+            sigma_r,
+            lights,
+            tex,
+            surface: Microsurface::ggx(Roughness::iso(alpha)?),
+            ltc: match kind {
+                Lobe::Ltc => Some(LtcDist::isotropic(alpha)?),
+                _ => None,
+            },
+        })
+    }
+
+    /// f·cos of the texel with tangent-space normal `nt`, for tangent-space unit v and l.
+    pub fn lobe(&self, nt: &V3, v: &V3, l: &V3) -> f64 {
+        self.lobe_in(&Frame::around(*nt), nt, v, l)
+    }
+
+    /// The same with the texel's frame `sf` = `Frame::around(nt)` already built.
+    fn lobe_in(&self, sf: &Frame, nt: &V3, v: &V3, l: &V3) -> f64 {
+        match self.kind {
+            Lobe::Ggx => lobe(&self.surface, sf, v, l),
+            Lobe::Gaussian => gaussian_lobe(self.sigma_r, nt, v, l),
+            Lobe::Ltc => {
+                if v.z <= 0.0 || l.z <= 0.0 {
+                    return 0.0;
+                }
+                let f = shading_frame(nt, v);
+                self.ltc.as_ref().map_or(0.0, |d| d.eval(&f.local(l)))
+            }
+        }
+    }
+
+    /// The point and directional lights' exact radiance at a hit seen from the eye,
+    /// texel normal `nt`.
+    pub fn exact_part(&self, hit: &Hit, eye: &V3, nt: &V3) -> f64 {
+        let fr = &hit.frame;
+        let v = fr.local(&(eye - hit.p).normalize());
+        let sf = Frame::around(*nt);
+        let mut sum = 0.0;
+        for light in self.lights {
+            sum += match light {
+                Light::Point { pos, intensity } => {
+                    let d = pos - hit.p;
+                    let r2 = d.norm_squared();
+                    intensity / r2 * self.lobe_in(&sf, nt, &v, &fr.local(&(d / r2.sqrt())))
+                }
+                Light::Directional { dir, irradiance } => {
+                    irradiance * self.lobe_in(&sf, nt, &v, &fr.local(dir))
+                }
+                Light::Quad { .. } => 0.0,
+            };
+        }
+        sum
+    }
+
+    /// One MC sample of the quad lights' radiance (0 without quad lights) from the three
+    /// uniforms `u` (strategy, two for the direction).
+    pub fn quad_part(&self, hit: &Hit, eye: &V3, nt: &V3, u: [f64; 3]) -> f64 {
+        let v = hit.frame.local(&(eye - hit.p).normalize());
+        let sf = Frame::around(*nt);
+        self.lights
+            .iter()
+            .filter(|l| matches!(l, Light::Quad { .. }))
+            .map(|l| self.quad_sample(l, hit, &v, nt, &sf, u))
+            .sum()
+    }
+
+    pub fn has_quad(&self) -> bool {
+        self.lights.iter().any(|l| matches!(l, Light::Quad { .. }))
+    }
+
+    /// One radiance sample: the exact part plus one sample of each quad light.
+    pub fn sample(&self, hit: &Hit, eye: &V3, nt: &V3, u: &mut ChaCha8Rng) -> f64 {
+        self.exact_part(hit, eye, nt) + self.quad_part(hit, eye, nt, [u.random(), u.random(), u.random()])
+    }
+
+    /// Solid-angle density of area sampling the quad in world direction d from p.
+    fn area_pdf(light: &Light, p: &V3, d: &V3) -> f64 {
+        match (light, light.quad_hit(p, d)) {
+            (Light::Quad { normal, area, .. }, Some(q)) => {
+                let r2 = (q - p).norm_squared();
+                r2 / (area * d.dot(normal).abs()).max(1e-300)
+            }
+            _ => 0.0,
+        }
+    }
+
+    fn quad_sample(&self, light: &Light, hit: &Hit, v: &V3, nt: &V3, sf: &Frame, u: [f64; 3]) -> f64 {
+        let Light::Quad { radiance, .. } = light else {
+            return 0.0;
+        };
+        let fr = &hit.frame;
+        let vndf = match self.kind {
+            Lobe::Ggx => {
+                let vs = sf.local(v);
+                VndfSampler::new(self.surface.clone(), vs).ok().map(|s| (s, *sf, vs))
+            }
+            _ => None,
+        };
+        let brdf_pdf = |lw: &V3| -> f64 {
+            let Some((s, sf, vs)) = &vndf else { return 0.0 };
+            let ls = sf.local(&fr.local(lw));
+            let h = vs + ls;
+            let hn = h.norm();
+            if !(hn > 0.0) || ls.z <= 0.0 {
+                return 0.0;
+            }
+            let h = h / hn;
+            s.pdf(&h) / (4.0 * vs.dot(&h).abs()).max(1e-300)
+        };
+        let mix = if vndf.is_some() { 0.5 } else { 1.0 };
+        let [pick, s1, s2] = u;
+        let lw = if pick < mix {
+            let Some(q) = light.quad_point([s1, s2]) else {
+                return 0.0;
+            };
+            (q - hit.p).normalize()
+        } else {
+            let Some((s, sf, vs)) = &vndf else { return 0.0 };
+            let Some(h) = s.sample([s1, s2]) else {
+                return 0.0;
+            };
+            let ls = h * (2.0 * vs.dot(&h)) - vs;
+            let lw = fr.world(&sf.world(&ls));
+            if light.quad_hit(&hit.p, &lw).is_none() {
+                return 0.0;
+            }
+            lw
+        };
+        let pdf = mix * Self::area_pdf(light, &hit.p, &lw) + (1.0 - mix) * brdf_pdf(&lw);
+        if !(pdf > 0.0) {
+            return 0.0;
+        }
+        radiance * self.lobe_in(sf, nt, v, &fr.local(&lw)) / pdf
+    }
+}
+
+/// The frame around n whose x axis points toward the view's projection (an LTC's frame).
+pub fn shading_frame(n: &V3, v: &V3) -> Frame {
+    let n = n.normalize();
+    let t = v - n * n.dot(v);
+    let t = if t.norm() > 1e-12 {
+        t.normalize()
+    } else {
+        Frame::around(n).t
+    };
+    Frame {
+        t,
+        b: n.cross(&t),
+        n,
+    }
+}
+
+/// Seed 002's intrinsic lobe, f·cos = D(h)/(4 v_z) with D(h) = G_r(h_xy − n_xy), the
+/// normalised 2D Gaussian of standard deviation σ_r on the projected disk (G = F = 1).
+pub fn gaussian_lobe(sigma_r: f64, nt: &V3, v: &V3, l: &V3) -> f64 {
+    if v.z <= 0.0 || l.z <= 0.0 {
+        return 0.0;
+    }
+    let h = (v + l).normalize();
+    let (dx, dy) = (h.x - nt.x, h.y - nt.y);
+    let s2 = sigma_r * sigma_r;
+    (-(dx * dx + dy * dy) / (2.0 * s2)).exp() / (2.0 * PI * s2) / (4.0 * v.z)
+}
+
+/// A deterministic stream per (seed, pixel): the same samples in every frame.
+pub fn pixel_rng(seed: u64, x: usize, y: usize) -> ChaCha8Rng {
+    let mut r = ChaCha8Rng::seed_from_u64(seed);
+    r.set_stream(((y as u64) << 32) | x as u64);
+    r
+}
+
+/// Footprints of at most this many texels (bounding box) are integrated texel by texel.
+pub const MAX_EXACT_TEXELS: usize = 4096;
+
+/// The truth of pixel (x, y). Where the pixel's preimage covers at most
+/// [`MAX_EXACT_TEXELS`] texels it is integrated exactly over them
+/// ([`super::coverage::shares`]: every texel weighted by its overlap with the pixel,
+/// shaded at its overlap's centroid), the quad lights by n/2 light samples per replicate
+/// spread over the texels; otherwise the pixel is supersampled by n footprint samples.
+/// Either way two independent replicates give the value (their mean) and the standard
+/// error |m₁ − m₂|/2 (0 for point and directional lights on an exact footprint).
+pub fn pixel(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, seed: u64) -> PixelTruth {
+    let mut rng = pixel_rng(seed, x, y);
+    exact(cam, surf, sh, x, y, n, &mut rng).unwrap_or_else(|| sampled(cam, surf, sh, x, y, n, &mut rng))
+}
+
+fn exact(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, rng: &mut ChaCha8Rng) -> Option<PixelTruth> {
+    let centre = surf.intersect(&cam.eye, &cam.dir(x as f64 + 0.5, y as f64 + 0.5))?;
+    let per = surf.periods();
+    let size = [sh.tex.map.width as f64, sh.tex.map.height as f64];
+    let mut q = [[0.0; 2]; 4];
+    for (c, (dx, dy)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].iter().enumerate() {
+        let h = surf.intersect(&cam.eye, &cam.dir(x as f64 + dx, y as f64 + dy))?;
+        for a in 0..2 {
+            let mut d = h.uv[a] - centre.uv[a];
+            if per[a].is_finite() {
+                d -= per[a] * (d / per[a]).round();
+            }
+            q[c][a] = (centre.uv[a] + d) * size[a];
+        }
+    }
+    let shares = super::coverage::shares(&q, MAX_EXACT_TEXELS)?;
+    let total: f64 = shares.iter().map(|s| s.area).sum();
+    if !(total > 0.0) {
+        return None;
+    }
+    // quad lights: k light samples per texel and replicate, all of a replicate's drawn
+    // from one Owen-scrambled Sobol sequence (sobol_burley; its own scramble per pixel
+    // and replicate, so the two replicates are independent)
+    let k = if sh.has_quad() { (n / 2).div_ceil(shares.len()).max(1) } else { 0 };
+    let scrambles: [u32; 2] = [rng.random(), rng.random()];
+    let mut reps = [0.0f64; 2];
+    for (si, s) in shares.iter().enumerate() {
+        let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
+        let nt = sh.tex.at(s.i, s.j);
+        let e = sh.exact_part(&hit, &cam.eye, &nt);
+        for (rep, &scr) in reps.iter_mut().zip(&scrambles) {
+            let mut qs = 0.0;
+            for j in 0..k {
+                let i = ((si * k + j) as u32).min((1 << 16) - 1);
+                let mut u = [0.0; 3];
+                for (d, x) in u.iter_mut().enumerate() {
+                    let jit = rng.random::<f64>() * (1.0 / (1u64 << 24) as f64);
+                    *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit).min(1.0 - f64::EPSILON / 2.0);
+                }
+                qs += sh.quad_part(&hit, &cam.eye, &nt, u);
+            }
+            *rep += s.area * (e + if k > 0 { qs / k as f64 } else { 0.0 });
+        }
+    }
+    let (m1, m2) = (reps[0] / total, reps[1] / total);
+    Some(PixelTruth {
+        value: 0.5 * (m1 + m2),
+        se: 0.5 * (m1 - m2).abs(),
+        covered: true,
+    })
+}
+
+/// n footprint samples as two replicates of n/2 (each a jittered grid when n/2 is a
+/// square, else uniform).
+fn sampled(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, rng: &mut ChaCha8Rng) -> PixelTruth {
+    let half = (n / 2).max(1);
+    let g = (half as f64).sqrt().round() as usize;
+    let grid = g * g == half;
+    let mut covered = true;
+    let mut reps = [0.0f64; 2];
+    for rep in &mut reps {
+        let mut s = 0.0;
+        for k in 0..half {
+            let (jx, jy): (f64, f64) = (rng.random(), rng.random());
+            let (ox, oy) = if grid {
+                (((k % g) as f64 + jx) / g as f64, ((k / g) as f64 + jy) / g as f64)
+            } else {
+                (jx, jy)
+            };
+            let d = cam.dir(x as f64 + ox, y as f64 + oy);
+            s += match surf.intersect(&cam.eye, &d) {
+                Some(hit) => {
+                    let nt = sh.tex.texel(hit.uv);
+                    sh.sample(&hit, &cam.eye, &nt, rng)
+                }
+                None => {
+                    covered = false;
+                    0.0
+                }
+            };
+        }
+        *rep = s / half as f64;
+    }
+    PixelTruth {
+        value: 0.5 * (reps[0] + reps[1]),
+        se: 0.5 * (reps[0] - reps[1]).abs(),
+        covered,
+    }
+}

@@ -1,0 +1,219 @@
+//! Writing one render: the PNG grid (truth in the first column, each method's tile with
+//! its ꟻLIP map under it, one pair of rows per view), the frame strip of a camera path,
+//! the markdown tables (error ± s.e., ꟻLIP, flicker, ms) and the typed JSON.
+
+use crate::error::Result;
+use crate::render::measure::{Measured, Scored};
+use crate::render::picture::{colour_bar, grid, Rgb};
+use crate::render::Render;
+use std::path::Path;
+
+/// Pixels of a grid tile's side (centre crop of the full image).
+pub const TILE: usize = 96;
+
+fn pct(e: &crate::render::measure::Est) -> String {
+    format!("{:.1} % ± {:.1}", 100.0 * e.value, 100.0 * e.se)
+}
+
+fn sci(e: &crate::render::measure::Est) -> String {
+    format!("{:.3e} ± {:.1e}", e.value, e.se)
+}
+
+/// Which views the grid shows: four frames of a path, else every other scale (the
+/// tables list every view).
+fn shown(r: &Render) -> Vec<usize> {
+    let n = r.views.len();
+    let mut v = if r.scene.frames() > 1 {
+        vec![0, n / 3, 2 * n / 3, n - 1]
+    } else {
+        (0..n).step_by(2).collect()
+    };
+    v.dedup();
+    v
+}
+
+/// Methods × views: the relative MSE ± s.e. and ꟻLIP of every view at a glance.
+fn summary(r: &Render, m: &Measured) -> String {
+    let views: Vec<usize> = if r.scene.frames() > 1 { shown(r) } else { (0..r.views.len()).collect() };
+    let mut md = String::from("| method |");
+    for &k in &views {
+        md.push_str(&format!(" {} |", view_name(r, k)));
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(views.len()));
+    md.push('\n');
+    for (i, mi) in r.views[0].methods.iter().enumerate() {
+        md.push_str(&format!("| {} |", mi.label));
+        for &k in &views {
+            let s = &m.views[k][i].m;
+            md.push_str(&format!(" {:.1} % ± {:.1} · ꟻLIP {:.3} |", 100.0 * s.rel_mse.value, 100.0 * s.rel_mse.se, s.flip.value));
+        }
+        md.push('\n');
+    }
+    md
+}
+
+fn view_name(r: &Render, k: usize) -> String {
+    let v = &r.views[k];
+    if r.scene.frames() > 1 {
+        format!("frame {}", v.frame)
+    } else {
+        format!("scale ×{}", v.scale)
+    }
+}
+
+/// The grid: per shown view a row of images (truth, methods) and a row of ꟻLIP maps
+/// (the colour bar under the truth).
+pub fn grid_png(r: &Render, m: &Measured, tile: usize) -> Rgb {
+    let exp = r.scene.render.exposure;
+    let mut rows = Vec::new();
+    for k in shown(r) {
+        let v = &r.views[k];
+        let t: Vec<f64> = v.truth.iter().map(|p| p.value).collect();
+        let mut imgs = vec![Rgb::from_linear(&t, r.width, r.height, exp).crop(tile, tile)];
+        let mut errs = vec![colour_bar(tile, tile / 8)];
+        for (mi, s) in v.methods.iter().zip(&m.views[k]) {
+            let p: Vec<f64> = mi.pixels.iter().map(|&x| x as f64).collect();
+            imgs.push(Rgb::from_linear(&p, r.width, r.height, exp).crop(tile, tile));
+            errs.push(Rgb::magma(&s.flip_map, r.width, r.height).crop(tile, tile));
+        }
+        rows.push(imgs);
+        rows.push(errs);
+    }
+    grid(&rows, 4)
+}
+
+/// A strip of consecutive frames (rows: truth, then each method) of a path, cropped
+/// around the image centre.
+pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Rgb {
+    let exp = r.scene.render.exposure;
+    let n = r.views.len().min(frames);
+    let start = (r.views.len() - n) / 2;
+    let mut rows = Vec::new();
+    let truth_row: Vec<Rgb> = (start..start + n)
+        .map(|k| {
+            let t: Vec<f64> = r.views[k].truth.iter().map(|p| p.value).collect();
+            Rgb::from_linear(&t, r.width, r.height, exp).crop(tile, tile)
+        })
+        .collect();
+    rows.push(truth_row);
+    for i in 0..r.views[0].methods.len() {
+        rows.push(
+            (start..start + n)
+                .map(|k| {
+                    let p: Vec<f64> = r.views[k].methods[i].pixels.iter().map(|&x| x as f64).collect();
+                    Rgb::from_linear(&p, r.width, r.height, exp).crop(tile, tile)
+                })
+                .collect(),
+        );
+    }
+    grid(&rows, 2)
+}
+
+fn row(s: &Scored) -> String {
+    format!(
+        "| {} | {} | {} | {} | {:.1} |\n",
+        s.label,
+        sci(&s.m.rmse),
+        pct(&s.m.rel_mse),
+        format!("{:.4} ± {:.4}", s.m.flip.value, s.m.flip.se),
+        s.ms
+    )
+}
+
+/// The markdown of one render (tables per view, flicker), image links relative to the
+/// report at `rel`.
+pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
+    let sc = &r.scene;
+    let mut md = format!(
+        "{}. {}×{} pixels, {} truth samples per pixel (two jittered replicates), tone map: exposure {} → Reinhard → sRGB.\n\n![grid: truth in the first column, each method's ꟻLIP map under it (magma, 0 → 1, the bar under the truth)]({rel}/{}-grid.png)\n\n",
+        sc.description, r.width, r.height, sc.render.truth_samples, sc.render.exposure, sc.name
+    );
+    if sc.frames() > 1 {
+        md.push_str(&format!(
+            "![frames {}–{} of the dolly (rows: truth, then the methods in table order)]({rel}/{}-strip.png)\n\n",
+            (r.views.len() - r.views.len().min(8)) / 2,
+            (r.views.len() - r.views.len().min(8)) / 2 + r.views.len().min(8) - 1,
+            sc.name
+        ));
+    }
+    for note in &r.notes {
+        md.push_str(&format!("- {note}\n"));
+    }
+    md.push_str(&format!("\nRelative MSE Σ(m − t)²/Σt² ± s.e. and mean ꟻLIP per view (tables per view below):\n\n{}", summary(r, m)));
+    let every: Vec<usize> = if r.scene.frames() > 1 { shown(r) } else { (0..r.views.len()).collect() };
+    for k in every {
+        let v = &r.views[k];
+        let noise = m.views[k].first().map_or(0.0, |s| s.m.truth_noise);
+        let mean_t = v.truth.iter().filter(|p| p.covered).map(|p| p.value).sum::<f64>()
+            / v.truth.iter().filter(|p| p.covered).count().max(1) as f64;
+        md.push_str(&format!(
+            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e} ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
+            sc.name,
+            view_name(r, k),
+            v.truth_ms,
+            m.views[k].first().map_or(0, |s| s.m.pixels)
+        ));
+        for s in &m.views[k] {
+            md.push_str(&row(s));
+        }
+    }
+    if let Some(tc) = &m.truth_change {
+        md.push_str(&format!(
+            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {:.3e} ± {:.1e}\n\n| method | mean abs frame-to-frame change | excess over the truth | temporal RMSE |\n|---|---|---|---|\n",
+            sc.name,
+            r.views.len(),
+            tc.value,
+            tc.se
+        ));
+        for (_, label, f) in &m.flicker {
+            md.push_str(&format!(
+                "| {label} | {:.3e} ± {:.1e} | {:+.3e} ± {:.1e} | {:.3e} ± {:.1e} |\n",
+                f.change.value, f.change.se, f.excess.value, f.excess.se, f.temporal_rmse.value, f.temporal_rmse.se
+            ));
+        }
+    }
+    md
+}
+
+/// The typed JSON of one render's measures.
+pub fn json(r: &Render, m: &Measured) -> serde_json::Value {
+    let views: Vec<serde_json::Value> = r
+        .views
+        .iter()
+        .zip(&m.views)
+        .map(|(v, s)| {
+            serde_json::json!({
+                "scale": v.scale,
+                "frame": v.frame,
+                "truth_ms": v.truth_ms,
+                "methods": s.iter().map(|x| serde_json::json!({"key": x.key, "label": x.label, "measures": x.m, "ms": x.ms})).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "scene": r.scene,
+        "views": views,
+        "flicker": m.flicker.iter().map(|(k, l, f)| serde_json::json!({"key": k, "label": l, "flicker": f})).collect::<Vec<_>>(),
+        "truth_change": m.truth_change,
+        "notes": r.notes,
+    })
+}
+
+/// Write a render's pictures into `dir` (grid, and strip for a path); returns their paths.
+pub fn write_pictures(dir: &Path, r: &Render, m: &Measured, tile: usize) -> Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::Io {
+        path: dir.display().to_string(),
+        msg: e.to_string(),
+    })?;
+    let mut out = Vec::new();
+    let g = dir.join(format!("{}-grid.png", r.scene.name));
+    grid_png(r, m, tile).write(&g)?;
+    out.push(g);
+    if r.scene.frames() > 1 {
+        let s = dir.join(format!("{}-strip.png", r.scene.name));
+        strip_png(r, 8, tile / 2).write(&s)?;
+        out.push(s);
+    }
+    Ok(out)
+}

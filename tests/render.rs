@@ -1,0 +1,270 @@
+//! The renderer: scene files (strict and bounded), the exact texel coverage, the truth
+//! against closed forms (flat maps: the lobe, and the LTC's exact polygon integral),
+//! determinism at any thread count, the splatting P-NDF against the brute-force one, the
+//! fast flakes generator against its full scan, the shipped LTC lookup against the f64
+//! texture reference, and the `render` command's output and bad input.
+
+mod common;
+
+use ndfbench::filters::footprint::{flakes, NormalMap, Procedural};
+use ndfbench::render::coverage::{area_centroid, shares};
+use ndfbench::render::scene::Scene;
+use ndfbench::render::{check, measure, methods, GlintPlan};
+use ndfbench::studies::render::{at_preset, glint_plan, SCENES};
+use ndfbench::Error;
+use proptest::prelude::*;
+use std::path::Path;
+use std::process::Command;
+
+fn scene(text: &str) -> Result<Scene, Error> {
+    Scene::parse(text, "test.toml")
+}
+
+fn example(k: usize) -> Scene {
+    Scene::parse(SCENES[k].1, SCENES[k].0).expect("example scene parses")
+}
+
+#[test]
+fn the_example_scenes_parse_and_name_their_files() {
+    for (name, text) in SCENES {
+        let s = Scene::parse(text, name).expect("parses");
+        assert_eq!(s.name, name);
+        let on_disk = std::fs::read_to_string(format!("fits/render/{name}.toml")).expect("shipped");
+        assert_eq!(on_disk, text, "fits/render/{name}.toml is the scene the study renders");
+    }
+}
+
+#[test]
+fn bad_scenes_are_typed_errors_naming_the_field() {
+    let base = SCENES[0].1;
+    let cases: Vec<(String, &str)> = vec![
+        (base.replace("alpha = 0.1", "alpha = 0.0"), "material.alpha"),
+        (base.replace("alpha = 0.1", "alpha = nan"), "material.alpha"),
+        (base.replace("width = 256", "width = 255"), "camera.width"),
+        (base.replace("width = 256", "width = 100000"), "camera.width"),
+        (base.replace("fov_deg = 40.0", "fov_deg = inf"), "camera.fov_deg"),
+        (base.replace("map_size = 256", "map_size = 300"), "material.map_size"),
+        (base.replace("truth_samples = 256", "truth_samples = 1"), "render.truth_samples"),
+        (
+            base.replace("width = 256", "width = 2048").replace("height = 256", "height = 2048").replace("truth_samples = 256", "truth_samples = 4096"),
+            "truth samples in all",
+        ),
+        (base.replace("v_axis = [0.0, -2.2, 3.0]", "v_axis = [1.0, 0.0, 0.0]"), "orthogonal"),
+        (base.replace("position = [0.0, -2.2, 1.6]", "position = [0.0, 0.0, 0.0]"), "look_at"),
+        (base.replace("seed = 11", "seed = 11\nbogus = 1"), "bogus"),
+        (base.replace("scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]", "scales = []"), "render.scales"),
+        (base.replace("name = \"multiscale-ltc-plane\"", "name = \"../x\""), "name"),
+    ];
+    for (text, needle) in cases {
+        match scene(&text) {
+            Err(Error::InvalidArgument(m)) => {
+                assert!(m.contains(needle), "{m} should name {needle}");
+                assert!(!m.contains('\n'), "one line: {m}");
+            }
+            other => panic!("expected a typed error naming {needle}, got {other:?}"),
+        }
+    }
+    let torus = SCENES[1].1.replace("minor_radius = 0.2", "minor_radius = 2.0");
+    assert!(matches!(scene(&torus), Err(Error::InvalidArgument(m)) if m.contains("minor_radius")));
+}
+
+proptest! {
+    #![proptest_config(common::config(10_000))]
+    /// The shares of a convex quadrilateral (any size from a tenth of a texel to 30
+    /// texels, anywhere, any orientation) sum to its area by the shoelace formula, and
+    /// their area-weighted centroids to its centroid.
+    #[test]
+    fn texel_shares_sum_to_the_footprint(cx in -1e3f64..1e3, cy in -1e3f64..1e3, a in 0.1f64..30.0, b in 0.1f64..30.0, rot in 0.0f64..6.3, shear in -0.9f64..0.9) {
+        let (c, s) = (rot.cos(), rot.sin());
+        let corner = |u: f64, v: f64| {
+            let (x, y) = (a * u + shear * b * v, b * v);
+            [cx + c * x - s * y, cy + s * x + c * y]
+        };
+        let q = [corner(-0.5, -0.5), corner(0.5, -0.5), corner(0.5, 0.5), corner(-0.5, 0.5)];
+        let (area, centroid) = area_centroid(&q);
+        let sh = shares(&q, 1 << 20).expect("bounded");
+        let total: f64 = sh.iter().map(|s| s.area).sum();
+        prop_assert!((total - area.abs()).abs() <= 1e-9 * area.abs().max(1.0), "{total} vs {area}");
+        let mx = sh.iter().map(|s| s.area * s.centroid[0]).sum::<f64>() / total;
+        let my = sh.iter().map(|s| s.area * s.centroid[1]).sum::<f64>() / total;
+        prop_assert!((mx - centroid[0]).abs() <= 1e-7 * (1.0 + cx.abs()) && (my - centroid[1]).abs() <= 1e-7 * (1.0 + cy.abs()));
+        prop_assert!(sh.iter().all(|s| s.area > 0.0 && s.area <= 1.0 + 1e-12));
+    }
+}
+
+#[test]
+fn a_footprint_too_large_is_left_to_sampling() {
+    let q = [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0]];
+    assert!(shares(&q, 4096).is_none());
+    assert!(shares(&[[0.0, 0.0], [f64::NAN, 0.0], [1.0, 1.0], [0.0, 1.0]], 4096).is_none());
+}
+
+#[test]
+fn the_truth_agrees_with_closed_forms_on_flat_maps() {
+    for (name, text, nodes) in check::scenes() {
+        let s = Scene::parse(&text, name).expect("check scene");
+        let r = check::run(&s, name, nodes).expect("renders");
+        assert!(r.pixels > 500, "{name}: {} pixels", r.pixels);
+        if name.contains("closed form") {
+            // point and directional lights on exact footprints: no MC at all, only the
+            // midpoint rule within each texel's share (here one texel per pixel)
+            assert!(r.max_rel < 5e-4, "{name}: {r:?}");
+        } else {
+            // the LTC's quad light by MC: the standard errors must be honest
+            assert!((0.6..1.6).contains(&r.mse_over_se2), "{name}: {r:?}");
+            assert!(r.frac_z4 < 0.03, "{name}: {r:?}");
+            assert!(r.max_abs_over_mean < 0.2, "{name}: {r:?}");
+        }
+    }
+}
+
+fn small(mut s: Scene) -> Scene {
+    s = at_preset(s, ndfbench::integrate::Preset::Quick);
+    s.camera.width = 24;
+    s.camera.height = 24;
+    s.render.scales.truncate(2);
+    if let Some(p) = &mut s.camera.path {
+        p.frames = 3;
+    }
+    s
+}
+
+fn plan() -> GlintPlan {
+    let mut p = glint_plan(ndfbench::integrate::Preset::Quick);
+    p.iters = 4;
+    p
+}
+
+#[test]
+fn renders_are_bit_identical_at_any_thread_count() {
+    let c = ndfbench::render::constants(Path::new("results")).expect("results/fits/filters.json");
+    for k in 0..SCENES.len() {
+        let mut s = small(example(k));
+        if k == 2 {
+            s.material.map_size = 128;
+        }
+        let go = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool")
+                .install(|| ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan()).expect("renders"))
+        };
+        let (a, b) = (go(1), go(3));
+        assert_eq!(a.views.len(), b.views.len());
+        for (va, vb) in a.views.iter().zip(&b.views) {
+            let bits = |v: &ndfbench::render::View| -> Vec<u64> {
+                v.truth
+                    .iter()
+                    .flat_map(|t| [t.value.to_bits(), t.se.to_bits()])
+                    .chain(v.methods.iter().flat_map(|m| m.pixels.iter().map(|p| p.to_bits() as u64)))
+                    .collect()
+            };
+            assert_eq!(bits(va), bits(vb), "{}", s.name);
+            assert!(!va.methods.is_empty(), "{}: every method of the set renders", s.name);
+        }
+        let m = measure::measure_render(&a);
+        for v in &m.views {
+            for sc in v {
+                assert!(sc.m.rmse.value.is_finite() && sc.m.flip.value.is_finite(), "{}: {}", s.name, sc.key);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_measures_of_the_truth_itself_are_zero() {
+    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
+    let s = small(example(0));
+    let r = ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan()).expect("renders");
+    let v = &r.views[0];
+    let t: Vec<f32> = v.truth.iter().map(|p| p.value as f32).collect();
+    let (rmse, rel, _, n) = measure::errors(&v.truth, &t);
+    assert!(n > 0);
+    // the truth rounded to f32 against itself in f64: only rounding remains
+    assert!(rmse.value <= 1e-7 * v.truth.iter().map(|p| p.value).fold(0.0, f64::max) && rel.value < 1e-12);
+    let tv: Vec<f64> = t.iter().map(|&x| x as f64).collect();
+    let (_, f) = measure::flip(&tv, &tv, r.width, r.height, 1.0, &measure::mask(&v.truth));
+    assert_eq!(f.value, 0.0, "ꟻLIP of an image against itself");
+}
+
+#[test]
+fn the_splatted_pndf_equals_the_brute_force_one() {
+    let map = NormalMap::procedural(Procedural::Flakes, 64, 3).expect("map");
+    for &(cx, cy, sp, sr, res) in &[(10.3, 20.7, 3.0, 0.02, 32usize), (0.0, 63.9, 1.2, 0.05, 16), (31.5, 31.5, 6.0, 0.01, 64)] {
+        let a = ndfbench::tensor::pndf::pndf_image(&map, cx, cy, sp, sr, res).expect("brute");
+        let b = ndfbench::tensor::pndf::pndf_image_splat(&map, cx, cy, sp, sr, res).expect("splat");
+        let peak = a.iter().cloned().fold(0.0, f64::max);
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() <= 1e-12 * peak, "{x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn the_fast_flakes_are_the_full_scan_flakes() {
+    for &(size, seed) in &[(8usize, 1u64), (16, 2), (64, 3), (128, 9), (256, 3)] {
+        assert_eq!(flakes(size, seed, false), flakes(size, seed, true), "size {size}");
+    }
+}
+
+#[test]
+fn the_shipped_ltc_lookup_matches_the_texture_reference() {
+    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").expect("results/fits/ltc-ggx.json");
+    let mut worst = 0.0f64;
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let (a, c) = (i as f64 / 40.0, j as f64 / 40.0);
+            let r = t.bilinear(a, c, true);
+            let (m, norm) = methods::ltc_lookup(a as f32, c as f32);
+            for (k, v) in m.iter().enumerate() {
+                worst = worst.max((*v as f64 - r[k]).abs() / r[k].abs().max(1e-3));
+            }
+            worst = worst.max((norm as f64 - r[4]).abs() / r[4].abs().max(1e-3));
+        }
+    }
+    // f32 arithmetic on the same binary16 entries (the f64 reference rounds (α, cos θ)
+    // differently by at most an ulp of f32)
+    assert!(worst < 1e-4, "{worst}");
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_ndfbench"))
+}
+
+#[test]
+fn the_render_command_writes_its_report_and_rejects_bad_input() {
+    let dir = std::env::temp_dir().join(format!("ndfb-render-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    let sc = dir.join("tiny.toml");
+    let text = SCENES[0]
+        .1
+        .replace("width = 256", "width = 16")
+        .replace("height = 256", "height = 16")
+        .replace("scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]", "scales = [1.0, 4.0]");
+    std::fs::write(&sc, text).expect("write");
+    let out = dir.join("out");
+    let o = bin().args(["render", sc.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("multiscale-ltc-plane.md")).expect("report");
+    assert!(md.contains("renormalised mip normal") && md.contains("ꟻLIP"));
+    assert!(out.join("multiscale-ltc-plane-grid.png").is_file());
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("multiscale-ltc-plane.json")).expect("json")).expect("parses");
+    assert_eq!(json["views"].as_array().map(|v| v.len()), Some(2));
+    // bad input: exit 2 and one line, nothing written
+    let bad = dir.join("bad.toml");
+    for body in ["not toml [[[", &SCENES[0].1.replace("alpha = 0.1", "alpha = -1.0"), &SCENES[0].1.replace("\"isotropic-noise\"", "\"missing.png\"")] {
+        std::fs::write(&bad, body).expect("write");
+        let o2 = dir.join("never");
+        let o = bin().args(["render", bad.to_str().unwrap(), "--out", o2.to_str().unwrap()]).output().expect("runs");
+        assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!o2.join("multiscale-ltc-plane.md").exists());
+    }
+    let o = bin().args(["render", dir.join("absent.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]).output().expect("runs");
+    assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}
