@@ -3,8 +3,10 @@
 //! are installed; the prefilter tool on a 2048² normal map (the whole chain, and the
 //! per-mip re-read of the base level that a one-pass-per-mip tool such as Filament's
 //! roughness-prefilter does); every shipped LTC table's per-pixel cost (the bilinear
-//! lookup of its binary16 entries and the quad integral). `cargo run --release -- bench-report` renders them into
-//! results/performance.md.
+//! lookup of its binary16 entries and the quad integral); every render method's shading
+//! pass per pixel on one core (the G-buffer, each approximation of the example scenes,
+//! seed 002's brute force and CP query). `cargo run --release -- bench-report` renders
+//! them into results/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndfbench::codegen::{backends, shaders, validators};
@@ -199,10 +201,115 @@ fn ltc_table_benches(c: &mut Criterion) {
     g.finish();
 }
 
+/// One core, each example scene at its own size (256²): the G-buffer pass over the whole
+/// image, then each method's shading of the 64² pixels at the image centre (so the
+/// footprints are the default render's).
+fn render_benches(c: &mut Criterion) {
+    use ndfbench::render::{geometry::*, glints, light, methods, scene::*, texture::Texture};
+    let Ok(consts) = ndfbench::render::constants(Path::new("results")) else {
+        return;
+    };
+    let mut g = c.benchmark_group("render");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(2));
+    for (name, text) in ndfbench::studies::render::SCENES {
+        let Ok(mut sc) = Scene::parse(text, name) else {
+            continue;
+        };
+        let Ok(map) = ndfbench::render::normal_map(&sc, Path::new("fits/render")) else {
+            continue;
+        };
+        let tex = Texture::new(map);
+        let lights = light::resolve(&sc.lights);
+        let cam = Camera::at_frame(&sc.camera, 0);
+        let surf = Surface::new(&sc.surface, sc.render.scales[0]);
+        let gb = methods::gbuffer(&cam, &surf, &tex);
+        let w = cam.width;
+        let (x0, y0) = ((w - 64) / 2, (cam.height - 64) / 2);
+        let window: Vec<usize> = (0..4096).map(|i| (y0 + i / 64) * w + x0 + i % 64).collect();
+        let n = window.len();
+        g.bench_function(format!("{name}: G-buffer, {} pixels", gb.len()), |b| {
+            b.iter(|| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .map(|p| p.install(|| methods::gbuffer(&cam, &surf, &tex).len()))
+            })
+        });
+        let alpha = sc.material.alpha as f32;
+        let list: &[methods::Method] = match sc.render.methods {
+            MethodSet::Multiscale => &methods::Method::MULTISCALE,
+            MethodSet::SpecularAa => &methods::Method::SPECULAR_AA,
+            _ => &[],
+        };
+        for &m in list {
+            g.bench_function(format!("{name}: {}, {n} pixels", m.key()), |b| {
+                b.iter(|| {
+                    window
+                        .iter()
+                        .map(|&k| methods::shade(m, &gb, w, black_box(k), alpha, &lights, &consts))
+                        .sum::<f32>()
+                })
+            });
+        }
+        if sc.render.methods == MethodSet::Glints {
+            let sr = sc.material.sigma_r;
+            g.bench_function(format!("{name}: pndf-brute, {n} pixels"), |b| {
+                b.iter(|| {
+                    window
+                        .iter()
+                        .filter_map(|&k| {
+                            gb[k].as_ref().map(|p| {
+                                glints::brute(
+                                    &cam,
+                                    p,
+                                    &tex,
+                                    &lights,
+                                    sr,
+                                    (k % w) as f64 + 0.5,
+                                    (k / w) as f64 + 0.5,
+                                )
+                            })
+                        })
+                        .sum::<f32>()
+                })
+            });
+            let plan = ndfbench::studies::render::glint_plan(ndfbench::integrate::Preset::Quick);
+            if let Ok(imgs) = glints::pndf_grid(&tex, plan.res, plan.stride, 4.6, sr) {
+                for rank in [8usize, 32] {
+                    let Ok(cp) =
+                        glints::CpGlints::build(&imgs, plan.res, plan.stride, plan.t, rank, 10, 5)
+                    else {
+                        continue;
+                    };
+                    g.bench_function(format!("{name}: cp-r{rank}, {n} pixels"), |b| {
+                        b.iter(|| {
+                            window
+                                .iter()
+                                .filter_map(|&k| gb[k].as_ref().map(|p| cp.shade(p, &tex, &lights)))
+                                .sum::<f32>()
+                        })
+                    });
+                }
+            }
+            g.bench_function(format!("{name}: plain-mip, {n} pixels"), |b| {
+                b.iter(|| {
+                    window
+                        .iter()
+                        .filter_map(|&k| gb[k].as_ref().map(|p| glints::mip(p, &lights, sr)))
+                        .sum::<f32>()
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     prefilter_benches,
     shader_benches,
-    ltc_table_benches
+    ltc_table_benches,
+    render_benches
 );
 criterion_main!(benches);

@@ -373,7 +373,11 @@ fn main() -> ExitCode {
             println!("wrote {}", w.join(", "));
             true
         }),
-        Some(Cmd::Render { file, out: dir, preset }) => in_set("render", &dir.join(".manifest.json"), || {
+        Some(Cmd::Render {
+            file,
+            out: dir,
+            preset,
+        }) => in_set("render", &dir.join(".manifest.json"), || {
             ndfbench::studies::render::render_file(&file, &dir, &cli.results, preset)
         })
         .map(|w| {

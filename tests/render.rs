@@ -30,7 +30,10 @@ fn the_example_scenes_parse_and_name_their_files() {
         let s = Scene::parse(text, name).expect("parses");
         assert_eq!(s.name, name);
         let on_disk = std::fs::read_to_string(format!("fits/render/{name}.toml")).expect("shipped");
-        assert_eq!(on_disk, text, "fits/render/{name}.toml is the scene the study renders");
+        assert_eq!(
+            on_disk, text,
+            "fits/render/{name}.toml is the scene the study renders"
+        );
     }
 }
 
@@ -41,19 +44,48 @@ fn bad_scenes_are_typed_errors_naming_the_field() {
         (base.replace("alpha = 0.1", "alpha = 0.0"), "material.alpha"),
         (base.replace("alpha = 0.1", "alpha = nan"), "material.alpha"),
         (base.replace("width = 256", "width = 255"), "camera.width"),
-        (base.replace("width = 256", "width = 100000"), "camera.width"),
-        (base.replace("fov_deg = 40.0", "fov_deg = inf"), "camera.fov_deg"),
-        (base.replace("map_size = 256", "map_size = 300"), "material.map_size"),
-        (base.replace("truth_samples = 256", "truth_samples = 1"), "render.truth_samples"),
         (
-            base.replace("width = 256", "width = 2048").replace("height = 256", "height = 2048").replace("truth_samples = 256", "truth_samples = 4096"),
+            base.replace("width = 256", "width = 100000"),
+            "camera.width",
+        ),
+        (
+            base.replace("fov_deg = 40.0", "fov_deg = inf"),
+            "camera.fov_deg",
+        ),
+        (
+            base.replace("map_size = 256", "map_size = 300"),
+            "material.map_size",
+        ),
+        (
+            base.replace("truth_samples = 256", "truth_samples = 1"),
+            "render.truth_samples",
+        ),
+        (
+            base.replace("width = 256", "width = 2048")
+                .replace("height = 256", "height = 2048")
+                .replace("truth_samples = 256", "truth_samples = 4096"),
             "truth samples in all",
         ),
-        (base.replace("v_axis = [0.0, -2.2, 3.0]", "v_axis = [1.0, 0.0, 0.0]"), "orthogonal"),
-        (base.replace("position = [0.0, -2.2, 1.6]", "position = [0.0, 0.0, 0.0]"), "look_at"),
+        (
+            base.replace("v_axis = [0.0, -2.2, 3.0]", "v_axis = [1.0, 0.0, 0.0]"),
+            "orthogonal",
+        ),
+        (
+            base.replace("position = [0.0, -2.2, 1.6]", "position = [0.0, 0.0, 0.0]"),
+            "look_at",
+        ),
         (base.replace("seed = 11", "seed = 11\nbogus = 1"), "bogus"),
-        (base.replace("scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]", "scales = []"), "render.scales"),
-        (base.replace("name = \"multiscale-ltc-plane\"", "name = \"../x\""), "name"),
+        (
+            base.replace(
+                "scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]",
+                "scales = []",
+            ),
+            "render.scales",
+        ),
+        (
+            base.replace("name = \"multiscale-ltc-plane\"", "name = \"../x\""),
+            "name",
+        ),
     ];
     for (text, needle) in cases {
         match scene(&text) {
@@ -64,7 +96,9 @@ fn bad_scenes_are_typed_errors_naming_the_field() {
             other => panic!("expected a typed error naming {needle}, got {other:?}"),
         }
     }
-    let torus = SCENES[1].1.replace("minor_radius = 0.2", "minor_radius = 2.0");
+    let torus = SCENES[1]
+        .1
+        .replace("minor_radius = 0.2", "minor_radius = 2.0");
     assert!(matches!(scene(&torus), Err(Error::InvalidArgument(m)) if m.contains("minor_radius")));
 }
 
@@ -148,7 +182,10 @@ fn renders_are_bit_identical_at_any_thread_count() {
                 .num_threads(threads)
                 .build()
                 .expect("pool")
-                .install(|| ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan()).expect("renders"))
+                .install(|| {
+                    ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan())
+                        .expect("renders")
+                })
         };
         let (a, b) = (go(1), go(3));
         assert_eq!(a.views.len(), b.views.len());
@@ -157,16 +194,29 @@ fn renders_are_bit_identical_at_any_thread_count() {
                 v.truth
                     .iter()
                     .flat_map(|t| [t.value.to_bits(), t.se.to_bits()])
-                    .chain(v.methods.iter().flat_map(|m| m.pixels.iter().map(|p| p.to_bits() as u64)))
+                    .chain(
+                        v.methods
+                            .iter()
+                            .flat_map(|m| m.pixels.iter().map(|p| p.to_bits() as u64)),
+                    )
                     .collect()
             };
             assert_eq!(bits(va), bits(vb), "{}", s.name);
-            assert!(!va.methods.is_empty(), "{}: every method of the set renders", s.name);
+            assert!(
+                !va.methods.is_empty(),
+                "{}: every method of the set renders",
+                s.name
+            );
         }
         let m = measure::measure_render(&a);
         for v in &m.views {
             for sc in v {
-                assert!(sc.m.rmse.value.is_finite() && sc.m.flip.value.is_finite(), "{}: {}", s.name, sc.key);
+                assert!(
+                    sc.m.rmse.value.is_finite() && sc.m.flip.value.is_finite(),
+                    "{}: {}",
+                    s.name,
+                    sc.key
+                );
             }
         }
     }
@@ -182,7 +232,10 @@ fn the_measures_of_the_truth_itself_are_zero() {
     let (rmse, rel, _, n) = measure::errors(&v.truth, &t);
     assert!(n > 0);
     // the truth rounded to f32 against itself in f64: only rounding remains
-    assert!(rmse.value <= 1e-7 * v.truth.iter().map(|p| p.value).fold(0.0, f64::max) && rel.value < 1e-12);
+    assert!(
+        rmse.value <= 1e-7 * v.truth.iter().map(|p| p.value).fold(0.0, f64::max)
+            && rel.value < 1e-12
+    );
     let tv: Vec<f64> = t.iter().map(|&x| x as f64).collect();
     let (_, f) = measure::flip(&tv, &tv, r.width, r.height, 1.0, &measure::mask(&v.truth));
     assert_eq!(f.value, 0.0, "ꟻLIP of an image against itself");
@@ -191,7 +244,11 @@ fn the_measures_of_the_truth_itself_are_zero() {
 #[test]
 fn the_splatted_pndf_equals_the_brute_force_one() {
     let map = NormalMap::procedural(Procedural::Flakes, 64, 3).expect("map");
-    for &(cx, cy, sp, sr, res) in &[(10.3, 20.7, 3.0, 0.02, 32usize), (0.0, 63.9, 1.2, 0.05, 16), (31.5, 31.5, 6.0, 0.01, 64)] {
+    for &(cx, cy, sp, sr, res) in &[
+        (10.3, 20.7, 3.0, 0.02, 32usize),
+        (0.0, 63.9, 1.2, 0.05, 16),
+        (31.5, 31.5, 6.0, 0.01, 64),
+    ] {
         let a = ndfbench::tensor::pndf::pndf_image(&map, cx, cy, sp, sr, res).expect("brute");
         let b = ndfbench::tensor::pndf::pndf_image_splat(&map, cx, cy, sp, sr, res).expect("splat");
         let peak = a.iter().cloned().fold(0.0, f64::max);
@@ -204,13 +261,18 @@ fn the_splatted_pndf_equals_the_brute_force_one() {
 #[test]
 fn the_fast_flakes_are_the_full_scan_flakes() {
     for &(size, seed) in &[(8usize, 1u64), (16, 2), (64, 3), (128, 9), (256, 3)] {
-        assert_eq!(flakes(size, seed, false), flakes(size, seed, true), "size {size}");
+        assert_eq!(
+            flakes(size, seed, false),
+            flakes(size, seed, true),
+            "size {size}"
+        );
     }
 }
 
 #[test]
 fn the_shipped_ltc_lookup_matches_the_texture_reference() {
-    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").expect("results/fits/ltc-ggx.json");
+    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx")
+        .expect("results/fits/ltc-ggx.json");
     let mut worst = 0.0f64;
     for i in 0..=40 {
         for j in 0..=40 {
@@ -242,29 +304,69 @@ fn the_render_command_writes_its_report_and_rejects_bad_input() {
         .1
         .replace("width = 256", "width = 16")
         .replace("height = 256", "height = 16")
-        .replace("scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]", "scales = [1.0, 4.0]");
+        .replace(
+            "scales = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]",
+            "scales = [1.0, 4.0]",
+        );
     std::fs::write(&sc, text).expect("write");
     let out = dir.join("out");
-    let o = bin().args(["render", sc.to_str().unwrap(), "--out", out.to_str().unwrap()]).output().expect("runs");
+    let o = bin()
+        .args([
+            "render",
+            sc.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .expect("runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(out.join("multiscale-ltc-plane.md")).expect("report");
     assert!(md.contains("renormalised mip normal") && md.contains("ꟻLIP"));
     assert!(out.join("multiscale-ltc-plane-grid.png").is_file());
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("multiscale-ltc-plane.json")).expect("json")).expect("parses");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("multiscale-ltc-plane.json")).expect("json"),
+    )
+    .expect("parses");
     assert_eq!(json["views"].as_array().map(|v| v.len()), Some(2));
     // bad input: exit 2 and one line, nothing written
     let bad = dir.join("bad.toml");
-    for body in ["not toml [[[", &SCENES[0].1.replace("alpha = 0.1", "alpha = -1.0"), &SCENES[0].1.replace("\"isotropic-noise\"", "\"missing.png\"")] {
+    for body in [
+        "not toml [[[",
+        &SCENES[0].1.replace("alpha = 0.1", "alpha = -1.0"),
+        &SCENES[0]
+            .1
+            .replace("\"isotropic-noise\"", "\"missing.png\""),
+    ] {
         std::fs::write(&bad, body).expect("write");
         let o2 = dir.join("never");
-        let o = bin().args(["render", bad.to_str().unwrap(), "--out", o2.to_str().unwrap()]).output().expect("runs");
-        assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = bin()
+            .args([
+                "render",
+                bad.to_str().unwrap(),
+                "--out",
+                o2.to_str().unwrap(),
+            ])
+            .output()
+            .expect("runs");
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(!o2.join("multiscale-ltc-plane.md").exists());
     }
-    let o = bin().args(["render", dir.join("absent.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]).output().expect("runs");
+    let o = bin()
+        .args([
+            "render",
+            dir.join("absent.toml").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .expect("runs");
     assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -131,7 +131,9 @@ pub fn flakes(size: usize, seed: u64, full_scan: bool) -> Vec<Vector3<f64>> {
         let n = cells as i64;
         let mut v: Vec<usize> = (-2..=2)
             .flat_map(|dj: i64| {
-                (-2..=2).map(move |di: i64| ((cj + dj).rem_euclid(n) * n + (ci + di).rem_euclid(n)) as usize)
+                (-2..=2).map(move |di: i64| {
+                    ((cj + dj).rem_euclid(n) * n + (ci + di).rem_euclid(n)) as usize
+                })
             })
             .collect();
         v.sort_unstable();

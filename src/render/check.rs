@@ -68,7 +68,11 @@ fn exact_at(cam: &Camera, surf: &Surface, sh: &Shader, alpha: f64, px: f64, py: 
                 let f = shading_frame(&nt, &v);
                 let poly: Vec<V3> = l
                     .corners()
-                    .map(|cs| cs.iter().map(|c| f.local(&fr.local(&(c - hit.p)))).collect())
+                    .map(|cs| {
+                        cs.iter()
+                            .map(|c| f.local(&fr.local(&(c - hit.p))))
+                            .collect()
+                    })
                     .unwrap_or_default();
                 let m_inv = Matrix3::from_diagonal(&V3::new(1.0 / alpha, 1.0 / alpha, 1.0));
                 radiance * ltc_integral(&m_inv, &poly, EdgeForm::Exact)
@@ -90,11 +94,21 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
         .into_par_iter()
         .filter_map(|k| {
             let (x, y) = (k % w, k / w);
-            let t = truth::pixel(&cam, &surf, &sh, x, y, scene.render.truth_samples, scene.render.seed);
+            let t = truth::pixel(
+                &cam,
+                &surf,
+                &sh,
+                x,
+                y,
+                scene.render.truth_samples,
+                scene.render.seed,
+            );
             if !t.covered {
                 return None;
             }
-            let e = pixel_quad(quad_nodes, x, y, &|px, py| exact_at(&cam, &surf, &sh, m.alpha, px, py));
+            let e = pixel_quad(quad_nodes, x, y, &|px, py| {
+                exact_at(&cam, &surf, &sh, m.alpha, px, py)
+            });
             Some((t.value, t.se, e))
         })
         .collect();
@@ -110,7 +124,13 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
     };
     let se2 = rows.iter().map(|r| r.1 * r.1).sum::<f64>() / n;
     let d2 = rows.iter().map(|r| (r.0 - r.2).powi(2)).sum::<f64>() / n;
-    out.mse_over_se2 = if se2 > 0.0 { d2 / se2 } else if d2 == 0.0 { 0.0 } else { f64::INFINITY };
+    out.mse_over_se2 = if se2 > 0.0 {
+        d2 / se2
+    } else if d2 == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    };
     for &(t, _, e) in &rows {
         if e > 0.01 * mean {
             out.max_rel = out.max_rel.max((t - e).abs() / e);

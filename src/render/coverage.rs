@@ -14,7 +14,13 @@ pub struct Share {
 }
 
 fn clip(poly: &[[f64; 2]], axis: usize, bound: f64, keep_below: bool) -> Vec<[f64; 2]> {
-    let inside = |p: &[f64; 2]| if keep_below { p[axis] <= bound } else { p[axis] >= bound };
+    let inside = |p: &[f64; 2]| {
+        if keep_below {
+            p[axis] <= bound
+        } else {
+            p[axis] >= bound
+        }
+    };
     let mut out = Vec::with_capacity(poly.len() + 2);
     for k in 0..poly.len() {
         let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);

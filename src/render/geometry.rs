@@ -115,7 +115,11 @@ impl Surface {
             SurfaceKind::Plane => V3::new(uv[0] / ru, uv[1] / rv, 0.0),
             SurfaceKind::Sphere => {
                 let (phi, theta) = (2.0 * PI * uv[0] / ru, PI * (1.0 - uv[1] / rv));
-                V3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()) * self.r
+                V3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ) * self.r
             }
             SurfaceKind::Torus => {
                 let (phi, psi) = (2.0 * PI * uv[0] / ru, 2.0 * PI * uv[1] / rv);
@@ -158,7 +162,11 @@ impl Surface {
                 let t = V3::new(-phi.sin(), phi.cos(), 0.0);
                 Hit {
                     p,
-                    frame: Frame { t, b: n.cross(&t), n },
+                    frame: Frame {
+                        t,
+                        b: n.cross(&t),
+                        n,
+                    },
                     uv: [phi / (2.0 * PI) * ru, (1.0 - theta / PI) * rv],
                     scale: [2.0 * PI * self.r * st / ru, PI * self.r / rv],
                 }
@@ -172,7 +180,11 @@ impl Surface {
                 let t = V3::new(-sp, cp, 0.0);
                 Hit {
                     p,
-                    frame: Frame { t, b: n.cross(&t), n },
+                    frame: Frame {
+                        t,
+                        b: n.cross(&t),
+                        n,
+                    },
                     uv: [phi / (2.0 * PI) * ru, psi / (2.0 * PI) * rv],
                     scale: [
                         2.0 * PI * (self.r + self.tube * psi.cos()).max(1e-9) / ru,

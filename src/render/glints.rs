@@ -65,7 +65,10 @@ pub fn region(gp: &GPixel, lights: &[Light]) -> Option<Region> {
     let (l0, h0) = hxy(center)?;
     let d = center - gp.hit.p;
     let omega = area * (d.normalize().dot(normal)).abs() / d.norm_squared();
-    let (mut bx, mut by) = ((f64::INFINITY, f64::NEG_INFINITY), (f64::INFINITY, f64::NEG_INFINITY));
+    let (mut bx, mut by) = (
+        (f64::INFINITY, f64::NEG_INFINITY),
+        (f64::INFINITY, f64::NEG_INFINITY),
+    );
     for c in light.corners()? {
         let (_, h) = hxy(&c)?;
         bx = (bx.0.min(h.x), bx.1.max(h.x));
@@ -100,7 +103,15 @@ pub fn mip(gp: &GPixel, lights: &[Light], sigma_r: f64) -> f32 {
 }
 
 /// Brute force over the footprint's texels (seed 002 Eq 2 restricted to R).
-pub fn brute(cam: &Camera, gp: &GPixel, tex: &Texture, lights: &[Light], sigma_r: f64, x: f64, y: f64) -> f32 {
+pub fn brute(
+    cam: &Camera,
+    gp: &GPixel,
+    tex: &Texture,
+    lights: &[Light],
+    sigma_r: f64,
+    x: f64,
+    y: f64,
+) -> f32 {
     let Some(r) = region(gp, lights) else {
         return 0.0;
     };
@@ -111,7 +122,9 @@ pub fn brute(cam: &Camera, gp: &GPixel, tex: &Texture, lights: &[Light], sigma_r
     let Some(inv) = cov.try_inverse() else {
         return 0.0;
     };
-    let reach = (3.0 * cov[(0, 0)].max(cov[(1, 1)]).sqrt()).ceil().min(256.0) as i64;
+    let reach = (3.0 * cov[(0, 0)].max(cov[(1, 1)]).sqrt())
+        .ceil()
+        .min(256.0) as i64;
     let c = tex.texel_coords(gp.hit.uv);
     let (ci, cj) = (c[0].floor() as i64, c[1].floor() as i64);
     let (mut sw, mut s) = (0.0, 0.0);
@@ -150,7 +163,13 @@ pub struct CpGlints {
 }
 
 /// Every footprint's P-NDF image on the grid (stride s, centres at s/2 + k s), σ_P given.
-pub fn pndf_grid(tex: &Texture, res: usize, stride: usize, sigma_p: f64, sigma_r: f64) -> Result<Vec<Vec<f64>>> {
+pub fn pndf_grid(
+    tex: &Texture,
+    res: usize,
+    stride: usize,
+    sigma_p: f64,
+    sigma_r: f64,
+) -> Result<Vec<Vec<f64>>> {
     let g = tex.map.width / stride;
     (0..g * g)
         .into_par_iter()
@@ -164,7 +183,15 @@ pub fn pndf_grid(tex: &Texture, res: usize, stride: usize, sigma_p: f64, sigma_r
 
 impl CpGlints {
     /// Compress the grid's images at `rank` (plain CP-ALS, the paper's choice).
-    pub fn build(images: &[Vec<f64>], res: usize, stride: usize, t: usize, rank: usize, iters: usize, seed: u64) -> Result<CpGlints> {
+    pub fn build(
+        images: &[Vec<f64>],
+        res: usize,
+        stride: usize,
+        t: usize,
+        rank: usize,
+        iters: usize,
+        seed: u64,
+    ) -> Result<CpGlints> {
         let g = (images.len() as f64).sqrt().round() as usize;
         let nb = res / t;
         let region = g.div_ceil(2);
@@ -180,7 +207,9 @@ impl CpGlints {
                 }
                 for b in 0..nb * nb {
                     let (bx, by) = (b % nb, b / nb);
-                    let block: Vec<f64> = (0..t * t).map(|q| img[(by * t + q / t) * res + bx * t + q % t]).collect();
+                    let block: Vec<f64> = (0..t * t)
+                        .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
+                        .collect();
                     if block.iter().any(|v| *v > 0.0) {
                         data.extend(block);
                         index[f * nb * nb + b] = Some((tensors.len() as u32, l));
@@ -209,7 +238,11 @@ impl CpGlints {
             })
             .collect::<Result<_>>()?;
         let dense: usize = tensors.iter().map(|t| t.data.len()).sum();
-        let num: f64 = tensors.iter().zip(&fits).map(|(t, c)| (c.rel_error * t.norm()).powi(2)).sum();
+        let num: f64 = tensors
+            .iter()
+            .zip(&fits)
+            .map(|(t, c)| (c.rel_error * t.norm()).powi(2))
+            .sum();
         let den: f64 = tensors.iter().map(|t| t.norm().powi(2)).sum();
         Ok(CpGlints {
             res,
@@ -220,10 +253,13 @@ impl CpGlints {
             dense,
             rank,
             rel_error: (num / den.max(1e-300)).sqrt(),
-            clusters: fits.into_iter().map(|c| {
-                let s = Sat::build(&c);
-                (c, s)
-            }).collect(),
+            clusters: fits
+                .into_iter()
+                .map(|c| {
+                    let s = Sat::build(&c);
+                    (c, s)
+                })
+                .collect(),
             index,
         })
     }
@@ -262,8 +298,14 @@ impl CpGlints {
                 let Some((cl, z)) = self.index[f * nb * nb + (by * nb as i64 + bx) as usize] else {
                     continue;
                 };
-                let (lx, hx) = ((x0 - bx * t).max(0) as usize, (x1 - bx * t).min(t - 1) as usize);
-                let (ly, hy) = ((y0 - by * t).max(0) as usize, (y1 - by * t).min(t - 1) as usize);
+                let (lx, hx) = (
+                    (x0 - bx * t).max(0) as usize,
+                    (x1 - bx * t).min(t - 1) as usize,
+                );
+                let (ly, hy) = (
+                    (y0 - by * t).max(0) as usize,
+                    (y1 - by * t).min(t - 1) as usize,
+                );
                 let (cp, sat) = &self.clusters[cl as usize];
                 let count = ((hx - lx + 1) * (hy - ly + 1)) as f32;
                 sum += count * range_f32(cp, sat, (lx, hx), (ly, hy), z as usize);

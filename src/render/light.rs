@@ -109,7 +109,9 @@ impl Light {
         match self {
             Light::Quad {
                 center, u, v, half, ..
-            } => Some(center + u * (half[0] * (2.0 * s[0] - 1.0)) + v * (half[1] * (2.0 * s[1] - 1.0))),
+            } => Some(
+                center + u * (half[0] * (2.0 * s[0] - 1.0)) + v * (half[1] * (2.0 * s[1] - 1.0)),
+            ),
             _ => None,
         }
     }

@@ -65,7 +65,10 @@ pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Est, Est, f64, usize) {
     let on: Vec<usize> = (0..truth.len()).filter(|&k| truth[k].covered).collect();
     let mean_t = on.iter().map(|&k| truth[k].value).sum::<f64>() / on.len().max(1) as f64;
     let _ = mean_t;
-    let sq: Vec<f64> = on.iter().map(|&k| (img[k] as f64 - truth[k].value).powi(2)).collect();
+    let sq: Vec<f64> = on
+        .iter()
+        .map(|&k| (img[k] as f64 - truth[k].value).powi(2))
+        .collect();
     let t2 = on.iter().map(|&k| truth[k].value.powi(2)).sum::<f64>() / on.len().max(1) as f64;
     let mse = mean_se(&sq);
     let rel = Est {
@@ -73,11 +76,16 @@ pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Est, Est, f64, usize) {
         se: mse.se / t2.max(1e-300),
     };
     let rmse = mse.value.sqrt();
-    let noise = (on.iter().map(|&k| truth[k].se.powi(2)).sum::<f64>() / on.len().max(1) as f64).sqrt();
+    let noise =
+        (on.iter().map(|&k| truth[k].se.powi(2)).sum::<f64>() / on.len().max(1) as f64).sqrt();
     (
         Est {
             value: rmse,
-            se: if rmse > 0.0 { mse.se / (2.0 * rmse) } else { 0.0 },
+            se: if rmse > 0.0 {
+                mse.se / (2.0 * rmse)
+            } else {
+                0.0
+            },
         },
         rel,
         noise,
@@ -97,11 +105,23 @@ pub fn to_rgb8(img: &[f64], exposure: f64) -> Vec<u8> {
 
 /// ꟻLIP of `test` against `reference` (both linear, tone-mapped here): the per-pixel
 /// error map and its mean ± s.e. over the mask.
-pub fn flip(reference: &[f64], test: &[f64], w: usize, h: usize, exposure: f64, on: &[bool]) -> (Vec<f32>, Est) {
+pub fn flip(
+    reference: &[f64],
+    test: &[f64],
+    w: usize,
+    h: usize,
+    exposure: f64,
+    on: &[bool],
+) -> (Vec<f32>, Est) {
     let r = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(reference, exposure));
     let t = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(test, exposure));
     let e = nv_flip::flip(r, t, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
-    let vals: Vec<f64> = e.iter().zip(on).filter(|(_, m)| **m).map(|(v, _)| *v as f64).collect();
+    let vals: Vec<f64> = e
+        .iter()
+        .zip(on)
+        .filter(|(_, m)| **m)
+        .map(|(v, _)| *v as f64)
+        .collect();
     (e, mean_se(&vals))
 }
 
@@ -207,8 +227,16 @@ pub fn measure_render(r: &super::Render) -> Measured {
         let tr: Vec<&[f32]> = tv.iter().map(|v| v.as_slice()).collect();
         truth_change = Some(flicker(&truths, &tr, exp).change);
         for (i, mi) in r.views[0].methods.iter().enumerate() {
-            let frames: Vec<&[f32]> = r.views.iter().map(|v| v.methods[i].pixels.as_slice()).collect();
-            fl.push((mi.key.clone(), mi.label.clone(), flicker(&truths, &frames, exp)));
+            let frames: Vec<&[f32]> = r
+                .views
+                .iter()
+                .map(|v| v.methods[i].pixels.as_slice())
+                .collect();
+            fl.push((
+                mi.key.clone(),
+                mi.label.clone(),
+                flicker(&truths, &frames, exp),
+            ));
         }
     }
     Measured {

@@ -46,7 +46,11 @@ pub fn gbuffer(cam: &Camera, surf: &Surface, tex: &Texture) -> Vec<Option<GPixel
             let fp = footprint(cam, &hit, x, y);
             let stats = tex.stats(hit.uv, tex.lod(&fp));
             let mu = V3::from(stats.mean_normal);
-            let n_t = if mu.norm() > 1e-12 { mu.normalize() } else { V3::z() };
+            let n_t = if mu.norm() > 1e-12 {
+                mu.normalize()
+            } else {
+                V3::z()
+            };
             Some(GPixel {
                 hit,
                 view: -d,
@@ -156,16 +160,27 @@ impl Method {
 
 /// The filtered lobe a method hands to the shading code.
 enum Filtered {
-    Iso { n_w: V3, alpha: f32 },
+    Iso {
+        n_w: V3,
+        alpha: f32,
+    },
     /// Roughness matrix (xx, yy, xy) in `frame` (world; z the filtered normal).
-    Matrix { frame: Frame, a: [f32; 3] },
+    Matrix {
+        frame: Frame,
+        a: [f32; 3],
+    },
 }
 
 /// The 2×2 quad of pixel k: (n00, n10, n01) world normals, the top-left's frame.
 fn quad(g: &[Option<GPixel>], w: usize, k: usize) -> Option<[GPixel; 4]> {
     let (x0, y0) = ((k % w) & !1, (k / w) & !1);
     let at = |x: usize, y: usize| g.get(y * w + x).copied().flatten();
-    Some([at(x0, y0)?, at(x0 + 1, y0)?, at(x0, y0 + 1)?, at(x0 + 1, y0 + 1)?])
+    Some([
+        at(x0, y0)?,
+        at(x0 + 1, y0)?,
+        at(x0, y0 + 1)?,
+        at(x0 + 1, y0 + 1)?,
+    ])
 }
 
 fn a3(v: V3) -> [f32; 3] {
@@ -185,7 +200,14 @@ fn light_dir(light: &Light, p: &V3) -> Option<(V3, f64)> {
     }
 }
 
-fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &[Light], c: &Constants) -> Filtered {
+fn filter(
+    m: Method,
+    alpha: f32,
+    gp: &GPixel,
+    q: Option<&[GPixel; 4]>,
+    lights: &[Light],
+    c: &Constants,
+) -> Filtered {
     let r = gs_r(&gp.stats);
     let iso = |a: f32| Filtered::Iso {
         n_w: gp.n_w,
@@ -197,7 +219,9 @@ fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &
         None => (V3::zeros(), V3::zeros()),
     };
     let (du3, dv3) = (a3(du), a3(dv));
-    let ded = |s2: f32, d: f32| gs::filter_deferred(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], s2, d);
+    let ded = |s2: f32, d: f32| {
+        gs::filter_deferred(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], s2, d)
+    };
     match m {
         Method::MipNormal | Method::NoAa => iso(alpha),
         Method::Seed000Paper => iso(rules::seed000_paper(alpha, r)),
@@ -227,9 +251,17 @@ fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &
         Method::TokuyoshiDeferred => iso(ded(0.25, 0.18)),
         Method::Eq13Refit => iso(ded(c.eq13_sigma2_box, 0.18)),
         Method::Filament => iso(ded(0.15, 0.04)),
-        Method::Unity => iso(gs::filter_projected(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], 0.1, 0.04)),
+        Method::Unity => iso(gs::filter_projected(
+            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], 0.1, 0.04,
+        )),
         Method::Godot => iso(rules::deferred_on_alpha(alpha, du3, dv3, 0.25, 0.18)),
-        Method::GodotRefit => iso(rules::deferred_on_alpha(alpha, du3, dv3, c.alpha_sigma2_box, 0.18)),
+        Method::GodotRefit => iso(rules::deferred_on_alpha(
+            alpha,
+            du3,
+            dv3,
+            c.alpha_sigma2_box,
+            0.18,
+        )),
         Method::Kaplanyan => {
             let Some(q) = q else { return iso(alpha) };
             let avg = (q[0].n_w + q[1].n_w + q[2].n_w + q[3].n_w).normalize();
@@ -239,7 +271,13 @@ fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &
                 [(l.x / l.z.abs()) as f32, (l.y / l.z.abs()) as f32]
             };
             let (s0, s1, s2) = (s(&q[0].n_w), s(&q[1].n_w), s(&q[2].n_w));
-            iso(rules::kaplanyan_rect(alpha, [s1[0] - s0[0], s1[1] - s0[1]], [s2[0] - s0[0], s2[1] - s0[1]], 0.25, 0.18))
+            iso(rules::kaplanyan_rect(
+                alpha,
+                [s1[0] - s0[0], s1[1] - s0[1]],
+                [s2[0] - s0[0], s2[1] - s0[1]],
+                0.25,
+                0.18,
+            ))
         }
         Method::TokuyoshiForward => {
             // the half-vector of the first point/directional light, on each pixel's own
@@ -254,7 +292,12 @@ fn filter(m: Method, alpha: f32, gp: &GPixel, q: Option<&[GPixel; 4]>, lights: &
                 [hl.x as f32, hl.y as f32]
             };
             let (h0, h1, h2) = (h(&q[0]), h(&q[1]), h(&q[2]));
-            let a = rules::forward_matrix(alpha, [h1[0] - h0[0], h1[1] - h0[1]], [h2[0] - h0[0], h2[1] - h0[1]], 0.25);
+            let a = rules::forward_matrix(
+                alpha,
+                [h1[0] - h0[0], h1[1] - h0[1]],
+                [h2[0] - h0[0], h2[1] - h0[1]],
+                0.25,
+            );
             Filtered::Matrix {
                 frame: Frame::around(gp.n_w),
                 a,
@@ -276,15 +319,32 @@ pub fn ltc_lookup(alpha: f32, cos_theta: f32) -> ([f32; 4], f32) {
     let r = alpha.clamp(0.0, 1.0).sqrt();
     let t = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt();
     let (x, y) = (r * (n - 1) as f32, t * (n - 1) as f32);
-    let (i0, j0) = ((x.floor() as usize).min(n - 2), (y.floor() as usize).min(n - 2));
+    let (i0, j0) = (
+        (x.floor() as usize).min(n - 2),
+        (y.floor() as usize).min(n - 2),
+    );
     let (fx, fy) = (x - i0 as f32, y - j0 as f32);
-    let un = |p: u32| [f16::from_bits(p as u16).to_f32(), f16::from_bits((p >> 16) as u16).to_f32()];
+    let un = |p: u32| {
+        [
+            f16::from_bits(p as u16).to_f32(),
+            f16::from_bits((p >> 16) as u16).to_f32(),
+        ]
+    };
     let texel = |i: usize, j: usize| -> [f32; 5] {
         let k = i + n * j;
-        let (ab, cd, m) = (un(LTC_1_F16[k][0]), un(LTC_1_F16[k][1]), un(LTC_2_F16[k][0]));
+        let (ab, cd, m) = (
+            un(LTC_1_F16[k][0]),
+            un(LTC_1_F16[k][1]),
+            un(LTC_2_F16[k][0]),
+        );
         [ab[0], ab[1], cd[0], cd[1], m[0]]
     };
-    let (c00, c10, c01, c11) = (texel(i0, j0), texel(i0 + 1, j0), texel(i0, j0 + 1), texel(i0 + 1, j0 + 1));
+    let (c00, c10, c01, c11) = (
+        texel(i0, j0),
+        texel(i0 + 1, j0),
+        texel(i0, j0 + 1),
+        texel(i0 + 1, j0 + 1),
+    );
     let v: [f32; 5] = std::array::from_fn(|c| {
         (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy) + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
     });
@@ -302,8 +362,8 @@ fn ltc_light(light: &Light, gp: &GPixel, n_w: &V3, alpha: f32) -> f32 {
     let (m, norm) = ltc_lookup(alpha, cos_v);
     let p: Vec<[f32; 3]> = cs.iter().map(|c| a3(f.local(&(c - gp.hit.p)))).collect();
     let i = gs::ltc_quad(
-        m[0], m[1], m[2], m[3], p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0], p[2][1], p[2][2], p[3][0],
-        p[3][1], p[3][2],
+        m[0], m[1], m[2], m[3], p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0],
+        p[2][1], p[2][2], p[3][0], p[3][1], p[3][2],
     );
     *radiance as f32 * norm * i
 }
@@ -321,7 +381,9 @@ fn matrix_specular(f: &Frame, a: [f32; 3], v: &V3, l: &V3) -> f32 {
     let proj = |o: [f32; 3]| {
         let q = o[0] * o[0] + o[1] * o[1];
         if q > 0.0 {
-            ((a[0] * o[0] * o[0] + 2.0 * a[2] * o[0] * o[1] + a[1] * o[1] * o[1]) / q).max(0.0).sqrt()
+            ((a[0] * o[0] * o[0] + 2.0 * a[2] * o[0] * o[1] + a[1] * o[1] * o[1]) / q)
+                .max(0.0)
+                .sqrt()
         } else {
             a[0].max(a[1]).sqrt()
         }
@@ -332,7 +394,15 @@ fn matrix_specular(f: &Frame, a: [f32; 3], v: &V3, l: &V3) -> f32 {
 }
 
 /// The radiance of pixel `k` by method `m`; 0 where the centre ray misses.
-pub fn shade(m: Method, g: &[Option<GPixel>], w: usize, k: usize, alpha: f32, lights: &[Light], c: &Constants) -> f32 {
+pub fn shade(
+    m: Method,
+    g: &[Option<GPixel>],
+    w: usize,
+    k: usize,
+    alpha: f32,
+    lights: &[Light],
+    c: &Constants,
+) -> f32 {
     let Some(gp) = g[k] else { return 0.0 };
     let q = quad(g, w, k);
     let flt = filter(m, alpha, &gp, q.as_ref(), lights, c);
@@ -344,7 +414,9 @@ pub fn shade(m: Method, g: &[Option<GPixel>], w: usize, k: usize, alpha: f32, li
                 let (vl, ll) = (a3(f.local(&gp.view)), a3(f.local(&l)));
                 e as f32 * gs::ggx_specular(ll[0], ll[1], ll[2], vl[0], vl[1], vl[2], *alpha)
             }
-            (Filtered::Matrix { frame, a }, Some((l, e))) => e as f32 * matrix_specular(frame, *a, &gp.view, &l),
+            (Filtered::Matrix { frame, a }, Some((l, e))) => {
+                e as f32 * matrix_specular(frame, *a, &gp.view, &l)
+            }
             (Filtered::Iso { n_w, alpha }, None) => ltc_light(light, &gp, n_w, *alpha),
             (Filtered::Matrix { frame, a }, None) => {
                 let det = (a[0] * a[1] - a[2] * a[2]).max(0.0);

@@ -168,7 +168,17 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
             let (truth, truth_ms) = timed(|| {
                 (0..w * h)
                     .into_par_iter()
-                    .map(|k| truth::pixel(&cam, &surf, &sh, k % w, k / w, scene.render.truth_samples, scene.render.seed))
+                    .map(|k| {
+                        truth::pixel(
+                            &cam,
+                            &surf,
+                            &sh,
+                            k % w,
+                            k / w,
+                            scene.render.truth_samples,
+                            scene.render.seed,
+                        )
+                    })
                     .collect::<Vec<_>>()
             });
             let (g, g_ms) = timed(|| methods::gbuffer(&cam, &surf, &tex));
@@ -195,7 +205,15 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
             }
             if scene.render.methods == MethodSet::Glints {
                 if cps.is_empty() {
-                    cps = build_cps(&tex, &cam, &surf, m.sigma_r, plan, scene.render.seed, &mut notes)?;
+                    cps = build_cps(
+                        &tex,
+                        &cam,
+                        &surf,
+                        m.sigma_r,
+                        plan,
+                        scene.render.seed,
+                        &mut notes,
+                    )?;
                 }
                 out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps, g_ms));
             }
@@ -228,14 +246,16 @@ fn build_cps(
     notes: &mut Vec<String>,
 ) -> Result<Vec<(glints::CpGlints, f64)>> {
     let (cx, cy) = (cam.width as f64 * 0.5, cam.height as f64 * 0.5);
-    let hit = surf
-        .intersect(&cam.eye, &cam.dir(cx, cy))
-        .ok_or_else(|| Error::InvalidArgument("glints: the centre ray misses the surface".into()))?;
+    let hit = surf.intersect(&cam.eye, &cam.dir(cx, cy)).ok_or_else(|| {
+        Error::InvalidArgument("glints: the centre ray misses the surface".into())
+    })?;
     let fp = geometry::footprint(cam, &hit, cx, cy);
     let s = tex.map.width as f64;
-    let var = (fp[0][0].powi(2) + fp[0][1].powi(2) + fp[1][0].powi(2) + fp[1][1].powi(2)) * s * s / 24.0;
+    let var =
+        (fp[0][0].powi(2) + fp[0][1].powi(2) + fp[1][0].powi(2) + fp[1][1].powi(2)) * s * s / 24.0;
     let sigma_p = (var + 1.0 / 12.0).sqrt();
-    let (images, pndf_ms) = timed(|| glints::pndf_grid(tex, plan.res, plan.stride, sigma_p, sigma_r));
+    let (images, pndf_ms) =
+        timed(|| glints::pndf_grid(tex, plan.res, plan.stride, sigma_p, sigma_r));
     let images = images?;
     notes.push(format!(
         "P-NDF grid: {}² footprints (stride {}, σ_P = {sigma_p:.2} texels from the centre pixel's footprint), {}² images, {:.0} ms",
@@ -246,7 +266,17 @@ fn build_cps(
     ));
     let mut out = Vec::new();
     for &rank in &plan.ranks {
-        let (cp, ms) = timed(|| glints::CpGlints::build(&images, plan.res, plan.stride, plan.t, rank, plan.iters, seed));
+        let (cp, ms) = timed(|| {
+            glints::CpGlints::build(
+                &images,
+                plan.res,
+                plan.stride,
+                plan.t,
+                rank,
+                plan.iters,
+                seed,
+            )
+        });
         let cp = cp?;
         notes.push(format!(
             "CP rank {rank}: relative reconstruction error {:.2} %, {} of {} numbers ({:.2} %), compressed in {:.0} ms",
@@ -280,7 +310,17 @@ fn glint_images(
         })
     };
     let mut out = Vec::new();
-    let (p, ms) = img(&|k, gp| glints::brute(cam, gp, tex, lights, sigma_r, (k % w) as f64 + 0.5, (k / w) as f64 + 0.5));
+    let (p, ms) = img(&|k, gp| {
+        glints::brute(
+            cam,
+            gp,
+            tex,
+            lights,
+            sigma_r,
+            (k % w) as f64 + 0.5,
+            (k / w) as f64 + 0.5,
+        )
+    });
     out.push(MethodImage {
         key: "pndf-brute".into(),
         label: "brute-force P-NDF footprint query (Eq 2)".into(),

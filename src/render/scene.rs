@@ -213,7 +213,9 @@ fn pos(what: &str, x: f64, lo: f64, hi: f64) -> Result<()> {
     if x.is_finite() && x >= lo && x <= hi {
         Ok(())
     } else {
-        Err(bad(format!("scene: {what} must be in [{lo}, {hi}], got {x}")))
+        Err(bad(format!(
+            "scene: {what} must be in [{lo}, {hi}], got {x}"
+        )))
     }
 }
 
@@ -226,15 +228,29 @@ impl Scene {
     pub fn parse(text: &str, origin: &str) -> Result<Scene> {
         let s: Scene = toml::from_str(text).map_err(|e| {
             // toml's messages span several lines (a source excerpt): keep the first
-            let first = e.message().lines().next().unwrap_or("malformed TOML").to_string();
+            let first = e
+                .message()
+                .lines()
+                .next()
+                .unwrap_or("malformed TOML")
+                .to_string();
             let at = e
                 .span()
-                .map(|r| format!(" (line {})", text[..r.start.min(text.len())].matches('\n').count() + 1))
+                .map(|r| {
+                    format!(
+                        " (line {})",
+                        text[..r.start.min(text.len())].matches('\n').count() + 1
+                    )
+                })
                 .unwrap_or_default();
             bad(format!("{origin}: {first}{at}"))
         })?;
-        s.check()
-            .map_err(|e| bad(format!("{origin}: {}", e.to_string().trim_start_matches("invalid argument: "))))?;
+        s.check().map_err(|e| {
+            bad(format!(
+                "{origin}: {}",
+                e.to_string().trim_start_matches("invalid argument: ")
+            ))
+        })?;
         Ok(s)
     }
 
@@ -338,7 +354,10 @@ impl Scene {
         for (i, l) in self.lights.iter().enumerate() {
             let w = |f: &str| format!("lights[{i}].{f}");
             match l {
-                LightSpec::Point { position, intensity } => {
+                LightSpec::Point {
+                    position,
+                    intensity,
+                } => {
                     vec_ok(&w("position"), position)?;
                     pos(&w("intensity"), *intensity, 0.0, 1e9)?;
                 }

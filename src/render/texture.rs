@@ -35,7 +35,10 @@ impl Texture {
 
     /// Texel coordinates (i, j) of uv at level 0, for a footprint sum.
     pub fn texel_coords(&self, uv: [f64; 2]) -> [f64; 2] {
-        [uv[0] * self.map.width as f64, uv[1] * self.map.height as f64]
+        [
+            uv[0] * self.map.width as f64,
+            uv[1] * self.map.height as f64,
+        ]
     }
 
     /// The level-0 texel (i, j), periodic.

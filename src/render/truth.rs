@@ -126,7 +126,8 @@ impl<'a> Shader<'a> {
 
     /// One radiance sample: the exact part plus one sample of each quad light.
     pub fn sample(&self, hit: &Hit, eye: &V3, nt: &V3, u: &mut ChaCha8Rng) -> f64 {
-        self.exact_part(hit, eye, nt) + self.quad_part(hit, eye, nt, [u.random(), u.random(), u.random()])
+        self.exact_part(hit, eye, nt)
+            + self.quad_part(hit, eye, nt, [u.random(), u.random(), u.random()])
     }
 
     /// Solid-angle density of area sampling the quad in world direction d from p.
@@ -140,7 +141,15 @@ impl<'a> Shader<'a> {
         }
     }
 
-    fn quad_sample(&self, light: &Light, hit: &Hit, v: &V3, nt: &V3, sf: &Frame, u: [f64; 3]) -> f64 {
+    fn quad_sample(
+        &self,
+        light: &Light,
+        hit: &Hit,
+        v: &V3,
+        nt: &V3,
+        sf: &Frame,
+        u: [f64; 3],
+    ) -> f64 {
         let Light::Quad { radiance, .. } = light else {
             return 0.0;
         };
@@ -148,7 +157,9 @@ impl<'a> Shader<'a> {
         let vndf = match self.kind {
             Lobe::Ggx => {
                 let vs = sf.local(v);
-                VndfSampler::new(self.surface.clone(), vs).ok().map(|s| (s, *sf, vs))
+                VndfSampler::new(self.surface.clone(), vs)
+                    .ok()
+                    .map(|s| (s, *sf, vs))
             }
             _ => None,
         };
@@ -235,17 +246,37 @@ pub const MAX_EXACT_TEXELS: usize = 4096;
 /// spread over the texels; otherwise the pixel is supersampled by n footprint samples.
 /// Either way two independent replicates give the value (their mean) and the standard
 /// error |m₁ − m₂|/2 (0 for point and directional lights on an exact footprint).
-pub fn pixel(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, seed: u64) -> PixelTruth {
+pub fn pixel(
+    cam: &Camera,
+    surf: &Surface,
+    sh: &Shader,
+    x: usize,
+    y: usize,
+    n: usize,
+    seed: u64,
+) -> PixelTruth {
     let mut rng = pixel_rng(seed, x, y);
-    exact(cam, surf, sh, x, y, n, &mut rng).unwrap_or_else(|| sampled(cam, surf, sh, x, y, n, &mut rng))
+    exact(cam, surf, sh, x, y, n, &mut rng)
+        .unwrap_or_else(|| sampled(cam, surf, sh, x, y, n, &mut rng))
 }
 
-fn exact(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, rng: &mut ChaCha8Rng) -> Option<PixelTruth> {
+fn exact(
+    cam: &Camera,
+    surf: &Surface,
+    sh: &Shader,
+    x: usize,
+    y: usize,
+    n: usize,
+    rng: &mut ChaCha8Rng,
+) -> Option<PixelTruth> {
     let centre = surf.intersect(&cam.eye, &cam.dir(x as f64 + 0.5, y as f64 + 0.5))?;
     let per = surf.periods();
     let size = [sh.tex.map.width as f64, sh.tex.map.height as f64];
     let mut q = [[0.0; 2]; 4];
-    for (c, (dx, dy)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].iter().enumerate() {
+    for (c, (dx, dy)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+        .iter()
+        .enumerate()
+    {
         let h = surf.intersect(&cam.eye, &cam.dir(x as f64 + dx, y as f64 + dy))?;
         for a in 0..2 {
             let mut d = h.uv[a] - centre.uv[a];
@@ -263,7 +294,11 @@ fn exact(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize
     // quad lights: k light samples per texel and replicate, all of a replicate's drawn
     // from one Owen-scrambled Sobol sequence (sobol_burley; its own scramble per pixel
     // and replicate, so the two replicates are independent)
-    let k = if sh.has_quad() { (n / 2).div_ceil(shares.len()).max(1) } else { 0 };
+    let k = if sh.has_quad() {
+        (n / 2).div_ceil(shares.len()).max(1)
+    } else {
+        0
+    };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
     let mut reps = [0.0f64; 2];
     for (si, s) in shares.iter().enumerate() {
@@ -277,7 +312,8 @@ fn exact(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize
                 let mut u = [0.0; 3];
                 for (d, x) in u.iter_mut().enumerate() {
                     let jit = rng.random::<f64>() * (1.0 / (1u64 << 24) as f64);
-                    *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit).min(1.0 - f64::EPSILON / 2.0);
+                    *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit)
+                        .min(1.0 - f64::EPSILON / 2.0);
                 }
                 qs += sh.quad_part(&hit, &cam.eye, &nt, u);
             }
@@ -294,7 +330,15 @@ fn exact(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize
 
 /// n footprint samples as two replicates of n/2 (each a jittered grid when n/2 is a
 /// square, else uniform).
-fn sampled(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usize, rng: &mut ChaCha8Rng) -> PixelTruth {
+fn sampled(
+    cam: &Camera,
+    surf: &Surface,
+    sh: &Shader,
+    x: usize,
+    y: usize,
+    n: usize,
+    rng: &mut ChaCha8Rng,
+) -> PixelTruth {
     let half = (n / 2).max(1);
     let g = (half as f64).sqrt().round() as usize;
     let grid = g * g == half;
@@ -305,7 +349,10 @@ fn sampled(cam: &Camera, surf: &Surface, sh: &Shader, x: usize, y: usize, n: usi
         for k in 0..half {
             let (jx, jy): (f64, f64) = (rng.random(), rng.random());
             let (ox, oy) = if grid {
-                (((k % g) as f64 + jx) / g as f64, ((k / g) as f64 + jy) / g as f64)
+                (
+                    ((k % g) as f64 + jx) / g as f64,
+                    ((k / g) as f64 + jy) / g as f64,
+                )
             } else {
                 (jx, jy)
             };

@@ -127,3 +127,59 @@ fn per_pixel(t: &Timed) -> String {
         fmt_time(t.hi_ns / 1024.0)
     )
 }
+
+/// Each render method's cost per pixel (criterion, one core, 64² of the example scene)
+/// beside its error in results/render.md (relative MSE over the views of the default
+/// render: best – worst).
+pub(super) fn render_table(timed: &[Timed], results: &std::path::Path) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "render").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let v = crate::results::read_result(results, "render");
+    let err = |scene: &str, key: &str| -> String {
+        let Some(v) = &v else { return "—".into() };
+        let mut r: Vec<f64> = Vec::new();
+        for rd in v["renders"].as_array().into_iter().flatten() {
+            if rd["scene"]["name"] != scene {
+                continue;
+            }
+            for view in rd["views"].as_array().into_iter().flatten() {
+                for m in view["methods"].as_array().into_iter().flatten() {
+                    if m["key"] == key {
+                        r.extend(m["measures"]["rel_mse"]["value"].as_f64());
+                    }
+                }
+            }
+        }
+        if r.is_empty() {
+            return "—".into();
+        }
+        let lo = r.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = r.iter().cloned().fold(0.0, f64::max);
+        format!("{:.1} % – {:.1} %", 100.0 * lo, 100.0 * hi)
+    };
+    let mut md = String::from("\n## Render methods: cost per pixel beside their error\n\nCriterion's mean per pixel (95 % CI) on one core: the G-buffer over each example scene's whole 256² image, each method over its 64² centre pixels (`cargo bench --bench deliverables -- render`; the bench's CP models are built from the quick preset's P-NDF grid, 32² images, so their query cost is that of 32² images) beside the method's relative MSE against the truth over the views of results/render.md (best – worst view).\n\n| scene: method | per pixel (95 % CI) | relative MSE (results/render.md) |\n|---|---|---|\n");
+    for t in rows {
+        let Some((scene, rest)) = t.function.split_once(": ") else {
+            continue;
+        };
+        let Some((key, count)) = rest.split_once(", ") else {
+            continue;
+        };
+        let n: f64 = count.trim_end_matches(" pixels").parse().unwrap_or(1.0);
+        let px = format!(
+            "{} ({} – {})",
+            fmt_time(t.mean_ns / n),
+            fmt_time(t.lo_ns / n),
+            fmt_time(t.hi_ns / n)
+        );
+        let e = if key == "G-buffer" {
+            "—".into()
+        } else {
+            err(scene, key)
+        };
+        md.push_str(&format!("| {scene}: {key} | {px} | {e} |\n"));
+    }
+    md
+}

@@ -212,6 +212,7 @@ it buys.\n\n",
     md.push_str(&deliverables::shaders_table(&timed));
     md.push_str(&deliverables::prefilter_table(&timed));
     md.push_str(&deliverables::ltc_tables_table(&timed, results));
+    md.push_str(&deliverables::render_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -222,6 +223,7 @@ it buys.\n\n",
                 && !t.group.starts_with("kernel-")
                 && !t.group.starts_with("tensor-")
                 && !t.group.starts_with("ltc-")
+                && t.group != "render"
                 && !t.group.starts_with("shaders/")
                 && t.group != "prefilter"
         })

@@ -16,9 +16,18 @@ use std::path::Path;
 
 /// The example scenes, as shipped in fits/render/.
 pub const SCENES: [(&str, &str); 3] = [
-    ("multiscale-ltc-plane", include_str!("../../../fits/render/multiscale-ltc-plane.toml")),
-    ("specular-aa-torus", include_str!("../../../fits/render/specular-aa-torus.toml")),
-    ("glints-plane", include_str!("../../../fits/render/glints-plane.toml")),
+    (
+        "multiscale-ltc-plane",
+        include_str!("../../../fits/render/multiscale-ltc-plane.toml"),
+    ),
+    (
+        "specular-aa-torus",
+        include_str!("../../../fits/render/specular-aa-torus.toml"),
+    ),
+    (
+        "glints-plane",
+        include_str!("../../../fits/render/glints-plane.toml"),
+    ),
 ];
 
 /// The scene at the preset's size: quick renders 64² with a quarter of the samples,
@@ -57,20 +66,26 @@ pub fn glint_plan(preset: Preset) -> GlintPlan {
             stride: 16,
             t: 16,
             ranks: [8, 16, 32],
-            iters: 30,
+            iters: 120,
         },
         Preset::Precise => GlintPlan {
             res: 128,
             stride: 8,
             t: 16,
             ranks: [8, 16, 32],
-            iters: 60,
+            iters: 200,
         },
     }
 }
 
 /// Render and measure one scene; write its pictures into `pictures`.
-pub fn render_one(scene: &Scene, base: &Path, results: &Path, preset: Preset, pictures: &Path) -> Result<(Render, measure::Measured, Vec<std::path::PathBuf>)> {
+pub fn render_one(
+    scene: &Scene,
+    base: &Path,
+    results: &Path,
+    preset: Preset,
+    pictures: &Path,
+) -> Result<(Render, measure::Measured, Vec<std::path::PathBuf>)> {
     let c = crate::render::constants(results)?;
     let r = crate::render::render(scene, base, &c, &glint_plan(preset))?;
     let m = measure::measure_render(&r);
@@ -93,7 +108,12 @@ pub fn render_file(file: &Path, out: &Path, results: &Path, preset: Preset) -> R
     let mdp = out.join(format!("{}.md", scene.name));
     let jp = out.join(format!("{}.json", scene.name));
     crate::io::write_atomic(&mdp, md.as_bytes())?;
-    crate::io::write_atomic(&jp, serde_json::to_string_pretty(&report::json(&r, &m)).unwrap_or_default().as_bytes())?;
+    crate::io::write_atomic(
+        &jp,
+        serde_json::to_string_pretty(&report::json(&r, &m))
+            .unwrap_or_default()
+            .as_bytes(),
+    )?;
     let mut names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
     names.push(mdp.display().to_string());
     names.push(jp.display().to_string());
@@ -129,7 +149,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     );
     let checks: Vec<check::CheckResult> = check::scenes()
         .iter()
-        .map(|(name, text, nodes)| Scene::parse(text, name).and_then(|s| check::run(&s, name, *nodes)))
+        .map(|(name, text, nodes)| {
+            Scene::parse(text, name).and_then(|s| check::run(&s, name, *nodes))
+        })
         .collect::<Result<_>>()?;
     let mut json = Vec::new();
     let titles = [
@@ -145,12 +167,21 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             let mut s = base.clone();
             s.name = format!("{}-scratches", base.name);
             s.material.normal_map = "scratches".into();
-            s.description = base.description.replace("flakes normal map (1024², flakes tilted up to 25°)", "scratches normal map (1024², V-grooves with slopes ±0.6)");
+            s.description = base.description.replace(
+                "flakes normal map (1024², flakes tilted up to 25°)",
+                "scratches normal map (1024², V-grooves with slopes ±0.6)",
+            );
             variants.push(s);
         }
         md.push_str(&format!("{}\n\n", titles[k]));
         for s in variants {
-            crate::report::stage(&format!("render {}: {}×{}, {} views", s.name, s.camera.width, s.camera.height, s.render.scales.len() * s.frames()));
+            crate::report::stage(&format!(
+                "render {}: {}×{}, {} views",
+                s.name,
+                s.camera.width,
+                s.camera.height,
+                s.render.scales.len() * s.frames()
+            ));
             let (r, m, _) = render_one(&s, Path::new("fits/render"), results, preset, &pictures)?;
             if let (Some(none), Some(tc)) = (m.flicker.first(), m.truth_change) {
                 worst_flicker_gap = worst_flicker_gap.min(none.2.change.value - tc.value);

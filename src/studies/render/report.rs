@@ -34,7 +34,11 @@ fn shown(r: &Render) -> Vec<usize> {
 
 /// Methods × views: the relative MSE ± s.e. and ꟻLIP of every view at a glance.
 fn summary(r: &Render, m: &Measured) -> String {
-    let views: Vec<usize> = if r.scene.frames() > 1 { shown(r) } else { (0..r.views.len()).collect() };
+    let views: Vec<usize> = if r.scene.frames() > 1 {
+        shown(r)
+    } else {
+        (0..r.views.len()).collect()
+    };
     let mut md = String::from("| method |");
     for &k in &views {
         md.push_str(&format!(" {} |", view_name(r, k)));
@@ -46,7 +50,12 @@ fn summary(r: &Render, m: &Measured) -> String {
         md.push_str(&format!("| {} |", mi.label));
         for &k in &views {
             let s = &m.views[k][i].m;
-            md.push_str(&format!(" {:.1} % ± {:.1} · ꟻLIP {:.3} |", 100.0 * s.rel_mse.value, 100.0 * s.rel_mse.se, s.flip.value));
+            md.push_str(&format!(
+                " {:.1} % ± {:.1} · ꟻLIP {:.3} |",
+                100.0 * s.rel_mse.value,
+                100.0 * s.rel_mse.se,
+                s.flip.value
+            ));
         }
         md.push('\n');
     }
@@ -101,7 +110,11 @@ pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Rgb {
         rows.push(
             (start..start + n)
                 .map(|k| {
-                    let p: Vec<f64> = r.views[k].methods[i].pixels.iter().map(|&x| x as f64).collect();
+                    let p: Vec<f64> = r.views[k].methods[i]
+                        .pixels
+                        .iter()
+                        .map(|&x| x as f64)
+                        .collect();
                     Rgb::from_linear(&p, r.width, r.height, exp).crop(tile, tile)
                 })
                 .collect(),
@@ -126,7 +139,7 @@ fn row(s: &Scored) -> String {
 pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     let sc = &r.scene;
     let mut md = format!(
-        "{}. {}×{} pixels, {} truth samples per pixel (two jittered replicates), tone map: exposure {} → Reinhard → sRGB.\n\n![grid: truth in the first column, each method's ꟻLIP map under it (magma, 0 → 1, the bar under the truth)]({rel}/{}-grid.png)\n\n",
+        "{}. {}×{} pixels, {} truth samples per pixel (two independent replicates), tone map: exposure {} → Reinhard → sRGB.\n\n![grid: truth in the first column, each method's ꟻLIP map under it (magma, 0 → 1, the bar under the truth)]({rel}/{}-grid.png)\n\n",
         sc.description, r.width, r.height, sc.render.truth_samples, sc.render.exposure, sc.name
     );
     if sc.frames() > 1 {
@@ -140,18 +153,28 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     for note in &r.notes {
         md.push_str(&format!("- {note}\n"));
     }
-    md.push_str(&format!("\nRelative MSE Σ(m − t)²/Σt² ± s.e. and mean ꟻLIP per view (tables per view below):\n\n{}", summary(r, m)));
-    let every: Vec<usize> = if r.scene.frames() > 1 { shown(r) } else { (0..r.views.len()).collect() };
+    md.push_str(&format!(
+        "\nRelative MSE Σ(m − t)²/Σt² ± s.e. and mean ꟻLIP per view (tables per view below):\n\n{}",
+        summary(r, m)
+    ));
+    let every: Vec<usize> = if r.scene.frames() > 1 {
+        shown(r)
+    } else {
+        (0..r.views.len()).collect()
+    };
     for k in every {
         let v = &r.views[k];
         let noise = m.views[k].first().map_or(0.0, |s| s.m.truth_noise);
-        let mean_t = v.truth.iter().filter(|p| p.covered).map(|p| p.value).sum::<f64>()
-            / v.truth.iter().filter(|p| p.covered).count().max(1) as f64;
+        let on = v.truth.iter().filter(|p| p.covered);
+        let count = on.clone().count().max(1) as f64;
+        let mean_t = on.clone().map(|p| p.value).sum::<f64>() / count;
+        let t2 = on.map(|p| p.value * p.value).sum::<f64>() / count;
         md.push_str(&format!(
-            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e} ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
+            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, i.e. {:.2} % of relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
             sc.name,
             view_name(r, k),
             v.truth_ms,
+            100.0 * noise * noise / t2.max(1e-300),
             m.views[k].first().map_or(0, |s| s.m.pixels)
         ));
         for s in &m.views[k] {
@@ -169,7 +192,12 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
         for (_, label, f) in &m.flicker {
             md.push_str(&format!(
                 "| {label} | {:.3e} ± {:.1e} | {:+.3e} ± {:.1e} | {:.3e} ± {:.1e} |\n",
-                f.change.value, f.change.se, f.excess.value, f.excess.se, f.temporal_rmse.value, f.temporal_rmse.se
+                f.change.value,
+                f.change.se,
+                f.excess.value,
+                f.excess.se,
+                f.temporal_rmse.value,
+                f.temporal_rmse.se
             ));
         }
     }
@@ -201,7 +229,12 @@ pub fn json(r: &Render, m: &Measured) -> serde_json::Value {
 }
 
 /// Write a render's pictures into `dir` (grid, and strip for a path); returns their paths.
-pub fn write_pictures(dir: &Path, r: &Render, m: &Measured, tile: usize) -> Result<Vec<std::path::PathBuf>> {
+pub fn write_pictures(
+    dir: &Path,
+    r: &Render,
+    m: &Measured,
+    tile: usize,
+) -> Result<Vec<std::path::PathBuf>> {
     std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::Io {
         path: dir.display().to_string(),
         msg: e.to_string(),
