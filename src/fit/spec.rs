@@ -161,23 +161,7 @@ impl FitSpec {
     /// Parse and validate a spec; errors name the file and the offending key, and every
     /// count, size, iteration cap and domain is checked against [`limits_for`] its name.
     pub fn parse(text: &str, origin: &str) -> Result<FitSpec> {
-        let s: FitSpec = toml::from_str(text).map_err(|e| {
-            // toml's messages span several lines (a source excerpt): keep the first
-            let first = e
-                .message()
-                .lines()
-                .next()
-                .unwrap_or("malformed TOML")
-                .to_string();
-            let at = e
-                .span()
-                .map(|r| {
-                    let line = text[..r.start.min(text.len())].matches('\n').count() + 1;
-                    format!(" (line {line})")
-                })
-                .unwrap_or_default();
-            Error::InvalidArgument(format!("{origin}: {first}{at}"))
-        })?;
+        let s: FitSpec = toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
         s.validate(origin)?;
         Ok(s)
     }
@@ -336,6 +320,25 @@ pub fn load_file(f: &Path) -> Result<FitSpec> {
     }
     let t = std::fs::read_to_string(f).map_err(io)?;
     FitSpec::parse(&t, &f.display().to_string())
+}
+
+/// A TOML parse error as one line: toml's messages span several lines (a source
+/// excerpt), so keep the first, with the line it points at.
+pub fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> Error {
+    let first = e
+        .message()
+        .lines()
+        .next()
+        .unwrap_or("malformed TOML")
+        .to_string();
+    let at = e
+        .span()
+        .map(|r| {
+            let line = text[..r.start.min(text.len())].matches('\n').count() + 1;
+            format!(" (line {line})")
+        })
+        .unwrap_or_default();
+    Error::InvalidArgument(format!("{origin}: {first}{at}"))
 }
 
 /// Every *.toml in `dir`, sorted by file name.

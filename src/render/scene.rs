@@ -226,25 +226,8 @@ fn norm(v: [f64; 3]) -> f64 {
 impl Scene {
     /// Parse and check a scene; `origin` names it in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Scene> {
-        let s: Scene = toml::from_str(text).map_err(|e| {
-            // toml's messages span several lines (a source excerpt): keep the first
-            let first = e
-                .message()
-                .lines()
-                .next()
-                .unwrap_or("malformed TOML")
-                .to_string();
-            let at = e
-                .span()
-                .map(|r| {
-                    format!(
-                        " (line {})",
-                        text[..r.start.min(text.len())].matches('\n').count() + 1
-                    )
-                })
-                .unwrap_or_default();
-            bad(format!("{origin}: {first}{at}"))
-        })?;
+        let s: Scene =
+            toml::from_str(text).map_err(|e| crate::fit::spec::toml_error(origin, text, &e))?;
         s.check().map_err(|e| {
             bad(format!(
                 "{origin}: {}",

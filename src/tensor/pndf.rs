@@ -8,21 +8,21 @@ use crate::error::{Error, Result};
 use crate::filters::footprint::NormalMap;
 use rayon::prelude::*;
 
-/// One footprint's NDF image, row-major, values per unit projected area.
-pub fn pndf_image(
+/// The footprint's texels within 4σ_P of (cx, cy) (periodic map) as (n_x, n_y, weight)
+/// in scan order, and the weights' sum; the arguments checked.
+fn footprint_texels(
     map: &NormalMap,
     cx: f64,
     cy: f64,
     sigma_p: f64,
     sigma_r: f64,
     res: usize,
-) -> Result<Vec<f64>> {
+) -> Result<(Vec<(f64, f64, f64)>, f64)> {
     if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2) {
         return Err(Error::InvalidArgument(format!(
             "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p:e}, {sigma_r:e}, {res})"
         )));
     }
-    // texels within 4σ_P (periodic map)
     let rad = (4.0 * sigma_p).ceil() as i64;
     let (w, h) = (map.width as i64, map.height as i64);
     let mut texels = Vec::new();
@@ -40,6 +40,19 @@ pub fn pndf_image(
             wsum += g;
         }
     }
+    Ok((texels, wsum))
+}
+
+/// One footprint's NDF image, row-major, values per unit projected area.
+pub fn pndf_image(
+    map: &NormalMap,
+    cx: f64,
+    cy: f64,
+    sigma_p: f64,
+    sigma_r: f64,
+    res: usize,
+) -> Result<Vec<f64>> {
+    let (texels, wsum) = footprint_texels(map, cx, cy, sigma_p, sigma_r, res)?;
     let norm_r = 1.0 / (2.0 * std::f64::consts::PI * sigma_r * sigma_r);
     let cell = 2.0 / res as f64;
     let img: Vec<f64> = (0..res)
@@ -82,37 +95,20 @@ pub fn pndf_image_splat(
     sigma_r: f64,
     res: usize,
 ) -> Result<Vec<f64>> {
-    if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2) {
-        return Err(Error::InvalidArgument(format!(
-            "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p:e}, {sigma_r:e}, {res})"
-        )));
-    }
-    let rad = (4.0 * sigma_p).ceil() as i64;
-    let (w, h) = (map.width as i64, map.height as i64);
+    let (texels, wsum) = footprint_texels(map, cx, cy, sigma_p, sigma_r, res)?;
     let cell = 2.0 / res as f64;
     let reach = (80f64.sqrt() * sigma_r / cell).ceil() as i64 + 1;
     let norm_r = 1.0 / (2.0 * std::f64::consts::PI * sigma_r * sigma_r);
     let mut img = vec![0.0; res * res];
-    let mut wsum = 0.0;
-    for dy in -rad..=rad {
-        for dx in -rad..=rad {
-            let (px, py) = (cx.floor() as i64 + dx, cy.floor() as i64 + dy);
-            let (ux, uy) = (px as f64 + 0.5 - cx, py as f64 + 0.5 - cy);
-            let g = (-(ux * ux + uy * uy) / (2.0 * sigma_p * sigma_p)).exp();
-            if g < 1e-12 {
-                continue;
-            }
-            wsum += g;
-            let n = map.normals[(py.rem_euclid(h) * w + px.rem_euclid(w)) as usize];
-            let (bi, bj) = (((n.x + 1.0) / cell) as i64, ((n.y + 1.0) / cell) as i64);
-            for j in (bj - reach).max(0)..=(bj + reach).min(res as i64 - 1) {
-                let hy = -1.0 + (j as f64 + 0.5) * cell;
-                for i in (bi - reach).max(0)..=(bi + reach).min(res as i64 - 1) {
-                    let hx = -1.0 + (i as f64 + 0.5) * cell;
-                    let e = ((n.x - hx).powi(2) + (n.y - hy).powi(2)) / (2.0 * sigma_r * sigma_r);
-                    if e < 40.0 {
-                        img[j as usize * res + i as usize] += g * (-e).exp();
-                    }
+    for &(nx, ny, g) in &texels {
+        let (bi, bj) = (((nx + 1.0) / cell) as i64, ((ny + 1.0) / cell) as i64);
+        for j in (bj - reach).max(0)..=(bj + reach).min(res as i64 - 1) {
+            let hy = -1.0 + (j as f64 + 0.5) * cell;
+            for i in (bi - reach).max(0)..=(bi + reach).min(res as i64 - 1) {
+                let hx = -1.0 + (i as f64 + 0.5) * cell;
+                let e = ((nx - hx).powi(2) + (ny - hy).powi(2)) / (2.0 * sigma_r * sigma_r);
+                if e < 40.0 {
+                    img[j as usize * res + i as usize] += g * (-e).exp();
                 }
             }
         }
