@@ -223,6 +223,33 @@ fn renders_are_bit_identical_at_any_thread_count() {
 }
 
 #[test]
+fn the_batched_simd_image_is_the_per_pixel_scalar_image() {
+    // quad lights through kernels::ltc_quad (AVX2 ≤ 2 ulp of the scalar twin, tests/kernels.rs)
+    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
+    let s = small(example(0));
+    let tex = ndfbench::render::texture::Texture::new(
+        ndfbench::render::normal_map(&s, Path::new("fits/render")).expect("map"),
+    );
+    let lights = ndfbench::render::light::resolve(&s.lights);
+    let cam = ndfbench::render::geometry::Camera::at_frame(&s.camera, 0);
+    for &scale in &s.render.scales {
+        let surf = ndfbench::render::geometry::Surface::new(&s.surface, scale);
+        let g = methods::gbuffer(&cam, &surf, &tex);
+        for &m in &methods::Method::MULTISCALE {
+            let img = methods::shade_image(m, &g, cam.width, s.material.alpha as f32, &lights, &c)
+                .expect("kernel");
+            for (k, v) in img.iter().enumerate() {
+                let r = methods::shade(m, &g, cam.width, k, s.material.alpha as f32, &lights, &c);
+                assert!(
+                    (v - r).abs() <= 4.0 * f32::EPSILON * r.abs().max(1.0),
+                    "{m:?} pixel {k}: {v} vs {r}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn the_measures_of_the_truth_itself_are_zero() {
     let c = ndfbench::render::constants(Path::new("results")).expect("constants");
     let s = small(example(0));

@@ -3,7 +3,8 @@
 //! lobe evaluated by the shipped f32 code — the generated twins of the WGSL
 //! (`crate::generated::shading`), the f32 forms of `crate::filters::rules`, and the GGX
 //! LTC table in the binary16 storage every texture ships (`crate::generated::ltc_table`,
-//! bilinear as the sampler reads it). A G-buffer pass first stores what a deferred
+//! bilinear as the sampler reads it), quad lights batched through the SIMD kernel
+//! `kernels::ltc_quad` ([`shade_image`]). A G-buffer pass first stores what a deferred
 //! renderer would (normal, view, footprint statistics), then each method shades every
 //! pixel with its 2×2 quad's derivatives (coarse, as `dpdx`/`dpdy` form them).
 
@@ -351,21 +352,45 @@ pub fn ltc_lookup(alpha: f32, cos_theta: f32) -> ([f32; 4], f32) {
     ([v[0], v[1], v[2], v[3]], v[4])
 }
 
-/// A quad light through the LTC table: vertices in the shading frame (x toward the view),
-/// `generated::shading::ltc_quad`, times the table's norm and the radiance.
-fn ltc_light(light: &Light, gp: &GPixel, n_w: &V3, alpha: f32) -> f32 {
+/// One quad light's LTC evaluation at a pixel: the table's (a, b, c, d) and the quad's
+/// vertices in the shading frame (x toward the view), to be integrated by
+/// `generated::shading::ltc_quad` (or its SIMD kernel) and multiplied by `scale`
+/// (radiance × the table's norm).
+#[derive(Clone, Copy, Debug)]
+pub struct LtcJob {
+    pub m: [f32; 4],
+    pub p: [f32; 12],
+    pub scale: f32,
+}
+
+fn ltc_job(light: &Light, gp: &GPixel, n_w: &V3, alpha: f32) -> Option<LtcJob> {
     let (Some(cs), Light::Quad { radiance, .. }) = (light.corners(), light) else {
-        return 0.0;
+        return None;
     };
     let f = shading_frame(n_w, &gp.view);
     let cos_v = gp.view.dot(n_w).clamp(0.0, 1.0) as f32;
     let (m, norm) = ltc_lookup(alpha, cos_v);
-    let p: Vec<[f32; 3]> = cs.iter().map(|c| a3(f.local(&(c - gp.hit.p)))).collect();
-    let i = gs::ltc_quad(
-        m[0], m[1], m[2], m[3], p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2], p[2][0],
-        p[2][1], p[2][2], p[3][0], p[3][1], p[3][2],
-    );
-    *radiance as f32 * norm * i
+    let mut p = [0.0f32; 12];
+    for (k, c) in cs.iter().enumerate() {
+        p[3 * k..3 * k + 3].copy_from_slice(&a3(f.local(&(c - gp.hit.p))));
+    }
+    Some(LtcJob {
+        m,
+        p,
+        scale: *radiance as f32 * norm,
+    })
+}
+
+impl LtcJob {
+    /// The scalar twin's value.
+    pub fn scalar(&self) -> f32 {
+        let (m, p) = (&self.m, &self.p);
+        self.scale
+            * gs::ltc_quad(
+                m[0], m[1], m[2], m[3], p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9],
+                p[10], p[11],
+            )
+    }
 }
 
 /// GGX with the roughness matrix A in frame f, D by `ggx_d_matrix` and Smith's G2 with
@@ -393,7 +418,50 @@ fn matrix_specular(f: &Frame, a: [f32; 3], v: &V3, l: &V3) -> f32 {
     d / (4.0 * v3[2] * (1.0 + lv + ll_))
 }
 
-/// The radiance of pixel `k` by method `m`; 0 where the centre ray misses.
+/// The radiance of pixel `k` by method `m` without its quad lights, and the quad lights'
+/// LTC jobs; (0, none) where the centre ray misses or the surface faces away.
+pub fn shade_parts(
+    m: Method,
+    g: &[Option<GPixel>],
+    w: usize,
+    k: usize,
+    alpha: f32,
+    lights: &[Light],
+    c: &Constants,
+) -> (f32, Vec<LtcJob>) {
+    let Some(gp) = g[k] else {
+        return (0.0, Vec::new());
+    };
+    // the geometric horizon: a surface facing away from the eye reflects nothing
+    if gp.view.dot(&gp.hit.frame.n) <= 0.0 {
+        return (0.0, Vec::new());
+    }
+    let q = quad(g, w, k);
+    let flt = filter(m, alpha, &gp, q.as_ref(), lights, c);
+    let mut sum = 0.0f32;
+    let mut jobs = Vec::new();
+    for light in lights {
+        match (&flt, light_dir(light, &gp.hit.p)) {
+            (Filtered::Iso { n_w, alpha }, Some((l, e))) => {
+                let f = Frame::around(*n_w);
+                let (vl, ll) = (a3(f.local(&gp.view)), a3(f.local(&l)));
+                sum += e as f32 * gs::ggx_specular(ll[0], ll[1], ll[2], vl[0], vl[1], vl[2], *alpha)
+            }
+            (Filtered::Matrix { frame, a }, Some((l, e))) => {
+                sum += e as f32 * matrix_specular(frame, *a, &gp.view, &l)
+            }
+            (Filtered::Iso { n_w, alpha }, None) => jobs.extend(ltc_job(light, &gp, n_w, *alpha)),
+            (Filtered::Matrix { frame, a }, None) => {
+                let det = (a[0] * a[1] - a[2] * a[2]).max(0.0);
+                jobs.extend(ltc_job(light, &gp, &frame.n, det.sqrt().sqrt()))
+            }
+        }
+    }
+    (sum, jobs)
+}
+
+/// The radiance of pixel `k` by method `m` (quad lights by the scalar twin); 0 where the
+/// centre ray misses.
 pub fn shade(
     m: Method,
     g: &[Option<GPixel>],
@@ -403,30 +471,44 @@ pub fn shade(
     lights: &[Light],
     c: &Constants,
 ) -> f32 {
-    let Some(gp) = g[k] else { return 0.0 };
-    let q = quad(g, w, k);
-    let flt = filter(m, alpha, &gp, q.as_ref(), lights, c);
-    let mut sum = 0.0f32;
-    for light in lights {
-        sum += match (&flt, light_dir(light, &gp.hit.p)) {
-            (Filtered::Iso { n_w, alpha }, Some((l, e))) => {
-                let f = Frame::around(*n_w);
-                let (vl, ll) = (a3(f.local(&gp.view)), a3(f.local(&l)));
-                e as f32 * gs::ggx_specular(ll[0], ll[1], ll[2], vl[0], vl[1], vl[2], *alpha)
-            }
-            (Filtered::Matrix { frame, a }, Some((l, e))) => {
-                e as f32 * matrix_specular(frame, *a, &gp.view, &l)
-            }
-            (Filtered::Iso { n_w, alpha }, None) => ltc_light(light, &gp, n_w, *alpha),
-            (Filtered::Matrix { frame, a }, None) => {
-                let det = (a[0] * a[1] - a[2] * a[2]).max(0.0);
-                ltc_light(light, &gp, &frame.n, det.sqrt().sqrt())
-            }
-        };
+    let (sum, jobs) = shade_parts(m, g, w, k, alpha, lights, c);
+    sum + jobs.iter().map(|j| j.scalar()).sum::<f32>()
+}
+
+/// A whole image by method `m`: the direct lights per pixel (rayon), then every quad
+/// light's LTC integral in one call of the SIMD kernel `kernels::ltc_quad` (AVX2 + FMA
+/// where the CPU has it, the scalar twin otherwise) over all pixels in order — one call,
+/// so the bits do not depend on the thread count.
+pub fn shade_image(
+    m: Method,
+    g: &[Option<GPixel>],
+    w: usize,
+    alpha: f32,
+    lights: &[Light],
+    c: &Constants,
+) -> crate::error::Result<Vec<f32>> {
+    let parts: Vec<(f32, Vec<LtcJob>)> = (0..g.len())
+        .into_par_iter()
+        .map(|k| shade_parts(m, g, w, k, alpha, lights, c))
+        .collect();
+    let owner: Vec<usize> = parts
+        .iter()
+        .enumerate()
+        .flat_map(|(k, (_, j))| std::iter::repeat_n(k, j.len()))
+        .collect();
+    let jobs: Vec<&LtcJob> = parts.iter().flat_map(|(_, j)| j.iter()).collect();
+    let col = |f: &dyn Fn(&LtcJob) -> f32| -> Vec<f32> { jobs.iter().map(|j| f(j)).collect() };
+    let mc: [Vec<f32>; 4] = std::array::from_fn(|i| col(&|j| j.m[i]));
+    let pc: [Vec<f32>; 12] = std::array::from_fn(|i| col(&|j| j.p[i]));
+    let mut out = vec![0.0f32; jobs.len()];
+    let inp = crate::kernels::LtcQuadIn {
+        m: std::array::from_fn(|i| mc[i].as_slice()),
+        p: std::array::from_fn(|i| pc[i].as_slice()),
+    };
+    crate::kernels::ltc_quad(crate::kernels::Backend::best(), &inp, &mut out)?;
+    let mut img: Vec<f32> = parts.iter().map(|(s, _)| *s).collect();
+    for ((k, j), v) in owner.iter().zip(&jobs).zip(&out) {
+        img[*k] += j.scale * v;
     }
-    // the geometric horizon: a surface facing away from the eye reflects nothing
-    if gp.view.dot(&gp.hit.frame.n) <= 0.0 {
-        return 0.0;
-    }
-    sum
+    Ok(img)
 }

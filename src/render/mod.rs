@@ -190,12 +190,8 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                 _ => &[],
             };
             for &meth in list {
-                let (pixels, ms) = timed(|| {
-                    (0..w * h)
-                        .into_par_iter()
-                        .map(|k| methods::shade(meth, &g, w, k, alpha, &lights, c))
-                        .collect::<Vec<f32>>()
-                });
+                let (pixels, ms) = timed(|| methods::shade_image(meth, &g, w, alpha, &lights, c));
+                let pixels = pixels?;
                 out.push(MethodImage {
                     key: meth.key().into(),
                     label: meth.label(c),

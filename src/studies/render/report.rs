@@ -170,7 +170,7 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
         let mean_t = on.clone().map(|p| p.value).sum::<f64>() / count;
         let t2 = on.map(|p| p.value * p.value).sum::<f64>() / count;
         md.push_str(&format!(
-            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, i.e. {:.2} % of relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
+            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, which adds ≈ {:.2} % to every method’s relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
             sc.name,
             view_name(r, k),
             v.truth_ms,
