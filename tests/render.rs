@@ -397,3 +397,52 @@ fn the_render_command_writes_its_report_and_rejects_bad_input() {
     assert_eq!(o.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn extreme_scenes_render_finite_images() {
+    // α at both ends of the scene range, a camera 0.01° above the plane (89.99° from its
+    // normal), and the torus edge-on: every truth value, s.e. and method pixel finite
+    // and non-negative
+    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
+    let mut cases = Vec::new();
+    for alpha in ["0.0001", "1.0"] {
+        for k in 0..2 {
+            let mut s = small(example(k));
+            s.material.alpha = alpha.parse().unwrap();
+            cases.push(s);
+        }
+    }
+    let mut grazing = small(example(0));
+    let d = 3.0f64;
+    let e = 0.01f64.to_radians();
+    grazing.camera.position = [0.0, -d * e.cos(), d * e.sin()];
+    grazing.camera.look_at = [0.0, 0.0, 0.0];
+    cases.push(grazing);
+    let mut edge_on = small(example(1));
+    edge_on.camera.position = [0.0, -9.0, 0.0];
+    edge_on.camera.path = None;
+    cases.push(edge_on);
+    for s in cases {
+        let r =
+            ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan()).expect("renders");
+        for v in &r.views {
+            for t in &v.truth {
+                assert!(
+                    t.value.is_finite() && t.value >= 0.0 && t.se.is_finite(),
+                    "{} α {}: {t:?}",
+                    s.name,
+                    s.material.alpha
+                );
+            }
+            for m in &v.methods {
+                assert!(
+                    m.pixels.iter().all(|p| p.is_finite() && *p >= 0.0),
+                    "{} α {}: {}",
+                    s.name,
+                    s.material.alpha,
+                    m.key
+                );
+            }
+        }
+    }
+}
