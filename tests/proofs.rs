@@ -28,6 +28,10 @@ fn smith_projected_area() {
     check("smith-projected-area");
 }
 #[test]
+fn sggx_projected_area() {
+    check("sggx-projected-area");
+}
+#[test]
 fn weak_white_furnace() {
     check("weak-white-furnace");
 }

@@ -6,6 +6,7 @@ pub mod lambda_fit;
 pub mod lobe;
 pub mod roughness;
 pub mod sampling;
+pub mod sggx;
 pub mod shading;
 pub mod surface;
 

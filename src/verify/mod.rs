@@ -10,6 +10,7 @@ pub mod furnace;
 pub mod jacobians;
 pub mod multiscale;
 pub mod ndf;
+pub mod sggx;
 pub mod tensor;
 pub mod tokuyoshi;
 
@@ -76,6 +77,10 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "smith-projected-area",
             run: ndf::smith_projected_area,
+        },
+        Check {
+            id: "sggx-projected-area",
+            run: sggx::projected_area,
         },
         Check {
             id: "weak-white-furnace",
