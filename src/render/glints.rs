@@ -62,7 +62,7 @@ pub fn region(gp: &GPixel, lights: &[Light]) -> Option<Region> {
         let l = fr.local(&(q - gp.hit.p).normalize());
         (l.z > 0.0).then(|| (l, (v + l).normalize()))
     };
-    let (l0, h0) = hxy(center)?;
+    let (_, h0) = hxy(center)?;
     let d = center - gp.hit.p;
     let omega = area * (d.normalize().dot(normal)).abs() / d.norm_squared();
     let (mut bx, mut by) = (
@@ -78,7 +78,6 @@ pub fn region(gp: &GPixel, lights: &[Light]) -> Option<Region> {
     let aspect = ((bx.1 - bx.0) / (by.1 - by.0).max(1e-12)).clamp(1e-3, 1e3);
     let wx = (a_h * aspect).sqrt();
     let wy = a_h / wx;
-    let _ = l0;
     Some(Region {
         lo: [h0.x - 0.5 * wx, h0.y - 0.5 * wy],
         hi: [h0.x + 0.5 * wx, h0.y + 0.5 * wy],
