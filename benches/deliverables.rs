@@ -237,6 +237,7 @@ fn render_benches(c: &mut Criterion) {
             })
         });
         let alpha = sc.material.alpha as f32;
+        let consts = consts.with_alpha(sc.material.alpha);
         let list: &[methods::Method] = match sc.render.methods {
             MethodSet::Multiscale => &methods::Method::MULTISCALE,
             MethodSet::SpecularAa => &methods::Method::SPECULAR_AA,

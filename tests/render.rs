@@ -225,8 +225,10 @@ fn renders_are_bit_identical_at_any_thread_count() {
 #[test]
 fn the_batched_simd_image_is_the_per_pixel_scalar_image() {
     // quad lights through kernels::ltc_quad (AVX2 ≤ 2 ulp of the scalar twin, tests/kernels.rs)
-    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
     let s = small(example(0));
+    let c = ndfbench::render::constants(Path::new("results"))
+        .expect("constants")
+        .with_alpha(s.material.alpha);
     let tex = ndfbench::render::texture::Texture::new(
         ndfbench::render::normal_map(&s, Path::new("fits/render")).expect("map"),
     );

@@ -83,12 +83,26 @@ pub enum Method {
     GodotRefit,
 }
 
-/// The refitted constants the methods read (results/fits/filters.json, box pixel).
+/// The refitted constants the methods read (results/fits/filters.json, box pixel) and
+/// the per-material constant y_mi = 1 − ρ(α) of the product identity, computed once per
+/// material as an engine would ([`Constants::with_alpha`]), not per pixel.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Constants {
     pub vmf_c: f32,
     pub eq13_sigma2_box: f32,
     pub alpha_sigma2_box: f32,
+    /// 1 − ρ(α_base) (NaN until [`Constants::with_alpha`] sets it).
+    pub y_mi: f32,
+}
+
+impl Constants {
+    /// The same constants for a material of base roughness α.
+    pub fn with_alpha(self, alpha: f64) -> Constants {
+        Constants {
+            y_mi: (1.0 - crate::multiscale::mrl::mrl(alpha)) as f32,
+            ..self
+        }
+    }
 }
 
 impl Method {
@@ -226,10 +240,7 @@ fn filter(
     match m {
         Method::MipNormal | Method::NoAa => iso(alpha),
         Method::Seed000Paper => iso(rules::seed000_paper(alpha, r)),
-        Method::Seed000Ours => {
-            let y_mi = (1.0 - crate::multiscale::mrl::mrl(alpha as f64)) as f32;
-            iso(gs::multiscale_alpha(1.0 - r, y_mi))
-        }
+        Method::Seed000Ours => iso(gs::multiscale_alpha(1.0 - r, c.y_mi)),
         Method::Vmf2 => iso(gs::filter_vmf(alpha, r, 2.0)),
         Method::VmfRefit => iso(gs::filter_vmf(alpha, r, c.vmf_c)),
         Method::Lean => {

@@ -132,6 +132,7 @@ pub fn constants(results: &Path) -> Result<Constants> {
         vmf_c: get("vMF α² + c/κ")?,
         eq13_sigma2_box: get("Eq 13 σ² (box pixel)")?,
         alpha_sigma2_box: get("kernel on α σ² (box pixel)")?,
+        y_mi: f32::NAN,
     })
 }
 
@@ -157,6 +158,7 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
     let lights = light::resolve(&scene.lights);
     let m = &scene.material;
     let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex)?;
+    let c = &c.with_alpha(m.alpha);
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut views = Vec::new();
     let mut notes = Vec::new();
