@@ -44,6 +44,7 @@ pub mod results;
 pub mod scene;
 pub mod studies;
 pub mod study;
+pub mod survey;
 pub mod tensor;
 pub mod verify;
 

@@ -21,6 +21,8 @@ pub(super) struct MapCase {
     pub alpha: f64,
     pub level: usize,
     pub footprint: usize,
+    /// The footprint's texel index at its level (row-major).
+    pub idx: usize,
     pub view: usize,
     pub stats: Stats,
     pub samples: CaseSamples,
@@ -148,6 +150,7 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
                     alpha,
                     level,
                     footprint: fp,
+                    idx,
                     view: vi,
                     stats,
                     samples,
