@@ -134,3 +134,17 @@ fn every_check_has_a_proof_file_that_names_its_test() {
 fn tensor_rank1_box() {
     check("tensor-rank1-box");
 }
+#[test]
+fn gaussian_moment_matching() {
+    check("gaussian-moment-matching");
+}
+#[test]
+fn vmf_mixture_moments() {
+    let o = check("vmf-mixture-moments");
+    // the counter-example must show: κ and μ themselves do not interpolate
+    assert!(o.notes.iter().any(|n| n.contains("interpolating κ_k and μ_k")));
+}
+#[test]
+fn sh_convolution() {
+    check("sh-convolution");
+}

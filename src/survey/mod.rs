@@ -193,19 +193,21 @@ impl Shading {
 
 /// ∫ f over the unit sphere, for a function concentrated around the unit `centre` with
 /// angular width `width` (radians): Gauss–Legendre in θ (about the centre) on the pieces
-/// [0, w], [w, 3w], [3w, 8w], [8w, π] (those below π), 24 nodes each, and the periodic
+/// [0, w], [w, 3w], [3w, 8w], [8w, π] (those below π, also split at π/2), 24 nodes each, and the periodic
 /// trapezoid rule in φ with `n_phi` nodes. Returns (integral, the same with half the
 /// nodes) so that a caller can see the rule's error.
 pub fn sphere_integral(f: &dyn Fn(&V3) -> f64, centre: &V3, width: f64, n_phi: usize) -> (f64, f64) {
     let fr = Frame::around(*centre);
     let w = width.clamp(1e-6, PI);
-    let mut breaks = vec![0.0];
+    // also split at θ = π/2, the horizon of a lobe clamped there
+    let mut breaks = vec![0.0, PI / 2.0, PI];
     for b in [w, 3.0 * w, 8.0 * w] {
         if b < PI {
             breaks.push(b);
         }
     }
-    breaks.push(PI);
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
     let rule = |nt: usize, np: usize| {
         let (x, wt) = gauss_legendre(nt);
         let mut s = 0.0;

@@ -11,6 +11,7 @@ pub mod jacobians;
 pub mod multiscale;
 pub mod ndf;
 pub mod sggx;
+pub mod survey;
 pub mod tensor;
 pub mod tokuyoshi;
 
@@ -145,6 +146,18 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "tensor-rank1-box",
             run: tensor::rank1_box,
+        },
+        Check {
+            id: "gaussian-moment-matching",
+            run: survey::moment_matching,
+        },
+        Check {
+            id: "vmf-mixture-moments",
+            run: survey::vmf_mixture_moments,
+        },
+        Check {
+            id: "sh-convolution",
+            run: survey::sh_convolution,
         },
     ]
 }

@@ -16,6 +16,8 @@ mod constants;
 mod prefilter;
 mod report;
 mod summary;
+mod survey;
+mod survey_report;
 mod verdicts;
 
 pub use cases::{aggregate, Agg};
@@ -114,6 +116,8 @@ struct FiltersResult<'a> {
     maps: Vec<serde_json::Value>,
     screen: Vec<serde_json::Value>,
     fitted: Vec<serde_json::Value>,
+    /// results/survey.md's numbers.
+    survey: &'a survey_report::Summary,
 }
 
 /// The study: compute the cases and the fitted constants, then render and write.
@@ -121,11 +125,27 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     use crate::filters::footprint::{NormalMap, Procedural};
     let plan = Plan::new(preset);
     let seed = spec.seed;
-    let maps: Vec<NormalMap> = Procedural::ALL
+    // the filters' four maps, then seed 002's scratches for the survey only: its cases come
+    // last, so the filters' cases keep their indices (and seeds) bit for bit
+    let mut all_maps: Vec<NormalMap> = Procedural::ALL
         .iter()
         .map(|&k| NormalMap::procedural(k, plan.map_size, seed + 1))
         .collect::<Result<_>>()?;
-    let map_cases = cases::map_study(&maps, &plan, seed)?;
+    all_maps.push(NormalMap::procedural(Procedural::Scratches, plan.map_size, seed + 1)?);
+    let mut map_cases = cases::map_study(&all_maps, &plan, seed)?;
+    let views = plan.views_deg.len();
+    let survey_cases = survey::survey_study(&all_maps, &map_cases, views, seed)?;
+    let first_extra = map_cases
+        .iter()
+        .position(|c| c.map >= Procedural::ALL.len())
+        .unwrap_or(map_cases.len());
+    let extra_cases = map_cases.split_off(first_extra);
+    let maps = &all_maps[..Procedural::ALL.len()];
+    let survey_summary = {
+        let names: Vec<String> = all_maps.iter().map(|m| m.name.clone()).collect();
+        let all: Vec<&cases::MapCase> = map_cases.iter().chain(&extra_cases).collect();
+        survey_report::summarise(&names, &all, &survey_cases)
+    };
     let screen_cases = cases::screen_study(&plan, seed)?;
     let fits = constants::fit_constants(&map_cases, &screen_cases);
 
@@ -141,6 +161,15 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(report::LISTING3_NOTE);
     md.push_str(&report::embed(results));
     crate::io::write_atomic(&results.join("filters.md"), md.as_bytes())?;
+    let n_all = map_cases.len() + extra_cases.len();
+    crate::io::write_atomic(
+        &results.join("survey.md"),
+        survey_report::markdown(&survey_summary, preset, n_all).as_bytes(),
+    )?;
+    crate::io::write_atomic(
+        &results.join("survey.svg"),
+        survey_report::pareto_svg(&survey_summary)?.as_bytes(),
+    )?;
     let json = FiltersResult {
         spec,
         command: "cargo run --release -- regen --only filters",
@@ -154,6 +183,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         maps: json_maps,
         screen: json_screen,
         fitted: json_fits,
+        survey: &survey_summary,
     };
     crate::results::write_result(results, &spec.name, &json)?;
     let worst_held = fits.iter().map(|f| f.held_out.l2_mean).fold(0.0, f64::max);
