@@ -5,8 +5,9 @@
 //! roughness-prefilter does); every shipped LTC table's per-pixel cost (the bilinear
 //! lookup of its binary16 entries and the quad integral); every render method's shading
 //! pass per pixel on one core (the G-buffer, each approximation of the example scenes,
-//! seed 002's brute force and CP query). `cargo run --release -- bench-report` renders
-//! them into results/performance.md.
+//! seed 002's brute force and CP query); every representation of the survey study
+//! (results/survey.md) evaluated as the lobe it shades. `cargo run --release -- bench-report`
+//! renders them into results/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ndfbench::codegen::{backends, shaders, validators};
@@ -213,7 +214,7 @@ fn render_benches(c: &mut Criterion) {
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(2));
     for (name, text) in ndfbench::studies::render::SCENES {
-        let Ok(mut sc) = Scene::parse(text, name) else {
+        let Ok(sc) = Scene::parse(text, name) else {
             continue;
         };
         let Ok(map) = ndfbench::render::normal_map(&sc, Path::new("fits/render")) else {
@@ -306,11 +307,73 @@ fn render_benches(c: &mut Criterion) {
     g.finish();
 }
 
+/// One footprint of the survey study (flakes, 64² map, level 3: 8×8 texels; GGX α 0.05):
+/// every representation's lobe at 1024 seeded (v, l) pairs around the mean normal's
+/// mirror direction, and the isotropic vMF 2/κ lobe for scale.
+fn survey_benches(c: &mut Criterion) {
+    use nalgebra::Vector3;
+    use ndfbench::filters::footprint::{NormalMap, Procedural};
+    use ndfbench::studies::filters::survey::fit_footprint;
+    use ndfbench::survey::{sh::Zonal, BaseLobe};
+    use rand::{Rng, SeedableRng};
+    let Ok(map) = NormalMap::procedural(Procedural::Flakes, 64, 7) else {
+        return;
+    };
+    let base = BaseLobe {
+        kind: ndfbench::microfacet::NdfKind::Ggx,
+        alpha: 0.05,
+    };
+    let zonal = Zonal::new(base, 320);
+    let Ok(fit) = fit_footprint(&map, 3, 9, base, &zonal, 11) else {
+        return;
+    };
+    let n = fit.shading.normal();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let pairs: Vec<(Vector3<f64>, Vector3<f64>)> = (0..1024)
+        .map(|_| {
+            let jitter = |r: &mut rand_chacha::ChaCha8Rng| {
+                Vector3::new(r.random::<f64>() - 0.5, r.random::<f64>() - 0.5, 0.0) * 0.4
+            };
+            let v = (Vector3::new(0.4, 0.1, 0.9) + jitter(&mut rng)).normalize();
+            let l = (n * (2.0 * v.dot(&n)) - v + jitter(&mut rng)).normalize();
+            (v, Vector3::new(l.x, l.y, l.z.abs().max(1e-3)).normalize())
+        })
+        .collect();
+    let mut g = c.benchmark_group("survey");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(1));
+    g.warm_up_time(Duration::from_millis(300));
+    for (i, rep) in fit.reps.iter().enumerate() {
+        g.bench_function(format!("row {i:02}: 1024 lobes"), |b| {
+            b.iter(|| {
+                pairs
+                    .iter()
+                    .map(|(v, l)| fit.shading.value(&**rep, black_box(v), l))
+                    .sum::<f64>()
+            })
+        });
+    }
+    let s = ndfbench::microfacet::Microsurface::ggx(
+        ndfbench::microfacet::Roughness::iso(0.08).expect("α > 0"),
+    );
+    let f = ndfbench::microfacet::lobe::Frame::around(n);
+    g.bench_function("isotropic GGX lobe: 1024 lobes", |b| {
+        b.iter(|| {
+            pairs
+                .iter()
+                .map(|(v, l)| ndfbench::microfacet::lobe::lobe(&s, &f, black_box(v), l))
+                .sum::<f64>()
+        })
+    });
+    g.finish();
+}
+
 criterion_group!(
     benches,
     prefilter_benches,
     shader_benches,
     ltc_table_benches,
-    render_benches
+    render_benches,
+    survey_benches
 );
 criterion_main!(benches);

@@ -447,5 +447,34 @@ fn regen_filters_quick_writes_the_report() {
     }
     let json = ndfbench::results::read_result(&dir, "filters").unwrap();
     assert!(json["fitted"].as_array().unwrap().len() >= 4);
+    // the survey on the same cases: every row, the five maps, the verdicts, no NaN
+    let sv = std::fs::read_to_string(dir.join("survey.md")).unwrap();
+    for key in [
+        "## Verdicts: the best representation",
+        "| scratches |",
+        "Fournier, 7 lobes",
+        "Han et al. SH, degree 15",
+        "Tan et al., 4 lobes, MIP-mapped (aligned)",
+        "SGGX / Neyret ellipsoid (Eq 18)",
+        "## Han et al.'s rule of thumb",
+    ] {
+        assert!(sv.contains(key), "survey.md misses {key}");
+    }
+    assert!(!sv.contains("NaN"), "survey.md holds a NaN");
+    assert!(std::fs::read_to_string(dir.join("survey.svg"))
+        .unwrap()
+        .contains("parameters per texel"));
+    let rows = json["survey"]["rows"].as_array().unwrap();
+    assert_eq!(
+        rows.len(),
+        12 + ndfbench::studies::filters::survey::ROWS.len()
+    );
+    // the exact distribution is the floor: no stored representation beats it on average
+    let l2 = |r: &serde_json::Value| r["all"]["l2_mean"].as_f64().unwrap();
+    let floor = l2(&rows[12]);
+    assert!(
+        rows.iter().all(|r| l2(r) >= floor - 0.02),
+        "a representation beats the exact q_A"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -142,7 +142,10 @@ fn gaussian_moment_matching() {
 fn vmf_mixture_moments() {
     let o = check("vmf-mixture-moments");
     // the counter-example must show: κ and μ themselves do not interpolate
-    assert!(o.notes.iter().any(|n| n.contains("interpolating κ_k and μ_k")));
+    assert!(o
+        .notes
+        .iter()
+        .any(|n| n.contains("interpolating κ_k and μ_k")));
 }
 #[test]
 fn sh_convolution() {

@@ -12,7 +12,9 @@ use ndfbench::survey::em::{
     KAPPA_MAX,
 };
 use ndfbench::survey::fournier::{fit, Target};
-use ndfbench::survey::sh::{coefficients_needed, index, sh_basis, zonal_coefficients, HanSh, VmfConvolved, Zonal};
+use ndfbench::survey::sh::{
+    coefficients_needed, index, sh_basis, zonal_coefficients, HanSh, VmfConvolved, Zonal,
+};
 use ndfbench::survey::single::{OlanoNorth, SggxLobe, SlopeGaussian};
 use ndfbench::survey::{BaseLobe, ExactPdf, NormalPdf, Shading, Texels};
 use proptest::prelude::*;
@@ -21,7 +23,11 @@ use std::f64::consts::PI;
 type V3 = Vector3<f64>;
 
 fn dir(theta: f64, phi: f64) -> V3 {
-    V3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
+    V3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
 }
 
 /// ∫ f over the sphere by a Gauss–Legendre product in (cos θ, φ) about z, split at the
@@ -60,7 +66,10 @@ fn base_lobe_is_a_density_with_its_moments() {
             let m = b.moments();
             let c1 = sphere_gl(&|d| b.q(d.z) * d.z, 96);
             let c2 = sphere_gl(&|d| b.q(d.z) * d.z * d.z, 96);
-            assert!((m[0] - c1).abs() < 2e-4 && (m[1] - c2).abs() < 2e-4, "{m:?} vs {c1} {c2}");
+            assert!(
+                (m[0] - c1).abs() < 2e-4 && (m[1] - c2).abs() < 2e-4,
+                "{m:?} vs {c1} {c2}"
+            );
             assert!((m[2] - 0.5 * (1.0 - m[1])).abs() < 1e-12);
         }
     }
@@ -73,13 +82,34 @@ fn single_texel_representations_reduce_to_the_base_lobe() {
     let n = [dir(0.3, 0.7)];
     let w = [1.0];
     for alpha in [1e-3, 0.05, 0.4] {
-        let ggx = Texels { normals: &n, weights: &w, base: BaseLobe { kind: NdfKind::Ggx, alpha } };
-        let bk = Texels { normals: &n, weights: &w, base: BaseLobe { kind: NdfKind::Beckmann, alpha } };
+        let ggx = Texels {
+            normals: &n,
+            weights: &w,
+            base: BaseLobe {
+                kind: NdfKind::Ggx,
+                alpha,
+            },
+        };
+        let bk = Texels {
+            normals: &n,
+            weights: &w,
+            base: BaseLobe {
+                kind: NdfKind::Beckmann,
+                alpha,
+            },
+        };
         let (eg, eb) = (ExactPdf::new(&ggx), ExactPdf::new(&bk));
         let sggx = SggxLobe::new(&ggx).unwrap();
         let sch = SlopeGaussian::schilling(&bk).unwrap();
         let flat = [V3::z()];
-        let bz = Texels { normals: &flat, weights: &w, base: BaseLobe { kind: NdfKind::Beckmann, alpha } };
+        let bz = Texels {
+            normals: &flat,
+            weights: &w,
+            base: BaseLobe {
+                kind: NdfKind::Beckmann,
+                alpha,
+            },
+        };
         let ob = SlopeGaussian::olano_baker(&bz).unwrap();
         let tan = SlopeMixture::fit(&flat, &w, 1, alpha).unwrap();
         let ez = ExactPdf::new(&bz);
@@ -89,10 +119,18 @@ fn single_texel_representations_reduce_to_the_base_lobe() {
             let rel = |a: f64, b: f64| ((a - b) / b.max(1e-300)).abs();
             // S has condition number 1/α²: its inverse carries ~1e-16/α² of rounding
             let tol = 1e-13 / (alpha * alpha);
-            assert!(rel(sggx.pdf(&h), eg.pdf(&h)) < tol, "SGGX α {alpha}: {} vs {}", sggx.pdf(&h), eg.pdf(&h));
+            assert!(
+                rel(sggx.pdf(&h), eg.pdf(&h)) < tol,
+                "SGGX α {alpha}: {} vs {}",
+                sggx.pdf(&h),
+                eg.pdf(&h)
+            );
             assert!(rel(sch.pdf(&h), eb.pdf(&h)) < 1e-9, "Schilling α {alpha}");
             let hz = dir(th, 0.1 * k as f64);
-            assert!(rel(ob.pdf(&hz), ez.pdf(&hz)) < 1e-9, "Olano–Baker α {alpha}");
+            assert!(
+                rel(ob.pdf(&hz), ez.pdf(&hz)) < 1e-9,
+                "Olano–Baker α {alpha}"
+            );
             assert!(rel(tan.pdf(&hz), ez.pdf(&hz)) < 1e-6, "Tan α {alpha}");
         }
     }
@@ -100,21 +138,48 @@ fn single_texel_representations_reduce_to_the_base_lobe() {
 
 #[test]
 fn representations_integrate_to_one() {
-    let n = footprint(&[(0.0, 0.0), (0.35, 0.2), (0.3, 2.5), (0.5, 4.0), (0.1, 1.0), (0.25, 5.5)]);
+    let n = footprint(&[
+        (0.0, 0.0),
+        (0.35, 0.2),
+        (0.3, 2.5),
+        (0.5, 4.0),
+        (0.1, 1.0),
+        (0.25, 5.5),
+    ]);
     let w = vec![1.0 / n.len() as f64; n.len()];
     for kind in [NdfKind::Ggx, NdfKind::Beckmann] {
         let base = BaseLobe { kind, alpha: 0.3 };
-        let t = Texels { normals: &n, weights: &w, base };
+        let t = Texels {
+            normals: &n,
+            weights: &w,
+            base,
+        };
         let z = Zonal::new(base, 200);
         let reps: Vec<(&str, Box<dyn NormalPdf>, f64)> = vec![
             ("exact", Box::new(ExactPdf::new(&t)), 2e-4),
-            ("Schilling", Box::new(SlopeGaussian::schilling(&t).unwrap()), 2e-4),
-            ("Olano–Baker", Box::new(SlopeGaussian::olano_baker(&t).unwrap()), 2e-4),
+            (
+                "Schilling",
+                Box::new(SlopeGaussian::schilling(&t).unwrap()),
+                2e-4,
+            ),
+            (
+                "Olano–Baker",
+                Box::new(SlopeGaussian::olano_baker(&t).unwrap()),
+                2e-4,
+            ),
             ("Olano–North", Box::new(OlanoNorth::new(&t).unwrap()), 2e-4),
             ("SGGX", Box::new(SggxLobe::new(&t).unwrap()), 2e-4),
-            ("Tan 2", Box::new(SlopeMixture::fit(&n, &w, 2, 0.3).unwrap()), 2e-4),
+            (
+                "Tan 2",
+                Box::new(SlopeMixture::fit(&n, &w, 2, 0.3).unwrap()),
+                2e-4,
+            ),
             ("SH 7", Box::new(HanSh::new(&t, &z, 7).unwrap()), 2e-3),
-            ("vMF 2", Box::new(VmfConvolved::new(&VmfMixture::fit(&n, &w, 2).unwrap(), &z)), 2e-3),
+            (
+                "vMF 2",
+                Box::new(VmfConvolved::new(&VmfMixture::fit(&n, &w, 2).unwrap(), &z)),
+                2e-3,
+            ),
         ];
         for (name, r, tol) in &reps {
             let s = sphere_gl(&|d| r.pdf(d), 128);
@@ -145,7 +210,11 @@ fn sh_basis_is_orthonormal_and_signed_as_published() {
     for i in 0..nc {
         for j in 0..nc {
             let e = if i == j { 1.0 } else { 0.0 };
-            assert!((gram[i * nc + j] - e).abs() < 1e-12, "⟨Y{i}, Y{j}⟩ = {}", gram[i * nc + j]);
+            assert!(
+                (gram[i * nc + j] - e).abs() < 1e-12,
+                "⟨Y{i}, Y{j}⟩ = {}",
+                gram[i * nc + j]
+            );
         }
     }
     // Y_00 = 1/(2√π), Y_10 = √(3/4π) z, Y_20 = √(5/16π)(3z² − 1)
@@ -162,7 +231,15 @@ fn sh_basis_is_orthonormal_and_signed_as_published() {
 fn zonal_coefficients_of_the_clamped_cosine_match_ramamoorthi_hanrahan() {
     // Ramamoorthi & Hanrahan 2001: Â_l = 2π ∫₀¹ t P_l(t) dt = π, 2π/3, π/4, 0, −π/24, 0, π/64
     let k = zonal_coefficients(&|t| t.max(0.0), 1.0, 6);
-    let want = [PI, 2.0 * PI / 3.0, PI / 4.0, 0.0, -PI / 24.0, 0.0, PI / 64.0];
+    let want = [
+        PI,
+        2.0 * PI / 3.0,
+        PI / 4.0,
+        0.0,
+        -PI / 24.0,
+        0.0,
+        PI / 64.0,
+    ];
     for (l, (a, b)) in k.iter().zip(want).enumerate() {
         assert!((a - b).abs() < 1e-9, "l = {l}: {a} vs {b}");
     }
@@ -193,10 +270,15 @@ fn em_pitfalls_identical_points_and_kappa_overflow() {
     assert!(s.pdf(&n[0]).is_finite() && s.pdf(&n[0]) > 0.0);
     let v = VmfMixture::fit(&n, &w, 4).unwrap();
     assert!(v.log.dropped > 0 && v.log.kappa_capped > 0, "{:?}", v.log);
-    assert!(v.comps.iter().all(|c| c.kappa <= KAPPA_MAX && c.kappa.is_finite()));
+    assert!(v
+        .comps
+        .iter()
+        .all(|c| c.kappa <= KAPPA_MAX && c.kappa.is_finite()));
     assert!(v.density(&n[0]).is_finite() && v.density(&n[0]) > 0.0);
     // two distinct normals, four lobes: at most two survive
-    let n2: Vec<V3> = (0..8).map(|i| if i % 2 == 0 { V3::z() } else { dir(0.4, 0.0) }).collect();
+    let n2: Vec<V3> = (0..8)
+        .map(|i| if i % 2 == 0 { V3::z() } else { dir(0.4, 0.0) })
+        .collect();
     let w2 = vec![0.125; 8];
     let v2 = VmfMixture::fit(&n2, &w2, 4).unwrap();
     assert!(v2.comps.len() <= 2, "{} lobes", v2.comps.len());
@@ -205,9 +287,16 @@ fn em_pitfalls_identical_points_and_kappa_overflow() {
     // the log normaliser against its direct form where that is safe, and at the ends
     for k in [1e-2f64, 0.5, 3.0, 30.0, 300.0] {
         let direct = (k / (4.0 * PI * k.sinh())).ln();
-        assert!((vmf_log_norm(k) - direct).abs() < 1e-12 * direct.abs().max(1.0), "κ {k}");
+        assert!(
+            (vmf_log_norm(k) - direct).abs() < 1e-12 * direct.abs().max(1.0),
+            "κ {k}"
+        );
     }
-    assert!(vmf_log_norm(1e-300).is_finite() && vmf_log_norm(1e8).is_finite() && vmf_log_norm(1e300).is_finite());
+    assert!(
+        vmf_log_norm(1e-300).is_finite()
+            && vmf_log_norm(1e8).is_finite()
+            && vmf_log_norm(1e300).is_finite()
+    );
     // bad input is a typed error
     assert!(SlopeMixture::fit(&[], &[], 2, 0.1).is_err());
     assert!(VmfMixture::fit(&n, &w, 0).is_err());
@@ -243,7 +332,10 @@ fn merging_aligned_children_keeps_their_lobes_and_counts_sharp_edges() {
     assert!(m2.misaligned > 0, "{m2:?}");
     let v = VmfMixture::fit(&a, &w, 2).unwrap();
     let vb = VmfMixture::fit(&b, &w, 2).unwrap();
-    assert_eq!(merge_vmf(&[v.clone(), v.clone(), v.clone(), v.clone()], 0.05).misaligned, 0);
+    assert_eq!(
+        merge_vmf(&[v.clone(), v.clone(), v.clone(), v.clone()], 0.05).misaligned,
+        0
+    );
     assert!(merge_vmf(&[v.clone(), vb.clone(), v, vb], 0.05).misaligned > 0);
 }
 
@@ -253,7 +345,14 @@ fn fournier_fits_one_lobe_to_a_beckmann_lobe() {
     // fitted lobe must get within a few per cent, two no worse
     let n = [V3::z()];
     let w = [1.0];
-    let t = Texels { normals: &n, weights: &w, base: BaseLobe { kind: NdfKind::Beckmann, alpha: 0.25 } };
+    let t = Texels {
+        normals: &n,
+        weights: &w,
+        base: BaseLobe {
+            kind: NdfKind::Beckmann,
+            alpha: 0.25,
+        },
+    };
     let target = Target::new(&t, 512, 7);
     let f1 = fit(&t, &target, 1, 200).unwrap();
     assert!(f1.fit_rel_l2 < 0.05, "{f1:?}");

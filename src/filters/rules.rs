@@ -6,6 +6,10 @@
 //! kernels read derivatives of normals or half-vectors across a 2×2 pixel quad.
 //! Roughness convention: GGX/Beckmann α, roughness matrix A = 2·(slope covariance) for
 //! Beckmann (seed 003 Eq 3), used as is for GGX (seed 003 §2).
+//!
+//! In seed 004 §7's terms ([`crate::survey::tools`]): Toksvig and the vMF rules are
+//! convolution methods with the moments tool (one moment of the macroscopic NDF, the mean
+//! normal, the second deduced from it); LEAN is a direct moments method (Eq 19).
 
 use num_traits::Float;
 

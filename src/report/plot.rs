@@ -28,8 +28,18 @@ fn bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
-/// Render panels side by side into an SVG string.
+/// Render panels side by side into an SVG string (legend in the lower left).
 pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
+    loglog_svg_legend(panels, width, height, SeriesLabelPosition::LowerLeft)
+}
+
+/// [`loglog_svg`] with the legend where the caller's data leaves room.
+pub fn loglog_svg_legend(
+    panels: &[Panel],
+    width: u32,
+    height: u32,
+    legend: SeriesLabelPosition,
+) -> Result<String> {
     let mut buf = String::new();
     {
         let root = SVGBackend::with_string(&mut buf, (width, height)).into_drawing_area();
@@ -49,6 +59,12 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
             RGBColor(139, 69, 19),
             RGBColor(128, 128, 0),
             RGBColor(112, 128, 144),
+            RGBColor(220, 20, 60),
+            RGBColor(0, 0, 128),
+            RGBColor(34, 139, 34),
+            RGBColor(255, 105, 180),
+            RGBColor(70, 130, 180),
+            RGBColor(184, 134, 11),
         ];
         for (area, p) in areas.iter().zip(panels) {
             let (x0, x1) = bounds(p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0)));
@@ -91,7 +107,7 @@ pub fn loglog_svg(panels: &[Panel], width: u32, height: u32) -> Result<String> {
                 .configure_series_labels()
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
-                .position(SeriesLabelPosition::LowerLeft)
+                .position(legend.clone())
                 .draw()
                 .map_err(|e| err(e.to_string()))?;
         }

@@ -53,7 +53,12 @@ pub struct EmLog {
 
 /// Deterministic farthest-point initial centres: the heaviest point first, then the point
 /// whose weighted distance to the chosen centres is largest.
-fn farthest_points(n: usize, w: &[f64], dist: &dyn Fn(usize, usize) -> f64, k: usize) -> Vec<usize> {
+fn farthest_points(
+    n: usize,
+    w: &[f64],
+    dist: &dyn Fn(usize, usize) -> f64,
+    k: usize,
+) -> Vec<usize> {
     let mut first = 0;
     for i in 0..n {
         if w[i] > w[first] {
@@ -102,6 +107,68 @@ fn responsibilities(logp: &[Vec<f64>], w: &[f64], r: &mut [Vec<f64>]) -> f64 {
     ll
 }
 
+/// One mixture family's pieces for [`run_em`].
+struct Em<'a, C> {
+    /// ln(a_k p_k(x_i)).
+    log_density: &'a dyn Fn(&C, usize) -> f64,
+    /// The M step for one component from its responsibilities and their weighted sum.
+    m_step: &'a dyn Fn(&[f64], f64, &C, &mut EmLog) -> C,
+    /// A component re-seeded at point i, or `None` when a component already sits there.
+    reseed: &'a dyn Fn(usize, &[C]) -> Option<C>,
+    weight: &'a dyn Fn(&C) -> f64,
+    set_weight: &'a dyn Fn(&mut C, f64),
+}
+
+/// EM to convergence (relative log-likelihood change ≤ 1e-10, ≤ 200 iterations): an empty
+/// component is re-seeded at the worst-explained point (or dropped when that point is
+/// taken), the weights renormalised after every M step.
+fn run_em<C: Copy>(n: usize, w: &[f64], comps: &mut Vec<C>, log: &mut EmLog, em: &Em<C>) {
+    let mut r = vec![vec![0.0; n]; comps.len()];
+    let mut prev = f64::NEG_INFINITY;
+    for it in 0..ITERS {
+        log.iterations = it + 1;
+        let logp: Vec<Vec<f64>> = comps
+            .iter()
+            .map(|c| (0..n).map(|i| (em.log_density)(c, i)).collect())
+            .collect();
+        let ll = responsibilities(&logp, w, &mut r);
+        let mut changed = false;
+        for k in 0..comps.len() {
+            let nk: f64 = (0..n).map(|i| w[i] * r[k][i]).sum();
+            if nk >= 1e-12 {
+                comps[k] = (em.m_step)(&r[k], nk, &comps[k], log);
+                continue;
+            }
+            let best = |i: usize| logp.iter().map(|l| l[i]).fold(f64::NEG_INFINITY, f64::max);
+            let worst = (0..n)
+                .min_by(|&a, &b| best(a).total_cmp(&best(b)))
+                .unwrap_or(0);
+            match (em.reseed)(worst, comps) {
+                Some(c) => {
+                    comps[k] = c;
+                    log.reseeded += 1;
+                    changed = true;
+                }
+                None => {
+                    (em.set_weight)(&mut comps[k], 0.0);
+                    log.dropped += 1;
+                }
+            }
+        }
+        comps.retain(|c| (em.weight)(c) > 0.0);
+        r.truncate(comps.len());
+        let s: f64 = comps.iter().map(|c| (em.weight)(c)).sum();
+        for c in comps.iter_mut() {
+            let v = (em.weight)(c) / s;
+            (em.set_weight)(c, v);
+        }
+        if !changed && (ll - prev).abs() <= TOL * ll.abs().max(1.0) {
+            break;
+        }
+        prev = ll;
+    }
+}
+
 /// One isotropic Gaussian lobe of slopes: weight, mean slope, per-axis variance.
 #[derive(Clone, Copy, Debug)]
 pub struct SlopeLobe {
@@ -129,7 +196,9 @@ impl SlopeMixture {
     /// EM with `k` lobes on the slopes of `normals` (weights summing to 1).
     pub fn fit(normals: &[V3], w: &[f64], k: usize, alpha: f64) -> Result<SlopeMixture> {
         if k == 0 || normals.is_empty() || normals.len() != w.len() {
-            return Err(Error::InvalidArgument("slope EM: empty input or k = 0".into()));
+            return Err(Error::InvalidArgument(
+                "slope EM: empty input or k = 0".into(),
+            ));
         }
         let x: Vec<V2> = normals.iter().map(slope_of).collect();
         let n = x.len();
@@ -140,7 +209,11 @@ impl SlopeMixture {
         };
         let total_var = {
             let m = x.iter().zip(w).fold(V2::zeros(), |a, (p, wi)| a + p * *wi);
-            x.iter().zip(w).map(|(p, wi)| wi * (p - m).norm_squared()).sum::<f64>() * 0.5
+            x.iter()
+                .zip(w)
+                .map(|(p, wi)| wi * (p - m).norm_squared())
+                .sum::<f64>()
+                * 0.5
         };
         let mut comps: Vec<SlopeLobe> = centres
             .iter()
@@ -150,67 +223,49 @@ impl SlopeMixture {
                 var: (total_var / centres.len() as f64).max(VAR_FLOOR),
             })
             .collect();
-        let mut r = vec![vec![0.0; n]; comps.len()];
-        let mut prev = f64::NEG_INFINITY;
-        for it in 0..ITERS {
-            log.iterations = it + 1;
-            let logp: Vec<Vec<f64>> = comps
-                .iter()
-                .map(|c| {
-                    x.iter()
-                        .map(|p| {
-                            c.weight.max(1e-300).ln() - (2.0 * PI * c.var).ln()
-                                - (p - c.mean).norm_squared() / (2.0 * c.var)
-                        })
-                        .collect()
-                })
-                .collect();
-            let ll = responsibilities(&logp, w, &mut r);
-            let mut changed = false;
-            for kk in 0..comps.len() {
-                let nk: f64 = (0..n).map(|i| w[i] * r[kk][i]).sum();
-                if nk < 1e-12 {
-                    // empty component: re-seed at the worst-explained point
-                    let worst = (0..n)
-                        .min_by(|&a, &b| {
-                            let fa = logp.iter().map(|l| l[a]).fold(f64::NEG_INFINITY, f64::max);
-                            let fb = logp.iter().map(|l| l[b]).fold(f64::NEG_INFINITY, f64::max);
-                            fa.total_cmp(&fb)
-                        })
-                        .unwrap_or(0);
-                    let taken = comps.iter().any(|c| (c.mean - x[worst]).norm() < 1e-12);
-                    if taken {
-                        comps[kk].weight = 0.0;
-                        log.dropped += 1;
-                    } else {
-                        comps[kk] = SlopeLobe { weight: 1e-3, mean: x[worst], var: total_var.max(VAR_FLOOR) };
-                        log.reseeded += 1;
-                        changed = true;
+        run_em(
+            n,
+            w,
+            &mut comps,
+            &mut log,
+            &Em {
+                log_density: &|c: &SlopeLobe, i| {
+                    c.weight.max(1e-300).ln()
+                        - (2.0 * PI * c.var).ln()
+                        - (x[i] - c.mean).norm_squared() / (2.0 * c.var)
+                },
+                m_step: &|r: &[f64], nk, _c: &SlopeLobe, log: &mut EmLog| {
+                    let mean = (0..n).fold(V2::zeros(), |a, i| a + x[i] * (w[i] * r[i])) / nk;
+                    let var = (0..n)
+                        .map(|i| w[i] * r[i] * (x[i] - mean).norm_squared())
+                        .sum::<f64>()
+                        / (2.0 * nk);
+                    if var < VAR_FLOOR {
+                        log.floored += 1;
                     }
-                    continue;
-                }
-                let mean = (0..n).fold(V2::zeros(), |a, i| a + x[i] * (w[i] * r[kk][i])) / nk;
-                let var = (0..n)
-                    .map(|i| w[i] * r[kk][i] * (x[i] - mean).norm_squared())
-                    .sum::<f64>()
-                    / (2.0 * nk);
-                if var < VAR_FLOOR {
-                    log.floored += 1;
-                }
-                comps[kk] = SlopeLobe { weight: nk, mean, var: var.max(VAR_FLOOR) };
-            }
-            comps.retain(|c| c.weight > 0.0);
-            r.truncate(comps.len());
-            let s: f64 = comps.iter().map(|c| c.weight).sum();
-            for c in comps.iter_mut() {
-                c.weight /= s;
-            }
-            if !changed && (ll - prev).abs() <= TOL * ll.abs().max(1.0) {
-                break;
-            }
-            prev = ll;
-        }
-        Ok(SlopeMixture { comps, base_var: 0.5 * alpha * alpha, log })
+                    SlopeLobe {
+                        weight: nk,
+                        mean,
+                        var: var.max(VAR_FLOOR),
+                    }
+                },
+                reseed: &|i, comps: &[SlopeLobe]| {
+                    let taken = comps.iter().any(|c| (c.mean - x[i]).norm() < 1e-12);
+                    (!taken).then(|| SlopeLobe {
+                        weight: 1e-3,
+                        mean: x[i],
+                        var: total_var.max(VAR_FLOOR),
+                    })
+                },
+                weight: &|c: &SlopeLobe| c.weight,
+                set_weight: &|c: &mut SlopeLobe, v| c.weight = v,
+            },
+        );
+        Ok(SlopeMixture {
+            comps,
+            base_var: 0.5 * alpha * alpha,
+            log,
+        })
     }
 }
 
@@ -298,7 +353,9 @@ impl VmfMixture {
     /// Spherical EM with `k` lobes on unit `normals` (weights summing to 1).
     pub fn fit(normals: &[V3], w: &[f64], k: usize) -> Result<VmfMixture> {
         if k == 0 || normals.is_empty() || normals.len() != w.len() {
-            return Err(Error::InvalidArgument("vMF EM: empty input or k = 0".into()));
+            return Err(Error::InvalidArgument(
+                "vMF EM: empty input or k = 0".into(),
+            ));
         }
         let n = normals.len();
         let centres = farthest_points(n, w, &|i, j| 1.0 - normals[i].dot(&normals[j]), k);
@@ -306,67 +363,56 @@ impl VmfMixture {
             dropped: k - centres.len(),
             ..EmLog::default()
         };
-        let mbar = normals.iter().zip(w).fold(V3::zeros(), |a, (p, wi)| a + p * *wi);
+        let mbar = normals
+            .iter()
+            .zip(w)
+            .fold(V3::zeros(), |a, (p, wi)| a + p * *wi);
         let k0 = inverse_langevin(mbar.norm()).max(1.0);
         let mut comps: Vec<VmfLobe> = centres
             .iter()
-            .map(|&c| VmfLobe { weight: 1.0 / centres.len() as f64, mu: normals[c], kappa: k0 })
+            .map(|&c| VmfLobe {
+                weight: 1.0 / centres.len() as f64,
+                mu: normals[c],
+                kappa: k0,
+            })
             .collect();
-        let mut r = vec![vec![0.0; n]; comps.len()];
-        let mut prev = f64::NEG_INFINITY;
-        for it in 0..ITERS {
-            log.iterations = it + 1;
-            let logp: Vec<Vec<f64>> = comps
-                .iter()
-                .map(|c| {
-                    let ln = c.weight.max(1e-300).ln() + vmf_log_norm(c.kappa);
-                    // ln C(κ) holds −κ, so ln C + κ μ·η = … − κ(1 − μ·η) stays bounded
-                    normals.iter().map(|p| ln + c.kappa * p.dot(&c.mu)).collect()
-                })
-                .collect();
-            let ll = responsibilities(&logp, w, &mut r);
-            let mut changed = false;
-            for kk in 0..comps.len() {
-                let nk: f64 = (0..n).map(|i| w[i] * r[kk][i]).sum();
-                if nk < 1e-12 {
-                    let worst = (0..n)
-                        .min_by(|&a, &b| {
-                            let fa = logp.iter().map(|l| l[a]).fold(f64::NEG_INFINITY, f64::max);
-                            let fb = logp.iter().map(|l| l[b]).fold(f64::NEG_INFINITY, f64::max);
-                            fa.total_cmp(&fb)
-                        })
-                        .unwrap_or(0);
-                    let taken = comps.iter().any(|c| (c.mu - normals[worst]).norm() < 1e-12);
-                    if taken {
-                        comps[kk].weight = 0.0;
-                        log.dropped += 1;
-                    } else {
-                        comps[kk] = VmfLobe { weight: 1e-3, mu: normals[worst], kappa: k0 };
-                        log.reseeded += 1;
-                        changed = true;
+        run_em(
+            n,
+            w,
+            &mut comps,
+            &mut log,
+            &Em {
+                // ln C(κ) holds −κ, so ln C + κ μ·η = … − κ(1 − μ·η) stays bounded
+                log_density: &|c: &VmfLobe, i| {
+                    c.weight.max(1e-300).ln()
+                        + vmf_log_norm(c.kappa)
+                        + c.kappa * normals[i].dot(&c.mu)
+                },
+                m_step: &|r: &[f64], nk, c: &VmfLobe, log: &mut EmLog| {
+                    let s = (0..n).fold(V3::zeros(), |a, i| a + normals[i] * (w[i] * r[i]));
+                    let kappa = inverse_langevin((s.norm() / nk).min(1.0));
+                    if kappa >= KAPPA_MAX {
+                        log.kappa_capped += 1;
                     }
-                    continue;
-                }
-                let s = (0..n).fold(V3::zeros(), |a, i| a + normals[i] * (w[i] * r[kk][i]));
-                let rbar = (s.norm() / nk).min(1.0);
-                let kappa = inverse_langevin(rbar);
-                if kappa >= KAPPA_MAX {
-                    log.kappa_capped += 1;
-                }
-                let mu = if s.norm() > 0.0 { s.normalize() } else { comps[kk].mu };
-                comps[kk] = VmfLobe { weight: nk, mu, kappa };
-            }
-            comps.retain(|c| c.weight > 0.0);
-            r.truncate(comps.len());
-            let s: f64 = comps.iter().map(|c| c.weight).sum();
-            for c in comps.iter_mut() {
-                c.weight /= s;
-            }
-            if !changed && (ll - prev).abs() <= TOL * ll.abs().max(1.0) {
-                break;
-            }
-            prev = ll;
-        }
+                    let mu = if s.norm() > 0.0 { s.normalize() } else { c.mu };
+                    VmfLobe {
+                        weight: nk,
+                        mu,
+                        kappa,
+                    }
+                },
+                reseed: &|i, comps: &[VmfLobe]| {
+                    let taken = comps.iter().any(|c| (c.mu - normals[i]).norm() < 1e-12);
+                    (!taken).then(|| VmfLobe {
+                        weight: 1e-3,
+                        mu: normals[i],
+                        kappa: k0,
+                    })
+                },
+                weight: &|c: &VmfLobe| c.weight,
+                set_weight: &|c: &mut VmfLobe, v| c.weight = v,
+            },
+        );
         Ok(VmfMixture { comps, log })
     }
 
@@ -407,7 +453,11 @@ fn permutations(k: usize) -> Vec<Vec<usize>> {
 /// For each child after the first, the permutation of its lobes matching child 0's lobes
 /// that minimises Σ cost(ref_k, child_π(k)); children with a different lobe count are
 /// padded by repeating their heaviest lobe with weight 0.
-pub fn align<T: Copy>(children: &[Vec<T>], cost: &dyn Fn(&T, &T) -> f64, zero: &dyn Fn(&T) -> T) -> Vec<Vec<T>> {
+pub fn align<T: Copy>(
+    children: &[Vec<T>],
+    cost: &dyn Fn(&T, &T) -> f64,
+    zero: &dyn Fn(&T) -> T,
+) -> Vec<Vec<T>> {
     let k = children.iter().map(|c| c.len()).max().unwrap_or(0);
     let pad = |c: &Vec<T>| {
         let mut c = c.clone();
@@ -425,8 +475,16 @@ pub fn align<T: Copy>(children: &[Vec<T>], cost: &dyn Fn(&T, &T) -> f64, zero: &
         let best = perms
             .iter()
             .min_by(|a, b| {
-                let ca: f64 = a.iter().enumerate().map(|(i, &j)| cost(&reference[i], &ch[j])).sum();
-                let cb: f64 = b.iter().enumerate().map(|(i, &j)| cost(&reference[i], &ch[j])).sum();
+                let ca: f64 = a
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &j)| cost(&reference[i], &ch[j]))
+                    .sum();
+                let cb: f64 = b
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &j)| cost(&reference[i], &ch[j]))
+                    .sum();
                 ca.total_cmp(&cb)
             })
             .cloned()
@@ -447,11 +505,9 @@ fn slope_width(l: &SlopeLobe, base_var: f64) -> f64 {
 pub fn merge_slopes(children: &[SlopeMixture]) -> Merged<SlopeLobe> {
     let base = children[0].base_var;
     let lists: Vec<Vec<SlopeLobe>> = children.iter().map(|c| c.comps.clone()).collect();
-    let aligned = align(
-        &lists,
-        &|a, b| (a.mean - b.mean).norm_squared(),
-        &|a| SlopeLobe { weight: 0.0, ..*a },
-    );
+    let aligned = align(&lists, &|a, b| (a.mean - b.mean).norm_squared(), &|a| {
+        SlopeLobe { weight: 0.0, ..*a }
+    });
     let k = aligned[0].len();
     let nc = children.len() as f64;
     let (mut misaligned, mut pairs) = (0, 0);
@@ -468,7 +524,8 @@ pub fn merge_slopes(children: &[SlopeMixture]) -> Merged<SlopeLobe> {
             let (r, l) = (aligned[0][i], ch[i]);
             if r.weight > 0.0 && l.weight > 0.0 {
                 pairs += 1;
-                if (r.mean - l.mean).norm() > 2.0 * (slope_width(&r, base) + slope_width(&l, base)) {
+                if (r.mean - l.mean).norm() > 2.0 * (slope_width(&r, base) + slope_width(&l, base))
+                {
                     misaligned += 1;
                 }
             }
@@ -476,10 +533,18 @@ pub fn merge_slopes(children: &[SlopeMixture]) -> Merged<SlopeLobe> {
         if a > 0.0 {
             let mean = am / a;
             let var = ((am2 / a - mean.norm_squared()) * 0.5).max(VAR_FLOOR);
-            lobes.push(SlopeLobe { weight: a, mean, var });
+            lobes.push(SlopeLobe {
+                weight: a,
+                mean,
+                var,
+            });
         }
     }
-    Merged { lobes, misaligned, pairs }
+    Merged {
+        lobes,
+        misaligned,
+        pairs,
+    }
 }
 
 /// Han et al.'s MIP-map step for vMF lobes: a_k and r_k = a_k A(κ_k) μ_k averaged, then
@@ -487,7 +552,10 @@ pub fn merge_slopes(children: &[SlopeMixture]) -> Merged<SlopeLobe> {
 /// 1/√κ + the base lobe's α.
 pub fn merge_vmf(children: &[VmfMixture], alpha: f64) -> Merged<VmfLobe> {
     let lists: Vec<Vec<VmfLobe>> = children.iter().map(|c| c.comps.clone()).collect();
-    let aligned = align(&lists, &|a, b| 1.0 - a.mu.dot(&b.mu), &|a| VmfLobe { weight: 0.0, ..*a });
+    let aligned = align(&lists, &|a, b| 1.0 - a.mu.dot(&b.mu), &|a| VmfLobe {
+        weight: 0.0,
+        ..*a
+    });
     let k = aligned[0].len();
     let nc = children.len() as f64;
     let width = |l: &VmfLobe| 1.0 / l.kappa.max(1e-12).sqrt() + alpha;
@@ -511,8 +579,16 @@ pub fn merge_vmf(children: &[VmfMixture], alpha: f64) -> Merged<VmfLobe> {
             }
         }
         if a > 0.0 && r.norm() > 0.0 {
-            lobes.push(VmfLobe { weight: a, mu: r.normalize(), kappa: inverse_langevin(r.norm() / a) });
+            lobes.push(VmfLobe {
+                weight: a,
+                mu: r.normalize(),
+                kappa: inverse_langevin(r.norm() / a),
+            });
         }
     }
-    Merged { lobes, misaligned, pairs }
+    Merged {
+        lobes,
+        misaligned,
+        pairs,
+    }
 }

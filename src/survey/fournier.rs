@@ -161,7 +161,9 @@ impl Objective<'_> {
                         continue;
                     }
                     let base = 5 * k;
-                    let mnorm = V3::new(p[base + 1], p[base + 2], p[base + 3]).norm().max(1e-300);
+                    let mnorm = V3::new(p[base + 1], p[base + 2], p[base + 3])
+                        .norm()
+                        .max(1e-300);
                     g[base] += k2 * v;
                     // ∂v/∂m = a e c^{e−1} (d − c μ)/‖m‖
                     let dv = v * l.e / c;
@@ -209,7 +211,9 @@ fn exponent(kappa: f64, alpha: f64) -> f64 {
 /// Fit `k` lobes to the footprint (≤ `max_iters` L-BFGS iterations).
 pub fn fit(t: &Texels, target: &Target, k: usize, max_iters: u64) -> Result<BlinnPhongSum> {
     if k == 0 || k > 16 {
-        return Err(Error::InvalidArgument(format!("Fournier lobe count {k} not in 1..=16")));
+        return Err(Error::InvalidArgument(format!(
+            "Fournier lobe count {k} not in 1..=16"
+        )));
     }
     let start = VmfMixture::fit(t.normals, t.weights, k)?;
     let mut p = Vec::with_capacity(5 * k);
@@ -240,7 +244,10 @@ pub fn fit(t: &Texels, target: &Target, k: usize, max_iters: u64) -> Result<Blin
         .run()
     {
         Ok(res) => (
-            res.state().get_best_param().cloned().unwrap_or_else(|| p.clone()),
+            res.state()
+                .get_best_param()
+                .cloned()
+                .unwrap_or_else(|| p.clone()),
             res.state().get_iter(),
         ),
         Err(_) => (p.clone(), 0),

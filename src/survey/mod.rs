@@ -196,18 +196,14 @@ impl Shading {
 /// [0, w], [w, 3w], [3w, 8w], [8w, π] (those below π, also split at π/2), 24 nodes each, and the periodic
 /// trapezoid rule in φ with `n_phi` nodes. Returns (integral, the same with half the
 /// nodes) so that a caller can see the rule's error.
-pub fn sphere_integral(f: &dyn Fn(&V3) -> f64, centre: &V3, width: f64, n_phi: usize) -> (f64, f64) {
+pub fn sphere_integral(
+    f: &dyn Fn(&V3) -> f64,
+    centre: &V3,
+    width: f64,
+    n_phi: usize,
+) -> (f64, f64) {
     let fr = Frame::around(*centre);
-    let w = width.clamp(1e-6, PI);
-    // also split at θ = π/2, the horizon of a lobe clamped there
-    let mut breaks = vec![0.0, PI / 2.0, PI];
-    for b in [w, 3.0 * w, 8.0 * w] {
-        if b < PI {
-            breaks.push(b);
-        }
-    }
-    breaks.sort_by(f64::total_cmp);
-    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    let breaks = lobe_breaks(width);
     let rule = |nt: usize, np: usize| {
         let (x, wt) = gauss_legendre(nt);
         let mut s = 0.0;
@@ -228,4 +224,19 @@ pub fn sphere_integral(f: &dyn Fn(&V3) -> f64, centre: &V3, width: f64, n_phi: u
         s
     };
     (rule(24, n_phi), rule(12, (n_phi / 2).max(4)))
+}
+
+/// θ break points about a lobe's axis for quadrature: 0, w, 3w, 8w (those below π), the
+/// horizon π/2 (where a lobe clamped there has its kink) and π.
+pub fn lobe_breaks(width: f64) -> Vec<f64> {
+    let w = width.clamp(1e-6, PI);
+    let mut breaks = vec![0.0, PI / 2.0, PI];
+    for b in [w, 3.0 * w, 8.0 * w] {
+        if b < PI {
+            breaks.push(b);
+        }
+    }
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    breaks
 }

@@ -85,16 +85,7 @@ pub fn legendre(n: usize, t: f64, out: &mut [f64]) {
 /// concentrated within `width` radians of it: Gauss–Legendre on the θ-pieces [0, w],
 /// [w, 3w], [3w, 8w], [8w, π], also split at the horizon π/2, with at least 128 nodes and 1.5 per oscillation of P_L.
 pub fn zonal_coefficients(k: &dyn Fn(f64) -> f64, width: f64, lmax: usize) -> Vec<f64> {
-    let w = width.clamp(1e-6, PI);
-    // the pieces, and the horizon θ = π/2, where every clamped kernel has its kink
-    let mut br = vec![0.0, PI / 2.0, PI];
-    for b in [w, 3.0 * w, 8.0 * w] {
-        if b < PI {
-            br.push(b);
-        }
-    }
-    br.sort_by(f64::total_cmp);
-    br.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+    let br = super::lobe_breaks(width);
     let mut out = vec![0.0; lmax + 1];
     let mut p = vec![0.0; lmax + 1];
     for seg in br.windows(2) {
@@ -193,7 +184,9 @@ impl VmfConvolved {
                     .enumerate()
                     .map(|(l, k)| {
                         let lf = l as f64;
-                        (2.0 * lf + 1.0) / (4.0 * PI) * k * (-lf * lf / (2.0 * c.kappa.max(1e-12))).exp()
+                        (2.0 * lf + 1.0) / (4.0 * PI)
+                            * k
+                            * (-lf * lf / (2.0 * c.kappa.max(1e-12))).exp()
                     })
                     .collect();
                 let t0 = terms[0].abs();
@@ -241,7 +234,17 @@ pub fn coefficients_needed(exponent: f64, eps: f64) -> Option<usize> {
     let lmax = 600;
     let norm = (exponent + 1.0) / (2.0 * PI);
     let width = (2.0 / (exponent + 2.0)).sqrt();
-    let k = zonal_coefficients(&|t| if t > 0.0 { norm * t.powf(exponent) } else { 0.0 }, width, lmax);
+    let k = zonal_coefficients(
+        &|t| {
+            if t > 0.0 {
+                norm * t.powf(exponent)
+            } else {
+                0.0
+            }
+        },
+        width,
+        lmax,
+    );
     let e2: Vec<f64> = k
         .iter()
         .enumerate()

@@ -46,7 +46,9 @@ impl SlopeGaussian {
         if !(det > 0.0) || !(cov[(0, 0)] > 0.0) || cov.iter().any(|x| !x.is_finite()) {
             return Err(Error::NotSpd(format!("slope covariance {cov:?}")));
         }
-        let inv = cov.try_inverse().ok_or_else(|| Error::NotSpd("slope covariance".into()))?;
+        let inv = cov
+            .try_inverse()
+            .ok_or_else(|| Error::NotSpd("slope covariance".into()))?;
         Ok(SlopeGaussian {
             frame,
             mean,
@@ -82,7 +84,11 @@ impl SlopeGaussian {
         let n = children.len().max(1) as f64;
         let mean = children.iter().fold(V3::zeros(), |a, c| a + c.0) / n;
         let cov = children.iter().fold(Matrix2::zeros(), |a, c| a + c.1.cov) / n;
-        let dir = if mean.norm() > 0.0 { mean.normalize() } else { V3::z() };
+        let dir = if mean.norm() > 0.0 {
+            mean.normalize()
+        } else {
+            V3::z()
+        };
         SlopeGaussian::new(Frame::around(dir), V2::zeros(), cov)
     }
 }
@@ -169,8 +175,14 @@ impl OlanoNorth {
         let inv = nalgebra::Cholesky::new(sigma)
             .map(|c| c.inverse())
             .ok_or_else(|| Error::NotSpd(format!("Olano–North covariance {sigma:?}")))?;
-        let centre = if mu.norm() > 0.0 { mu.normalize() } else { V3::z() };
-        let width = (sigma.trace() - centre.dot(&(sigma * centre))).max(1e-12).sqrt();
+        let centre = if mu.norm() > 0.0 {
+            mu.normalize()
+        } else {
+            V3::z()
+        };
+        let width = (sigma.trace() - centre.dot(&(sigma * centre)))
+            .max(1e-12)
+            .sqrt();
         let mut on = OlanoNorth {
             mu,
             sigma,
@@ -186,7 +198,9 @@ impl OlanoNorth {
         let peak = e(&centre).max(e(&-centre));
         let (z, z_half) = sphere_integral(&|d| (e(d) - peak).exp(), &centre, width, 96);
         if !(z > 0.0) {
-            return Err(Error::NotSpd("Olano–North lobe vanishes on the sphere".into()));
+            return Err(Error::NotSpd(
+                "Olano–North lobe vanishes on the sphere".into(),
+            ));
         }
         on.log_z = z.ln() + peak;
         on.z_rel_err = ((z - z_half) / z).abs();

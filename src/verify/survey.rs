@@ -29,10 +29,20 @@ fn random_mixture(rng: &mut ChaCha8Rng, k: usize) -> Mix {
     w.iter_mut().for_each(|x| *x /= s);
     w.into_iter()
         .map(|wi| {
-            let mu = V2::new(rng.random::<f64>() * 2.0 - 1.0, rng.random::<f64>() * 2.0 - 1.0);
-            let e = V2::new(10f64.powf(-2.0 * rng.random::<f64>()), 10f64.powf(-2.0 * rng.random::<f64>()));
+            let mu = V2::new(
+                rng.random::<f64>() * 2.0 - 1.0,
+                rng.random::<f64>() * 2.0 - 1.0,
+            );
+            let e = V2::new(
+                10f64.powf(-2.0 * rng.random::<f64>()),
+                10f64.powf(-2.0 * rng.random::<f64>()),
+            );
             let r = *Rotation2::new(rng.random::<f64>() * PI).matrix();
-            (wi, mu, r * Matrix2::from_diagonal(&(e * 0.3)) * r.transpose())
+            (
+                wi,
+                mu,
+                r * Matrix2::from_diagonal(&(e * 0.3)) * r.transpose(),
+            )
         })
         .collect()
 }
@@ -93,8 +103,13 @@ fn minimise_cross_entropy(mix: &Mix) -> (V2, Matrix2<f64>) {
             q[k] += if simplex.len() > 6 { 0.5 } else { 0.05 };
             s.push(q);
         }
-        let solver = NelderMead::new(s).with_sd_tolerance(1e-15).expect("simplex");
-        if let Ok(r) = Executor::new(Ce(mix), solver).configure(|c| c.max_iters(4000)).run() {
+        let solver = NelderMead::new(s)
+            .with_sd_tolerance(1e-15)
+            .expect("simplex");
+        if let Ok(r) = Executor::new(Ce(mix), solver)
+            .configure(|c| c.max_iters(4000))
+            .run()
+        {
             if let Some(p) = r.state().get_best_param() {
                 best = p.clone();
             }
@@ -123,7 +138,9 @@ pub fn moment_matching(p: Preset) -> Outcome {
         wq.update(eq, || format!("case {i}, {k} lobes: quadrature moments"));
         let (om, oc) = minimise_cross_entropy(&mix);
         let eo = (om - m).norm() / c.norm().sqrt() + mat_rel(&oc, &c);
-        wo.update(eo, || format!("case {i}, {k} lobes: Nelder–Mead optimum {om:?} vs {m:?}"));
+        wo.update(eo, || {
+            format!("case {i}, {k} lobes: Nelder–Mead optimum {om:?} vs {m:?}")
+        });
         // the cross-entropy's central-difference gradient in m at the moment match
         let h = 1e-5;
         for d in [V2::x(), V2::y()] {
@@ -157,7 +174,10 @@ pub fn moment_matching(p: Preset) -> Outcome {
 fn vmf_1d(kappa: f64, g: &dyn Fn(f64) -> f64) -> f64 {
     let (x, w) = gauss_legendre(64);
     let s = (1.0 / kappa.max(1e-300)).min(2.0);
-    let mut br: Vec<f64> = [0.0, s, 4.0 * s, 16.0 * s, 64.0 * s].iter().map(|v| v.min(2.0)).collect();
+    let mut br: Vec<f64> = [0.0, s, 4.0 * s, 16.0 * s, 64.0 * s]
+        .iter()
+        .map(|v| v.min(2.0))
+        .collect();
     br.push(2.0);
     br.dedup();
     let ln = vmf_log_norm(kappa);
@@ -184,7 +204,10 @@ pub fn vmf_mixture_moments(p: Preset) -> Outcome {
         let m = vmf_1d(kappa, &|t| t);
         let a = langevin(kappa);
         w1.update(((m / z - a) / a).abs().max((z - 1.0).abs()), || {
-            format!("κ = {kappa:.3e}: ∫ = {z:.15}, E[μ·η] = {:.15} vs A(κ) = {a:.15}", m / z)
+            format!(
+                "κ = {kappa:.3e}: ∫ = {z:.15}, E[μ·η] = {:.15} vs A(κ) = {a:.15}",
+                m / z
+            )
         });
     }
     // blends of two seeded two-lobe mixtures: the blend's mean by sphere quadrature
@@ -197,7 +220,11 @@ pub fn vmf_mixture_moments(p: Preset) -> Outcome {
             let t = rng.random::<f64>() * 1.2;
             let ph = rng.random::<f64>() * 2.0 * PI;
             let mu = V3::new(t.sin() * ph.cos(), t.sin() * ph.sin(), t.cos());
-            (0.2 + rng.random::<f64>(), mu, 10f64.powf(0.5 + 1.5 * rng.random::<f64>()))
+            (
+                0.2 + rng.random::<f64>(),
+                mu,
+                10f64.powf(0.5 + 1.5 * rng.random::<f64>()),
+            )
         };
         let ma = [lobe(&mut rng), lobe(&mut rng)];
         let mb = [lobe(&mut rng), lobe(&mut rng)];
@@ -215,9 +242,16 @@ pub fn vmf_mixture_moments(p: Preset) -> Outcome {
                 }
             }
         }
-        let interp = ma.iter().map(|(a, mu, k)| mu * (lam * a / na * langevin(*k))).sum::<V3>()
-            + mb.iter().map(|(a, mu, k)| mu * ((1.0 - lam) * a / nb * langevin(*k))).sum::<V3>();
-        w2.update((mean - interp).norm() / interp.norm(), || format!("blend {b}, λ = {lam:.3}"));
+        let interp = ma
+            .iter()
+            .map(|(a, mu, k)| mu * (lam * a / na * langevin(*k)))
+            .sum::<V3>()
+            + mb.iter()
+                .map(|(a, mu, k)| mu * ((1.0 - lam) * a / nb * langevin(*k)))
+                .sum::<V3>();
+        w2.update((mean - interp).norm() / interp.norm(), || {
+            format!("blend {b}, λ = {lam:.3}")
+        });
         // interpolating κ and μ themselves (lobe by lobe) instead
         let wrong: V3 = (0..2)
             .map(|k| {
@@ -233,7 +267,9 @@ pub fn vmf_mixture_moments(p: Preset) -> Outcome {
         let kappa = 10f64.powf(-3.0 + 9.0 * i as f64 / 60.0);
         let back = inverse_langevin(langevin(kappa));
         let tol = if kappa < 1e6 { 1.0 } else { 1e6 }; // A(κ) = 1 − 1/κ loses κ's digits
-        w3.update(((back - kappa) / kappa).abs() / tol, || format!("A⁻¹(A(κ)) at κ = {kappa:.3e}: {back:.6e}"));
+        w3.update(((back - kappa) / kappa).abs() / tol, || {
+            format!("A⁻¹(A(κ)) at κ = {kappa:.3e}: {back:.6e}")
+        });
     }
     let worst = w1.err.max(w2.err);
     let tol = 1e-9;
@@ -282,11 +318,22 @@ pub fn sh_convolution(p: Preset) -> Outcome {
     let kernels: Vec<(String, Box<dyn Fn(f64) -> f64>, f64)> = {
         let mut v: Vec<(String, Box<dyn Fn(f64) -> f64>, f64)> = Vec::new();
         for e in [1.0f64, 8.0, 64.0] {
-            v.push((format!("Blinn–Phong e = {e}"), Box::new(move |t: f64| if t > 0.0 { t.powf(e) } else { 0.0 }), (2.0 / (e + 2.0)).sqrt()));
+            v.push((
+                format!("Blinn–Phong e = {e}"),
+                Box::new(move |t: f64| if t > 0.0 { t.powf(e) } else { 0.0 }),
+                (2.0 / (e + 2.0)).sqrt(),
+            ));
         }
         for a in [0.3f64, 0.1] {
-            let b = crate::survey::BaseLobe { kind: crate::microfacet::NdfKind::Ggx, alpha: a };
-            v.push((format!("GGX D cos θ, α = {a}"), Box::new(move |t: f64| b.q(t)), a));
+            let b = crate::survey::BaseLobe {
+                kind: crate::microfacet::NdfKind::Ggx,
+                alpha: a,
+            };
+            v.push((
+                format!("GGX D cos θ, α = {a}"),
+                Box::new(move |t: f64| b.q(t)),
+                a,
+            ));
         }
         v
     };
@@ -309,7 +356,10 @@ pub fn sh_convolution(p: Preset) -> Outcome {
                 }
             }
             worst.update(((series - direct) / direct).abs(), || {
-                format!("{name}, η = {:.3?}: series {series:.12e}, quadrature {direct:.12e}", [eta.x, eta.y, eta.z])
+                format!(
+                    "{name}, η = {:.3?}: series {series:.12e}, quadrature {direct:.12e}",
+                    [eta.x, eta.y, eta.z]
+                )
             });
         }
     }

@@ -213,6 +213,7 @@ it buys.\n\n",
     md.push_str(&deliverables::prefilter_table(&timed));
     md.push_str(&deliverables::ltc_tables_table(&timed, results));
     md.push_str(&deliverables::render_table(&timed, results));
+    md.push_str(&deliverables::survey_table(&timed, results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -224,6 +225,7 @@ it buys.\n\n",
                 && !t.group.starts_with("tensor-")
                 && !t.group.starts_with("ltc-")
                 && t.group != "render"
+                && t.group != "survey"
                 && !t.group.starts_with("shaders/")
                 && t.group != "prefilter"
         })

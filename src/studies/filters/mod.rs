@@ -16,7 +16,7 @@ mod constants;
 mod prefilter;
 mod report;
 mod summary;
-mod survey;
+pub mod survey;
 mod survey_report;
 mod verdicts;
 
@@ -131,7 +131,11 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         .iter()
         .map(|&k| NormalMap::procedural(k, plan.map_size, seed + 1))
         .collect::<Result<_>>()?;
-    all_maps.push(NormalMap::procedural(Procedural::Scratches, plan.map_size, seed + 1)?);
+    all_maps.push(NormalMap::procedural(
+        Procedural::Scratches,
+        plan.map_size,
+        seed + 1,
+    )?);
     let mut map_cases = cases::map_study(&all_maps, &plan, seed)?;
     let views = plan.views_deg.len();
     let survey_cases = survey::survey_study(&all_maps, &map_cases, views, seed)?;

@@ -61,7 +61,11 @@ pub const ROWS: [Row; 24] = [
         params: None,
     },
     row("Schilling, recomputed per level", "Schilling", 5),
-    row("Schilling, MIP-mapped linearly (one level)", "Schilling (mipped)", 5),
+    row(
+        "Schilling, MIP-mapped linearly (one level)",
+        "Schilling (mipped)",
+        5,
+    ),
     row("Olano & North 3D Gaussian (Eq 17)", "Olano & North", 9),
     row("SGGX / Neyret ellipsoid (Eq 18)", "SGGX", 5),
     row("Olano & Baker Gaussian slopes (Eq 19)", "Olano & Baker", 5),
@@ -73,16 +77,32 @@ pub const ROWS: [Row; 24] = [
     row("Tan et al., 1 slope Gaussian (Eq 21), EM", "Tan et al.", 3),
     row("Tan et al., 2 lobes, EM", "Tan et al.", 7),
     row("Tan et al., 4 lobes, EM", "Tan et al.", 15),
-    row("Tan et al., 2 lobes, MIP-mapped (aligned)", "Tan et al. (mipped)", 7),
-    row("Tan et al., 4 lobes, MIP-mapped (aligned)", "Tan et al. (mipped)", 15),
+    row(
+        "Tan et al., 2 lobes, MIP-mapped (aligned)",
+        "Tan et al. (mipped)",
+        7,
+    ),
+    row(
+        "Tan et al., 4 lobes, MIP-mapped (aligned)",
+        "Tan et al. (mipped)",
+        15,
+    ),
     row("Han et al. SH, degree 3", "Han SH", 15),
     row("Han et al. SH, degree 7", "Han SH", 63),
     row("Han et al. SH, degree 15", "Han SH", 255),
     row("Han et al. vMF, 1 lobe (Eq 22), EM", "Han vMF", 3),
     row("Han et al. vMF, 2 lobes, EM", "Han vMF", 7),
     row("Han et al. vMF, 4 lobes, EM", "Han vMF", 15),
-    row("Han et al. vMF, 2 lobes, MIP-mapped (aligned)", "Han vMF (mipped)", 7),
-    row("Han et al. vMF, 4 lobes, MIP-mapped (aligned)", "Han vMF (mipped)", 15),
+    row(
+        "Han et al. vMF, 2 lobes, MIP-mapped (aligned)",
+        "Han vMF (mipped)",
+        7,
+    ),
+    row(
+        "Han et al. vMF, 4 lobes, MIP-mapped (aligned)",
+        "Han vMF (mipped)",
+        15,
+    ),
 ];
 
 /// The footprint study's map filters (results/filters.md) as survey rows, in
@@ -276,12 +296,23 @@ pub(super) fn survey_study(
         .enumerate()
         .map(|(fi, c)| {
             let key = (c.kind, c.alpha.to_bits());
-            let z = &zonals.iter().find(|z| z.0 == key).expect("zonal of every (kind, α)").1;
+            let z = &zonals
+                .iter()
+                .find(|z| z.0 == key)
+                .expect("zonal of every (kind, α)")
+                .1;
             let base = BaseLobe {
                 kind: c.kind,
                 alpha: c.alpha,
             };
-            let f = fit_footprint(&maps[c.map], c.level, c.idx, base, z, seed_of(seed ^ 0x5E, fi));
+            let f = fit_footprint(
+                &maps[c.map],
+                c.level,
+                c.idx,
+                base,
+                z,
+                seed_of(seed ^ 0x5E, fi),
+            );
             pb.inc(1);
             f
         })

@@ -3,14 +3,14 @@
 //! computes every number; [`markdown`] and [`pareto_svg`] only render them.
 
 use super::cases::{aggregate, mean_se, Agg, MapCase};
-use super::survey::{Diag, SurveyCases, FILTER_ROWS, FOURNIER_K, MIP_K, ROWS};
 use super::kind_name;
+use super::survey::{Diag, SurveyCases, FILTER_ROWS, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
 use crate::filters::study::MAP_FILTERS;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
-use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::report::plot::{loglog_svg_legend, Panel, Series};
 use crate::survey::em::EmLog;
 use crate::survey::sh::coefficients_needed;
 use crate::survey::tools::TOOLS;
@@ -117,15 +117,25 @@ fn paired(cases: &[(usize, &MapCase)], sv: &SurveyCases, a: usize, b: usize) -> 
     mean_se(&d)
 }
 
-fn verdicts(maps: &[String], cases: &[(usize, &MapCase)], sv: &SurveyCases, rows: &[RowSummary]) -> Vec<Verdict> {
+fn verdicts(
+    maps: &[String],
+    cases: &[(usize, &MapCase)],
+    sv: &SurveyCases,
+    rows: &[RowSummary],
+) -> Vec<Verdict> {
     let mut out = Vec::new();
     for (m, name) in maps.iter().enumerate() {
-        let mc: Vec<(usize, &MapCase)> = cases.iter().filter(|(_, c)| c.map == m).copied().collect();
+        let mc: Vec<(usize, &MapCase)> =
+            cases.iter().filter(|(_, c)| c.map == m).copied().collect();
         for &b in &BUDGETS {
             let mut cand: Vec<usize> = (0..rows.len())
                 .filter(|&r| rows[r].params.is_some_and(|p| p <= b))
                 .collect();
-            cand.sort_by(|&x, &y| rows[x].by_map[m].l2_mean.total_cmp(&rows[y].by_map[m].l2_mean));
+            cand.sort_by(|&x, &y| {
+                rows[x].by_map[m]
+                    .l2_mean
+                    .total_cmp(&rows[y].by_map[m].l2_mean)
+            });
             if cand.len() < 2 {
                 continue;
             }
@@ -166,8 +176,12 @@ fn alignment(maps: &[String], cases: &[(usize, &MapCase)], sv: &SurveyCases) -> 
             let split = |want: bool| {
                 let x: Vec<f64> = cases
                     .iter()
-                    .filter(|(ci, c)| c.map == m && (sv.diags[ci / sv.views].tan_align[1].0 > 0) == want)
-                    .map(|(ci, c)| result(c, sv, *ci, mip4).l2.value - result(c, sv, *ci, em4).l2.value)
+                    .filter(|(ci, c)| {
+                        c.map == m && (sv.diags[ci / sv.views].tan_align[1].0 > 0) == want
+                    })
+                    .map(|(ci, c)| {
+                        result(c, sv, *ci, mip4).l2.value - result(c, sv, *ci, em4).l2.value
+                    })
                     .collect();
                 let (a, b) = mean_se(&x);
                 (a, b, x.len() / sv.views.max(1))
@@ -187,7 +201,11 @@ fn alignment(maps: &[String], cases: &[(usize, &MapCase)], sv: &SurveyCases) -> 
 pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -> Summary {
     let idx: Vec<(usize, &MapCase)> = cases.iter().copied().enumerate().collect();
     let agg = |r: usize, f: &dyn Fn(&MapCase) -> bool| {
-        let v: Vec<&CaseResult> = idx.iter().filter(|(_, c)| f(c)).map(|(ci, c)| result(c, sv, *ci, r)).collect();
+        let v: Vec<&CaseResult> = idx
+            .iter()
+            .filter(|(_, c)| f(c))
+            .map(|(ci, c)| result(c, sv, *ci, r))
+            .collect();
         aggregate(&v)
     };
     let rows: Vec<RowSummary> = (0..n_rows())
@@ -211,9 +229,13 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
     let schilling = levels
         .iter()
         .map(|&l| {
-            let lc: Vec<(usize, &MapCase)> = idx.iter().filter(|(_, c)| c.level == l).copied().collect();
+            let lc: Vec<(usize, &MapCase)> =
+                idx.iter().filter(|(_, c)| c.level == l).copied().collect();
             let a = |r: usize| {
-                let v: Vec<f64> = lc.iter().map(|(ci, c)| result(c, sv, *ci, r).l2.value).collect();
+                let v: Vec<f64> = lc
+                    .iter()
+                    .map(|(ci, c)| result(c, sv, *ci, r).l2.value)
+                    .collect();
                 mean_se(&v)
             };
             LevelPair {
@@ -245,7 +267,16 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
     let fournier_iters = FOURNIER_K
         .iter()
         .enumerate()
-        .map(|(i, &k)| (k, sv.diags.iter().map(|d| d.fournier_iters[i] as f64).sum::<f64>() / nd))
+        .map(|(i, &k)| {
+            (
+                k,
+                sv.diags
+                    .iter()
+                    .map(|d| d.fournier_iters[i] as f64)
+                    .sum::<f64>()
+                    / nd,
+            )
+        })
         .collect();
     let rule_eps = vec![0.10, 0.05, 0.01];
     let rule_of_thumb = [1.0, 4.0, 16.0, 64.0, 256.0, 1024.0]
@@ -253,7 +284,10 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
         .map(|&e: &f64| RuleOfThumb {
             exponent: e,
             rule: 4.0 * (e + e.sqrt()),
-            needed: rule_eps.iter().map(|&eps| coefficients_needed(e, eps)).collect(),
+            needed: rule_eps
+                .iter()
+                .map(|&eps| coefficients_needed(e, eps))
+                .collect(),
         })
         .collect();
     Summary {
@@ -265,7 +299,11 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
         em,
         fournier_fit_l2,
         fournier_iters,
-        olano_north_z_err_max: sv.diags.iter().map(|d| d.olano_north_z_err).fold(0.0, f64::max),
+        olano_north_z_err_max: sv
+            .diags
+            .iter()
+            .map(|d| d.olano_north_z_err)
+            .fold(0.0, f64::max),
         vmf_terms_max: sv.diags.iter().map(|d| d.vmf_terms).max().unwrap_or(0),
         rule_of_thumb,
         rule_eps,
@@ -280,7 +318,13 @@ fn pm(m: f64, s: f64) -> String {
 /// per NDF), the best row of a family at each count, and the front over all of them.
 pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
     let panel = |kind: NdfKind| {
-        let pick = |r: &RowSummary| if kind == NdfKind::Ggx { r.ggx } else { r.beckmann };
+        let pick = |r: &RowSummary| {
+            if kind == NdfKind::Ggx {
+                r.ggx
+            } else {
+                r.beckmann
+            }
+        };
         let mut fams: Vec<String> = Vec::new();
         for r in &s.rows {
             if r.params.is_some() && !fams.contains(&r.family) {
@@ -299,7 +343,10 @@ pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
                     }
                 }
                 pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                Series { name: f.clone(), points: pts }
+                Series {
+                    name: f.clone(),
+                    points: pts,
+                }
             })
             .collect();
         let mut all: Vec<(f64, f64)> = series.iter().flat_map(|x| x.points.clone()).collect();
@@ -310,7 +357,10 @@ pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
                 front.push(p);
             }
         }
-        series.push(Series { name: "Pareto front".into(), points: front });
+        series.push(Series {
+            name: "Pareto front".into(),
+            points: front,
+        });
         Panel {
             title: format!("{}: error against storage", kind_name(kind)),
             x_label: "parameters per texel".into(),
@@ -318,12 +368,19 @@ pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
             series,
         }
     };
-    loglog_svg(&[panel(NdfKind::Ggx), panel(NdfKind::Beckmann)], 1400, 620)
+    loglog_svg_legend(
+        &[panel(NdfKind::Ggx), panel(NdfKind::Beckmann)],
+        1500,
+        700,
+        plotters::prelude::SeriesLabelPosition::LowerRight,
+    )
 }
 
 /// results/survey.md.
 pub(super) fn markdown(s: &Summary, preset: Preset, cases: usize) -> String {
-    let mut md = String::from("# The survey's normal-map pre-filtering families, measured (seed 004 §3.2, §7)\n\n");
+    let mut md = String::from(
+        "# The survey's normal-map pre-filtering families, measured (seed 004 §3.2, §7)\n\n",
+    );
     md.push_str(&format!(
         "Written by `cargo run --release -- regen --only filters` (preset {}) from `fits/filters.toml`, with results/filters.md: \
 the same {} map cases (footprints at MIP levels, base α, GGX and Beckmann, views), the same light samples and the same truth \
@@ -333,7 +390,9 @@ scratches (which do not enter the filters' fitted constants). Every number is a 
         cases
     ));
     md.push_str(METHOD);
-    md.push_str("\n## The generic tools (§7)\n\n| representation | tool | method |\n|---|---|---|\n");
+    md.push_str(
+        "\n## The generic tools (§7)\n\n| representation | tool | method |\n|---|---|---|\n",
+    );
     for (n, t, m) in TOOLS {
         md.push_str(&format!("| {n} | {t:?} | {m:?} |\n"));
     }
@@ -349,7 +408,12 @@ The first twelve rows are results/filters.md's filters on the same samples.\n\n"
     md.push('\n');
     for r in &s.rows {
         let p = r.params.map_or("all texels".into(), |p| p.to_string());
-        md.push_str(&format!("| {} | {p} | {} | {} |", r.name, pm(r.ggx.l2_mean, r.ggx.l2_se), pm(r.beckmann.l2_mean, r.beckmann.l2_se)));
+        md.push_str(&format!(
+            "| {} | {p} | {} | {} |",
+            r.name,
+            pm(r.ggx.l2_mean, r.ggx.l2_se),
+            pm(r.beckmann.l2_mean, r.beckmann.l2_se)
+        ));
         for a in &r.by_map {
             md.push_str(&format!(" {:.1} % |", 100.0 * a.l2_mean));
         }
@@ -369,7 +433,11 @@ The winner is the row with the lowest mean L2 among those with at most that many
 the margin is the paired difference runner-up − winner over the map's cases (± s.e.): a margin within 2 s.e. of zero is a tie.\n\n\
 | map | budget | winner | its L2 | runner-up | margin |\n|---|---|---|---|---|---|\n");
     for v in &s.verdicts {
-        let tie = if v.margin.0.abs() < 2.0 * v.margin.1 { " (tie)" } else { "" };
+        let tie = if v.margin.0.abs() < 2.0 * v.margin.1 {
+            " (tie)"
+        } else {
+            ""
+        };
         md.push_str(&format!(
             "| {} | ≤ {} | {} ({}) | {} | {} | {}{tie} |\n",
             v.map,
@@ -432,7 +500,10 @@ The survey quotes about 4(α + √α) coefficients for exponent α. Measured: th
     for r in &s.rule_of_thumb {
         md.push_str(&format!("| {} | {:.0} |", r.exponent, r.rule));
         for n in &r.needed {
-            md.push_str(&format!(" {} |", n.map_or("> 361 201".into(), |n| n.to_string())));
+            md.push_str(&format!(
+                " {} |",
+                n.map_or("> 361 201".into(), |n| n.to_string())
+            ));
         }
         md.push('\n');
     }
