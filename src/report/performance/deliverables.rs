@@ -187,21 +187,25 @@ pub(super) fn render_table(timed: &[Timed], results: &std::path::Path) -> String
 /// The survey's representations: criterion's ns per lobe evaluation (f64, the shading
 /// rule included) beside the parameters per texel and the mean L2 error of results/survey.md.
 pub(super) fn survey_table(timed: &[Timed], results: &std::path::Path) -> String {
-    use crate::studies::filters::survey::ROWS;
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "survey").collect();
     if rows.is_empty() {
         return String::new();
     }
+    // the rows' names, parameter counts and errors from results/fits/filters.json (the
+    // survey's rows follow the filters' twelve)
     let v = crate::results::read_result(results, "filters");
     let first = crate::filters::study::MAP_FILTERS.len();
-    let err = |i: usize| -> String {
-        let Some(r) = v.as_ref().map(|v| &v["survey"]["rows"][first + i]) else {
-            return "—".into();
-        };
-        match (r["ggx"]["l2_mean"].as_f64(), r["ggx"]["l2_se"].as_f64()) {
+    let row = |i: usize| -> Option<(String, String, String)> {
+        let r = &v.as_ref()?["survey"]["rows"][first + i];
+        let name = r["name"].as_str()?.to_string();
+        let params = r["params"]
+            .as_u64()
+            .map_or("all texels".into(), |p| p.to_string());
+        let err = match (r["ggx"]["l2_mean"].as_f64(), r["ggx"]["l2_se"].as_f64()) {
             (Some(m), Some(s)) => format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * s),
             _ => "—".into(),
-        }
+        };
+        Some((name, params, err))
     };
     let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n| representation | params | per evaluation (95 % CI) | L2, GGX (results/survey.md) |\n|---|---|---|---|\n");
     for t in rows {
@@ -212,11 +216,8 @@ pub(super) fn survey_table(timed: &[Timed], results: &std::path::Path) -> String
             .strip_prefix("row ")
             .and_then(|s| s.split(':').next())
             .and_then(|s| s.parse::<usize>().ok());
-        match idx.and_then(|i| ROWS.get(i).map(|r| (i, r))) {
-            Some((i, r)) => {
-                let p = r.params.map_or("all texels".into(), |p| p.to_string());
-                md.push_str(&format!("| {} | {p} | {time} | {} |\n", r.name, err(i)));
-            }
+        match idx.and_then(row) {
+            Some((name, p, e)) => md.push_str(&format!("| {name} | {p} | {time} | {e} |\n")),
             None => md.push_str(&format!(
                 "| {} | 3 | {time} | — |\n",
                 t.function.trim_end_matches(": 1024 lobes")
