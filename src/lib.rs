@@ -47,5 +47,6 @@ pub mod study;
 pub mod survey;
 pub mod tensor;
 pub mod verify;
+pub mod visibility;
 
 pub use error::{Error, Result};

@@ -310,6 +310,15 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
     }
 }
 
+/// A mean ± s.e. over a subset, "—" when the subset is empty.
+fn pm_or_dash(x: (f64, f64, usize)) -> String {
+    if x.2 == 0 || !x.0.is_finite() {
+        "—".into()
+    } else {
+        pm(x.0, x.1)
+    }
+}
+
 fn pm(m: f64, s: f64) -> String {
     format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * s)
 }
@@ -482,9 +491,9 @@ table shows what that costs against the per-footprint EM fit.\n\n\
             100.0 * a.tan_misaligned[1],
             100.0 * a.vmf_misaligned[0],
             100.0 * a.vmf_misaligned[1],
-            pm(a.tan_cost_misaligned.0, a.tan_cost_misaligned.1),
+            pm_or_dash(a.tan_cost_misaligned),
             a.tan_cost_misaligned.2,
-            pm(a.tan_cost_aligned.0, a.tan_cost_aligned.1),
+            pm_or_dash(a.tan_cost_aligned),
             a.tan_cost_aligned.2
         ));
     }
