@@ -368,12 +368,99 @@ fn survey_benches(c: &mut Criterion) {
     g.finish();
 }
 
+/// One lookup of every visibility method from its filtered parameters (1024 seeded
+/// queries): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow
+/// methods from a layered-scene footprint's filtered parameters.
+fn visibility_benches(c: &mut Criterion) {
+    use ndfbench::visibility::horizon::{self, Dir, HdfMoments, LegendreHorizon};
+    use ndfbench::visibility::shadow::{Method, Occluders, Precision, Receiver, Scene};
+    use ndfbench::visibility::{HeightField, Relief};
+    use rand::{Rng, SeedableRng};
+    let Ok(hf) = HeightField::procedural(Relief::Bumps, 64, 3) else {
+        return;
+    };
+    let texels = hf.block(3, 2, 2);
+    let th = horizon::stored_horizons(&hf, &texels);
+    let mom = HdfMoments::new(&th);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+    let dirs: Vec<(Dir, Dir)> = (0..1024)
+        .map(|_| {
+            let mut d = || Dir {
+                elev: 0.1 + 1.2 * rng.random::<f64>(),
+                azim: 6.28 * rng.random::<f64>(),
+            };
+            (d(), d())
+        })
+        .collect();
+    let mut g = c.benchmark_group("visibility");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(1));
+    g.warm_up_time(Duration::from_millis(300));
+    g.bench_function("horizon: Fournier ramp, 1024 lookups", |b| {
+        b.iter(|| {
+            dirs.iter()
+                .map(|(v, _)| horizon::fournier(&mom, black_box(v)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("horizon: Tan erf, 1024 lookups", |b| {
+        b.iter(|| {
+            dirs.iter()
+                .map(|(v, _)| horizon::tan_erf(&mom, black_box(v)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("horizon: Tan erf + Eq 28, 1024 lookups", |b| {
+        b.iter(|| {
+            dirs.iter()
+                .map(|(v, l)| {
+                    let (a, bb) = (
+                        horizon::tan_erf(&mom, l),
+                        horizon::tan_erf(&mom, black_box(v)),
+                    );
+                    horizon::joint_eq28(a, bb, v.cos_between(l))
+                })
+                .sum::<f64>()
+        })
+    });
+    for k in [8usize, 32] {
+        let lg = LegendreHorizon::new(&th, k);
+        g.bench_function(format!("horizon: Legendre {k}, 1024 lookups"), |b| {
+            b.iter(|| dirs.iter().map(|(v, _)| lg.eval(black_box(v))).sum::<f64>())
+        });
+    }
+    let sc = Scene {
+        occluders: Occluders::Layers,
+        receiver: Receiver::Parallel,
+        size: 64,
+    };
+    let z = sc.depth_map();
+    let fp = hf.block(3, 3, 3);
+    let ds: Vec<f64> = (0..1024).map(|_| 0.5 + 0.5 * rng.random::<f64>()).collect();
+    for m in [
+        Method::Vsm,
+        Method::Csm {
+            terms: 16,
+            fixed: true,
+        },
+        Method::Esm { c: 40.0 },
+        Method::Evsm { c: 20.0 },
+    ] {
+        let f = m.filter(&z, 64, &fp, Precision::F32);
+        g.bench_function(format!("shadow: {m:?}, 1024 lookups"), |b| {
+            b.iter(|| ds.iter().map(|d| m.lookup(&f, black_box(*d))).sum::<f64>())
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     prefilter_benches,
     shader_benches,
     ltc_table_benches,
     render_benches,
-    survey_benches
+    survey_benches,
+    visibility_benches
 );
 criterion_main!(benches);

@@ -151,3 +151,22 @@ fn vmf_mixture_moments() {
 fn sh_convolution() {
     check("sh-convolution");
 }
+#[test]
+fn horizon_joint_limits() {
+    let o = check("horizon-joint-limits");
+    // the counter-example: the plain product misses the hotspot
+    assert!(o.notes.iter().any(|n| n.contains("misses the hotspot")));
+}
+#[test]
+fn legendre_horizon_linearity() {
+    check("legendre-horizon-linearity");
+}
+#[test]
+fn vsm_single_plane() {
+    let o = check("vsm-single-plane");
+    assert!(o.notes.iter().any(|n| n.contains("light bleeding")));
+}
+#[test]
+fn box_filter_analytic_integration() {
+    check("box-filter-analytic-integration");
+}

@@ -20,6 +20,7 @@ pub mod multiscale_convolution;
 pub mod render;
 pub mod smith_lambda;
 pub mod tensor;
+pub mod visibility;
 
 /// A study given as its name, the studies it follows and its entry point.
 struct Entry {
@@ -60,6 +61,9 @@ fn ltc_aniso(c: &Ctx) -> Result<FitOutcome> {
 }
 fn tensor(c: &Ctx) -> Result<FitOutcome> {
     tensor::run(c.spec, c.results, c.preset)
+}
+fn visibility(c: &Ctx) -> Result<FitOutcome> {
+    visibility::run(c.spec, c.results, c.preset)
 }
 fn render(c: &Ctx) -> Result<FitOutcome> {
     render::run(c.spec, c.results, c.preset)
@@ -112,6 +116,11 @@ pub static STUDIES: &[&dyn Study] = &[
         name: "tensor",
         after: &[],
         run: tensor,
+    },
+    &Entry {
+        name: "visibility",
+        after: &[],
+        run: visibility,
     },
     // the anisotropic fits start from the isotropic GGX table
     &Entry {

@@ -14,6 +14,7 @@ pub mod sggx;
 pub mod survey;
 pub mod tensor;
 pub mod tokuyoshi;
+pub mod visibility;
 
 use crate::error::Result;
 use crate::integrate::Preset;
@@ -158,6 +159,22 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "sh-convolution",
             run: survey::sh_convolution,
+        },
+        Check {
+            id: "horizon-joint-limits",
+            run: visibility::horizon_joint_limits,
+        },
+        Check {
+            id: "legendre-horizon-linearity",
+            run: visibility::legendre_horizon_linearity,
+        },
+        Check {
+            id: "vsm-single-plane",
+            run: visibility::vsm_single_plane,
+        },
+        Check {
+            id: "box-filter-analytic-integration",
+            run: visibility::box_filter_analytic,
         },
     ]
 }

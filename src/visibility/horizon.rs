@@ -80,18 +80,25 @@ pub struct HdfMoments {
     pub m2: [f64; 4],
 }
 
+/// Every texel's horizon elevations at the stored azimuths.
+pub fn stored_horizons(hf: &HeightField, texels: &[(usize, usize)]) -> Vec<[f64; 4]> {
+    texels
+        .iter()
+        .map(|&(i, j)| AZIMUTHS.map(|phi| horizon(hf, i, j, phi)))
+        .collect()
+}
+
 impl HdfMoments {
     /// The footprint's moments: the average of its texels' (Θ, Θ²) per azimuth.
-    pub fn new(hf: &HeightField, texels: &[(usize, usize)]) -> HdfMoments {
+    pub fn new(thetas: &[[f64; 4]]) -> HdfMoments {
         let (mut m1, mut m2) = ([0.0; 4], [0.0; 4]);
-        for &(i, j) in texels {
-            for (k, &phi) in AZIMUTHS.iter().enumerate() {
-                let t = horizon(hf, i, j, phi);
-                m1[k] += t;
-                m2[k] += t * t;
+        for th in thetas {
+            for k in 0..4 {
+                m1[k] += th[k];
+                m2[k] += th[k] * th[k];
             }
         }
-        let n = texels.len() as f64;
+        let n = thetas.len() as f64;
         for k in 0..4 {
             m1[k] /= n;
             m2[k] /= n;
@@ -197,12 +204,12 @@ pub struct LegendreHorizon {
 }
 
 impl LegendreHorizon {
-    pub fn new(hf: &HeightField, texels: &[(usize, usize)], order: usize) -> LegendreHorizon {
+    pub fn new(thetas: &[[f64; 4]], order: usize) -> LegendreHorizon {
         let mut coeffs: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; order]);
-        let n = texels.len() as f64;
-        for &(i, j) in texels {
-            for (k, &phi) in AZIMUTHS.iter().enumerate() {
-                let a = legendre_coeffs(horizon(hf, i, j, phi).sin(), order);
+        let n = thetas.len() as f64;
+        for th in thetas {
+            for (k, t) in th.iter().enumerate() {
+                let a = legendre_coeffs(t.sin(), order);
                 for (c, x) in coeffs[k].iter_mut().zip(&a) {
                     *c += x / n;
                 }

@@ -29,6 +29,20 @@ pub fn pulse_integral(x: f64) -> f64 {
     0.5 * f + (x - f - 0.5).max(0.0)
 }
 
+/// The pulse train's integral over [a, b] by summing its unit pulses (independent of F).
+pub fn pulse_integral_by_cells(a: f64, b: f64) -> f64 {
+    let mut s = 0.0;
+    let mut k = a.floor();
+    while k <= b.floor() {
+        let (lo, hi) = ((k + 0.5).max(a), (k + 1.0).min(b));
+        if hi > lo {
+            s += hi - lo;
+        }
+        k += 1.0;
+    }
+    s
+}
+
 /// The box average of f over [a, b] by analytic integration (the point value when the box
 /// is empty).
 pub fn box_average(a: f64, b: f64) -> f64 {

@@ -226,3 +226,23 @@ pub(super) fn survey_table(timed: &[Timed], results: &std::path::Path) -> String
     }
     md
 }
+
+/// Visibility lookups: criterion's ns per lookup of each horizon and shadow method.
+pub(super) fn visibility_table(timed: &[Timed]) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "visibility").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from("\n## Visibility lookups: cost per lookup\n\nCriterion's mean per lookup (95 % CI, one core, f64) from the footprint's filtered parameters (`cargo bench --bench deliverables -- visibility`): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow methods from a layered-scene footprint. Their errors are in results/survey-visibility.md.\n\n| method | per lookup (95 % CI) |\n|---|---|\n");
+    for t in rows {
+        let per = |x: f64| fmt_time(x / 1024.0);
+        md.push_str(&format!(
+            "| {} | {} ({} – {}) |\n",
+            t.function.trim_end_matches(", 1024 lookups"),
+            per(t.mean_ns),
+            per(t.lo_ns),
+            per(t.hi_ns)
+        ));
+    }
+    md
+}

@@ -214,6 +214,7 @@ it buys.\n\n",
     md.push_str(&deliverables::ltc_tables_table(&timed, results));
     md.push_str(&deliverables::render_table(&timed, results));
     md.push_str(&deliverables::survey_table(&timed, results));
+    md.push_str(&deliverables::visibility_table(&timed));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -226,6 +227,7 @@ it buys.\n\n",
                 && !t.group.starts_with("ltc-")
                 && t.group != "render"
                 && t.group != "survey"
+                && t.group != "visibility"
                 && !t.group.starts_with("shaders/")
                 && t.group != "prefilter"
         })
