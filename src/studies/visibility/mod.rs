@@ -76,7 +76,8 @@ pub struct HorizonCase {
     pub l: Dir,
     pub truth_v: f64,
     pub truth_lv: f64,
-    /// V_A(v): Fournier, Tan (erf), Legendre at each order of [`LEGENDRE_K`].
+    /// V_A(v): Fournier, Tan (erf), Legendre at each order of [`LEGENDRE_K`], then Tan and
+    /// Legendre 32 from horizons at v's exact azimuth (diagnostics).
     pub single: Vec<f64>,
     /// V_A(l, v): Fournier's product, Tan + product, Tan + Eq 28, Tan + Ashikhmin,
     /// Legendre (K = 16) + Eq 28.
@@ -150,6 +151,14 @@ fn horizon_cases(plan: &Plan, seed: u64) -> Result<Vec<HorizonCase>> {
                     let (lv16, ll16) = (leg[3].eval(&v), leg[3].eval(&l));
                     let mut single = vec![fv, gv];
                     single.extend(leg.iter().map(|lg| lg.eval(&v)));
+                    // diagnostics: the same forms with every texel's horizon at v's own
+                    // azimuth (what four stored azimuths lose to interpolation)
+                    let at_v: Vec<[f64; 4]> = texels
+                        .iter()
+                        .map(|&(i, j)| [horizon::horizon(hf, i, j, v.azim); 4])
+                        .collect();
+                    single.push(horizon::tan_erf(&HdfMoments::new(&at_v), &v));
+                    single.push(LegendreHorizon::new(&at_v, 32).eval(&v));
                     cases.push(HorizonCase {
                         map: hf.name.clone(),
                         level,

@@ -83,9 +83,12 @@ pub fn summarise(m: &Measured) -> Summary {
             .iter()
             .map(|k| format!("Legendre, {k} terms per azimuth ({})", 4 * k)),
     );
+    single_names.push("diagnostic: Tan et al. erf from horizons at v's own azimuth".into());
+    single_names.push("diagnostic: Legendre 32 from horizons at v's own azimuth".into());
     let single_params: Vec<usize> = [8, 8]
         .into_iter()
         .chain(LEGENDRE_K.iter().map(|k| 4 * k))
+        .chain([8, 128])
         .collect();
     let horizon_single = (0..single_names.len())
         .map(|k| {
@@ -310,7 +313,8 @@ V_A(l, v) = Σ V(l)V(v)/Σ V(v) (Eq 23). Views at 10°, 25° and 45° elevation,
     ));
     table(&mut md, "method", &s.horizon_groups, &s.horizon_single);
     md.push_str("\nThe Legendre rows are Nowrouzezahrai & Snyder's expansion of the step in sin e (Eq 29–30), clamped to [0, 1]; its error against the order \
-is the column \"all\" down the rows (Gibbs ringing at the step keeps the maximum high).\n\n### V_A(l, v)\n\n");
+is the column \"all\" down the rows (Gibbs ringing at the step keeps the maximum high). The two diagnostic rows read every texel's \
+horizon at the view's own azimuth instead of interpolating four stored ones: the difference is what the four azimuths cost.\n\n### V_A(l, v)\n\n");
     table(
         &mut md,
         "joint form",
