@@ -147,7 +147,8 @@ pub fn run(criterion: &Path, results: &Path) -> Result<String> {
         "Written by `cargo bench --bench engines && cargo run --release -- bench-report`. Times are criterion's mean \
 with its 95 % confidence interval, on the machine that ran the benches (see the machine line). The error columns \
 are recomputed deterministically for the same configuration and seed, so every cost stands next to the accuracy \
-it buys.\n\n",
+it buys. Criterion's own browsable report of every benchmark (distributions, regressions against the last run) is \
+left by `cargo bench` under `target/criterion/report/index.html`; this page is its summary.\n\n",
     );
     md.push_str(&format!(
         "Machine: {} logical cores reported by the OS.\n\n",
