@@ -192,35 +192,19 @@ fn procedural_averages_against_independent_quadrature() {
 #[test]
 fn separation_costs_nothing_without_correlation() {
     // flat field: every texel has the same colour, normal and visibility
+    let view = Dir {
+        elev: 0.7,
+        azim: 0.2,
+    };
+    let cost = |hf: &HeightField, texels: &[(usize, usize)]| {
+        separation_cost(hf, texels, NdfKind::Ggx, 0.3, &view, 12).unwrap()
+    };
     let flat = field(32, &|_, _| 0.0);
-    let texels = flat.block(2, 1, 1);
-    let (c, v) = separation_cost(
-        &flat,
-        &texels,
-        NdfKind::Ggx,
-        0.3,
-        &Dir {
-            elev: 0.7,
-            azim: 0.2,
-        },
-        12,
-    )
-    .unwrap();
+    let (c, v) = cost(&flat, &flat.block(2, 1, 1));
     assert!(c < 1e-14 && v < 1e-14, "{c} {v}");
     // the bumps: colour follows slope, so separating them costs
     let b = HeightField::procedural(Relief::Bumps, 64, 2).unwrap();
-    let (c, _) = separation_cost(
-        &b,
-        &b.block(3, 1, 1),
-        NdfKind::Ggx,
-        0.3,
-        &Dir {
-            elev: 0.7,
-            azim: 0.2,
-        },
-        12,
-    )
-    .unwrap();
+    let (c, _) = cost(&b, &b.block(3, 1, 1));
     assert!(c > 0.01, "{c}");
 }
 

@@ -172,6 +172,26 @@ pub fn summarise(m: &Measured) -> Summary {
     }
 }
 
+/// One error per shadow case, over all cases and per occluder scene.
+fn by_scene(
+    m: &Measured,
+    occ: &[Occluders],
+    err: &dyn Fn(&super::ShadowCase) -> f64,
+) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let all = m.shadow.iter().map(err).collect();
+    let per = occ
+        .iter()
+        .map(|o| {
+            m.shadow
+                .iter()
+                .filter(|c| c.scene.occluders == *o)
+                .map(err)
+                .collect()
+        })
+        .collect();
+    (all, per)
+}
+
 type ShadowSummary = (
     Vec<String>,
     Vec<MethodRow>,
@@ -199,34 +219,14 @@ fn shadow_summary(m: &Measured) -> ShadowSummary {
             .map(|(k, meth)| {
                 let err =
                     |c: &super::ShadowCase| ((if f16 { &c.f16 } else { &c.f32 })[k] - c.pcf).abs();
-                let e: Vec<f64> = m.shadow.iter().map(err).collect();
-                let g = occ
-                    .iter()
-                    .map(|o| {
-                        m.shadow
-                            .iter()
-                            .filter(|c| c.scene.occluders == *o)
-                            .map(err)
-                            .collect()
-                    })
-                    .collect();
+                let (e, g) = by_scene(m, &occ, &err);
                 row(method_name(meth), meth.params(), &e, g)
             })
             .collect()
     };
     let eq33 = {
         let err = |c: &super::ShadowCase| (c.pcf_mean_depth - c.pcf).abs();
-        let e: Vec<f64> = m.shadow.iter().map(err).collect();
-        let g = occ
-            .iter()
-            .map(|o| {
-                m.shadow
-                    .iter()
-                    .filter(|c| c.scene.occluders == *o)
-                    .map(err)
-                    .collect()
-            })
-            .collect();
+        let (e, g) = by_scene(m, &occ, &err);
         row(
             "PCF at the mean receiver depth (Eq 33's assumption)".into(),
             1,
