@@ -77,6 +77,21 @@ enum Cmd {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
+    /// The horizon-map study of results/survey-visibility.md on a height map: a square,
+    /// power-of-two grey PNG (8/16-bit, ≤ 4096²), heights = value × SCALE texels. Writes
+    /// DIR/horizon.md (every method's error against the exact visible fractions) and
+    /// DIR/horizon.json.
+    Horizon {
+        #[arg(long)]
+        input: PathBuf,
+        /// texels of height per unit of grey value (0, 1e6]
+        #[arg(long, default_value_t = 16.0)]
+        scale: f64,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, value_enum, default_value_t = Preset::Default)]
+        preset: Preset,
+    },
     /// Compare our GGX LTC table (results/fits/ltc-ggx.json) with a shipped one read from
     /// FILE (selfshadow ltc.js or three.js RectAreaLightTexturesLib.js); writes
     /// DIR/ltc-compare.md. The file is only read.
@@ -375,6 +390,18 @@ fn main() -> ExitCode {
             preset,
         }) => in_set("render", &dir.join(".manifest.json"), || {
             ndfbench::studies::render::render_file(&file, &dir, &cli.results, preset)
+        })
+        .map(|w| {
+            println!("wrote {}", w.join(", "));
+            true
+        }),
+        Some(Cmd::Horizon {
+            input,
+            scale,
+            out: dir,
+            preset,
+        }) => in_set("horizon", &dir.join(".manifest.json"), || {
+            ndfbench::studies::visibility::horizon_file(&input, scale, &dir, preset)
         })
         .map(|w| {
             println!("wrote {}", w.join(", "));

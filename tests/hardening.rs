@@ -977,3 +977,57 @@ fn missing_values_show_as_dashes() {
     let out = ndfbench::report::performance::missing_as_dash(md);
     assert_eq!(out, "| a | — | — | 1.5× | — % |\nx —\n");
 }
+
+#[test]
+fn horizon_command_rejects_bad_height_maps_and_writes_nothing() {
+    let d = scratch("horizon");
+    let out_dir = d.join("out");
+    let good = d.join("h.png");
+    image::GrayImage::from_fn(32, 32, |x, y| image::Luma([((x * 7 + y * 3) % 256) as u8]))
+        .save(&good)
+        .unwrap();
+    let wide = d.join("wide.png");
+    image::GrayImage::from_fn(64, 32, |x, _| image::Luma([x as u8]))
+        .save(&wide)
+        .unwrap();
+    let broken = d.join("broken.png");
+    std::fs::write(&broken, b"\x89PNG\r\n\x1a\n truncated").unwrap();
+    let cases: [(&std::path::Path, &str, &[&str]); 5] = [
+        (&good, "nan", &["scale"]),
+        (&good, "-1", &["scale"]),
+        (&good, "1e300", &["scale"]),
+        (&wide, "1", &["square"]),
+        (&broken, "1", &["height map"]),
+    ];
+    for (input, scale, needles) in cases {
+        let out = bin()
+            .args(["horizon", "--input"])
+            .arg(input)
+            .arg(format!("--scale={scale}"))
+            .args(["--preset", "quick", "--out"])
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert_typed_error(&out, "horizon", needles);
+        assert!(
+            !out_dir.join("horizon.md").exists(),
+            "horizon wrote output for bad input {input:?} --scale {scale}"
+        );
+    }
+    // a good map writes both files
+    let out = bin()
+        .args(["horizon", "--input"])
+        .arg(&good)
+        .args(["--scale", "8", "--preset", "quick", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let md = std::fs::read_to_string(out_dir.join("horizon.md")).unwrap();
+    assert!(md.contains("Tan et al.") && !md.contains("NaN"));
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -68,9 +68,19 @@ fn occluder_name(o: Occluders) -> &'static str {
     }
 }
 
-pub fn summarise(m: &Measured) -> Summary {
+/// The horizon rows of a set of cases: (maps, V_A(v) rows, V_A(l, v) rows, the joint forms
+/// at l = v, the worst |Eq 28 − 1| at l = v).
+pub type HorizonSummary = (
+    Vec<String>,
+    Vec<MethodRow>,
+    Vec<MethodRow>,
+    Vec<(String, (f64, f64))>,
+    f64,
+);
+
+pub fn horizon_summary(cases: &[super::HorizonCase]) -> HorizonSummary {
     let hg: Vec<String> = {
-        let mut g: Vec<String> = m.horizon.iter().map(|c| c.map.clone()).collect();
+        let mut g: Vec<String> = cases.iter().map(|c| c.map.clone()).collect();
         g.dedup();
         g
     };
@@ -92,15 +102,14 @@ pub fn summarise(m: &Measured) -> Summary {
         .collect();
     let horizon_single = (0..single_names.len())
         .map(|k| {
-            let e: Vec<f64> = m
-                .horizon
+            let e: Vec<f64> = cases
                 .iter()
                 .map(|c| (c.single[k] - c.truth_v).abs())
                 .collect();
             let g = hg
                 .iter()
                 .map(|n| {
-                    m.horizon
+                    cases
                         .iter()
                         .filter(|c| &c.map == n)
                         .map(|c| (c.single[k] - c.truth_v).abs())
@@ -120,15 +129,14 @@ pub fn summarise(m: &Measured) -> Summary {
     let joint_params = [8, 8, 8, 8, 64];
     let horizon_joint: Vec<MethodRow> = (0..joint_names.len())
         .map(|k| {
-            let e: Vec<f64> = m
-                .horizon
+            let e: Vec<f64> = cases
                 .iter()
                 .map(|c| (c.joint[k] - c.truth_lv).abs())
                 .collect();
             let g = [true, false]
                 .iter()
                 .map(|&h| {
-                    m.horizon
+                    cases
                         .iter()
                         .filter(|c| c.hotspot == h)
                         .map(|c| (c.joint[k] - c.truth_lv).abs())
@@ -140,8 +148,7 @@ pub fn summarise(m: &Measured) -> Summary {
         .collect();
     let hotspot = (0..joint_names.len())
         .map(|k| {
-            let e: Vec<f64> = m
-                .horizon
+            let e: Vec<f64> = cases
                 .iter()
                 .filter(|c| c.hotspot)
                 .map(|c| (c.joint[k] - 1.0).abs())
@@ -149,12 +156,17 @@ pub fn summarise(m: &Measured) -> Summary {
             (joint_names[k].to_string(), mean_se(&e))
         })
         .collect();
-    let eq28_hotspot_max = m
-        .horizon
+    let eq28_hotspot_max = cases
         .iter()
         .filter(|c| c.hotspot && c.single[1] > 0.0)
         .map(|c| (c.joint[2] - 1.0).abs())
         .fold(0.0, f64::max);
+    (hg, horizon_single, horizon_joint, hotspot, eq28_hotspot_max)
+}
+
+pub fn summarise(m: &Measured) -> Summary {
+    let (hg, horizon_single, horizon_joint, hotspot, eq28_hotspot_max) =
+        horizon_summary(&m.horizon);
     let sh = shadow_summary(m);
     Summary {
         horizon_groups: hg,
@@ -315,6 +327,20 @@ fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
         }
         md.push('\n');
     }
+}
+
+/// The horizon tables alone (the `horizon` command on a user's height map).
+pub fn horizon_markdown(h: &HorizonSummary) -> String {
+    let mut md = String::from("### V_A(v)\n\n");
+    table(&mut md, "method", &h.0, &h.1);
+    md.push_str("\n### V_A(l, v)\n\n");
+    table(
+        &mut md,
+        "joint form",
+        &["at l = v".into(), "l ≠ v".into()],
+        &h.2,
+    );
+    md
 }
 
 pub fn markdown(s: &Summary, m: &Measured, preset: Preset) -> String {
