@@ -286,7 +286,20 @@ fn run_regen(
     fits: &std::path::Path,
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
-    let out = ndfbench::studies::regen(fits, results, only, preset)?;
+    run_regen_timed(only, preset, fits, results, &mut Vec::new())
+}
+
+/// [`run_regen`], appending each study's and each generation step's wall-clock seconds.
+fn run_regen_timed(
+    only: Option<&str>,
+    preset: Preset,
+    fits: &std::path::Path,
+    results: &std::path::Path,
+    times: &mut Vec<(String, f64)>,
+) -> Result<bool, ndfbench::Error> {
+    let (out, t) = ndfbench::studies::regen_timed(fits, results, only, preset)?;
+    times.extend(t);
+    let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
     ndfbench::report::stage("codegen");
     match in_set("codegen", &results_manifest(results, "codegen"), || {
@@ -309,6 +322,10 @@ fn run_regen(
         Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
         Err(e) => eprintln!("shader translation skipped: {e}"),
     }
+    times.push((
+        "codegen, scenes, shaders".into(),
+        t0.elapsed().as_secs_f64(),
+    ));
     for o in &out {
         println!(
             "{:<5} {:<24} {}",
@@ -348,15 +365,26 @@ fn main() -> ExitCode {
     };
     let res: Result<bool, ndfbench::Error> = match cli.cmd {
         None => (|| {
-            let fits_ok = run_regen(None, Preset::Default, &cli.fits, &cli.results)?;
+            let start = std::time::Instant::now();
+            let mut times = Vec::new();
+            let fits_ok =
+                run_regen_timed(None, Preset::Default, &cli.fits, &cli.results, &mut times)?;
+            let t = std::time::Instant::now();
             let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
+            times.push(("verify (every proof)".into(), t.elapsed().as_secs_f64()));
             ndfbench::report::stage("convergence study: started");
+            let t = std::time::Instant::now();
             let conv = in_set(
                 "convergence",
                 &results_manifest(&cli.results, "convergence"),
                 || ndfbench::report::convergence::run(Preset::Default, &cli.results),
             )?;
+            times.push(("convergence study".into(), t.elapsed().as_secs_f64()));
             println!("{conv}");
+            ndfbench::report::performance::write_main_job_times(
+                &times,
+                start.elapsed().as_secs_f64(),
+            );
             Ok(ok)
         })(),
         Some(Cmd::Regen { only, preset }) => {

@@ -155,6 +155,16 @@ pub fn regen(
     only: Option<&str>,
     preset: Preset,
 ) -> Result<Vec<FitOutcome>> {
+    regen_timed(fits_dir, results, only, preset).map(|(o, _)| o)
+}
+
+/// [`regen`], with each study's wall-clock seconds (in run order).
+pub fn regen_timed(
+    fits_dir: &Path,
+    results: &Path,
+    only: Option<&str>,
+    preset: Preset,
+) -> Result<(Vec<FitOutcome>, Vec<(String, f64)>)> {
     let specs = spec::load_dir(fits_dir)?;
     // every spec must name a study: a typo is an error, not some other fit
     for s in &specs {
@@ -193,6 +203,7 @@ pub fn regen(
         (follows, s.name.clone())
     });
     let mut out = Vec::new();
+    let mut times = Vec::new();
     for s in selected {
         let study = find(&s.name)
             .ok_or_else(|| Error::InvalidArgument(format!("spec '{}' names no study", s.name)))?;
@@ -207,11 +218,9 @@ pub fn regen(
             preset,
         })?;
         set.commit()?;
-        crate::report::stage(&format!(
-            "regen {}: done in {:.1} s",
-            s.name,
-            t.elapsed().as_secs_f64()
-        ));
+        let secs = t.elapsed().as_secs_f64();
+        crate::report::stage(&format!("regen {}: done in {secs:.1} s", s.name));
+        times.push((s.name.clone(), secs));
         out.push(o);
     }
     if out.is_empty() {
@@ -221,5 +230,5 @@ pub fn regen(
             only
         )));
     }
-    Ok(out)
+    Ok((out, times))
 }

@@ -216,6 +216,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&deliverables::render_table(&timed, results));
     md.push_str(&deliverables::survey_table(&timed, results));
     md.push_str(&deliverables::visibility_table(&timed));
+    md.push_str(&main_job_table());
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -407,4 +408,66 @@ pub fn missing_as_dash(md: &str) -> String {
     }
     flush(&mut word, &mut out);
     out
+}
+
+/// Where the main job leaves its wall-clock profile (build output, not results/: it
+/// changes on every run).
+pub fn main_job_times_path() -> PathBuf {
+    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+    Path::new(&target).join("main-job.json")
+}
+
+/// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
+/// failure to write is reported, never fatal).
+pub fn write_main_job_times(times: &[(String, f64)], total: f64) {
+    let mut sorted: Vec<&(String, f64)> = times.iter().collect();
+    sorted.sort_by(|a, b| b.1.total_cmp(&a.1));
+    println!("main job: {total:.0} s in all; by stage (longest first):");
+    for (n, t) in &sorted {
+        println!(
+            "  {n:<28} {t:>8.1} s  ({:>4.1} %)",
+            100.0 * t / total.max(1e-9)
+        );
+    }
+    let json = serde_json::json!({
+        "total_s": total,
+        "threads": rayon::current_num_threads(),
+        "stages": times.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+    });
+    let p = main_job_times_path();
+    if let Err(e) = crate::io::write_atomic(
+        &p,
+        serde_json::to_string_pretty(&json)
+            .unwrap_or_default()
+            .as_bytes(),
+    ) {
+        eprintln!("main-job profile not kept: {e}");
+    }
+}
+
+/// The main job's profile (the last `cargo run --release` on this machine), if kept.
+fn main_job_table() -> String {
+    let Ok(text) = std::fs::read_to_string(main_job_times_path()) else {
+        return String::new();
+    };
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return String::new();
+    };
+    let total = v["total_s"].as_f64().unwrap_or(f64::NAN);
+    let mut rows: Vec<(String, f64)> = v["stages"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|s| Some((s["stage"].as_str()?.to_string(), s["seconds"].as_f64()?)))
+        .collect();
+    rows.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut md = format!(
+        "\n## Main job: wall clock per stage\n\nThe last `cargo run --release` on this machine ({} threads; wall clock, not criterion; kept in `target/main-job.json`): {:.0} s in all, longest stage first.\n\n| stage | seconds | share |\n|---|---|---|\n",
+        v["threads"].as_u64().unwrap_or(0),
+        total
+    );
+    for (n, t) in rows {
+        md.push_str(&format!("| {n} | {t:.1} | {:.1} % |\n", 100.0 * t / total));
+    }
+    md
 }
