@@ -21,6 +21,9 @@ use serde::Serialize;
 use std::f64::consts::PI;
 
 mod report;
+mod user_map;
+
+pub use user_map::horizon_file;
 
 /// Sizes for a preset.
 #[derive(Clone, Debug, Serialize)]
@@ -91,7 +94,11 @@ fn hash_index(k: usize, n: usize, salt: usize) -> usize {
         % n.max(1)
 }
 
-fn horizon_cases(maps: &[HeightField], plan: &Plan, seed: u64) -> Result<Vec<HorizonCase>> {
+pub(super) fn horizon_cases(
+    maps: &[HeightField],
+    plan: &Plan,
+    seed: u64,
+) -> Result<Vec<HorizonCase>> {
     let mut descs = Vec::new();
     for m in 0..maps.len() {
         for &level in &plan.levels {
@@ -562,43 +569,4 @@ pub fn run(
             worst
         ),
     })
-}
-
-/// `horizon --input HEIGHT.png --scale S --out DIR`: the horizon study of
-/// results/survey-visibility.md on a user's height map (heights = grey value × S texels).
-/// Writes DIR/horizon.md and DIR/horizon.json.
-pub fn horizon_file(
-    input: &std::path::Path,
-    scale: f64,
-    out: &std::path::Path,
-    preset: Preset,
-) -> Result<Vec<String>> {
-    let hf = HeightField::from_png(input, scale)?;
-    let mut plan = Plan::new(preset);
-    let max_level = hf.size.trailing_zeros() as usize;
-    plan.levels.retain(|&l| l < max_level);
-    let cases = horizon_cases(std::slice::from_ref(&hf), &plan, 19)?;
-    let h = report::horizon_summary(&cases);
-    let md = format!(
-        "# Horizon-map pre-filtering on {}\n\nWritten by `cargo run --release -- horizon --input {} --scale {scale}` (preset {}): \
-{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/survey-visibility.md.\n\n{}",
-        input.display(),
-        input.display(),
-        preset.name(),
-        cases.len(),
-        plan.levels,
-        plan.footprints,
-        report::horizon_markdown(&h)
-    );
-    let (mp, jp) = (out.join("horizon.md"), out.join("horizon.json"));
-    crate::io::write_atomic(&mp, md.as_bytes())?;
-    crate::io::write_atomic(
-        &jp,
-        serde_json::to_string_pretty(
-            &serde_json::json!({"single": h.1, "joint": h.2, "hotspot": h.3}),
-        )
-        .unwrap_or_default()
-        .as_bytes(),
-    )?;
-    Ok(vec![mp.display().to_string(), jp.display().to_string()])
 }

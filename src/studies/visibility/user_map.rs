@@ -1,0 +1,46 @@
+//! `horizon --input HEIGHT.png`: the horizon-map study of results/survey-visibility.md on
+//! a user's height map.
+
+use super::{horizon_cases, report, Plan};
+use crate::error::Result;
+use crate::integrate::Preset;
+use crate::visibility::HeightField;
+
+/// `horizon --input HEIGHT.png --scale S --out DIR`: the horizon study of
+/// results/survey-visibility.md on a user's height map (heights = grey value × S texels).
+/// Writes DIR/horizon.md and DIR/horizon.json.
+pub fn horizon_file(
+    input: &std::path::Path,
+    scale: f64,
+    out: &std::path::Path,
+    preset: Preset,
+) -> Result<Vec<String>> {
+    let hf = HeightField::from_png(input, scale)?;
+    let mut plan = Plan::new(preset);
+    let max_level = hf.size.trailing_zeros() as usize;
+    plan.levels.retain(|&l| l < max_level);
+    let cases = horizon_cases(std::slice::from_ref(&hf), &plan, 19)?;
+    let h = report::horizon_summary(&cases);
+    let md = format!(
+        "# Horizon-map pre-filtering on {}\n\nWritten by `cargo run --release -- horizon --input {} --scale {scale}` (preset {}): \
+{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/survey-visibility.md.\n\n{}",
+        input.display(),
+        input.display(),
+        preset.name(),
+        cases.len(),
+        plan.levels,
+        plan.footprints,
+        report::horizon_markdown(&h)
+    );
+    let (mp, jp) = (out.join("horizon.md"), out.join("horizon.json"));
+    crate::io::write_atomic(&mp, md.as_bytes())?;
+    crate::io::write_atomic(
+        &jp,
+        serde_json::to_string_pretty(
+            &serde_json::json!({"single": h.1, "joint": h.2, "hotspot": h.3}),
+        )
+        .unwrap_or_default()
+        .as_bytes(),
+    )?;
+    Ok(vec![mp.display().to_string(), jp.display().to_string()])
+}
