@@ -87,20 +87,13 @@ fn minimise_cross_entropy(mix: &Mix) -> (V2, Matrix2<f64>) {
             Ok(cross_entropy(self.0, &m, &c).unwrap_or(f64::INFINITY))
         }
     }
-    let start = vec![0.0, 0.0, 0.0, 0.0, 0.0];
-    let mut simplex = vec![start.clone()];
-    for k in 0..5 {
-        let mut q = start.clone();
-        q[k] += 0.5;
-        simplex.push(q);
-    }
-    let mut best = start;
-    // restarts from the best point shrink the simplex onto the minimum
-    for _ in 0..4 {
+    // a wide simplex from (0, I), then restarts from the best point with a small one
+    let mut best = vec![0.0, 0.0, 0.0, 0.0, 0.0];
+    for step in [0.5, 0.05, 0.05, 0.05] {
         let mut s = vec![best.clone()];
         for k in 0..5 {
             let mut q = best.clone();
-            q[k] += if simplex.len() > 6 { 0.5 } else { 0.05 };
+            q[k] += step;
             s.push(q);
         }
         let solver = NelderMead::new(s)
@@ -114,7 +107,6 @@ fn minimise_cross_entropy(mix: &Mix) -> (V2, Matrix2<f64>) {
                 best = p.clone();
             }
         }
-        simplex.truncate(1);
     }
     unpack(&best)
 }

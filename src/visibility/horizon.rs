@@ -132,7 +132,9 @@ pub fn tan_erf(m: &HdfMoments, d: &Dir) -> f64 {
     0.5 * (1.0 + libm::erf((d.elev - mu) / (s * std::f64::consts::SQRT_2)))
 }
 
-/// The uncorrelated joint fraction V_A(l)V_A(v) (Fournier).
+/// Fournier's uncorrelated joint fraction, normalised like Eq 23: the lit-and-visible
+/// fraction V_A(l)V_A(v) divided by the visible one V_A(v), i.e. V_A(l) (so at l = v it
+/// gives V_A(v), not 1).
 pub fn joint_product(vl: f64, _vv: f64) -> f64 {
     vl
 }

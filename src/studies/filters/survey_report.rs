@@ -95,6 +95,15 @@ fn result<'a>(c: &'a MapCase, sv: &'a SurveyCases, ci: usize, r: usize) -> &'a C
     }
 }
 
+/// The combined-table index of the survey row named `name` (a name of [`ROWS`]).
+fn row_index(name: &str) -> usize {
+    MAP_FILTERS.len()
+        + ROWS
+            .iter()
+            .position(|r| r.name == name)
+            .expect("a survey row of that name")
+}
+
 fn n_rows() -> usize {
     MAP_FILTERS.len() + ROWS.len()
 }
@@ -163,8 +172,8 @@ fn alignment(maps: &[String], cases: &[(usize, &MapCase)], sv: &SurveyCases) -> 
         });
         mis as f64 / pairs.max(1) as f64
     };
-    let em4 = MAP_FILTERS.len() + 13; // Tan 4 lobes, EM
-    let mip4 = MAP_FILTERS.len() + 15; // Tan 4 lobes, MIP-mapped
+    let em4 = row_index("Tan et al., 4 lobes, EM");
+    let mip4 = row_index("Tan et al., 4 lobes, MIP-mapped (aligned)");
     maps.iter()
         .enumerate()
         .map(|(m, name)| {
@@ -222,7 +231,10 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
             }
         })
         .collect();
-    let (sr, sm) = (MAP_FILTERS.len() + 1, MAP_FILTERS.len() + 2);
+    let (sr, sm) = (
+        row_index("Schilling, recomputed per level"),
+        row_index("Schilling, MIP-mapped linearly (one level)"),
+    );
     let mut levels: Vec<usize> = cases.iter().map(|c| c.level).collect();
     levels.sort_unstable();
     levels.dedup();
