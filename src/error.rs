@@ -31,6 +31,13 @@ pub enum Error {
     /// File-system failure, with the path involved.
     #[error("I/O error on '{path}': {msg}")]
     Io { path: String, msg: String },
+    /// A shard set that cannot stand in for one run (missing, duplicated, foreign, corrupt).
+    #[error("shards: {0}")]
+    Shard(String),
+    /// Not a failure: a study run as one shard stops after its sharded map, and the driver
+    /// writes the shard file (`crate::memo`).
+    #[error("shard computed; the study stops here")]
+    ShardDone,
 }
 
 /// Crate-wide result type.

@@ -100,6 +100,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// Write `bytes` to `path` atomically, outside any open set (caches and shard files,
+/// which are not part of a study's published output).
+pub fn write_unstaged(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = write_tmp(path, bytes)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_err(path)(e)
+    })
+}
+
 /// An open output set; see the module doc.
 #[must_use = "a set is written only when committed"]
 pub struct SetGuard {

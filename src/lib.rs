@@ -33,6 +33,7 @@ pub mod kernels;
 pub mod ktx2;
 pub mod leadr;
 pub mod linalg;
+pub mod memo;
 pub mod ltc;
 pub mod microfacet;
 pub mod multiscale;

@@ -23,6 +23,13 @@ struct Cli {
     /// Directory holding the fit specifications.
     #[arg(long, default_value = "fits", global = true)]
     fits: PathBuf,
+    /// The main job's result cache (memoised maps keyed by the hash of the code, the spec,
+    /// the preset and the inputs).
+    #[arg(long, default_value = "target/ndfbench-cache", global = true)]
+    cache: PathBuf,
+    /// The main job computes everything (no cache lookups, nothing stored).
+    #[arg(long, global = true)]
+    no_cache: bool,
 }
 
 #[derive(Subcommand)]
@@ -35,7 +42,29 @@ enum Cmd {
         only: Option<String>,
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
+        /// Compute only shard K of N (K/N, 0 ≤ K < N) of the study's first memoised map
+        /// and write it to --shard-dir; needs --only with the study's exact name.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Where --shard writes its file.
+        #[arg(long, default_value = "shards")]
+        shard_dir: PathBuf,
+        /// Look memoised maps up in (and store them to) the cache given by --cache.
+        #[arg(long)]
+        cached: bool,
+        /// Run studies whose inputs are ready at the same time.
+        #[arg(long)]
+        parallel: bool,
     },
+    /// Merge a complete set of shard files (files or directories) into the study's
+    /// results, exactly what the unsharded run writes; a missing, duplicated or foreign
+    /// shard is an error and nothing is written.
+    Merge {
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+    },
+    /// Write a Slurm job array (one shard per task) and its dependent merge job.
+    Slurm(ndfbench::cli::batch::SlurmArgs),
     /// Check every identity of proofs/ numerically; write results/proofs.md; exit 1 on failure.
     Verify {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
@@ -285,8 +314,44 @@ fn run_regen(
     preset: Preset,
     fits: &std::path::Path,
     results: &std::path::Path,
+    opts: &ndfbench::studies::RunOptions,
 ) -> Result<bool, ndfbench::Error> {
-    run_regen_timed(only, preset, fits, results, &mut Vec::new())
+    run_regen_timed(only, preset, fits, results, opts, &mut Vec::new())
+}
+
+/// `regen --shard K/N`: one shard file, nothing else.
+fn run_shard(
+    only: Option<&str>,
+    preset: Preset,
+    spec: &str,
+    dir: &std::path::Path,
+    cli: &Cli,
+) -> Result<bool, ndfbench::Error> {
+    let name = only.ok_or_else(|| {
+        ndfbench::Error::Shard("--shard needs --only with the study's exact name".into())
+    })?;
+    let ks = ndfbench::memo::shards::parse_spec(spec)?;
+    let p = ndfbench::studies::shard(&cli.fits, &cli.results, name, preset, ks, dir)?;
+    println!("wrote shard {}/{} of {name}: {}", ks.0, ks.1, p.display());
+    Ok(true)
+}
+
+fn plain_stage(name: &str, t0: std::time::Instant) -> ndfbench::report::performance::JobStage {
+    ndfbench::report::performance::JobStage {
+        stage: name.into(),
+        seconds: t0.elapsed().as_secs_f64(),
+        computed: 0,
+        reused: 0,
+    }
+}
+
+fn stage_of(t: &ndfbench::studies::StudyTime) -> ndfbench::report::performance::JobStage {
+    ndfbench::report::performance::JobStage {
+        stage: t.study.clone(),
+        seconds: t.seconds,
+        computed: t.maps.iter().map(|m| m.computed).sum(),
+        reused: t.maps.iter().map(|m| m.items - m.computed).sum(),
+    }
 }
 
 /// [`run_regen`], appending each study's and each generation step's wall-clock seconds.
@@ -295,10 +360,11 @@ fn run_regen_timed(
     preset: Preset,
     fits: &std::path::Path,
     results: &std::path::Path,
-    times: &mut Vec<(String, f64)>,
+    opts: &ndfbench::studies::RunOptions,
+    times: &mut Vec<ndfbench::report::performance::JobStage>,
 ) -> Result<bool, ndfbench::Error> {
-    let (out, t) = ndfbench::studies::regen_timed(fits, results, only, preset)?;
-    times.extend(t);
+    let (out, t) = ndfbench::studies::regen_with(fits, results, only, preset, opts)?;
+    times.extend(t.iter().map(stage_of));
     let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
     ndfbench::report::stage("codegen");
@@ -322,10 +388,7 @@ fn run_regen_timed(
         Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
         Err(e) => eprintln!("shader translation skipped: {e}"),
     }
-    times.push((
-        "codegen, scenes, shaders".into(),
-        t0.elapsed().as_secs_f64(),
-    ));
+    times.push(plain_stage("codegen, scenes, shaders", t0));
     for o in &out {
         println!(
             "{:<5} {:<24} {}",
@@ -367,11 +430,21 @@ fn main() -> ExitCode {
         None => (|| {
             let start = std::time::Instant::now();
             let mut times = Vec::new();
-            let fits_ok =
-                run_regen_timed(None, Preset::Default, &cli.fits, &cli.results, &mut times)?;
+            let opts = ndfbench::studies::RunOptions {
+                cache: (!cli.no_cache).then(|| cli.cache.clone()),
+                parallel: true,
+            };
+            let fits_ok = run_regen_timed(
+                None,
+                Preset::Default,
+                &cli.fits,
+                &cli.results,
+                &opts,
+                &mut times,
+            )?;
             let t = std::time::Instant::now();
             let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
-            times.push(("verify (every proof)".into(), t.elapsed().as_secs_f64()));
+            times.push(plain_stage("verify (every proof)", t));
             ndfbench::report::stage("convergence study: started");
             let t = std::time::Instant::now();
             let conv = in_set(
@@ -379,7 +452,7 @@ fn main() -> ExitCode {
                 &results_manifest(&cli.results, "convergence"),
                 || ndfbench::report::convergence::run(Preset::Default, &cli.results),
             )?;
-            times.push(("convergence study".into(), t.elapsed().as_secs_f64()));
+            times.push(plain_stage("convergence study", t));
             println!("{conv}");
             ndfbench::report::performance::write_main_job_times(
                 &times,
@@ -387,9 +460,52 @@ fn main() -> ExitCode {
             );
             Ok(ok)
         })(),
-        Some(Cmd::Regen { only, preset }) => {
-            run_regen(only.as_deref(), preset, &cli.fits, &cli.results)
+        Some(Cmd::Regen {
+            ref only,
+            preset,
+            shard: Some(ref spec),
+            ref shard_dir,
+            ..
+        }) => run_shard(only.as_deref(), preset, spec, shard_dir, &cli),
+        Some(Cmd::Regen {
+            ref only,
+            preset,
+            cached,
+            parallel,
+            ..
+        }) => {
+            let opts = ndfbench::studies::RunOptions {
+                cache: cached.then(|| cli.cache.clone()),
+                parallel,
+            };
+            run_regen(only.as_deref(), preset, &cli.fits, &cli.results, &opts)
         }
+        Some(Cmd::Merge { ref shards }) => {
+            ndfbench::studies::merge(&cli.fits, &cli.results, shards).map(|(o, secs)| {
+                println!(
+                    "{:<5} {:<24} {} (merged; the shards computed for {secs:.1} s in all)",
+                    if o.passed { "pass" } else { "FAIL" },
+                    o.name,
+                    o.summary
+                );
+                o.passed
+            })
+        }
+        Some(Cmd::Slurm(ref a)) => std::env::current_exe()
+            .map_err(|e| ndfbench::Error::Io {
+                path: "current executable".into(),
+                msg: e.to_string(),
+            })
+            .and_then(|exe| {
+                in_set("slurm", &a.out.join(".manifest.json"), || {
+                    ndfbench::cli::batch::write_scripts(a, &exe, &cli.fits, &cli.results)
+                })
+            })
+            .map(|w| {
+                ndfbench::cli::batch::make_executable(&a.out);
+                println!("wrote {}; submit with {}/submit.sh", w.join(", "), a.out.display());
+                true
+            }),
         Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
         Some(Cmd::Convergence { preset }) => in_set(
             "convergence",

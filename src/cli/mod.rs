@@ -2,6 +2,7 @@
 //! types and the dispatch live here; the quantities in [`quantities`], the footprint
 //! filters in [`filter`]; the `prefilter` arguments in [`prefilter`].
 
+pub mod batch;
 mod filter;
 pub mod prefilter;
 mod quantities;

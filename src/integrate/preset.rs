@@ -45,6 +45,12 @@ impl Preset {
             Preset::Precise => (1 << 16, 32),
         }
     }
+    /// The preset named `s` (as [`Preset::name`] writes it).
+    pub fn parse(s: &str) -> Option<Preset> {
+        [Preset::Quick, Preset::Default, Preset::Precise]
+            .into_iter()
+            .find(|p| p.name() == s)
+    }
     pub fn name(self) -> &'static str {
         match self {
             Preset::Quick => "quick",

@@ -23,13 +23,12 @@ use crate::integrate::mc::Strategy;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
 /// Fitted parameters of one cell.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Cell {
     pub alpha: f64,
     pub theta: f64,
@@ -468,9 +467,9 @@ pub fn fit_table<T: LtcTarget>(
     max_iters: u64,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
-    let cols: Vec<Vec<Cell>> = (0..grid.n)
-        .into_par_iter()
-        .map(|j| -> Result<Vec<Cell>> {
+    // one θ column per item: memoised (cached, shardable; crate::memo)
+    let label = format!("ltc table {}² ({metric:?}, {method:?}, {n}² samples)", grid.n);
+    let cols: Vec<Vec<Cell>> = crate::memo::map(&label, grid.n, |j| -> Result<Vec<Cell>> {
             let theta = grid.theta(j);
             let mut col = Vec::with_capacity(grid.n);
             let mut p = [0.0f64; 4];
@@ -529,8 +528,7 @@ pub fn fit_table<T: LtcTarget>(
             }
             col.reverse();
             Ok(col)
-        })
-        .collect::<Result<_>>()?;
+        })?;
     Ok(Table {
         grid,
         metric,

@@ -246,14 +246,13 @@ pub fn sweep<T: LtcTarget>(
             at_cells: grid.at_cells,
             at_squares: grid.at_squares,
         };
-        let new: Vec<[f64; 4]> = ks
-            .par_iter()
-            .map(|&k| {
-                let r = refit_cell(&snapshot, k, n, max_iters);
-                progress();
-                r
-            })
-            .collect::<Result<_>>()?;
+        // memoised (cached, shardable; crate::memo): a pure function of the snapshot
+        let label = format!("bilinear sweep {nn}², colour {colour}");
+        let new: Vec<[f64; 4]> = crate::memo::map(&label, ks.len(), |x| {
+            let r = refit_cell(&snapshot, ks[x], n, max_iters);
+            progress();
+            r
+        })?;
         for (&k, inv) in ks.iter().zip(&new) {
             if inv[..] != cells[k][..4] {
                 moved += 1;
@@ -270,7 +269,6 @@ pub struct BilinearPass {
     pub square_weight: f64,
     pub max_iters: u64,
     pub cells_moved: usize,
-    pub seconds: f64,
 }
 
 /// One sweep of the bilinear-aware refit over a fitted table: each cell against its own
@@ -283,7 +281,6 @@ pub fn bilinear_pass<T: LtcTarget>(
     n: usize,
 ) -> Result<BilinearPass> {
     use crate::ltc::fit::{self, Cell};
-    let clock = std::time::Instant::now();
     let g = main.grid.n;
     let alpha_min = main.grid.alpha_min;
     let flat: Vec<&Cell> = (0..g * g).map(|k| &main.cells[k / g][k % g]).collect();
@@ -317,10 +314,9 @@ pub fn bilinear_pass<T: LtcTarget>(
     let (new, cells_moved) = sweep(&lattice, n, max_iters, &|| pb.inc(1))?;
     pb.finish_and_clear();
     // write back, with the held-out errors and the fit parameters of the moved cells
-    main.cells
-        .par_iter_mut()
-        .enumerate()
-        .try_for_each(|(j, col)| -> Result<()> {
+    let before_cols = main.cells.clone();
+    main.cells = crate::memo::map(&format!("bilinear write-back {g}²"), g, |j| -> Result<Vec<Cell>> {
+            let mut col = before_cols[j].clone();
             for (i, c) in col.iter_mut().enumerate() {
                 let e = new[i + g * j];
                 let inv = [e[0], e[1], e[2], e[3]];
@@ -341,12 +337,11 @@ pub fn bilinear_pass<T: LtcTarget>(
                 let (ec, el2) = metrics(&t, &ltc, c.norm, 2 * n, 0.25);
                 (c.err_cubic, c.err_l2) = (ec, el2);
             }
-            Ok(())
+            Ok(col)
         })?;
     Ok(BilinearPass {
         square_weight,
         max_iters,
         cells_moved,
-        seconds: clock.elapsed().as_secs_f64(),
     })
 }

@@ -112,14 +112,19 @@ pub fn store_table<T: LtcTarget>(
     target: &(dyn Fn(f64, f64) -> crate::error::Result<T> + Sync),
     n: usize,
 ) -> crate::error::Result<()> {
-    use rayon::prelude::*;
-    table
-        .cells
-        .par_iter_mut()
-        .flatten()
-        .try_for_each(|c| -> crate::error::Result<()> {
-            let t = target(c.alpha, c.theta)?;
-            c.half = half_storage(&t, &c.inv, c.norm, c.fresnel, n);
-            Ok(())
-        })
+    // one column per item, memoised (cached, shardable; crate::memo)
+    let g = table.cells.len();
+    let cols = &table.cells;
+    let halves: Vec<Vec<[f64; 6]>> = crate::memo::map(&format!("binary16 storage {g} columns"), g, |j| {
+        cols[j]
+            .iter()
+            .map(|c| Ok(half_storage(&target(c.alpha, c.theta)?, &c.inv, c.norm, c.fresnel, n)))
+            .collect()
+    })?;
+    for (col, h) in table.cells.iter_mut().zip(halves) {
+        for (c, h) in col.iter_mut().zip(h) {
+            c.half = h;
+        }
+    }
+    Ok(())
 }

@@ -71,20 +71,17 @@ pub(super) fn prefilter_table(timed: &[Timed]) -> String {
     md
 }
 
-/// Every shipped LTC table: what fitting it cost (results/fits/<fit>.json `fit_time`,
-/// wall clock of the run that wrote it), its held-out error, and criterion's time per
+/// Every shipped LTC table: what its study cost (wall clock in the last cold main job on
+/// this machine), its held-out error, and criterion's time per
 /// pixel (bench `ltc-tables`: bilinear lookup of the binary16 entries + quad integral).
 pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> String {
-    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of the fit in the run that wrote results/fits/<name>.json (default preset: cubic fit, L2 polish, bilinear pass, binary16 storage; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n| table | fit (wall clock, threads) | held-out rel. L2 mean / max | per pixel (95 % CI) |\n|---|---|---|---|\n");
+    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n| table | study (wall clock) | held-out rel. L2 mean / max | per pixel (95 % CI) |\n|---|---|---|---|\n");
     for kind in &crate::codegen::textures::TABLES {
         let Some(v) = crate::results::read_result(results, kind.fit) else {
             continue;
         };
-        let ft = &v["fit_time"];
-        let fit = match (ft["seconds"].as_f64(), ft["threads"].as_u64()) {
-            (Some(s), Some(th)) => format!("{s:.0} s on {th} threads"),
-            _ => "—".into(),
-        };
+        let study = if kind.fit.starts_with("ltc-sheen") { "ltc-sheen" } else if kind.fit.starts_with("ltc-diffuse") { "ltc-diffuse" } else { kind.fit };
+        let fit = super::cold_stage_seconds(study).map_or("—".into(), |s| format!("{s:.0} s ({study})"));
         let h = &v["held_out"];
         let err = match (h["mean_l2"].as_f64(), h["max_l2"].as_f64()) {
             (Some(m), Some(x)) => format!("{:.2} % / {:.1} %", 100.0 * m, 100.0 * x),
@@ -108,8 +105,8 @@ pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> St
             .find(|t| t.group == "ltc-tables" && t.function == "ltc_ggx_aniso: 1024 pixels")
             .map_or("—".to_string(), per_pixel);
         md.push_str(&format!(
-            "| ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells) | {:.0} s for {} cells | {:.2} % / {:.1} % | {px} |\n",
-            s["fit_seconds"].as_f64().unwrap_or(f64::NAN),
+            "| ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells) | {} for {} cells | {:.2} % / {:.1} % | {px} |\n",
+            super::cold_stage_seconds("ltc-aniso").map_or("—".into(), |t| format!("{t:.0} s")),
             s["cells_fitted"].as_u64().unwrap_or(0),
             100.0 * s["between_table"]["mean"].as_f64().unwrap_or(f64::NAN),
             100.0 * s["between_table"]["max"].as_f64().unwrap_or(f64::NAN),

@@ -216,7 +216,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&deliverables::render_table(&timed, results));
     md.push_str(&deliverables::survey_table(&timed, results));
     md.push_str(&deliverables::visibility_table(&timed));
-    md.push_str(&main_job_table());
+    md.push_str(&main_job_table(results));
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
@@ -411,31 +411,55 @@ pub fn missing_as_dash(md: &str) -> String {
 }
 
 /// Where the main job leaves its wall-clock profile (build output, not results/: it
-/// changes on every run).
-pub fn main_job_times_path() -> PathBuf {
+/// changes on every run): `target/main-job-cold.json` when it computed any memoised map,
+/// `target/main-job-warm.json` when every one came from the cache.
+pub fn main_job_times_path(warm: bool) -> PathBuf {
     let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
-    Path::new(&target).join("main-job.json")
+    Path::new(&target).join(if warm { "main-job-warm.json" } else { "main-job-cold.json" })
+}
+
+/// The committed profile of the main job before it ran studies in parallel and cached
+/// (sequential, uncached; measured on the 2-core development machine).
+pub const BEFORE_PATH: &str = "main-job-before.json";
+
+/// One stage of the main job: its wall clock and how many memoised items it computed
+/// and took from the cache.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct JobStage {
+    pub stage: String,
+    pub seconds: f64,
+    pub computed: usize,
+    pub reused: usize,
 }
 
 /// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
 /// failure to write is reported, never fatal).
-pub fn write_main_job_times(times: &[(String, f64)], total: f64) {
-    let mut sorted: Vec<&(String, f64)> = times.iter().collect();
-    sorted.sort_by(|a, b| b.1.total_cmp(&a.1));
-    println!("main job: {total:.0} s in all; by stage (longest first):");
-    for (n, t) in &sorted {
+pub fn write_main_job_times(stages: &[JobStage], total: f64) {
+    let warm = stages.iter().all(|s| s.computed == 0) && stages.iter().any(|s| s.reused > 0);
+    let mut sorted: Vec<&JobStage> = stages.iter().collect();
+    sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
+    println!(
+        "main job: {total:.0} s in all ({}); by stage (longest first):",
+        if warm { "every memoised map from the cache" } else { "cold: maps computed" }
+    );
+    for s in &sorted {
         println!(
-            "  {n:<28} {t:>8.1} s  ({:>4.1} %)",
-            100.0 * t / total.max(1e-9)
+            "  {:<28} {:>8.1} s  ({:>4.1} %)  {} items computed, {} from the cache",
+            s.stage,
+            s.seconds,
+            100.0 * s.seconds / total.max(1e-9),
+            s.computed,
+            s.reused
         );
     }
     let json = serde_json::json!({
         "total_s": total,
         "threads": rayon::current_num_threads(),
-        "stages": times.iter().map(|(n, t)| serde_json::json!({"stage": n, "seconds": t})).collect::<Vec<_>>(),
+        "warm": warm,
+        "stages": stages,
     });
-    let p = main_job_times_path();
-    if let Err(e) = crate::io::write_atomic(
+    let p = main_job_times_path(warm);
+    if let Err(e) = crate::io::write_unstaged(
         &p,
         serde_json::to_string_pretty(&json)
             .unwrap_or_default()
@@ -445,29 +469,66 @@ pub fn write_main_job_times(times: &[(String, f64)], total: f64) {
     }
 }
 
-/// The main job's profile (the last `cargo run --release` on this machine), if kept.
-fn main_job_table() -> String {
-    let Ok(text) = std::fs::read_to_string(main_job_times_path()) else {
-        return String::new();
-    };
-    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
-        return String::new();
-    };
-    let total = v["total_s"].as_f64().unwrap_or(f64::NAN);
-    let mut rows: Vec<(String, f64)> = v["stages"]
-        .as_array()
-        .into_iter()
-        .flatten()
+fn profile(path: &Path) -> Option<(f64, u64, Vec<(String, f64)>)> {
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+    let rows = v["stages"]
+        .as_array()?
+        .iter()
         .filter_map(|s| Some((s["stage"].as_str()?.to_string(), s["seconds"].as_f64()?)))
         .collect();
-    rows.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let mut md = format!(
-        "\n## Main job: wall clock per stage\n\nThe last `cargo run --release` on this machine ({} threads; wall clock, not criterion; kept in `target/main-job.json`): {:.0} s in all, longest stage first.\n\n| stage | seconds | share |\n|---|---|---|\n",
-        v["threads"].as_u64().unwrap_or(0),
-        total
-    );
-    for (n, t) in rows {
-        md.push_str(&format!("| {n} | {t:.1} | {:.1} % |\n", 100.0 * t / total));
+    Some((v["total_s"].as_f64()?, v["threads"].as_u64().unwrap_or(0), rows))
+}
+
+/// Seconds of `stage` in the last cold main job on this machine, if kept.
+pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
+    let (_, _, rows) = profile(&main_job_times_path(false))?;
+    rows.into_iter().find(|(n, _)| n == stage).map(|(_, t)| t)
+}
+
+/// The main job's profile: before (committed), the last cold run and the last warm run
+/// on this machine (kept under target/), stage by stage.
+fn main_job_table(results: &Path) -> String {
+    let cols = [
+        ("before: sequential, no cache", profile(&results.join(BEFORE_PATH))),
+        ("after: cold (parallel, maps computed)", profile(&main_job_times_path(false))),
+        ("after: warm (parallel, maps from the cache)", profile(&main_job_times_path(true))),
+    ];
+    if cols.iter().all(|c| c.1.is_none()) {
+        return String::new();
+    }
+    let mut names: Vec<(String, f64)> = Vec::new();
+    for (_, p) in &cols {
+        for (n, t) in p.iter().flat_map(|p| p.2.iter()) {
+            match names.iter_mut().find(|(m, _)| m == n) {
+                Some(e) => e.1 = e.1.max(*t),
+                None => names.push((n.clone(), *t)),
+            }
+        }
+    }
+    names.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let cell = |p: &Option<(f64, u64, Vec<(String, f64)>)>, n: &str| -> String {
+        p.as_ref()
+            .and_then(|p| p.2.iter().find(|(m, _)| m == n))
+            .map_or("—".into(), |(_, t)| format!("{t:.1}"))
+    };
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). With studies in parallel the stages overlap, so they add up to more than the total.\n\n| stage |");
+    for (h, _) in &cols {
+        md.push_str(&format!(" {h} (s) |"));
+    }
+    md.push_str("\n|---|---|---|---|\n| **total** |");
+    for (_, p) in &cols {
+        md.push_str(&format!(
+            " **{}** |",
+            p.as_ref().map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
+        ));
+    }
+    md.push('\n');
+    for (n, _) in &names {
+        md.push_str(&format!("| {n} |"));
+        for (_, p) in &cols {
+            md.push_str(&format!(" {} |", cell(p, n)));
+        }
+        md.push('\n');
     }
     md
 }

@@ -306,17 +306,15 @@ fn polygons(iso: &FittedTable, table: &AnisoTable, mc: usize) -> Result<Vec<Poly
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let iso = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
     let pl = plan(preset, spec.domain.alpha_min);
-    let clock = std::time::Instant::now();
     let (table, fitted) = fit_table(&iso, &pl)?;
-    let fit_seconds = clock.elapsed().as_secs_f64();
     crate::report::stage(&format!(
-        "regen ltc-aniso: {} cells fitted in {fit_seconds:.0} s; design study next",
+        "regen ltc-aniso: {} cells fitted; design study next",
         fitted.len()
     ));
     let design = report::design_study(&iso, &pl)?;
     let cases = between(&iso, &table, &pl)?;
     let command = "cargo run --release -- regen --only ltc-aniso";
-    let rep = report::summarise(&fitted, &cases, &design, &pl, fit_seconds);
+    let rep = report::summarise(&fitted, &cases, &design, &pl);
     let poly = polygons(&iso, &table, pl.mc)?;
     let mut md = report::markdown(spec, preset, &pl, &rep, command);
     md.push_str(&report::polygon_section(&poly, pl.mc));

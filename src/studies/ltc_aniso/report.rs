@@ -175,11 +175,9 @@ pub struct Prediction {
 /// Everything the report shows.
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
-    pub fit_seconds: f64,
     pub fit_rms: f64,
     pub between_rms: f64,
     pub cells_fitted: usize,
-    pub per_cell_ms: f64,
     pub cells: Bin,
     pub between_table: MeanMax,
     pub between_table_f16: MeanMax,
@@ -224,7 +222,6 @@ pub(super) fn summarise(
     cases: &[Between],
     design: &Design,
     pl: &Plan,
-    fit_seconds: f64,
 ) -> Summary {
     // the fits' root-mean-square error: squares add for independent perturbations
     let fit_floor =
@@ -256,7 +253,6 @@ pub(super) fn summarise(
         [32, 32, 8, 32],
     ];
     Summary {
-        fit_seconds,
         fit_rms: fit_floor,
         between_rms: (cases
             .iter()
@@ -266,8 +262,6 @@ pub(super) fn summarise(
             / cases.len().max(1) as f64)
             .sqrt(),
         cells_fitted: fitted.len(),
-        per_cell_ms: 1e3 * fit_seconds * rayon::current_num_threads() as f64
-            / fitted.len().max(1) as f64,
         cells: Bin {
             label: "table cells",
             ours: mean_max(fitted.iter().map(|f| f.err)),
@@ -312,16 +306,13 @@ pub(super) fn markdown(
 ) -> String {
     let g = pl.grid;
     let mut md = format!(
-        "# Anisotropic GGX LTC table\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Target: the cosine-weighted anisotropic GGX BRDF (height-correlated Smith G2, F = 1) with α_x along a tangent at azimuth φ from T1 and α_y across it, in the frame engines build for their LTC lookup (T1 = the view projected on the tangent plane). The lobe is not symmetric about the view plane, so M⁻¹ takes the general production form of `ltc::aniso`: M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (the rotation about z the clamped cosine ignores zeroes one entry, the scale another: seven numbers; e = g = h = 0 is the isotropic form).\n\n## Design\n\n- **Parameterisation:** (r_x = √α_x, r_y = √α_y, φ, t = √(1 − cos θ)), each uniform: the isotropic table's two coordinates plus the second roughness and the tangent's azimuth. α = max(r², {}).\n- **Symmetry:** the tangent is a line (φ ≡ φ + π) and the mirror y → −y maps φ to π − φ with M⁻¹ → S·M⁻¹·S (S = diag(1, −1, 1): e, g, h change sign), so φ ∈ [0, π/2] covers every case. Swapping α_x and α_y is a quarter turn of the tangent, (α_y, α_x, π/2 − φ) = S·(α_x, α_y, φ)·S: only cells with α_x ≥ α_y are fitted ({} of {}), the others are their mirrors.\n- **Fit:** Nelder–Mead (argmin) on the relative L2 ({s}×{s} stratified samples per technique, the LTC and the VNDF; ≤ {} iterations) from three starts — the isotropic table's entries at √(α_x α_y) (results/fits/ltc-ggx.json), the same stretched toward the tangent, the isotropic table at max(α_x, α_y) — the best on a validation set kept, and only if it beats its start there; norm and fresnel by nested adaptive quadrature in half-vector space with the polar grid stretched along the roughness ellipse (tolerance 1e-7). Fit cost (this run): {:.0} s for {} cells, {:.0} ms of one thread per cell.\n- **Storage:** one RGBA16F 2D array texture, width n_r (r_x), height n_t (t), 3 layers per (r_y, φ) node: (a, b, c, d), (norm, fresnel, 0, 0), (e, g, h, 0). The sampler interpolates (r_x, t) in hardware; the lookup blends the four (r_y, φ) neighbours itself: 12 fetches (`ltc_aniso.wgsl`; its f64 reference `AnisoTable::lookup`). A 3D texture would interpolate a third coordinate in hardware but cannot hold the fourth; array layers keep every API (WebGPU included) and one layout. The texture is kept non-square (n_t ≠ n_r): wgpu's GL backend (Bevy on WebGL2) creates a square 2D texture whose layer count is a multiple of 6 as a cube-map array (wgpu-hal's `get_info_from_desc`), and 3·n_r·n_φ layers is one whenever n_r·n_φ is even.\n\n",
+        "# Anisotropic GGX LTC table\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Target: the cosine-weighted anisotropic GGX BRDF (height-correlated Smith G2, F = 1) with α_x along a tangent at azimuth φ from T1 and α_y across it, in the frame engines build for their LTC lookup (T1 = the view projected on the tangent plane). The lobe is not symmetric about the view plane, so M⁻¹ takes the general production form of `ltc::aniso`: M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (the rotation about z the clamped cosine ignores zeroes one entry, the scale another: seven numbers; e = g = h = 0 is the isotropic form).\n\n## Design\n\n- **Parameterisation:** (r_x = √α_x, r_y = √α_y, φ, t = √(1 − cos θ)), each uniform: the isotropic table's two coordinates plus the second roughness and the tangent's azimuth. α = max(r², {}).\n- **Symmetry:** the tangent is a line (φ ≡ φ + π) and the mirror y → −y maps φ to π − φ with M⁻¹ → S·M⁻¹·S (S = diag(1, −1, 1): e, g, h change sign), so φ ∈ [0, π/2] covers every case. Swapping α_x and α_y is a quarter turn of the tangent, (α_y, α_x, π/2 − φ) = S·(α_x, α_y, φ)·S: only cells with α_x ≥ α_y are fitted ({} of {}), the others are their mirrors.\n- **Fit:** Nelder–Mead (argmin) on the relative L2 ({s}×{s} stratified samples per technique, the LTC and the VNDF; ≤ {} iterations) from three starts — the isotropic table's entries at √(α_x α_y) (results/fits/ltc-ggx.json), the same stretched toward the tangent, the isotropic table at max(α_x, α_y) — the best on a validation set kept, and only if it beats its start there; norm and fresnel by nested adaptive quadrature in half-vector space with the polar grid stretched along the roughness ellipse (tolerance 1e-7). Fit cost: results/performance.md (criterion's time per cell; the main job's wall clock per study).\n- **Storage:** one RGBA16F 2D array texture, width n_r (r_x), height n_t (t), 3 layers per (r_y, φ) node: (a, b, c, d), (norm, fresnel, 0, 0), (e, g, h, 0). The sampler interpolates (r_x, t) in hardware; the lookup blends the four (r_y, φ) neighbours itself: 12 fetches (`ltc_aniso.wgsl`; its f64 reference `AnisoTable::lookup`). A 3D texture would interpolate a third coordinate in hardware but cannot hold the fourth; array layers keep every API (WebGPU included) and one layout. The texture is kept non-square (n_t ≠ n_r): wgpu's GL backend (Bevy on WebGL2) creates a square 2D texture whose layer count is a multiple of 6 as a cube-map array (wgpu-hal's `get_info_from_desc`), and 3·n_r·n_φ layers is one whenever n_r·n_φ is even.\n\n",
         preset.name(),
         spec.name,
         g.alpha_min,
         s.cells_fitted,
         g.cells(),
         pl.iters,
-        s.fit_seconds,
-        s.cells_fitted,
-        s.per_cell_ms,
         s = pl.samples
     );
     md.push_str(&format!("## The size/error trade\n\nDense lines of {} nodes through the domain along each coordinate (others at the base points {}), every node fitted as a table cell is; then every coarser spacing of the same nodes, the dropped nodes interpolated linearly (entries and norm, as the lookup does). Mean held-out relative L2 at the dropped nodes, and of the fits there:\n\n| dimension | nodes over its range | interpolated | fitted | penalty |\n|---|---|---|---|---|\n", pl.line, s.design.bases.iter().map(|b| format!("(r_x {:.2}, r_y {:.2}, φ {:.0}°, t {:.2})", b[0], b[1], b[2].to_degrees(), b[3])).collect::<Vec<_>>().join(" and ")));

@@ -56,17 +56,7 @@ pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
 }
 
 /// The main table and the optimiser/metric variants on the sub-grid.
-/// What fitting the main table cost (wall clock; the only field of the result that differs
-/// between runs).
-#[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct FitTime {
-    pub seconds: f64,
-    pub threads: usize,
-    pub cells: usize,
-    pub per_cell_ms: f64,
-}
-
-fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>, FitTime)> {
+fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
     let grid = Grid {
         n: pl.n,
         alpha_min: spec.domain.alpha_min,
@@ -75,7 +65,6 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     let pb = indicatif::ProgressBar::new((pl.n * pl.n + 3 * pl.sub * pl.sub) as u64);
     pb.set_message("ltc fit");
     let tick = || pb.inc(1);
-    let clock = std::time::Instant::now();
     let main = fit_table(
         grid,
         &GgxTarget::new,
@@ -85,14 +74,6 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
         iters,
         &tick,
     )?;
-    let seconds = clock.elapsed().as_secs_f64();
-    let cells = pl.n * pl.n;
-    let time = FitTime {
-        seconds,
-        threads: rayon::current_num_threads(),
-        cells,
-        per_cell_ms: 1e3 * seconds * rayon::current_num_threads() as f64 / cells as f64,
-    };
     let sub = Grid {
         n: pl.sub,
         alpha_min: spec.domain.alpha_min,
@@ -137,7 +118,7 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     ];
     pb.finish_and_clear();
     crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
-    Ok((main, variants.into(), time))
+    Ok((main, variants.into()))
 }
 
 /// The title, the method and the table error.
@@ -181,8 +162,6 @@ struct LtcResult<'a> {
     sphere_horizon: serde_json::Value,
     /// The floor of a single LTC on a spread of cells.
     floor: Vec<floor::FloorCell>,
-    /// What the main table's fit cost (cubic fit, L2 polish and the bilinear pass).
-    fit_time: FitTime,
     /// The bilinear-aware refit.
     bilinear_pass: BilinearPass,
 }
@@ -190,17 +169,14 @@ struct LtcResult<'a> {
 /// The study: fit, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
-    let (mut main, variants, mut fit_time) = fit_tables(spec, &pl)?;
+    let (mut main, variants) = fit_tables(spec, &pl)?;
     let bilinear = bilinear_pass(&mut main, &GgxTarget::new, pl.samples)?;
-    fit_time.seconds += bilinear.seconds;
-    fit_time.per_cell_ms = 1e3 * fit_time.seconds * fit_time.threads as f64 / fit_time.cells as f64;
     crate::ltc::storage::store_table(&mut main, &GgxTarget::new, pl.samples)?;
     let st = stats(&main);
     let mut md = intro(spec, preset, &pl, &main);
     md.push_str(&format!(
-        "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved, {:.0} s. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost (this run): {:.0} s for the {} cells of the main table on {} threads, {:.0} ms of one thread per cell (cubic fit, L2 polish, bilinear pass; results/performance.md has criterion's time for single cells).\n\n",
-        bilinear.square_weight, bilinear.max_iters, bilinear.cells_moved, fit_time.cells, bilinear.seconds,
-        fit_time.seconds, fit_time.cells, fit_time.threads, fit_time.per_cell_ms
+        "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",
+        bilinear.square_weight, bilinear.max_iters, bilinear.cells_moved, pl.n * pl.n
     ));
     md.push_str(&table_report::structure_section(&main));
     md.push_str(&table_report::between_section(&main, &pl)?);
@@ -250,7 +226,6 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         pipeline: pipe,
         sphere_horizon: poly.sphere_horizon,
         floor,
-        fit_time,
         bilinear_pass: bilinear,
     };
     crate::results::write_result(results, &spec.name, &json)?;

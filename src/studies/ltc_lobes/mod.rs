@@ -75,22 +75,11 @@ fn plan(p: Preset) -> Plan {
     }
 }
 
-/// What fitting one table cost (wall clock; the only fields of a result that differ
-/// between runs).
-#[derive(Clone, Copy, Debug, serde::Serialize)]
-pub struct FitTime {
-    pub seconds: f64,
-    pub threads: usize,
-    pub cells: usize,
-    pub per_cell_ms: f64,
-}
-
 /// A fitted, bilinear-refitted, binary16-stored table of one lobe.
 pub(crate) struct Fitted {
     pub lobe: Lobe,
     pub table: Table,
     pub bilinear: BilinearPass,
-    pub time: FitTime,
 }
 
 /// The target constructor of a lobe.
@@ -108,7 +97,6 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
     let iters = spec.optimiser.max_iters.unwrap_or(400);
     let pb = indicatif::ProgressBar::new((pl.n * pl.n) as u64);
     pb.set_message(format!("ltc fit: {}", lobe.short()));
-    let clock = std::time::Instant::now();
     let target = target_of(lobe);
     let mut table = fit_table(
         grid,
@@ -122,19 +110,10 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
     pb.finish_and_clear();
     let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
-    let seconds = clock.elapsed().as_secs_f64();
-    let threads = rayon::current_num_threads();
-    let cells = pl.n * pl.n;
     Ok(Fitted {
         lobe,
         table,
         bilinear,
-        time: FitTime {
-            seconds,
-            threads,
-            cells,
-            per_cell_ms: 1e3 * seconds * threads as f64 / cells as f64,
-        },
     })
 }
 
@@ -149,17 +128,15 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let pl = plan(preset);
     let main = fit_lobe(fam.main, spec, &pl)?;
     crate::report::stage(&format!(
-        "regen {}: {} fitted in {:.0} s; the variant next",
+        "regen {}: {} fitted; the variant next",
         fam.name,
         fam.main.short(),
-        main.time.seconds
     ));
     let variant = fit_lobe(fam.variant, spec, &pl)?;
     crate::report::stage(&format!(
-        "regen {}: {} fitted in {:.0} s; report next",
+        "regen {}: {} fitted; report next",
         fam.name,
         fam.variant.short(),
-        variant.time.seconds
     ));
     let rep = report::compute(&fam, &main, &variant, &pl)?;
     let command = format!("cargo run --release -- regen --only {}", fam.name);
@@ -185,7 +162,6 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             "held_out_l2": f.table.cells.iter().map(|col| col.iter().map(|c| c.err_l2).collect::<Vec<_>>()).collect::<Vec<_>>(),
             "report": r,
             "cross": rep.cross,
-            "fit_time": f.time,
             "bilinear_pass": f.bilinear,
         });
         crate::results::write_result(results, name, &json)?;

@@ -1,0 +1,68 @@
+//! The result cache: one JSON file per map under `DIR/<study>/<key>.json`, where the key
+//! hashes the code version, the spec, the preset, the study's inputs and the map's label,
+//! size and place in the study. A cache entry is only ever read back under the same key,
+//! checked again on reading (format, key, label, item count); anything else is a miss.
+//! Entries are written atomically and outside any output set (the cache is not a result).
+
+use serde::{de::DeserializeOwned, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The largest cache entry read back (bytes); a bigger file is a miss.
+pub const MAX_ENTRY_BYTES: u64 = 1 << 30;
+
+/// A cache directory (by default `target/ndfbench-cache`).
+#[derive(Clone, Debug)]
+pub struct Cache {
+    pub dir: PathBuf,
+}
+
+impl Cache {
+    pub fn new(dir: &Path) -> Cache {
+        Cache {
+            dir: dir.to_path_buf(),
+        }
+    }
+    /// Where the entry `key` of `study` lives.
+    pub fn path(&self, study: &str, key: &str) -> PathBuf {
+        self.dir.join(study).join(format!("{key}.json"))
+    }
+}
+
+/// The entry at `path` if it is the one for (`key`, `label`, `n`).
+pub fn load<T: DeserializeOwned>(path: &Path, key: &str, label: &str, n: usize) -> Option<Vec<T>> {
+    if std::fs::metadata(path).ok()?.len() > MAX_ENTRY_BYTES {
+        return None;
+    }
+    let text = std::fs::read_to_string(path).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let ok = v["format"] == "ndfbench-cache/1"
+        && v["key"] == key
+        && v["label"] == label
+        && v["items"].as_u64() == Some(n as u64);
+    if !ok {
+        return None;
+    }
+    let items: Vec<T> = serde_json::from_value(v["values"].clone()).ok()?;
+    (items.len() == n).then_some(items)
+}
+
+/// Store `values` under `key` (best effort: a value that cannot be stored exactly, or a
+/// directory that cannot be written, leaves no entry and is said on stderr).
+pub fn store<T: Serialize + DeserializeOwned>(path: &Path, key: &str, label: &str, values: &[T]) {
+    let entry = super::exact_json(label, values).map(|vals| {
+        serde_json::json!({
+            "format": "ndfbench-cache/1",
+            "key": key,
+            "label": label,
+            "items": values.len(),
+            "values": vals,
+        })
+    });
+    let res = entry.and_then(|e| {
+        let text = serde_json::to_string(&e).unwrap_or_default();
+        crate::io::write_unstaged(path, text.as_bytes())
+    });
+    if let Err(e) = res {
+        eprintln!("cache: not stored: {e}");
+    }
+}
