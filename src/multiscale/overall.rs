@@ -222,7 +222,7 @@ pub fn conv_cap(conv: &Convolution, theta_c: f64, r: f64, tol: Tol) -> crate::in
 }
 
 /// The best α for one (α_mi, α_me) pair under each metric (Brent via argmin for L2 and caps).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct PairFit {
     pub alpha_mi: f64,
     pub alpha_me: f64,

@@ -189,18 +189,18 @@ fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result<Computed> 
     let pairs = grid(&axis);
     let pb = indicatif::ProgressBar::new((pairs.len() + (m - 1) * (m - 1)) as u64);
     pb.set_message("convolution fits");
-    let mut fits = Vec::new();
-    for &(x, y) in &pairs {
-        fits.push(fit_pair(x, y)?);
-        pb.inc(1);
-    }
+    // memoised (cached, shardable; crate::memo): each pair's fit is a pure function of it
+    let fit_all = |label: &str, pts: &[(f64, f64)]| {
+        crate::memo::map(label, pts.len(), |k| {
+            let r = fit_pair(pts[k].0, pts[k].1);
+            pb.inc(1);
+            r
+        })
+    };
+    let fits = fit_all("per-pair metric fits", &pairs)?;
     // held-out metric points: the (m−1)² grid half a step off
     let held_metric_axis = held_out_alphas(m - 1, lo, hi);
-    let mut held_fits = Vec::new();
-    for &(x, y) in &grid(&held_metric_axis) {
-        held_fits.push(fit_pair(x, y)?);
-        pb.inc(1);
-    }
+    let held_fits = fit_all("held-out per-pair metric fits", &grid(&held_metric_axis))?;
     pb.finish_and_clear();
     let passed_moment = ours.max_rel <= spec.tolerance.max_rel;
 
