@@ -319,41 +319,6 @@ fn run_regen(
     run_regen_timed(only, preset, fits, results, opts, &mut Vec::new())
 }
 
-/// `regen --shard K/N`: one shard file, nothing else.
-fn run_shard(
-    only: Option<&str>,
-    preset: Preset,
-    spec: &str,
-    dir: &std::path::Path,
-    cli: &Cli,
-) -> Result<bool, ndfbench::Error> {
-    let name = only.ok_or_else(|| {
-        ndfbench::Error::Shard("--shard needs --only with the study's exact name".into())
-    })?;
-    let ks = ndfbench::memo::shards::parse_spec(spec)?;
-    let p = ndfbench::studies::shard(&cli.fits, &cli.results, name, preset, ks, dir)?;
-    println!("wrote shard {}/{} of {name}: {}", ks.0, ks.1, p.display());
-    Ok(true)
-}
-
-fn plain_stage(name: &str, t0: std::time::Instant) -> ndfbench::report::performance::JobStage {
-    ndfbench::report::performance::JobStage {
-        stage: name.into(),
-        seconds: t0.elapsed().as_secs_f64(),
-        computed: 0,
-        reused: 0,
-    }
-}
-
-fn stage_of(t: &ndfbench::studies::StudyTime) -> ndfbench::report::performance::JobStage {
-    ndfbench::report::performance::JobStage {
-        stage: t.study.clone(),
-        seconds: t.seconds,
-        computed: t.maps.iter().map(|m| m.computed).sum(),
-        reused: t.maps.iter().map(|m| m.items - m.computed).sum(),
-    }
-}
-
 /// [`run_regen`], appending each study's and each generation step's wall-clock seconds.
 fn run_regen_timed(
     only: Option<&str>,
@@ -364,7 +329,10 @@ fn run_regen_timed(
     times: &mut Vec<ndfbench::report::performance::JobStage>,
 ) -> Result<bool, ndfbench::Error> {
     let (out, t) = ndfbench::studies::regen_with(fits, results, only, preset, opts)?;
-    times.extend(t.iter().map(stage_of));
+    times.extend(t.iter().map(|t| {
+        let maps: Vec<(usize, usize)> = t.maps.iter().map(|m| (m.items, m.computed)).collect();
+        ndfbench::report::performance::JobStage::of_study(&t.study, t.seconds, &maps)
+    }));
     let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
     ndfbench::report::stage("codegen");
@@ -388,7 +356,10 @@ fn run_regen_timed(
         Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
         Err(e) => eprintln!("shader translation skipped: {e}"),
     }
-    times.push(plain_stage("codegen, scenes, shaders", t0));
+    times.push(ndfbench::report::performance::JobStage::since(
+        "codegen, scenes, shaders",
+        t0,
+    ));
     for o in &out {
         println!(
             "{:<5} {:<24} {}",
@@ -404,6 +375,80 @@ fn run_regen_timed(
 fn out(s: &str) {
     use std::io::Write;
     let _ = writeln!(std::io::stdout(), "{s}");
+}
+
+/// The main job: every study (parallel, cached), verify, the convergence study, the profile.
+fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
+    let start = std::time::Instant::now();
+    let mut times = Vec::new();
+    let opts = ndfbench::studies::RunOptions {
+        cache: (!cli.no_cache).then(|| cli.cache.clone()),
+        parallel: true,
+    };
+    let fits_ok = run_regen_timed(
+        None,
+        Preset::Default,
+        &cli.fits,
+        &cli.results,
+        &opts,
+        &mut times,
+    )?;
+    let t = std::time::Instant::now();
+    let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
+    times.push(ndfbench::report::performance::JobStage::since(
+        "verify (every proof)",
+        t,
+    ));
+    ndfbench::report::stage("convergence study: started");
+    let t = std::time::Instant::now();
+    let conv = in_set(
+        "convergence",
+        &results_manifest(&cli.results, "convergence"),
+        || ndfbench::report::convergence::run(Preset::Default, &cli.results),
+    )?;
+    times.push(ndfbench::report::performance::JobStage::since(
+        "convergence study",
+        t,
+    ));
+    println!("{conv}");
+    ndfbench::report::performance::write_main_job_times(&times, start.elapsed().as_secs_f64());
+    Ok(ok)
+}
+
+/// `regen` (whole, cached, parallel or one shard), `merge` and `slurm`.
+fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
+    match *cmd {
+        Cmd::Regen {
+            ref only,
+            preset,
+            shard: Some(ref spec),
+            ref shard_dir,
+            ..
+        } => ndfbench::cli::batch::shard(
+            &cli.fits,
+            &cli.results,
+            only.as_deref(),
+            preset,
+            spec,
+            shard_dir,
+        ),
+        Cmd::Regen {
+            ref only,
+            preset,
+            cached,
+            parallel,
+            ..
+        } => {
+            let opts = ndfbench::studies::RunOptions {
+                cache: cached.then(|| cli.cache.clone()),
+                parallel,
+            };
+            run_regen(only.as_deref(), preset, &cli.fits, &cli.results, &opts)
+        }
+        Cmd::Merge { ref shards } => ndfbench::cli::batch::merge(&cli.fits, &cli.results, shards),
+        Cmd::Slurm(ref a) => ndfbench::cli::batch::slurm(a, &cli.fits, &cli.results),
+        _ => Ok(true),
+    }
 }
 
 fn main() -> ExitCode {
@@ -427,85 +472,8 @@ fn main() -> ExitCode {
         }
     };
     let res: Result<bool, ndfbench::Error> = match cli.cmd {
-        None => (|| {
-            let start = std::time::Instant::now();
-            let mut times = Vec::new();
-            let opts = ndfbench::studies::RunOptions {
-                cache: (!cli.no_cache).then(|| cli.cache.clone()),
-                parallel: true,
-            };
-            let fits_ok = run_regen_timed(
-                None,
-                Preset::Default,
-                &cli.fits,
-                &cli.results,
-                &opts,
-                &mut times,
-            )?;
-            let t = std::time::Instant::now();
-            let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
-            times.push(plain_stage("verify (every proof)", t));
-            ndfbench::report::stage("convergence study: started");
-            let t = std::time::Instant::now();
-            let conv = in_set(
-                "convergence",
-                &results_manifest(&cli.results, "convergence"),
-                || ndfbench::report::convergence::run(Preset::Default, &cli.results),
-            )?;
-            times.push(plain_stage("convergence study", t));
-            println!("{conv}");
-            ndfbench::report::performance::write_main_job_times(
-                &times,
-                start.elapsed().as_secs_f64(),
-            );
-            Ok(ok)
-        })(),
-        Some(Cmd::Regen {
-            ref only,
-            preset,
-            shard: Some(ref spec),
-            ref shard_dir,
-            ..
-        }) => run_shard(only.as_deref(), preset, spec, shard_dir, &cli),
-        Some(Cmd::Regen {
-            ref only,
-            preset,
-            cached,
-            parallel,
-            ..
-        }) => {
-            let opts = ndfbench::studies::RunOptions {
-                cache: cached.then(|| cli.cache.clone()),
-                parallel,
-            };
-            run_regen(only.as_deref(), preset, &cli.fits, &cli.results, &opts)
-        }
-        Some(Cmd::Merge { ref shards }) => {
-            ndfbench::studies::merge(&cli.fits, &cli.results, shards).map(|(o, secs)| {
-                println!(
-                    "{:<5} {:<24} {} (merged; the shards computed for {secs:.1} s in all)",
-                    if o.passed { "pass" } else { "FAIL" },
-                    o.name,
-                    o.summary
-                );
-                o.passed
-            })
-        }
-        Some(Cmd::Slurm(ref a)) => std::env::current_exe()
-            .map_err(|e| ndfbench::Error::Io {
-                path: "current executable".into(),
-                msg: e.to_string(),
-            })
-            .and_then(|exe| {
-                in_set("slurm", &a.out.join(".manifest.json"), || {
-                    ndfbench::cli::batch::write_scripts(a, &exe, &cli.fits, &cli.results)
-                })
-            })
-            .map(|w| {
-                ndfbench::cli::batch::make_executable(&a.out);
-                println!("wrote {}; submit with {}/submit.sh", w.join(", "), a.out.display());
-                true
-            }),
+        None => run_main_job(&cli),
+        Some(ref c @ (Cmd::Regen { .. } | Cmd::Merge { .. } | Cmd::Slurm(_))) => run_batch(c, &cli),
         Some(Cmd::Verify { preset, only }) => run_verify(preset, only.as_deref(), &cli.results),
         Some(Cmd::Convergence { preset }) => in_set(
             "convergence",

@@ -30,7 +30,9 @@ fn tmp(name: &str) -> PathBuf {
 fn files(dir: &Path) -> Vec<Vec<u8>> {
     FILES
         .iter()
-        .map(|f| std::fs::read(dir.join(f)).unwrap_or_else(|e| panic!("{}: {e}", dir.join(f).display())))
+        .map(|f| {
+            std::fs::read(dir.join(f)).unwrap_or_else(|e| panic!("{}: {e}", dir.join(f).display()))
+        })
         .collect()
 }
 
@@ -62,7 +64,10 @@ fn merged_shards_are_byte_identical_at_every_count() {
         studies::merge(&fits(), &results, &[dir]).unwrap();
         let merged = files(&results);
         for (f, (a, b)) in FILES.iter().zip(whole.iter().zip(&merged)) {
-            assert!(a == b, "{f} differs between the unsharded run and {n} merged shards");
+            assert!(
+                a == b,
+                "{f} differs between the unsharded run and {n} merged shards"
+            );
         }
     }
 }
@@ -77,7 +82,11 @@ fn refused(paths: &[PathBuf], what: &str, naming: &str) {
         }
         other => panic!("{what}: expected a shard error, got {other:?}"),
     }
-    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0, "{what}: something was written");
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        0,
+        "{what}: something was written"
+    );
 }
 
 #[test]
@@ -90,21 +99,47 @@ fn missing_duplicated_and_foreign_shards_are_refused() {
     // duplicated: shard 0 under a second name
     let copy = tmp("dup").join("copy.shard-0.json");
     std::fs::copy(p(0), &copy).unwrap();
-    refused(&[p(0), p(1), p(2), copy.clone()], "duplicated", "copy.shard-0.json");
+    refused(
+        &[p(0), p(1), p(2), copy.clone()],
+        "duplicated",
+        "copy.shard-0.json",
+    );
     // foreign: another spec's shard (its spec hash changed), and another study's
     let text = std::fs::read_to_string(p(2)).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let spec = v["spec"].as_str().unwrap().to_string();
     let alien = tmp("foreign").join("alien.shard-2.json");
     std::fs::write(&alien, text.replace(&spec, &"0".repeat(64))).unwrap();
-    refused(&[p(0), p(1), alien.clone()], "foreign", "alien.shard-2.json");
+    refused(
+        &[p(0), p(1), alien.clone()],
+        "foreign",
+        "alien.shard-2.json",
+    );
     let other = tmp("other").join("other.shard-2.json");
-    std::fs::write(&other, text.replace("\"study\":\"ltc-diffuse\"", "\"study\":\"ltc-sheen\"")).unwrap();
-    refused(&[p(0), p(1), other.clone()], "foreign", "other.shard-2.json");
+    std::fs::write(
+        &other,
+        text.replace("\"study\":\"ltc-diffuse\"", "\"study\":\"ltc-sheen\""),
+    )
+    .unwrap();
+    refused(
+        &[p(0), p(1), other.clone()],
+        "foreign",
+        "other.shard-2.json",
+    );
     // a shard whose items are not its own, and a file that is no shard
     let bad = tmp("corrupt").join("bad.shard-1.json");
-    std::fs::write(&bad, std::fs::read_to_string(p(1)).unwrap().replace("\"shard\":1", "\"shard\":0")).unwrap();
-    refused(&[bad.clone(), p(1), p(2)], "not exactly", "bad.shard-1.json");
+    std::fs::write(
+        &bad,
+        std::fs::read_to_string(p(1))
+            .unwrap()
+            .replace("\"shard\":1", "\"shard\":0"),
+    )
+    .unwrap();
+    refused(
+        &[bad.clone(), p(1), p(2)],
+        "not exactly",
+        "bad.shard-1.json",
+    );
     let junk = tmp("junk").join("junk.shard-0.json");
     std::fs::write(&junk, "{\"format\": 3").unwrap();
     refused(&[junk.clone()], "not a shard file", "junk.shard-0.json");
@@ -131,21 +166,42 @@ fn a_cache_hit_equals_recomputation() {
     let (_, t1) = studies::regen_with(&fits(), &cold, Some(STUDY), Preset::Quick, &opts).unwrap();
     let warm = tmp("warm");
     let (_, t2) = studies::regen_with(&fits(), &warm, Some(STUDY), Preset::Quick, &opts).unwrap();
-    assert!(t1[0].maps.iter().all(|m| m.source != "cache hit"), "cold run hit an empty cache");
-    assert!(!t2[0].maps.is_empty() && t2[0].maps.iter().all(|m| m.source == "cache hit"), "{:?}", t2[0].maps);
+    assert!(
+        t1[0].maps.iter().all(|m| m.source != "cache hit"),
+        "cold run hit an empty cache"
+    );
+    assert!(
+        !t2[0].maps.is_empty() && t2[0].maps.iter().all(|m| m.source == "cache hit"),
+        "{:?}",
+        t2[0].maps
+    );
     assert!(t2[0].maps.iter().all(|m| m.computed == 0));
     for (dir, what) in [(&cold, "cold"), (&warm, "warm")] {
         for (f, (a, b)) in FILES.iter().zip(whole.iter().zip(&files(dir))) {
-            assert!(a == b, "{f}: the {what} cached run differs from the plain run");
+            assert!(
+                a == b,
+                "{f}: the {what} cached run differs from the plain run"
+            );
         }
     }
     // a corrupted entry is a miss, recomputed and identical
-    let entries: Vec<PathBuf> = std::fs::read_dir(cache.join(STUDY)).unwrap().flatten().map(|e| e.path()).collect();
+    let entries: Vec<PathBuf> = std::fs::read_dir(cache.join(STUDY))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
     assert!(!entries.is_empty());
     std::fs::write(&entries[0], "not json").unwrap();
     let again = tmp("again");
     let (_, t3) = studies::regen_with(&fits(), &again, Some(STUDY), Preset::Quick, &opts).unwrap();
-    assert_eq!(t3[0].maps.iter().filter(|m| m.source != "cache hit").count(), 1);
+    assert_eq!(
+        t3[0]
+            .maps
+            .iter()
+            .filter(|m| m.source != "cache hit")
+            .count(),
+        1
+    );
     for (f, (a, b)) in FILES.iter().zip(whole.iter().zip(&files(&again))) {
         assert!(a == b, "{f}: the run after a corrupted entry differs");
     }
@@ -179,8 +235,25 @@ fn an_eight_task_slurm_array_merges_to_the_unsharded_run() {
     let out = tmp("slurm");
     let bin = env!("CARGO_BIN_EXE_ndfbench");
     let st = std::process::Command::new(bin)
-        .args(["--fits", fits().to_str().unwrap(), "--results", results.to_str().unwrap()])
-        .args(["slurm", "--only", STUDY, "--shards", "8", "--max-running", "4", "--preset", "quick", "--out", out.to_str().unwrap()])
+        .args([
+            "--fits",
+            fits().to_str().unwrap(),
+            "--results",
+            results.to_str().unwrap(),
+        ])
+        .args([
+            "slurm",
+            "--only",
+            STUDY,
+            "--shards",
+            "8",
+            "--max-running",
+            "4",
+            "--preset",
+            "quick",
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .status()
         .unwrap();
     assert!(st.success());

@@ -43,7 +43,12 @@ fn q(p: &Path) -> String {
 }
 
 /// The three scripts (file name, text): `array.sbatch`, `merge.sbatch`, `submit.sh`.
-pub fn scripts(a: &SlurmArgs, exe: &Path, fits: &Path, results: &Path) -> Result<Vec<(String, String)>> {
+pub fn scripts(
+    a: &SlurmArgs,
+    exe: &Path,
+    fits: &Path,
+    results: &Path,
+) -> Result<Vec<(String, String)>> {
     if a.shards == 0 || a.shards > crate::memo::shards::MAX_SHARDS {
         return Err(Error::Shard(format!(
             "--shards {}: 1 … {}",
@@ -52,21 +57,43 @@ pub fn scripts(a: &SlurmArgs, exe: &Path, fits: &Path, results: &Path) -> Result
         )));
     }
     if a.cpus == 0 || a.cpus > 1024 {
-        return Err(Error::InvalidArgument(format!("--cpus {}: 1 … 1024", a.cpus)));
+        return Err(Error::InvalidArgument(format!(
+            "--cpus {}: 1 … 1024",
+            a.cpus
+        )));
     }
-    if !a.only.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
-        return Err(Error::InvalidArgument(format!("--only '{}': not a study name", a.only)));
+    if !a
+        .only
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+    {
+        return Err(Error::InvalidArgument(format!(
+            "--only '{}': not a study name",
+            a.only
+        )));
     }
     if let Some(p) = &a.partition {
-        if !p.chars().all(|c| c.is_ascii_alphanumeric() || "-_,.".contains(c)) {
-            return Err(Error::InvalidArgument(format!("--partition '{p}': not a partition name")));
+        if !p
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_,.".contains(c))
+        {
+            return Err(Error::InvalidArgument(format!(
+                "--partition '{p}': not a partition name"
+            )));
         }
     }
     let (exe, fits, results, out) = (abs(exe)?, abs(fits)?, abs(results)?, abs(&a.out)?);
     let shards = out.join("shards");
     let logs = out.join("logs");
-    let limit = if a.max_running > 0 { format!("%{}", a.max_running) } else { String::new() };
-    let part = a.partition.as_ref().map_or(String::new(), |p| format!("#SBATCH --partition={p}\n"));
+    let limit = if a.max_running > 0 {
+        format!("%{}", a.max_running)
+    } else {
+        String::new()
+    };
+    let part = a
+        .partition
+        .as_ref()
+        .map_or(String::new(), |p| format!("#SBATCH --partition={p}\n"));
     let cwd = results.parent().map_or(results.clone(), Path::to_path_buf);
     let head = format!(
         "#!/bin/bash\n# Written by `ndfbench slurm --only {} --shards {}`: one shard of the study per array task.\n",
@@ -111,7 +138,12 @@ pub fn scripts(a: &SlurmArgs, exe: &Path, fits: &Path, results: &Path) -> Result
 }
 
 /// Write the scripts into `a.out` (one output set; `submit.sh` made executable).
-pub fn write_scripts(a: &SlurmArgs, exe: &Path, fits: &Path, results: &Path) -> Result<Vec<String>> {
+pub fn write_scripts(
+    a: &SlurmArgs,
+    exe: &Path,
+    fits: &Path,
+    results: &Path,
+) -> Result<Vec<String>> {
     let files = scripts(a, exe, fits, results)?;
     let mut written = Vec::new();
     for (name, text) in &files {
@@ -130,4 +162,51 @@ pub fn make_executable(out: &Path) {
         let p = out.join(name);
         let _ = std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755));
     }
+}
+
+/// `regen --only NAME --shard K/N`: one shard file, nothing else.
+pub fn shard(
+    fits: &Path,
+    results: &Path,
+    only: Option<&str>,
+    preset: crate::integrate::Preset,
+    spec: &str,
+    dir: &Path,
+) -> Result<bool> {
+    let name = only
+        .ok_or_else(|| Error::Shard("--shard needs --only with the study's exact name".into()))?;
+    let ks = crate::memo::shards::parse_spec(spec)?;
+    let p = crate::studies::shard(fits, results, name, preset, ks, dir)?;
+    println!("wrote shard {}/{} of {name}: {}", ks.0, ks.1, p.display());
+    Ok(true)
+}
+
+/// `merge SHARDS…`: the study's output set from a complete set of shards.
+pub fn merge(fits: &Path, results: &Path, shards: &[PathBuf]) -> Result<bool> {
+    let (o, secs) = crate::studies::merge(fits, results, shards)?;
+    println!(
+        "{:<5} {:<24} {} (merged; the shards computed for {secs:.1} s in all)",
+        if o.passed { "pass" } else { "FAIL" },
+        o.name,
+        o.summary
+    );
+    Ok(o.passed)
+}
+
+/// `slurm`: the scripts, published as one set, made executable.
+pub fn slurm(a: &SlurmArgs, fits: &Path, results: &Path) -> Result<bool> {
+    let exe = std::env::current_exe().map_err(|e| Error::Io {
+        path: "current executable".into(),
+        msg: e.to_string(),
+    })?;
+    let w = crate::io::in_set("slurm", &a.out.join(".manifest.json"), || {
+        write_scripts(a, &exe, fits, results)
+    })?;
+    make_executable(&a.out);
+    println!(
+        "wrote {}; submit with {}/submit.sh",
+        w.join(", "),
+        a.out.display()
+    );
+    Ok(true)
 }

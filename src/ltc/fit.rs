@@ -468,67 +468,70 @@ pub fn fit_table<T: LtcTarget>(
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
     // one θ column per item: memoised (cached, shardable; crate::memo)
-    let label = format!("ltc table {}² ({metric:?}, {method:?}, {n}² samples)", grid.n);
+    let label = format!(
+        "ltc table {}² ({metric:?}, {method:?}, {n}² samples)",
+        grid.n
+    );
     let cols: Vec<Vec<Cell>> = crate::memo::map(&label, grid.n, |j| -> Result<Vec<Cell>> {
-            let theta = grid.theta(j);
-            let mut col = Vec::with_capacity(grid.n);
-            let mut p = [0.0f64; 4];
-            for i in (0..grid.n).rev() {
-                let alpha = grid.alpha(i);
-                let t = target(alpha, theta)?;
-                let (_, _, _, zm) = t.moments(32);
-                let (norm, norm_se, fresnel) = t.albedo(1e-9);
-                if i == grid.n - 1 {
-                    p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
-                } else {
-                    // keep the ratios to α and the frame turn of the rougher neighbour
-                    // (a continuation: neighbouring cells stay in the same basin, so the
-                    // table stays smooth enough to interpolate)
-                    let prev = grid.alpha(i + 1);
-                    p[0] += (alpha / prev).ln();
-                    p[1] += (alpha / prev).ln();
-                    // the best axis approaches the mean direction as the lobe narrows
-                    p[3] *= alpha / prev;
-                }
-                let (best, iters) = fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?;
-                // the warm-start chain carries the primary metric's solution
-                p = best;
-                let (q, polished) = if metric == Metric::Cubic {
-                    polish_l2(&t, &zm, norm, &best, n, method, max_iters / 2)?
-                } else {
-                    (best, false)
-                };
-                let z = turn(&zm, q[3]);
-                let (m11, m22, m13) = params_to_m(&q);
-                let m = matrix(m11, m22, m13, &z);
-                let ltc = LtcDist::new(m)?;
-                let (ec, el2) = metrics(&t, &ltc, norm, 2 * n, 0.25);
-                let inv = production_inverse(&m)?;
-                col.push(Cell {
-                    alpha,
-                    theta,
-                    m11,
-                    m22,
-                    m13,
-                    z_dir: [z.x, z.z],
-                    turn: q[3],
-                    norm,
-                    norm_se,
-                    fresnel,
-                    inv,
-                    err_cubic: ec,
-                    err_l2: el2,
-                    iters,
-                    // round to nearest; a study may choose better (`ltc::storage`)
-                    half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
-                        .map(|x| half::f16::from_f64(x).to_f64()),
-                    polished,
-                });
-                progress();
+        let theta = grid.theta(j);
+        let mut col = Vec::with_capacity(grid.n);
+        let mut p = [0.0f64; 4];
+        for i in (0..grid.n).rev() {
+            let alpha = grid.alpha(i);
+            let t = target(alpha, theta)?;
+            let (_, _, _, zm) = t.moments(32);
+            let (norm, norm_se, fresnel) = t.albedo(1e-9);
+            if i == grid.n - 1 {
+                p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
+            } else {
+                // keep the ratios to α and the frame turn of the rougher neighbour
+                // (a continuation: neighbouring cells stay in the same basin, so the
+                // table stays smooth enough to interpolate)
+                let prev = grid.alpha(i + 1);
+                p[0] += (alpha / prev).ln();
+                p[1] += (alpha / prev).ln();
+                // the best axis approaches the mean direction as the lobe narrows
+                p[3] *= alpha / prev;
             }
-            col.reverse();
-            Ok(col)
-        })?;
+            let (best, iters) = fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?;
+            // the warm-start chain carries the primary metric's solution
+            p = best;
+            let (q, polished) = if metric == Metric::Cubic {
+                polish_l2(&t, &zm, norm, &best, n, method, max_iters / 2)?
+            } else {
+                (best, false)
+            };
+            let z = turn(&zm, q[3]);
+            let (m11, m22, m13) = params_to_m(&q);
+            let m = matrix(m11, m22, m13, &z);
+            let ltc = LtcDist::new(m)?;
+            let (ec, el2) = metrics(&t, &ltc, norm, 2 * n, 0.25);
+            let inv = production_inverse(&m)?;
+            col.push(Cell {
+                alpha,
+                theta,
+                m11,
+                m22,
+                m13,
+                z_dir: [z.x, z.z],
+                turn: q[3],
+                norm,
+                norm_se,
+                fresnel,
+                inv,
+                err_cubic: ec,
+                err_l2: el2,
+                iters,
+                // round to nearest; a study may choose better (`ltc::storage`)
+                half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
+                    .map(|x| half::f16::from_f64(x).to_f64()),
+                polished,
+            });
+            progress();
+        }
+        col.reverse();
+        Ok(col)
+    })?;
     Ok(Table {
         grid,
         metric,

@@ -315,7 +315,10 @@ pub fn bilinear_pass<T: LtcTarget>(
     pb.finish_and_clear();
     // write back, with the held-out errors and the fit parameters of the moved cells
     let before_cols = main.cells.clone();
-    main.cells = crate::memo::map(&format!("bilinear write-back {g}²"), g, |j| -> Result<Vec<Cell>> {
+    main.cells = crate::memo::map(
+        &format!("bilinear write-back {g}²"),
+        g,
+        |j| -> Result<Vec<Cell>> {
             let mut col = before_cols[j].clone();
             for (i, c) in col.iter_mut().enumerate() {
                 let e = new[i + g * j];
@@ -338,7 +341,8 @@ pub fn bilinear_pass<T: LtcTarget>(
                 (c.err_cubic, c.err_l2) = (ec, el2);
             }
             Ok(col)
-        })?;
+        },
+    )?;
     Ok(BilinearPass {
         square_weight,
         max_iters,

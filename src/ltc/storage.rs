@@ -115,12 +115,21 @@ pub fn store_table<T: LtcTarget>(
     // one column per item, memoised (cached, shardable; crate::memo)
     let g = table.cells.len();
     let cols = &table.cells;
-    let halves: Vec<Vec<[f64; 6]>> = crate::memo::map(&format!("binary16 storage {g} columns"), g, |j| {
-        cols[j]
-            .iter()
-            .map(|c| Ok(half_storage(&target(c.alpha, c.theta)?, &c.inv, c.norm, c.fresnel, n)))
-            .collect()
-    })?;
+    let halves: Vec<Vec<[f64; 6]>> =
+        crate::memo::map(&format!("binary16 storage {g} columns"), g, |j| {
+            cols[j]
+                .iter()
+                .map(|c| {
+                    Ok(half_storage(
+                        &target(c.alpha, c.theta)?,
+                        &c.inv,
+                        c.norm,
+                        c.fresnel,
+                        n,
+                    ))
+                })
+                .collect()
+        })?;
     for (col, h) in table.cells.iter_mut().zip(halves) {
         for (c, h) in col.iter_mut().zip(h) {
             c.half = h;

@@ -136,8 +136,7 @@ pub(crate) fn exact_json<T: Serialize + DeserializeOwned>(
             "map '{label}': its items change through JSON; they cannot be stored exactly"
         )));
     }
-    serde_json::from_str(&text)
-        .map_err(|e| Error::InvalidArgument(format!("map '{label}': {e}")))
+    serde_json::from_str(&text).map_err(|e| Error::InvalidArgument(format!("map '{label}': {e}")))
 }
 
 fn compute<T: Send, F: Fn(usize) -> Result<T> + Sync>(idx: &[usize], f: &F) -> Result<Vec<T>> {
@@ -160,7 +159,12 @@ where
         match &mut s.mode {
             Mode::Plain => Step::Plain,
             Mode::Cache(c) => {
-                let k = key(&[s.key.as_bytes(), &ordinal.to_le_bytes(), label.as_bytes(), &n.to_le_bytes()]);
+                let k = key(&[
+                    s.key.as_bytes(),
+                    &ordinal.to_le_bytes(),
+                    label.as_bytes(),
+                    &n.to_le_bytes(),
+                ]);
                 Step::Cached(c.path(&s.study, &k), k)
             }
             Mode::Shard { k, n } if ordinal == 0 => Step::Shard(*k, *n),

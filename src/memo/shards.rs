@@ -105,9 +105,16 @@ pub fn write(dir: &Path, id: &Identity, k: usize, n: usize, part: Part) -> Resul
 
 /// Parse a `K/N` shard argument (0 ≤ K < N ≤ [`MAX_SHARDS`]).
 pub fn parse_spec(s: &str) -> Result<(usize, usize)> {
-    let bad = || Error::Shard(format!("--shard '{s}': expected K/N with 0 ≤ K < N ≤ {MAX_SHARDS}"));
+    let bad = || {
+        Error::Shard(format!(
+            "--shard '{s}': expected K/N with 0 ≤ K < N ≤ {MAX_SHARDS}"
+        ))
+    };
     let (k, n) = s.split_once('/').ok_or_else(bad)?;
-    let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+    let (k, n): (usize, usize) = (
+        k.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
     if n == 0 || k >= n || n > MAX_SHARDS {
         return Err(bad());
     }
@@ -146,13 +153,20 @@ fn read_one(path: &Path) -> Result<ShardFile> {
     let name = path.display();
     let meta = std::fs::metadata(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
     if meta.len() > MAX_FILE_BYTES {
-        return Err(Error::Shard(format!("shard '{name}': {} bytes, more than {MAX_FILE_BYTES}", meta.len())));
+        return Err(Error::Shard(format!(
+            "shard '{name}': {} bytes, more than {MAX_FILE_BYTES}",
+            meta.len()
+        )));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
     let f: ShardFile = serde_json::from_str(&text)
         .map_err(|e| Error::Shard(format!("shard '{name}' is not a shard file: {e}")))?;
     if f.format != FORMAT {
-        return Err(Error::Shard(format!("shard '{name}': format '{}', expected '{FORMAT}'", f.format)));
+        return Err(Error::Shard(format!(
+            "shard '{name}': format '{}', expected '{FORMAT}'",
+            f.format
+        )));
     }
     if f.of == 0 || f.of > MAX_SHARDS || f.shard >= f.of || f.items_total > MAX_ITEMS {
         return Err(Error::Shard(format!(
@@ -164,7 +178,10 @@ fn read_one(path: &Path) -> Result<ShardFile> {
     if f.items.iter().map(|(i, _)| *i).ne(own.iter().copied()) {
         return Err(Error::Shard(format!(
             "shard '{name}': its items are not exactly shard {}/{}'s ({} held, {} expected)",
-            f.shard, f.of, f.items.len(), own.len()
+            f.shard,
+            f.of,
+            f.items.len(),
+            own.len()
         )));
     }
     Ok(f)
@@ -216,7 +233,9 @@ pub fn load_set(paths: &[PathBuf], expect: &Identity) -> Result<Part> {
                 merged.label = f.label.clone();
                 merged.items_total = f.items_total;
             }
-            Some((n, first)) if *n != f.of || merged.label != f.label || merged.items_total != f.items_total => {
+            Some((n, first))
+                if *n != f.of || merged.label != f.label || merged.items_total != f.items_total =>
+            {
                 return Err(Error::Shard(format!(
                     "shard '{name}' is foreign: one of {} shards of map '{}' ({} items), but '{}' is one of {n} of '{}' ({} items)",
                     f.of, f.label, f.items_total, first.display(), merged.label, merged.items_total

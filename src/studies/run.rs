@@ -142,7 +142,12 @@ fn run_one(
 
 /// Run the studies whose spec name contains `only` (all when None; an exact name also
 /// runs the studies it follows), each published as one output set.
-pub fn regen(fits_dir: &Path, results: &Path, only: Option<&str>, preset: Preset) -> Result<Vec<FitOutcome>> {
+pub fn regen(
+    fits_dir: &Path,
+    results: &Path,
+    only: Option<&str>,
+    preset: Preset,
+) -> Result<Vec<FitOutcome>> {
     regen_timed(fits_dir, results, only, preset).map(|(o, _)| o)
 }
 
@@ -184,11 +189,14 @@ pub fn regen_with(
         if r.is_ok() {
             crate::report::stage(&format!("regen {}: done in {secs:.1} s", s.name));
         }
-        (r, StudyTime {
-            study: s.name.clone(),
-            seconds: secs,
-            maps: scope.log,
-        })
+        (
+            r,
+            StudyTime {
+                study: s.name.clone(),
+                seconds: secs,
+                maps: scope.log,
+            },
+        )
     });
     let mut out = Vec::new();
     let mut times = Vec::new();
@@ -204,13 +212,19 @@ type Done = (Result<FitOutcome>, StudyTime);
 /// Run `job` on every selected spec, a study only after the selected studies it follows;
 /// with `parallel`, every study whose predecessors are done starts at once on its own
 /// thread. After a failure nothing new starts. Results in the order of `selected`.
-fn schedule(selected: &[&FitSpec], parallel: bool, job: &(dyn Fn(&FitSpec) -> Done + Sync)) -> Vec<Done> {
+fn schedule(
+    selected: &[&FitSpec],
+    parallel: bool,
+    job: &(dyn Fn(&FitSpec) -> Done + Sync),
+) -> Vec<Done> {
     let n = selected.len();
     let deps: Vec<Vec<usize>> = selected
         .iter()
         .map(|s| {
             let after = find(&s.name).map(|x| x.after()).unwrap_or(&[]);
-            (0..n).filter(|&j| after.contains(&selected[j].name.as_str())).collect()
+            (0..n)
+                .filter(|&j| after.contains(&selected[j].name.as_str()))
+                .collect()
         })
         .collect();
     let mut slots: Vec<Option<Done>> = (0..n).map(|_| None).collect();
@@ -233,7 +247,9 @@ fn schedule(selected: &[&FitSpec], parallel: bool, job: &(dyn Fn(&FitSpec) -> Do
         loop {
             if !failed {
                 for i in 0..n {
-                    let ready = deps[i].iter().all(|&j| matches!(&slots[j], Some((Ok(_), _))));
+                    let ready = deps[i]
+                        .iter()
+                        .all(|&j| matches!(&slots[j], Some((Ok(_), _))));
                     if !started[i] && ready {
                         started[i] = true;
                         running += 1;
@@ -268,10 +284,11 @@ pub fn shard(
     dir: &Path,
 ) -> Result<PathBuf> {
     let specs = load_specs(fits_dir)?;
-    let s = specs
-        .iter()
-        .find(|s| s.name == name)
-        .ok_or_else(|| Error::Shard(format!("--shard needs --only with a study's exact name; '{name}' is none")))?;
+    let s = specs.iter().find(|s| s.name == name).ok_or_else(|| {
+        Error::Shard(format!(
+            "--shard needs --only with a study's exact name; '{name}' is none"
+        ))
+    })?;
     let id = identity(s, &specs, results, preset);
     let (r, scope, _) = run_one(s, &specs, results, preset, Mode::Shard { k, n }, false);
     match r {
@@ -297,10 +314,12 @@ pub fn merge(fits_dir: &Path, results: &Path, paths: &[PathBuf]) -> Result<(FitO
     let (name, preset) = memo::shards::peek(paths)?;
     let preset = Preset::parse(&preset)
         .ok_or_else(|| Error::Shard(format!("shards name an unknown preset '{preset}'")))?;
-    let s = specs
-        .iter()
-        .find(|s| s.name == name)
-        .ok_or_else(|| Error::Shard(format!("the shards are of study '{name}', which no spec in '{}' names", fits_dir.display())))?;
+    let s = specs.iter().find(|s| s.name == name).ok_or_else(|| {
+        Error::Shard(format!(
+            "the shards are of study '{name}', which no spec in '{}' names",
+            fits_dir.display()
+        ))
+    })?;
     let id = identity(s, &specs, results, preset);
     let part = memo::shards::load_set(paths, &id)?;
     let shard_seconds = part.seconds;

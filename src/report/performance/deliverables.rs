@@ -80,8 +80,15 @@ pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> St
         let Some(v) = crate::results::read_result(results, kind.fit) else {
             continue;
         };
-        let study = if kind.fit.starts_with("ltc-sheen") { "ltc-sheen" } else if kind.fit.starts_with("ltc-diffuse") { "ltc-diffuse" } else { kind.fit };
-        let fit = super::cold_stage_seconds(study).map_or("—".into(), |s| format!("{s:.0} s ({study})"));
+        let study = if kind.fit.starts_with("ltc-sheen") {
+            "ltc-sheen"
+        } else if kind.fit.starts_with("ltc-diffuse") {
+            "ltc-diffuse"
+        } else {
+            kind.fit
+        };
+        let fit = super::cold_stage_seconds(study)
+            .map_or("—".into(), |s| format!("{s:.0} s ({study})"));
         let h = &v["held_out"];
         let err = match (h["mean_l2"].as_f64(), h["max_l2"].as_f64()) {
             (Some(m), Some(x)) => format!("{:.2} % / {:.1} %", 100.0 * m, 100.0 * x),

@@ -415,7 +415,11 @@ pub fn missing_as_dash(md: &str) -> String {
 /// `target/main-job-warm.json` when every one came from the cache.
 pub fn main_job_times_path(warm: bool) -> PathBuf {
     let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
-    Path::new(&target).join(if warm { "main-job-warm.json" } else { "main-job-cold.json" })
+    Path::new(&target).join(if warm {
+        "main-job-warm.json"
+    } else {
+        "main-job-cold.json"
+    })
 }
 
 /// The committed profile of the main job before it ran studies in parallel and cached
@@ -432,6 +436,27 @@ pub struct JobStage {
     pub reused: usize,
 }
 
+impl JobStage {
+    /// A stage without memoised maps, timed from `t0`.
+    pub fn since(name: &str, t0: std::time::Instant) -> JobStage {
+        JobStage {
+            stage: name.into(),
+            seconds: t0.elapsed().as_secs_f64(),
+            computed: 0,
+            reused: 0,
+        }
+    }
+    /// A study's stage: its seconds and, per memoised map, (items, items computed).
+    pub fn of_study(study: &str, seconds: f64, maps: &[(usize, usize)]) -> JobStage {
+        JobStage {
+            stage: study.into(),
+            seconds,
+            computed: maps.iter().map(|m| m.1).sum(),
+            reused: maps.iter().map(|m| m.0 - m.1).sum(),
+        }
+    }
+}
+
 /// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
 /// failure to write is reported, never fatal).
 pub fn write_main_job_times(stages: &[JobStage], total: f64) {
@@ -440,7 +465,11 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
     sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
     println!(
         "main job: {total:.0} s in all ({}); by stage (longest first):",
-        if warm { "every memoised map from the cache" } else { "cold: maps computed" }
+        if warm {
+            "every memoised map from the cache"
+        } else {
+            "cold: maps computed"
+        }
     );
     for s in &sorted {
         println!(
@@ -476,7 +505,11 @@ fn profile(path: &Path) -> Option<(f64, u64, Vec<(String, f64)>)> {
         .iter()
         .filter_map(|s| Some((s["stage"].as_str()?.to_string(), s["seconds"].as_f64()?)))
         .collect();
-    Some((v["total_s"].as_f64()?, v["threads"].as_u64().unwrap_or(0), rows))
+    Some((
+        v["total_s"].as_f64()?,
+        v["threads"].as_u64().unwrap_or(0),
+        rows,
+    ))
 }
 
 /// Seconds of `stage` in the last cold main job on this machine, if kept.
@@ -489,9 +522,18 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 /// on this machine (kept under target/), stage by stage.
 fn main_job_table(results: &Path) -> String {
     let cols = [
-        ("before: sequential, no cache", profile(&results.join(BEFORE_PATH))),
-        ("after: cold (parallel, maps computed)", profile(&main_job_times_path(false))),
-        ("after: warm (parallel, maps from the cache)", profile(&main_job_times_path(true))),
+        (
+            "before: sequential, no cache",
+            profile(&results.join(BEFORE_PATH)),
+        ),
+        (
+            "after: cold (parallel, maps computed)",
+            profile(&main_job_times_path(false)),
+        ),
+        (
+            "after: warm (parallel, maps from the cache)",
+            profile(&main_job_times_path(true)),
+        ),
     ];
     if cols.iter().all(|c| c.1.is_none()) {
         return String::new();
@@ -519,7 +561,8 @@ fn main_job_table(results: &Path) -> String {
     for (_, p) in &cols {
         md.push_str(&format!(
             " **{}** |",
-            p.as_ref().map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
+            p.as_ref()
+                .map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
         ));
     }
     md.push('\n');
