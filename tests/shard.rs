@@ -273,3 +273,71 @@ fn an_eight_task_slurm_array_merges_to_the_unsharded_run() {
         assert!(a == b, "{f}: the Slurm run differs from the unsharded run");
     }
 }
+
+/// The binary's answer to bad batch arguments: exit 2, one line, nothing written.
+#[test]
+fn bad_batch_arguments_exit_2_with_one_line() {
+    let bin = env!("CARGO_BIN_EXE_ndfbench");
+    let out = tmp("cli");
+    let cases: Vec<Vec<String>> = vec![
+        vec!["merge".into(), out.join("absent").display().to_string()],
+        vec!["merge".into(), out.display().to_string()],
+        vec![
+            "regen".into(),
+            "--only".into(),
+            STUDY.into(),
+            "--shard".into(),
+            "3/3".into(),
+        ],
+        vec![
+            "regen".into(),
+            "--only".into(),
+            STUDY.into(),
+            "--shard".into(),
+            "NaN/1e300".into(),
+        ],
+        vec![
+            "regen".into(),
+            "--only".into(),
+            STUDY.into(),
+            "--shard".into(),
+            "0/1000000000000".into(),
+        ],
+        vec!["regen".into(), "--shard".into(), "0/2".into()],
+        vec![
+            "slurm".into(),
+            "--only".into(),
+            STUDY.into(),
+            "--shards".into(),
+            "0".into(),
+            "--out".into(),
+            out.join("s").display().to_string(),
+        ],
+        vec![
+            "slurm".into(),
+            "--only".into(),
+            "a;rm".into(),
+            "--shards".into(),
+            "2".into(),
+            "--out".into(),
+            out.join("s").display().to_string(),
+        ],
+    ];
+    for args in &cases {
+        let o = std::process::Command::new(bin)
+            .args([
+                "--fits",
+                fits().to_str().unwrap(),
+                "--results",
+                out.join("r").to_str().unwrap(),
+            ])
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    }
+    // nothing but the (empty) directory itself
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
+}

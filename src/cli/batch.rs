@@ -99,30 +99,35 @@ pub fn scripts(
         "#!/bin/bash\n# Written by `ndfbench slurm --only {} --shards {}`: one shard of the study per array task.\n",
         a.only, a.shards
     );
-    let array = format!(
-        "{head}#SBATCH --job-name=ndfb-{s}\n#SBATCH --array=0-{last}{limit}\n#SBATCH --cpus-per-task={cpus}\n#SBATCH --output={logs}/{s}-%a.out\n{part}set -euo pipefail\ncd {cwd}\nexport RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-{cpus}}}\"\nexec {exe} --fits {fits} --results {results} regen --only {s} --preset {p} --shard \"${{SLURM_ARRAY_TASK_ID}}/{n}\" --shard-dir {shards}\n",
-        s = a.only,
-        last = a.shards - 1,
-        cpus = a.cpus,
-        logs = logs.display(),
-        cwd = q(&cwd),
-        exe = q(&exe),
-        fits = q(&fits),
-        results = q(&results),
-        p = a.preset.name(),
-        n = a.shards,
-        shards = q(&shards),
+    // the two jobs share their header and the command's prefix
+    let job = |name: &str, sbatch: &str, log: &str, args: &str| {
+        format!(
+            "{head}#SBATCH --job-name={name}\n{sbatch}#SBATCH --cpus-per-task={cpus}\n#SBATCH --output={logs}/{log}.out\n{part}set -euo pipefail\ncd {cwd}\nexport RAYON_NUM_THREADS=\"${{SLURM_CPUS_PER_TASK:-{cpus}}}\"\nexec {exe} --fits {fits} --results {results} {args}\n",
+            cpus = a.cpus,
+            logs = logs.display(),
+            cwd = q(&cwd),
+            exe = q(&exe),
+            fits = q(&fits),
+            results = q(&results),
+        )
+    };
+    let array = job(
+        &format!("ndfb-{}", a.only),
+        &format!("#SBATCH --array=0-{}{limit}\n", a.shards - 1),
+        &format!("{}-%a", a.only),
+        &format!(
+            "regen --only {} --preset {} --shard \"${{SLURM_ARRAY_TASK_ID}}/{}\" --shard-dir {}",
+            a.only,
+            a.preset.name(),
+            a.shards,
+            q(&shards)
+        ),
     );
-    let merge = format!(
-        "{head}#SBATCH --job-name=ndfb-{s}-merge\n#SBATCH --cpus-per-task={cpus}\n#SBATCH --output={logs}/{s}-merge.out\n{part}set -euo pipefail\ncd {cwd}\nexec {exe} --fits {fits} --results {results} merge {shards}\n",
-        s = a.only,
-        cpus = a.cpus,
-        logs = logs.display(),
-        cwd = q(&cwd),
-        exe = q(&exe),
-        fits = q(&fits),
-        results = q(&results),
-        shards = q(&shards),
+    let merge = job(
+        &format!("ndfb-{}-merge", a.only),
+        "",
+        &format!("{}-merge", a.only),
+        &format!("merge {}", q(&shards)),
     );
     let submit = format!(
         "#!/bin/sh\n# Submit the array, then the merge once every task has succeeded.\n# Extra arguments go to the merge's sbatch (e.g. --wait to block until it is done).\nset -eu\ncd \"$(dirname \"$0\")\"\nmkdir -p {logs} {shards}\njid=$(sbatch --parsable array.sbatch)\njid=${{jid%%;*}}\necho \"array job $jid ({n} tasks)\"\nsbatch --parsable --dependency=afterok:\"$jid\" \"$@\" merge.sbatch\n",

@@ -190,12 +190,13 @@ where
             let v = compute(&own, &f)?;
             let values = exact_json(label, &v)?;
             let seconds = clock.elapsed().as_secs_f64();
+            let computed = own.len();
             SCOPE.with_borrow_mut(|s| {
                 if let Some(s) = s.as_mut() {
                     s.part = Some(Part {
                         label: label.to_string(),
                         items_total: n,
-                        indices: own.clone(),
+                        indices: own,
                         values: match values {
                             serde_json::Value::Array(a) => a,
                             _ => Vec::new(),
@@ -205,7 +206,7 @@ where
                     s.log.push(MapLog {
                         label: label.to_string(),
                         items: n,
-                        computed: own.len(),
+                        computed,
                         source: "shard",
                         seconds,
                     });
