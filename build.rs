@@ -1,4 +1,5 @@
-//! The code version: one SHA-256 over every source file, the manifest and the lock file,
+//! The code version: one SHA-256 over every source file, what the sources compile in
+//! (`include_str!` of the example scenes in fits/render/), the manifest and the lock file,
 //! compiled in as `NDFB_CODE_HASH`. Shard files and the result cache carry it, so that
 //! shards of different builds never merge and a cache entry never outlives its code.
 
@@ -13,7 +14,10 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
         let p = e.path();
         if p.is_dir() {
             files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs" || x == "wgsl") {
+        } else if p
+            .extension()
+            .is_some_and(|x| x == "rs" || x == "wgsl" || x == "toml")
+        {
             out.push(p);
         }
     }
@@ -22,6 +26,7 @@ fn files(dir: &Path, out: &mut Vec<PathBuf>) {
 fn main() {
     let mut list = Vec::new();
     files(Path::new("src"), &mut list);
+    files(Path::new("fits/render"), &mut list);
     list.push("Cargo.toml".into());
     list.push("Cargo.lock".into());
     list.sort();
@@ -36,6 +41,7 @@ fn main() {
     let hex: String = h.finalize().iter().map(|b| format!("{b:02x}")).collect();
     println!("cargo:rustc-env=NDFB_CODE_HASH={hex}");
     println!("cargo:rerun-if-changed=src");
+    println!("cargo:rerun-if-changed=fits/render");
     println!("cargo:rerun-if-changed=Cargo.toml");
     println!("cargo:rerun-if-changed=Cargo.lock");
 }

@@ -454,8 +454,44 @@ fn visibility_benches(c: &mut Criterion) {
     g.finish();
 }
 
+/// Seed 002's P-NDF at the paper's footprint (stride 32, σ_P = 1.5·32/√12, 256² bins) of a
+/// 512² flakes map: the f64 brute force of Eq 2 (rayon over rows), the factored-Gaussian
+/// splat the paper-scale study runs on (one core), and the f32 compute shader on the
+/// adapter wgpu picks (64 footprints per call), where there is one.
+fn pndf_benches(c: &mut Criterion) {
+    use ndfbench::filters::footprint::{NormalMap, Procedural};
+    use ndfbench::tensor::pndf::{pndf_image, pndf_image_separable, sigma_p};
+    let Ok(map) = NormalMap::procedural(Procedural::Flakes, 512, 3) else {
+        return;
+    };
+    let sp = sigma_p(32, 0);
+    let mut g = c.benchmark_group("pndf");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(5));
+    g.bench_function("f64 brute force (rayon): 1 footprint, 256²", |b| {
+        b.iter(|| pndf_image(&map, black_box(80.0), 80.0, sp, 0.02, 256))
+    });
+    g.bench_function("f64 factored splat (one core): 1 footprint, 256²", |b| {
+        b.iter(|| pndf_image_separable(&map, black_box(80.0), 80.0, sp, 0.02, 256))
+    });
+    match ndfbench::gpu::Gpu::new() {
+        Ok(gpu) => {
+            let centres: Vec<(f64, f64)> = (0..64)
+                .map(|k| (16.0 + 32.0 * (k % 8) as f64, 16.0 + 32.0 * (k / 8) as f64))
+                .collect();
+            g.bench_function(
+                format!("f32 GPU brute force ({}): 64 footprints, 256²", gpu.info.name),
+                |b| b.iter(|| gpu.pndf_images(&map, black_box(&centres), sp, 0.02, 256)),
+            );
+        }
+        Err(why) => eprintln!("pndf: GPU bench skipped: {why}"),
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    pndf_benches,
     prefilter_benches,
     shader_benches,
     ltc_table_benches,

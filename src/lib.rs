@@ -26,6 +26,7 @@ pub mod error;
 pub mod filters;
 pub mod fit;
 pub mod generated;
+pub mod gpu;
 pub mod integrate;
 pub mod io;
 pub mod jacobian;

@@ -36,6 +36,11 @@ pub trait Study: Sync {
     fn after(&self) -> &'static [&'static str] {
         &[]
     }
+    /// Run only when named exactly (`regen --only NAME`, shards, Slurm), never by the main
+    /// job: a study whose default preset is a batch job.
+    fn on_request(&self) -> bool {
+        false
+    }
     /// Compute, report and write (into the open output set).
     fn run(&self, ctx: &Ctx) -> Result<FitOutcome>;
 }

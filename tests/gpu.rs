@@ -549,3 +549,77 @@ fn ltc_aniso_lookup_interpolates_as_its_reference() {
         pts.len()
     );
 }
+
+/// The P-NDF shader (src/gpu/pndf.wgsl) parses and validates with naga, adapter or not.
+#[test]
+fn pndf_shader_validates_with_naga() {
+    let module = naga::front::wgsl::parse_str(ndfbench::gpu::PNDF_WGSL).expect("parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .expect("validates");
+}
+
+/// The GPU P-NDF (f32, seed 002 Eq 2) against the f64 brute force, bin by bin, on maps
+/// whose footprints wrap around the edges. Every term is positive, so the f32 sum of N
+/// terms is within N·ε of its own value (ε = 2⁻²⁴), as is the weight sum; the exponent
+/// e = |n − h|²/(2σ_r²) carries the rounding of n and h (≤ 2⁻²⁴ each, |n − h| ≤ 9σ_r
+/// below the cut-off), which moves exp(−e) by ≤ 9·2·2⁻²³/σ_r relative. The bound is their
+/// sum plus 1e-6 for exp's own rounding, relative per bin, and 1e-12 of the image's peak
+/// for terms at the cut-off e = 40 that f32 and f64 place on different sides.
+#[test]
+fn gpu_pndf_matches_the_f64_brute_force() {
+    use ndfbench::filters::footprint::{NormalMap, Procedural};
+    use ndfbench::tensor::pndf::{pndf_image, sigma_p};
+    let gpu = match ndfbench::gpu::Gpu::new() {
+        Ok(g) => g,
+        Err(why) => {
+            eprintln!("skipping GPU P-NDF check: {why}");
+            return;
+        }
+    };
+    eprintln!("GPU check on {} ({:?})", gpu.info.name, gpu.info.backend);
+    let mut worst = 0.0f64;
+    let mut bins = 0usize;
+    for (kind, size, res, sr, level) in [
+        (Procedural::Flakes, 64, 32, 0.05, 0),
+        (Procedural::IsotropicNoise, 64, 48, 0.02, 1),
+        (Procedural::BrushedMetal, 32, 64, 0.03, 0),
+    ] {
+        let map = NormalMap::procedural(kind, size, 3).unwrap();
+        let sp = sigma_p(8, level);
+        let centres: Vec<(f64, f64)> = vec![
+            (4.0, 4.0),
+            (0.5, size as f64 - 0.3),
+            (size as f64 / 2.0 + 0.25, 7.75),
+            (size as f64 - 1.0, size as f64 - 1.0),
+        ];
+        let got = gpu.pndf_images(&map, &centres, sp, sr, res).unwrap();
+        assert_eq!(got.len(), centres.len());
+        let rad = (4.0 * sp).ceil();
+        let n = (2.0 * rad + 1.0).powi(2);
+        let eps = 2f64.powi(-24);
+        let rel = 2.0 * n * eps + 9.0 * 2.0 * 2.0 * eps / sr + 1e-6;
+        for (img, &(cx, cy)) in got.iter().zip(&centres) {
+            let want = pndf_image(&map, cx, cy, sp, sr, res).unwrap();
+            let peak = want.iter().cloned().fold(0.0, f64::max);
+            assert!(peak > 0.0);
+            for (k, (&g, &w)) in img.iter().zip(&want).enumerate() {
+                let d = (g as f64 - w).abs();
+                let bound = rel * w + 1e-12 * peak;
+                assert!(
+                    d <= bound,
+                    "{} at ({cx}, {cy}), bin {k}: GPU {g:e}, f64 {w:e}, |Δ| {d:e} > {bound:e}",
+                    kind.name()
+                );
+                if w > 1e-6 * peak {
+                    worst = worst.max(d / w);
+                }
+                bins += 1;
+            }
+        }
+    }
+    eprintln!("GPU P-NDF: {bins} bins, worst relative difference {worst:.2e} (f32 against f64)");
+}

@@ -341,3 +341,47 @@ fn bad_batch_arguments_exit_2_with_one_line() {
     // nothing but the (empty) directory itself
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
+
+/// The JSON with every wall-clock field (`seconds`, `pndf_seconds`) taken out.
+fn without_clocks(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(m) => {
+            m.retain(|k, _| !k.ends_with("seconds"));
+            m.values_mut().for_each(without_clocks);
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(without_clocks),
+        _ => {}
+    }
+}
+
+/// Seed 002 at scale shards by cluster: two shards of its quick stand-in merge to the
+/// unsharded run's numbers (every field but the wall clock each cluster measured), and
+/// neither `regen` without `--only` nor a name that merely contains it runs it.
+#[test]
+fn the_paper_scale_study_shards_by_cluster() {
+    let name = "tensor-scale";
+    let whole = tmp("scale-whole");
+    let o = studies::regen(&fits(), &whole, Some(name), Preset::Quick).unwrap();
+    assert_eq!(o.len(), 1);
+    let merged = tmp("scale-merged");
+    let dir = tmp("scale-shards");
+    for k in 0..2 {
+        studies::shard(&fits(), &merged, name, Preset::Quick, (k, 2), &dir).unwrap();
+    }
+    studies::merge(&fits(), &merged, &[dir]).unwrap();
+    let read = |d: &Path| -> serde_json::Value {
+        let mut v: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(d.join("fits/tensor-scale.json")).unwrap())
+                .unwrap();
+        without_clocks(&mut v);
+        v
+    };
+    let (a, b) = (read(&whole), read(&merged));
+    assert_eq!(a["clusters"].as_array().map(Vec::len), Some(32), "16 clusters × 2 maps");
+    assert!(a == b, "the merged clusters differ from the unsharded run");
+    // the on-request study is left out of every other selection
+    let d = tmp("scale-substring");
+    let o = studies::regen(&fits(), &d, Some("tensor"), Preset::Quick).unwrap();
+    assert!(o.iter().all(|x| x.name != name), "a substring selected {name}");
+    assert!(!d.join("tensor-scale.md").exists());
+}

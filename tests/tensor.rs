@@ -371,3 +371,77 @@ fn nonnegative_cp_makes_sampling_exact_on_a_real_block() {
     );
     assert!((c.integral - 1.0).abs() < 1e-12);
 }
+
+/// The factored-Gaussian splat that seed 002's scale runs on equals the brute force of
+/// Eq 2 bin by bin (up to the rounding of exp(a)·exp(b) against exp(a + b) and the order
+/// of the sums: 1e-12 of the image's peak), footprints wrapping around the map included.
+#[test]
+fn separable_pndf_equals_the_brute_force() {
+    use ndfbench::tensor::pndf::pndf_image_separable;
+    for (kind, size, res, sr, level) in [
+        (Procedural::Flakes, 64, 32, 0.02, 0),
+        (Procedural::BrushedMetal, 64, 64, 0.05, 1),
+        (Procedural::SharpBumps, 32, 48, 0.01, 0),
+    ] {
+        let map = NormalMap::procedural(kind, size, 3).unwrap();
+        let sp = sigma_p(8, level);
+        for (cx, cy) in [(4.0, 4.0), (0.25, size as f64 - 0.5), (17.5, 30.0)] {
+            let a = pndf_image(&map, cx, cy, sp, sr, res).unwrap();
+            let b = pndf_image_separable(&map, cx, cy, sp, sr, res).unwrap();
+            let peak = a.iter().cloned().fold(0.0, f64::max);
+            let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            assert!(
+                worst <= 1e-12 * peak,
+                "{} at ({cx}, {cy}): |Δ| {worst:e} against peak {peak:e}",
+                kind.name()
+            );
+        }
+    }
+}
+
+/// A cluster at seed 002's scale, small: its footprints are the grid points of its region,
+/// its L is the number of non-empty blocks of the brute-force images, and CP at a higher
+/// rank does not fit worse here (ALS from the same seed, far from the cap).
+#[test]
+fn a_cluster_counts_its_blocks_as_the_brute_force_does() {
+    use ndfbench::tensor::scale::{run_cluster, ScalePlan};
+    let map = NormalMap::procedural(Procedural::Flakes, 128, 3).unwrap();
+    let plan = ScalePlan {
+        stride: 8,
+        level: 0,
+        res: 32,
+        t: 16,
+        regions: 4,
+        sigma_r: 0.02,
+        ranks: vec![2, 8],
+        tol: 1e-4,
+        max_iters: 200,
+        seed: 5,
+        starts: 1,
+    };
+    for cluster in [0usize, 5, 15] {
+        let r = run_cluster(&map, &plan, cluster).unwrap();
+        let fps = plan.footprints(128, cluster).unwrap();
+        assert_eq!(fps.len(), 16, "a 32² region holds 4 × 4 footprints of stride 8");
+        let (rx, ry) = (cluster % 4, cluster / 4);
+        assert!(fps.iter().all(|&(x, y)| (x as usize) / 32 == rx && (y as usize) / 32 == ry));
+        let mut blocks = 0;
+        for &(cx, cy) in &fps {
+            let img = pndf_image(&map, cx, cy, sigma_p(8, 0), 0.02, 32).unwrap();
+            for b in 0..4 {
+                let (bx, by) = (b % 2, b / 2);
+                if (0..256).any(|q| img[(by * 16 + q / 16) * 32 + bx * 16 + q % 16] > 0.0) {
+                    blocks += 1;
+                }
+            }
+        }
+        assert_eq!(r.blocks, blocks);
+        assert_eq!(r.blocks_all, 64);
+        assert_eq!(r.ranks.len(), 2);
+        assert!(r.ranks.iter().all(|x| x.rel_error.is_finite() && x.rel_error < 1.0));
+        assert!(r.ranks[1].rel_error <= r.ranks[0].rel_error + 1e-9);
+    }
+    assert!(run_cluster(&map, &plan, 16).is_err(), "cluster 16 of a 4 × 4 grid");
+    let bad = ScalePlan { regions: 32, ..plan.clone() };
+    assert!(run_cluster(&map, &bad, 0).is_err(), "regions narrower than the stride");
+}

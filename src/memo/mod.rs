@@ -230,3 +230,14 @@ where
     });
     Ok(out)
 }
+
+/// [`map`] over a slice: item `i` is `f(&items[i])`. The items must themselves be a pure
+/// function of what the key hashes (the spec, the preset, the inputs).
+pub fn map_items<I, T, F>(label: &str, items: &[I], f: F) -> Result<Vec<T>>
+where
+    I: Sync,
+    T: Serialize + DeserializeOwned + Send,
+    F: Fn(&I) -> Result<T> + Sync,
+{
+    map(label, items.len(), |i| f(&items[i]))
+}

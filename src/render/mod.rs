@@ -163,11 +163,16 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
     let mut views = Vec::new();
     let mut notes = Vec::new();
     let mut cps: Vec<(glints::CpGlints, f64)> = Vec::new();
-    for &scale in &scene.render.scales {
-        let surf = Surface::new(&scene.surface, scale);
-        for frame in 0..scene.frames() {
-            let cam = Camera::at_frame(&scene.camera, frame);
-            let (truth, truth_ms) = timed(|| {
+    // the truth of every view (scale × frame), memoised per view: a cached view keeps the
+    // time it took when it was computed
+    let frames = scene.frames();
+    let mut truths = crate::memo::map(
+        &format!("render truth {}", scene.name),
+        scene.render.scales.len() * frames,
+        |v| -> Result<(Vec<PixelTruth>, f64)> {
+            let surf = Surface::new(&scene.surface, scene.render.scales[v / frames]);
+            let cam = Camera::at_frame(&scene.camera, v % frames);
+            Ok(timed(|| {
                 (0..w * h)
                     .into_par_iter()
                     .map(|k| {
@@ -182,7 +187,17 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                         )
                     })
                     .collect::<Vec<_>>()
-            });
+            }))
+        },
+    )?
+    .into_iter();
+    for &scale in &scene.render.scales {
+        let surf = Surface::new(&scene.surface, scale);
+        for frame in 0..frames {
+            let cam = Camera::at_frame(&scene.camera, frame);
+            let (truth, truth_ms) = truths
+                .next()
+                .ok_or_else(|| Error::InvalidArgument("render: a view without truth".into()))?;
             let (g, g_ms) = timed(|| methods::gbuffer(&cam, &surf, &tex));
             let alpha = m.alpha as f32;
             let mut out = Vec::new();

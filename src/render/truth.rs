@@ -35,7 +35,7 @@ pub struct Shader<'a> {
 }
 
 /// One pixel of the truth: mean radiance and its standard error.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PixelTruth {
     pub value: f64,
     pub se: f64,

@@ -84,7 +84,8 @@ fn load_specs(fits_dir: &Path) -> Result<Vec<FitSpec>> {
 
 /// The specs `only` selects, in run order: studies without `after` first, each group by
 /// name. An exact name of a study that follows others runs those first; any other text
-/// selects the specs whose names contain it.
+/// selects the specs whose names contain it, except the studies run on request only
+/// (`Study::on_request`), which only their exact name selects.
 fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Vec<&'a FitSpec> {
     let group: Option<Vec<&str>> = only
         .and_then(find)
@@ -100,6 +101,8 @@ fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Vec<&'a FitSpec> {
             Some(g) => g.contains(&s.name.as_str()),
             None => only.is_none_or(|o| s.name.contains(o)),
         })
+        // a study run on request only (hours at its default preset) needs its exact name
+        .filter(|s| !find(&s.name).is_some_and(|x| x.on_request()) || only == Some(&s.name))
         .collect();
     selected.sort_by_key(|s| {
         let follows = find(&s.name).is_some_and(|x| !x.after().is_empty());

@@ -9,3 +9,4 @@ mod mttkrp;
 pub mod pndf;
 pub mod query;
 pub mod sample;
+pub mod scale;

@@ -15,7 +15,6 @@ use crate::ltc::aniso::{fit_cell, mirror_y, rel_l2, AnisoGgxTarget, Inv7};
 use crate::ltc::aniso_table::{AnisoCell, AnisoGrid, AnisoTable};
 use crate::ltc::table::FittedTable;
 use crate::ltc::target::LtcTarget;
-use rayon::prelude::*;
 use std::path::Path;
 
 mod report;
@@ -68,7 +67,7 @@ fn plan(p: Preset, alpha_min: f64) -> Plan {
 }
 
 /// One case: a point of the 4D domain.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Case {
     pub ax: f64,
     pub ay: f64,
@@ -77,7 +76,7 @@ pub struct Case {
 }
 
 /// What one fitted case measured (held-out relative L2).
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Fitted {
     pub case: Case,
     pub inv: Inv7,
@@ -166,9 +165,7 @@ fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> 
     }
     let pb = indicatif::ProgressBar::new(todo.len() as u64);
     pb.set_message("ltc-aniso fit");
-    let fitted: Vec<Fitted> = todo
-        .par_iter()
-        .map(|&(ix, iy, k, j)| {
+    let fitted: Vec<Fitted> = crate::memo::map_items("ltc-aniso cells", &todo, |&(ix, iy, k, j)| {
             let r = fit_case(
                 iso,
                 Case {
@@ -181,8 +178,7 @@ fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> 
             );
             pb.inc(1);
             r
-        })
-        .collect::<Result<_>>()?;
+        })?;
     pb.finish_and_clear();
     let mut cells: Vec<Option<AnisoCell>> = vec![None; g.cells()];
     for (&(ix, iy, k, j), f) in todo.iter().zip(&fitted) {
@@ -202,7 +198,7 @@ fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> 
 
 /// A case between cells: the table (f64 and binary16) against the lobe there, with the
 /// interpolated norm, and the isotropic table at √(α_x α_y) and max(α_x, α_y).
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Between {
     pub case: Case,
     pub err_table: f64,
@@ -229,9 +225,7 @@ fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Betwe
         .collect();
     let half = table.to_half();
     let held = 2 * pl.samples;
-    cases
-        .par_iter()
-        .map(|c| {
+    crate::memo::map_items("ltc-aniso between cells", &cases, |c| {
             let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
             let e = |tb: &AnisoTable| {
                 let v = tb.lookup(c.ax, c.ay, c.phi, c.theta.cos());
@@ -248,7 +242,6 @@ fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Betwe
                 err_iso_max: rel_l2(&t, &m, mn, held, 0.25),
             })
         })
-        .collect()
 }
 
 /// One polygon check: a case, the table's lookup there × the quad, against MC of the true

@@ -9,7 +9,6 @@ use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::ltc::aniso::{rel_l2, AnisoGgxTarget, Inv7};
 use crate::ltc::table::FittedTable;
-use rayon::prelude::*;
 use serde::Serialize;
 
 /// The dimensions of the table.
@@ -73,16 +72,13 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
     let jobs: Vec<(usize, usize, usize)> = (0..bases.len())
         .flat_map(|b| (0..4).flat_map(move |d| (0..l).map(move |k| (b, d, k))))
         .collect();
-    let fits: Vec<Fitted> = jobs
-        .par_iter()
-        .map(|&(b, d, k)| {
-            fit_case(
-                iso,
-                case_at(&bases[b], d, k as f64 / (l - 1) as f64, amin),
-                pl,
-            )
-        })
-        .collect::<Result<_>>()?;
+    let fits: Vec<Fitted> = crate::memo::map_items("ltc-aniso design lines", &jobs, |&(b, d, k)| {
+        fit_case(
+            iso,
+            case_at(&bases[b], d, k as f64 / (l - 1) as f64, amin),
+            pl,
+        )
+    })?;
     let lines: Vec<Line> = fits
         .chunks(l)
         .enumerate()

@@ -11,10 +11,9 @@ use crate::integrate::mc::Strategy;
 use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Cell, Method, Metric, Table};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
-use rayon::prelude::*;
 
 /// One sampled cell.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub(super) struct FloorCell {
     pub i: usize,
     pub j: usize,
@@ -138,10 +137,9 @@ pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<Floo
         .iter()
         .flat_map(|&j| cols.iter().map(move |&i| (i, j)))
         .collect();
-    picks
-        .par_iter()
-        .map(|&(i, j)| floor_of(&main.cells[j][i], i, j, n, max_iters))
-        .collect()
+    crate::memo::map_items("ltc floor cells", &picks, |&(i, j)| {
+        floor_of(&main.cells[j][i], i, j, n, max_iters)
+    })
 }
 
 fn mean_se(v: &[f64]) -> (f64, f64) {

@@ -14,7 +14,6 @@ use crate::ltc::fit::{held_out_stats, inverse_from_production, Cell, Table};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
-use rayon::prelude::*;
 use serde::Serialize;
 
 /// One cell, as reported among the worst.
@@ -125,22 +124,25 @@ fn as_shipped(t: &Table) -> Shipped {
 /// Every cell of `t` against `lobe` at its (α, θ): the held-out relative L2 of the
 /// entries `entries(cell)`; NaN where singular.
 fn against(
+    label: &str,
     t: &Table,
     lobe: Lobe,
     n: usize,
     entries: &(dyn Fn(&Cell) -> [f64; 6] + Sync),
 ) -> Result<Vec<(f64, (f64, f64))>> {
-    flat(t)
-        .par_iter()
-        .map(|c| {
-            let e = entries(c);
-            let tgt = lobe.target(c.alpha, c.theta)?;
-            let v = cell_error_of(&tgt, &[e[0], e[1], e[2], e[3]], e[4], n)
-                .map(|x| x.0)
-                .unwrap_or(f64::NAN);
-            Ok((v, (c.alpha, c.theta.to_degrees())))
-        })
-        .collect()
+    let cells = flat(t);
+    let errs: Vec<Option<f64>> = crate::memo::map_items(label, &cells, |c| {
+        let e = entries(c);
+        let tgt = lobe.target(c.alpha, c.theta)?;
+        Ok(cell_error_of(&tgt, &[e[0], e[1], e[2], e[3]], e[4], n)
+            .ok()
+            .map(|x| x.0))
+    })?;
+    Ok(errs
+        .into_iter()
+        .zip(&cells)
+        .map(|(v, c)| (v.unwrap_or(f64::NAN), (c.alpha, c.theta.to_degrees())))
+        .collect())
 }
 
 fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
@@ -168,26 +170,29 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let squares: Vec<(usize, usize)> = (0..n - 1)
         .flat_map(|j| (0..n - 1).map(move |i| (i, j)))
         .collect();
+    let mid_errs: Vec<Option<f64>> =
+        crate::memo::map_items("lobe table between cells", &squares, |&(i, j)| {
+            midpoint_error_of(&sh, i, j, held, t.grid.alpha_min, &target)
+        })?;
     let mids: Vec<(f64, (f64, f64))> = squares
-        .par_iter()
-        .map(|&(i, j)| {
-            let e =
-                midpoint_error_of(&sh, i, j, held, t.grid.alpha_min, &target)?.unwrap_or(f64::NAN);
+        .iter()
+        .zip(mid_errs)
+        .map(|(&(i, j), e)| {
             let r = (i as f64 + 0.5) / (n - 1) as f64;
             let tt = (j as f64 + 0.5) / (n - 1) as f64;
             let alpha = (r * r).max(t.grid.alpha_min);
-            Ok((
-                e,
+            (
+                e.unwrap_or(f64::NAN),
                 (alpha, (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees()),
-            ))
+            )
         })
-        .collect::<Result<_>>()?;
+        .collect();
     // storage: f64, f32, f16 nearest, f16 stored
     let full = |c: &Cell| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel];
-    let base = against(t, f.lobe, held, &full)?;
+    let base = against("lobe table f64", t, f.lobe, held, &full)?;
     let mut storage = Vec::new();
     for pick in 0..3 {
-        let e = against(t, f.lobe, held, &|c: &Cell| match pick {
+        let e = against(&format!("lobe table storage {pick}"), t, f.lobe, held, &|c: &Cell| match pick {
             0 => rounded(&full(c), false),
             1 => rounded(&full(c), true),
             _ => c.half,
@@ -225,16 +230,13 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         .flat_map(|j| (0..n).step_by(step).map(move |i| (i, j)))
         .map(|(i, j)| &t.cells[j][i])
         .collect();
-    let zs: Vec<Option<f64>> = probe
-        .par_iter()
-        .map(|c| {
+    let zs: Vec<Option<f64>> = crate::memo::map_items("lobe norm against MC", &probe, |c| {
             let tgt = f.lobe.target(c.alpha, c.theta)?;
             let (m, _, se, _) = tgt.moments(256);
             // cells whose albedo is below 1e-6 (sheen seen head-on at the smallest α) are
             // left out: their energy is invisible and their MC has almost no samples
             Ok((c.norm >= 1e-6).then(|| (m - c.norm).abs() / se.max(1e-300)))
-        })
-        .collect::<Result<_>>()?;
+        })?;
     // polygons: four cells × four lights
     let mut polygons = Vec::new();
     for (ai, tj) in [
@@ -271,12 +273,12 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         main: table_report(main, pl)?,
         variant: table_report(variant, pl)?,
         cross: Cross {
-            main_table_for_variant: spread(&against(&main.table, fam.variant, held, &full)?),
-            variant_table_for_main: spread(&against(&variant.table, fam.main, held, &full)?),
-            cosine_unit_for_main: spread(&against(&main.table, fam.main, held, &|_| {
+            main_table_for_variant: spread(&against("main table for the variant", &main.table, fam.variant, held, &full)?),
+            variant_table_for_main: spread(&against("variant table for the main lobe", &variant.table, fam.main, held, &full)?),
+            cosine_unit_for_main: spread(&against("cosine, unit norm", &main.table, fam.main, held, &|_| {
                 [1.0, 0.0, 0.0, 1.0, 1.0, 0.0]
             })?),
-            cosine_norm_for_main: spread(&against(&main.table, fam.main, held, &|c| {
+            cosine_norm_for_main: spread(&against("cosine, fitted norm", &main.table, fam.main, held, &|c| {
                 [1.0, 0.0, 0.0, 1.0, c.norm, 0.0]
             })?),
         },

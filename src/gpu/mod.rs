@@ -1,0 +1,187 @@
+//! A GPU path for the embarrassingly parallel part of seed 002: the P-NDF brute force
+//! (seed 002 Eq 2) as a wgpu compute shader (`pndf.wgsl`), one invocation per (footprint,
+//! bin), f32 throughout. Its f64 reference is [`crate::tensor::pndf::pndf_image`];
+//! tests/gpu.rs bounds the difference per bin on whatever adapter is present (lavapipe
+//! in CI). Without an adapter [`Gpu::new`] says why and the callers stay on the CPU.
+
+use crate::error::{Error, Result};
+use crate::filters::footprint::NormalMap;
+
+/// The shader's text (validated by naga in tests/gpu.rs before any adapter is asked).
+pub const PNDF_WGSL: &str = include_str!("pndf.wgsl");
+
+/// Invocations per dispatch at most (wgpu's 65 535 workgroups of 64 in x).
+const MAX_INVOCATIONS: usize = 65_535 * 64;
+
+/// One adapter and its device.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+}
+
+impl Gpu {
+    /// wgpu's high-performance adapter (a hardware GPU where there is one; `WGPU_BACKEND`
+    /// restricts the choice), or the reason there is none.
+    pub fn new() -> std::result::Result<Gpu, String> {
+        pollster::block_on(async {
+            let instance =
+                wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+            let adapter = instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::HighPerformance,
+                    ..Default::default()
+                })
+                .await
+                .map_err(|e| format!("no wgpu adapter ({e})"))?;
+            let info = adapter.get_info();
+            let (device, queue) = adapter
+                .request_device(&wgpu::DeviceDescriptor::default())
+                .await
+                .map_err(|e| format!("no device on {} ({e})", info.name))?;
+            Ok(Gpu {
+                device,
+                queue,
+                info,
+            })
+        })
+    }
+
+    /// The P-NDF images (row-major, res², per unit projected area) of the footprints
+    /// centred at `centres` with σ_P and σ_r: the f32 twin of
+    /// [`crate::tensor::pndf::pndf_image`] for each centre.
+    pub fn pndf_images(
+        &self,
+        map: &NormalMap,
+        centres: &[(f64, f64)],
+        sigma_p: f64,
+        sigma_r: f64,
+        res: usize,
+    ) -> Result<Vec<Vec<f32>>> {
+        if !(sigma_p > 0.0 && sigma_r > 0.0 && (2..=4096).contains(&res)) {
+            return Err(Error::InvalidArgument(format!(
+                "GPU P-NDF needs σ_P > 0, σ_r > 0 and 2 ≤ res ≤ 4096 (got {sigma_p:e}, {sigma_r:e}, {res})"
+            )));
+        }
+        let bins = res * res;
+        let per = (MAX_INVOCATIONS / bins).max(1);
+        let normals: Vec<[f32; 2]> = map
+            .normals
+            .iter()
+            .map(|n| [n.x as f32, n.y as f32])
+            .collect();
+        let c: Vec<[f32; 2]> = centres
+            .iter()
+            .map(|&(x, y)| [x as f32, y as f32])
+            .collect();
+        let d = &self.device;
+        use wgpu::util::DeviceExt;
+        let storage = |bytes: &[u8]| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let nb = storage(bytemuck_pairs(&normals).as_slice());
+        let cb = storage(bytemuck_pairs(&c).as_slice());
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("ndfb_pndf"),
+            source: wgpu::ShaderSource::Wgsl(PNDF_WGSL.into()),
+        });
+        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: None,
+            module: &module,
+            entry_point: Some("ndfb_pndf_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let rad = (4.0 * sigma_p).ceil() as i32;
+        let mut out = Vec::with_capacity(centres.len());
+        for first in (0..centres.len()).step_by(per) {
+            let count = per.min(centres.len() - first);
+            let words: [u32; 8] = [
+                map.width as u32,
+                map.height as u32,
+                res as u32,
+                rad as u32,
+                count as u32,
+                (sigma_p as f32).to_bits(),
+                (sigma_r as f32).to_bits(),
+                first as u32,
+            ];
+            let pb = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents: &words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>(),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let vals = self.run(&pipeline, [&nb, &cb, &pb], count * bins)?;
+            out.extend(vals.chunks(bins).map(<[f32]>::to_vec));
+        }
+        Ok(out)
+    }
+
+    fn run(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        inputs: [&wgpu::Buffer; 3],
+        n: usize,
+    ) -> Result<Vec<f32>> {
+        let d = &self.device;
+        let size = (n * 4) as u64;
+        let buf = |usage| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let outb = buf(wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+        let read = buf(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+        let mut entries: Vec<wgpu::BindGroupEntry> = inputs
+            .iter()
+            .enumerate()
+            .map(|(k, b)| wgpu::BindGroupEntry {
+                binding: k as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: outb.as_entire_binding(),
+        });
+        let bg = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bg, &[]);
+            pass.dispatch_workgroups(n.div_ceil(64) as u32, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&outb, 0, &read, 0, size);
+        self.queue.submit([enc.finish()]);
+        let slice = read.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |_| {});
+        let lost = |e: String| Error::InvalidArgument(format!("GPU P-NDF on {}: {e}", self.info.name));
+        d.poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| lost(e.to_string()))?;
+        let data = slice.get_mapped_range().map_err(|e| lost(format!("{e:?}")))?;
+        Ok(data
+            .chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
+    }
+}
+
+/// Little-endian bytes of f32 pairs.
+fn bytemuck_pairs(v: &[[f32; 2]]) -> Vec<u8> {
+    v.iter()
+        .flat_map(|p| p.iter().flat_map(|x| x.to_le_bytes()))
+        .collect()
+}

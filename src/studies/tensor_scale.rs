@@ -1,0 +1,233 @@
+//! `regen --only tensor-scale`: seed 002 at its own scale (fits/tensor-scale.toml, run on
+//! request only). 2K² procedural maps (flakes and brushed metal, the maps of Table 2),
+//! 256² P-NDF images (Eq 2) at footprint level 0 with the paper's stride 32, t = 16 blocks
+//! in the paper's 8 × 8 spatial clusters, CP-ALS at R = 16 and 32 (§4.2). Each cluster is
+//! one item of a memoised map, so `--shard K/N` and `slurm` split the work by cluster.
+//! Results: results/tensor-scale.md beside Table 2, results/fits/tensor-scale.json.
+
+use crate::error::Result;
+use crate::filters::footprint::{NormalMap, Procedural};
+use crate::fit::spec::FitSpec;
+use crate::integrate::Preset;
+use crate::tensor::scale::{run_cluster, ClusterRun, ScalePlan};
+use std::path::Path;
+
+/// Table 2 of seed 002 (geometric optics, 2K², stride 32): map, rank, NDF generation
+/// (min), compression (min), storage without / with compression (MB), ratio (%). Timed on
+/// 40 cores.
+const TABLE2: [(&str, usize, f64, f64, f64, f64, f64); 2] = [
+    ("flakes", 32, 42.80, 60.01, 1430.75, 106.86, 7.47),
+    ("brushed-metal", 16, 37.39, 10.01, 1430.75, 15.19, 1.06),
+];
+
+/// Map size and the clusters run of each map: all of them (quick is a small stand-in;
+/// precise runs two ALS starts per cluster instead of one).
+fn plan(preset: Preset, spec: &FitSpec) -> (usize, usize, ScalePlan) {
+    let base = |stride, res, regions, ranks: Vec<usize>| ScalePlan {
+        stride,
+        level: 0,
+        res,
+        t: 16,
+        regions,
+        sigma_r: 0.02,
+        ranks,
+        tol: spec.tolerance.max_rel,
+        max_iters: spec.optimiser.max_iters.unwrap_or(500) as usize,
+        seed: spec.seed,
+        starts: 1,
+    };
+    match preset {
+        Preset::Quick => (128, 16, base(8, 64, 4, vec![4, 8])),
+        Preset::Default => (2048, 64, base(32, 256, 8, vec![16, 32])),
+        Preset::Precise => (
+            2048,
+            64,
+            ScalePlan {
+                starts: 2,
+                ..base(32, 256, 8, vec![16, 32])
+            },
+        ),
+    }
+}
+
+/// `n` of the plan's clusters, spread over rows and columns (row q·R/n, a column that
+/// moves with the row).
+fn sample(plan: &ScalePlan, n: usize) -> Vec<usize> {
+    let r = plan.regions;
+    let total = r * r;
+    if n >= total {
+        return (0..total).collect();
+    }
+    (0..n)
+        .map(|q| {
+            let row = q * r / n;
+            row * r + (3 * row + 1) % r
+        })
+        .collect()
+}
+
+/// Mean and standard error of the mean.
+fn mean_se(v: &[f64]) -> (f64, f64) {
+    let n = v.len().max(1) as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (m, (var / n).sqrt())
+}
+
+pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+    let (size, n, plan) = plan(preset, spec);
+    let clusters = sample(&plan, n);
+    let kinds = [Procedural::Flakes, Procedural::BrushedMetal];
+    let maps: Vec<NormalMap> = kinds
+        .iter()
+        .map(|&k| NormalMap::procedural(k, size, 3))
+        .collect::<Result<_>>()?;
+    let items: Vec<(usize, usize)> = (0..kinds.len())
+        .flat_map(|m| clusters.iter().map(move |&c| (m, c)))
+        .collect();
+    let runs: Vec<ClusterRun> = crate::memo::map_items("tensor-scale clusters", &items, |&(m, c)| {
+        run_cluster(&maps[m], &plan, c)
+    })?;
+    let md = report(size, &plan, &clusters, &kinds, &runs, preset);
+    crate::io::write_atomic(&results.join("tensor-scale.md"), md.as_bytes())?;
+    let worst = runs
+        .iter()
+        .flat_map(|r| r.ranks.iter().map(|x| x.rel_error))
+        .fold(0.0, f64::max);
+    crate::results::write_result(
+        results,
+        &spec.name,
+        &serde_json::json!({"spec": spec, "command": COMMAND, "preset": preset.name(), "size": size, "plan": plan, "maps": kinds.map(|k| k.name()), "clusters": runs}),
+    )?;
+    Ok(crate::study::FitOutcome {
+        name: spec.name.clone(),
+        held_out_max_rel: worst,
+        tolerance: 1.0,
+        passed: worst.is_finite(),
+        summary: format!(
+            "{size}² maps, {} clusters each, ranks {:?}: worst relative reconstruction error {:.2} %",
+            clusters.len(),
+            plan.ranks,
+            100.0 * worst
+        ),
+    })
+}
+
+const COMMAND: &str = "cargo run --release -- regen --only tensor-scale";
+
+/// Footprint levels of the full pyramid (until the stride reaches the map size, §4.1).
+fn levels(size: usize, stride: usize) -> usize {
+    (0..).take_while(|l| (stride << l) <= size).count().max(1)
+}
+
+fn report(
+    size: usize,
+    plan: &ScalePlan,
+    clusters: &[usize],
+    kinds: &[Procedural],
+    runs: &[ClusterRun],
+    preset: Preset,
+) -> String {
+    let total = plan.regions * plan.regions;
+    let images0 = (size / plan.stride).pow(2);
+    let nlev = levels(size, plan.stride);
+    let images_all: usize = (0..nlev).map(|l| images0 >> (2 * l)).sum();
+    let mb = |values: f64| values * 4.0 / 1e6;
+    let per_image = (plan.res * plan.res) as f64;
+    let mut md = format!(
+        "# Seed 002 at the paper's scale\n\nWritten by `{COMMAND}` (preset {}) from `fits/tensor-scale.toml`. {size}² procedural maps (the flakes and brushed metal of Table 2), P-NDF images (seed 002 Eq 2) of {res}² over the projected hemisphere with σ_r = {sr}, footprint level {lv} only (stride s = {st}, σ_P = 1.5 s/√12, {images0} images per map), blocks t × t = {t}², all-zero blocks dropped, one tensor per spatial cluster of the {r} × {r} grid (§4.2), CP-ALS (tolerance {tol}, ≤ {it} iterations, {starts} seeded start(s)) at R = {ranks:?}. {ran} of the {total} clusters of each map were run{}. Each cluster's images are made and compressed on one thread (the factored-Gaussian splat, `tensor::pndf::pndf_image_separable`, equal to the brute force up to rounding); times are wall clock of one core on this machine, measured when the cluster was computed (a cached or merged cluster keeps its measured times).\n\n",
+        preset.name(),
+        if clusters.len() < total { format!(" ({clusters:?}, spread over rows and columns; what the others would cost is projected from them)") } else { String::new() },
+        res = plan.res,
+        sr = plan.sigma_r,
+        lv = plan.level,
+        st = plan.stride,
+        t = plan.t,
+        r = plan.regions,
+        tol = plan.tol,
+        it = plan.max_iters,
+        ranks = plan.ranks,
+        ran = clusters.len(),
+        starts = plan.starts,
+    );
+    md.push_str("## Measured, per cluster\n\n| map | R | clusters | blocks L (mean ± s.e.) | non-empty blocks | rel. error (mean ± s.e.) | rel. error max | iterations (mean) | at the cap | compression of all blocks | of non-empty | P-NDF s per cluster | CP s per cluster |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut proj = String::from("## Next to Table 2\n\nThe paper's numbers (Table 2: geometric optics, 2K², stride 32, all levels, 40 cores) beside ours. Ours: level 0 measured on the clusters above (the full level 0 = their mean × the cluster count, so the sum where all were run), the full pyramid adds the levels ℓ = 1 … with their images' cost (4^−ℓ as many images, each over 4^ℓ as many texels: the same P-NDF work per level) and their blocks (4^−ℓ as many: CP work in proportion to L, the iteration counts assumed those of level 0). Core-minutes: ours are one core's, the paper's are its wall-clock minutes × 40 cores (a bound: its cores were not all busy all the time). Storage at 4 bytes per value, as Table 2's w/o-compression column is (its 1430.75 MB ≈ the ");
+    proj.push_str(&format!(
+        "{images_all} images × {}² × 4 B = {:.2} MB of our pyramid).\n\n| map | R | Table 2: Pre. core-min | ours: level 0 P-NDF core-min | ours: pyramid P-NDF core-min (projected) | Table 2: Comp. core-min | ours: level 0 CP core-min | ours: pyramid CP core-min (projected) | Table 2: w/o comp. MB | ours: w/o comp. MB (pyramid) | Table 2: w/ comp. MB | ours: w/ comp. MB (level 0, projected) | Table 2: ratio | ours: ratio (level 0) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        plan.res,
+        mb(images_all as f64 * per_image)
+    ));
+    let pyramid_cp: f64 = (0..nlev).map(|l| 0.25f64.powi(l as i32)).sum();
+    for (m, kind) in kinds.iter().enumerate() {
+        let rs: Vec<&ClusterRun> = runs
+            .iter()
+            .skip(m * clusters.len())
+            .take(clusters.len())
+            .collect();
+        let (l_mean, l_se) = mean_se(&rs.iter().map(|r| r.blocks as f64).collect::<Vec<_>>());
+        let nonempty = rs.iter().map(|r| r.blocks).sum::<usize>() as f64
+            / rs.iter().map(|r| r.blocks_all).sum::<usize>().max(1) as f64;
+        let pre: Vec<f64> = rs.iter().map(|r| r.pndf_seconds).collect();
+        let (pre_m, pre_se) = mean_se(&pre);
+        for (k, &rank) in plan.ranks.iter().enumerate() {
+            let of: Vec<&crate::tensor::scale::RankRun> =
+                rs.iter().filter_map(|r| r.ranks.get(k)).collect();
+            let errs: Vec<f64> = of.iter().map(|x| x.rel_error).collect();
+            let (e_m, e_se) = mean_se(&errs);
+            let e_max = errs.iter().cloned().fold(0.0, f64::max);
+            let it = of.iter().map(|x| x.iterations as f64).sum::<f64>() / of.len().max(1) as f64;
+            let capped = of.iter().filter(|x| x.iterations >= plan.max_iters).count();
+            let stored = of.iter().map(|x| x.storage).sum::<usize>() as f64;
+            let all_vals = rs.iter().map(|r| r.blocks_all).sum::<usize>() as f64
+                * (plan.t * plan.t) as f64;
+            let nonempty_vals =
+                rs.iter().map(|r| r.blocks).sum::<usize>() as f64 * (plan.t * plan.t) as f64;
+            let (cp_m, cp_se) = mean_se(&of.iter().map(|x| x.seconds).collect::<Vec<_>>());
+            md.push_str(&format!(
+                "| {} | {rank} | {} | {l_mean:.0} ± {l_se:.0} | {:.1} % | {:.2} ± {:.2} % | {:.2} % | {it:.0} | {capped} | {:.2} % | {:.2} % | {pre_m:.2} ± {pre_se:.2} | {cp_m:.2} ± {cp_se:.2} |\n",
+                kind.name(),
+                rs.len(),
+                100.0 * nonempty,
+                100.0 * e_m,
+                100.0 * e_se,
+                100.0 * e_max,
+                100.0 * stored / all_vals.max(1.0),
+                100.0 * stored / nonempty_vals.max(1.0),
+            ));
+            let paper = TABLE2.iter().find(|p| p.0 == kind.name() && p.1 == rank);
+            let cell = |v: Option<f64>, d: usize| v.map_or("—".to_string(), |x| format!("{x:.d$}"));
+            let level0_pre = pre_m * total as f64 / 60.0;
+            let level0_cp = cp_m * total as f64 / 60.0;
+            let ratio = stored / all_vals.max(1.0);
+            proj.push_str(&format!(
+                "| {} | {rank} | {} | {level0_pre:.1} ± {:.1} | {:.0} | {} | {level0_cp:.2} ± {:.2} | {:.2} | {} | {:.2} | {} | {:.2} | {} | {:.2} % |\n",
+                kind.name(),
+                cell(paper.map(|p| p.2 * 40.0), 0),
+                pre_se * total as f64 / 60.0,
+                level0_pre * nlev as f64,
+                cell(paper.map(|p| p.3 * 40.0), 0),
+                cp_se * total as f64 / 60.0,
+                level0_cp * pyramid_cp,
+                cell(paper.map(|p| p.4), 2),
+                mb(images_all as f64 * per_image),
+                cell(paper.map(|p| p.5), 2),
+                mb(ratio * images0 as f64 * per_image),
+                paper.map_or("—".to_string(), |p| format!("{:.2} %", p.6)),
+                100.0 * ratio,
+            ));
+        }
+    }
+    md.push('\n');
+    md.push_str(&proj);
+    md.push_str(&format!(
+        "\nTable 2 has no reconstruction-error column (the paper judges the rank by rendered MSE, Fig. 18); the relative errors above are the tensors' own ‖T − T̂‖/‖T‖. Table 2 pairs each map with one rank (flakes R = 32, brushed metal R = 16); the other pairs have no paper row (—).\n\n## Where the large data goes\n\nNothing large is written. A cluster's images ({} footprints × {}² values in f64: {:.1} MB) and its tensor (L·t² values in f64: {:.1} MB at the largest L measured) live in memory while its thread runs; what a cluster leaves is its summary row (under 1 kB of JSON: in `target/ndfbench-cache/tensor-scale/` on a cached run, in the shard file of `regen --shard K/N --shard-dir DIR`, in results/fits/tensor-scale.json). The whole level 0 in f32 would be {:.0} MB per map, the pyramid {:.0} MB; neither is kept. The two {size}² maps ({:.0} MB each as f64 normals) are rebuilt from their seed in every process.\n\nSplit by cluster (every cluster one item of the study's one memoised map): `cargo run --release -- regen --only tensor-scale --shard K/N --shard-dir DIR` per machine, then `merge`, or a Slurm array: `cargo run --release -- slurm --only tensor-scale --shards 32 --out target/slurm` (README: Beyond one machine).\n",
+        images0 / total,
+        plan.res,
+        (images0 / total) as f64 * per_image * 8.0 / 1e6,
+        runs.iter().map(|r| r.blocks).max().unwrap_or(0) as f64 * (plan.t * plan.t) as f64 * 8.0 / 1e6,
+        mb(images0 as f64 * per_image),
+        mb(images_all as f64 * per_image),
+        (size * size * 24) as f64 / 1e6,
+    ));
+    md
+}
