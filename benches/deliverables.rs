@@ -480,7 +480,10 @@ fn pndf_benches(c: &mut Criterion) {
                 .map(|k| (16.0 + 32.0 * (k % 8) as f64, 16.0 + 32.0 * (k / 8) as f64))
                 .collect();
             g.bench_function(
-                format!("f32 GPU brute force ({}): 64 footprints, 256²", gpu.info.name),
+                format!(
+                    "f32 GPU brute force ({}): 64 footprints, 256²",
+                    gpu.info.name
+                ),
                 |b| b.iter(|| gpu.pndf_images(&map, black_box(&centres), sp, 0.02, 256)),
             );
         }

@@ -377,11 +377,18 @@ fn the_paper_scale_study_shards_by_cluster() {
         v
     };
     let (a, b) = (read(&whole), read(&merged));
-    assert_eq!(a["clusters"].as_array().map(Vec::len), Some(32), "16 clusters × 2 maps");
+    assert_eq!(
+        a["clusters"].as_array().map(Vec::len),
+        Some(32),
+        "16 clusters × 2 maps"
+    );
     assert!(a == b, "the merged clusters differ from the unsharded run");
     // the on-request study is left out of every other selection
     let d = tmp("scale-substring");
     let o = studies::regen(&fits(), &d, Some("tensor"), Preset::Quick).unwrap();
-    assert!(o.iter().all(|x| x.name != name), "a substring selected {name}");
+    assert!(
+        o.iter().all(|x| x.name != name),
+        "a substring selected {name}"
+    );
     assert!(!d.join("tensor-scale.md").exists());
 }

@@ -389,7 +389,11 @@ fn separable_pndf_equals_the_brute_force() {
             let a = pndf_image(&map, cx, cy, sp, sr, res).unwrap();
             let b = pndf_image_separable(&map, cx, cy, sp, sr, res).unwrap();
             let peak = a.iter().cloned().fold(0.0, f64::max);
-            let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            let worst = a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
             assert!(
                 worst <= 1e-12 * peak,
                 "{} at ({cx}, {cy}): |Δ| {worst:e} against peak {peak:e}",
@@ -422,9 +426,15 @@ fn a_cluster_counts_its_blocks_as_the_brute_force_does() {
     for cluster in [0usize, 5, 15] {
         let r = run_cluster(&map, &plan, cluster).unwrap();
         let fps = plan.footprints(128, cluster).unwrap();
-        assert_eq!(fps.len(), 16, "a 32² region holds 4 × 4 footprints of stride 8");
+        assert_eq!(
+            fps.len(),
+            16,
+            "a 32² region holds 4 × 4 footprints of stride 8"
+        );
         let (rx, ry) = (cluster % 4, cluster / 4);
-        assert!(fps.iter().all(|&(x, y)| (x as usize) / 32 == rx && (y as usize) / 32 == ry));
+        assert!(fps
+            .iter()
+            .all(|&(x, y)| (x as usize) / 32 == rx && (y as usize) / 32 == ry));
         let mut blocks = 0;
         for &(cx, cy) in &fps {
             let img = pndf_image(&map, cx, cy, sigma_p(8, 0), 0.02, 32).unwrap();
@@ -438,10 +448,22 @@ fn a_cluster_counts_its_blocks_as_the_brute_force_does() {
         assert_eq!(r.blocks, blocks);
         assert_eq!(r.blocks_all, 64);
         assert_eq!(r.ranks.len(), 2);
-        assert!(r.ranks.iter().all(|x| x.rel_error.is_finite() && x.rel_error < 1.0));
+        assert!(r
+            .ranks
+            .iter()
+            .all(|x| x.rel_error.is_finite() && x.rel_error < 1.0));
         assert!(r.ranks[1].rel_error <= r.ranks[0].rel_error + 1e-9);
     }
-    assert!(run_cluster(&map, &plan, 16).is_err(), "cluster 16 of a 4 × 4 grid");
-    let bad = ScalePlan { regions: 32, ..plan.clone() };
-    assert!(run_cluster(&map, &bad, 0).is_err(), "regions narrower than the stride");
+    assert!(
+        run_cluster(&map, &plan, 16).is_err(),
+        "cluster 16 of a 4 × 4 grid"
+    );
+    let bad = ScalePlan {
+        regions: 32,
+        ..plan.clone()
+    };
+    assert!(
+        run_cluster(&map, &bad, 0).is_err(),
+        "regions narrower than the stride"
+    );
 }

@@ -25,8 +25,9 @@ impl Gpu {
     /// restricts the choice), or the reason there is none.
     pub fn new() -> std::result::Result<Gpu, String> {
         pollster::block_on(async {
-            let instance =
-                wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+            let instance = wgpu::Instance::new(
+                wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
+            );
             let adapter = instance
                 .request_adapter(&wgpu::RequestAdapterOptions {
                     power_preference: wgpu::PowerPreference::HighPerformance,
@@ -70,10 +71,7 @@ impl Gpu {
             .iter()
             .map(|n| [n.x as f32, n.y as f32])
             .collect();
-        let c: Vec<[f32; 2]> = centres
-            .iter()
-            .map(|&(x, y)| [x as f32, y as f32])
-            .collect();
+        let c: Vec<[f32; 2]> = centres.iter().map(|&(x, y)| [x as f32, y as f32]).collect();
         let d = &self.device;
         use wgpu::util::DeviceExt;
         let storage = |bytes: &[u8]| {
@@ -113,7 +111,10 @@ impl Gpu {
             ];
             let pb = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: None,
-                contents: &words.iter().flat_map(|w| w.to_le_bytes()).collect::<Vec<u8>>(),
+                contents: &words
+                    .iter()
+                    .flat_map(|w| w.to_le_bytes())
+                    .collect::<Vec<u8>>(),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
             let vals = self.run(&pipeline, [&nb, &cb, &pb], count * bins)?;
@@ -168,10 +169,13 @@ impl Gpu {
         self.queue.submit([enc.finish()]);
         let slice = read.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
-        let lost = |e: String| Error::InvalidArgument(format!("GPU P-NDF on {}: {e}", self.info.name));
+        let lost =
+            |e: String| Error::InvalidArgument(format!("GPU P-NDF on {}: {e}", self.info.name));
         d.poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| lost(e.to_string()))?;
-        let data = slice.get_mapped_range().map_err(|e| lost(format!("{e:?}")))?;
+        let data = slice
+            .get_mapped_range()
+            .map_err(|e| lost(format!("{e:?}")))?;
         Ok(data
             .chunks(4)
             .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))

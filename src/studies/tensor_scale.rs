@@ -85,9 +85,10 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let items: Vec<(usize, usize)> = (0..kinds.len())
         .flat_map(|m| clusters.iter().map(move |&c| (m, c)))
         .collect();
-    let runs: Vec<ClusterRun> = crate::memo::map_items("tensor-scale clusters", &items, |&(m, c)| {
-        run_cluster(&maps[m], &plan, c)
-    })?;
+    let runs: Vec<ClusterRun> =
+        crate::memo::map_items("tensor-scale clusters", &items, |&(m, c)| {
+            run_cluster(&maps[m], &plan, c)
+        })?;
     let md = report(size, &plan, &clusters, &kinds, &runs, preset);
     crate::io::write_atomic(&results.join("tensor-scale.md"), md.as_bytes())?;
     let worst = runs
@@ -178,8 +179,8 @@ fn report(
             let it = of.iter().map(|x| x.iterations as f64).sum::<f64>() / of.len().max(1) as f64;
             let capped = of.iter().filter(|x| x.iterations >= plan.max_iters).count();
             let stored = of.iter().map(|x| x.storage).sum::<usize>() as f64;
-            let all_vals = rs.iter().map(|r| r.blocks_all).sum::<usize>() as f64
-                * (plan.t * plan.t) as f64;
+            let all_vals =
+                rs.iter().map(|r| r.blocks_all).sum::<usize>() as f64 * (plan.t * plan.t) as f64;
             let nonempty_vals =
                 rs.iter().map(|r| r.blocks).sum::<usize>() as f64 * (plan.t * plan.t) as f64;
             let (cp_m, cp_se) = mean_se(&of.iter().map(|x| x.seconds).collect::<Vec<_>>());
@@ -195,7 +196,8 @@ fn report(
                 100.0 * stored / nonempty_vals.max(1.0),
             ));
             let paper = TABLE2.iter().find(|p| p.0 == kind.name() && p.1 == rank);
-            let cell = |v: Option<f64>, d: usize| v.map_or("—".to_string(), |x| format!("{x:.d$}"));
+            let cell =
+                |v: Option<f64>, d: usize| v.map_or("—".to_string(), |x| format!("{x:.d$}"));
             let level0_pre = pre_m * total as f64 / 60.0;
             let level0_cp = cp_m * total as f64 / 60.0;
             let ratio = stored / all_vals.max(1.0);
@@ -220,7 +222,7 @@ fn report(
     md.push('\n');
     md.push_str(&proj);
     md.push_str(&format!(
-        "\nTable 2 has no reconstruction-error column (the paper judges the rank by rendered MSE, Fig. 18); the relative errors above are the tensors' own ‖T − T̂‖/‖T‖. Table 2 pairs each map with one rank (flakes R = 32, brushed metal R = 16); the other pairs have no paper row (—).\n\n## Where the large data goes\n\nNothing large is written. A cluster's images ({} footprints × {}² values in f64: {:.1} MB) and its tensor (L·t² values in f64: {:.1} MB at the largest L measured) live in memory while its thread runs; what a cluster leaves is its summary row (under 1 kB of JSON: in `target/ndfbench-cache/tensor-scale/` on a cached run, in the shard file of `regen --shard K/N --shard-dir DIR`, in results/fits/tensor-scale.json). The whole level 0 in f32 would be {:.0} MB per map, the pyramid {:.0} MB; neither is kept. The two {size}² maps ({:.0} MB each as f64 normals) are rebuilt from their seed in every process.\n\nSplit by cluster (every cluster one item of the study's one memoised map): `cargo run --release -- regen --only tensor-scale --shard K/N --shard-dir DIR` per machine, then `merge`, or a Slurm array: `cargo run --release -- slurm --only tensor-scale --shards 32 --out target/slurm` (README: Beyond one machine).\n",
+        "\nTable 2 has no reconstruction-error column (the paper judges the rank by rendered MSE, Fig. 18); the relative errors above are the tensors' own ‖T − T̂‖/‖T‖. Table 2 pairs each map with one rank (flakes R = 32, brushed metal R = 16); the other pairs have no paper row (—). Our ALS stops when the relative error changes by less than the tolerance between sweeps (the tensor study's rule, TensorLy's), which it does after the iterations above; the paper sets a maximum error of 1e-4 and 500 iterations (§4.2), which clusters whose error stays above 1e-4 (all of these) would run to the cap: at most 500 ÷ iterations × the CP time above, still a small part of the paper's compression time. Its 40-core minutes also include every level (ours projects them) and its own P-NDF method (brute force, we assume; ours the factored splat).\n\n## Where the large data goes\n\nNothing large is written. A cluster's images ({} footprints × {}² values in f64: {:.1} MB) and its tensor (L·t² values in f64: {:.1} MB at the largest L measured) live in memory while its thread runs; what a cluster leaves is its summary row (under 1 kB of JSON: in `target/ndfbench-cache/tensor-scale/` on a cached run, in the shard file of `regen --shard K/N --shard-dir DIR`, in results/fits/tensor-scale.json). The whole level 0 in f32 would be {:.0} MB per map, the pyramid {:.0} MB; neither is kept. The two {size}² maps ({:.0} MB each as f64 normals) are rebuilt from their seed in every process.\n\nSplit by cluster (every cluster one item of the study's one memoised map): `cargo run --release -- regen --only tensor-scale --shard K/N --shard-dir DIR` per machine, then `merge`, or a Slurm array: `cargo run --release -- slurm --only tensor-scale --shards 32 --out target/slurm` (README: Beyond one machine).\n",
         images0 / total,
         plan.res,
         (images0 / total) as f64 * per_image * 8.0 / 1e6,

@@ -165,7 +165,8 @@ fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> 
     }
     let pb = indicatif::ProgressBar::new(todo.len() as u64);
     pb.set_message("ltc-aniso fit");
-    let fitted: Vec<Fitted> = crate::memo::map_items("ltc-aniso cells", &todo, |&(ix, iy, k, j)| {
+    let fitted: Vec<Fitted> =
+        crate::memo::map_items("ltc-aniso cells", &todo, |&(ix, iy, k, j)| {
             let r = fit_case(
                 iso,
                 Case {
@@ -226,22 +227,22 @@ fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Betwe
     let half = table.to_half();
     let held = 2 * pl.samples;
     crate::memo::map_items("ltc-aniso between cells", &cases, |c| {
-            let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
-            let e = |tb: &AnisoTable| {
-                let v = tb.lookup(c.ax, c.ay, c.phi, c.theta.cos());
-                rel_l2(&t, &crate::ltc::aniso_table::inv7(&v), v[7], held, 0.25)
-            };
-            let (g, gn) = iso_at(iso, (c.ax * c.ay).sqrt(), c.theta);
-            let (m, mn) = iso_at(iso, c.ax.max(c.ay), c.theta);
-            // the isotropic table's frame is the view's; its lobe ignores φ entirely
-            Ok(Between {
-                case: *c,
-                err_table: e(table),
-                err_table_f16: e(&half),
-                err_iso_geo: rel_l2(&t, &g, gn, held, 0.25),
-                err_iso_max: rel_l2(&t, &m, mn, held, 0.25),
-            })
+        let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
+        let e = |tb: &AnisoTable| {
+            let v = tb.lookup(c.ax, c.ay, c.phi, c.theta.cos());
+            rel_l2(&t, &crate::ltc::aniso_table::inv7(&v), v[7], held, 0.25)
+        };
+        let (g, gn) = iso_at(iso, (c.ax * c.ay).sqrt(), c.theta);
+        let (m, mn) = iso_at(iso, c.ax.max(c.ay), c.theta);
+        // the isotropic table's frame is the view's; its lobe ignores φ entirely
+        Ok(Between {
+            case: *c,
+            err_table: e(table),
+            err_table_f16: e(&half),
+            err_iso_geo: rel_l2(&t, &g, gn, held, 0.25),
+            err_iso_max: rel_l2(&t, &m, mn, held, 0.25),
         })
+    })
 }
 
 /// One polygon check: a case, the table's lookup there × the quad, against MC of the true

@@ -72,13 +72,14 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
     let jobs: Vec<(usize, usize, usize)> = (0..bases.len())
         .flat_map(|b| (0..4).flat_map(move |d| (0..l).map(move |k| (b, d, k))))
         .collect();
-    let fits: Vec<Fitted> = crate::memo::map_items("ltc-aniso design lines", &jobs, |&(b, d, k)| {
-        fit_case(
-            iso,
-            case_at(&bases[b], d, k as f64 / (l - 1) as f64, amin),
-            pl,
-        )
-    })?;
+    let fits: Vec<Fitted> =
+        crate::memo::map_items("ltc-aniso design lines", &jobs, |&(b, d, k)| {
+            fit_case(
+                iso,
+                case_at(&bases[b], d, k as f64 / (l - 1) as f64, amin),
+                pl,
+            )
+        })?;
     let lines: Vec<Line> = fits
         .chunks(l)
         .enumerate()

@@ -13,19 +13,19 @@ pub(super) fn section(main: &Table, n_samples: usize) -> Result<String> {
     // [f64, f32, f16 to nearest, f16 as stored] relative L2, or None where the rounded
     // matrix is singular
     let errs: Vec<[Option<f64>; 4]> = crate::memo::map_items("storage precision", &cells, |c| {
-            let full = [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel];
-            let e = |v: [f64; 6]| {
-                cell_error(&[v[0], v[1], v[2], v[3]], v[4], c.alpha, c.theta, n_samples)
-                    .ok()
-                    .map(|x| x.0)
-            };
-            Ok([
-                e(full),
-                e(rounded(&full, false)),
-                e(rounded(&full, true)),
-                e(c.half),
-            ])
-        })?;
+        let full = [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel];
+        let e = |v: [f64; 6]| {
+            cell_error(&[v[0], v[1], v[2], v[3]], v[4], c.alpha, c.theta, n_samples)
+                .ok()
+                .map(|x| x.0)
+        };
+        Ok([
+            e(full),
+            e(rounded(&full, false)),
+            e(rounded(&full, true)),
+            e(c.half),
+        ])
+    })?;
     let mut md = String::from("## Storage precision\n\nThe table goes through the code generator as Rust constants (src/generated/ltc_table.rs: f32, and binary16 pairs packed in u32), WGSL data (results/wgsl/ltc_table.wgsl: f32; results/wgsl/ltc_table_f16.wgsl: binary16 read with `unpack2x16float`) and the engine files of results/textures/ (f16: KTX2, DDS, raw; f32: raw and the ES module). Every f16 file holds the stored binary16 table (`table_f16`): per cell, the f16 neighbours of a, b, c, d (up to 4 ulps from nearest) that minimise the training relative L2, judged here on the held-out set. What each precision costs, per cell, as the change of the held-out relative L2 error against the BRDF from the f64 table:\n\n| storage | mean change | largest change | where (α, θ) | cells changed by > 1 point | singular cells |\n|---|---|---|---|---|---|\n");
     for (k, name) in [
         (1usize, "f32"),

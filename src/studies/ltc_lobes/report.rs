@@ -192,11 +192,17 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let base = against("lobe table f64", t, f.lobe, held, &full)?;
     let mut storage = Vec::new();
     for pick in 0..3 {
-        let e = against(&format!("lobe table storage {pick}"), t, f.lobe, held, &|c: &Cell| match pick {
-            0 => rounded(&full(c), false),
-            1 => rounded(&full(c), true),
-            _ => c.half,
-        })?;
+        let e = against(
+            &format!("lobe table storage {pick}"),
+            t,
+            f.lobe,
+            held,
+            &|c: &Cell| match pick {
+                0 => rounded(&full(c), false),
+                1 => rounded(&full(c), true),
+                _ => c.half,
+            },
+        )?;
         let (mut sum, mut cnt, mut worst, mut at, mut sing) = (0.0, 0usize, 0.0f64, (0.0, 0.0), 0);
         for ((b, s), c) in base.iter().zip(&e).zip(flat(t)) {
             // an albedo below binary16's normal range is stored as (nearly) nothing
@@ -231,12 +237,12 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         .map(|(i, j)| &t.cells[j][i])
         .collect();
     let zs: Vec<Option<f64>> = crate::memo::map_items("lobe norm against MC", &probe, |c| {
-            let tgt = f.lobe.target(c.alpha, c.theta)?;
-            let (m, _, se, _) = tgt.moments(256);
-            // cells whose albedo is below 1e-6 (sheen seen head-on at the smallest α) are
-            // left out: their energy is invisible and their MC has almost no samples
-            Ok((c.norm >= 1e-6).then(|| (m - c.norm).abs() / se.max(1e-300)))
-        })?;
+        let tgt = f.lobe.target(c.alpha, c.theta)?;
+        let (m, _, se, _) = tgt.moments(256);
+        // cells whose albedo is below 1e-6 (sheen seen head-on at the smallest α) are
+        // left out: their energy is invisible and their MC has almost no samples
+        Ok((c.norm >= 1e-6).then(|| (m - c.norm).abs() / se.max(1e-300)))
+    })?;
     // polygons: four cells × four lights
     let mut polygons = Vec::new();
     for (ai, tj) in [
@@ -273,14 +279,34 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         main: table_report(main, pl)?,
         variant: table_report(variant, pl)?,
         cross: Cross {
-            main_table_for_variant: spread(&against("main table for the variant", &main.table, fam.variant, held, &full)?),
-            variant_table_for_main: spread(&against("variant table for the main lobe", &variant.table, fam.main, held, &full)?),
-            cosine_unit_for_main: spread(&against("cosine, unit norm", &main.table, fam.main, held, &|_| {
-                [1.0, 0.0, 0.0, 1.0, 1.0, 0.0]
-            })?),
-            cosine_norm_for_main: spread(&against("cosine, fitted norm", &main.table, fam.main, held, &|c| {
-                [1.0, 0.0, 0.0, 1.0, c.norm, 0.0]
-            })?),
+            main_table_for_variant: spread(&against(
+                "main table for the variant",
+                &main.table,
+                fam.variant,
+                held,
+                &full,
+            )?),
+            variant_table_for_main: spread(&against(
+                "variant table for the main lobe",
+                &variant.table,
+                fam.main,
+                held,
+                &full,
+            )?),
+            cosine_unit_for_main: spread(&against(
+                "cosine, unit norm",
+                &main.table,
+                fam.main,
+                held,
+                &|_| [1.0, 0.0, 0.0, 1.0, 1.0, 0.0],
+            )?),
+            cosine_norm_for_main: spread(&against(
+                "cosine, fitted norm",
+                &main.table,
+                fam.main,
+                held,
+                &|c| [1.0, 0.0, 0.0, 1.0, c.norm, 0.0],
+            )?),
         },
     })
 }
