@@ -160,6 +160,9 @@ enum Cmd {
         /// criterion output directory
         #[arg(long, default_value = "target/criterion")]
         criterion: PathBuf,
+        /// refresh only the main job's wall-clock section (no benches needed)
+        #[arg(long)]
+        main_job_only: bool,
     },
 }
 
@@ -554,10 +557,16 @@ fn main() -> ExitCode {
             print!("{}", ndfbench::tensor::compare::table(&r));
             true
         }),
-        Some(Cmd::BenchReport { criterion }) => in_set(
+        Some(Cmd::BenchReport {
+            criterion,
+            main_job_only,
+        }) => in_set(
             "performance",
             &results_manifest(&cli.results, "performance"),
-            || ndfbench::report::performance::run(&criterion, &cli.results),
+            || match main_job_only {
+                true => ndfbench::report::performance::refresh_main_job(&cli.results),
+                false => ndfbench::report::performance::run(&criterion, &cli.results),
+            },
         )
         .map(|s| {
             println!("{s}");

@@ -222,3 +222,34 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `bench-report --main-job-only` rewrites only the main job's section of an existing
+/// performance page (every other line kept byte for byte) and refuses a page without one.
+#[test]
+fn bench_report_refreshes_only_the_main_job_section() {
+    let dir = std::env::temp_dir().join(format!("ndfb-perf-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let page = "# Performance\n\nkept above\n\n## Main job: wall clock per stage\n\nold table\n\n## After\n\nkept below\n";
+    std::fs::write(dir.join("performance.md"), page).unwrap();
+    std::fs::copy("results/main-job-before.json", dir.join("main-job-before.json")).unwrap();
+    let out = bin()
+        .args(["--results", dir.to_str().unwrap(), "bench-report", "--main-job-only"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let new = std::fs::read_to_string(dir.join("performance.md")).unwrap();
+    assert!(new.starts_with("# Performance\n\nkept above\n"));
+    assert!(new.ends_with("\n## After\n\nkept below\n"));
+    assert!(!new.contains("old table"));
+    assert!(new.contains("before: sequential, no cache"));
+    std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
+    let out = bin()
+        .args(["--results", dir.to_str().unwrap(), "bench-report", "--main-job-only"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("no main-job section"));
+}

@@ -520,6 +520,30 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 
 /// The main job's profile: before (committed), the last cold run and the last warm run
 /// on this machine (kept under target/), stage by stage.
+/// Replace only the main job's section of an existing results/performance.md with the
+/// profiles now in target/ (no benches needed; the criterion tables stay as they were
+/// measured). An absent page or section is an error.
+pub fn refresh_main_job(results: &Path) -> Result<String> {
+    let path = results.join("performance.md");
+    let md = crate::io::read_to_string(&path).map_err(|e| crate::error::Error::Io {
+        path: path.display().to_string(),
+        msg: e.to_string(),
+    })?;
+    const HEAD: &str = "\n## Main job: wall clock per stage";
+    let start = md.find(HEAD).ok_or_else(|| {
+        crate::error::Error::InvalidArgument(format!(
+            "{}: no main-job section to refresh (run bench-report in full)",
+            path.display()
+        ))
+    })?;
+    let end = md[start + HEAD.len()..]
+        .find("\n## ")
+        .map_or(md.len(), |k| start + HEAD.len() + k);
+    let out = format!("{}{}{}", &md[..start], main_job_table(results), &md[end..]);
+    crate::io::write_atomic(&path, out.as_bytes())?;
+    Ok(format!("{}: main-job section refreshed", path.display()))
+}
+
 fn main_job_table(results: &Path) -> String {
     let cols = [
         (
