@@ -232,12 +232,25 @@ fn bench_report_refreshes_only_the_main_job_section() {
     std::fs::create_dir_all(&dir).unwrap();
     let page = "# Performance\n\nkept above\n\n## Main job: wall clock per stage\n\nold table\n\n## After\n\nkept below\n";
     std::fs::write(dir.join("performance.md"), page).unwrap();
-    std::fs::copy("results/main-job-before.json", dir.join("main-job-before.json")).unwrap();
+    std::fs::copy(
+        "results/main-job-before.json",
+        dir.join("main-job-before.json"),
+    )
+    .unwrap();
     let out = bin()
-        .args(["--results", dir.to_str().unwrap(), "bench-report", "--main-job-only"])
+        .args([
+            "--results",
+            dir.to_str().unwrap(),
+            "bench-report",
+            "--main-job-only",
+        ])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let new = std::fs::read_to_string(dir.join("performance.md")).unwrap();
     assert!(new.starts_with("# Performance\n\nkept above\n"));
     assert!(new.ends_with("\n## After\n\nkept below\n"));
@@ -245,7 +258,12 @@ fn bench_report_refreshes_only_the_main_job_section() {
     assert!(new.contains("before: sequential, no cache"));
     std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
     let out = bin()
-        .args(["--results", dir.to_str().unwrap(), "bench-report", "--main-job-only"])
+        .args([
+            "--results",
+            dir.to_str().unwrap(),
+            "bench-report",
+            "--main-job-only",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));

@@ -525,23 +525,21 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 /// measured). An absent page or section is an error.
 pub fn refresh_main_job(results: &Path) -> Result<String> {
     let path = results.join("performance.md");
-    let md = crate::io::read_to_string(&path).map_err(|e| crate::error::Error::Io {
-        path: path.display().to_string(),
-        msg: e.to_string(),
-    })?;
+    let (p, md) = (
+        path.display(),
+        crate::io::read_to_string(&path).unwrap_or_default(),
+    );
     const HEAD: &str = "\n## Main job: wall clock per stage";
     let start = md.find(HEAD).ok_or_else(|| {
-        crate::error::Error::InvalidArgument(format!(
-            "{}: no main-job section to refresh (run bench-report in full)",
-            path.display()
-        ))
+        let why = format!("{p}: no main-job section to refresh (run bench-report in full)");
+        crate::error::Error::InvalidArgument(why)
     })?;
     let end = md[start + HEAD.len()..]
         .find("\n## ")
         .map_or(md.len(), |k| start + HEAD.len() + k);
     let out = format!("{}{}{}", &md[..start], main_job_table(results), &md[end..]);
     crate::io::write_atomic(&path, out.as_bytes())?;
-    Ok(format!("{}: main-job section refreshed", path.display()))
+    Ok(format!("{p}: main-job section refreshed"))
 }
 
 fn main_job_table(results: &Path) -> String {
