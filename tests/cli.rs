@@ -237,15 +237,18 @@ fn bench_report_refreshes_only_the_main_job_section() {
         dir.join("main-job-before.json"),
     )
     .unwrap();
-    let out = bin()
-        .args([
-            "--results",
-            dir.to_str().unwrap(),
-            "bench-report",
-            "--main-job-only",
-        ])
-        .output()
-        .unwrap();
+    let refresh = || {
+        bin()
+            .args([
+                "--results",
+                dir.to_str().unwrap(),
+                "bench-report",
+                "--main-job-only",
+            ])
+            .output()
+            .unwrap()
+    };
+    let out = refresh();
     assert!(
         out.status.success(),
         "{}",
@@ -257,15 +260,7 @@ fn bench_report_refreshes_only_the_main_job_section() {
     assert!(!new.contains("old table"));
     assert!(new.contains("before: sequential, no cache"));
     std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
-    let out = bin()
-        .args([
-            "--results",
-            dir.to_str().unwrap(),
-            "bench-report",
-            "--main-job-only",
-        ])
-        .output()
-        .unwrap();
+    let out = refresh();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.trim().lines().count(), 1, "{err}");

@@ -82,6 +82,30 @@ pub fn sigma_p(stride: usize, level: usize) -> f64 {
     1.5 * (stride << level) as f64 / 12f64.sqrt()
 }
 
+/// What both splats start from: the footprint's texels and weight sum, the bin width, how
+/// many bins from a normal's own the cut-off e < 40 reaches, and G_r's normalisation.
+struct Splat {
+    texels: Vec<(f64, f64, f64)>,
+    wsum: f64,
+    cell: f64,
+    reach: i64,
+    norm_r: f64,
+}
+
+impl Splat {
+    fn new(map: &NormalMap, cx: f64, cy: f64, sp: f64, sr: f64, res: usize) -> Result<Splat> {
+        let (texels, wsum) = footprint_texels(map, cx, cy, sp, sr, res)?;
+        let cell = 2.0 / res as f64;
+        Ok(Splat {
+            texels,
+            wsum,
+            cell,
+            reach: (80f64.sqrt() * sr / cell).ceil() as i64 + 1,
+            norm_r: 1.0 / (2.0 * std::f64::consts::PI * sr * sr),
+        })
+    }
+}
+
 /// The same image as [`pndf_image`] computed by splatting: each texel adds its Gaussian
 /// to the bins within the cut-off (exp(−e), e < 40) of its normal instead of every bin
 /// visiting every texel — O(texels × bins near a normal) rather than O(texels × res²),
@@ -95,10 +119,13 @@ pub fn pndf_image_splat(
     sigma_r: f64,
     res: usize,
 ) -> Result<Vec<f64>> {
-    let (texels, wsum) = footprint_texels(map, cx, cy, sigma_p, sigma_r, res)?;
-    let cell = 2.0 / res as f64;
-    let reach = (80f64.sqrt() * sigma_r / cell).ceil() as i64 + 1;
-    let norm_r = 1.0 / (2.0 * std::f64::consts::PI * sigma_r * sigma_r);
+    let Splat {
+        texels,
+        wsum,
+        cell,
+        reach,
+        norm_r,
+    } = Splat::new(map, cx, cy, sigma_p, sigma_r, res)?;
     let mut img = vec![0.0; res * res];
     for &(nx, ny, g) in &texels {
         let (bi, bj) = (((nx + 1.0) / cell) as i64, ((ny + 1.0) / cell) as i64);
@@ -133,11 +160,14 @@ pub fn pndf_image_separable(
     sigma_r: f64,
     res: usize,
 ) -> Result<Vec<f64>> {
-    let (texels, wsum) = footprint_texels(map, cx, cy, sigma_p, sigma_r, res)?;
-    let cell = 2.0 / res as f64;
-    let reach = (80f64.sqrt() * sigma_r / cell).ceil() as i64 + 1;
+    let Splat {
+        texels,
+        wsum,
+        cell,
+        reach,
+        norm_r,
+    } = Splat::new(map, cx, cy, sigma_p, sigma_r, res)?;
     let inv = 1.0 / (2.0 * sigma_r * sigma_r);
-    let norm_r = 1.0 / (2.0 * std::f64::consts::PI * sigma_r * sigma_r);
     let mut img = vec![0.0; res * res];
     let span = (2 * reach + 1) as usize;
     let (mut ex, mut wx) = (vec![0.0; span], vec![0.0; span]);
