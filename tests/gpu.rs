@@ -623,3 +623,92 @@ fn gpu_pndf_matches_the_f64_brute_force() {
     }
     eprintln!("GPU P-NDF: {bins} bins, worst relative difference {worst:.2e} (f32 against f64)");
 }
+
+/// The footprint-truth shader (src/gpu/truth.wgsl) validates with naga, adapter or not.
+#[test]
+fn truth_shader_validates_with_naga() {
+    let module = naga::front::wgsl::parse_str(ndfbench::gpu::TRUTH_WGSL).expect("parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .expect("validates");
+}
+
+/// The GPU footprint truth (f32, seed 004 Eq 11, isotropic GGX) against the f64 `Truth`,
+/// pair by pair. Each term's relative rounding: the cross product |h × n| cancels where
+/// h ≈ n, an absolute ε that q = |h × n|²/α² + (h·n)² turns into ≤ 2ε/α and D = 1/(πα²q²)
+/// into ≤ 4ε/α, plus about 40 roundings of the rest; the positive sum adds Nε. The bound
+/// is twice their total, relative per pair. Pairs where a texel sees v or l within 1e-3 of
+/// its own horizon are left out: the lobe jumps there (D·G2/(4 n·v) tends to a finite
+/// value as n·v → 0⁺ and is 0 below), so f32 and f64 may fall on different sides.
+#[test]
+fn gpu_footprint_truth_matches_the_f64_truth() {
+    use ndfbench::filters::truth::{Footprint, Truth};
+    use ndfbench::microfacet::NdfKind;
+    use rand::{Rng, SeedableRng};
+    let gpu = match ndfbench::gpu::Gpu::new() {
+        Ok(g) => g,
+        Err(why) => {
+            eprintln!("skipping GPU footprint-truth check: {why}");
+            return;
+        }
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let mut dir = |zmin: f64| loop {
+        let v = nalgebra::Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(zmin..1.0),
+        );
+        if v.norm() > 0.1 && v.norm() <= 1.0 && v.z / v.norm() >= zmin {
+            break v.normalize();
+        }
+    };
+    let eps = 2f64.powi(-24);
+    let (mut worst, mut checked) = (0.0f64, 0usize);
+    for (n_texels, alpha) in [(64usize, 0.05), (16, 0.2), (256, 0.6), (1, 1.0)] {
+        let normals: Vec<_> = (0..n_texels).map(|_| dir(0.77)).collect();
+        let fp = Footprint::uniform(normals.clone());
+        let truth = Truth::new(NdfKind::Ggx, alpha, &fp).unwrap();
+        let pairs: Vec<_> = (0..512).map(|_| (dir(0.02), dir(0.02))).collect();
+        let arr = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
+        let got = gpu
+            .footprint_truth(
+                &normals.iter().map(arr).collect::<Vec<_>>(),
+                &fp.weights,
+                alpha,
+                &pairs
+                    .iter()
+                    .map(|(v, l)| (arr(v), arr(l)))
+                    .collect::<Vec<_>>(),
+            )
+            .unwrap();
+        let rel = 2.0 * (n_texels as f64 + 4.0 / alpha + 40.0) * eps;
+        for ((v, l), &g) in pairs.iter().zip(&got) {
+            if normals
+                .iter()
+                .any(|n| n.dot(v).abs() < 1e-3 || n.dot(l).abs() < 1e-3)
+            {
+                continue;
+            }
+            let w = truth.value(v, l);
+            let d = (g as f64 - w).abs();
+            assert!(
+                d <= rel * w + 1e-30,
+                "α = {alpha}, {n_texels} texels, v = {v:?}, l = {l:?}: GPU {g:e}, f64 {w:e}, relative {:e} > {rel:e}",
+                d / w
+            );
+            if w > 0.0 {
+                worst = worst.max(d / w);
+            }
+            checked += 1;
+        }
+    }
+    assert!(
+        checked > 1500,
+        "only {checked} pairs away from the texels' horizons"
+    );
+    eprintln!("GPU footprint truth: {checked} pairs, worst relative difference {worst:.2e}");
+}

@@ -1,14 +1,19 @@
-//! A GPU path for the embarrassingly parallel part of seed 002: the P-NDF brute force
-//! (seed 002 Eq 2) as a wgpu compute shader (`pndf.wgsl`), one invocation per (footprint,
-//! bin), f32 throughout. Its f64 reference is [`crate::tensor::pndf::pndf_image`];
-//! tests/gpu.rs bounds the difference per bin on whatever adapter is present (lavapipe
-//! in CI). Without an adapter [`Gpu::new`] says why and the callers stay on the CPU.
+//! A GPU path for the embarrassingly parallel truths: the P-NDF brute force (seed 002
+//! Eq 2) as a wgpu compute shader (`pndf.wgsl`, one invocation per footprint × bin) and
+//! the filters' footprint truth (seed 004 Eq 11, `truth.wgsl`, one invocation per view ×
+//! light pair), f32 throughout. Their f64 references are
+//! [`crate::tensor::pndf::pndf_image`] and [`crate::filters::truth::Truth::value`];
+//! tests/gpu.rs bounds the differences on whatever adapter is present (lavapipe in CI).
+//! Without an adapter [`Gpu::new`] says why and the callers stay on the CPU.
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::NormalMap;
 
 /// The shader's text (validated by naga in tests/gpu.rs before any adapter is asked).
 pub const PNDF_WGSL: &str = include_str!("pndf.wgsl");
+
+/// The footprint-truth shader's text.
+pub const TRUTH_WGSL: &str = include_str!("truth.wgsl");
 
 /// Invocations per dispatch at most (wgpu's 65 535 workgroups of 64 in x).
 const MAX_INVOCATIONS: usize = 65_535 * 64;
@@ -121,6 +126,81 @@ impl Gpu {
             out.extend(vals.chunks(bins).map(<[f32]>::to_vec));
         }
         Ok(out)
+    }
+
+    /// The footprint-averaged GGX lobe ρ_A(l, v)(n·l) of the texel normals `normals`
+    /// (unit) with weights `weights` (summing to 1) and base roughness α, for each
+    /// (v, l) pair: the f32 twin of [`crate::filters::truth::Truth::value`] (isotropic
+    /// GGX).
+    pub fn footprint_truth(
+        &self,
+        normals: &[[f64; 3]],
+        weights: &[f64],
+        alpha: f64,
+        pairs: &[([f64; 3], [f64; 3])],
+    ) -> Result<Vec<f32>> {
+        if normals.len() != weights.len() || !(alpha > 0.0 && alpha <= 1.0) || pairs.is_empty() {
+            return Err(Error::InvalidArgument(format!(
+                "GPU footprint truth needs one weight per normal, 0 < α ≤ 1 and at least one pair (got {} normals, {} weights, α = {alpha:e}, {} pairs)",
+                normals.len(), weights.len(), pairs.len()
+            )));
+        }
+        let f = |x: f64| (x as f32).to_le_bytes();
+        let texels: Vec<u8> = normals
+            .iter()
+            .zip(weights)
+            .flat_map(|(n, &w)| [n[0], n[1], n[2], w].into_iter().flat_map(f))
+            .collect();
+        let dirs: Vec<u8> = pairs
+            .iter()
+            .flat_map(|(v, l)| {
+                [v[0], v[1], v[2], 0.0, l[0], l[1], l[2], 0.0]
+                    .into_iter()
+                    .flat_map(f)
+            })
+            .collect();
+        let d = &self.device;
+        use wgpu::util::DeviceExt;
+        let init = |bytes: &[u8], usage| {
+            d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents: bytes,
+                usage,
+            })
+        };
+        let params: Vec<u8> = [
+            normals.len() as u32,
+            pairs.len() as u32,
+            (alpha as f32).to_bits(),
+            0,
+        ]
+        .iter()
+        .flat_map(|w| w.to_le_bytes())
+        .collect();
+        let (tb, pb) = (
+            init(&texels, wgpu::BufferUsages::STORAGE),
+            init(&dirs, wgpu::BufferUsages::STORAGE),
+        );
+        let ub = init(&params, wgpu::BufferUsages::UNIFORM);
+        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("ndfb_truth"),
+            source: wgpu::ShaderSource::Wgsl(TRUTH_WGSL.into()),
+        });
+        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: None,
+            module: &module,
+            entry_point: Some("ndfb_truth_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if pairs.len() > MAX_INVOCATIONS {
+            return Err(Error::InvalidArgument(format!(
+                "GPU footprint truth: {} pairs exceed one dispatch ({MAX_INVOCATIONS})",
+                pairs.len()
+            )));
+        }
+        self.run(&pipeline, [&tb, &pb, &ub], pairs.len())
     }
 
     fn run(
