@@ -597,6 +597,15 @@ fn gpu_pndf_matches_the_f64_brute_force() {
             (size as f64 - 1.0, size as f64 - 1.0),
         ];
         let got = gpu.pndf_images(&map, &centres, sp, sr, res).unwrap();
+        // bad arguments are typed errors before any dispatch
+        for (p, r, n) in [
+            (f64::NAN, sr, res),
+            (1e300, sr, res),
+            (sp, 0.0, res),
+            (sp, sr, 4096),
+        ] {
+            assert!(gpu.pndf_images(&map, &centres, p, r, n).is_err());
+        }
         assert_eq!(got.len(), centres.len());
         let rad = (4.0 * sp).ceil();
         let n = (2.0 * rad + 1.0).powi(2);

@@ -64,9 +64,10 @@ impl Gpu {
         sigma_r: f64,
         res: usize,
     ) -> Result<Vec<Vec<f32>>> {
-        if !(sigma_p > 0.0 && sigma_r > 0.0 && (2..=4096).contains(&res)) {
+        // one footprint's bins must fit one dispatch, and its texel loop stay bounded
+        if !(sigma_p > 0.0 && sigma_p <= 1024.0 && sigma_r > 0.0 && (2..=1024).contains(&res)) {
             return Err(Error::InvalidArgument(format!(
-                "GPU P-NDF needs σ_P > 0, σ_r > 0 and 2 ≤ res ≤ 4096 (got {sigma_p:e}, {sigma_r:e}, {res})"
+                "GPU P-NDF needs 0 < σ_P ≤ 1024, σ_r > 0 and 2 ≤ res ≤ 1024 (got {sigma_p:e}, {sigma_r:e}, {res})"
             )));
         }
         let bins = res * res;
