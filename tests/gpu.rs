@@ -550,16 +550,36 @@ fn ltc_aniso_lookup_interpolates_as_its_reference() {
     );
 }
 
-/// The P-NDF shader (src/gpu/pndf.wgsl) parses and validates with naga, adapter or not.
+/// Both compute shaders of src/gpu/ parse and validate with naga, adapter or not.
 #[test]
-fn pndf_shader_validates_with_naga() {
-    let module = naga::front::wgsl::parse_str(ndfbench::gpu::PNDF_WGSL).expect("parses");
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .expect("validates");
+fn gpu_shaders_validate_with_naga() {
+    for (name, src) in [
+        ("pndf.wgsl", ndfbench::gpu::PNDF_WGSL),
+        ("truth.wgsl", ndfbench::gpu::TRUTH_WGSL),
+    ] {
+        let module = naga::front::wgsl::parse_str(src)
+            .unwrap_or_else(|e| panic!("{name} does not parse: {e}"));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name} does not validate: {e:?}"));
+    }
+}
+
+/// The library's GPU on this machine, or None with the reason printed.
+fn gpu(what: &str) -> Option<ndfbench::gpu::Gpu> {
+    match ndfbench::gpu::Gpu::new() {
+        Ok(g) => {
+            eprintln!("GPU check on {} ({:?})", g.info.name, g.info.backend);
+            Some(g)
+        }
+        Err(why) => {
+            eprintln!("skipping GPU {what} check: {why}");
+            None
+        }
+    }
 }
 
 /// The GPU P-NDF (f32, seed 002 Eq 2) against the f64 brute force, bin by bin, on maps
@@ -573,14 +593,9 @@ fn pndf_shader_validates_with_naga() {
 fn gpu_pndf_matches_the_f64_brute_force() {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
     use ndfbench::tensor::pndf::{pndf_image, sigma_p};
-    let gpu = match ndfbench::gpu::Gpu::new() {
-        Ok(g) => g,
-        Err(why) => {
-            eprintln!("skipping GPU P-NDF check: {why}");
-            return;
-        }
+    let Some(gpu) = gpu("P-NDF") else {
+        return;
     };
-    eprintln!("GPU check on {} ({:?})", gpu.info.name, gpu.info.backend);
     let mut worst = 0.0f64;
     let mut bins = 0usize;
     for (kind, size, res, sr, level) in [
@@ -633,18 +648,6 @@ fn gpu_pndf_matches_the_f64_brute_force() {
     eprintln!("GPU P-NDF: {bins} bins, worst relative difference {worst:.2e} (f32 against f64)");
 }
 
-/// The footprint-truth shader (src/gpu/truth.wgsl) validates with naga, adapter or not.
-#[test]
-fn truth_shader_validates_with_naga() {
-    let module = naga::front::wgsl::parse_str(ndfbench::gpu::TRUTH_WGSL).expect("parses");
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .expect("validates");
-}
-
 /// The GPU footprint truth (f32, seed 004 Eq 11, isotropic GGX) against the f64 `Truth`,
 /// pair by pair. Each term's relative rounding: the cross product |h × n| cancels where
 /// h ≈ n, an absolute ε that q = |h × n|²/α² + (h·n)² turns into ≤ 2ε/α and D = 1/(πα²q²)
@@ -657,12 +660,8 @@ fn gpu_footprint_truth_matches_the_f64_truth() {
     use ndfbench::filters::truth::{Footprint, Truth};
     use ndfbench::microfacet::NdfKind;
     use rand::{Rng, SeedableRng};
-    let gpu = match ndfbench::gpu::Gpu::new() {
-        Ok(g) => g,
-        Err(why) => {
-            eprintln!("skipping GPU footprint-truth check: {why}");
-            return;
-        }
+    let Some(gpu) = gpu("footprint-truth") else {
+        return;
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
     let mut dir = |zmin: f64| loop {

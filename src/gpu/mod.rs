@@ -89,18 +89,7 @@ impl Gpu {
         };
         let nb = storage(bytemuck_pairs(&normals).as_slice());
         let cb = storage(bytemuck_pairs(&c).as_slice());
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ndfb_pndf"),
-            source: wgpu::ShaderSource::Wgsl(PNDF_WGSL.into()),
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("ndfb_pndf_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = self.pipeline(PNDF_WGSL, "ndfb_pndf_main");
         let rad = (4.0 * sigma_p).ceil() as i32;
         let mut out = Vec::with_capacity(centres.len());
         for first in (0..centres.len()).step_by(per) {
@@ -146,6 +135,12 @@ impl Gpu {
                 normals.len(), weights.len(), pairs.len()
             )));
         }
+        if pairs.len() > MAX_INVOCATIONS {
+            return Err(Error::InvalidArgument(format!(
+                "GPU footprint truth: {} pairs exceed one dispatch ({MAX_INVOCATIONS})",
+                pairs.len()
+            )));
+        }
         let f = |x: f64| (x as f32).to_le_bytes();
         let texels: Vec<u8> = normals
             .iter()
@@ -183,25 +178,27 @@ impl Gpu {
             init(&dirs, wgpu::BufferUsages::STORAGE),
         );
         let ub = init(&params, wgpu::BufferUsages::UNIFORM);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ndfb_truth"),
-            source: wgpu::ShaderSource::Wgsl(TRUTH_WGSL.into()),
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("ndfb_truth_main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if pairs.len() > MAX_INVOCATIONS {
-            return Err(Error::InvalidArgument(format!(
-                "GPU footprint truth: {} pairs exceed one dispatch ({MAX_INVOCATIONS})",
-                pairs.len()
-            )));
-        }
+        let pipeline = self.pipeline(TRUTH_WGSL, "ndfb_truth_main");
         self.run(&pipeline, [&tb, &pb, &ub], pairs.len())
+    }
+
+    /// The compute pipeline of `entry` in the WGSL text `wgsl`.
+    fn pipeline(&self, wgsl: &str, entry: &str) -> wgpu::ComputePipeline {
+        let module = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+        self.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: None,
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
     }
 
     fn run(
