@@ -51,3 +51,10 @@ pub fn finite(what: &'static str, value: f64) -> Result<f64> {
         Err(Error::NonFinite { what, value })
     }
 }
+
+/// A user's string as it may appear in a one-line message: quoted, with control
+/// characters, quotes and backslashes escaped (Rust's debug form), so a message that
+/// echoes it stays one line.
+pub fn quoted(s: &str) -> String {
+    format!("{s:?}")
+}

@@ -141,6 +141,9 @@ enum Cmd {
         /// where the file came from (recorded in the report)
         #[arg(long)]
         source: Option<String>,
+        /// Bevy's embedded table (bevy_pbr's src/ltc/ltc.ktx2): adds Bevy's path
+        #[arg(long)]
+        bevy: Option<PathBuf>,
         /// output directory
         #[arg(long, default_value = "results")]
         out: PathBuf,
@@ -528,17 +531,21 @@ fn main() -> ExitCode {
             mag,
             norm_ours,
             source,
+            bevy,
             out: dir,
         }) => in_set(
             "ltc-compare",
             &dir.join(".sets").join("ltc-compare.json"),
             || {
                 ndfbench::ltc::compare_report::run(
-                    &shipped,
-                    &mat,
-                    &mag,
-                    norm_ours,
-                    source.as_deref(),
+                    &ndfbench::ltc::compare_report::Inputs {
+                        shipped: &shipped,
+                        mat: &mat,
+                        mag: &mag,
+                        norm_ours,
+                        source: source.as_deref(),
+                        bevy: bevy.as_deref(),
+                    },
                     &cli.results,
                     &dir,
                 )

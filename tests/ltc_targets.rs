@@ -244,7 +244,7 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
     for (ca, cb) in a.cells.iter().flatten().zip(b.cells.iter().flatten()) {
         assert_eq!(ca.inv.map(f64::to_bits), cb.inv.map(f64::to_bits));
         assert_eq!(ca.norm.to_bits(), cb.norm.to_bits());
-        assert_eq!(ca.err_l2.to_bits(), cb.err_l2.to_bits());
+        assert_eq!(ca.fresnel.to_bits(), cb.fresnel.to_bits());
     }
 }
 

@@ -25,6 +25,7 @@ pub const STEM: &str = "ltc_ggx_aniso";
 /// q = 0: (a, b, c, d), 1: (norm, fresnel, 0, 0), 2: (e, g, h, 0); binary16.
 pub fn texels(t: &AnisoTable) -> Vec<[f16; 4]> {
     let g = t.grid;
+    let t = t.to_half();
     let mut out = Vec::with_capacity(g.cells() * 3);
     for k in 0..g.n_phi {
         for iy in 0..g.n_r {

@@ -4,11 +4,13 @@
 //!   bit-identical per seed at any thread count.
 //! - [`qmc`]: randomised QMC (Owen-scrambled Sobol, replicates for the error).
 //! - [`quad`]: Gauss–Legendre (1D, 2D tensor), adaptive Gauss–Kronrod, substitutions.
+//! - [`cubature`]: adaptive tensor G7/K15 cubature of vector integrands on rectangles.
 //! - [`sphere`]: adaptive quadrature over the sphere with a peak-following substitution.
 //! - [`auto`]: tolerance-driven entry point.
 //! - [`preset`]: quick / default / precise.
 
 pub mod auto;
+pub mod cubature;
 pub mod estimate;
 pub mod mc;
 pub mod preset;

@@ -68,6 +68,37 @@ pub fn production_of(minv: &Matrix3<f64>) -> Option<Inv7> {
     p.iter().all(|v| v.is_finite()).then_some(p)
 }
 
+/// The binary16 storage of a production inverse that keeps its lobe: every entry rounded
+/// to nearest, then, where that makes det M⁻¹ ≤ 0 (a mirrored lobe) or flips b's sign, b
+/// set to 0 and d raised by binary16 steps until the determinant is positive (at most
+/// 64 steps; `ltc::storage::keep_lobe` does the same for the isotropic form).
+pub fn half_keeping_lobe(p: &Inv7) -> Inv7 {
+    let r = |x: f64| half::f16::from_f64(x).to_f64();
+    let mut q = p.map(r);
+    let ok = |q: &Inv7| inverse_of(q).determinant() > 0.0 && q[1] * p[1] >= 0.0;
+    if ok(&q) {
+        return q;
+    }
+    if q[1] * p[1] < 0.0 {
+        q[1] = 0.0;
+    }
+    for _ in 0..64 {
+        if ok(&q) {
+            break;
+        }
+        let h = half::f16::from_f64(q[3]);
+        let bits = if h.to_f64() >= 0.0 && h.to_bits() & 0x8000 == 0 {
+            h.to_bits() + 1
+        } else if h.to_bits() == 0x8000 {
+            1
+        } else {
+            h.to_bits() - 1
+        };
+        q[3] = half::f16::from_bits(bits).to_f64();
+    }
+    q
+}
+
 /// The mirror y → −y of a production inverse (S·M⁻¹·S): e, g and h change sign.
 pub fn mirror_y(p: &Inv7) -> Inv7 {
     [p[0], p[1], p[2], p[3], -p[4], -p[5], -p[6]]
@@ -132,6 +163,15 @@ impl LtcTarget for AnisoGgxTarget {
         let cov = r * Matrix2::new(self.ax * self.ax, 0.0, 0.0, self.ay * self.ay) * r.transpose();
         let rule = SphereRule::from_covariance(V3::z(), cov, std::f64::consts::FRAC_PI_2);
         super::target::microfacet_albedo(&self.surface, &self.v, &rule, tol)
+    }
+    /// Half-vectors from the projected NDF's LTC (the roughness ellipse turned by φ),
+    /// reflected about the view.
+    fn chart(&self) -> super::lobe_error::Chart {
+        let (s, c) = self.phi.sin_cos();
+        let rot = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        super::lobe_error::Chart::half_vector(
+            rot * Matrix3::from_diagonal(&V3::new(self.ax, self.ay, 1.0)),
+        )
     }
 }
 

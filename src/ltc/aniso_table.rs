@@ -105,17 +105,22 @@ impl AnisoTable {
         out
     }
 
-    /// Every entry rounded to binary16 (the texture's storage).
+    /// The texture's binary16 storage: the matrix by `aniso::half_keeping_lobe` (to
+    /// nearest, unless that would mirror the lobe), norm and fresnel to nearest.
     pub fn to_half(&self) -> AnisoTable {
         AnisoTable {
             grid: self.grid,
-            cells: self
-                .cells
-                .iter()
-                .map(|c| c.map(|x| half::f16::from_f64(x).to_f64()))
-                .collect(),
+            cells: self.cells.iter().map(half_cell).collect(),
         }
     }
+}
+
+/// One cell as binary16 stores it (see [`AnisoTable::to_half`]).
+pub fn half_cell(c: &AnisoCell) -> AnisoCell {
+    let m = super::aniso::half_keeping_lobe(&inv7(c));
+    let mut out = c.map(|x| half::f16::from_f64(x).to_f64());
+    out[..7].copy_from_slice(&m);
+    out
 }
 
 /// The production inverse of a cell.

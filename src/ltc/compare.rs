@@ -4,15 +4,15 @@
 //! production M⁻¹ (a, b, c, d), LTC_MAT_2 (norm, fresnel, …)). The file is read from the
 //! path the user gives (`ltc-compare --shipped FILE`); nothing of it is committed.
 //!
-//! Both tables are judged against the true BRDF under the same metrics, per cell, on the
-//! same held-out sample sets, at the same (α = r², θ = acos(1 − t²)) with θ clamped to
-//! 89.99°. The shipped fit used α_min = 1e-5 at r = 0; ours uses the spec's α_min, so
+//! Both tables are judged against the true BRDF by the same held-out figures
+//! (`ltc::lobe_error`: converged integrals with their error bars), per cell, at the same
+//! (α = r², θ = acos(1 − t²)) with θ clamped to 89.99°. The shipped fit used α_min = 1e-5 at r = 0; ours uses the spec's α_min, so
 //! the r = 0 row is reported separately.
 
 use crate::error::{Error, Result};
-use crate::ltc::fit::{inverse_from_production, metrics};
+use crate::ltc::fit::inverse_from_production;
+use crate::ltc::lobe_error::{judge, LobeError, Tolerance};
 use crate::ltc::target::{GgxTarget, LtcTarget};
-use crate::ltc::LtcDist;
 use std::path::Path;
 
 /// Extract the numeric array assigned to `name` (`name = [ … ]` or `name: [ … ]`) from
@@ -105,73 +105,78 @@ impl Shipped {
     }
 }
 
-/// Error of one production-form cell against the GGX BRDF (relative L2, cubic).
-pub fn cell_error(
-    inv: &[f64; 4],
-    norm: f64,
-    alpha: f64,
-    theta: f64,
-    n: usize,
-) -> Result<(f64, f64)> {
-    cell_error_of(&GgxTarget::new(alpha, theta)?, inv, norm, n)
+/// The held-out error (`ltc::lobe_error`) of one production-form cell against the GGX
+/// BRDF at (α, θ); `None` where the matrix is singular.
+pub fn cell_error(inv: &[f64; 4], norm: f64, alpha: f64, theta: f64) -> Result<Option<LobeError>> {
+    let t = GgxTarget::new(alpha, theta)?;
+    let (albedo, _, _) = t.albedo(1e-8);
+    Ok(cell_error_of(&t, albedo, &[(*inv, norm)])[0])
 }
 
-/// Error of one production-form cell against any target (relative L2, cubic) on the
-/// held-out sample set (n×n per technique, offset ¼).
+/// The held-out errors of production-form entries (a, b, c, d) with amplitudes against
+/// any target whose integral is ≈ `albedo`, judged in one cubature.
 pub fn cell_error_of<T: LtcTarget + ?Sized>(
     t: &T,
-    inv: &[f64; 4],
-    norm: f64,
-    n: usize,
-) -> Result<(f64, f64)> {
-    let m = inverse_from_production(inv)
-        .try_inverse()
-        .ok_or_else(|| Error::InvalidArgument("singular LTC inverse in the table".into()))?;
-    let ltc = LtcDist::new(m)?;
-    let (c, l2) = metrics(t, &ltc, norm, n, 0.25);
-    Ok((l2, c))
+    albedo: f64,
+    entries: &[([f64; 4], f64)],
+) -> Vec<Option<LobeError>> {
+    let inv: Vec<_> = entries
+        .iter()
+        .map(|(p, amp)| (inverse_from_production(p), *amp))
+        .collect();
+    judge(t, albedo, &inv, Tolerance::default())
 }
 
-/// The error a shader sees between table cells: the production inverse bilinearly
-/// interpolated (as a GPU samples the texture) at the centre of the square with corners
-/// (i, j) and (i + 1, j + 1), judged against the BRDF there with its exact norm (by
-/// quadrature, so only the interpolated matrix is tested). `None` when a corner is
-/// missing (NaN). Relative L2.
-pub fn midpoint_error(t: &Shipped, i: usize, j: usize, n_samples: usize) -> Result<Option<f64>> {
-    midpoint_error_of(t, i, j, n_samples, 0.0, &GgxTarget::new)
+/// The entries a shader reads at the centre of the square with corners (i, j) and
+/// (i + 1, j + 1) of a table: both textures interpolated bilinearly (each corner ¼).
+/// `None` when the square is outside the table or a corner is missing (NaN).
+pub fn square_entries(t: &Shipped, i: usize, j: usize) -> Option<([f64; 4], f64)> {
+    let n = t.n;
+    if i + 1 >= n || j + 1 >= n {
+        return None;
+    }
+    let ks = [
+        i + n * j,
+        i + 1 + n * j,
+        i + n * (j + 1),
+        i + 1 + n * (j + 1),
+    ];
+    if ks.iter().any(|&k| {
+        t.mat[k]
+            .iter()
+            .chain(&t.mag[k][..1])
+            .any(|v| !v.is_finite())
+    }) {
+        return None;
+    }
+    let inv: [f64; 4] = std::array::from_fn(|c| ks.iter().map(|&k| t.mat[k][c]).sum::<f64>() / 4.0);
+    let norm = ks.iter().map(|&k| t.mag[k][0]).sum::<f64>() / 4.0;
+    Some((inv, norm))
 }
 
-/// [`midpoint_error`] against any target (`target(α, θ)`, its norm by its own
-/// quadrature), at α = max(r², `alpha_min`) as the table's cells are.
+/// The error a shader sees between table cells: the table interpolated at the centre of
+/// square (i, j) ([`square_entries`]), judged against `target(α, θ)` there (α =
+/// max(r², `alpha_min`) as the table's cells are) with the table's interpolated norm.
+/// `None` when a corner is missing or the interpolated matrix is singular.
 pub fn midpoint_error_of<T: LtcTarget>(
     t: &Shipped,
     i: usize,
     j: usize,
-    n_samples: usize,
     alpha_min: f64,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
-) -> Result<Option<f64>> {
+) -> Result<Option<LobeError>> {
+    let Some(entries) = square_entries(t, i, j) else {
+        return Ok(None);
+    };
     let n = t.n;
-    if i + 1 >= n || j + 1 >= n {
-        return Ok(None);
-    }
-    let corners = [
-        t.mat[i + n * j],
-        t.mat[i + 1 + n * j],
-        t.mat[i + n * (j + 1)],
-        t.mat[i + 1 + n * (j + 1)],
-    ];
-    if corners.iter().flatten().any(|v| !v.is_finite()) {
-        return Ok(None);
-    }
-    let inv: [f64; 4] = std::array::from_fn(|k| corners.iter().map(|c| c[k]).sum::<f64>() / 4.0);
     let r = (i as f64 + 0.5) / (n - 1) as f64;
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
-    let alpha = (r * r).max(alpha_min);
-    let theta = (1.0 - tt * tt).clamp(0.0, 1.0).acos();
-    let lobe = target(alpha, theta)?;
-    let (norm, _, _) = lobe.albedo(1e-8);
-    cell_error_of(&lobe, &inv, norm, n_samples).map(|(l2, _)| Some(l2))
+    let lobe = target(
+        (r * r).max(alpha_min),
+        (1.0 - tt * tt).clamp(0.0, 1.0).acos(),
+    )?;
+    let (albedo, _, _) = lobe.albedo(1e-8);
+    Ok(cell_error_of(&lobe, albedo, &[entries])[0])
 }
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
@@ -195,9 +200,9 @@ pub fn of_table(t: &super::table::FittedTable) -> Shipped {
 /// (identifies the table a comparison was made against).
 pub fn ours_mean_l2(results: &Path) -> Result<f64> {
     crate::results::read_result(results, crate::results::names::LTC_GGX)
-        .and_then(|v| v["held_out"]["mean_l2"].as_f64())
+        .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64())
         .ok_or_else(|| {
-            Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.mean_l2".into())
+            Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.l2.mean".into())
         })
 }
 

@@ -54,6 +54,15 @@ impl Lobe {
             Lobe::BurleyEngines => "Burley 2012 diffuse as Filament and Bevy evaluate it, F_D90 = ½ + 2 α cos²θ_d with α = r², albedo 1",
         }
     }
+    /// Why the lobe's albedo can exceed 1, in one phrase.
+    pub fn why_above_one(self) -> &'static str {
+        match self {
+            Lobe::Ggx => "a microfacet BRDF with a Smith G2 does not exceed 1",
+            Lobe::SheenEstevezKulla => "Estevez & Kulla's Λ is a fit, not the Smith Λ of the Charlie NDF, so the BRDF it makes does not conserve energy; the excess is largest at small α and grazing views",
+            Lobe::SheenNeubelt => "Neubelt & Pettineo's visibility 1/(4(l_z + v_z − l_z v_z)) is no masking term: it stays finite as l_z and v_z → 0 while the Charlie NDF piles its mass at grazing half-vectors",
+            Lobe::BurleyPaper | Lobe::BurleyEngines => "Burley's retro-reflection factor with F_D90 up to 2.5 is an empirical fit that does not conserve energy (Burley 2012 §5.3)",
+        }
+    }
     /// A short name for tables and file names.
     pub fn short(self) -> &'static str {
         match self {
@@ -98,5 +107,8 @@ impl LtcTarget for LobeTarget {
     }
     fn albedo(&self, tol: f64) -> (f64, f64, f64) {
         self.inner().albedo(tol)
+    }
+    fn chart(&self) -> super::lobe_error::Chart {
+        self.inner().chart()
     }
 }

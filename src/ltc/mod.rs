@@ -8,6 +8,10 @@
 //! - `fit`: the per-cell fit of a table, generic over the target (all four
 //!   production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
+//! - `lobe_error`: the held-out error of an LTC against its lobe (relative L2 and L1)
+//!   as converged integrals with their error bars;
+//! - `upload`: how three.js and Bevy upload and sample a table (three's truncating
+//!   half floats, Bevy's zstd KTX2);
 //! - `storage`: the binary16 storage of a cell, chosen by the fit's error;
 //! - `table`: the one reader of a fitted table (results/fits/ltc-ggx.json);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
@@ -22,6 +26,7 @@ pub mod diffuse;
 pub mod dist;
 pub mod fit;
 pub mod hemisphere;
+pub mod lobe_error;
 pub mod lobes;
 pub mod pipeline;
 pub mod polygon;
@@ -30,5 +35,6 @@ pub mod smooth;
 pub mod storage;
 pub mod table;
 pub mod target;
+pub mod upload;
 
 pub use dist::*;

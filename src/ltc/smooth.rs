@@ -274,7 +274,7 @@ pub struct BilinearPass {
 /// One sweep of the bilinear-aware refit over a fitted table: each cell against its own
 /// lobe and, with weight ¼ each, the lobes (`target(α, θ)`) at the centres of its squares
 /// as a GPU interpolates them, every term relative to its error before the pass; then the
-/// moved cells' held-out errors and fit parameters are recomputed.
+/// moved cells' fit parameters are recomputed (and their held-out figures cleared).
 pub fn bilinear_pass<T: LtcTarget>(
     main: &mut crate::ltc::fit::Table,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
@@ -333,12 +333,11 @@ pub fn bilinear_pass<T: LtcTarget>(
                     let z = fit::turn(&zm, phi);
                     (c.m11, c.m22, c.m13, c.turn, c.z_dir) = (m11, m22, m13, phi, [z.x, z.z]);
                 }
-                let m = inverse_from_production(&inv)
+                inverse_from_production(&inv)
                     .try_inverse()
                     .ok_or_else(|| Error::InvalidArgument("bilinear pass: singular cell".into()))?;
-                let ltc = LtcDist::new(m)?;
-                let (ec, el2) = metrics(&t, &ltc, c.norm, 2 * n, 0.25);
-                (c.err_cubic, c.err_l2) = (ec, el2);
+                // its held-out figures are judged again (`fit::judge_table`)
+                c.held = None;
             }
             Ok(col)
         },

@@ -8,6 +8,12 @@
 //! Below α ≈ 5e-4 no f16 matrix can do well: c ≈ −a·tan θ_r sets the lobe's direction,
 //! and its f16 spacing (2⁻¹¹ relative) exceeds the lobe's width. norm and fresnel round to
 //! nearest (norm is the albedo: its half-ulp, ≤ 2.5e-4, is the energy error stored).
+//!
+//! Every stored matrix keeps its lobe: the determinant ad − bc of M⁻¹ stays positive (a
+//! negative one mirrors the lobe across the view plane, which rounding to nearest does at
+//! the smallest α near grazing, where d and b fall below binary16's subnormals) and b keeps
+//! the sign of the f64 entry (or is 0). Candidates that break this are never chosen; where
+//! no neighbour keeps it, the smallest change that does is made ([`keep_lobe`]).
 
 use crate::ltc::fit::production_metrics;
 use crate::ltc::target::LtcTarget;
@@ -42,9 +48,38 @@ fn step(x: f16, up: bool) -> f16 {
     f16::from_bits(bits)
 }
 
+/// Whether stored entries (a, b, c, d) keep the lobe of the f64 entries `inv`: all finite,
+/// ad − bc > 0, and b of the same sign as inv's b (or 0).
+pub fn keeps_lobe(q: &[f64; 4], inv: &[f64; 4]) -> bool {
+    q.iter().all(|x| x.is_finite()) && q[0] * q[3] - q[1] * q[2] > 0.0 && q[1] * inv[1] >= 0.0
+}
+
+/// The nearest binary16 entries that keep the lobe: round to nearest, then, if that
+/// breaks [`keeps_lobe`], move b toward zero and d up by single binary16 steps (d grows
+/// the determinant through a·d; b shrinks −bc), at most 64 steps each.
+pub fn keep_lobe(inv: &[f64; 4]) -> [f16; 4] {
+    let mut q = inv.map(f16::from_f64);
+    let ok = |q: &[f16; 4]| keeps_lobe(&q.map(|x| x.to_f64()), inv);
+    if ok(&q) {
+        return q;
+    }
+    // b of the wrong sign (or rounded across zero) goes to zero first
+    if q[1].to_f64() * inv[1] < 0.0 {
+        q[1] = f16::from_f64(0.0);
+    }
+    for _ in 0..64 {
+        if ok(&q) {
+            return q;
+        }
+        q[3] = step(q[3], true);
+    }
+    q
+}
+
 /// The binary16 storage of one cell [a, b, c, d, norm, fresnel] (returned as f64): the
-/// matrix entries chosen by the training relative L2 (n×n set, offset 0.5), never worse
-/// there or on the validation set ((n + 7)², offset 0.37) than round-to-nearest.
+/// matrix entries chosen by the training relative L2 (n×n set, offset 0.5) among the
+/// neighbours that keep the lobe ([`keeps_lobe`]), never worse there or on the validation
+/// set ((n + 7)², offset 0.37) than the nearest entries that keep it ([`keep_lobe`]).
 pub fn half_storage<T: LtcTarget + ?Sized>(
     t: &T,
     inv: &[f64; 4],
@@ -59,8 +94,15 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
             .filter(|x| x.is_finite())
             .unwrap_or(f64::INFINITY)
     };
-    let score = |q: &[f16; 4]| on(q, n, 0.5);
-    let nearest = inv.map(f16::from_f64);
+    let valid = |q: &[f16; 4]| keeps_lobe(&q.map(|x| x.to_f64()), inv);
+    let score = |q: &[f16; 4]| {
+        if valid(q) {
+            on(q, n, 0.5)
+        } else {
+            f64::INFINITY
+        }
+    };
+    let nearest = keep_lobe(inv);
     let mut best = nearest;
     let mut best_score = score(&best);
     // coordinate passes: move one entry by one ulp while that lowers the score, at most
@@ -92,7 +134,7 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
     }
     // kept only if a separate validation set agrees (the training set cannot resolve the
     // narrowest lobes, where a search would fit its noise)
-    if !(on(&best, n + 7, 0.37) < on(&nearest, n + 7, 0.37)) {
+    if !(valid(&best) && on(&best, n + 7, 0.37) < on(&nearest, n + 7, 0.37)) {
         best = nearest;
     }
     [

@@ -8,6 +8,7 @@
 
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
+use crate::ltc::lobe_error::Chart;
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::Vector3;
@@ -27,6 +28,12 @@ pub trait LtcTarget: Sync {
     fn width(&self) -> f64;
     /// (∫f, its error estimate, ∫f·(1 − v·h)⁵) by quadrature to `tol`.
     fn albedo(&self, tol: f64) -> (f64, f64, f64);
+    /// A chart of the sphere in which f is a smooth, broad function (what the held-out
+    /// integrals of `ltc::lobe_error` follow the target's lobe with): by default the
+    /// upper hemisphere of directions itself.
+    fn chart(&self) -> Chart {
+        Chart::direction(nalgebra::Matrix3::identity())
+    }
     /// (∫f, ∫f(1 − v·h)⁵, standard error of ∫f, mean direction ∫f·l / |∫f·l|) by
     /// importance sampling on an n×n stratified set.
     fn moments(&self, n: usize) -> (f64, f64, f64, V3) {
@@ -158,5 +165,12 @@ impl LtcTarget for GgxTarget {
     }
     fn albedo(&self, tol: f64) -> (f64, f64, f64) {
         self.norm_quad(tol)
+    }
+    /// Half-vectors from the projected NDF's LTC, M = diag(α, α, 1) (D(h)·h_z is exactly
+    /// that LTC), reflected about the view.
+    fn chart(&self) -> Chart {
+        Chart::half_vector(nalgebra::Matrix3::from_diagonal(&V3::new(
+            self.alpha, self.alpha, 1.0,
+        )))
     }
 }

@@ -306,7 +306,16 @@ pub fn ltc_error_panel(main: &crate::ltc::fit::Table, title: &str) -> HeatPanel 
             .map(|j| (1.0 - main.grid.theta(j).cos()).max(0.0).sqrt())
             .collect(),
         values: (0..n)
-            .map(|j| (0..n).map(|i| main.cells[j][i].err_l2.max(1e-8)).collect())
+            .map(|j| {
+                (0..n)
+                    .map(|i| {
+                        main.cells[j][i]
+                            .l2()
+                            .map_or(f64::NAN, |b| b.value)
+                            .max(1e-8)
+                    })
+                    .collect()
+            })
             .collect(),
         log_range: (-4.0, 0.0),
         x_label: "r = √α".into(),

@@ -82,13 +82,43 @@ pub struct Fitted {
     pub inv: Inv7,
     pub norm: f64,
     pub fresnel: f64,
-    /// This fit, with its own norm.
+    /// This fit, with its own norm (held-out relative L2, `ltc::lobe_error`).
     pub err: f64,
+    /// The same fit's held-out relative L1.
+    pub err_l1: f64,
     /// The isotropic table at √(α_x α_y), with its norm: what engines do today.
     pub err_iso_geo: f64,
     /// The isotropic table at max(α_x, α_y), with its norm.
     pub err_iso_max: f64,
+    /// The largest error bar of this case's held-out figures.
+    pub bar: f64,
     pub iters: u64,
+}
+
+/// The held-out figures (`ltc::lobe_error`) of production inverses with their norms
+/// against a target: (relative L2 of each, relative L1 of each, the largest error bar);
+/// ∞ where an inverse is singular.
+fn held_out(t: &AnisoGgxTarget, albedo: f64, cands: &[(Inv7, f64)]) -> (Vec<f64>, Vec<f64>, f64) {
+    use crate::ltc::lobe_error::{judge, Tolerance};
+    let inv: Vec<_> = cands
+        .iter()
+        .map(|(p, n)| (crate::ltc::aniso::inverse_of(p), *n))
+        .collect();
+    let e = judge(t, albedo, &inv, Tolerance::default());
+    let l2 = e
+        .iter()
+        .map(|e| e.map_or(f64::INFINITY, |e| e.l2.value))
+        .collect();
+    let l1 = e
+        .iter()
+        .map(|e| e.map_or(f64::INFINITY, |e| e.l1.value))
+        .collect();
+    let bar = e
+        .iter()
+        .flatten()
+        .flat_map(|e| [e.l2.error, e.l1.error])
+        .fold(0.0, f64::max);
+    (l2, l1, bar)
 }
 
 /// The isotropic table's (production inverse as Inv7, norm) at (α, θ).
@@ -133,15 +163,21 @@ pub(crate) fn fit_case(iso: &FittedTable, c: Case, pl: &Plan) -> Result<Fitted> 
         }
     }
     let (inv, iters, _) = best.expect("at least one start");
-    let held = 2 * pl.samples;
+    let (l2, l1, bar) = held_out(
+        &t,
+        norm,
+        &[(inv, norm), (start, geo_norm), (max_inv, max_norm)],
+    );
     Ok(Fitted {
         case: c,
         inv,
         norm,
         fresnel,
-        err: rel_l2(&t, &inv, norm, held, 0.25),
-        err_iso_geo: rel_l2(&t, &start, geo_norm, held, 0.25),
-        err_iso_max: rel_l2(&t, &max_inv, max_norm, held, 0.25),
+        err: l2[0],
+        err_l1: l1[0],
+        err_iso_geo: l2[1],
+        err_iso_max: l2[2],
+        bar,
         iters,
     })
 }
@@ -203,9 +239,13 @@ fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> 
 pub struct Between {
     pub case: Case,
     pub err_table: f64,
+    /// The table's held-out relative L1 there.
+    pub err_table_l1: f64,
     pub err_table_f16: f64,
     pub err_iso_geo: f64,
     pub err_iso_max: f64,
+    /// The largest error bar of this case's held-out figures.
+    pub bar: f64,
 }
 
 fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Between>> {
@@ -225,22 +265,25 @@ fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Result<Vec<Betwe
         })
         .collect();
     let half = table.to_half();
-    let held = 2 * pl.samples;
     crate::memo::map_items("ltc-aniso between cells", &cases, |c| {
         let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
-        let e = |tb: &AnisoTable| {
+        let at = |tb: &AnisoTable| {
             let v = tb.lookup(c.ax, c.ay, c.phi, c.theta.cos());
-            rel_l2(&t, &crate::ltc::aniso_table::inv7(&v), v[7], held, 0.25)
+            (crate::ltc::aniso_table::inv7(&v), v[7])
         };
         let (g, gn) = iso_at(iso, (c.ax * c.ay).sqrt(), c.theta);
         let (m, mn) = iso_at(iso, c.ax.max(c.ay), c.theta);
+        let (albedo, _, _) = t.albedo(1e-7);
         // the isotropic table's frame is the view's; its lobe ignores φ entirely
+        let (l2, l1, bar) = held_out(&t, albedo, &[at(table), at(&half), (g, gn), (m, mn)]);
         Ok(Between {
             case: *c,
-            err_table: e(table),
-            err_table_f16: e(&half),
-            err_iso_geo: rel_l2(&t, &g, gn, held, 0.25),
-            err_iso_max: rel_l2(&t, &m, mn, held, 0.25),
+            err_table: l2[0],
+            err_table_l1: l1[0],
+            err_table_f16: l2[1],
+            err_iso_geo: l2[2],
+            err_iso_max: l2[3],
+            bar,
         })
     })
 }

@@ -2,13 +2,15 @@
 //! of cells (the corners, every ninth row and column, and the grazing rows), a global
 //! search — 27 starts around the table's solution, each fitted under the relative L2 and
 //! chosen by a validation set — gives the best energy-exact LTC (norm = the albedo), and
-//! the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape gives the floor when the norm may
-//! trade energy for shape. All errors on the held-out set of the table's own cells.
+//! the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape (on the training set) gives the
+//! floor when the norm may trade energy for shape. Every error is the held-out figure of
+//! `ltc::lobe_error` (converged integrals, ± their error bars).
 
 use super::GgxTarget;
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Cell, Method, Metric, Table};
+use crate::ltc::lobe_error::{judge, Bounded, Tolerance};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 
@@ -20,11 +22,11 @@ pub(super) struct FloorCell {
     pub alpha: f64,
     pub theta_deg: f64,
     /// The table's held-out relative L2.
-    pub table: f64,
+    pub table: Bounded,
     /// The best of the multi-start search, norm = albedo.
-    pub global: f64,
+    pub global: Bounded,
     /// That shape with the L2-optimal amplitude.
-    pub free_amplitude: f64,
+    pub free_amplitude: Bounded,
     /// A*/albedo: the energy that amplitude keeps.
     pub amplitude_over_albedo: f64,
 }
@@ -106,20 +108,30 @@ fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<Fl
         .as_ref()
         .map(|l| best_amplitude(&t, l, n))
         .unwrap_or(c.norm);
-    let held = |norm: f64| {
-        shape
-            .as_ref()
-            .map(|l| metrics(&t, l, norm, 2 * n, 0.25).1)
-            .unwrap_or(f64::INFINITY)
+    let table_inv = crate::ltc::fit::inverse_from_production(&c.inv);
+    let shape_inv = shape
+        .as_ref()
+        .and_then(|l| l.matrix().try_inverse())
+        .unwrap_or(table_inv);
+    let held = judge(
+        &t,
+        c.norm,
+        &[(table_inv, c.norm), (shape_inv, c.norm), (shape_inv, amp)],
+        Tolerance::default(),
+    );
+    let none = Bounded {
+        value: f64::INFINITY,
+        error: f64::INFINITY,
     };
+    let l2 = |k: usize| held[k].map(|e| e.l2).unwrap_or(none);
     Ok(FloorCell {
         i,
         j,
         alpha: c.alpha,
         theta_deg: c.theta.to_degrees(),
-        table: c.err_l2,
-        global: held(c.norm),
-        free_amplitude: held(amp),
+        table: l2(0),
+        global: l2(1),
+        free_amplitude: l2(2),
         amplitude_over_albedo: amp / c.norm,
     })
 }
@@ -163,17 +175,22 @@ pub(super) fn section(
             &cells
                 .iter()
                 .filter(|c| !only_graze || graze(c))
-                .map(|c| f(c) - c.table)
+                .map(|c| f(c) - c.table.value)
                 .collect::<Vec<_>>(),
         )
     };
-    let (g_all, g_all_se) = d(&|c| c.global, false);
-    let (f_all, f_all_se) = d(&|c| c.free_amplitude, false);
-    let (g_gr, g_gr_se) = d(&|c| c.global, true);
-    let (f_gr, f_gr_se) = d(&|c| c.free_amplitude, true);
+    let (g_all, g_all_se) = d(&|c| c.global.value, false);
+    let (f_all, f_all_se) = d(&|c| c.free_amplitude.value, false);
+    let (g_gr, g_gr_se) = d(&|c| c.global.value, true);
+    let (f_gr, f_gr_se) = d(&|c| c.free_amplitude.value, true);
+    let bar = cells
+        .iter()
+        .flat_map(|c| [c.table.error, c.global.error, c.free_amplitude.error])
+        .fold(0.0, f64::max);
     let mut md = format!(
-        "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2, change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n| | all cells | rows t ≥ 56 |\n|---|---|---|\n| the table (energy-exact: norm = albedo) | {:.2} % | {:.2} % |\n| best of 27 starts, norm = albedo | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n| that shape with the L2-optimal amplitude | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n\nA*/albedo over the sampled cells: {:.3} … {:.3} (the energy an L2-optimal norm gives away).\n\n| i | j | α | θ | table | 27 starts | + L2-optimal amplitude | A*/albedo |\n|---|---|---|---|---|---|---|---|\n",
+        "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n| | all cells | rows t ≥ 56 |\n|---|---|---|\n| the table (energy-exact: norm = albedo) | {:.2} % | {:.2} % |\n| best of 27 starts, norm = albedo | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n| that shape with the L2-optimal amplitude | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n\nA*/albedo over the sampled cells: {:.3} … {:.3} (the energy an L2-optimal norm gives away).\n\n| i | j | α | θ | table | 27 starts | + L2-optimal amplitude | A*/albedo |\n|---|---|---|---|---|---|---|---|\n",
         cells.len(),
+        bar,
         100.0 * table_mean,
         100.0 * grazing_mean,
         100.0 * g_all,
@@ -193,14 +210,14 @@ pub(super) fn section(
     );
     for c in cells {
         md.push_str(&format!(
-            "| {} | {} | {:.2e} | {:.1}° | {:.2} % | {:.2} % | {:.2} % | {:.3} |\n",
+            "| {} | {} | {:.2e} | {:.1}° | {} | {} | {} | {:.3} |\n",
             c.i,
             c.j,
             c.alpha,
             c.theta_deg,
-            100.0 * c.table,
-            100.0 * c.global,
-            100.0 * c.free_amplitude,
+            c.table.pct(2),
+            c.global.pct(2),
+            c.free_amplitude.pct(2),
             c.amplitude_over_albedo
         ));
     }

@@ -2,7 +2,7 @@
 //! the error between cells (bilinear interpolation, as a shader samples the table), the
 //! optimiser and metric comparison, and the heat map of the held-out error.
 
-use super::{stats, Plan};
+use super::{stats, GgxTarget, Plan};
 use crate::error::Result;
 use crate::ltc::fit::{Cell, Table};
 use std::path::Path;
@@ -11,7 +11,7 @@ use std::path::Path;
 pub(super) fn structure_section(main: &Table) -> String {
     let mut md = String::new();
     let n = main.grid.n;
-    md.push_str("### Corners (small α and grazing)\n\n| α | θ | m11/α | m22/α | m13/α | a | b | c | d | norm | fresnel | rel. L2 |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("### Corners (small α and grazing)\n\n| α | θ | m11/α | m22/α | m13/α | a | b | c | d | norm | fresnel | rel. L2 (held-out) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (j, i) in [
         (0usize, 0usize),
         (n - 1, 0),
@@ -22,8 +22,8 @@ pub(super) fn structure_section(main: &Table) -> String {
     ] {
         let c = &main.cells[j][i];
         md.push_str(&format!(
-            "| {:.1e} | {:.2}° | {:.4} | {:.4} | {:+.4} | {:.4e} | {:+.4e} | {:+.4e} | {:.4e} | {:.5} | {:.5} | {:.2} % |\n",
-            c.alpha, c.theta.to_degrees(), c.m11 / c.alpha, c.m22 / c.alpha, c.m13 / c.alpha, c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel, 100.0 * c.err_l2
+            "| {:.1e} | {:.2}° | {:.4} | {:.4} | {:+.4} | {:.4e} | {:+.4e} | {:+.4e} | {:.4e} | {:.5} | {:.5} | {} |\n",
+            c.alpha, c.theta.to_degrees(), c.m11 / c.alpha, c.m22 / c.alpha, c.m13 / c.alpha, c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel, c.l2().map(|b| b.pct(2)).unwrap_or_else(|| "—".into())
         ));
     }
     // collapse / sign checks and smoothness
@@ -86,48 +86,39 @@ pub(super) fn structure_section(main: &Table) -> String {
 }
 
 /// Between cells: the production inverse interpolated at square centres.
-pub(super) fn between_section(main: &Table, pl: &Plan) -> Result<String> {
-    let mut md = String::new();
+pub(super) fn between_section(main: &Table) -> Result<String> {
+    use crate::ltc::lobe_error::Spread;
     let n = main.grid.n;
-    {
-        use rayon::prelude::*;
-        let table = crate::ltc::compare::Shipped {
-            n,
-            mat: (0..n * n).map(|k| main.cells[k / n][k % n].inv).collect(),
-            mag: (0..n * n)
-                .map(|k| [main.cells[k / n][k % n].norm, 0.0])
-                .collect(),
-        };
-        let step = (n / 16).max(1);
-        let squares: Vec<(usize, usize)> = (0..n - 1)
-            .step_by(step)
-            .flat_map(|j| (1..n - 1).step_by(step).map(move |i| (i, j)))
-            .collect();
-        let mids: Vec<f64> = squares
-            .par_iter()
-            .map(|&(i, j)| {
-                crate::ltc::compare::midpoint_error(&table, i, j, pl.samples * 2)
-                    .map(|e| e.unwrap_or(f64::NAN))
-            })
-            .collect::<Result<_>>()?;
-        let m = mids.len() as f64;
-        let worst = squares[mids
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .map(|x| x.0)
-            .unwrap_or(0)];
-        md.push_str(&format!(
-            "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there with its exact norm: mean relative L2 {:.2} %, max {:.1} % (square at i = {}, j = {}); the cells themselves: mean {:.2} %.\n\n",
-            mids.len(),
-            100.0 * mids.iter().sum::<f64>() / m,
-            100.0 * mids.iter().cloned().fold(0.0, f64::max),
-            worst.0,
-            worst.1,
-            100.0 * stats(&main).mean_l2
-        ));
-    }
-    Ok(md)
+    let table = crate::ltc::compare::Shipped {
+        n,
+        mat: (0..n * n).map(|k| main.cells[k / n][k % n].inv).collect(),
+        mag: (0..n * n)
+            .map(|k| [main.cells[k / n][k % n].norm, 0.0])
+            .collect(),
+    };
+    let step = (n / 16).max(1);
+    let squares: Vec<(usize, usize)> = (0..n - 1)
+        .step_by(step)
+        .flat_map(|j| (1..n - 1).step_by(step).map(move |i| (i, j)))
+        .collect();
+    let mids = crate::memo::map_items("ltc between cells", &squares, |&(i, j)| {
+        crate::ltc::compare::midpoint_error_of(&table, i, j, main.grid.alpha_min, &GgxTarget::new)
+    })?;
+    let l2 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l2)));
+    let l1 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l1)));
+    let worst = squares.get(l2.argmax).copied().unwrap_or((0, 0));
+    let st = stats(main);
+    Ok(format!(
+        "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there by the same held-out integrals with the interpolated norm: relative L2 mean {}, max {} (square at i = {}, j = {}); relative L1 mean {}. The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
+        l2.count,
+        l2.mean.pct(2),
+        l2.max.pct(1),
+        worst.0,
+        worst.1,
+        l1.mean.pct(2),
+        st.l2.mean.pct(2),
+        st.l1.mean.pct(2)
+    ))
 }
 
 /// The optimiser/metric comparison on the sub-grid; returns its JSON rows.
@@ -136,20 +127,21 @@ pub(super) fn variants_section(
     pl: &Plan,
     variants: &[(&str, Table)],
 ) -> Vec<serde_json::Value> {
-    md.push_str(&format!("## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n| fit | mean rel. L2 | max rel. L2 | mean cubic | mean iterations |\n|---|---|---|---|---|\n", pl.sub, pl.sub));
+    md.push_str(&format!("## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n| fit | mean rel. L2 | max rel. L2 | mean rel. L1 | max rel. L1 | mean iterations |\n|---|---|---|---|---|---|\n", pl.sub, pl.sub));
     let mut var_json = Vec::new();
     for (name, t) in variants {
         let s = stats(t);
         md.push_str(&format!(
-            "| {name} | {:.2} % | {:.1} % | {:.2e} | {:.0} |\n",
-            100.0 * s.mean_l2,
-            100.0 * s.max_l2,
-            s.mean_cubic,
+            "| {name} | {} | {} | {} | {} | {:.0} |\n",
+            s.l2.mean.pct(2),
+            s.l2.max.pct(1),
+            s.l1.mean.pct(2),
+            s.l1.max.pct(1),
             s.mean_iters
         ));
         var_json.push(serde_json::json!({"fit": name, "stats": s}));
     }
-    md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; each is reported for every fit. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous.\n\n");
+    md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; both are training metrics (Monte Carlo sums on the fit's sample set), and every fit is judged by the same held-out integrals. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous.\n\n");
     var_json
 }
 

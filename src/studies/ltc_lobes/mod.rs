@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::ltc::fit::{fit_table, held_out_stats, Grid, Method, Metric, Table};
+use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use std::path::Path;
@@ -110,10 +111,26 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
     pb.finish_and_clear();
     let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
+    crate::ltc::fit::judge_table(&mut table, &target, Tolerance::default())?;
     Ok(Fitted {
         lobe,
         table,
         bilinear,
+    })
+}
+
+/// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
+fn per_cell(t: &Table) -> serde_json::Value {
+    let fig = |c: &crate::ltc::fit::Cell, l1: bool| {
+        c.held
+            .and_then(|h| h.f64)
+            .map(|e| if l1 { e.l1 } else { e.l2 })
+            .map(|b| [b.value, b.error])
+    };
+    serde_json::json!({
+        "layout": "[j][i] = [value, error] (null where singular)",
+        "l2": t.cells.iter().map(|col| col.iter().map(|c| fig(c, false)).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        "l1": t.cells.iter().map(|col| col.iter().map(|c| fig(c, true)).collect::<Vec<_>>()).collect::<Vec<_>>(),
     })
 }
 
@@ -159,7 +176,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             "table": table,
             "table_f16": table_f16,
             "held_out": held_out_stats(&f.table),
-            "held_out_l2": f.table.cells.iter().map(|col| col.iter().map(|c| c.err_l2).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            "held_out_cells": per_cell(&f.table),
             "report": r,
             "cross": rep.cross,
             "bilinear_pass": f.bilinear,
@@ -173,20 +190,20 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     )?;
     let st = held_out_stats(&main.table);
     let sv = held_out_stats(&variant.table);
-    let worst = st.max_l2.max(sv.max_l2);
+    let worst = st.l2.max.value.max(sv.l2.max.value);
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: worst,
         tolerance: spec.tolerance.max_rel,
         passed: worst <= spec.tolerance.max_rel,
         summary: format!(
-            "{n}×{n} tables: {} mean {:.2} % (max {:.1} %), {} mean {:.2} % (max {:.1} %) held-out rel. L2",
+            "{n}×{n} tables: {} mean {} (max {}), {} mean {} (max {}) held-out rel. L2",
             fam.main.short(),
-            100.0 * st.mean_l2,
-            100.0 * st.max_l2,
+            st.l2.mean.pct(2),
+            st.l2.max.pct(1),
             fam.variant.short(),
-            100.0 * sv.mean_l2,
-            100.0 * sv.max_l2,
+            sv.l2.mean.pct(2),
+            sv.l2.max.pct(1),
             n = pl.n
         ),
     })

@@ -1,0 +1,494 @@
+//! The held-out error of an LTC against the lobe it stands for, as converged integrals
+//! with their own error bars.
+//!
+//! For a target f (cosine-weighted BRDF, zero below the horizon) and a candidate
+//! g = c·γ_M (an LTC density γ_M, seed 000 Eq 1, with amplitude c) the figures are
+//!
+//! - relative L2 = √(∫(f − g)² / ∫f²) over the whole sphere (an LTC's mass below the
+//!   horizon is error: a shader clips it away);
+//! - relative L1 = ∫|f − g| / ∫f.
+//!
+//! Both are ratios of four integrals, each computed by deterministic adaptive cubature
+//! (`integrate::cubature`: K15 ⊗ K15 panels with the G7 ⊗ G7 rule on the same panels as
+//! the coarse resolution, the estimate a multiple of their difference) until the interval
+//! that the four integrals' errors put around each ratio is below `tol`. The error bar is
+//! that interval's half-width: no sampling, so no ratio of noisy sums and no bias.
+//! tests/lobe_error.rs checks figure and bar against an independent product rule.
+//!
+//! The sphere is covered by charts, each a linearly transformed upper hemisphere in
+//! which one lobe is a smooth, broad function: the target's (`LtcTarget::chart`: for
+//! microfacet lobes the projected NDF's LTC in half-vector space followed by the
+//! reflection, where f becomes nearly a cosine at every roughness, α = 1e-5 included)
+//! and each charted candidate's own (ω ↦ Mω/|Mω|, where γ_M is the clamped cosine ω_z/π
+//! exactly). A partition of unity w_k = p_k/Σp (p = f̂ = f/∫f for the target's chart, γ_M
+//! for a candidate's) splits every integrand between the charts — the balance heuristic
+//! of MIS, with quadrature in place of sampling — so each chart integrates the part near
+//! its own lobe and none has to resolve another's peak. The charts lie side by side
+//! (s ∈ [k, k + 1) is chart k) in one adaptive cubature, and every candidate of a cell
+//! (the table in f64, f32 and binary16, a shipped table…) is judged on the same panels:
+//! f is evaluated once per node for all of them.
+
+use crate::integrate::cubature::{cubature, SAFETY_KINKED, SAFETY_SMOOTH};
+use crate::ltc::target::LtcTarget;
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+type V3 = Vector3<f64>;
+
+/// A linearly transformed hemisphere: ω (z ≥ 0) ↦ x = Mω/|Mω|, then, for a half-vector
+/// chart, l = 2(v·x)x − v (the reflection of the view about x).
+#[derive(Clone, Copy, Debug)]
+pub struct Chart {
+    pub m: Matrix3<f64>,
+    pub half_vector: bool,
+}
+
+impl Chart {
+    /// A chart of directions l = Mω/|Mω|.
+    pub fn direction(m: Matrix3<f64>) -> Chart {
+        Chart {
+            m,
+            half_vector: false,
+        }
+    }
+    /// A chart of half-vectors h = Mω/|Mω|, mapped to l by reflecting the view.
+    pub fn half_vector(m: Matrix3<f64>) -> Chart {
+        Chart {
+            m,
+            half_vector: true,
+        }
+    }
+    /// l at ω and the density ratio dl/dω (`None` where the chart does not reach a
+    /// direction: a half-vector facing away from the view).
+    fn map(&self, w: &V3, det: f64, v: &V3) -> Option<(V3, f64)> {
+        let x = self.m * w;
+        let n = x.norm();
+        if !(n > 0.0 && n.is_finite()) {
+            return None;
+        }
+        let x = x / n;
+        let j = det / (n * n * n);
+        if !self.half_vector {
+            return Some((x, j));
+        }
+        let vx = v.dot(&x);
+        if vx <= 0.0 {
+            return None;
+        }
+        Some((x * (2.0 * vx) - v, j * 4.0 * vx))
+    }
+}
+
+/// One held-out figure and the half-width of the interval its integrals' errors allow.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Bounded {
+    pub value: f64,
+    pub error: f64,
+}
+
+/// The held-out error of one LTC against its target.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LobeError {
+    /// ‖f − g‖₂ / ‖f‖₂.
+    pub l2: Bounded,
+    /// ∫|f − g| / ∫f.
+    pub l1: Bounded,
+    /// Integrand evaluations spent.
+    pub evals: u64,
+    /// Whether both error bars met the tolerance within the budget.
+    pub converged: bool,
+}
+
+/// What the cubature must reach: each ratio's error bar ≤ max(rel·value, abs).
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance {
+    pub rel: f64,
+    pub abs: f64,
+    pub max_evals: u64,
+}
+
+impl Default for Tolerance {
+    /// 5e-4 relative or 1e-8 absolute (a millionth of a percentage point: small enough
+    /// that even a near-perfect cell is refined until its error estimate is reliable), at
+    /// most 4·10⁶ evaluations.
+    fn default() -> Self {
+        Tolerance {
+            rel: 5e-4,
+            abs: 1e-8,
+            max_evals: 4_000_000,
+        }
+    }
+}
+
+/// √(a/b) and c/d with the half-widths of the intervals [a ± ea]/[b ∓ eb] put around them.
+fn ratios(
+    a: f64,
+    ea: f64,
+    b: f64,
+    eb: f64,
+    c: f64,
+    ec: f64,
+    d: f64,
+    ed: f64,
+) -> (Bounded, Bounded) {
+    let sq = |a: f64, b: f64| {
+        if b > 0.0 {
+            (a.max(0.0) / b).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    };
+    let l2 = sq(a, b);
+    let (hi2, lo2) = (sq(a + ea, b - eb), sq(a - ea, b + eb));
+    let l1 = if d > 0.0 { c / d } else { f64::INFINITY };
+    let hi1 = if d - ed > 0.0 {
+        (c + ec) / (d - ed)
+    } else {
+        f64::INFINITY
+    };
+    let lo1 = (c - ec).max(0.0) / (d + ed);
+    (
+        Bounded {
+            value: l2,
+            error: (hi2 - l2).max(l2 - lo2),
+        },
+        Bounded {
+            value: l1,
+            error: (hi1 - l1).max(l1 - lo1),
+        },
+    )
+}
+
+/// One LTC judged against a target: g = amp·γ_M. `chart`: whether its own lobe gets a
+/// chart (give one to every candidate that can put its mass where the target has none;
+/// near-copies of a charted candidate — the same table rounded — need none).
+#[derive(Clone, Copy, Debug)]
+pub struct Candidate {
+    pub m: Matrix3<f64>,
+    pub amp: f64,
+    pub chart: bool,
+}
+
+/// An LTC prepared for evaluation: M⁻¹ and |det M⁻¹|.
+struct Prepared {
+    m: Matrix3<f64>,
+    m_inv: Matrix3<f64>,
+    det_inv: f64,
+    amp: f64,
+}
+
+impl Prepared {
+    fn new(c: &Candidate) -> Option<Prepared> {
+        let m_inv = c.m.try_inverse()?;
+        let det_inv = m_inv.determinant().abs();
+        (det_inv.is_finite()
+            && det_inv > 0.0
+            && c.amp.is_finite()
+            && c.m.iter().all(|x| x.is_finite()))
+        .then_some(Prepared {
+            m: c.m,
+            m_inv,
+            det_inv,
+            amp: c.amp,
+        })
+    }
+    /// γ_M(l) (seed 000 Eq 1).
+    fn gamma(&self, l: &V3) -> f64 {
+        let w = self.m_inv * l;
+        let n = w.norm();
+        if w.z <= 0.0 || n == 0.0 {
+            0.0
+        } else {
+            w.z / n / PI * self.det_inv / (n * n * n)
+        }
+    }
+}
+
+/// The held-out error of each candidate against the target `f` (cosine-weighted, seen
+/// from `v`), whose integral is ≈ `albedo` (it only weighs the charts: the partition
+/// sums to one whatever it is) and whose own chart is `chart`. `None` for a candidate
+/// that is singular or not finite.
+pub fn lobe_errors(
+    f: &(dyn Fn(&V3) -> f64 + Sync),
+    albedo: f64,
+    v: &V3,
+    chart: &Chart,
+    candidates: &[Candidate],
+    tol: Tolerance,
+) -> Vec<Option<LobeError>> {
+    let prepared: Vec<Option<Prepared>> = candidates.iter().map(Prepared::new).collect();
+    let live: Vec<(usize, &Prepared)> = prepared
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| p.as_ref().map(|p| (k, p)))
+        .collect();
+    if live.is_empty() || !(albedo > 0.0 && albedo.is_finite()) {
+        return vec![None; candidates.len()];
+    }
+    // the charts: the target's, then each charted candidate's (index into `live`)
+    let mut charts: Vec<(Chart, f64, Option<usize>)> =
+        vec![(*chart, chart.m.determinant().abs(), None)];
+    for (q, (k, p)) in live.iter().enumerate() {
+        if candidates[*k].chart {
+            charts.push((Chart::direction(p.m), p.m.determinant().abs(), Some(q)));
+        }
+    }
+    let nc = live.len();
+    // components: ∫f², ∫f, then per live candidate ∫(f − g)², ∫|f − g|
+    let ncomp = 2 + 2 * nc;
+    let integrand = |x: f64, phi: f64, out: &mut [f64]| {
+        let k = (x.floor() as usize).min(charts.len() - 1);
+        let s = x - k as f64;
+        let (chart, det, _) = &charts[k];
+        let th = s * FRAC_PI_2;
+        let (st, ct) = th.sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        let w = V3::new(st * cp, st * sp, ct);
+        let Some((l, j)) = chart.map(&w, *det, v) else {
+            return;
+        };
+        let fv = f(&l);
+        let mut gam = [0.0f64; 16];
+        let mut gamv = Vec::new();
+        let gs: &mut [f64] = if nc <= 16 {
+            &mut gam[..nc]
+        } else {
+            gamv.resize(nc, 0.0);
+            &mut gamv
+        };
+        for (q, (_, p)) in live.iter().enumerate() {
+            gs[q] = p.gamma(&l);
+        }
+        // the balance partition over the charts' densities
+        let own = |c: &(Chart, f64, Option<usize>)| match c.2 {
+            None => fv / albedo,
+            Some(q) => gs[q],
+        };
+        let total: f64 = charts.iter().map(own).sum();
+        if !(total > 0.0) {
+            return;
+        }
+        let weight = own(&charts[k]) / total * j * st * FRAC_PI_2;
+        out[0] = fv * fv * weight;
+        out[1] = fv * weight;
+        for (q, (_, p)) in live.iter().enumerate() {
+            let d = fv - p.amp * gs[q];
+            out[2 + 2 * q] = d * d * weight;
+            out[3 + 2 * q] = d.abs() * weight;
+        }
+    };
+    let figures = |v: &[f64], e: &[f64], q: usize| {
+        ratios(
+            v[2 + 2 * q],
+            e[2 + 2 * q],
+            v[0],
+            e[0],
+            v[3 + 2 * q],
+            e[3 + 2 * q],
+            v[1],
+            e[1],
+        )
+    };
+    let sens = |v: &[f64]| {
+        // ∂√(A/B)/∂(A, B) and ∂(C/D)/∂(C, D), each over the figure's own target
+        let mut w = vec![0.0; ncomp];
+        let b = v[0].abs().max(1e-300);
+        let d = v[1].abs().max(1e-300);
+        for q in 0..nc {
+            let a = v[2 + 2 * q].max(1e-12 * b).max(1e-300);
+            let c = v[3 + 2 * q].abs();
+            let (l2, l1) = ((a / b).sqrt(), c / d);
+            let t2 = (tol.rel * l2).max(tol.abs);
+            let t1 = (tol.rel * l1).max(tol.abs);
+            w[0] += 0.5 * l2 / b / t2;
+            w[1] += l1 / d / t1;
+            w[2 + 2 * q] = 0.5 / (a * b).sqrt() / t2;
+            w[3 + 2 * q] = 1.0 / d / t1;
+        }
+        w
+    };
+    let done = |v: &[f64], e: &[f64]| {
+        (0..nc).all(|q| {
+            let (l2, l1) = figures(v, e, q);
+            l2.error <= (tol.rel * l2.value).max(tol.abs)
+                && l1.error <= (tol.rel * l1.value).max(tol.abs)
+        })
+    };
+    // each chart starts as 4 × 8 panels (quarters of s × eighth turns): fewer let a
+    // near-perfect cell's |f − g|, whose sign changes across the lobe, stop before its
+    // error estimate can see them
+    let xb: Vec<f64> = (0..=4 * charts.len()).map(|i| 0.25 * i as f64).collect();
+    let yb: Vec<f64> = (0..=8).map(|i| 0.25 * PI * i as f64).collect();
+    // |f − g| has kinks where f = g; the others are smooth inside panels
+    let safety: Vec<f64> = (0..ncomp)
+        .map(|c| {
+            if c >= 2 && c % 2 == 1 {
+                SAFETY_KINKED
+            } else {
+                SAFETY_SMOOTH
+            }
+        })
+        .collect();
+    let r = cubature(integrand, &safety, &xb, &yb, sens, done, tol.max_evals);
+    let mut out = vec![None; candidates.len()];
+    for (q, (k, _)) in live.iter().enumerate() {
+        let (l2, l1) = figures(&r.value, &r.error, q);
+        out[*k] = Some(LobeError {
+            l2,
+            l1,
+            evals: r.evals,
+            converged: r.converged,
+        });
+    }
+    out
+}
+
+/// The held-out errors of LTCs given as tables store them — M⁻¹ (any scale) and an
+/// amplitude — against a target whose integral is ≈ `albedo` (where that is not a
+/// positive number, a 16² importance-sampled estimate stands in), in one cubature. A
+/// candidate gets a chart of its own unless its M⁻¹ is within 10⁻³ (relative, after
+/// normalising) of one that has one: the same table rounded to f32 or binary16 rides on
+/// the charts of its f64 cells. `None` where an M⁻¹ is singular or not finite.
+pub fn judge<T: LtcTarget + ?Sized>(
+    t: &T,
+    albedo: f64,
+    inverses: &[(Matrix3<f64>, f64)],
+    tol: Tolerance,
+) -> Vec<Option<LobeError>> {
+    // the albedo only weighs the target's chart: a rough one serves where none is given
+    let albedo = if albedo > 0.0 && albedo.is_finite() {
+        albedo
+    } else {
+        t.moments(16).0
+    };
+    let mut charted: Vec<Matrix3<f64>> = Vec::new();
+    let candidates: Vec<Candidate> = inverses
+        .iter()
+        .map(|(m_inv, amp)| {
+            let n = m_inv.norm();
+            let unit = if n > 0.0 && n.is_finite() {
+                m_inv / n
+            } else {
+                *m_inv
+            };
+            let chart = !charted.iter().any(|c| (c - unit).norm() < 1e-3);
+            if chart {
+                charted.push(unit);
+            }
+            Candidate {
+                m: m_inv
+                    .try_inverse()
+                    .unwrap_or_else(|| Matrix3::from_element(f64::NAN)),
+                amp: *amp,
+                chart,
+            }
+        })
+        .collect();
+    lobe_errors(
+        &|l| t.eval(l).0,
+        albedo,
+        &t.view(),
+        &t.chart(),
+        &candidates,
+        tol,
+    )
+}
+
+/// The mean and the largest of a set of held-out figures (one of l2, l1), each with its
+/// error bar: the mean's is the mean of the bars (deterministic errors can add up; no
+/// cancellation is assumed), the largest's is that figure's own.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Spread {
+    pub count: usize,
+    pub mean: Bounded,
+    pub max: Bounded,
+    /// Index (in the order given) of the largest.
+    pub argmax: usize,
+}
+
+impl Spread {
+    /// Over the figures given (`None` entries are left out).
+    pub fn of<'a>(figures: impl Iterator<Item = Option<&'a Bounded>>) -> Spread {
+        let (mut n, mut sv, mut se) = (0usize, 0.0, 0.0);
+        let mut max = Bounded {
+            value: f64::NAN,
+            error: f64::NAN,
+        };
+        let mut argmax = 0;
+        for (k, b) in figures.enumerate() {
+            let Some(b) = b else { continue };
+            n += 1;
+            sv += b.value;
+            se += b.error;
+            if !(b.value <= max.value) {
+                max = *b;
+                argmax = k;
+            }
+        }
+        let m = n.max(1) as f64;
+        Spread {
+            count: n,
+            mean: Bounded {
+                value: if n > 0 { sv / m } else { f64::NAN },
+                error: if n > 0 { se / m } else { f64::NAN },
+            },
+            max,
+            argmax,
+        }
+    }
+}
+
+impl Bounded {
+    /// As a percentage with its error bar, to the bar's first significant digit (at
+    /// least `min_decimals` decimals): "5.74 ± 0.01 %".
+    pub fn pct(&self, min_decimals: usize) -> String {
+        if !self.value.is_finite() {
+            return "—".into();
+        }
+        let (v, e) = (100.0 * self.value, 100.0 * self.error);
+        let d = if e > 0.0 && e.is_finite() {
+            ((-e.log10()).ceil().max(0.0) as usize)
+                .max(min_decimals)
+                .min(6)
+        } else {
+            min_decimals
+        };
+        format!("{v:.d$} ± {e:.d$} %")
+    }
+}
+
+/// The held-out error of one LTC, amp·γ_M, against the target (see [`lobe_errors`]).
+pub fn lobe_error(
+    f: &(dyn Fn(&V3) -> f64 + Sync),
+    albedo: f64,
+    v: &V3,
+    chart: &Chart,
+    m: &Matrix3<f64>,
+    amp: f64,
+    tol: Tolerance,
+) -> LobeError {
+    lobe_errors(
+        f,
+        albedo,
+        v,
+        chart,
+        &[Candidate {
+            m: *m,
+            amp,
+            chart: true,
+        }],
+        tol,
+    )[0]
+    .unwrap_or(LobeError {
+        l2: Bounded {
+            value: f64::INFINITY,
+            error: f64::INFINITY,
+        },
+        l1: Bounded {
+            value: f64::INFINITY,
+            error: f64::INFINITY,
+        },
+        evals: 0,
+        converged: false,
+    })
+}
