@@ -58,3 +58,18 @@ pub fn finite(what: &'static str, value: f64) -> Result<f64> {
 pub fn quoted(s: &str) -> String {
     format!("{s:?}")
 }
+
+/// A message as the CLI prints it: control characters (a newline echoed from user text,
+/// a carriage return, an escape sequence) are written escaped, so whatever a message
+/// quotes, it stays one line.
+pub fn one_line(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}

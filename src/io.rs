@@ -187,6 +187,9 @@ impl SetGuard {
                 a = d.parent();
             }
         }
+        // one writer per results folder: the lock is held from the temporaries to the
+        // manifest, so two runs' sets are published one after the other
+        let _lock = PublishLock::acquire(st.manifest.parent().unwrap_or(Path::new(".")))?;
         // 2. temporaries, all or none
         let mut tmps = Vec::new();
         for (p, b) in &st.files {
@@ -226,6 +229,96 @@ impl SetGuard {
         }
         Ok(st.files.into_iter().map(|(p, _)| p).collect())
     }
+}
+
+/// An advisory lock on a results folder while a set is published: the file
+/// `.publish.lock` beside the set's manifest, created exclusively and holding the
+/// holder's pid. A second writer waits for it (saying so once on stderr) and refuses with
+/// a one-line error after [`LOCK_WAIT_S`] seconds; a lock whose process no longer runs
+/// (Linux: no /proc/PID), or an unreadable one older than the wait, is taken over.
+pub struct PublishLock {
+    path: PathBuf,
+}
+
+/// How long a writer waits for another's lock before it refuses.
+pub const LOCK_WAIT_S: u64 = 120;
+
+impl PublishLock {
+    /// The lock of `dir` (created if absent).
+    pub fn acquire(dir: &Path) -> Result<PublishLock> {
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        let path = dir.join(".publish.lock");
+        let me = std::process::id();
+        let start = std::time::Instant::now();
+        let mut said = false;
+        loop {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    f.write_all(format!("{me}\n").as_bytes())
+                        .map_err(io_err(&path))?;
+                    return Ok(PublishLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(e) => return Err(io_err(&path)(e)),
+            }
+            let holder = std::fs::read_to_string(&path)
+                .ok()
+                .and_then(|t| t.trim().parse::<u32>().ok());
+            let stale = match holder {
+                Some(pid) => pid != me && !process_runs(pid),
+                // a lock being written, or garbage: stale once it has outlived the wait
+                None => std::fs::metadata(&path)
+                    .and_then(|m| m.modified())
+                    .ok()
+                    .and_then(|t| t.elapsed().ok())
+                    .is_some_and(|a| a.as_secs() > LOCK_WAIT_S),
+            };
+            if stale {
+                eprintln!(
+                    "{}: taking over the lock of a run that no longer runs",
+                    crate::error::one_line(&path.display().to_string())
+                );
+                let _ = std::fs::remove_file(&path);
+                continue;
+            }
+            if start.elapsed().as_secs() >= LOCK_WAIT_S {
+                return Err(Error::Io {
+                    path: crate::error::one_line(&dir.display().to_string()),
+                    msg: format!(
+                        "another run (pid {}) is publishing into this folder and has held it for {LOCK_WAIT_S} s; nothing written",
+                        holder.map_or("unknown".into(), |p| p.to_string())
+                    ),
+                });
+            }
+            if !said && holder != Some(me) {
+                eprintln!(
+                    "waiting for another run (pid {}) publishing into {}",
+                    holder.map_or("unknown".into(), |p| p.to_string()),
+                    crate::error::one_line(&dir.display().to_string())
+                );
+                said = true;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for PublishLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// Whether process `pid` runs (Linux: /proc/PID; elsewhere every holder is assumed alive).
+fn process_runs(pid: u32) -> bool {
+    if !Path::new("/proc/self").exists() {
+        return true;
+    }
+    Path::new(&format!("/proc/{pid}")).exists()
 }
 
 impl Drop for SetGuard {

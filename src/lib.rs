@@ -22,6 +22,7 @@
 
 pub mod cli;
 pub mod codegen;
+pub mod engines;
 pub mod error;
 pub mod filters;
 pub mod fit;

@@ -121,6 +121,26 @@ enum Cmd {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
+    /// Judge three.js's renders of the engine-check scenes (engines/three: `node render.mjs
+    /// --table shipped|ours --out FILE`) against the truth, the table's and the shader's
+    /// shares apart; writes DIR/engines.{md,json,svg}
+    Engines {
+        /// the harness's output with three's own table
+        #[arg(long)]
+        three_shipped: PathBuf,
+        /// the harness's output with ours
+        #[arg(long)]
+        three_ours: PathBuf,
+        /// three.js's RectAreaLightTexturesLib.js (the shipped table's numbers)
+        #[arg(long, default_value = "target/shipped/RectAreaLightTexturesLib.js")]
+        shipped: PathBuf,
+        /// the scenes the harness rendered
+        #[arg(long, default_value = "engines/three/scenes.json")]
+        scenes: PathBuf,
+        /// output directory
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
     /// Compare our GGX LTC table (results/fits/ltc-ggx.json) with a shipped one read from
     /// FILE (selfshadow ltc.js or three.js RectAreaLightTexturesLib.js); writes
     /// DIR/ltc-compare.md. The file is only read.
@@ -229,92 +249,6 @@ fn run_verify(
     Ok(ok)
 }
 
-fn run_prefilter(
-    a: ndfbench::cli::prefilter::PrefilterArgs,
-    results: &std::path::Path,
-) -> Result<bool, ndfbench::Error> {
-    let dir = a.out.clone();
-    in_set("prefilter", &dir.join(".manifest.json"), || {
-        prefilter_set(a, &dir, results)
-    })
-}
-
-fn prefilter_set(
-    a: ndfbench::cli::prefilter::PrefilterArgs,
-    dir: &std::path::Path,
-    results: &std::path::Path,
-) -> Result<bool, ndfbench::Error> {
-    use ndfbench::filters::footprint::{NormalMap, Procedural};
-    let tool = a.options(results);
-    let ndfbench::cli::prefilter::PrefilterArgs {
-        input,
-        generator,
-        alpha,
-        study,
-        rank,
-        preset,
-        ..
-    } = a;
-    let msg = match (input, generator, rank) {
-        (Some(p), None, None) if study => {
-            ndfbench::studies::filters::prefilter(&p, dir, alpha.unwrap_or(0.1), preset)?
-        }
-        (Some(_), None, None) => {
-            let options = tool.expect("tool options with --input");
-            let command = format!(
-                "ndfbench prefilter --input {} {} --filter {}",
-                options.input.display(),
-                match (&options.roughness, options.alpha) {
-                    (Some(r), _) => format!("--roughness {}", r.display()),
-                    (None, Some(x)) => format!("--alpha {x}"),
-                    _ => String::new(),
-                },
-                options.filter.name()
-            );
-            let outcome = ndfbench::prefilter::run(options)?;
-            let files = ndfbench::prefilter::output::render(&outcome, &command)?;
-            for (name, bytes) in &files {
-                ndfbench::io::write_atomic(&dir.join(name), bytes)?;
-            }
-            format!(
-                "wrote {} files to {} ({} levels, rule {})",
-                files.len(),
-                dir.display(),
-                outcome.levels.len(),
-                outcome.filter.name()
-            )
-        }
-        (Some(p), None, Some(r)) => {
-            let map = NormalMap::from_png(&p)?;
-            ndfbench::studies::tensor::prefilter_tensor(&map, dir, r, preset)?
-        }
-        (None, Some(g), r) => {
-            let kind = Procedural::ALL
-                .into_iter()
-                .chain([Procedural::Scratches])
-                .find(|k| k.name() == g)
-                .ok_or_else(|| ndfbench::Error::InvalidArgument(format!("--generator '{g}': one of isotropic-noise, brushed-metal, flakes, sharp-bumps, scratches")))?;
-            let map = NormalMap::procedural(kind, 64, 1)?;
-            match r {
-                Some(r) => ndfbench::studies::tensor::prefilter_tensor(&map, dir, r, preset)?,
-                None => {
-                    return Err(ndfbench::Error::InvalidArgument(
-                        "--generator needs --rank (the footprint-filter study takes --input PNG)"
-                            .into(),
-                    ))
-                }
-            }
-        }
-        _ => {
-            return Err(ndfbench::Error::InvalidArgument(
-                "give --input MAP.png or --generator NAME".into(),
-            ))
-        }
-    };
-    println!("{msg}");
-    Ok(true)
-}
-
 fn run_regen(
     only: Option<&str>,
     preset: Preset,
@@ -421,6 +355,39 @@ fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
     Ok(ok)
 }
 
+/// `engines`: three.js's renders of the engine-check scenes judged against the truth.
+fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
+    let Cmd::Engines {
+        three_shipped,
+        three_ours,
+        shipped,
+        scenes,
+        out: dir,
+    } = cmd
+    else {
+        return Ok(true);
+    };
+    in_set("engines", &dir.join(".sets").join("engines.json"), || {
+        ndfbench::studies::engines::run(
+            scenes,
+            three_shipped,
+            three_ours,
+            shipped,
+            &cli.results,
+            dir,
+            &format!(
+                "cargo run --release -- engines --three-shipped {} --three-ours {}",
+                three_shipped.display(),
+                three_ours.display()
+            ),
+        )
+    })
+    .map(|s| {
+        println!("{s}");
+        true
+    })
+}
+
 /// `regen` (whole, cached, parallel or one shard), `merge` and `slurm`.
 fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     match *cmd {
@@ -473,7 +440,8 @@ fn main() -> ExitCode {
                 e.exit();
             }
             let text = e.render().to_string();
-            eprintln!("{}", text.lines().next().unwrap_or("error: bad arguments"));
+            let first = text.lines().next().unwrap_or("error: bad arguments");
+            eprintln!("{}", ndfbench::error::one_line(first));
             return ExitCode::from(2);
         }
     };
@@ -494,7 +462,7 @@ fn main() -> ExitCode {
             out(&json);
             true
         }),
-        Some(Cmd::Prefilter(a)) => run_prefilter(a, &cli.results),
+        Some(Cmd::Prefilter(a)) => ndfbench::cli::prefilter::run(a, &cli.results),
         Some(Cmd::Scene { file, out: dir }) => in_set("scene", &dir.join(".manifest.json"), || {
             ndfbench::scene::run(&file, &dir, &cli.results)
         })
@@ -555,6 +523,7 @@ fn main() -> ExitCode {
             println!("{s}");
             true
         }),
+        Some(ref c @ Cmd::Engines { .. }) => run_engines(c, &cli),
         Some(Cmd::TensorlyCompare { python, preset }) => in_set(
             "tensorly-compare",
             &results_manifest(&cli.results, "tensorly-compare"),
@@ -587,7 +556,7 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(1),
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", ndfbench::error::one_line(&e.to_string()));
             ExitCode::from(2)
         }
     }

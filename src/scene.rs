@@ -389,7 +389,9 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     if s.lights.iter().any(|l| l == "polygon") {
         fns.extend(["ltc_lut_u", "ltc_lut_v", "ltc_quad"]);
         let lt = crate::results::read_result(results, crate::results::names::LTC_GGX);
-        let mean = lt.as_ref().and_then(|v| v["held_out"]["mean_l2"].as_f64());
+        let mean = lt
+            .as_ref()
+            .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64());
         let sph = lt
             .as_ref()
             .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64());

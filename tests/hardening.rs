@@ -1031,3 +1031,44 @@ fn horizon_command_rejects_bad_height_maps_and_writes_nothing() {
     assert!(md.contains("Tan et al.") && !md.contains("NaN"));
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// One writer per results folder: a set is published under `.publish.lock` beside its
+/// manifest. A lock held by a running process holds the next writer back until that
+/// process is gone (its lock is then stale and taken over); a lock left by a dead process
+/// is taken over at once; the lock is gone after the set is published.
+#[test]
+fn one_writer_per_results_folder() {
+    use ndfbench::io::{in_set, write_atomic};
+    let dir = scratch("lock");
+    let manifest = dir.join(".sets").join("x.json");
+    let lock = dir.join(".sets").join(".publish.lock");
+    std::fs::create_dir_all(dir.join(".sets")).unwrap();
+    // a dead holder: a child that has exited
+    let mut dead = Command::new("true").spawn().expect("true runs");
+    let pid = dead.id();
+    dead.wait().unwrap();
+    std::fs::write(&lock, format!("{pid}\n")).unwrap();
+    in_set("x", &manifest, || write_atomic(&dir.join("a.txt"), b"a")).expect("taken over");
+    assert_eq!(std::fs::read(dir.join("a.txt")).unwrap(), b"a");
+    assert!(!lock.exists(), "released after publishing");
+    // a live holder: nothing is published while it runs
+    let mut live = Command::new("sleep").arg("60").spawn().expect("sleep runs");
+    std::fs::write(&lock, format!("{}\n", live.id())).unwrap();
+    let (d2, m2) = (dir.clone(), manifest.clone());
+    let writer =
+        std::thread::spawn(move || in_set("x", &m2, || write_atomic(&d2.join("b.txt"), b"b")));
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert!(
+        !dir.join("b.txt").exists(),
+        "published while another process held the folder"
+    );
+    live.kill().unwrap();
+    live.wait().unwrap();
+    writer
+        .join()
+        .unwrap()
+        .expect("published once the holder is gone");
+    assert_eq!(std::fs::read(dir.join("b.txt")).unwrap(), b"b");
+    assert!(!lock.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

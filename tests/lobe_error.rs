@@ -278,3 +278,24 @@ fn held_out_metric_agrees_with_an_independent_product_rule() {
     }
     assert!(bad.is_empty(), "{bad:#?}");
 }
+
+/// A figure is printed to its error bar's first significant digit (at most six
+/// significant digits of the value), and a bar below the last printed digit as a bound,
+/// never as "± 0.000…".
+#[test]
+fn a_figure_prints_its_bar_and_never_a_zero_one() {
+    use ndfbench::ltc::lobe_error::Bounded;
+    let b = |value: f64, error: f64| Bounded { value, error };
+    assert_eq!(b(0.058137, 1e-6).pct(2), "5.8137 ± 0.0001 %");
+    assert_eq!(b(0.0696844, 1e-9).pct(2), "6.96844 ± <0.00001 %");
+    assert_eq!(b(0.9764483, 3e-12).pct(2), "97.6448 ± <0.0001 %");
+    assert_eq!(b(0.1285, 0.0).pct(2), "12.85 %");
+    assert_eq!(b(0.0574, 0.0012).pct(2), "5.74 ± 0.12 %");
+    assert_eq!(b(f64::NAN, 0.1).pct(2), "—");
+    for (v, e) in [(0.3, 1e-15), (1e-6, 1e-14), (2.5, 1e-3), (0.01, 0.2)] {
+        let s = b(v, e).pct(1);
+        let bar = s.split("± ").nth(1).expect("a bar").trim_end_matches(" %");
+        let shown: f64 = bar.trim_start_matches('<').parse().expect("a number");
+        assert!(shown > 0.0, "{s}");
+    }
+}

@@ -208,7 +208,7 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
         &|| {},
     )
     .unwrap();
-    ndfbench::ltc::fit::judge_table(
+    ndfbench::ltc::held::judge_table(
         &mut t,
         &GgxTarget::new,
         ndfbench::ltc::lobe_error::Tolerance::default(),

@@ -448,3 +448,81 @@ fn extreme_scenes_render_finite_images() {
         }
     }
 }
+
+/// A size derived from two checked inputs is checked where it is derived: the glint
+/// footprint grid is map_size ÷ the preset's stride, so a map narrower than the stride
+/// (32 at the quick preset's 64, 8 at the default's 16) is a typed one-line error before
+/// any work, at every preset; a camera path whose eye reaches look_at on any frame is
+/// refused like a position on look_at.
+#[test]
+fn derived_sizes_and_every_camera_frame_are_checked() {
+    use ndfbench::integrate::Preset;
+    for (preset, ok, bad) in [
+        (Preset::Quick, 64, 32),
+        (Preset::Default, 16, 8),
+        (Preset::Precise, 8, 4),
+    ] {
+        let plan = glint_plan(preset);
+        assert!(plan.check(ok).is_ok(), "{preset:?} at {ok}");
+        match plan.check(bad) {
+            Err(Error::InvalidArgument(m)) => {
+                assert!(m.contains("map_size") && !m.contains('\n'), "{m}")
+            }
+            other => panic!("{preset:?} at {bad}: {other:?}"),
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("ndfb-derived-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("dir");
+    let glints = SCENES
+        .iter()
+        .find(|s| s.0 == "glints-plane")
+        .expect("the glints scene")
+        .1;
+    for (preset, size) in [("quick", 32), ("default", 8)] {
+        let sc = dir.join(format!("g{size}.toml"));
+        std::fs::write(
+            &sc,
+            glints.replace("map_size = 1024", &format!("map_size = {size}")),
+        )
+        .expect("write");
+        let out = dir.join(format!("out{size}"));
+        let o = bin()
+            .args(["render", sc.to_str().unwrap(), "--preset", preset])
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{preset} {size}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("map_size"), "{err}");
+        assert!(!out.join("glints-plane.md").exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let torus = SCENES
+        .iter()
+        .find(|s| s.0 == "specular-aa-torus")
+        .expect("the torus scene")
+        .1;
+    for path in [
+        // the last frame on look_at
+        "path = { to = [0.0, 0.0, 0.0], frames = 32 }",
+        // the middle frame of three on look_at
+        "path = { to = [0.0, 9.0, -3.0], frames = 3 }",
+    ] {
+        let text = torus.replace("path = { to = [0.0, -7.65, 2.55], frames = 32 }", path);
+        assert_ne!(text, torus);
+        match scene(&text) {
+            Err(Error::InvalidArgument(m)) => {
+                assert!(m.contains("camera.path") && !m.contains('\n'), "{m}")
+            }
+            other => panic!("{path}: {other:?}"),
+        }
+    }
+    // a path that passes near but not through look_at still parses
+    let near = torus.replace(
+        "path = { to = [0.0, -7.65, 2.55], frames = 32 }",
+        "path = { to = [0.0, 9.0, -3.0], frames = 4 }",
+    );
+    assert!(scene(&near).is_ok());
+}

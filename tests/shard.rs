@@ -89,6 +89,107 @@ fn refused(paths: &[PathBuf], what: &str, naming: &str) {
     );
 }
 
+/// A file edited as another run would have written it: its content sealed again (the
+/// foreign-shard cases below test what the identity check catches behind the seal).
+fn reseal(text: &str) -> String {
+    let v: serde_json::Value = serde_json::from_str(text).unwrap();
+    serde_json::to_string(&ndfbench::memo::seal::seal(v)).unwrap()
+}
+
+/// Mutations of one class each at the first place in `text` after `from` where the class
+/// applies: a digit changed, a sign added, an exponent added, a key renamed, the
+/// structure changed (an array item duplicated). Each result is still valid JSON.
+fn mutations(text: &str, from: &str) -> Vec<(&'static str, String)> {
+    let start = text.find(from).expect("the region") + from.len();
+    let b = text.as_bytes();
+    let digit = (start..b.len())
+        .find(|&i| b[i].is_ascii_digit() && b[i] != b'9')
+        .unwrap();
+    let mut out = Vec::new();
+    let mut d = text.to_string();
+    d.replace_range(digit..digit + 1, &((b[digit] + 1) as char).to_string());
+    out.push(("digit", d));
+    // the start of a number: a digit after '[', ',' or ':'
+    let num = (start..b.len())
+        .find(|&i| b[i].is_ascii_digit() && matches!(b[i - 1], b'[' | b',' | b':'))
+        .unwrap();
+    let mut sgn = text.to_string();
+    sgn.insert(num, '-');
+    out.push(("sign", sgn));
+    let end = (num..b.len())
+        .find(|&i| !(b[i].is_ascii_digit() || b".eE+-".contains(&b[i])))
+        .unwrap();
+    let mut ex = text.to_string();
+    ex.insert_str(
+        end,
+        if text[num..end].contains(['e', 'E']) {
+            "0"
+        } else {
+            "e1"
+        },
+    );
+    out.push(("exponent", ex));
+    out.push(("key", text.replacen("\"label\"", "\"labex\"", 1)));
+    // an array's first item repeated
+    let open = (start..b.len()).find(|&i| b[i] == b'[').unwrap() + 1;
+    let mut depth = 0i32;
+    let end = (open..b.len())
+        .find(|&i| {
+            match b[i] {
+                b'[' | b'{' => depth += 1,
+                b']' | b'}' if depth > 0 => depth -= 1,
+                b',' | b']' if depth == 0 => return true,
+                _ => {}
+            }
+            false
+        })
+        .unwrap();
+    let mut st = text.to_string();
+    st.insert_str(end, &format!(",{}", &text[open..end]));
+    out.push(("structure", st));
+    for (what, m) in &out {
+        assert_ne!(m, text, "{what}");
+        serde_json::from_str::<serde_json::Value>(m).unwrap_or_else(|e| panic!("{what}: {e}"));
+    }
+    out
+}
+
+/// Every class of change to a shard file's content is caught by its seal: merge is a
+/// typed error naming the file, and writes nothing.
+#[test]
+fn a_changed_byte_of_a_shard_is_caught() {
+    let base = tmp("seal");
+    let dir = shards(&base, 2, "seal-shards");
+    let p = |k: usize| dir.join(format!("{STUDY}.shard-{k}-of-2.json"));
+    let text = std::fs::read_to_string(p(1)).unwrap();
+    for (what, m) in mutations(&text, "\"items\":") {
+        let bad = tmp(&format!("seal-{what}")).join("edited.shard-1.json");
+        std::fs::write(&bad, m).unwrap();
+        refused(&[p(0), bad], "SHA-256", "edited.shard-1.json");
+    }
+}
+
+/// Every class of change to a cache entry is caught by its seal: the entry is discarded
+/// (a miss, so the map is computed again) and removed; an intact one is a hit.
+#[test]
+fn a_changed_byte_of_a_cache_entry_is_a_miss() {
+    use ndfbench::memo::cache::{load, store};
+    let dir = tmp("cache-seal");
+    let values = vec![0.022771234567, -3.5, 1.25e-7, 6.0e22];
+    let path = dir.join("entry.json");
+    store(&path, "k", "the map", &values);
+    let good = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(load::<f64>(&path, "k", "the map", 4), Some(values.clone()));
+    for (what, m) in mutations(&good, "\"values\":") {
+        std::fs::write(&path, &m).unwrap();
+        assert_eq!(load::<f64>(&path, "k", "the map", 4), None, "{what}: {m}");
+        assert!(!path.exists(), "{what}: the corrupt entry is removed");
+    }
+    // the change of the audit: one digit of a value
+    std::fs::write(&path, good.replacen("0.022771", "0.722771", 1)).unwrap();
+    assert_eq!(load::<f64>(&path, "k", "the map", 4), None);
+}
+
 #[test]
 fn missing_duplicated_and_foreign_shards_are_refused() {
     let base = tmp("set");
@@ -109,7 +210,7 @@ fn missing_duplicated_and_foreign_shards_are_refused() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let spec = v["spec"].as_str().unwrap().to_string();
     let alien = tmp("foreign").join("alien.shard-2.json");
-    std::fs::write(&alien, text.replace(&spec, &"0".repeat(64))).unwrap();
+    std::fs::write(&alien, reseal(&text.replace(&spec, &"0".repeat(64)))).unwrap();
     refused(
         &[p(0), p(1), alien.clone()],
         "foreign",
@@ -118,7 +219,7 @@ fn missing_duplicated_and_foreign_shards_are_refused() {
     let other = tmp("other").join("other.shard-2.json");
     std::fs::write(
         &other,
-        text.replace("\"study\":\"ltc-diffuse\"", "\"study\":\"ltc-sheen\""),
+        reseal(&text.replace("\"study\":\"ltc-diffuse\"", "\"study\":\"ltc-sheen\"")),
     )
     .unwrap();
     refused(
@@ -130,9 +231,11 @@ fn missing_duplicated_and_foreign_shards_are_refused() {
     let bad = tmp("corrupt").join("bad.shard-1.json");
     std::fs::write(
         &bad,
-        std::fs::read_to_string(p(1))
-            .unwrap()
-            .replace("\"shard\":1", "\"shard\":0"),
+        reseal(
+            &std::fs::read_to_string(p(1))
+                .unwrap()
+                .replace("\"shard\":1", "\"shard\":0"),
+        ),
     )
     .unwrap();
     refused(
@@ -323,6 +426,34 @@ fn bad_batch_arguments_exit_2_with_one_line() {
             out.join("s").display().to_string(),
         ],
     ];
+    let mut cases = cases;
+    // slurm validates the study as regen --shard does; echoed text stays one line; a
+    // path Slurm's #SBATCH lines cannot quote is refused
+    let slurm = |only: &str, extra: &[&str], dir: String| -> Vec<String> {
+        let mut v: Vec<String> = ["slurm", "--only", only, "--shards", "2", "--out"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        v.push(dir);
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let plain = out.join("s").display().to_string();
+    cases.push(slurm("no-such-study", &[], plain.clone()));
+    cases.push(slurm("no\nsuch", &[], plain.clone()));
+    cases.push(slurm(STUDY, &["--partition", "a\nb"], plain.clone()));
+    for weird in [
+        "my dir",
+        "a\ntouch /tmp/ndfb-injected\n#",
+        "q'uote",
+        "d\"q",
+        "$(touch x)",
+        "`touch x`",
+        "pct%j",
+        "tab\there",
+    ] {
+        cases.push(slurm(STUDY, &[], out.join(weird).display().to_string()));
+    }
     for args in &cases {
         let o = std::process::Command::new(bin)
             .args([
@@ -338,6 +469,7 @@ fn bad_batch_arguments_exit_2_with_one_line() {
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
     }
+    assert!(!Path::new("/tmp/ndfb-injected").exists());
     // nothing but the (empty) directory itself
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
@@ -391,4 +523,77 @@ fn the_paper_scale_study_shards_by_cluster() {
         "a substring selected {name}"
     );
     assert!(!d.join("tensor-scale.md").exists());
+}
+
+/// The generated scripts run every path they interpolate as one shell word: fits and
+/// results folders named with spaces, quotes, `$()`, backticks and a newline reach the
+/// program unchanged, and nothing they spell is executed.
+#[test]
+fn generated_scripts_pass_hostile_paths_as_single_words() {
+    use ndfbench::cli::batch::{scripts, SlurmArgs};
+    let base = tmp("hostile");
+    let odd = base.join("we ird '$(touch INJ1)' `touch INJ2` \"q\"\nline; touch INJ3");
+    let (fits_dir, results) = (odd.join("fits"), odd.join("results"));
+    std::fs::create_dir_all(&fits_dir).unwrap();
+    std::fs::create_dir_all(&results).unwrap();
+    // the "program": prints each argument it receives on its own NUL-terminated record
+    let exe = base.join("args.sh");
+    std::fs::write(
+        &exe,
+        "#!/bin/sh\nfor a in \"$@\"; do printf '%s\\0' \"$a\"; done\n",
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let a = SlurmArgs {
+        only: STUDY.into(),
+        shards: 2,
+        max_running: 0,
+        cpus: 1,
+        preset: Preset::Quick,
+        partition: None,
+        out: base.join("out"),
+    };
+    let files = scripts(&a, &exe, &fits_dir, &results).expect("clean --out is accepted");
+    if std::process::Command::new("bash")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped running the scripts: no bash");
+        return;
+    }
+    for (name, text) in files.iter().filter(|f| f.0.ends_with(".sbatch")) {
+        let o = std::process::Command::new("bash")
+            .arg("-c")
+            .arg(text)
+            .env("SLURM_ARRAY_TASK_ID", "1")
+            .current_dir(&base)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let args: Vec<String> = o
+            .stdout
+            .split(|b| *b == 0)
+            .filter(|a| !a.is_empty())
+            .map(|a| String::from_utf8_lossy(a).into_owned())
+            .collect();
+        assert_eq!(args[0], "--fits", "{name}: {args:?}");
+        assert_eq!(Path::new(&args[1]), fits_dir, "{name}");
+        assert_eq!(args[2], "--results");
+        assert_eq!(Path::new(&args[3]), results, "{name}");
+    }
+    for f in ["INJ1", "INJ2", "INJ3"] {
+        assert!(
+            !base.join(f).exists() && !odd.join(f).exists(),
+            "{f} was executed"
+        );
+    }
 }

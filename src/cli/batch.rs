@@ -42,6 +42,24 @@ fn q(p: &Path) -> String {
     format!("'{}'", p.display().to_string().replace('\'', "'\\''"))
 }
 
+/// A path written into an `#SBATCH` line, which Slurm reads without shell quoting: one
+/// with white space, a quote, a backslash, `$`, a backtick, `%` (Slurm's file-name
+/// patterns) or a control character is refused, naming the flag it came from.
+fn sbatch_path(flag: &str, p: &Path) -> Result<()> {
+    let s = p.display().to_string();
+    if let Some(c) = s
+        .chars()
+        .find(|c| c.is_whitespace() || c.is_control() || "'\"\\$`%".contains(*c))
+    {
+        return Err(Error::InvalidArgument(format!(
+            "{flag} {}: Slurm's #SBATCH --output line cannot quote {}; choose a directory without white space, quotes, backslashes, $, backticks, % or control characters",
+            crate::error::quoted(&s),
+            crate::error::quoted(&c.to_string())
+        )));
+    }
+    Ok(())
+}
+
 /// The three scripts (file name, text): `array.sbatch`, `merge.sbatch`, `submit.sh`.
 pub fn scripts(
     a: &SlurmArgs,
@@ -68,8 +86,8 @@ pub fn scripts(
         .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
     {
         return Err(Error::InvalidArgument(format!(
-            "--only '{}': not a study name",
-            a.only
+            "--only {}: not a study name",
+            crate::error::quoted(&a.only)
         )));
     }
     if let Some(p) = &a.partition {
@@ -78,13 +96,15 @@ pub fn scripts(
             .all(|c| c.is_ascii_alphanumeric() || "-_,.".contains(c))
         {
             return Err(Error::InvalidArgument(format!(
-                "--partition '{p}': not a partition name"
+                "--partition {}: not a partition name",
+                crate::error::quoted(p)
             )));
         }
     }
     let (exe, fits, results, out) = (abs(exe)?, abs(fits)?, abs(results)?, abs(&a.out)?);
     let shards = out.join("shards");
     let logs = out.join("logs");
+    sbatch_path("--out", &logs)?;
     let limit = if a.max_running > 0 {
         format!("%{}", a.max_running)
     } else {
@@ -200,6 +220,8 @@ pub fn merge(fits: &Path, results: &Path, shards: &[PathBuf]) -> Result<bool> {
 
 /// `slurm`: the scripts, published as one set, made executable.
 pub fn slurm(a: &SlurmArgs, fits: &Path, results: &Path) -> Result<bool> {
+    // the study is validated exactly as `regen --only NAME --shard K/N` validates it
+    crate::studies::check_sharded(fits, &a.only)?;
     let exe = std::env::current_exe().map_err(|e| Error::Io {
         path: "current executable".into(),
         msg: e.to_string(),

@@ -73,3 +73,87 @@ impl PrefilterArgs {
         })
     }
 }
+
+/// `prefilter`: one output set (atomically published) per call.
+pub fn run(a: PrefilterArgs, results: &std::path::Path) -> Result<bool, crate::Error> {
+    let dir = a.out.clone();
+    crate::io::in_set("prefilter", &dir.join(".manifest.json"), || {
+        prefilter_set(a, &dir, results)
+    })
+}
+
+fn prefilter_set(
+    a: PrefilterArgs,
+    dir: &std::path::Path,
+    results: &std::path::Path,
+) -> Result<bool, crate::Error> {
+    use crate::filters::footprint::{NormalMap, Procedural};
+    let tool = a.options(results);
+    let PrefilterArgs {
+        input,
+        generator,
+        alpha,
+        study,
+        rank,
+        preset,
+        ..
+    } = a;
+    let msg = match (input, generator, rank) {
+        (Some(p), None, None) if study => {
+            crate::studies::filters::prefilter(&p, dir, alpha.unwrap_or(0.1), preset)?
+        }
+        (Some(_), None, None) => {
+            let options = tool.expect("tool options with --input");
+            let command = format!(
+                "ndfbench prefilter --input {} {} --filter {}",
+                options.input.display(),
+                match (&options.roughness, options.alpha) {
+                    (Some(r), _) => format!("--roughness {}", r.display()),
+                    (None, Some(x)) => format!("--alpha {x}"),
+                    _ => String::new(),
+                },
+                options.filter.name()
+            );
+            let outcome = crate::prefilter::run(options)?;
+            let files = crate::prefilter::output::render(&outcome, &command)?;
+            for (name, bytes) in &files {
+                crate::io::write_atomic(&dir.join(name), bytes)?;
+            }
+            format!(
+                "wrote {} files to {} ({} levels, rule {})",
+                files.len(),
+                dir.display(),
+                outcome.levels.len(),
+                outcome.filter.name()
+            )
+        }
+        (Some(p), None, Some(r)) => {
+            let map = NormalMap::from_png(&p)?;
+            crate::studies::tensor::prefilter_tensor(&map, dir, r, preset)?
+        }
+        (None, Some(g), r) => {
+            let kind = Procedural::ALL
+                .into_iter()
+                .chain([Procedural::Scratches])
+                .find(|k| k.name() == g)
+                .ok_or_else(|| crate::Error::InvalidArgument(format!("--generator '{g}': one of isotropic-noise, brushed-metal, flakes, sharp-bumps, scratches")))?;
+            let map = NormalMap::procedural(kind, 64, 1)?;
+            match r {
+                Some(r) => crate::studies::tensor::prefilter_tensor(&map, dir, r, preset)?,
+                None => {
+                    return Err(crate::Error::InvalidArgument(
+                        "--generator needs --rank (the footprint-filter study takes --input PNG)"
+                            .into(),
+                    ))
+                }
+            }
+        }
+        _ => {
+            return Err(crate::Error::InvalidArgument(
+                "give --input MAP.png or --generator NAME".into(),
+            ))
+        }
+    };
+    println!("{msg}");
+    Ok(true)
+}

@@ -202,6 +202,96 @@ pub fn es_module(t: &FittedTable, kind: &TableKind, header: &str) -> String {
     )
 }
 
+/// The file name of the three.js drop-in (the name of the module it replaces).
+pub const THREE_DROP_IN: &str = "RectAreaLightTexturesLib.js";
+
+/// A drop-in for three.js r187's `examples/jsm/lights/RectAreaLightTexturesLib.js`: the
+/// same export, a class `RectAreaLightTexturesLib` whose `init()` builds the four
+/// DataTextures exactly as three builds them (64×64 RGBA, UVMapping, clamp to edge,
+/// linear magnification, nearest minification, no mips) and returns the class, with our
+/// table: the FloatType textures hold the table in f32, the HalfFloatType ones our stored
+/// binary16 table bit for bit (not three's truncating `toHalfFloat` of the f32 numbers).
+/// `RectAreaLightUniformsLib.init()` (WebGL) and `RectAreaLightNode.setLTC(…)` (WebGPU)
+/// take it as they take three's.
+pub fn three_drop_in(t: &FittedTable, header: &str) -> String {
+    let f32s = |layer: usize| {
+        texels_f32(t, layer)
+            .iter()
+            .flatten()
+            .map(|x| format!("{x}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let bits = |layer: usize| {
+        texels_f16(t, layer)
+            .iter()
+            .flatten()
+            .map(|h| h.to_bits().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let n = t.n;
+    format!(
+        "{header}// A drop-in for three.js r187's examples/jsm/lights/RectAreaLightTexturesLib.js with the
+// ndfbench GGX LTC table: map that module to this file (an import map entry, or a bundler
+// alias) and RectAreaLightUniformsLib.init() (WebGLRenderer) or
+// RectAreaLightNode.setLTC( RectAreaLightTexturesLib.init() ) (WebGPURenderer) use it.
+// Texel (i, j) at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹ ∝ [[a, 0, c], [0, 1, 0],
+// [b, 0, d]], LTC_MAT_2 = (norm, fresnel, 0, 0). The FloatType textures hold the table in
+// f32; the HalfFloatType ones hold its stored binary16 table bit for bit.
+import {{
+	ClampToEdgeWrapping,
+	DataTexture,
+	FloatType,
+	HalfFloatType,
+	LinearFilter,
+	NearestFilter,
+	RGBAFormat,
+	UVMapping
+}} from 'three';
+
+class RectAreaLightTexturesLib {{
+
+	static init() {{
+
+		const LTC_MAT_1 = [ {m1} ];
+		const LTC_MAT_2 = [ {m2} ];
+		const LTC_HALF_BITS_1 = [ {h1} ];
+		const LTC_HALF_BITS_2 = [ {h2} ];
+
+		const texture = ( data, type ) => {{
+
+			const t = new DataTexture( data, {n}, {n}, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );
+			t.needsUpdate = true;
+			return t;
+
+		}};
+
+		this.LTC_FLOAT_1 = texture( new Float32Array( LTC_MAT_1 ), FloatType );
+		this.LTC_FLOAT_2 = texture( new Float32Array( LTC_MAT_2 ), FloatType );
+		this.LTC_HALF_1 = texture( new Uint16Array( LTC_HALF_BITS_1 ), HalfFloatType );
+		this.LTC_HALF_2 = texture( new Uint16Array( LTC_HALF_BITS_2 ), HalfFloatType );
+
+		return this;
+
+	}}
+
+}}
+
+RectAreaLightTexturesLib.LTC_HALF_1 = null;
+RectAreaLightTexturesLib.LTC_HALF_2 = null;
+RectAreaLightTexturesLib.LTC_FLOAT_1 = null;
+RectAreaLightTexturesLib.LTC_FLOAT_2 = null;
+
+export {{ RectAreaLightTexturesLib }};
+",
+        m1 = f32s(0),
+        m2 = f32s(1),
+        h1 = bits(0),
+        h2 = bits(1),
+    )
+}
+
 /// The JSON manifest of the raw files.
 pub fn manifest(t: &FittedTable, kind: &TableKind, command: &str) -> String {
     let st = kind.stem;
@@ -242,5 +332,11 @@ pub fn render(t: &FittedTable, kind: &TableKind, command: &str) -> Vec<(String, 
     out.push((p(".json"), manifest(t, kind, command).into_bytes()));
     let header = super::header("//", command, &format!("results/fits/{}.json", kind.fit));
     out.push((p(".js"), es_module(t, kind, &header).into_bytes()));
+    if kind.fit == GGX.fit {
+        out.push((
+            format!("{DIR}/three/{THREE_DROP_IN}"),
+            three_drop_in(t, &header).into_bytes(),
+        ));
+    }
     out
 }

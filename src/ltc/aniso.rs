@@ -166,10 +166,10 @@ impl LtcTarget for AnisoGgxTarget {
     }
     /// Half-vectors from the projected NDF's LTC (the roughness ellipse turned by φ),
     /// reflected about the view.
-    fn chart(&self) -> super::lobe_error::Chart {
+    fn chart(&self) -> super::chart::Chart {
         let (s, c) = self.phi.sin_cos();
         let rot = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
-        super::lobe_error::Chart::half_vector(
+        super::chart::Chart::half_vector(
             rot * Matrix3::from_diagonal(&V3::new(self.ax, self.ay, 1.0)),
         )
     }

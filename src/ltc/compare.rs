@@ -98,6 +98,27 @@ impl Shipped {
             mag: norms.mag.clone(),
         })
     }
+    /// The one validation of a table read from outside (three.js's module, Bevy's KTX2, a
+    /// selfshadow file): it must hold at least one cell whose matrix is finite, below 1e30
+    /// and invertible, with a positive finite norm; `what` names the file in the error.
+    pub fn check_comparable(&self, what: &str) -> Result<()> {
+        let ok = self.mat.iter().zip(&self.mag).any(|(m, g)| {
+            m.iter()
+                .chain(&g[..1])
+                .all(|v| v.is_finite() && v.abs() < 1e30)
+                && (m[0] * m[3] - m[1] * m[2]).abs() > 0.0
+                && g[0] > 0.0
+        });
+        if ok {
+            Ok(())
+        } else {
+            Err(crate::error::Error::InvalidArgument(format!(
+                "ltc-compare: {} has no cell that can be compared (no finite, invertible matrix with a positive norm); nothing written",
+                crate::error::quoted(what)
+            )))
+        }
+    }
+
     /// (production inverse, norm) of cell (r index i, t index j).
     pub fn cell(&self, i: usize, j: usize) -> ([f64; 4], f64) {
         let k = i + self.n * j;
@@ -156,18 +177,16 @@ pub fn square_entries(t: &Shipped, i: usize, j: usize) -> Option<([f64; 4], f64)
 
 /// The error a shader sees between table cells: the table interpolated at the centre of
 /// square (i, j) ([`square_entries`]), judged against `target(α, θ)` there (α =
-/// max(r², `alpha_min`) as the table's cells are) with the table's interpolated norm.
-/// `None` when a corner is missing or the interpolated matrix is singular.
+/// max(r², `alpha_min`) as the table's cells are) with the table's interpolated norm;
+/// with the lobe's albedo there. `None` when a corner is missing or the interpolated
+/// matrix is singular.
 pub fn midpoint_error_of<T: LtcTarget>(
     t: &Shipped,
     i: usize,
     j: usize,
     alpha_min: f64,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
-) -> Result<Option<LobeError>> {
-    let Some(entries) = square_entries(t, i, j) else {
-        return Ok(None);
-    };
+) -> Result<(Option<LobeError>, f64)> {
     let n = t.n;
     let r = (i as f64 + 0.5) / (n - 1) as f64;
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
@@ -176,7 +195,10 @@ pub fn midpoint_error_of<T: LtcTarget>(
         (1.0 - tt * tt).clamp(0.0, 1.0).acos(),
     )?;
     let (albedo, _, _) = lobe.albedo(1e-8);
-    Ok(cell_error_of(&lobe, albedo, &[entries])[0])
+    let Some(entries) = square_entries(t, i, j) else {
+        return Ok((None, albedo));
+    };
+    Ok((cell_error_of(&lobe, albedo, &[entries])[0], albedo))
 }
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.

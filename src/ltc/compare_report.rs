@@ -7,6 +7,7 @@
 //! Compute ([`compare_all`]) → report ([`markdown`], [`heatmaps`]) → files ([`run`]).
 
 use super::compare::{cell_error_of, square_entries, Shipped};
+use super::compare_render::{half_section, heatmaps, markdown, norms_section};
 use super::lobe_error::{Bounded, LobeError, Spread};
 use super::upload;
 use crate::error::{Error, Result};
@@ -20,6 +21,10 @@ use std::path::Path;
 pub struct Pair {
     pub ours: Option<LobeError>,
     pub shipped: Option<LobeError>,
+    /// The relative L2 as earlier versions estimated it (48² + 48² stratified samples,
+    /// a biased ratio of sums; NaN where not judged), kept to say what changed.
+    pub ours_sampled: f64,
+    pub shipped_sampled: f64,
 }
 
 /// One way an engine uploads both tables, judged at its reachable places.
@@ -63,8 +68,11 @@ struct Tables {
     bevy: Option<Shipped>,
 }
 
+/// The held-out figures of every table at a place, and the earlier sampled estimate.
+type Judged = ([Option<LobeError>; 5], [f64; 5]);
+
 /// Every place of every table, judged in one cubature per place.
-fn judge_places(tables: &Tables, square: bool) -> Result<Vec<[Option<LobeError>; 5]>> {
+fn judge_places(tables: &Tables, square: bool) -> Result<Vec<Judged>> {
     let n = tables.ours_f32.n;
     let w = if square { n - 1 } else { n };
     let off = if square { 0.5 } else { 0.0 };
@@ -99,10 +107,13 @@ fn judge_places(tables: &Tables, square: bool) -> Result<Vec<[Option<LobeError>;
             &places.iter().map(|(_, e)| *e).collect::<Vec<_>>(),
         );
         let mut out = [None; 5];
-        for ((q, _), e) in places.iter().zip(e) {
+        let mut sampled = [f64::NAN; 5];
+        for ((q, entries), e) in places.iter().zip(e) {
             out[*q] = e;
+            sampled[*q] = crate::ltc::fit::production_metrics(&t, &entries.0, entries.1, 48, 0.25)
+                .map_or(f64::NAN, |m| m.1);
         }
-        Ok(out)
+        Ok((out, sampled))
     })
 }
 
@@ -113,25 +124,24 @@ fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
     crate::report::stage("ltc-compare: squares");
     let squares = judge_places(tables, true)?;
     let n = tables.ours_f32.n;
-    let pick = |v: &[[Option<LobeError>; 5]],
-                ours: usize,
-                theirs: usize,
-                r_min: f64,
-                w: usize,
-                off: f64| {
+    let pick = |v: &[Judged], ours: usize, theirs: usize, r_min: f64, w: usize, off: f64| {
         v.iter()
             .enumerate()
-            .map(|(k, e)| {
+            .map(|(k, (e, sm))| {
                 let r = ((k % w) as f64 + off) / (n - 1) as f64;
                 if r < r_min {
                     Pair {
                         ours: None,
                         shipped: None,
+                        ours_sampled: f64::NAN,
+                        shipped_sampled: f64::NAN,
                     }
                 } else {
                     Pair {
                         ours: e[ours],
                         shipped: e[theirs],
+                        ours_sampled: sm[ours],
+                        shipped_sampled: sm[theirs],
                     }
                 }
             })
@@ -178,16 +188,31 @@ pub struct Summary {
     pub ours_better: usize,
     /// Places where ours is higher by more than the two error bars together.
     pub ours_worse: usize,
+    /// The earlier sampled estimate: its means and its "ours no worse" count (ours ≤
+    /// shipped × 1.001), over the same places.
+    pub sampled_ours_mean: f64,
+    pub sampled_shipped_mean: f64,
+    pub sampled_no_worse: usize,
 }
 
-fn worse(a: &Bounded, b: &Bounded) -> bool {
+pub(super) fn worse(a: &Bounded, b: &Bounded) -> bool {
     a.value - a.error > b.value + b.error
 }
 
 pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
-    let both: Vec<(&LobeError, &LobeError)> = v
+    let pairs: Vec<&Pair> = v
+        .filter(|p| p.ours.is_some() && p.shipped.is_some())
+        .collect();
+    let both: Vec<(&LobeError, &LobeError)> = pairs
+        .iter()
         .filter_map(|p| Some((p.ours.as_ref()?, p.shipped.as_ref()?)))
         .collect();
+    let sampled: Vec<(f64, f64)> = pairs
+        .iter()
+        .map(|p| (p.ours_sampled, p.shipped_sampled))
+        .filter(|x| x.0.is_finite() && x.1.is_finite())
+        .collect();
+    let ms = sampled.len().max(1) as f64;
     Summary {
         count: both.len(),
         ours_l2: Spread::of(both.iter().map(|p| Some(&p.0.l2))),
@@ -196,259 +221,10 @@ pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
         shipped_l1: Spread::of(both.iter().map(|p| Some(&p.1.l1))),
         ours_better: both.iter().filter(|p| worse(&p.1.l2, &p.0.l2)).count(),
         ours_worse: both.iter().filter(|p| worse(&p.0.l2, &p.1.l2)).count(),
+        sampled_ours_mean: sampled.iter().map(|x| x.0).sum::<f64>() / ms,
+        sampled_shipped_mean: sampled.iter().map(|x| x.1).sum::<f64>() / ms,
+        sampled_no_worse: sampled.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
     }
-}
-
-/// The markdown report.
-pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
-    let mut md = header.to_string();
-    md.push_str("## Summary\n\nRelative L2 ‖f − norm·γ_M‖/‖f‖ and relative L1 ∫|f − norm·γ_M|/∫f of each table as the engine holds it, mean over the places the engine reaches, ± the mean error bar; \"better\" and \"worse\" count the places where the two tables' relative L2 differ by more than their two error bars together (the rest are tied).\n\n| engine path | where | count | ours: rel. L2 | shipped: rel. L2 | ours: rel. L1 | shipped: rel. L1 | ours better / tied / worse | rows t ≥ 56: ours L2 | rows t ≥ 56: shipped L2 |\n|---|---|---|---|---|---|---|---|---|---|\n");
-    for f in forms {
-        for (what, v, w) in [
-            ("cells", &f.cells, n),
-            ("squares (bilinear)", &f.squares, n - 1),
-        ] {
-            let s = summarise(v.iter());
-            let g = summarise(
-                v.iter()
-                    .enumerate()
-                    .filter(|(k, _)| 63 * (k / w) >= 56 * (n - 1))
-                    .map(|x| x.1),
-            );
-            md.push_str(&format!(
-                "| {} | {what} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} |\n",
-                f.name,
-                s.count,
-                s.ours_l2.mean.pct(2),
-                s.shipped_l2.mean.pct(2),
-                s.ours_l1.mean.pct(2),
-                s.shipped_l1.mean.pct(2),
-                s.ours_better,
-                s.count - s.ours_better - s.ours_worse,
-                s.ours_worse,
-                g.ours_l2.mean.pct(2),
-                g.shipped_l2.mean.pct(2)
-            ));
-        }
-    }
-    md.push_str("\nWhat each path holds:\n\n");
-    for f in forms {
-        md.push_str(&format!(
-            "- **{}** (perceptual roughness ≥ {}): {}.\n",
-            f.name, f.r_min, f.holds
-        ));
-    }
-    md.push_str("\nHeat maps (three.js FloatType cells; r = √α across, t = √(1 − cos θ) down, normal incidence at the top; grey: not reached): ![compare](ltc-compare.svg) Mean relative L2 per view row: ![rows](ltc-compare-rows.svg)\n\n");
-    // per row, every path's cells
-    md.push_str("## Per row j (view; t = j/63), cells, relative L2\n\n| j |");
-    for f in forms {
-        md.push_str(&format!(" {} ours | {} shipped |", f.name, f.name));
-    }
-    md.push_str("\n|---|");
-    for _ in forms {
-        md.push_str("---|---|");
-    }
-    md.push('\n');
-    for j in 0..n {
-        md.push_str(&format!("| {j} |"));
-        for f in forms {
-            let s = summarise(f.cells[n * j..n * (j + 1)].iter());
-            md.push_str(&format!(
-                " {} | {} |",
-                s.ours_l2.mean.pct(2),
-                s.shipped_l2.mean.pct(2)
-            ));
-        }
-        md.push('\n');
-    }
-    md.push('\n');
-    for f in forms {
-        for (what, v, w) in [("cells", &f.cells, n), ("squares", &f.squares, n - 1)] {
-            let mut bad: Vec<(usize, &LobeError, &LobeError)> = v
-                .iter()
-                .enumerate()
-                .filter_map(|(k, p)| Some((k, p.ours.as_ref()?, p.shipped.as_ref()?)))
-                .filter(|(_, o, s)| worse(&o.l2, &s.l2))
-                .collect();
-            bad.sort_by(|a, b| {
-                (b.1.l2.value / b.2.l2.value.max(1e-300))
-                    .total_cmp(&(a.1.l2.value / a.2.l2.value.max(1e-300)))
-            });
-            md.push_str(&format!("## Worst {what} for ours, {} (ratio ours/shipped of the relative L2; {} places worse beyond the error bars)\n\n| i | j | α | θ | ours | shipped | ratio |\n|---|---|---|---|---|---|---|\n", f.name, bad.len()));
-            let off = if what == "cells" { 0.0 } else { 0.5 };
-            for (k, o, s) in bad.iter().take(12) {
-                let (i, j) = (k % w, k / w);
-                let (al, th) = alpha_theta(
-                    (i as f64 + off) / (n - 1) as f64,
-                    (j as f64 + off) / (n - 1) as f64,
-                );
-                md.push_str(&format!(
-                    "| {i} | {j} | {al:.3e} | {:.2}° | {} | {} | ×{:.3} |\n",
-                    th.to_degrees(),
-                    o.l2.pct(2),
-                    s.l2.pct(2),
-                    o.l2.value / s.l2.value
-                ));
-            }
-            md.push('\n');
-        }
-    }
-    md
-}
-
-/// The shipped norms against our albedo (by quadrature, error ≤ 1e-9): over the table,
-/// and at the cells where the shipped table is better.
-pub fn norms_section(ours: &Shipped, shipped: &Shipped, f32_cells: &Form) -> String {
-    let ratio = |k: usize| shipped.mag[k][0] / ours.mag[k][0];
-    let all: Vec<f64> = (0..ours.mat.len())
-        .map(ratio)
-        .filter(|r| r.is_finite())
-        .collect();
-    let better: Vec<usize> = f32_cells
-        .cells
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| match (&p.ours, &p.shipped) {
-            (Some(o), Some(s)) => worse(&o.l2, &s.l2),
-            _ => false,
-        })
-        .map(|(k, _)| k)
-        .collect();
-    let worse_r: Vec<f64> = better
-        .iter()
-        .map(|&k| ratio(k))
-        .filter(|r| r.is_finite())
-        .collect();
-    let stats = |v: &[f64]| {
-        let mut s = v.to_vec();
-        s.sort_by(f64::total_cmp);
-        let med = s.get(s.len() / 2).copied().unwrap_or(f64::NAN);
-        let mean_abs = v.iter().map(|r| (r - 1.0).abs()).sum::<f64>() / v.len().max(1) as f64;
-        (
-            s.first().copied().unwrap_or(f64::NAN),
-            med,
-            s.last().copied().unwrap_or(f64::NAN),
-            mean_abs,
-            v.iter().filter(|r| **r < 1.0).count(),
-        )
-    };
-    let (a0, a1, a2, a3, _) = stats(&all);
-    let (w0, w1, w2, w3, wl) = stats(&worse_r);
-    format!(
-        "## The shipped norms against the albedo
-
-The norm channel is the lobe's energy: a light covering the whole hemisphere returns exactly it. Ours is the albedo by quadrature (error ≤ 1e-9). Shipped norm / albedo over all {} cells: min {a0:.4}, median {a1:.4}, max {a2:.4}, mean |ratio − 1| = {:.2} %. At the {} cells where the shipped table is better beyond the error bars (three.js FloatType): min {w0:.4}, median {w1:.4}, max {w2:.4}, mean |ratio − 1| = {:.2} %; {wl} of them carry less energy than the BRDF: a lower norm lowers the L2 error of a lobe shape that cannot follow the BRDF's tail (results/ltc.md, the floor with an L2-optimal amplitude), and ours keeps the energy exact.\n\n",
-        all.len(),
-        100.0 * a3,
-        worse_r.len(),
-        100.0 * w3,
-    )
-}
-
-/// How three.js's and Bevy's binary16 tables relate to round-to-nearest of the shipped
-/// numbers.
-fn half_section(shipped: &Shipped, three_f16: &Shipped, bevy: Option<&Shipped>) -> String {
-    let values = |t: &Shipped| -> Vec<f64> { t.mat.iter().flatten().copied().collect::<Vec<_>>() };
-    let src = values(shipped);
-    let nearest: Vec<f64> = src
-        .iter()
-        .map(|x| half::f16::from_f64(*x).to_f64())
-        .collect();
-    let three = values(three_f16);
-    let below = three.iter().zip(&nearest).filter(|(a, b)| a != b).count();
-    let mut md = format!(
-        "## Which binary16 table\n\n\"The shipped table in f16\" is two tables. three.js's `DataUtils.toHalfFloat` truncates: {below} of the {} numbers of LTC_MAT_1 sit one binary16 step below round-to-nearest (toward zero). ",
-        src.len()
-    );
-    match bevy {
-        Some(b) => {
-            let bv = values(b);
-            let same_nearest = bv.iter().zip(&nearest).filter(|(a, b)| a == b).count();
-            let same_three = bv.iter().zip(&three).filter(|(a, b)| a == b).count();
-            md.push_str(&format!(
-                "Bevy's embedded ltc.ktx2 holds {same_nearest} of its {} matrix values equal to round-to-nearest of the same numbers and {same_three} equal to three.js's truncation.\n\n",
-                bv.len()
-            ));
-        }
-        None => {
-            md.push_str("Bevy's ltc.ktx2 was not given (`--bevy`): its path is not compared.\n\n")
-        }
-    }
-    md
-}
-
-/// ltc-compare.svg (ours, shipped, log10 ratio; three.js FloatType cells) and
-/// ltc-compare-rows.svg.
-pub fn heatmaps(n: usize, forms: &[Form]) -> Result<(String, String)> {
-    use crate::report::plot::{heatmap_svg, loglog_svg, HeatPanel, Panel, Series};
-    let x: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
-    let l2 = |e: &Option<LobeError>| e.map_or(f64::NAN, |e| e.l2.value);
-    let grid = |f: &dyn Fn(&Pair) -> f64| -> Vec<Vec<f64>> {
-        (0..n)
-            .map(|j| (0..n).map(|i| f(&forms[0].cells[i + n * j])).collect())
-            .collect()
-    };
-    let panel = |title: &str, values: Vec<Vec<f64>>, range: (f64, f64), colour: &str| HeatPanel {
-        title: title.into(),
-        x: x.clone(),
-        y: x.clone(),
-        values,
-        log_range: range,
-        x_label: "r = √α".into(),
-        y_label: "t = √(1 − cos θ)  (t = 0: normal incidence, top)".into(),
-        log_axes: false,
-        y_down: true,
-        colour_label: colour.into(),
-    };
-    let heat = heatmap_svg(
-        &[
-            panel(
-                "ours (f32)",
-                grid(&|p| l2(&p.ours).max(1e-8)),
-                (-4.0, 0.0),
-                "log10 relative L2",
-            ),
-            panel(
-                "shipped (f32)",
-                grid(&|p| l2(&p.shipped).max(1e-8)),
-                (-4.0, 0.0),
-                "log10 relative L2",
-            ),
-            panel(
-                "ours / shipped (below 0: ours better)",
-                grid(&|p| l2(&p.ours) / l2(&p.shipped)),
-                (-1.0, 1.0),
-                "log10(ours / shipped)",
-            ),
-        ],
-        1500,
-        560,
-    )?;
-    let row = |f: &Form, ours: bool| Series {
-        name: format!("{} {}", if ours { "ours" } else { "shipped" }, f.name),
-        points: (1..n)
-            .filter_map(|j| {
-                let s = summarise(f.cells[n * j..n * (j + 1)].iter());
-                let v = if ours { s.ours_l2 } else { s.shipped_l2 }.mean.value;
-                v.is_finite()
-                    .then_some((j as f64 / (n - 1) as f64, v.max(1e-6)))
-            })
-            .collect(),
-    };
-    let rows = loglog_svg(
-        &[Panel {
-            title: "mean relative L2 per view row (cells)".into(),
-            x_label: "t = √(1 − cos θ)".into(),
-            y_label: "mean relative L2".into(),
-            series: forms
-                .iter()
-                .flat_map(|f| [row(f, true), row(f, false)])
-                .collect(),
-        }],
-        900,
-        560,
-    )?;
-    Ok((heat, rows))
 }
 
 /// results/ltc-compare.json.
@@ -495,6 +271,26 @@ fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(io)
 }
 
+/// Our table as its binary16 files hold it, in the shipped layout.
+pub fn stored_half(table: &super::table::FittedTable) -> Shipped {
+    let cell = |k: usize| table.half_cell(k).map(|x| x.to_f64());
+    Shipped {
+        n: table.n,
+        mat: (0..table.n * table.n)
+            .map(|k| {
+                let h = cell(k);
+                [h[0], h[1], h[2], h[3]]
+            })
+            .collect(),
+        mag: (0..table.n * table.n)
+            .map(|k| {
+                let h = cell(k);
+                [h[4], h[5]]
+            })
+            .collect(),
+    }
+}
+
 /// Run the comparison and write `out`/ltc-compare.{md,json,svg} and ltc-compare-rows.svg;
 /// returns a one-line summary.
 pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
@@ -507,21 +303,7 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
     })?;
     let table = super::table::read(results, crate::results::names::LTC_GGX)?;
     let ours = super::compare::of_table(&table);
-    let ours_f16 = Shipped {
-        n: table.n,
-        mat: (0..table.n * table.n)
-            .map(|k| {
-                let h = table.half_cell(k);
-                [h[0], h[1], h[2], h[3]].map(|x| x.to_f64())
-            })
-            .collect(),
-        mag: (0..table.n * table.n)
-            .map(|k| {
-                let h = table.half_cell(k);
-                [h[4], h[5]].map(|x| x.to_f64())
-            })
-            .collect(),
-    };
+    let ours_f16 = stored_half(&table);
     let shipped = if inp.norm_ours {
         Shipped::parse_mat_with_norms(&text, inp.mat, &ours)?
     } else {
@@ -533,23 +315,11 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
             ours.n, ours.n, shipped.n, shipped.n
         )));
     }
-    // a table with no cell whose matrix is finite and invertible cannot be compared
-    let comparable = shipped.mat.iter().zip(&shipped.mag).any(|(m, g)| {
-        m.iter()
-            .chain(&g[..1])
-            .all(|v| v.is_finite() && v.abs() < 1e30)
-            && (m[0] * m[3] - m[1] * m[2]).abs() > 0.0
-            && g[0] > 0.0
-    });
-    if !comparable {
-        return Err(Error::InvalidArgument(format!(
-            "ltc-compare: {} has no cell that can be compared (no finite, invertible matrix with a positive norm); nothing written",
-            crate::error::quoted(&inp.shipped.display().to_string())
-        )));
-    }
+    shipped.check_comparable(&inp.shipped.display().to_string())?;
     let bevy = match inp.bevy {
         Some(p) => {
             let b = upload::bevy_ktx2(&read_capped(p, upload::MAX_KTX2_BYTES as u64)?)?;
+            b.check_comparable(&p.display().to_string())?;
             if b.n != ours.n {
                 return Err(Error::InvalidArgument(format!(
                     "ltc-compare: Bevy's table is {}×{}, ours {}×{}",
@@ -575,6 +345,15 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
         bevy,
     };
     let forms = compare_all(&tables)?;
+    // the same after judging: a path on which no place could be judged is no comparison
+    for f in &forms {
+        if summarise(f.cells.iter()).count == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "ltc-compare: on the {} path no cell of the two tables could be judged (no finite lobe with a positive norm on both sides); nothing written",
+                f.name
+            )));
+        }
+    }
     let n = ours.n;
     let command = format!(
         "cargo run --release -- ltc-compare --shipped {}{}",

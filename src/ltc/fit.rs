@@ -20,7 +20,7 @@
 
 use crate::error::{Error, Result};
 use crate::integrate::mc::Strategy;
-use crate::ltc::lobe_error::{judge, LobeError, Spread, Tolerance};
+use crate::ltc::lobe_error::Held;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use nalgebra::{Matrix3, Vector3};
@@ -55,19 +55,6 @@ pub struct Cell {
     pub half: [f64; 6],
     /// Whether the L2 polish (from the cubic solution) was kept.
     pub polished: bool,
-}
-
-/// The held-out error (`ltc::lobe_error`: relative L2 and L1 as converged integrals with
-/// their error bars) of a cell in each precision it is stored in; `None` where that
-/// precision's matrix is singular.
-#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
-pub struct Held {
-    pub f64: Option<LobeError>,
-    pub f32: Option<LobeError>,
-    /// Every entry rounded to the nearest binary16.
-    pub f16_nearest: Option<LobeError>,
-    /// The binary16 storage chosen by `ltc::storage` (what every f16 file holds).
-    pub f16: Option<LobeError>,
 }
 
 impl Cell {
@@ -558,88 +545,6 @@ pub fn fit_table<T: LtcTarget>(
         samples_per_technique: n * n,
         cells: cols,
     })
-}
-
-/// The held-out figures of every cell of a table in every precision it is stored in
-/// (`Cell::held`): one cubature per cell judges the f64 cell, its f32 and
-/// round-to-nearest binary16 roundings and its stored binary16 cell (`Cell::half`)
-/// against `target(α, θ)`. One θ column per item of a memoised map.
-pub fn judge_table<T: LtcTarget>(
-    table: &mut Table,
-    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
-    tol: Tolerance,
-) -> Result<()> {
-    let cols = &table.cells;
-    let label = format!(
-        "held-out figures {}² (tolerance {:e})",
-        table.grid.n, tol.rel
-    );
-    let held: Vec<Vec<Held>> = crate::memo::map(&label, cols.len(), |j| {
-        cols[j]
-            .iter()
-            .map(|c| {
-                let t = target(c.alpha, c.theta)?;
-                let full = [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm];
-                let f32v = full.map(|x| x as f32 as f64);
-                let near = full.map(|x| half::f16::from_f64(x).to_f64());
-                let stored = [c.half[0], c.half[1], c.half[2], c.half[3], c.half[4]];
-                let e = judge(
-                    &t,
-                    c.norm,
-                    &[full, f32v, near, stored]
-                        .map(|v| (inverse_from_production(&[v[0], v[1], v[2], v[3]]), v[4])),
-                    tol,
-                );
-                Ok(Held {
-                    f64: e[0],
-                    f32: e[1],
-                    f16_nearest: e[2],
-                    f16: e[3],
-                })
-            })
-            .collect()
-    })?;
-    for (col, h) in table.cells.iter_mut().zip(held) {
-        for (c, h) in col.iter_mut().zip(h) {
-            c.held = Some(h);
-        }
-    }
-    Ok(())
-}
-
-/// The held-out error of a fitted table over its cells (the f64 cells).
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Stats {
-    /// Relative L2 ‖f − norm·γ_M‖/‖f‖: mean and largest, each ± its error bar.
-    pub l2: Spread,
-    /// Relative L1 ∫|f − norm·γ_M|/∫f.
-    pub l1: Spread,
-    /// (α, θ in degrees) of the cell with the largest relative L2.
-    pub worst_cell: (f64, f64),
-    /// Cells whose held-out integrals met their tolerance / all cells judged.
-    pub converged: usize,
-    pub cells: usize,
-    pub mean_iters: f64,
-}
-
-/// The held-out errors of every cell of `t` (`judge_table` first), summarised.
-pub fn held_out_stats(t: &Table) -> Stats {
-    let cells: Vec<&Cell> = t.cells.iter().flatten().collect();
-    let figs: Vec<Option<LobeError>> = cells.iter().map(|c| c.held.and_then(|h| h.f64)).collect();
-    let l2 = Spread::of(figs.iter().map(|e| e.as_ref().map(|e| &e.l2)));
-    let l1 = Spread::of(figs.iter().map(|e| e.as_ref().map(|e| &e.l1)));
-    let worst = cells
-        .get(l2.argmax)
-        .map(|c| (c.alpha, c.theta.to_degrees()))
-        .unwrap_or((f64::NAN, f64::NAN));
-    Stats {
-        l2,
-        l1,
-        worst_cell: worst,
-        converged: figs.iter().flatten().filter(|e| e.converged).count(),
-        cells: cells.len(),
-        mean_iters: cells.iter().map(|c| c.iters as f64).sum::<f64>() / cells.len().max(1) as f64,
-    }
 }
 
 /// A table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16

@@ -29,55 +29,12 @@
 //! f is evaluated once per node for all of them.
 
 use crate::integrate::cubature::{cubature, SAFETY_KINKED, SAFETY_SMOOTH};
+pub use crate::ltc::chart::Chart;
 use crate::ltc::target::LtcTarget;
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 type V3 = Vector3<f64>;
-
-/// A linearly transformed hemisphere: ω (z ≥ 0) ↦ x = Mω/|Mω|, then, for a half-vector
-/// chart, l = 2(v·x)x − v (the reflection of the view about x).
-#[derive(Clone, Copy, Debug)]
-pub struct Chart {
-    pub m: Matrix3<f64>,
-    pub half_vector: bool,
-}
-
-impl Chart {
-    /// A chart of directions l = Mω/|Mω|.
-    pub fn direction(m: Matrix3<f64>) -> Chart {
-        Chart {
-            m,
-            half_vector: false,
-        }
-    }
-    /// A chart of half-vectors h = Mω/|Mω|, mapped to l by reflecting the view.
-    pub fn half_vector(m: Matrix3<f64>) -> Chart {
-        Chart {
-            m,
-            half_vector: true,
-        }
-    }
-    /// l at ω and the density ratio dl/dω (`None` where the chart does not reach a
-    /// direction: a half-vector facing away from the view).
-    fn map(&self, w: &V3, det: f64, v: &V3) -> Option<(V3, f64)> {
-        let x = self.m * w;
-        let n = x.norm();
-        if !(n > 0.0 && n.is_finite()) {
-            return None;
-        }
-        let x = x / n;
-        let j = det / (n * n * n);
-        if !self.half_vector {
-            return Some((x, j));
-        }
-        let vx = v.dot(&x);
-        if vx <= 0.0 {
-            return None;
-        }
-        Some((x * (2.0 * vx) - v, j * 4.0 * vx))
-    }
-}
 
 /// One held-out figure and the half-width of the interval its integrals' errors allow.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -439,21 +396,40 @@ impl Spread {
 }
 
 impl Bounded {
-    /// As a percentage with its error bar, to the bar's first significant digit (at
-    /// least `min_decimals` decimals): "5.74 ± 0.01 %".
+    /// As a percentage with its error bar: to the bar's first significant digit, at least
+    /// `min_decimals` decimals and at most six significant digits of the value. A bar
+    /// below the last printed digit is written as a bound: "6.96844 ± <0.00001 %", never
+    /// as "± 0.00000". A zero bar (a difference of exactly known values) prints the value
+    /// alone.
     pub fn pct(&self, min_decimals: usize) -> String {
         if !self.value.is_finite() {
             return "—".into();
         }
         let (v, e) = (100.0 * self.value, 100.0 * self.error);
-        let d = if e > 0.0 && e.is_finite() {
-            ((-e.log10()).ceil().max(0.0) as usize)
-                .max(min_decimals)
-                .min(6)
+        if e == 0.0 {
+            // no bar: a difference of exactly known values
+            return format!("{v:.min_decimals$} %");
+        }
+        let bar_digits = if e > 0.0 && e.is_finite() {
+            (-e.log10()).ceil().max(0.0) as usize
         } else {
-            min_decimals
+            usize::MAX
         };
-        format!("{v:.d$} ± {e:.d$} %")
+        let value_digits = if v != 0.0 {
+            (5.0 - v.abs().log10().floor()).clamp(0.0, 9.0) as usize
+        } else {
+            6
+        };
+        let d = bar_digits.min(value_digits).max(min_decimals);
+        if !e.is_finite() {
+            return format!("{v:.d$} ± — %");
+        }
+        let last = 10f64.powi(-(d as i32));
+        if e < 0.5 * last {
+            format!("{v:.d$} ± <{last:.d$} %")
+        } else {
+            format!("{v:.d$} ± {e:.d$} %")
+        }
     }
 }
 
@@ -491,4 +467,17 @@ pub fn lobe_error(
         evals: 0,
         converged: false,
     })
+}
+
+/// The held-out error (`ltc::lobe_error`: relative L2 and L1 as converged integrals with
+/// their error bars) of a cell in each precision it is stored in; `None` where that
+/// precision's matrix is singular.
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Held {
+    pub f64: Option<LobeError>,
+    pub f32: Option<LobeError>,
+    /// Every entry rounded to the nearest binary16.
+    pub f16_nearest: Option<LobeError>,
+    /// The binary16 storage chosen by `ltc::storage` (what every f16 file holds).
+    pub f16: Option<LobeError>,
 }

@@ -108,7 +108,7 @@ impl LtcTarget for LobeTarget {
     fn albedo(&self, tol: f64) -> (f64, f64, f64) {
         self.inner().albedo(tol)
     }
-    fn chart(&self) -> super::lobe_error::Chart {
+    fn chart(&self) -> super::chart::Chart {
         self.inner().chart()
     }
 }

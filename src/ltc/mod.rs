@@ -8,6 +8,8 @@
 //! - `fit`: the per-cell fit of a table, generic over the target (all four
 //!   production-form parameters);
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
+//! - `chart`: the linearly transformed hemispheres held-out integrals follow a lobe on;
+//! - `held`: the held-out figures of a fitted table, every cell in every precision;
 //! - `lobe_error`: the held-out error of an LTC against its lobe (relative L2 and L1)
 //!   as converged integrals with their error bars;
 //! - `upload`: how three.js and Bevy upload and sample a table (three's truncating
@@ -20,11 +22,14 @@
 
 pub mod aniso;
 pub mod aniso_table;
+pub mod chart;
 pub mod compare;
+pub mod compare_render;
 pub mod compare_report;
 pub mod diffuse;
 pub mod dist;
 pub mod fit;
+pub mod held;
 pub mod hemisphere;
 pub mod lobe_error;
 pub mod lobes;

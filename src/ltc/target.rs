@@ -8,7 +8,7 @@
 
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
-use crate::ltc::lobe_error::Chart;
+use crate::ltc::chart::Chart;
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::Vector3;

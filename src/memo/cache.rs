@@ -2,10 +2,15 @@
 //! hashes the code version, the spec, the preset, the study's inputs and the map's label,
 //! size and place in the study. A cache entry is only ever read back under the same key,
 //! checked again on reading (format, key, label, item count); anything else is a miss.
+//! Every entry carries the SHA-256 of its content (`memo::seal`): an entry that fails the
+//! check is discarded with one line on stderr and the map is computed again.
 //! Entries are written atomically and outside any output set (the cache is not a result).
 
 use serde::{de::DeserializeOwned, Serialize};
 use std::path::{Path, PathBuf};
+
+/// The format of an entry (version 2: sealed by its SHA-256).
+pub const FORMAT: &str = "ndfbench-cache/2";
 
 /// The largest cache entry read back (bytes); a bigger file is a miss.
 pub const MAX_ENTRY_BYTES: u64 = 1 << 30;
@@ -34,8 +39,28 @@ pub fn load<T: DeserializeOwned>(path: &Path, key: &str, label: &str, n: usize) 
         return None;
     }
     let text = std::fs::read_to_string(path).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let ok = v["format"] == "ndfbench-cache/1"
+    let corrupt = |why: &str| {
+        eprintln!(
+            "cache: entry {} {why}; discarded, computing it again",
+            crate::error::quoted(&path.display().to_string())
+        );
+        let _ = std::fs::remove_file(path);
+    };
+    let v: serde_json::Value = match serde_json::from_str(&text) {
+        Ok(v) => v,
+        Err(_) => {
+            corrupt("is not JSON");
+            return None;
+        }
+    };
+    let v = match super::seal::open(v) {
+        Ok(v) => v,
+        Err(why) => {
+            corrupt(&why);
+            return None;
+        }
+    };
+    let ok = v["format"] == FORMAT
         && v["key"] == key
         && v["label"] == label
         && v["items"].as_u64() == Some(n as u64);
@@ -50,13 +75,13 @@ pub fn load<T: DeserializeOwned>(path: &Path, key: &str, label: &str, n: usize) 
 /// directory that cannot be written, leaves no entry and is said on stderr).
 pub fn store<T: Serialize + DeserializeOwned>(path: &Path, key: &str, label: &str, values: &[T]) {
     let entry = super::exact_json(label, values).map(|vals| {
-        serde_json::json!({
-            "format": "ndfbench-cache/1",
+        super::seal::seal(serde_json::json!({
+            "format": FORMAT,
             "key": key,
             "label": label,
             "items": values.len(),
             "values": vals,
-        })
+        }))
     });
     let res = entry.and_then(|e| {
         let text = serde_json::to_string(&e).unwrap_or_default();

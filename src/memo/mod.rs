@@ -24,6 +24,7 @@
 //! its study follows (`Study::after`), which are what the key hashes. Nothing else.
 
 pub mod cache;
+pub mod seal;
 pub mod shards;
 
 use crate::error::{Error, Result};

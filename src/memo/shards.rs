@@ -13,7 +13,7 @@ use serde::{de::DeserializeOwned, Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The file format's name and version.
-pub const FORMAT: &str = "ndfbench-shard/1";
+pub const FORMAT: &str = "ndfbench-shard/2";
 /// Bounds on what a shard file may claim.
 pub const MAX_SHARDS: usize = 4096;
 pub const MAX_ITEMS: usize = 1 << 24;
@@ -98,7 +98,9 @@ pub fn write(dir: &Path, id: &Identity, k: usize, n: usize, part: Part) -> Resul
         seconds: part.seconds,
         items: part.indices.into_iter().zip(part.values).collect(),
     };
-    let text = serde_json::to_string(&f).map_err(|e| Error::Shard(e.to_string()))?;
+    let v = serde_json::to_value(&f).map_err(|e| Error::Shard(e.to_string()))?;
+    let text =
+        serde_json::to_string(&super::seal::seal(v)).map_err(|e| Error::Shard(e.to_string()))?;
     crate::io::write_unstaged(&path, text.as_bytes())?;
     Ok(path)
 }
@@ -150,7 +152,7 @@ pub fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
 }
 
 fn read_one(path: &Path) -> Result<ShardFile> {
-    let name = path.display();
+    let name = crate::error::one_line(&path.display().to_string());
     let meta = std::fs::metadata(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
     if meta.len() > MAX_FILE_BYTES {
         return Err(Error::Shard(format!(
@@ -160,7 +162,18 @@ fn read_one(path: &Path) -> Result<ShardFile> {
     }
     let text =
         std::fs::read_to_string(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
-    let f: ShardFile = serde_json::from_str(&text)
+    let v: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| Error::Shard(format!("shard '{name}' is not a shard file: {e}")))?;
+    if v.get("format").and_then(|f| f.as_str()) != Some(FORMAT) {
+        return Err(Error::Shard(format!(
+            "shard '{name}': format {}, expected '{FORMAT}'",
+            v.get("format").map_or("none".into(), |f| f.to_string())
+        )));
+    }
+    let v = super::seal::open(v).map_err(|why| {
+        Error::Shard(format!("shard '{name}' is corrupt: {why}; nothing written"))
+    })?;
+    let f: ShardFile = serde_json::from_value(v)
         .map_err(|e| Error::Shard(format!("shard '{name}' is not a shard file: {e}")))?;
     if f.format != FORMAT {
         return Err(Error::Shard(format!(

@@ -16,7 +16,7 @@ use super::geometry::{footprint, Camera};
 use super::light::Light;
 use super::methods::GPixel;
 use super::texture::Texture;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::tensor::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use crate::tensor::pndf::pndf_image_splat;
 use crate::tensor::query::{range_f32, Sat};
@@ -169,7 +169,17 @@ pub fn pndf_grid(
     sigma_p: f64,
     sigma_r: f64,
 ) -> Result<Vec<Vec<f64>>> {
-    let g = tex.map.width / stride;
+    let g = if stride > 0 {
+        tex.map.width / stride
+    } else {
+        0
+    };
+    if g == 0 || res == 0 {
+        return Err(Error::InvalidArgument(format!(
+            "glints: a {}-texel map at footprint stride {stride} gives no footprint grid (or {res}² images)",
+            tex.map.width
+        )));
+    }
     (0..g * g)
         .into_par_iter()
         .map(|k| {
@@ -192,6 +202,17 @@ impl CpGlints {
         seed: u64,
     ) -> Result<CpGlints> {
         let g = (images.len() as f64).sqrt().round() as usize;
+        if g == 0 || g * g != images.len() || t == 0 || res % t != 0 || res < t || rank == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "glints: {} images of {res}² in {t}² blocks at rank {rank} make no square footprint grid of whole blocks",
+                images.len()
+            )));
+        }
+        if images.iter().any(|img| img.len() != res * res) {
+            return Err(Error::InvalidArgument(format!(
+                "glints: every image must hold {res}² values"
+            )));
+        }
         let nb = res / t;
         let region = g.div_ceil(2);
         let mut index = vec![None; images.len() * nb * nb];

@@ -146,6 +146,33 @@ pub struct GlintPlan {
     pub iters: usize,
 }
 
+impl GlintPlan {
+    /// The sizes this plan derives from a normal map `map_width` texels wide, checked
+    /// before any work: the footprint grid (map width ÷ stride) must hold at least one
+    /// footprint, and the images (res²) a whole number of t² blocks.
+    pub fn check(&self, map_width: usize) -> Result<()> {
+        if self.stride == 0 || self.t == 0 || self.res == 0 || self.ranks.contains(&0) {
+            return Err(Error::InvalidArgument(format!(
+                "glints: the preset's plan has a zero size (stride {}, image {}², block {}², ranks {:?})",
+                self.stride, self.res, self.t, self.ranks
+            )));
+        }
+        if map_width / self.stride == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "glints: material.map_size {map_width} is below the preset's footprint stride {}, so the footprint grid (map_size ÷ stride) would be empty; use map_size ≥ {} or a finer preset",
+                self.stride, self.stride
+            )));
+        }
+        if self.res % self.t != 0 || self.res < self.t {
+            return Err(Error::InvalidArgument(format!(
+                "glints: the preset's {}² images do not split into {}² blocks",
+                self.res, self.t
+            )));
+        }
+        Ok(())
+    }
+}
+
 fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
     let t = Instant::now();
     let v = f();
@@ -155,6 +182,9 @@ fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
 /// Render every scale × frame of a scene: the truth and each method of its set.
 pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Result<Render> {
     let tex = Texture::new(normal_map(scene, base)?);
+    if scene.render.methods == MethodSet::Glints {
+        plan.check(tex.map.width)?;
+    }
     let lights = light::resolve(&scene.lights);
     let m = &scene.material;
     let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex)?;

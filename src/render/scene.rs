@@ -301,6 +301,19 @@ impl Scene {
                     p.frames
                 )));
             }
+            // every frame's eye is validated like camera.position
+            for k in 0..p.frames {
+                let t = k as f64 / (p.frames - 1) as f64;
+                let eye: [f64; 3] =
+                    std::array::from_fn(|q| c.position[q] + (p.to[q] - c.position[q]) * t);
+                let d: [f64; 3] = std::array::from_fn(|q| c.look_at[q] - eye[q]);
+                if !(norm(d) > 1e-9) {
+                    return Err(bad(format!(
+                        "scene: frame {k} of {} of camera.path puts the eye on camera.look_at",
+                        p.frames
+                    )));
+                }
+            }
         }
         let s = &self.surface;
         pos("surface.radius", s.radius, 1e-6, 1e6)?;

@@ -7,6 +7,7 @@
 use crate::error::Result;
 use crate::study::{Ctx, FitOutcome, Study};
 
+pub mod engines;
 pub mod filters;
 pub mod leadr_grids;
 pub mod ltc_aniso;
@@ -170,4 +171,4 @@ pub fn find(name: &str) -> Option<&'static dyn Study> {
     STUDIES.iter().copied().find(|s| s.name() == name)
 }
 
-pub use run::{merge, regen, regen_timed, regen_with, shard, RunOptions, StudyTime};
+pub use run::{check_sharded, merge, regen, regen_timed, regen_with, shard, RunOptions, StudyTime};

@@ -278,6 +278,28 @@ fn schedule(
 
 /// Compute shard `k` of `n` of the study `name` (its first memoised map) and write it into
 /// `dir`; nothing else is written. The studies it follows must already be in `results`.
+/// The spec a sharded run of `name` runs: the study's exact name among the specs of
+/// the fits folder (every spec parsed and naming a study). `regen --shard` and `slurm`
+/// both validate through this one function.
+fn sharded_spec<'a>(specs: &'a [FitSpec], name: &str) -> Result<&'a FitSpec> {
+    specs.iter().find(|s| s.name == name).ok_or_else(|| {
+        Error::Shard(format!(
+            "--shard needs --only with a study's exact name; {} is none (known: {})",
+            crate::error::quoted(name),
+            specs
+                .iter()
+                .map(|s| s.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+    })
+}
+
+/// Validate a sharded run of `name` as `regen --shard` does, without running it.
+pub fn check_sharded(fits_dir: &Path, name: &str) -> Result<()> {
+    sharded_spec(&load_specs(fits_dir)?, name).map(|_| ())
+}
+
 pub fn shard(
     fits_dir: &Path,
     results: &Path,
@@ -287,11 +309,7 @@ pub fn shard(
     dir: &Path,
 ) -> Result<PathBuf> {
     let specs = load_specs(fits_dir)?;
-    let s = specs.iter().find(|s| s.name == name).ok_or_else(|| {
-        Error::Shard(format!(
-            "--shard needs --only with a study's exact name; '{name}' is none"
-        ))
-    })?;
+    let s = sharded_spec(&specs, name)?;
     let id = identity(s, &specs, results, preset);
     let (r, scope, _) = run_one(s, &specs, results, preset, Mode::Shard { k, n }, false);
     match r {

@@ -89,11 +89,12 @@ pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> St
         };
         let fit = super::cold_stage_seconds(study)
             .map_or("—".into(), |s| format!("{s:.0} s ({study})"));
-        let h = &v["held_out"];
-        let err = match (h["mean_l2"].as_f64(), h["max_l2"].as_f64()) {
-            (Some(m), Some(x)) => format!("{:.2} % / {:.1} %", 100.0 * m, 100.0 * x),
-            _ => "—".into(),
-        };
+        let h = &v["held_out"]["l2"];
+        let err = format!(
+            "{} / {}",
+            super::tables::held_pct(&h["mean"], 2),
+            super::tables::held_pct(&h["max"], 1)
+        );
         let px = timed
             .iter()
             .find(|t| {

@@ -61,10 +61,10 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
     let mut md = String::from("\n## LTC fitting and polygon integration\n\n");
     if let Some(held) = v.as_ref().map(|v| &v["held_out"]) {
         md.push_str(&format!(
-            "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {:.2} %, max {:.1} % (results/ltc.md).\n\n",
+            "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc.md).\n\n",
             super::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
-            100.0 * held["mean_l2"].as_f64().unwrap_or(f64::NAN),
-            100.0 * held["max_l2"].as_f64().unwrap_or(f64::NAN)
+            held_pct(&held["l2"]["mean"], 2),
+            held_pct(&held["l2"]["max"], 1)
         ));
     }
     md.push_str("| fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique) | time (95 % CI) |\n|---|---|\n");
@@ -359,4 +359,12 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> String {
         ));
     }
     md
+}
+
+/// A held-out figure of results/fits/ltc-*.json ({"value", "error"}) as "v ± e %".
+pub(super) fn held_pct(v: &serde_json::Value, decimals: usize) -> String {
+    match serde_json::from_value::<crate::ltc::lobe_error::Bounded>(v.clone()) {
+        Ok(b) => b.pct(decimals),
+        Err(_) => "—".into(),
+    }
 }

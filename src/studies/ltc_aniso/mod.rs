@@ -98,7 +98,11 @@ pub struct Fitted {
 /// The held-out figures (`ltc::lobe_error`) of production inverses with their norms
 /// against a target: (relative L2 of each, relative L1 of each, the largest error bar);
 /// ∞ where an inverse is singular.
-fn held_out(t: &AnisoGgxTarget, albedo: f64, cands: &[(Inv7, f64)]) -> (Vec<f64>, Vec<f64>, f64) {
+pub(super) fn held_out(
+    t: &AnisoGgxTarget,
+    albedo: f64,
+    cands: &[(Inv7, f64)],
+) -> (Vec<f64>, Vec<f64>, f64) {
     use crate::ltc::lobe_error::{judge, Tolerance};
     let inv: Vec<_> = cands
         .iter()

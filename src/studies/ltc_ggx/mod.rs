@@ -5,9 +5,8 @@
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc::fit::{
-    self, fit_table, held_out_stats as stats, Cell, Grid, Method, Metric, Stats, Table,
-};
+use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table};
+use crate::ltc::held::{self, held_out_stats as stats, Stats};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::ltc::target::GgxTarget;
@@ -120,14 +119,20 @@ fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Ta
     pb.finish_and_clear();
     let mut variants: Vec<(&'static str, Table)> = variants.into();
     for (_, t) in variants.iter_mut() {
-        fit::judge_table(t, &GgxTarget::new, Tolerance::default())?;
+        held::judge_table(t, &GgxTarget::new, Tolerance::default())?;
     }
     crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
     Ok((main, variants))
 }
 
 /// The title, the method and the table error.
-fn intro(spec: &FitSpec, preset: Preset, pl: &Plan, main: &Table) -> String {
+fn intro(
+    spec: &FitSpec,
+    preset: Preset,
+    pl: &Plan,
+    main: &Table,
+    sampled: &held::Sampled,
+) -> String {
     let st = stats(main);
     let mut md = format!(
         "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
@@ -141,6 +146,7 @@ fn intro(spec: &FitSpec, preset: Preset, pl: &Plan, main: &Table) -> String {
     );
     md.push_str(&held_out_section(&st));
     md.push_str(" ![error](ltc-error.svg)\n\n");
+    md.push_str(&format!("{}\n\n", sampled.sentence(st.l2.mean.value)));
     md
 }
 
@@ -194,9 +200,10 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let bilinear = bilinear_pass(&mut main, &GgxTarget::new, pl.samples)?;
     crate::ltc::storage::store_table(&mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
-    fit::judge_table(&mut main, &GgxTarget::new, Tolerance::default())?;
+    held::judge_table(&mut main, &GgxTarget::new, Tolerance::default())?;
     let st = stats(&main);
-    let mut md = intro(spec, preset, &pl, &main);
+    let sampled = held::sampled_estimate(&main, &GgxTarget::new, 2 * pl.samples)?;
+    let mut md = intro(spec, preset, &pl, &main, &sampled);
     md.push_str(&format!(
         "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",
         bilinear.square_weight, bilinear.max_iters, bilinear.cells_moved, pl.n * pl.n

@@ -6,7 +6,7 @@ use crate::ltc::fit::{Cell, Table};
 /// (the held-out relative L2 against the BRDF, `Cell::held`; the f16 numbers are exactly
 /// those of results/wgsl/ltc_table_f16.wgsl and src/generated/ltc_table.rs).
 pub(super) fn section(main: &Table) -> String {
-    use crate::ltc::fit::Held;
+    use crate::ltc::lobe_error::Held;
     use crate::ltc::lobe_error::LobeError;
     let cells: Vec<&Cell> = main.cells.iter().flatten().collect();
     // [f64, f32, f16 to nearest, f16 as stored], None where singular (or not judged)

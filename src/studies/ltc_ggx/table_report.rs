@@ -103,6 +103,7 @@ pub(super) fn between_section(main: &Table) -> Result<String> {
         .collect();
     let mids = crate::memo::map_items("ltc between cells", &squares, |&(i, j)| {
         crate::ltc::compare::midpoint_error_of(&table, i, j, main.grid.alpha_min, &GgxTarget::new)
+            .map(|e| e.0)
     })?;
     let l2 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l2)));
     let l1 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l1)));

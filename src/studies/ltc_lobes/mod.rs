@@ -10,7 +10,8 @@
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc::fit::{fit_table, held_out_stats, Grid, Method, Metric, Table};
+use crate::ltc::fit::{fit_table, Grid, Method, Metric, Table};
+use crate::ltc::held::held_out_stats;
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
@@ -111,7 +112,7 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
     pb.finish_and_clear();
     let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
-    crate::ltc::fit::judge_table(&mut table, &target, Tolerance::default())?;
+    crate::ltc::held::judge_table(&mut table, &target, Tolerance::default())?;
     Ok(Fitted {
         lobe,
         table,

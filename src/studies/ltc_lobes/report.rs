@@ -10,7 +10,8 @@ use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::ltc::compare::{cell_error_of, midpoint_error_of, Shipped};
-use crate::ltc::fit::{held_out_stats, inverse_from_production, Cell, Table};
+use crate::ltc::fit::{inverse_from_production, Cell, Table};
+use crate::ltc::held::held_out_stats;
 use crate::ltc::lobe_error::{Bounded, LobeError, Spread};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
@@ -79,6 +80,10 @@ pub struct Facts {
     pub below_horizon_at: (f64, f64),
 }
 
+/// The albedo below which a lobe's relative error is left out of the between-cell means
+/// (a ten-thousandth of a white light's energy).
+pub const VISIBLE_ALBEDO: f64 = 1e-4;
+
 /// The smallest normal binary16 number.
 const F16_NORMAL_MIN: f64 = 6.103515625e-5;
 
@@ -86,8 +91,11 @@ const F16_NORMAL_MIN: f64 = 6.103515625e-5;
 #[derive(Clone, Debug, Serialize)]
 pub struct TableReport {
     pub worst: Vec<CellRow>,
-    /// The production inverse interpolated at every square centre.
+    /// The production inverse interpolated at every square centre whose lobe has an
+    /// albedo of at least [`VISIBLE_ALBEDO`].
     pub between: Located,
+    /// Squares left out of `between` (albedo below [`VISIBLE_ALBEDO`]).
+    pub between_left_out: usize,
     /// f32, binary16 to nearest, binary16 as stored.
     pub storage: [StorageCost; 3],
     /// Cells with an albedo below binary16's normal range (left out of `storage`).
@@ -102,6 +110,8 @@ pub struct TableReport {
     /// (α, θ°, the cell's albedo, the check).
     pub polygons: Vec<(f64, f64, f64, PolygonCheck)>,
     pub facts: Facts,
+    /// The earlier sampled estimate of the cells' relative L2, to say what changed.
+    pub sampled: crate::ltc::held::Sampled,
 }
 
 /// The cost of shading one lobe with the other's table, or with no table.
@@ -210,7 +220,7 @@ fn facts(t: &Table) -> Facts {
 }
 
 fn storage_costs(t: &Table) -> [StorageCost; 3] {
-    use crate::ltc::fit::Held;
+    use crate::ltc::lobe_error::Held;
     let cells = flat(t);
     std::array::from_fn(|pick| {
         let (mut sum, mut bars, mut cnt) = (0.0, 0.0, 0usize);
@@ -297,14 +307,19 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let squares: Vec<(usize, usize)> = (0..n - 1)
         .flat_map(|j| (0..n - 1).map(move |i| (i, j)))
         .collect();
-    let mid_errs: Vec<Option<LobeError>> =
+    let mid_errs: Vec<(Option<LobeError>, f64)> =
         crate::memo::map_items("lobe table between cells", &squares, |&(i, j)| {
             midpoint_error_of(&sh, i, j, t.grid.alpha_min, &target)
         })?;
+    // a lobe with (almost) no energy has no relative error worth a mean: between cells
+    // whose albedos differ by orders of magnitude (sheen seen head-on at small α) the
+    // interpolated norm dwarfs it
+    let between_left_out = mid_errs.iter().filter(|e| e.1 < VISIBLE_ALBEDO).count();
     let mids: Vec<(Option<LobeError>, (f64, f64))> = squares
         .iter()
         .zip(mid_errs)
-        .map(|(&(i, j), e)| {
+        .map(|(&(i, j), (e, albedo))| {
+            let e = e.filter(|_| albedo >= VISIBLE_ALBEDO);
             let r = (i as f64 + 0.5) / (n - 1) as f64;
             let tt = (j as f64 + 0.5) / (n - 1) as f64;
             let alpha = (r * r).max(t.grid.alpha_min);
@@ -346,6 +361,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     Ok(TableReport {
         worst,
         between: located(&mids),
+        between_left_out,
         storage: storage_costs(t),
         storage_left_out: flat(t).iter().filter(|c| c.norm < F16_NORMAL_MIN).count(),
         norm_error_max: flat(t).iter().map(|c| c.norm_se).fold(0.0, f64::max),
@@ -354,6 +370,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         norm_mc_left_out: zs.iter().filter(|z| z.is_none()).count(),
         polygons,
         facts: facts(t),
+        sampled: crate::ltc::held::sampled_estimate(t, &target, 2 * pl.samples)?,
     })
 }
 
@@ -428,6 +445,7 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
         f.lobe.short(), f.lobe.describe(), tol.rel, tol.abs, st.converged, st.cells, st.l2.mean.pct(2), st.l2.max.pct(1), st.worst_cell.0, st.worst_cell.1, st.l1.mean.pct(2), st.l1.max.pct(1), st.mean_iters,
         f.bilinear.cells_moved, f.table.grid.n * f.table.grid.n
     ));
+    md.push_str(&format!("{}\n\n", r.sampled.sentence(st.l2.mean.value)));
     md.push_str("Worst cells:\n\n| α | θ | a | b | c | d | norm | fresnel | rel. L2 | rel. L1 |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for c in &r.worst {
         md.push_str(&format!(
@@ -445,8 +463,9 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
         ));
     }
     md.push_str(&format!(
-        "\nBetween cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of all {} squares, judged against the lobe there by the same integrals: {}.\n\n",
-        r.between.l2.count, both(&r.between)
+        "\nBetween cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of the squares, judged against the lobe there by the same integrals, over the {} squares whose lobe has an albedo of at least {:e}: {}.{}\n\n",
+        r.between.l2.count, VISIBLE_ALBEDO, both(&r.between),
+        if r.between_left_out > 0 { format!(" {} squares are left out: their lobe carries almost no energy (sheen seen head-on at small α), and between corners whose albedos differ by orders of magnitude the interpolated norm dwarfs it, so their relative error says nothing about the picture", r.between_left_out) } else { String::new() }
     ));
     md.push_str("Storage precision (change of the held-out relative L2 per cell against the f64 table, ± the sum of the two figures' error bars; 0.01 = one point):\n\n| storage | mean change | largest change | where (α, θ) | cells with a non-positive determinant |\n|---|---|---|---|---|\n");
     for (s, name) in r.storage.iter().zip([

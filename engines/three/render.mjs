@@ -1,0 +1,94 @@
+// node render.mjs --table shipped|ours --out FILE.json [--chromium PATH]
+// Serves this folder, three's package and our drop-in on 127.0.0.1 (an ephemeral port),
+// loads page.html in headless Chromium (WebGL2 on SwiftShader), renders every scene of
+// scenes.json on the float path and on the half-float path, and writes the pixels.
+// With --table ours the page's import map sends three's
+// examples/jsm/lights/RectAreaLightTexturesLib.js to results/textures/three/ — the one
+// import a user changes.
+import { createServer } from 'node:http';
+import { readFile, writeFile } from 'node:fs/promises';
+import { extname, join, normalize, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname( fileURLToPath( import.meta.url ) );
+const arg = ( name, dflt ) => {
+
+	const k = process.argv.indexOf( `--${name}` );
+	return k > 0 ? process.argv[ k + 1 ] : dflt;
+
+};
+const table = arg( 'table', 'shipped' );
+const out = arg( 'out' );
+const exe = arg( 'chromium', '/usr/bin/chromium' );
+const ours = normalize( join( here, '..', '..', arg( 'results', 'results' ), 'textures', 'three' ) );
+if ( ! out || ! [ 'shipped', 'ours' ].includes( table ) ) {
+
+	console.error( 'usage: node render.mjs --table shipped|ours --out FILE.json [--results DIR] [--chromium PATH]' );
+	process.exit( 2 );
+
+}
+
+const roots = { '/three/': join( here, 'node_modules', 'three' ), '/ours/': ours, '/': here };
+const types = { '.js': 'text/javascript', '.mjs': 'text/javascript', '.html': 'text/html', '.json': 'application/json' };
+const server = createServer( async ( req, res ) => {
+
+	const url = decodeURIComponent( new URL( req.url, 'http://localhost' ).pathname );
+	const prefix = Object.keys( roots ).find( ( p ) => url.startsWith( p ) );
+	const path = normalize( join( roots[ prefix ], url.slice( prefix.length ) ) );
+	if ( ! path.startsWith( roots[ prefix ] ) ) {
+
+		res.writeHead( 403 ).end();
+		return;
+
+	}
+
+	try {
+
+		let body = await readFile( path );
+		if ( url === '/page.html' ) {
+
+			const imports = { 'three': '/three/build/three.module.js', 'three/addons/': '/three/examples/jsm/' };
+			if ( table === 'ours' ) imports[ '/three/examples/jsm/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
+			body = body.toString().replace( '__IMPORTMAP__', JSON.stringify( { imports } ) );
+
+		}
+
+		res.writeHead( 200, { 'content-type': types[ extname( path ) ] || 'application/octet-stream' } ).end( body );
+
+	} catch {
+
+		res.writeHead( 404 ).end();
+
+	}
+
+} );
+await new Promise( ( ok ) => server.listen( 0, '127.0.0.1', ok ) );
+const base = `http://127.0.0.1:${server.address().port}`;
+const browser = await chromium.launch( { executablePath: exe, args: [ '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox' ] } );
+try {
+
+	const config = JSON.parse( await readFile( join( here, 'scenes.json' ), 'utf8' ) );
+	const result = { table, three: '0.187.0', paths: {} };
+	for ( const [ path, half ] of [ [ 'float', false ], [ 'half', true ] ] ) {
+
+		const page = await browser.newPage();
+		page.on( 'pageerror', ( e ) => console.error( `page error: ${e.message}` ) );
+		await page.goto( `${base}/page.html` );
+		await page.waitForFunction( () => window.ready === true, null, { timeout: 60000 } );
+		const r = await page.evaluate( ( [ c, h ] ) => window.renderAll( c, h ), [ config, half ] );
+		result.webgl = r.renderer;
+		result.paths[ path ] = r.scenes;
+		await page.close();
+		console.error( `three.js ${table} table, ${path} path: ${r.scenes.length} scenes rendered (${r.renderer})` );
+
+	}
+
+	await writeFile( out, JSON.stringify( result ) );
+
+} finally {
+
+	await browser.close();
+	server.close();
+
+}

@@ -1,0 +1,177 @@
+//! results/engines.md and results/engines.svg from an [`EnginesResult`]: the tables,
+//! and a labelled figure (truth, both tables' images, their error maps, with a colour bar)
+//! of a few scenes. Formats only.
+
+use super::{EnginesResult, Errors, SceneResult};
+use crate::error::Result;
+use crate::render::picture::Rgb;
+
+fn cell(e: &Errors) -> String {
+    format!("{} (mean {})", e.rel_rmse.pct(2), e.mean_rel.pct(1))
+}
+
+/// The markdown report.
+pub fn markdown(r: &EnginesResult, command: &str) -> String {
+    let mut md = format!(
+        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. three.js {} (WebGLRenderer, {}; headless Chromium with SwiftShader) rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a FloatType render target, no tone mapping) twice: with its own RectAreaLightTexturesLib.js, and with the page's import map sending that one module to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear). Every covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: three's cubic fit of θ/sin θ, its clipped-sphere horizon, f16 filtering, f32 arithmetic).\n\n",
+        r.three,
+        r.webgl,
+        r.width,
+        r.height,
+        r.scenes.iter().map(|s| s.truth_rel_error).fold(0.0, f64::max)
+    );
+    md.push_str("## The engine against the truth\n\n| scene | pixels | shipped, float | ours, float | shipped, half | ours, half |\n|---|---|---|---|---|---|\n");
+    let pick = |s: &SceneResult, t: &str, p: &str| {
+        s.paths
+            .iter()
+            .find(|x| x.table == t && x.path == p)
+            .cloned()
+    };
+    for s in &r.scenes {
+        let c = |t: &str, p: &str| pick(s, t, p).map_or("—".into(), |x| cell(&x.engine));
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} |\n",
+            s.name,
+            s.pixels,
+            c("shipped", "float"),
+            c("ours", "float"),
+            c("shipped", "half"),
+            c("ours", "half")
+        ));
+    }
+    md.push_str("\n## Where the error comes from (float path)\n\n| scene | shipped: table's share | shipped: shader's share | ours: table's share | ours: shader's share |\n|---|---|---|---|---|\n");
+    for s in &r.scenes {
+        let c = |t: &str, f: &dyn Fn(&super::PathResult) -> String| {
+            pick(s, t, "float").map_or("—".into(), |x| f(&x))
+        };
+        md.push_str(&format!(
+            "| {} | {} | {} | {} | {} |\n",
+            s.name,
+            c("shipped", &|x| cell(&x.table_share)),
+            c("shipped", &|x| cell(&x.shader_share)),
+            c("ours", &|x| cell(&x.table_share)),
+            c("ours", &|x| cell(&x.shader_share)),
+        ));
+    }
+    // the verdict, scene by scene
+    let (mut better, mut worse) = (Vec::new(), Vec::new());
+    for s in &r.scenes {
+        if let (Some(a), Some(b)) = (pick(s, "ours", "float"), pick(s, "shipped", "float")) {
+            let (o, t) = (a.engine.rel_rmse, b.engine.rel_rmse);
+            if o.value + o.error < t.value - t.error {
+                better.push(s.name.clone());
+            } else if o.value - o.error > t.value + t.error {
+                worse.push(format!("{} ({} against {})", s.name, o.pct(2), t.pct(2)));
+            }
+        }
+    }
+    md.push_str(&format!(
+        "\nOn the float path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}.\n\n",
+        better.len(),
+        r.scenes.len(),
+        worse.len(),
+        if worse.is_empty() { String::new() } else { format!(": {}", worse.join("; ")) }
+    ));
+    md.push_str("![scenes](engines.svg)\n\nThe figure: for four scenes, the truth, three.js with its shipped table and with ours (float path, the same exposure per row), and their relative errors |engine − truth|/truth on the colour bar's scale (0 to 25 %; pixels darker than 10⁻³ of the peak are black). Rows are labelled with the scene (roughness, view angle), columns with what they show.\n");
+    md
+}
+
+fn b64_png(img: &Rgb) -> Result<String> {
+    use base64::Engine;
+    Ok(base64::engine::general_purpose::STANDARD.encode(img.png()?))
+}
+
+/// The labelled figure: rows = scenes, columns = truth, shipped, ours, |shipped − truth|,
+/// |ours − truth|; PNG tiles (flipped to image order) in an SVG with text labels.
+pub fn figure(r: &EnginesResult, picks: &[&str]) -> Result<String> {
+    let (w, h) = (r.width, r.height);
+    let scale = 6usize;
+    let (tw, th) = (w * scale, h * scale);
+    let (left, top, gap) = (190usize, 40usize, 10usize);
+    let cols = [
+        "truth",
+        "three.js + shipped table",
+        "three.js + ours",
+        "|shipped − truth|/truth",
+        "|ours − truth|/truth",
+    ];
+    let rows: Vec<&SceneResult> = picks
+        .iter()
+        .filter_map(|p| r.scenes.iter().find(|s| s.name == *p))
+        .collect();
+    let width = left + cols.len() * (tw + gap) + 20;
+    let height = top + rows.len() * (th + gap) + 80;
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"13\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    );
+    for (c, name) in cols.iter().enumerate() {
+        svg.push_str(&format!(
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{name}</text>\n",
+            left + c * (tw + gap) + tw / 2,
+            top - 12
+        ));
+    }
+    // image rows come bottom-up from the GL read-back
+    let flip =
+        |v: &[f64]| -> Vec<f64> { (0..w * h).map(|k| v[(h - 1 - k / w) * w + k % w]).collect() };
+    for (ri, s) in rows.iter().enumerate() {
+        let get = |name: &str| s.images.iter().find(|x| x.0 == name).map(|x| flip(&x.1));
+        let (Some(truth), Some(sh), Some(ou)) =
+            (get("truth"), get("shipped (float)"), get("ours (float)"))
+        else {
+            continue;
+        };
+        let peak = truth.iter().cloned().fold(0.0, f64::max).max(1e-300);
+        let exposure = 1.0 / peak;
+        let err = |x: &[f64]| -> Vec<f32> {
+            x.iter()
+                .zip(&truth)
+                .map(|(a, t)| {
+                    if *t > 1e-3 * peak {
+                        ((a - t).abs() / t / 0.25) as f32
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        };
+        let tiles = [
+            Rgb::from_linear(&truth, w, h, exposure),
+            Rgb::from_linear(&sh, w, h, exposure),
+            Rgb::from_linear(&ou, w, h, exposure),
+            Rgb::magma(&err(&sh), w, h),
+            Rgb::magma(&err(&ou), w, h),
+        ];
+        let y = top + ri * (th + gap);
+        svg.push_str(&format!(
+            "<text x=\"10\" y=\"{}\">{}</text>\n<text x=\"10\" y=\"{}\" fill=\"#555\">r = {}, view {}°</text>\n",
+            y + th / 2 - 8,
+            s.name,
+            y + th / 2 + 10,
+            s.roughness,
+            s.view_deg
+        ));
+        for (c, t) in tiles.iter().enumerate() {
+            svg.push_str(&format!(
+                "<image x=\"{}\" y=\"{y}\" width=\"{tw}\" height=\"{th}\" style=\"image-rendering:pixelated\" href=\"data:image/png;base64,{}\"/>\n",
+                left + c * (tw + gap),
+                b64_png(t)?
+            ));
+        }
+    }
+    // the colour bar of the error columns
+    let bar = crate::render::picture::colour_bar(2 * tw + gap, 14);
+    let by = top + rows.len() * (th + gap) + 8;
+    let bx = left + 3 * (tw + gap);
+    svg.push_str(&format!(
+        "<image x=\"{bx}\" y=\"{by}\" width=\"{}\" height=\"14\" href=\"data:image/png;base64,{}\"/>\n<text x=\"{bx}\" y=\"{}\">0 %</text>\n<text x=\"{}\" y=\"{}\" text-anchor=\"end\">25 % relative error</text>\n<text x=\"{left}\" y=\"{}\" fill=\"#555\">tone-mapped, exposure 1/peak of the row's truth</text>\n",
+        2 * tw + gap,
+        b64_png(&bar)?,
+        by + 30,
+        bx + 2 * tw + gap,
+        by + 30,
+        by + 30
+    ));
+    svg.push_str("</svg>\n");
+    Ok(svg)
+}
