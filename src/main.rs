@@ -490,7 +490,12 @@ fn main() -> ExitCode {
             ndfbench::studies::visibility::horizon_file(&input, scale, &dir, preset)
         })
         .map(|w| {
-            println!("wrote {}", w.join(", "));
+            let (notes, paths): (Vec<_>, Vec<_>) =
+                w.into_iter().partition(|x| x.starts_with("height map"));
+            for n in notes {
+                eprintln!("{n}");
+            }
+            println!("wrote {}", paths.join(", "));
             true
         }),
         Some(Cmd::LtcCompare {

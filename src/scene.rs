@@ -129,7 +129,8 @@ impl Scene {
                 Ok(())
             } else {
                 Err(Error::InvalidArgument(format!(
-                    "scene {origin}: key '{key}' = \"{v}\" is not one of {ok:?}"
+                    "scene {origin}: key '{key}' = {} is not one of {ok:?}",
+                    crate::error::quoted(v)
                 )))
             }
         };

@@ -1029,6 +1029,26 @@ fn horizon_command_rejects_bad_height_maps_and_writes_nothing() {
     );
     let md = std::fs::read_to_string(out_dir.join("horizon.md")).unwrap();
     assert!(md.contains("Tan et al.") && !md.contains("NaN"));
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("converted to grey"));
+    // an RGB map is converted to grey, and the command and the report say so
+    let rgb = d.join("rgb.png");
+    image::RgbImage::from_fn(32, 32, |x, y| {
+        image::Rgb([(x * 7) as u8, (y * 5) as u8, 40])
+    })
+    .save(&rgb)
+    .unwrap();
+    let out = bin()
+        .args(["horizon", "--input"])
+        .arg(&rgb)
+        .args(["--scale", "8", "--preset", "quick", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("converted to grey"), "{err}");
+    let md = std::fs::read_to_string(out_dir.join("horizon.md")).unwrap();
+    assert!(md.contains("converted to grey"));
     std::fs::remove_dir_all(&d).ok();
 }
 

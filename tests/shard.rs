@@ -590,6 +590,30 @@ fn generated_scripts_pass_hostile_paths_as_single_words() {
         assert_eq!(args[2], "--results");
         assert_eq!(Path::new(&args[3]), results, "{name}");
     }
+    // shellcheck, where installed (.ci/run installs it best-effort), warns of nothing
+    // (its info notes about `$(` inside single quotes are the point of the quoting)
+    match std::process::Command::new("shellcheck")
+        .arg("--version")
+        .output()
+    {
+        Ok(_) => {
+            for (name, text) in &files {
+                let p = base.join(name);
+                std::fs::write(&p, text).unwrap();
+                let o = std::process::Command::new("shellcheck")
+                    .args(["-S", "warning"])
+                    .arg(&p)
+                    .output()
+                    .unwrap();
+                assert!(
+                    o.status.success(),
+                    "shellcheck {name}: {}",
+                    String::from_utf8_lossy(&o.stdout)
+                );
+            }
+        }
+        Err(_) => eprintln!("skipped shellcheck: not installed"),
+    }
     for f in ["INJ1", "INJ2", "INJ3"] {
         assert!(
             !base.join(f).exists() && !odd.join(f).exists(),

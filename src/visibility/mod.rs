@@ -134,12 +134,26 @@ impl HeightField {
     /// A grey (or first-channel) 8/16-bit PNG, heights = value × `scale` texels; square,
     /// power-of-two sides ≤ [`MAX_SIDE`].
     pub fn from_png(path: &Path, scale: f64) -> Result<HeightField> {
+        Self::read_png(path, scale).map(|(hf, _)| hf)
+    }
+
+    /// [`HeightField::from_png`], with a note when the PNG had colour channels (it is
+    /// converted to grey by its luma, Rec. 709 weights, which a caller should say).
+    pub fn read_png(path: &Path, scale: f64) -> Result<(HeightField, Option<String>)> {
         if !(scale.is_finite() && scale > 0.0 && scale <= 1e6) {
             return Err(Error::InvalidArgument(format!(
                 "height scale {scale} must be finite and in (0, 1e6]"
             )));
         }
-        let img = crate::filters::footprint::open_image(path, "height map")?.to_luma32f();
+        let img = crate::filters::footprint::open_image(path, "height map")?;
+        let note = img.color().has_color().then(|| {
+            format!(
+                "height map {} has colour channels ({:?}); converted to grey by its luma (Rec. 709 weights)",
+                crate::error::quoted(&path.display().to_string()),
+                img.color()
+            )
+        });
+        let img = img.to_luma32f();
         let (w, h) = (img.width() as usize, img.height() as usize);
         if w != h || w < 16 || !w.is_power_of_two() || w > MAX_SIDE {
             return Err(Error::InvalidArgument(format!(
@@ -147,13 +161,14 @@ impl HeightField {
                 path.display()
             )));
         }
-        Ok(HeightField {
+        let hf = HeightField {
             name: path
                 .file_stem()
                 .map_or("height".into(), |s| s.to_string_lossy().into()),
             size: w,
             h: img.pixels().map(|p| p[0] as f64 * scale).collect(),
-        })
+        };
+        Ok((hf, note))
     }
 
     fn at(&self, i: i64, j: i64) -> f64 {

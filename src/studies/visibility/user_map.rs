@@ -8,14 +8,15 @@ use crate::visibility::HeightField;
 
 /// `horizon --input HEIGHT.png --scale S --out DIR`: the horizon study of
 /// results/survey-visibility.md on a user's height map (heights = grey value × S texels).
-/// Writes DIR/horizon.md and DIR/horizon.json.
+/// Writes DIR/horizon.md and DIR/horizon.json; returns their paths, and first the note
+/// that an RGB map was converted to grey, where it was.
 pub fn horizon_file(
     input: &std::path::Path,
     scale: f64,
     out: &std::path::Path,
     preset: Preset,
 ) -> Result<Vec<String>> {
-    let hf = HeightField::from_png(input, scale)?;
+    let (hf, note) = HeightField::read_png(input, scale)?;
     let mut plan = Plan::new(preset);
     let max_level = hf.size.trailing_zeros() as usize;
     plan.levels.retain(|&l| l < max_level);
@@ -23,13 +24,14 @@ pub fn horizon_file(
     let h = report::horizon_summary(&cases);
     let md = format!(
         "# Horizon-map pre-filtering on {}\n\nWritten by `cargo run --release -- horizon --input {} --scale {scale}` (preset {}): \
-{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/survey-visibility.md.\n\n{}",
+{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/survey-visibility.md.{}\n\n{}",
         input.display(),
         input.display(),
         preset.name(),
         cases.len(),
         plan.levels,
         plan.footprints,
+        note.as_ref().map(|n| format!(" The {n}.")).unwrap_or_default(),
         report::horizon_markdown(&h)
     );
     let (mp, jp) = (out.join("horizon.md"), out.join("horizon.json"));
@@ -42,5 +44,7 @@ pub fn horizon_file(
         .unwrap_or_default()
         .as_bytes(),
     )?;
-    Ok(vec![mp.display().to_string(), jp.display().to_string()])
+    let mut said: Vec<String> = note.into_iter().collect();
+    said.extend([mp.display().to_string(), jp.display().to_string()]);
+    Ok(said)
 }
