@@ -113,25 +113,68 @@ fn lcm4(texel: u64) -> u64 {
     texel.max(1) * 4 / g(texel.max(1), 4)
 }
 
+/// The KTX2 file with every level zstd-supercompressed (supercompressionScheme 2) at
+/// `level`, as Khronos's `ktx create --zstd N` writes it (Bevy's embedded `ltc.ktx2`): the
+/// descriptor unchanged (bytesPlane0 the texel size, as in Bevy's file), levels aligned
+/// to 1 byte, each level index entry
+/// holds the compressed and the uncompressed length, and `KTXwriterScParams` says
+/// `--zstd N`.
+pub fn write_zstd(t: &Texture, level: i32) -> std::io::Result<Vec<u8>> {
+    let levels = t
+        .levels
+        .iter()
+        .map(|l| zstd::bulk::compress(l, level))
+        .collect::<std::io::Result<Vec<_>>>()?;
+    let mut key_values = t.key_values.clone();
+    key_values.push(("KTXwriterScParams".into(), format!("--zstd {level}")));
+    Ok(layout(
+        t,
+        &t.dfd,
+        &key_values,
+        &levels,
+        &t.levels.iter().map(Vec::len).collect::<Vec<_>>(),
+        2,
+    ))
+}
+
 /// The KTX2 file. Level data follow the descriptors from the smallest level to level 0
 /// (the order the specification prescribes), each aligned to lcm(texel size, 4).
 pub fn write(t: &Texture) -> Vec<u8> {
-    let n = t.levels.len() as u64;
+    let raw: Vec<usize> = t.levels.iter().map(Vec::len).collect();
+    layout(t, &t.dfd, &t.key_values, &t.levels, &raw, 0)
+}
+
+/// Header, level index, descriptor, key/value data and levels; `levels` as stored
+/// (`raw`: their uncompressed lengths), `scheme` the supercompression scheme (levels are
+/// aligned to lcm(texel size, 4) without one, to 1 byte with one).
+fn layout(
+    t: &Texture,
+    dfd: &[u8],
+    key_values: &[(String, String)],
+    levels: &[Vec<u8>],
+    raw: &[usize],
+    scheme: u32,
+) -> Vec<u8> {
+    let n = levels.len() as u64;
     let mut kvd = Vec::new();
-    for (k, v) in &t.key_values {
+    for (k, v) in key_values {
         kv(&mut kvd, k, v);
     }
     let index_end = 80 + 24 * n;
     let dfd_off = index_end;
-    let kvd_off = dfd_off + t.dfd.len() as u64;
-    let align = lcm4(t.texel_bytes as u64);
+    let kvd_off = dfd_off + dfd.len() as u64;
+    let align = if scheme == 0 {
+        lcm4(t.texel_bytes as u64)
+    } else {
+        1
+    };
     // offsets: smallest level first
-    let mut offsets = vec![0u64; t.levels.len()];
+    let mut offsets = vec![0u64; levels.len()];
     let mut at = kvd_off + kvd.len() as u64;
-    for l in (0..t.levels.len()).rev() {
+    for l in (0..levels.len()).rev() {
         at = at.div_ceil(align) * align;
         offsets[l] = at;
-        at += t.levels[l].len() as u64;
+        at += levels[l].len() as u64;
     }
     let mut out = Vec::with_capacity(at as usize);
     out.extend_from_slice(&[
@@ -146,26 +189,26 @@ pub fn write(t: &Texture) -> Vec<u8> {
         t.layers,
         1,
         n as u32,
-        0,
+        scheme,
     ] {
         u32le(&mut out, v); // format, typeSize, w, h, depth, layers, faces, levels, scheme
     }
     u32le(&mut out, dfd_off as u32);
-    u32le(&mut out, t.dfd.len() as u32);
+    u32le(&mut out, dfd.len() as u32);
     u32le(&mut out, kvd_off as u32);
     u32le(&mut out, kvd.len() as u32);
     u64le(&mut out, 0); // no supercompression global data
     u64le(&mut out, 0);
-    for (l, level) in t.levels.iter().enumerate() {
+    for (l, level) in levels.iter().enumerate() {
         u64le(&mut out, offsets[l]);
         u64le(&mut out, level.len() as u64);
-        u64le(&mut out, level.len() as u64);
+        u64le(&mut out, raw[l] as u64);
     }
-    out.extend_from_slice(&t.dfd);
+    out.extend_from_slice(dfd);
     out.extend(kvd);
-    for l in (0..t.levels.len()).rev() {
+    for l in (0..levels.len()).rev() {
         out.resize(offsets[l] as usize, 0);
-        out.extend_from_slice(&t.levels[l]);
+        out.extend_from_slice(&levels[l]);
     }
     out
 }
