@@ -199,16 +199,20 @@ pub fn dds(n: usize, texels: &[[f16; 4]]) -> Vec<u8> {
     out
 }
 
+/// A layer's texels in f32 as a JavaScript number list (shortest round-trip decimals, so
+/// `new Float32Array([...])` is bit-exact).
+fn js_f32_list(t: &FittedTable, layer: usize) -> String {
+    texels_f32(t, layer)
+        .iter()
+        .flatten()
+        .map(|x| format!("{x}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The ES module in the shape of RectAreaLightTexturesLib's arrays.
 pub fn es_module(t: &FittedTable, kind: &TableKind, header: &str) -> String {
-    let list = |layer: usize| {
-        texels_f32(t, layer)
-            .iter()
-            .flatten()
-            .map(|x| format!("{x}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let list = |layer: usize| js_f32_list(t, layer);
     format!(
         "{header}// {title}, {n}×{n} RGBA texels at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹, LTC_MAT_2 = (norm, fresnel, 0, 0). Drop-in for three.js's RectAreaLightTexturesLib arrays (see README).\nexport const LTC_SIZE = {n};\nexport const LTC_MAT_1 = [ {} ];\nexport const LTC_MAT_2 = [ {} ];\n",
         list(0),
@@ -230,14 +234,7 @@ pub const THREE_DROP_IN: &str = "RectAreaLightTexturesLib.js";
 /// `RectAreaLightUniformsLib.init()` (WebGL) and `RectAreaLightNode.setLTC(…)` (WebGPU)
 /// take it as they take three's.
 pub fn three_drop_in(t: &FittedTable, header: &str) -> String {
-    let f32s = |layer: usize| {
-        texels_f32(t, layer)
-            .iter()
-            .flatten()
-            .map(|x| format!("{x}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let f32s = |layer: usize| js_f32_list(t, layer);
     let bits = |layer: usize| {
         texels_f16(t, layer)
             .iter()
