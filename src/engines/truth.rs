@@ -144,22 +144,7 @@ pub fn table_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
 /// the four texels around it weighted linearly (clamped at the edges).
 pub fn lookup(cells: &[[f64; 5]], n: usize, r: f64, ndotv: f64) -> [f64; 5] {
     let t = (1.0 - ndotv.clamp(0.0, 1.0)).sqrt();
-    let (x, y) = (r.clamp(0.0, 1.0) * (n - 1) as f64, t * (n - 1) as f64);
-    let (i0, j0) = (
-        (x.floor() as usize).min(n - 2),
-        (y.floor() as usize).min(n - 2),
-    );
-    let (fx, fy) = (x - i0 as f64, y - j0 as f64);
-    let at = |i: usize, j: usize| cells[i + n * j];
-    let (c00, c10, c01, c11) = (
-        at(i0, j0),
-        at(i0 + 1, j0),
-        at(i0, j0 + 1),
-        at(i0 + 1, j0 + 1),
-    );
-    std::array::from_fn(|c| {
-        (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy) + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
-    })
+    crate::ltc::table::bilinear(n, r, t, |i, j| cells[i + n * j])
 }
 
 /// three.js r187's own evaluation (`LTC_Evaluate` of lights_physical_pars_fragment) in

@@ -104,29 +104,42 @@ impl FittedTable {
         let n = self.n;
         let r = alpha.clamp(0.0, 1.0).sqrt();
         let t = (1.0 - cos_theta.clamp(0.0, 1.0)).sqrt();
-        let (x, y) = (r * (n - 1) as f64, t * (n - 1) as f64);
-        let (i0, j0) = (
-            (x.floor() as usize).min(n - 2),
-            (y.floor() as usize).min(n - 2),
-        );
-        let (fx, fy) = (x - i0 as f64, y - j0 as f64);
-        let at = |i: usize, j: usize| -> [f64; 6] {
+        bilinear(n, r, t, |i, j| {
             let k = i + n * j;
             if half {
                 self.half_cell(k).map(|h| h.to_f64())
             } else {
                 self.cells[k]
             }
-        };
-        let (c00, c10, c01, c11) = (
-            at(i0, j0),
-            at(i0 + 1, j0),
-            at(i0, j0 + 1),
-            at(i0 + 1, j0 + 1),
-        );
-        std::array::from_fn(|c| {
-            (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy)
-                + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
         })
     }
+}
+
+/// The bilinear lookup engines do in an n×n table (n ≥ 2) at (r, t) ∈ [0, 1]²: texel
+/// centres at (i, j)/(n − 1) (uv = (r, t)·(n − 1)/n + 0.5/n), the four texels around the
+/// point weighted linearly, clamped at the edges; `at(i, j)` gives a texel.
+pub fn bilinear<const K: usize>(
+    n: usize,
+    r: f64,
+    t: f64,
+    at: impl Fn(usize, usize) -> [f64; K],
+) -> [f64; K] {
+    let (x, y) = (
+        r.clamp(0.0, 1.0) * (n - 1) as f64,
+        t.clamp(0.0, 1.0) * (n - 1) as f64,
+    );
+    let (i0, j0) = (
+        (x.floor() as usize).min(n - 2),
+        (y.floor() as usize).min(n - 2),
+    );
+    let (fx, fy) = (x - i0 as f64, y - j0 as f64);
+    let (c00, c10, c01, c11) = (
+        at(i0, j0),
+        at(i0 + 1, j0),
+        at(i0, j0 + 1),
+        at(i0 + 1, j0 + 1),
+    );
+    std::array::from_fn(|c| {
+        (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy) + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
+    })
 }
