@@ -121,20 +121,31 @@ enum Cmd {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
-    /// Judge three.js's renders of the engine-check scenes (engines/three: `node render.mjs
-    /// --table shipped|ours --out FILE`) against the truth, the table's and the shader's
-    /// shares apart; writes DIR/engines.{md,json,svg}
+    /// Judge the engines' renders of the engine-check scenes against the truth, the table's
+    /// and the shader's shares apart: three.js (engines/three: `node render.mjs --table
+    /// shipped|ours --out FILE`) and Bevy (engines/bevy-check: `cargo run -- --table
+    /// bevy|ours …`); each engine given as both runs or not at all; writes
+    /// DIR/engines.{md,json,svg}
     Engines {
-        /// the harness's output with three's own table
-        #[arg(long)]
-        three_shipped: PathBuf,
-        /// the harness's output with ours
-        #[arg(long)]
-        three_ours: PathBuf,
+        /// three.js's run with its own table
+        #[arg(long, requires = "three_ours")]
+        three_shipped: Option<PathBuf>,
+        /// three.js's run with ours
+        #[arg(long, requires = "three_shipped")]
+        three_ours: Option<PathBuf>,
         /// three.js's RectAreaLightTexturesLib.js (the shipped table's numbers)
         #[arg(long, default_value = "target/shipped/RectAreaLightTexturesLib.js")]
         shipped: PathBuf,
-        /// the scenes the harness rendered
+        /// Bevy's run with its embedded table
+        #[arg(long, requires = "bevy_ours")]
+        bevy_shipped: Option<PathBuf>,
+        /// Bevy's run with ours through AreaLightLuts
+        #[arg(long, requires = "bevy_shipped")]
+        bevy_ours: Option<PathBuf>,
+        /// Bevy's embedded ltc.ktx2 (bevy_pbr 0.19.1's src/ltc/ltc.ktx2)
+        #[arg(long, default_value = "target/shipped/bevy_ltc.ktx2")]
+        bevy_table: PathBuf,
+        /// the scenes the harnesses rendered
         #[arg(long, default_value = "engines/three/scenes.json")]
         scenes: PathBuf,
         /// output directory
@@ -355,32 +366,44 @@ fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
     Ok(ok)
 }
 
-/// `engines`: three.js's renders of the engine-check scenes judged against the truth.
+/// `engines`: the engines' renders of the engine-check scenes judged against the truth.
 fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     let Cmd::Engines {
         three_shipped,
         three_ours,
         shipped,
+        bevy_shipped,
+        bevy_ours,
+        bevy_table,
         scenes,
         out: dir,
     } = cmd
     else {
         return Ok(true);
     };
+    use ndfbench::studies::engines::{Engine, EngineFiles};
+    let mut files = Vec::new();
+    let mut command = String::from("cargo run --release -- engines");
+    for (engine, a, b, table, flag) in [
+        (Engine::Three, three_shipped, three_ours, shipped, "three"),
+        (Engine::Bevy, bevy_shipped, bevy_ours, bevy_table, "bevy"),
+    ] {
+        if let (Some(a), Some(b)) = (a, b) {
+            command.push_str(&format!(
+                " --{flag}-shipped {} --{flag}-ours {}",
+                a.display(),
+                b.display()
+            ));
+            files.push(EngineFiles {
+                engine,
+                shipped_run: a,
+                ours_run: b,
+                shipped_table: table,
+            });
+        }
+    }
     in_set("engines", &dir.join(".sets").join("engines.json"), || {
-        ndfbench::studies::engines::run(
-            scenes,
-            three_shipped,
-            three_ours,
-            shipped,
-            &cli.results,
-            dir,
-            &format!(
-                "cargo run --release -- engines --three-shipped {} --three-ours {}",
-                three_shipped.display(),
-                three_ours.display()
-            ),
-        )
+        ndfbench::studies::engines::run(scenes, &files, &cli.results, dir, &command)
     })
     .map(|s| {
         println!("{s}");

@@ -1,12 +1,18 @@
-//! three.js r187 renders the engine-check scenes (engines/three) in headless Chromium
-//! with its own LTC table and — through one import-map entry, the README's recipe — with
-//! ours, on its float and half-float paths; the workbench judges the pixels against the
-//! truth. Needs node, engines/three/node_modules (`npm ci`), Chromium and three's
-//! RectAreaLightTexturesLib.js in target/shipped (see .ci/run); skips with one line
-//! without them.
+//! The engines render the engine-check scenes with their own LTC table and with ours, and
+//! the workbench judges the pixels against the truth:
+//!
+//! - three.js r187 (engines/three) in headless Chromium, ours through one import-map
+//!   entry (the README's recipe), on its float and half-float paths. Needs node,
+//!   engines/three/node_modules (`npm ci`), Chromium and three's RectAreaLightTexturesLib.js
+//!   in target/shipped.
+//! - Bevy 0.19.1 (engines/bevy-check, headless wgpu), ours through `AreaLightLuts`. Needs
+//!   the harness built in target/bevy-check, Bevy's ltc.ktx2 in target/shipped and an
+//!   adapter (lavapipe in CI).
+//!
+//! .ci/run provides all of it best-effort; each test skips with one line without it.
 
 use ndfbench::engines::EngineScenes;
-use ndfbench::studies::engines::{compute, EngineRun, Inputs};
+use ndfbench::studies::engines::{Engine, EngineFiles, EngineResult};
 use std::path::Path;
 use std::process::Command;
 
@@ -67,35 +73,114 @@ fn three_renders_both_tables_as_their_formulas_say_and_ours_is_closer_to_the_tru
         return;
     }
     let scenes = EngineScenes::read(Path::new("engines/three/scenes.json")).unwrap();
-    let read = |p: &Path, w: &str| {
-        EngineRun::parse(&std::fs::read_to_string(p).unwrap(), &scenes, w).unwrap()
-    };
-    let (sr, or) = (read(&a, "shipped"), read(&b, "ours"));
-    let shipped = ndfbench::ltc::compare::Shipped::parse(
-        &std::fs::read_to_string(SHIPPED).unwrap(),
-        "LTC_MAT_1",
-        "LTC_MAT_2",
+    let r = ndfbench::studies::engines::judge_files(
+        &scenes,
+        &EngineFiles {
+            engine: Engine::Three,
+            shipped_run: &a,
+            ours_run: &b,
+            shipped_table: Path::new(SHIPPED),
+        },
+        Path::new("results"),
     )
-    .unwrap();
-    let ours = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").unwrap();
-    let r = compute(&Inputs {
-        scenes: &scenes,
-        shipped_run: &sr,
-        ours_run: &or,
-        shipped: &shipped,
-        ours: &ours,
-    })
     .unwrap();
     // 1. each image is what three's formulas give with the table that path should hold
     //    (our f32 table and our stored binary16 one; three's f32 numbers and its truncated
     //    halves): within f32 arithmetic and texture filtering, 1e-3 relative RMSE. A path
     //    that bound the other table, or a convention off (frame, winding, uv, clamp), is
     //    percent-level here.
+    formulas_hold(&r, 1e-3);
+    // 2. against the truth (exact, ± its bars): over the scenes, ours renders closer on
+    //    both paths (mean relative RMSE), and the table's own share is smaller for ours
+    ours_is_closer(&r);
+    // 3. the committed report is this run's (within 1e-4 relative: another CPU's
+    //    SwiftShader may round differently)
+    matches_committed(&r);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The Bevy harness, built by .ci/run in its own target directory (never by this test).
+const BEVY_BIN: &str = "target/bevy-check/debug/bevy-check";
+const BEVY_TABLE: &str = "target/shipped/bevy_ltc.ktx2";
+const LAVAPIPE: &str = "target/lavapipe/lvp.json";
+
+/// Run the Bevy harness with one table; lavapipe's Vulkan where .ci/run unpacked it, the
+/// default adapter otherwise.
+fn bevy_render(table: &str, out: &Path) -> Result<(), String> {
+    let mut c = Command::new(BEVY_BIN);
+    c.args(["--scenes", "engines/three/scenes.json", "--table", table]);
+    if table == "ours" {
+        c.arg("--ktx2").arg(Path::new("results").join(ndfbench::studies::engines::BEVY_OURS));
+    }
+    c.arg("--out").arg(out);
+    if let Ok(icd) = std::fs::canonicalize(LAVAPIPE) {
+        c.env("VK_ICD_FILENAMES", icd).env("WGPU_BACKEND", "vulkan");
+        // the Vulkan loader unpacked beside it (Debian's multiarch path)
+        if let Ok(lib) = std::fs::canonicalize("target/lavapipe/root/usr/lib/x86_64-linux-gnu") {
+            let ld = match std::env::var("LD_LIBRARY_PATH") {
+                Ok(v) if !v.is_empty() => format!("{}:{v}", lib.display()),
+                _ => lib.display().to_string(),
+            };
+            c.env("LD_LIBRARY_PATH", ld);
+        }
+    }
+    let o = c.output().map_err(|e| e.to_string())?;
+    if o.status.success() {
+        Ok(())
+    } else {
+        Err(String::from_utf8_lossy(&o.stderr).into_owned())
+    }
+}
+
+#[test]
+fn bevy_renders_both_tables_as_its_formulas_say_and_ours_is_closer_to_the_truth() {
+    for p in [BEVY_BIN, BEVY_TABLE] {
+        if !Path::new(p).exists() {
+            eprintln!("skipped: {p} absent (see .ci/run: the engines/bevy-check build, cargo fetch of bevy_pbr)");
+            return;
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("ndfbench-bevy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (a, b) = (dir.join("bevy.json"), dir.join("ours.json"));
+    if let Err(e) = bevy_render("bevy", &a).and_then(|_| bevy_render("ours", &b)) {
+        // no adapter here (no GPU, no lavapipe) is not a failure of the workbench
+        assert!(
+            e.contains("Unable to find a GPU") || e.contains("No suitable") || e.contains("adapter"),
+            "the Bevy harness failed: {e}"
+        );
+        eprintln!("skipped: Bevy found no adapter: {}", e.lines().last().unwrap_or(""));
+        return;
+    }
+    let scenes = EngineScenes::read(Path::new("engines/three/scenes.json")).unwrap();
+    let r = ndfbench::studies::engines::judge_files(
+        &scenes,
+        &EngineFiles {
+            engine: Engine::Bevy,
+            shipped_run: &a,
+            ours_run: &b,
+            shipped_table: Path::new(BEVY_TABLE),
+        },
+        Path::new("results"),
+    )
+    .unwrap();
+    eprintln!("Bevy check on {}", r.adapter);
+    formulas_hold(&r, 1e-3);
+    ours_is_closer(&r);
+    matches_committed(&r);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Each image is what the engine's formulas give with the table that path should hold:
+/// within f32 arithmetic and texture filtering, `bound` relative RMSE. A path that bound
+/// the other table, or a convention off (frame, winding, uv, clamp), is percent-level.
+fn formulas_hold(r: &EngineResult, bound: f64) {
     for s in &r.scenes {
         for p in &s.paths {
             assert!(
-                p.gpu_share.rel_rmse.value < 1e-3,
-                "{} {} {}: three's image is {} from its formulas with that table",
+                p.gpu_share.rel_rmse.value < bound,
+                "{} {} {} {}: the image is {} from the engine's formulas with that table",
+                r.engine.name(),
                 s.name,
                 p.table,
                 p.path,
@@ -103,44 +188,49 @@ fn three_renders_both_tables_as_their_formulas_say_and_ours_is_closer_to_the_tru
             );
         }
     }
-    // 2. against the truth (exact, ± its bars): over the scenes, ours renders closer on
-    //    both paths (mean relative RMSE), and the table's own share is smaller for ours
-    let mean = |t: &str, p: &str, f: &dyn Fn(&ndfbench::studies::engines::PathResult) -> f64| {
-        let v: Vec<f64> = r
-            .scenes
-            .iter()
-            .flat_map(|s| s.paths.iter().filter(|x| x.table == t && x.path == p))
-            .map(f)
-            .collect();
-        v.iter().sum::<f64>() / v.len() as f64
-    };
-    for path in ["float", "half"] {
+}
+
+/// Over the scenes, on every path, ours renders closer to the truth (mean relative RMSE)
+/// and the table's own share is smaller for ours.
+fn ours_is_closer(r: &EngineResult) {
+    for path in r.engine.paths() {
         let (o, s) = (
-            mean("ours", path, &|x| x.engine.rel_rmse.value),
-            mean("shipped", path, &|x| x.engine.rel_rmse.value),
+            r.mean("ours", path, |x| x.engine.rel_rmse.value),
+            r.mean("shipped", path, |x| x.engine.rel_rmse.value),
         );
-        assert!(o < s, "{path} path: ours {o} against shipped {s}");
+        assert!(o < s, "{} {path} path: ours {o} against shipped {s}", r.engine.name());
         let (o, s) = (
-            mean("ours", path, &|x| x.table_share.rel_rmse.value),
-            mean("shipped", path, &|x| x.table_share.rel_rmse.value),
+            r.mean("ours", path, |x| x.table_share.rel_rmse.value),
+            r.mean("shipped", path, |x| x.table_share.rel_rmse.value),
         );
         assert!(
             o < s,
-            "{path} path, the tables' share: ours {o} against shipped {s}"
+            "{} {path} path, the tables' share: ours {o} against shipped {s}",
+            r.engine.name()
         );
     }
-    // 3. the committed report is this run's (within 1e-4 relative: another CPU's
-    //    SwiftShader may round differently)
+}
+
+/// results/engines.json holds this engine's figures (within 1e-4 relative).
+fn matches_committed(r: &EngineResult) {
     let committed: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string("results/engines.json").expect("results/engines.json"),
     )
     .unwrap();
-    for (s, c) in r.scenes.iter().zip(committed["scenes"].as_array().unwrap()) {
+    let name = serde_json::to_value(r.engine).unwrap();
+    let e = committed["engines"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["engine"] == name)
+        .unwrap_or_else(|| panic!("results/engines.json has no {} section", r.engine.name()));
+    for (s, c) in r.scenes.iter().zip(e["scenes"].as_array().unwrap()) {
         for (p, q) in s.paths.iter().zip(c["paths"].as_array().unwrap()) {
             let v = q["engine"]["rel_rmse"]["value"].as_f64().unwrap();
             assert!(
                 (p.engine.rel_rmse.value - v).abs() <= 1e-4 * v + 1e-9,
-                "results/engines.json is stale at {} {} {}: {v} committed, {} now",
+                "results/engines.json is stale at {} {} {} {}: {v} committed, {} now",
+                r.engine.name(),
                 s.name,
                 p.table,
                 p.path,
@@ -148,7 +238,6 @@ fn three_renders_both_tables_as_their_formulas_say_and_ours_is_closer_to_the_tru
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -69,7 +69,7 @@ const browser = await chromium.launch( { executablePath: exe, args: [ '--use-gl=
 try {
 
 	const config = JSON.parse( await readFile( join( here, 'scenes.json' ), 'utf8' ) );
-	const result = { table, three: '0.187.0', paths: {} };
+	const result = { table, engine: 'three.js 0.187.0', paths: {} };
 	for ( const [ path, half ] of [ [ 'float', false ], [ 'half', true ] ] ) {
 
 		const page = await browser.newPage();
@@ -77,7 +77,7 @@ try {
 		await page.goto( `${base}/page.html` );
 		await page.waitForFunction( () => window.ready === true, null, { timeout: 60000 } );
 		const r = await page.evaluate( ( [ c, h ] ) => window.renderAll( c, h ), [ config, half ] );
-		result.webgl = r.renderer;
+		result.adapter = r.renderer;
 		result.paths[ path ] = r.scenes;
 		await page.close();
 		console.error( `three.js ${table} table, ${path} path: ${r.scenes.length} scenes rendered (${r.renderer})` );

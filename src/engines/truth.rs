@@ -178,3 +178,26 @@ pub fn three_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
     let l = f.norm();
     entries[4] * ((l * l + f.z) / (l + 1.0)).max(0.0)
 }
+
+/// Bevy 0.19.1's own evaluation (`rect_light` and `ltc_integrate_quad` of bevy_pbr's
+/// pbr_lighting.wgsl) in f64: 0 behind the light; the same frame as three.js's; the
+/// corners transformed by M⁻¹, the polygon clipped at z = 0 in the LTC's space (no
+/// clipped-sphere approximation), normalised, and summed over the edges with the same
+/// rational fit of θ/(2π sin θ); times the norm (F0 = 1).
+pub fn bevy_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
+    if !light.lights(x) {
+        return 0.0;
+    }
+    let m_inv = Matrix3::new(
+        entries[0], 0.0, entries[2], 0.0, 1.0, 0.0, entries[1], 0.0, entries[3],
+    );
+    let poly: Vec<V3> = light
+        .corners()
+        .iter()
+        .map(|p| {
+            let d = p - x;
+            V3::new(d.x, -d.y, d.z)
+        })
+        .collect();
+    entries[4] * ltc_integral(&m_inv, &poly, EdgeForm::Rational)
+}

@@ -1,10 +1,12 @@
-//! `engines`: three.js r187 renders the engine-check scenes (engines/three, headless
-//! Chromium, WebGL2) with its shipped LTC table and with ours, on its float and its
-//! half-float path; this study judges every pixel against the truth (`crate::engines`)
-//! and splits each error into the table's share and the shader's share. Compute
-//! ([`compute`]) → render ([`report`]) → the CLI publishes results/engines.{md,json,svg}.
+//! `engines`: three.js r187 (engines/three, headless Chromium, WebGL2) and Bevy 0.19.1
+//! (engines/bevy-check, headless wgpu) render the engine-check scenes with their shipped
+//! LTC table and with ours, on every path each engine has (three.js: its float and its
+//! half-float textures; Bevy: its RGBA16F array); this study judges every pixel against
+//! the truth (`crate::engines`) and splits each error into the table's share and the
+//! shader's share. Compute ([`compute`]) → render ([`report`]) → the CLI publishes
+//! results/engines.{md,json,svg}.
 
-use crate::engines::truth::{lobe, lookup, table_value, three_value, truth_value, Rect};
+use crate::engines::truth::{bevy_value, lobe, lookup, table_value, three_value, truth_value, Rect};
 use crate::engines::EngineScenes;
 use crate::error::{Error, Result};
 use crate::ltc::compare::Shipped;
@@ -14,8 +16,42 @@ use serde::{Deserialize, Serialize};
 
 pub mod report;
 
+/// The engines the check renders in: one list, read by the CLI, the study and the report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Engine {
+    /// three.js r187's WebGLRenderer (`RectAreaLight`, lights_physical_pars_fragment).
+    Three,
+    /// Bevy 0.19.1 (`RectLight`, bevy_pbr's pbr_lighting.wgsl).
+    Bevy,
+}
+
+impl Engine {
+    pub const ALL: [Engine; 2] = [Engine::Three, Engine::Bevy];
+    /// The name reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Three => "three.js",
+            Engine::Bevy => "Bevy",
+        }
+    }
+    /// The paths a harness run holds, each a way the engine stores the table.
+    pub fn paths(self) -> &'static [&'static str] {
+        match self {
+            Engine::Three => &["float", "half"],
+            Engine::Bevy => &["half"],
+        }
+    }
+    /// The engine's own formula in f64 for the entries its lookup returns.
+    pub fn formula(self, entries: &[f64; 5], light: &Rect, x: &Vector3<f64>) -> f64 {
+        match self {
+            Engine::Three => three_value(entries, light, x),
+            Engine::Bevy => bevy_value(entries, light, x),
+        }
+    }
+}
+
 /// One engine render: per scene, the radiance (RGBA) and world positions (RGBA, alpha 1
-/// where the plane covers the pixel), as the harness writes them.
+/// where the plane covers the pixel), rows from the bottom, as the harnesses write them.
 #[derive(Clone, Debug, Deserialize)]
 pub struct EngineScene {
     pub name: String,
@@ -23,24 +59,26 @@ pub struct EngineScene {
     pub positions: Vec<f64>,
 }
 
-/// The harness's output for one table: the float and the half-float path.
+/// A harness's output for one table: the engine and version, the adapter it ran on, and
+/// the scenes per path.
 #[derive(Clone, Debug, Deserialize)]
 pub struct EngineRun {
     pub table: String,
-    pub three: String,
+    pub engine: String,
     #[serde(default)]
-    pub webgl: String,
+    pub adapter: String,
     pub paths: std::collections::BTreeMap<String, Vec<EngineScene>>,
 }
 
 impl EngineRun {
-    /// Parse and check against the scenes: every path, every scene, every size.
-    pub fn parse(text: &str, scenes: &EngineScenes, what: &str) -> Result<EngineRun> {
+    /// Parse and check against the scenes: every path the engine has, every scene, every
+    /// size.
+    pub fn parse(text: &str, scenes: &EngineScenes, engine: Engine, what: &str) -> Result<EngineRun> {
         let bad = |m: String| Error::InvalidArgument(format!("engines: {what}: {m}"));
         let r: EngineRun = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         let px = scenes.width * scenes.height * 4;
-        for p in ["float", "half"] {
-            let v = r.paths.get(p).ok_or_else(|| bad(format!("no {p} path")))?;
+        for p in engine.paths() {
+            let v = r.paths.get(*p).ok_or_else(|| bad(format!("no {p} path")))?;
             if v.len() != scenes.scenes.len() {
                 return Err(bad(format!(
                     "{p} path has {} scenes, the scene file {}",
@@ -58,6 +96,12 @@ impl EngineRun {
                         scenes.height
                     )));
                 }
+                if s.radiance.iter().chain(&s.positions).any(|x| !x.is_finite()) {
+                    return Err(bad(format!(
+                        "scene {}: a pixel is not a finite number",
+                        crate::error::quoted(&s.name)
+                    )));
+                }
             }
         }
         Ok(r)
@@ -72,7 +116,7 @@ pub struct Held {
 }
 
 impl Held {
-    fn of(t: &Shipped) -> Held {
+    pub fn of(t: &Shipped) -> Held {
         Held {
             n: t.n,
             cells: t
@@ -146,15 +190,15 @@ pub struct PathResult {
     pub table_share: Errors,
     /// The engine's image against the table's own value (the shader's share).
     pub shader_share: Errors,
-    /// Of the shader's share, what three's formulas give in f64 (`three_value`: its edge
-    /// fit and its clipped-sphere horizon) against the table's own value…
+    /// Of the shader's share, what the engine's formulas give in f64 ([`Engine::formula`]:
+    /// its edge fit, its horizon) against the table's own value…
     pub formula_share: Errors,
     /// …and the engine against those formulas in f64: the GPU's f32 arithmetic and texture
     /// filtering, the rest.
     pub gpu_share: Errors,
 }
 
-/// One scene.
+/// One scene in one engine.
 #[derive(Clone, Debug, Serialize)]
 pub struct SceneResult {
     pub name: String,
@@ -170,56 +214,80 @@ pub struct SceneResult {
     pub images: Vec<(String, Vec<f64>)>,
 }
 
-/// Everything the report shows.
+/// One engine's runs judged.
 #[derive(Clone, Debug, Serialize)]
-pub struct EnginesResult {
-    pub three: String,
-    pub webgl: String,
-    pub width: usize,
-    pub height: usize,
+pub struct EngineResult {
+    pub engine: Engine,
+    /// The engine and version as its harness reports them.
+    pub version: String,
+    /// The adapter the harness ran on (WebGL's version string, wgpu's adapter).
+    pub adapter: String,
     pub scenes: Vec<SceneResult>,
 }
 
-/// The inputs: the scenes, both harness runs, the shipped table (three.js's arrays) and
-/// ours (results/fits/ltc-ggx.json).
+impl EngineResult {
+    /// The mean over scenes of a figure of one (table, path).
+    pub fn mean(&self, table: &str, path: &str, f: impl Fn(&PathResult) -> f64) -> f64 {
+        let v: Vec<f64> = self
+            .scenes
+            .iter()
+            .flat_map(|s| s.paths.iter().filter(|x| x.table == table && x.path == path))
+            .map(f)
+            .collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    }
+}
+
+/// Everything the report shows.
+#[derive(Clone, Debug, Serialize)]
+pub struct EnginesResult {
+    pub width: usize,
+    pub height: usize,
+    pub engines: Vec<EngineResult>,
+}
+
+/// One engine's inputs: both harness runs and what each (table, path) holds.
 pub struct Inputs<'a> {
-    pub scenes: &'a EngineScenes,
+    pub engine: Engine,
     pub shipped_run: &'a EngineRun,
     pub ours_run: &'a EngineRun,
-    pub shipped: &'a Shipped,
-    pub ours: &'a crate::ltc::table::FittedTable,
+    /// (table, path, the table that path holds), for every path of the engine.
+    pub held: Vec<(&'static str, &'static str, Held)>,
+}
+
+/// What three.js's paths hold: its f32 numbers and its truncated halves for the shipped
+/// table; our f32 table and our stored binary16 one.
+pub fn three_held(shipped: &Shipped, ours: &crate::ltc::table::FittedTable) -> Vec<(&'static str, &'static str, Held)> {
+    use crate::ltc::upload::{f32_table, three_half_table};
+    let o = crate::ltc::compare::of_table(ours);
+    vec![
+        ("shipped", "float", Held::of(&f32_table(shipped))),
+        ("shipped", "half", Held::of(&three_half_table(shipped))),
+        ("ours", "float", Held::of(&f32_table(&o))),
+        ("ours", "half", Held::of(&crate::ltc::compare_report::stored_half(ours))),
+    ]
+}
+
+/// What Bevy's path holds: the binary16 texels of the KTX2 it was given (its embedded
+/// table, or ours through `AreaLightLuts`).
+pub fn bevy_held(shipped: &Shipped, ours: &Shipped) -> Vec<(&'static str, &'static str, Held)> {
+    vec![
+        ("shipped", "half", Held::of(shipped)),
+        ("ours", "half", Held::of(ours)),
+    ]
 }
 
 /// The truth's relative accuracy per pixel.
 pub const TRUTH_REL: f64 = 1e-5;
 
-/// Judge every pixel of every scene.
-pub fn compute(inp: &Inputs) -> Result<EnginesResult> {
-    let s = inp.scenes;
-    let ours = crate::ltc::compare::of_table(inp.ours);
-    let ours_half = crate::ltc::compare_report::stored_half(inp.ours);
-    use crate::ltc::upload::{f32_table, three_half_table};
-    // what each (table, path) holds
-    let held: [(&'static str, &'static str, Held, &EngineRun); 4] = [
-        (
-            "shipped",
-            "float",
-            Held::of(&f32_table(inp.shipped)),
-            inp.shipped_run,
-        ),
-        (
-            "shipped",
-            "half",
-            Held::of(&three_half_table(inp.shipped)),
-            inp.shipped_run,
-        ),
-        ("ours", "float", Held::of(&f32_table(&ours)), inp.ours_run),
-        ("ours", "half", Held::of(&ours_half), inp.ours_run),
-    ];
+/// Judge every pixel of every scene of one engine.
+pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
+    let e = inp.engine;
     let mut out = Vec::new();
     for (k, sc) in s.scenes.iter().enumerate() {
         crate::report::stage(&format!(
-            "engines: scene {} of {}: {}",
+            "engines: {}: scene {} of {}: {}",
+            e.name(),
             k + 1,
             s.scenes.len(),
             sc.name
@@ -228,32 +296,45 @@ pub fn compute(inp: &Inputs) -> Result<EnginesResult> {
             Error::InvalidArgument(format!("engines: scene {}: degenerate light", sc.name))
         })?;
         let t = lobe(sc.roughness, sc.view_deg)?;
-        let pos = &inp.shipped_run.paths["float"][k].positions;
+        let first = e.paths()[0];
+        let pos = &inp.shipped_run.paths[first][k].positions;
         // the covered pixels and their surface points
         let pts: Vec<(usize, Vector3<f64>)> = (0..s.width * s.height)
             .filter(|&p| pos[4 * p + 3] > 0.5)
             .map(|p| (p, Vector3::new(pos[4 * p], pos[4 * p + 1], pos[4 * p + 2])))
             .collect();
-        let truth: Vec<Bounded> =
-            crate::memo::map_items(&format!("engine truth {}", sc.name), &pts, |(_, x)| {
-                Ok(truth_value(&t, &light, x, TRUTH_REL))
-            })?;
+        // both runs must have rendered the same pixels at the same points
+        for run in [inp.shipped_run, inp.ours_run] {
+            for path in e.paths() {
+                let q = &run.paths[*path][k].positions;
+                if pts.iter().any(|(p, x)| {
+                    (0..3).any(|c| (q[4 * p + c] - x[c]).abs() > 1e-4)
+                }) {
+                    return Err(Error::InvalidArgument(format!(
+                        "engines: {} scene {}: the {} table's {path} run covers other points",
+                        e.name(),
+                        sc.name,
+                        run.table
+                    )));
+                }
+            }
+        }
+        let truth: Vec<Bounded> = crate::memo::map_items(
+            &format!("engine truth {} {}", e.name(), sc.name),
+            &pts,
+            |(_, x)| Ok(truth_value(&t, &light, x, TRUTH_REL)),
+        )?;
         let ndotv = sc.view_deg.to_radians().cos();
         let mut paths = Vec::new();
         let mut images = vec![(
             "truth".to_string(),
             image(s, &pts, &truth.iter().map(|b| b.value).collect::<Vec<_>>()),
         )];
-        for (table, path, h, run) in &held {
-            let e = lookup(&h.cells, h.n, sc.roughness, ndotv);
-            let tv: Vec<f64> = pts
-                .iter()
-                .map(|(_, x)| table_value(&e, &light, x))
-                .collect();
-            let fv: Vec<f64> = pts
-                .iter()
-                .map(|(_, x)| three_value(&e, &light, x))
-                .collect();
+        for (table, path, h) in &inp.held {
+            let run = if *table == "shipped" { inp.shipped_run } else { inp.ours_run };
+            let ent = lookup(&h.cells, h.n, sc.roughness, ndotv);
+            let tv: Vec<f64> = pts.iter().map(|(_, x)| table_value(&ent, &light, x)).collect();
+            let fv: Vec<f64> = pts.iter().map(|(_, x)| e.formula(&ent, &light, x)).collect();
             let rad = &run.paths[*path][k].radiance;
             let ev: Vec<f64> = pts.iter().map(|(p, _)| rad[4 * p]).collect();
             let exact = |v: &[f64]| -> Vec<Bounded> {
@@ -289,11 +370,10 @@ pub fn compute(inp: &Inputs) -> Result<EnginesResult> {
             images,
         });
     }
-    Ok(EnginesResult {
-        three: inp.shipped_run.three.clone(),
-        webgl: inp.shipped_run.webgl.clone(),
-        width: s.width,
-        height: s.height,
+    Ok(EngineResult {
+        engine: e,
+        version: inp.shipped_run.engine.clone(),
+        adapter: inp.shipped_run.adapter.clone(),
         scenes: out,
     })
 }
@@ -307,54 +387,103 @@ fn image(s: &EngineScenes, pts: &[(usize, Vector3<f64>)], v: &[f64]) -> Vec<f64>
     img
 }
 
+/// The files one engine's judging reads: both harness runs, and the shipped table as the
+/// engine ships it (three.js's RectAreaLightTexturesLib.js; Bevy's ltc.ktx2).
+pub struct EngineFiles<'a> {
+    pub engine: Engine,
+    pub shipped_run: &'a std::path::Path,
+    pub ours_run: &'a std::path::Path,
+    pub shipped_table: &'a std::path::Path,
+}
+
+fn read_capped(p: &std::path::Path) -> Result<Vec<u8>> {
+    let io = |e: std::io::Error| Error::Io {
+        path: p.display().to_string(),
+        msg: e.to_string(),
+    };
+    let len = std::fs::metadata(p).map_err(io)?.len();
+    if len > 256 << 20 {
+        return Err(Error::InvalidArgument(format!(
+            "engines: {} is {len} bytes, over 256 MiB",
+            crate::error::quoted(&p.display().to_string())
+        )));
+    }
+    std::fs::read(p).map_err(io)
+}
+
+fn read_text(p: &std::path::Path) -> Result<String> {
+    String::from_utf8(read_capped(p)?).map_err(|_| {
+        Error::InvalidArgument(format!(
+            "engines: {} is not UTF-8 text",
+            crate::error::quoted(&p.display().to_string())
+        ))
+    })
+}
+
+/// Read and judge one engine from its files; ours is results/fits/ltc-ggx.json as three.js
+/// holds it, and results/textures/ltc_ggx_zstd.ktx2 (the file the Bevy harness loads) as
+/// Bevy holds it.
+pub fn judge_files(sc: &EngineScenes, f: &EngineFiles, results: &std::path::Path) -> Result<EngineResult> {
+    let what = |t: &str| format!("{} {t}-table run", f.engine.name());
+    let shipped_run = EngineRun::parse(&read_text(f.shipped_run)?, sc, f.engine, &what("shipped"))?;
+    let ours_run = EngineRun::parse(&read_text(f.ours_run)?, sc, f.engine, &what("our"))?;
+    let held = match f.engine {
+        Engine::Three => {
+            let shipped = Shipped::parse(&read_text(f.shipped_table)?, "LTC_MAT_1", "LTC_MAT_2")?;
+            shipped.check_comparable("three.js's table")?;
+            let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+            three_held(&shipped, &ours)
+        }
+        Engine::Bevy => {
+            let shipped = crate::ltc::upload::bevy_ktx2(&read_capped(f.shipped_table)?)?;
+            shipped.check_comparable("Bevy's table")?;
+            let ours = crate::ltc::upload::bevy_ktx2(&read_capped(&results.join(BEVY_OURS))?)?;
+            bevy_held(&shipped, &ours)
+        }
+    };
+    compute(
+        sc,
+        &Inputs {
+            engine: f.engine,
+            shipped_run: &shipped_run,
+            ours_run: &ours_run,
+            held,
+        },
+    )
+}
+
+/// Our table as the Bevy harness loads it, under results/.
+pub const BEVY_OURS: &str = "textures/ltc_ggx_zstd.ktx2";
+
 /// Run the study from files and write `out`/engines.{md,json,svg}; a one-line summary.
 pub fn run(
     scenes: &std::path::Path,
-    shipped_run: &std::path::Path,
-    ours_run: &std::path::Path,
-    shipped_table: &std::path::Path,
+    engines: &[EngineFiles],
     results: &std::path::Path,
     out: &std::path::Path,
     command: &str,
 ) -> Result<String> {
     let sc = EngineScenes::read(scenes)?;
-    let read = |p: &std::path::Path| -> Result<String> {
-        let len = std::fs::metadata(p)
-            .map_err(|e| Error::Io {
-                path: p.display().to_string(),
-                msg: e.to_string(),
-            })?
-            .len();
-        if len > 256 << 20 {
-            return Err(Error::InvalidArgument(format!(
-                "engines: {} is {len} bytes, over 256 MiB",
-                crate::error::quoted(&p.display().to_string())
-            )));
-        }
-        crate::io::read_to_string(p).map_err(|e| Error::Io {
-            path: p.display().to_string(),
-            msg: e.to_string(),
-        })
+    if engines.is_empty() {
+        return Err(Error::InvalidArgument(
+            "engines: no engine's runs given".into(),
+        ));
+    }
+    let mut r = EnginesResult {
+        width: sc.width,
+        height: sc.height,
+        engines: Vec::new(),
     };
-    let shipped_run = EngineRun::parse(&read(shipped_run)?, &sc, "the shipped-table run")?;
-    let ours_run = EngineRun::parse(&read(ours_run)?, &sc, "our table's run")?;
-    let shipped = Shipped::parse(&read(shipped_table)?, "LTC_MAT_1", "LTC_MAT_2")?;
-    let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
-    let r = compute(&Inputs {
-        scenes: &sc,
-        shipped_run: &shipped_run,
-        ours_run: &ours_run,
-        shipped: &shipped,
-        ours: &ours,
-    })?;
+    for f in engines {
+        r.engines.push(judge_files(&sc, f, results)?);
+    }
     let md = report::markdown(&r, command);
-    let picks: Vec<&str> = [
+    let picks = [
         "r0.1-view30",
         "r0.25-view60",
         "r0.5-view80",
         "r0.25-view60-straddling",
-    ]
-    .to_vec();
+    ];
     let svg = report::figure(&r, &picks)?;
     crate::io::write_atomic(&out.join("engines.md"), md.as_bytes())?;
     crate::io::write_atomic(&out.join("engines.svg"), svg.as_bytes())?;
@@ -364,20 +493,23 @@ pub fn run(
             .map_err(|e| Error::InvalidArgument(format!("engines: json: {e}")))?
             .as_bytes(),
     )?;
-    let total = |t: &str| -> f64 {
-        let v: Vec<f64> = r
-            .scenes
-            .iter()
-            .flat_map(|s| s.paths.iter().filter(|p| p.table == t && p.path == "float"))
-            .map(|p| p.engine.rel_rmse.value)
-            .collect();
-        v.iter().sum::<f64>() / v.len().max(1) as f64
-    };
+    let summary: Vec<String> = r
+        .engines
+        .iter()
+        .map(|e| {
+            let p = e.engine.paths()[0];
+            format!(
+                "{} {p} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
+                e.engine.name(),
+                e.scenes.len(),
+                100.0 * e.mean("shipped", p, |x| x.engine.rel_rmse.value),
+                100.0 * e.mean("ours", p, |x| x.engine.rel_rmse.value)
+            )
+        })
+        .collect();
     Ok(format!(
-        "wrote {}: three.js float path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
+        "wrote {}: {}",
         out.join("engines.md").display(),
-        r.scenes.len(),
-        100.0 * total("shipped"),
-        100.0 * total("ours")
+        summary.join("; ")
     ))
 }

@@ -2,7 +2,7 @@
 //! and a labelled figure (truth, both tables' images, their error maps, with a colour bar)
 //! of a few scenes. Formats only.
 
-use super::{EnginesResult, Errors, SceneResult};
+use super::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
 use crate::error::Result;
 use crate::render::picture::Rgb;
 
@@ -12,38 +12,55 @@ fn cell(e: &Errors) -> String {
 
 /// The markdown report.
 pub fn markdown(r: &EnginesResult, command: &str) -> String {
+    let truth_bar = r
+        .engines
+        .iter()
+        .flat_map(|e| &e.scenes)
+        .map(|s| s.truth_rel_error)
+        .fold(0.0, f64::max);
     let mut md = format!(
-        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. three.js {} (WebGLRenderer, {}; headless Chromium with SwiftShader) rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a FloatType render target, no tone mapping) twice: with its own RectAreaLightTexturesLib.js, and with the page's import map sending that one module to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear). Every covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: three's cubic fit of θ/sin θ, its clipped-sphere horizon, f16 filtering, f32 arithmetic).\n\n",
-        r.three,
-        r.webgl,
+        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice: with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear).\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
         r.width,
         r.height,
-        r.scenes.iter().map(|s| s.truth_rel_error).fold(0.0, f64::max)
+        truth_bar
     );
-    md.push_str("## The engine against the truth\n\n| scene | pixels | shipped, float | ours, float | shipped, half | ours, half |\n|---|---|---|---|---|---|\n");
-    let pick = |s: &SceneResult, t: &str, p: &str| {
-        s.paths
-            .iter()
-            .find(|x| x.table == t && x.path == p)
-            .cloned()
-    };
-    for s in &r.scenes {
-        let c = |t: &str, p: &str| pick(s, t, p).map_or("—".into(), |x| cell(&x.engine));
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} |\n",
-            s.name,
-            s.pixels,
-            c("shipped", "float"),
-            c("ours", "float"),
-            c("shipped", "half"),
-            c("ours", "half")
-        ));
+    for e in &r.engines {
+        engine_section(&mut md, e);
     }
-    md.push_str("\n## Where the error comes from (float path)\n\n| scene | shipped: table's share | shipped: shader's share | ours: table's share | ours: shader's share |\n|---|---|---|---|---|\n");
-    for s in &r.scenes {
-        let c = |t: &str, f: &dyn Fn(&super::PathResult) -> String| {
-            pick(s, t, "float").map_or("—".into(), |x| f(&x))
-        };
+    md.push_str("![scenes](engines.svg)\n\nThe figure: for four scenes and each engine, the truth, the engine with its shipped table and with ours (its first path, the same exposure per row), and their relative errors |engine − truth|/truth on the colour bar's scale (0 to 25 %; pixels darker than 10⁻³ of the peak are black). Rows are labelled with the engine and the scene (roughness, view angle), columns with what they show.\n");
+    md
+}
+
+fn pick(s: &SceneResult, t: &str, p: &str) -> Option<PathResult> {
+    s.paths.iter().find(|x| x.table == t && x.path == p).cloned()
+}
+
+fn engine_section(md: &mut String, e: &EngineResult) {
+    let paths = e.engine.paths();
+    md.push_str(&format!(
+        "## {} ({}, on {})\n\n### The engine against the truth\n\n| scene | pixels |",
+        e.engine.name(),
+        e.version,
+        e.adapter
+    ));
+    for p in paths {
+        md.push_str(&format!(" shipped, {p} | ours, {p} |"));
+    }
+    md.push_str(&format!("\n|---|---|{}\n", "---|---|".repeat(paths.len())));
+    for s in &e.scenes {
+        md.push_str(&format!("| {} | {} |", s.name, s.pixels));
+        for p in paths {
+            for t in ["shipped", "ours"] {
+                let c = pick(s, t, p).map_or("—".into(), |x| cell(&x.engine));
+                md.push_str(&format!(" {c} |"));
+            }
+        }
+        md.push('\n');
+    }
+    let p0 = paths[0];
+    md.push_str(&format!("\n### Where the error comes from ({p0} path)\n\n| scene | shipped: table's share | shipped: shader's share | ours: table's share | ours: shader's share |\n|---|---|---|---|---|\n"));
+    for s in &e.scenes {
+        let c = |t: &str, f: &dyn Fn(&PathResult) -> String| pick(s, t, p0).map_or("—".into(), |x| f(&x));
         md.push_str(&format!(
             "| {} | {} | {} | {} | {} |\n",
             s.name,
@@ -53,27 +70,36 @@ pub fn markdown(r: &EnginesResult, command: &str) -> String {
             c("ours", &|x| cell(&x.shader_share)),
         ));
     }
-    // the verdict, scene by scene
-    let (mut better, mut worse) = (Vec::new(), Vec::new());
-    for s in &r.scenes {
-        if let (Some(a), Some(b)) = (pick(s, "ours", "float"), pick(s, "shipped", "float")) {
-            let (o, t) = (a.engine.rel_rmse, b.engine.rel_rmse);
-            if o.value + o.error < t.value - t.error {
-                better.push(s.name.clone());
-            } else if o.value - o.error > t.value + t.error {
-                worse.push(format!("{} ({} against {})", s.name, o.pct(2), t.pct(2)));
+    for p in paths {
+        let (mut better, mut worse) = (Vec::new(), Vec::new());
+        for s in &e.scenes {
+            if let (Some(a), Some(b)) = (pick(s, "ours", p), pick(s, "shipped", p)) {
+                let (o, t) = (a.engine.rel_rmse, b.engine.rel_rmse);
+                if o.value + o.error < t.value - t.error {
+                    better.push(s.name.clone());
+                } else if o.value - o.error > t.value + t.error {
+                    worse.push(format!("{} ({} against {})", s.name, o.pct(2), t.pct(2)));
+                }
             }
         }
+        md.push_str(&format!(
+            "\nOn the {p} path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}. Mean relative RMSE over the scenes: shipped {:.2} %, ours {:.2} %; the tables' own share: shipped {:.2} %, ours {:.2} %; the engine's formulas in f64 against its image (f32 arithmetic, filtering): at most {:.2e}.\n",
+            better.len(),
+            e.scenes.len(),
+            worse.len(),
+            if worse.is_empty() { String::new() } else { format!(": {}", worse.join("; ")) },
+            100.0 * e.mean("shipped", p, |x| x.engine.rel_rmse.value),
+            100.0 * e.mean("ours", p, |x| x.engine.rel_rmse.value),
+            100.0 * e.mean("shipped", p, |x| x.table_share.rel_rmse.value),
+            100.0 * e.mean("ours", p, |x| x.table_share.rel_rmse.value),
+            e.scenes
+                .iter()
+                .flat_map(|s| s.paths.iter().filter(|x| x.path == *p))
+                .map(|x| x.gpu_share.rel_rmse.value)
+                .fold(0.0, f64::max)
+        ));
     }
-    md.push_str(&format!(
-        "\nOn the float path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}.\n\n",
-        better.len(),
-        r.scenes.len(),
-        worse.len(),
-        if worse.is_empty() { String::new() } else { format!(": {}", worse.join("; ")) }
-    ));
-    md.push_str("![scenes](engines.svg)\n\nThe figure: for four scenes, the truth, three.js with its shipped table and with ours (float path, the same exposure per row), and their relative errors |engine − truth|/truth on the colour bar's scale (0 to 25 %; pixels darker than 10⁻³ of the peak are black). Rows are labelled with the scene (roughness, view angle), columns with what they show.\n");
-    md
+    md.push('\n');
 }
 
 fn b64_png(img: &Rgb) -> Result<String> {
@@ -90,14 +116,18 @@ pub fn figure(r: &EnginesResult, picks: &[&str]) -> Result<String> {
     let (left, top, gap) = (190usize, 40usize, 10usize);
     let cols = [
         "truth",
-        "three.js + shipped table",
-        "three.js + ours",
+        "engine + shipped table",
+        "engine + ours",
         "|shipped − truth|/truth",
         "|ours − truth|/truth",
     ];
-    let rows: Vec<&SceneResult> = picks
+    let rows: Vec<(&EngineResult, &SceneResult)> = picks
         .iter()
-        .filter_map(|p| r.scenes.iter().find(|s| s.name == *p))
+        .flat_map(|p| {
+            r.engines
+                .iter()
+                .filter_map(move |e| e.scenes.iter().find(|s| s.name == *p).map(|s| (e, s)))
+        })
         .collect();
     let width = left + cols.len() * (tw + gap) + 20;
     let height = top + rows.len() * (th + gap) + 80;
@@ -114,10 +144,14 @@ pub fn figure(r: &EnginesResult, picks: &[&str]) -> Result<String> {
     // image rows come bottom-up from the GL read-back
     let flip =
         |v: &[f64]| -> Vec<f64> { (0..w * h).map(|k| v[(h - 1 - k / w) * w + k % w]).collect() };
-    for (ri, s) in rows.iter().enumerate() {
+    for (ri, (e, s)) in rows.iter().enumerate() {
         let get = |name: &str| s.images.iter().find(|x| x.0 == name).map(|x| flip(&x.1));
-        let (Some(truth), Some(sh), Some(ou)) =
-            (get("truth"), get("shipped (float)"), get("ours (float)"))
+        let p0 = e.engine.paths()[0];
+        let (Some(truth), Some(sh), Some(ou)) = (
+            get("truth"),
+            get(&format!("shipped ({p0})")),
+            get(&format!("ours ({p0})")),
+        )
         else {
             continue;
         };
@@ -144,10 +178,12 @@ pub fn figure(r: &EnginesResult, picks: &[&str]) -> Result<String> {
         ];
         let y = top + ri * (th + gap);
         svg.push_str(&format!(
-            "<text x=\"10\" y=\"{}\">{}</text>\n<text x=\"10\" y=\"{}\" fill=\"#555\">r = {}, view {}°</text>\n",
-            y + th / 2 - 8,
+            "<text x=\"10\" y=\"{}\">{} ({p0})</text>\n<text x=\"10\" y=\"{}\">{}</text>\n<text x=\"10\" y=\"{}\" fill=\"#555\">r = {}, view {}°</text>\n",
+            y + th / 2 - 24,
+            e.engine.name(),
+            y + th / 2 - 6,
             s.name,
-            y + th / 2 + 10,
+            y + th / 2 + 12,
             s.roughness,
             s.view_deg
         ));
