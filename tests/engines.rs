@@ -110,7 +110,8 @@ fn bevy_render(table: &str, out: &Path) -> Result<(), String> {
     let mut c = Command::new(BEVY_BIN);
     c.args(["--scenes", "engines/three/scenes.json", "--table", table]);
     if table == "ours" {
-        c.arg("--ktx2").arg(Path::new("results").join(ndfbench::studies::engines::BEVY_OURS));
+        c.arg("--ktx2")
+            .arg(Path::new("results").join(ndfbench::studies::engines::BEVY_OURS));
     }
     c.arg("--out").arg(out);
     if let Ok(icd) = std::fs::canonicalize(LAVAPIPE) {
@@ -146,10 +147,15 @@ fn bevy_renders_both_tables_as_its_formulas_say_and_ours_is_closer_to_the_truth(
     if let Err(e) = bevy_render("bevy", &a).and_then(|_| bevy_render("ours", &b)) {
         // no adapter here (no GPU, no lavapipe) is not a failure of the workbench
         assert!(
-            e.contains("Unable to find a GPU") || e.contains("No suitable") || e.contains("adapter"),
+            e.contains("Unable to find a GPU")
+                || e.contains("No suitable")
+                || e.contains("adapter"),
             "the Bevy harness failed: {e}"
         );
-        eprintln!("skipped: Bevy found no adapter: {}", e.lines().last().unwrap_or(""));
+        eprintln!(
+            "skipped: Bevy found no adapter: {}",
+            e.lines().last().unwrap_or("")
+        );
         return;
     }
     let scenes = EngineScenes::read(Path::new("engines/three/scenes.json")).unwrap();
@@ -198,7 +204,11 @@ fn ours_is_closer(r: &EngineResult) {
             r.mean("ours", path, |x| x.engine.rel_rmse.value),
             r.mean("shipped", path, |x| x.engine.rel_rmse.value),
         );
-        assert!(o < s, "{} {path} path: ours {o} against shipped {s}", r.engine.name());
+        assert!(
+            o < s,
+            "{} {path} path: ours {o} against shipped {s}",
+            r.engine.name()
+        );
         let (o, s) = (
             r.mean("ours", path, |x| x.table_share.rel_rmse.value),
             r.mean("shipped", path, |x| x.table_share.rel_rmse.value),

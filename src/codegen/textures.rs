@@ -16,8 +16,11 @@
 //!   layout: layer 0 the matrix, layer 1 the weights);
 //! - `ltc_ggx_zstd.ktx2`: the same, zstd-supercompressed (level 22) as Bevy ships its own
 //!   `ltc.ktx2` (the same descriptor, levels aligned to 1 byte);
-//! - `<stem>_1.dds`, `<stem>_2.dds`: DDS with a DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT
-//!   (what Godot's DDS loader reads);
+//! - `<stem>_1.dds`, `<stem>_2.dds`: DDS with a DX10 header, DXGI_FORMAT_R16G16B16A16_FLOAT,
+//!   in this layout (for engines that load DDS at run time; not Godot's layout);
+//! - `godot/ltc_lut{1,2}.dds` (GGX only): Godot 4's own layout and format
+//!   (`crate::engines::godot`: R32G32B32A32_FLOAT, its own matrix form and a θ-linear
+//!   view axis), the files that replace servers/rendering/storage/ltc/ltc_lut{1,2}.dds;
 //! - `<stem>_{1,2}_{f16,f32}.bin`: raw little-endian RGBA texels, described by
 //!   `<stem>.json` (three.js DataTexture, Babylon RawTexture);
 //! - `<stem>.js`: an ES module exporting `LTC_MAT_1` and `LTC_MAT_2` as decimal
@@ -159,11 +162,26 @@ fn ktx2_texture(t: &FittedTable, writer: &str) -> crate::ktx2::Texture {
 /// DXGI_FORMAT_R16G16B16A16_FLOAT.
 pub const DXGI_FORMAT_R16G16B16A16_FLOAT: u32 = 10;
 
+/// DXGI_FORMAT_R32G32B32A32_FLOAT.
+pub const DXGI_FORMAT_R32G32B32A32_FLOAT: u32 = 2;
+
 /// A DDS file (DX10 header) of one texture of R16G16B16A16_FLOAT texels.
 pub fn dds(n: usize, texels: &[[f16; 4]]) -> Vec<u8> {
+    dds_file(n, DXGI_FORMAT_R16G16B16A16_FLOAT, 8, &bytes_f16(texels))
+}
+
+/// A DDS file (DX10 header) of one texture of R32G32B32A32_FLOAT texels (Godot's LTC
+/// tables).
+pub fn dds_f32(n: usize, texels: &[[f32; 4]]) -> Vec<u8> {
+    dds_file(n, DXGI_FORMAT_R32G32B32A32_FLOAT, 16, &bytes_f32(texels))
+}
+
+/// The 148-byte DX10 DDS header of an n×n 2D texture of `dxgi` texels of
+/// `bytes_per_texel`, then `payload`.
+fn dds_file(n: usize, dxgi: u32, bytes_per_texel: usize, payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::new();
     out.extend_from_slice(b"DDS ");
-    let pitch = (n * 8) as u32;
+    let pitch = (n * bytes_per_texel) as u32;
     // DDS_HEADER: size, flags (CAPS | HEIGHT | WIDTH | PIXELFORMAT | PITCH), height,
     // width, pitch, depth, mip count, 11 reserved
     for v in [
@@ -192,10 +210,10 @@ pub fn dds(n: usize, texels: &[[f16; 4]]) -> Vec<u8> {
         u32le(&mut out, v);
     }
     // DDS_HEADER_DXT10: format, dimension (TEXTURE2D), misc, array size, misc2
-    for v in [DXGI_FORMAT_R16G16B16A16_FLOAT, 3, 0, 1, 0] {
+    for v in [dxgi, 3, 0, 1, 0] {
         u32le(&mut out, v);
     }
-    out.extend(bytes_f16(texels));
+    out.extend_from_slice(payload);
     out
 }
 
@@ -355,6 +373,16 @@ pub fn render(t: &FittedTable, kind: &TableKind, command: &str) -> Vec<(String, 
             format!("{DIR}/three/{THREE_DROP_IN}"),
             three_drop_in(t, &header).into_bytes(),
         ));
+        // Godot's own layout (crate::engines::godot), f32 as Godot embeds it
+        let (l1, l2) = crate::engines::godot::texels(t);
+        let f32s =
+            |v: Vec<[f64; 4]>| -> Vec<[f32; 4]> { v.iter().map(|x| x.map(|c| c as f32)).collect() };
+        for (k, l) in [l1, l2].into_iter().enumerate() {
+            out.push((
+                format!("{DIR}/godot/ltc_lut{}.dds", k + 1),
+                dds_f32(crate::engines::godot::N, &f32s(l)),
+            ));
+        }
     }
     out
 }

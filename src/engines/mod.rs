@@ -22,6 +22,7 @@
 //! its local y, it shines toward −z only (a point behind it gets 0), and its uniform
 //! colour is colour × intensity (1 here).
 
+pub mod godot;
 pub mod scenes;
 pub mod truth;
 

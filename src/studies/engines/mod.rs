@@ -6,7 +6,9 @@
 //! shader's share. Compute ([`compute`]) → render ([`report`]) → the CLI publishes
 //! results/engines.{md,json,svg}.
 
-use crate::engines::truth::{bevy_value, lobe, lookup, table_value, three_value, truth_value, Rect};
+use crate::engines::truth::{
+    bevy_value, lobe, lookup, table_value, three_value, truth_value, Rect,
+};
 use crate::engines::EngineScenes;
 use crate::error::{Error, Result};
 use crate::ltc::compare::Shipped;
@@ -73,7 +75,12 @@ pub struct EngineRun {
 impl EngineRun {
     /// Parse and check against the scenes: every path the engine has, every scene, every
     /// size.
-    pub fn parse(text: &str, scenes: &EngineScenes, engine: Engine, what: &str) -> Result<EngineRun> {
+    pub fn parse(
+        text: &str,
+        scenes: &EngineScenes,
+        engine: Engine,
+        what: &str,
+    ) -> Result<EngineRun> {
         let bad = |m: String| Error::InvalidArgument(format!("engines: {what}: {m}"));
         let r: EngineRun = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         let px = scenes.width * scenes.height * 4;
@@ -96,7 +103,11 @@ impl EngineRun {
                         scenes.height
                     )));
                 }
-                if s.radiance.iter().chain(&s.positions).any(|x| !x.is_finite()) {
+                if s.radiance
+                    .iter()
+                    .chain(&s.positions)
+                    .any(|x| !x.is_finite())
+                {
                     return Err(bad(format!(
                         "scene {}: a pixel is not a finite number",
                         crate::error::quoted(&s.name)
@@ -231,11 +242,27 @@ impl EngineResult {
         let v: Vec<f64> = self
             .scenes
             .iter()
-            .flat_map(|s| s.paths.iter().filter(|x| x.table == table && x.path == path))
+            .flat_map(|s| {
+                s.paths
+                    .iter()
+                    .filter(|x| x.table == table && x.path == path)
+            })
             .map(f)
             .collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
     }
+}
+
+/// Godot 4 on one scene, in f64 only (no Godot binary here): its formulas with our
+/// files (results/textures/godot/) against the truth, and the same texels with the exact
+/// edge integral (the table's share).
+#[derive(Clone, Debug, Serialize)]
+pub struct GodotScene {
+    pub name: String,
+    /// Godot's lookup and `ltc_evaluate_specular` (Hill's edge fit) against the truth.
+    pub formulas: Errors,
+    /// Godot's lookup with the exact edge integral against the truth.
+    pub table_share: Errors,
 }
 
 /// Everything the report shows.
@@ -244,6 +271,47 @@ pub struct EnginesResult {
     pub width: usize,
     pub height: usize,
     pub engines: Vec<EngineResult>,
+    /// Godot's formulas in f64 with our Godot files, where they were given.
+    pub godot: Vec<GodotScene>,
+}
+
+/// Godot 4 in f64 with our files (lut1, lut2 texels as f64) at the points of `run`'s
+/// first path: per scene, its formulas and its texels' exact value against the truth.
+pub fn godot(
+    s: &EngineScenes,
+    run: &EngineRun,
+    engine: Engine,
+    l1: &[[f64; 4]],
+    l2: &[[f64; 4]],
+) -> Result<Vec<GodotScene>> {
+    use crate::engines::godot::{godot_exact, godot_value, lookup as godot_lookup};
+    let mut out = Vec::new();
+    for (k, sc) in s.scenes.iter().enumerate() {
+        let light = Rect::of(&sc.light).ok_or_else(|| {
+            Error::InvalidArgument(format!("engines: scene {}: degenerate light", sc.name))
+        })?;
+        let t = lobe(sc.roughness, sc.view_deg)?;
+        let pos = &run.paths[engine.paths()[0]][k].positions;
+        let pts: Vec<Vector3<f64>> = (0..s.width * s.height)
+            .filter(|&p| pos[4 * p + 3] > 0.5)
+            .map(|p| Vector3::new(pos[4 * p], pos[4 * p + 1], pos[4 * p + 2]))
+            .collect();
+        // the same points and label as that engine's truth: the memo shares it
+        let truth: Vec<Bounded> = crate::memo::map_items(
+            &format!("engine truth {} {}", engine.name(), sc.name),
+            &pts,
+            |x| Ok(truth_value(&t, &light, x, TRUTH_REL)),
+        )?;
+        let g = godot_lookup(l1, l2, sc.roughness, sc.view_deg.to_radians().cos());
+        let fv: Vec<f64> = pts.iter().map(|x| godot_value(&g, &light, x)).collect();
+        let ev: Vec<f64> = pts.iter().map(|x| godot_exact(&g, &light, x)).collect();
+        out.push(GodotScene {
+            name: sc.name.clone(),
+            formulas: errors(&fv, &truth),
+            table_share: errors(&ev, &truth),
+        });
+    }
+    Ok(out)
 }
 
 /// One engine's inputs: both harness runs and what each (table, path) holds.
@@ -257,14 +325,21 @@ pub struct Inputs<'a> {
 
 /// What three.js's paths hold: its f32 numbers and its truncated halves for the shipped
 /// table; our f32 table and our stored binary16 one.
-pub fn three_held(shipped: &Shipped, ours: &crate::ltc::table::FittedTable) -> Vec<(&'static str, &'static str, Held)> {
+pub fn three_held(
+    shipped: &Shipped,
+    ours: &crate::ltc::table::FittedTable,
+) -> Vec<(&'static str, &'static str, Held)> {
     use crate::ltc::upload::{f32_table, three_half_table};
     let o = crate::ltc::compare::of_table(ours);
     vec![
         ("shipped", "float", Held::of(&f32_table(shipped))),
         ("shipped", "half", Held::of(&three_half_table(shipped))),
         ("ours", "float", Held::of(&f32_table(&o))),
-        ("ours", "half", Held::of(&crate::ltc::compare_report::stored_half(ours))),
+        (
+            "ours",
+            "half",
+            Held::of(&crate::ltc::compare_report::stored_half(ours)),
+        ),
     ]
 }
 
@@ -307,9 +382,10 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
         for run in [inp.shipped_run, inp.ours_run] {
             for path in e.paths() {
                 let q = &run.paths[*path][k].positions;
-                if pts.iter().any(|(p, x)| {
-                    (0..3).any(|c| (q[4 * p + c] - x[c]).abs() > 1e-4)
-                }) {
+                if pts
+                    .iter()
+                    .any(|(p, x)| (0..3).any(|c| (q[4 * p + c] - x[c]).abs() > 1e-4))
+                {
                     return Err(Error::InvalidArgument(format!(
                         "engines: {} scene {}: the {} table's {path} run covers other points",
                         e.name(),
@@ -331,10 +407,20 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
             image(s, &pts, &truth.iter().map(|b| b.value).collect::<Vec<_>>()),
         )];
         for (table, path, h) in &inp.held {
-            let run = if *table == "shipped" { inp.shipped_run } else { inp.ours_run };
+            let run = if *table == "shipped" {
+                inp.shipped_run
+            } else {
+                inp.ours_run
+            };
             let ent = lookup(&h.cells, h.n, sc.roughness, ndotv);
-            let tv: Vec<f64> = pts.iter().map(|(_, x)| table_value(&ent, &light, x)).collect();
-            let fv: Vec<f64> = pts.iter().map(|(_, x)| e.formula(&ent, &light, x)).collect();
+            let tv: Vec<f64> = pts
+                .iter()
+                .map(|(_, x)| table_value(&ent, &light, x))
+                .collect();
+            let fv: Vec<f64> = pts
+                .iter()
+                .map(|(_, x)| e.formula(&ent, &light, x))
+                .collect();
             let rad = &run.paths[*path][k].radiance;
             let ev: Vec<f64> = pts.iter().map(|(p, _)| rad[4 * p]).collect();
             let exact = |v: &[f64]| -> Vec<Bounded> {
@@ -423,7 +509,11 @@ fn read_text(p: &std::path::Path) -> Result<String> {
 /// Read and judge one engine from its files; ours is results/fits/ltc-ggx.json as three.js
 /// holds it, and results/textures/ltc_ggx_zstd.ktx2 (the file the Bevy harness loads) as
 /// Bevy holds it.
-pub fn judge_files(sc: &EngineScenes, f: &EngineFiles, results: &std::path::Path) -> Result<EngineResult> {
+pub fn judge_files(
+    sc: &EngineScenes,
+    f: &EngineFiles,
+    results: &std::path::Path,
+) -> Result<EngineResult> {
     let what = |t: &str| format!("{} {t}-table run", f.engine.name());
     let shipped_run = EngineRun::parse(&read_text(f.shipped_run)?, sc, f.engine, &what("shipped"))?;
     let ours_run = EngineRun::parse(&read_text(f.ours_run)?, sc, f.engine, &what("our"))?;
@@ -473,9 +563,27 @@ pub fn run(
         width: sc.width,
         height: sc.height,
         engines: Vec::new(),
+        godot: Vec::new(),
     };
+    let mut first_run = None;
     for f in engines {
         r.engines.push(judge_files(&sc, f, results)?);
+        if first_run.is_none() {
+            let text = read_text(f.shipped_run)?;
+            first_run = Some((
+                EngineRun::parse(&text, &sc, f.engine, "the first run")?,
+                f.engine,
+            ));
+        }
+    }
+    if let Some((run, engine)) = &first_run {
+        let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+        let (l1, l2) = crate::engines::godot::texels(&ours);
+        // as Godot holds them: f32
+        let f32s = |v: Vec<[f64; 4]>| -> Vec<[f64; 4]> {
+            v.iter().map(|x| x.map(|c| c as f32 as f64)).collect()
+        };
+        r.godot = godot(&sc, run, *engine, &f32s(l1), &f32s(l2))?;
     }
     let md = report::markdown(&r, command);
     let picks = [

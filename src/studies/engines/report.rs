@@ -27,12 +27,47 @@ pub fn markdown(r: &EnginesResult, command: &str) -> String {
     for e in &r.engines {
         engine_section(&mut md, e);
     }
+    godot_section(&mut md, r);
     md.push_str("![scenes](engines.svg)\n\nThe figure: for four scenes and each engine, the truth, the engine with its shipped table and with ours (its first path, the same exposure per row), and their relative errors |engine − truth|/truth on the colour bar's scale (0 to 25 %; pixels darker than 10⁻³ of the peak are black). Rows are labelled with the engine and the scene (roughness, view angle), columns with what they show.\n");
     md
 }
 
+fn godot_section(md: &mut String, r: &EnginesResult) {
+    if r.godot.is_empty() {
+        return;
+    }
+    md.push_str("## Godot 4 (formulas in f64; not rendered)\n\nNo Godot binary runs here, and Godot's own LTC files could not be fetched (its repository is over this machine's fetch limit), so Godot is judged by its shader's formulas transcribed in f64 (`engines::godot`, read from area_lights_inc.glsl): its bilinear lookup of our `results/textures/godot/ltc_lut{1,2}.dds` (f32, its θ-linear view axis through `acos_approx`), its matrix form, horizon clip and Hill's edge fit, at the first engine's pixel points. **Formulas**: that value against the truth; **table's share**: the same texels with the exact edge integral against the truth.\n\n| scene | formulas | table's share |\n|---|---|---|\n");
+    for s in &r.godot {
+        md.push_str(&format!(
+            "| {} | {} | {} |\n",
+            s.name,
+            cell(&s.formulas),
+            cell(&s.table_share)
+        ));
+    }
+    let n = r.godot.len().max(1) as f64;
+    md.push_str(&format!(
+        "\nMean relative RMSE over the scenes: formulas {:.2} %, table's share {:.2} %.\n\n",
+        100.0
+            * r.godot
+                .iter()
+                .map(|s| s.formulas.rel_rmse.value)
+                .sum::<f64>()
+            / n,
+        100.0
+            * r.godot
+                .iter()
+                .map(|s| s.table_share.rel_rmse.value)
+                .sum::<f64>()
+            / n
+    ));
+}
+
 fn pick(s: &SceneResult, t: &str, p: &str) -> Option<PathResult> {
-    s.paths.iter().find(|x| x.table == t && x.path == p).cloned()
+    s.paths
+        .iter()
+        .find(|x| x.table == t && x.path == p)
+        .cloned()
 }
 
 fn engine_section(md: &mut String, e: &EngineResult) {
@@ -60,7 +95,9 @@ fn engine_section(md: &mut String, e: &EngineResult) {
     let p0 = paths[0];
     md.push_str(&format!("\n### Where the error comes from ({p0} path)\n\n| scene | shipped: table's share | shipped: shader's share | ours: table's share | ours: shader's share |\n|---|---|---|---|---|\n"));
     for s in &e.scenes {
-        let c = |t: &str, f: &dyn Fn(&PathResult) -> String| pick(s, t, p0).map_or("—".into(), |x| f(&x));
+        let c = |t: &str, f: &dyn Fn(&PathResult) -> String| {
+            pick(s, t, p0).map_or("—".into(), |x| f(&x))
+        };
         md.push_str(&format!(
             "| {} | {} | {} | {} | {} |\n",
             s.name,
@@ -151,8 +188,7 @@ pub fn figure(r: &EnginesResult, picks: &[&str]) -> Result<String> {
             get("truth"),
             get(&format!("shipped ({p0})")),
             get(&format!("ours ({p0})")),
-        )
-        else {
+        ) else {
             continue;
         };
         let peak = truth.iter().cloned().fold(0.0, f64::max).max(1e-300);
