@@ -201,7 +201,11 @@ fn run() -> Result<(), String> {
             perceptual_roughness: 0.5,
             ..default()
         });
-    world.spawn((Mesh3d(mesh), MeshMaterial3d(material.clone()), Transform::IDENTITY));
+    world.spawn((
+        Mesh3d(mesh),
+        MeshMaterial3d(material.clone()),
+        Transform::IDENTITY,
+    ));
     let camera = world
         .spawn((
             Camera3d::default(),
@@ -275,9 +279,8 @@ fn run() -> Result<(), String> {
                     let b: [u8; 4] = data[src + 4 * c..src + 4 * c + 4].try_into().unwrap();
                     radiance[dst + c] = f32::from_le_bytes(b) as f64 / exposure_seen;
                 }
-                radiance[dst + 3] = f32::from_le_bytes(
-                    data[src + 12..src + 16].try_into().unwrap(),
-                ) as f64;
+                radiance[dst + 3] =
+                    f32::from_le_bytes(data[src + 12..src + 16].try_into().unwrap()) as f64;
                 // the pixel centre in NDC (y up), its ray meets z = 0 at (−y·s, x·s)
                 let xn = (col as f64 + 0.5) / wf * 2.0 - 1.0;
                 let yn = (row as f64 + 0.5) / hf * 2.0 - 1.0;
@@ -301,7 +304,10 @@ fn run() -> Result<(), String> {
         });
     }
     let adapter = {
-        let info = app.sub_app(RenderApp).world().resource::<RenderAdapterInfo>();
+        let info = app
+            .sub_app(RenderApp)
+            .world()
+            .resource::<RenderAdapterInfo>();
         format!("{} ({:?})", info.0.name, info.0.backend)
     };
     let mut paths = std::collections::BTreeMap::new();
@@ -392,7 +398,9 @@ fn render_until_stable(
         }
         app.update();
         if let Some(exit) = app.should_exit() {
-            return Err(format!("scene {name}: Bevy quit ({exit:?}); its log above says why"));
+            return Err(format!(
+                "scene {name}: Bevy quit ({exit:?}); its log above says why"
+            ));
         }
         let l = latest.lock().unwrap();
         if l.frame < start + 4 {
