@@ -1,7 +1,9 @@
 // node render.mjs --table shipped|ours --out FILE.json [--chromium PATH]
 // Serves this folder, three's package and our drop-in on 127.0.0.1 (an ephemeral port),
 // loads page.html in headless Chromium (WebGL2 on SwiftShader), renders every scene of
-// scenes.json on the float path and on the half-float path, and writes the pixels.
+// scenes.json on the float path and on the half-float path, then page_webgpu.html with
+// WebGPURenderer (WebGPU on SwiftShader, where Chromium offers an adapter), and writes the
+// pixels.
 // With --table ours the page's import map sends three's
 // examples/jsm/lights/RectAreaLightTexturesLib.js to results/textures/three/ — the one
 // import a user changes.
@@ -46,10 +48,20 @@ const server = createServer( async ( req, res ) => {
 	try {
 
 		let body = await readFile( path );
-		if ( url === '/page.html' ) {
+		if ( url === '/page.html' || url === '/page_webgpu.html' ) {
 
-			const imports = { 'three': '/three/build/three.module.js', 'three/addons/': '/three/examples/jsm/' };
-			if ( table === 'ours' ) imports[ '/three/examples/jsm/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
+			const imports = url === '/page.html'
+				? { 'three': '/three/build/three.module.js', 'three/addons/': '/three/examples/jsm/' }
+				: { 'three': '/three/build/three.webgpu.js', 'three/webgpu': '/three/build/three.webgpu.js', 'three/tsl': '/three/build/three.tsl.js', 'three/addons/': '/three/examples/jsm/' };
+			if ( table === 'ours' ) {
+
+				// the recipe: three's module sent to ours, by its URL (how three's own
+				// RectAreaLightUniformsLib reaches it) and by its bare specifier (how an
+				// application importing it for RectAreaLightNode.setLTC names it)
+				imports[ '/three/examples/jsm/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
+				imports[ 'three/addons/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
+
+			}
 			body = body.toString().replace( '__IMPORTMAP__', JSON.stringify( { imports } ) );
 
 		}
@@ -65,7 +77,8 @@ const server = createServer( async ( req, res ) => {
 } );
 await new Promise( ( ok ) => server.listen( 0, '127.0.0.1', ok ) );
 const base = `http://127.0.0.1:${server.address().port}`;
-const browser = await chromium.launch( { executablePath: exe, args: [ '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox' ] } );
+// WebGL2 through ANGLE on SwiftShader; WebGPU (Dawn) on SwiftShader's Vulkan
+const browser = await chromium.launch( { executablePath: exe, args: [ '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--enable-unsafe-webgpu', '--no-sandbox' ] } );
 try {
 
 	const config = JSON.parse( await readFile( join( here, 'scenes.json' ), 'utf8' ) );
@@ -84,6 +97,27 @@ try {
 
 	}
 
+	// the WebGPURenderer path, where this Chromium offers a WebGPU adapter (skipped with a
+	// line otherwise: the judging then has the two WebGL paths)
+	const page = await browser.newPage();
+	page.on( 'pageerror', ( e ) => console.error( `page error: ${e.message}` ) );
+	await page.goto( `${base}/page_webgpu.html` );
+	await page.waitForFunction( () => window.ready === true, null, { timeout: 60000 } );
+	const hasGpu = await page.evaluate( async () => !! ( navigator.gpu && await navigator.gpu.requestAdapter() ) );
+	if ( hasGpu ) {
+
+		const r = await page.evaluate( ( c ) => window.renderAllWebGPU( c ), config );
+		result.paths[ r.path ] = r.scenes;
+		result.webgpu_adapter = r.adapter;
+		console.error( `three.js ${table} table, ${r.path} path: ${r.scenes.length} scenes rendered (${r.adapter})` );
+
+	} else {
+
+		console.error( `three.js ${table} table: no WebGPU adapter in this Chromium, the WebGPURenderer path skipped` );
+
+	}
+
+	await page.close();
 	await writeFile( out, JSON.stringify( result ) );
 
 } finally {

@@ -36,11 +36,19 @@ impl Engine {
             Engine::Bevy => "Bevy",
         }
     }
-    /// The paths a harness run holds, each a way the engine stores the table.
+    /// The paths every harness run holds, each a way the engine stores the table.
     pub fn paths(self) -> &'static [&'static str] {
         match self {
             Engine::Three => &["float", "half"],
             Engine::Bevy => &["half"],
+        }
+    }
+    /// Paths a run holds where the machine allows: three.js's WebGPURenderer (WebGPU on
+    /// SwiftShader), on the float or the half textures as the adapter decides.
+    pub fn optional_paths(self) -> &'static [&'static str] {
+        match self {
+            Engine::Three => &["webgpu-float", "webgpu-half"],
+            Engine::Bevy => &[],
         }
     }
     /// The engine's own formula in f64 for the entries its lookup returns.
@@ -69,6 +77,9 @@ pub struct EngineRun {
     pub engine: String,
     #[serde(default)]
     pub adapter: String,
+    /// The adapter of the WebGPU path, where there is one.
+    #[serde(default)]
+    pub webgpu_adapter: String,
     pub paths: std::collections::BTreeMap<String, Vec<EngineScene>>,
 }
 
@@ -84,7 +95,16 @@ impl EngineRun {
         let bad = |m: String| Error::InvalidArgument(format!("engines: {what}: {m}"));
         let r: EngineRun = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         let px = scenes.width * scenes.height * 4;
-        for p in engine.paths() {
+        if let Some(p) = r.paths.keys().find(|p| {
+            !engine.paths().contains(&p.as_str()) && !engine.optional_paths().contains(&p.as_str())
+        }) {
+            return Err(bad(format!("unknown path {}", crate::error::quoted(p))));
+        }
+        let present = engine
+            .optional_paths()
+            .iter()
+            .filter(|p| r.paths.contains_key(**p));
+        for p in engine.paths().iter().chain(present) {
             let v = r.paths.get(*p).ok_or_else(|| bad(format!("no {p} path")))?;
             if v.len() != scenes.scenes.len() {
                 return Err(bad(format!(
@@ -229,6 +249,8 @@ pub struct SceneResult {
 #[derive(Clone, Debug, Serialize)]
 pub struct EngineResult {
     pub engine: Engine,
+    /// The paths judged: every required one, and the optional ones both runs hold.
+    pub paths: Vec<&'static str>,
     /// The engine and version as its harness reports them.
     pub version: String,
     /// The adapter the harness ran on (WebGL's version string, wgpu's adapter).
@@ -331,15 +353,24 @@ pub fn three_held(
 ) -> Vec<(&'static str, &'static str, Held)> {
     use crate::ltc::upload::{f32_table, three_half_table};
     let o = crate::ltc::compare::of_table(ours);
+    let (sf, sh) = (
+        Held::of(&f32_table(shipped)),
+        Held::of(&three_half_table(shipped)),
+    );
+    let (of, oh) = (
+        Held::of(&f32_table(&o)),
+        Held::of(&crate::ltc::compare_report::stored_half(ours)),
+    );
+    // WebGPURenderer binds the same four textures as WebGL (RectAreaLightNode)
     vec![
-        ("shipped", "float", Held::of(&f32_table(shipped))),
-        ("shipped", "half", Held::of(&three_half_table(shipped))),
-        ("ours", "float", Held::of(&f32_table(&o))),
-        (
-            "ours",
-            "half",
-            Held::of(&crate::ltc::compare_report::stored_half(ours)),
-        ),
+        ("shipped", "float", sf.clone()),
+        ("shipped", "half", sh.clone()),
+        ("ours", "float", of.clone()),
+        ("ours", "half", oh.clone()),
+        ("shipped", "webgpu-float", sf),
+        ("shipped", "webgpu-half", sh),
+        ("ours", "webgpu-float", of),
+        ("ours", "webgpu-half", oh),
     ]
 }
 
@@ -358,6 +389,14 @@ pub const TRUTH_REL: f64 = 1e-5;
 /// Judge every pixel of every scene of one engine.
 pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
     let e = inp.engine;
+    // the paths both runs hold
+    let judged: Vec<&'static str> = e
+        .paths()
+        .iter()
+        .chain(e.optional_paths())
+        .copied()
+        .filter(|p| inp.shipped_run.paths.contains_key(*p) && inp.ours_run.paths.contains_key(*p))
+        .collect();
     let mut out = Vec::new();
     for (k, sc) in s.scenes.iter().enumerate() {
         crate::report::stage(&format!(
@@ -380,7 +419,7 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
             .collect();
         // both runs must have rendered the same pixels at the same points
         for run in [inp.shipped_run, inp.ours_run] {
-            for path in e.paths() {
+            for path in &judged {
                 let q = &run.paths[*path][k].positions;
                 if pts
                     .iter()
@@ -406,7 +445,7 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
             "truth".to_string(),
             image(s, &pts, &truth.iter().map(|b| b.value).collect::<Vec<_>>()),
         )];
-        for (table, path, h) in &inp.held {
+        for (table, path, h) in inp.held.iter().filter(|h| judged.contains(&h.1)) {
             let run = if *table == "shipped" {
                 inp.shipped_run
             } else {
@@ -456,10 +495,15 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
             images,
         });
     }
+    let adapter = match inp.shipped_run.webgpu_adapter.as_str() {
+        "" => inp.shipped_run.adapter.clone(),
+        w => format!("{}; {w}", inp.shipped_run.adapter),
+    };
     Ok(EngineResult {
         engine: e,
+        paths: judged,
         version: inp.shipped_run.engine.clone(),
-        adapter: inp.shipped_run.adapter.clone(),
+        adapter,
         scenes: out,
     })
 }

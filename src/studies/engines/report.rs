@@ -19,7 +19,7 @@ pub fn markdown(r: &EnginesResult, command: &str) -> String {
         .map(|s| s.truth_rel_error)
         .fold(0.0, f64::max);
     let mut md = format!(
-        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice: with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear).\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
+        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice: with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders with WebGLRenderer the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear), and with WebGPURenderer (WebGPU on SwiftShader, where Chromium offers an adapter; ours through `RectAreaLightNode.setLTC` and the import map's entry for the bare specifier) the `webgpu-float` or `webgpu-half` path, as three binds them.\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
         r.width,
         r.height,
         truth_bar
@@ -71,7 +71,7 @@ fn pick(s: &SceneResult, t: &str, p: &str) -> Option<PathResult> {
 }
 
 fn engine_section(md: &mut String, e: &EngineResult) {
-    let paths = e.engine.paths();
+    let paths = &e.paths;
     md.push_str(&format!(
         "## {} ({}, on {})\n\n### The engine against the truth\n\n| scene | pixels |",
         e.engine.name(),
@@ -115,7 +115,21 @@ fn engine_section(md: &mut String, e: &EngineResult) {
                 if o.value + o.error < t.value - t.error {
                     better.push(s.name.clone());
                 } else if o.value - o.error > t.value + t.error {
-                    worse.push(format!("{} ({} against {})", s.name, o.pct(2), t.pct(2)));
+                    // why: the tables' own shares side by side
+                    let (ot, tt) = (a.table_share.rel_rmse, b.table_share.rel_rmse);
+                    let cause = if ot.value > tt.value {
+                        "the table: its own share is larger"
+                    } else {
+                        "the engine's shader: the table's own share is smaller"
+                    };
+                    worse.push(format!(
+                        "{} ({} against {}; tables' shares {} against {}: {cause})",
+                        s.name,
+                        o.pct(2),
+                        t.pct(2),
+                        ot.pct(2),
+                        tt.pct(2)
+                    ));
                 }
             }
         }

@@ -1,0 +1,87 @@
+// The same scenes with three.js's WebGPURenderer (WebGPU on SwiftShader's Vulkan): the
+// LTC textures are whatever RectAreaLightTexturesLib.js resolves to through the page's
+// import map, handed to the renderer by RectAreaLightNode.setLTC(…init()) as three's
+// WebGPU examples do. A FloatType render target, no tone mapping, read back as numbers;
+// a second pass with each pixel's world position. Reports which textures three bound
+// (LTC_FLOAT where the adapter has float32-filterable, else LTC_HALF).
+import * as THREE from 'three/webgpu';
+import { positionWorld, vec4 } from 'three/tsl';
+import { RectAreaLightTexturesLib } from 'three/addons/lights/RectAreaLightTexturesLib.js';
+
+window.renderAllWebGPU = async function ( config ) {
+
+	const { width, height } = config;
+	const renderer = new THREE.WebGPURenderer( { antialias: false } );
+	await renderer.init();
+	if ( renderer.backend.isWebGPUBackend !== true ) throw new Error( 'WebGPU backend unavailable' );
+	THREE.RectAreaLightNode.setLTC( RectAreaLightTexturesLib.init() );
+	renderer.toneMapping = THREE.NoToneMapping;
+	renderer.setPixelRatio( 1 );
+	renderer.setSize( width, height, false );
+	const target = new THREE.RenderTarget( width, height, { type: THREE.FloatType, format: THREE.RGBAFormat, depthBuffer: true } );
+	const scene = new THREE.Scene();
+	const s = config.plane_half;
+	const standard = new THREE.MeshStandardNodeMaterial( { color: 0xffffff, metalness: 1.0, roughness: 0.5 } );
+	const plane = new THREE.Mesh( new THREE.PlaneGeometry( 2 * s, 2 * s ), standard );
+	scene.add( plane );
+	const light = new THREE.RectAreaLight( 0xffffff, 1.0, 1.0, 1.0 );
+	scene.add( light );
+	// the node material's output drops negative values: positions are written offset by
+	// +OFFSET and the offset is taken off after the read-back
+	const OFFSET = 4.0;
+	const positions = new THREE.MeshBasicNodeMaterial();
+	positions.colorNode = vec4( positionWorld.add( OFFSET ), 1.0 );
+	// rows from the bottom, as the WebGL path's readRenderTargetPixels returns them
+	const read = async () => {
+
+		const buf = await renderer.readRenderTargetPixelsAsync( target, 0, 0, width, height );
+		const out = new Array( width * height * 4 );
+		for ( let y = 0; y < height; y ++ ) {
+
+			for ( let k = 0; k < width * 4; k ++ ) out[ y * width * 4 + k ] = buf[ ( height - 1 - y ) * width * 4 + k ];
+
+		}
+
+		return out;
+
+	};
+
+	const out = [];
+	for ( const sc of config.scenes ) {
+
+		const th = sc.view_deg * Math.PI / 180;
+		const c = Math.cos( th );
+		const cam = new THREE.OrthographicCamera( - s, s, s * c, - s * c, 0.1, 100 );
+		cam.position.set( 10 * Math.sin( th ), 0, 10 * c );
+		cam.up.set( - c, 0, Math.sin( th ) );
+		cam.lookAt( 0, 0, 0 );
+		cam.updateMatrixWorld();
+		light.width = sc.light.width;
+		light.height = sc.light.height;
+		light.position.set( ...sc.light.center );
+		light.up.set( ...sc.light.up );
+		light.lookAt( ...sc.light.look_at );
+		light.updateMatrixWorld();
+		standard.roughness = sc.roughness;
+		plane.material = standard;
+		renderer.setRenderTarget( target );
+		renderer.setClearColor( 0x000000, 0 );
+		renderer.clear();
+		renderer.render( scene, cam );
+		const radiance = await read();
+		plane.material = positions;
+		renderer.clear();
+		renderer.render( scene, cam );
+		const where = ( await read() ).map( ( v, k ) => ( k % 4 === 3 || v === 0 ? v : v - OFFSET ) );
+		out.push( { name: sc.name, radiance, positions: where } );
+
+	}
+
+	renderer.setRenderTarget( null );
+	const float = renderer.backend.hasFeature( 'float32-filterable' );
+	const adapter = await navigator.gpu.requestAdapter();
+	const info = adapter && adapter.info ? adapter.info : {};
+	return { path: float ? 'webgpu-float' : 'webgpu-half', adapter: `WebGPU, ${info.vendor || '?'} ${info.architecture || '?'}`, scenes: out };
+
+};
+window.ready = true;
