@@ -41,6 +41,7 @@ pub mod microfacet;
 pub mod multiscale;
 pub mod optimize;
 pub mod prefilter;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod results;

@@ -309,10 +309,9 @@ pub fn bilinear_pass<T: LtcTarget>(
         at_cells: &at_cells,
         at_squares: &at_squares,
     };
-    let pb = indicatif::ProgressBar::new((g * g) as u64);
-    pb.set_message("ltc bilinear pass");
+    let pb = crate::progress::Progress::new("ltc bilinear pass", (g * g) as u64);
     let (new, cells_moved) = sweep(&lattice, n, max_iters, &|| pb.inc(1))?;
-    pb.finish_and_clear();
+    pb.finish();
     // write back, with the held-out errors and the fit parameters of the moved cells
     let before_cols = main.cells.clone();
     main.cells = crate::memo::map(

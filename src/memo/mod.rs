@@ -140,8 +140,26 @@ pub(crate) fn exact_json<T: Serialize + DeserializeOwned>(
     serde_json::from_str(&text).map_err(|e| Error::InvalidArgument(format!("map '{label}': {e}")))
 }
 
-fn compute<T: Send, F: Fn(usize) -> Result<T> + Sync>(idx: &[usize], f: &F) -> Result<Vec<T>> {
-    idx.par_iter().map(|&i| f(i)).collect()
+fn compute<T: Send, F: Fn(usize) -> Result<T> + Sync>(
+    idx: &[usize],
+    f: &F,
+    label: &str,
+) -> Result<Vec<T>> {
+    let study = SCOPE.with_borrow(|s| s.as_ref().map(|s| s.study.clone()));
+    let pr = crate::progress::Progress::new(
+        match study {
+            Some(s) => format!("{s}: {label}"),
+            None => label.to_string(),
+        },
+        idx.len() as u64,
+    );
+    idx.par_iter()
+        .map(|&i| {
+            let r = f(i);
+            pr.inc(1);
+            r
+        })
+        .collect()
 }
 
 /// The items `f(0), …, f(n − 1)` of the map `label`, in index order; see the module doc
@@ -177,18 +195,18 @@ where
     let clock = std::time::Instant::now();
     let all: Vec<usize> = (0..n).collect();
     let (out, computed, source) = match step {
-        Step::Plain => (compute(&all, &f)?, n, "computed"),
+        Step::Plain => (compute(&all, &f, label)?, n, "computed"),
         Step::Cached(path, k) => match cache::load::<T>(&path, &k, label, n) {
             Some(v) => (v, 0, "cache hit"),
             None => {
-                let v = compute(&all, &f)?;
+                let v = compute(&all, &f, label)?;
                 cache::store(&path, &k, label, &v);
                 (v, n, "cache miss, stored")
             }
         },
         Step::Shard(k, of) => {
             let own: Vec<usize> = (k..n).step_by(of).collect();
-            let v = compute(&own, &f)?;
+            let v = compute(&own, &f, label)?;
             let values = exact_json(label, &v)?;
             let seconds = clock.elapsed().as_secs_f64();
             let computed = own.len();

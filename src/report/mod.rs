@@ -8,10 +8,7 @@ pub mod plot;
 /// say where they are also when stderr is not a terminal (`| tee log`), where indicatif
 /// hides its bars.
 pub fn stage(msg: &str) {
-    use std::sync::OnceLock;
-    static START: OnceLock<std::time::Instant> = OnceLock::new();
-    let t0 = START.get_or_init(std::time::Instant::now);
-    eprintln!("[{:>7.1} s] {msg}", t0.elapsed().as_secs_f64());
+    crate::progress::stamp(msg);
 }
 
 /// An estimate's relative error against an MC truth with its standard error, as

@@ -27,8 +27,7 @@ fn compute() -> Result<Computed> {
     let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
     let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
     let ns = [3usize, 4, 5, 6, 8, 12, 16, 24, 32];
-    let pb = indicatif::ProgressBar::new(ns.len() as u64);
-    pb.set_message("leadr grids");
+    let pb = crate::progress::Progress::new("leadr grids", ns.len() as u64);
     let mut rows = Vec::new();
     for &n in &ns {
         let h = fit_spacing(n, &train);
@@ -44,7 +43,7 @@ fn compute() -> Result<Computed> {
         rows.push((n, h, errs));
         pb.inc(1);
     }
-    pb.finish_and_clear();
+    pb.finish();
     // the h-scan at N = 5 (training set)
     let scan: Vec<(f64, f64, f64)> = (0..=24)
         .map(|i| {

@@ -129,6 +129,8 @@ fn run_one(
         // one study = one output set, published in one step (crate::io)
         let set = crate::io::begin_set(&s.name, &crate::io::results_manifest(results, &s.name))?;
         crate::report::stage(&format!("regen {}: started", s.name));
+        // the study's own line while it runs (between its maps too)
+        let _running = crate::progress::Progress::new(s.name.clone(), 0);
         let o = study.run(&Ctx {
             spec: s,
             specs,

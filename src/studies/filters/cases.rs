@@ -118,8 +118,7 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
             }
         }
     }
-    let pb = indicatif::ProgressBar::new(descs.len() as u64);
-    pb.set_message("filters: map footprints");
+    let pb = crate::progress::Progress::new("filters: map footprints", descs.len() as u64);
     let map_cases: Vec<MapCase> = descs
         .par_iter()
         .enumerate()
@@ -159,7 +158,7 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
             },
         )
         .collect::<Result<_>>()?;
-    pb.finish_and_clear();
+    pb.finish();
     crate::report::stage("regen filters: map footprints done");
     Ok(map_cases)
 }
@@ -178,8 +177,7 @@ pub(super) fn screen_study(plan: &Plan, seed: u64) -> Result<Vec<ScreenCase>> {
             }
         }
     }
-    let pb = indicatif::ProgressBar::new(sdesc.len() as u64);
-    pb.set_message("filters: screen-space kernels");
+    let pb = crate::progress::Progress::new("filters: screen-space kernels", sdesc.len() as u64);
     let screen_cases: Vec<ScreenCase> = sdesc
         .par_iter()
         .enumerate()
@@ -213,7 +211,7 @@ pub(super) fn screen_study(plan: &Plan, seed: u64) -> Result<Vec<ScreenCase>> {
             },
         )
         .collect::<Result<_>>()?;
-    pb.finish_and_clear();
+    pb.finish();
     crate::report::stage("regen filters: screen-space kernels done");
 
     Ok(screen_cases)

@@ -289,8 +289,7 @@ pub(super) fn survey_study(
         }
     }
     let heads: Vec<&MapCase> = cases.iter().step_by(views.max(1)).collect();
-    let pb = indicatif::ProgressBar::new(heads.len() as u64);
-    pb.set_message("filters: survey representations");
+    let pb = crate::progress::Progress::new("filters: survey representations", heads.len() as u64);
     let fits: Vec<FootprintFit> = heads
         .par_iter()
         .enumerate()
@@ -317,7 +316,7 @@ pub(super) fn survey_study(
             f
         })
         .collect::<Result<_>>()?;
-    pb.finish_and_clear();
+    pb.finish();
     let results: Vec<Vec<CaseResult>> = cases
         .par_iter()
         .enumerate()

@@ -97,8 +97,8 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
         alpha_min: spec.domain.alpha_min,
     };
     let iters = spec.optimiser.max_iters.unwrap_or(400);
-    let pb = indicatif::ProgressBar::new((pl.n * pl.n) as u64);
-    pb.set_message(format!("ltc fit: {}", lobe.short()));
+    let pb =
+        crate::progress::Progress::new(format!("ltc fit: {}", lobe.short()), (pl.n * pl.n) as u64);
     let target = target_of(lobe);
     let mut table = fit_table(
         grid,
@@ -109,7 +109,7 @@ fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
         iters,
         &|| pb.inc(1),
     )?;
-    pb.finish_and_clear();
+    pb.finish();
     let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
     crate::ltc::held::judge_table(&mut table, &target, Tolerance::default())?;

@@ -81,8 +81,7 @@ fn compute(spec: &FitSpec) -> Result<Computed> {
     let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
     let train = training_alphas(spec.training.points, lo, hi);
     let held = held_out_alphas(spec.held_out.points, lo, hi);
-    let pb = indicatif::ProgressBar::new(4);
-    pb.set_message("multiscale");
+    let pb = crate::progress::Progress::new("multiscale", 4);
     // ours: weighted linear least squares
     let c = fit_ours(spec.terms, spec.terms_large, &train)?;
     let h_ours = held_out(&held, &|_b, y| c.eval(y));
@@ -130,7 +129,7 @@ fn compute(spec: &FitSpec) -> Result<Computed> {
             )
         })
         .collect();
-    pb.finish_and_clear();
+    pb.finish();
     Ok(Computed {
         lo,
         hi,

@@ -187,8 +187,10 @@ fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result<Computed> 
     };
     let axis = training_alphas(m, lo, hi);
     let pairs = grid(&axis);
-    let pb = indicatif::ProgressBar::new((pairs.len() + (m - 1) * (m - 1)) as u64);
-    pb.set_message("convolution fits");
+    let pb = crate::progress::Progress::new(
+        "convolution fits",
+        (pairs.len() + (m - 1) * (m - 1)) as u64,
+    );
     // memoised (cached, shardable; crate::memo): each pair's fit is a pure function of it
     let fit_all = |label: &str, pts: &[(f64, f64)]| {
         crate::memo::map(label, pts.len(), |k| {
@@ -201,7 +203,7 @@ fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result<Computed> 
     // held-out metric points: the (m−1)² grid half a step off
     let held_metric_axis = held_out_alphas(m - 1, lo, hi);
     let held_fits = fit_all("held-out per-pair metric fits", &grid(&held_metric_axis))?;
-    pb.finish_and_clear();
+    pb.finish();
     let passed_moment = ours.max_rel <= spec.tolerance.max_rel;
 
     type Row = (Metric, Vec<f64>, Stats, Stats);

@@ -1,0 +1,159 @@
+//! The engine check from files: the harnesses' outputs, the shipped tables as the engines
+//! ship them and ours from results/, judged and published as results/engines.{md,json,svg}.
+
+use super::godot::godot;
+use super::{
+    bevy_held, compute, report, three_held, Engine, EngineResult, EngineRun, EnginesResult, Inputs,
+};
+use crate::engines::EngineScenes;
+use crate::error::{Error, Result};
+use crate::ltc::compare::Shipped;
+
+/// The files one engine's judging reads: both harness runs, and the shipped table as the
+/// engine ships it (three.js's RectAreaLightTexturesLib.js; Bevy's ltc.ktx2).
+pub struct EngineFiles<'a> {
+    pub engine: Engine,
+    pub shipped_run: &'a std::path::Path,
+    pub ours_run: &'a std::path::Path,
+    pub shipped_table: &'a std::path::Path,
+}
+
+fn read_capped(p: &std::path::Path) -> Result<Vec<u8>> {
+    let io = |e: std::io::Error| Error::Io {
+        path: p.display().to_string(),
+        msg: e.to_string(),
+    };
+    let len = std::fs::metadata(p).map_err(io)?.len();
+    if len > 256 << 20 {
+        return Err(Error::InvalidArgument(format!(
+            "engines: {} is {len} bytes, over 256 MiB",
+            crate::error::quoted(&p.display().to_string())
+        )));
+    }
+    std::fs::read(p).map_err(io)
+}
+
+fn read_text(p: &std::path::Path) -> Result<String> {
+    String::from_utf8(read_capped(p)?).map_err(|_| {
+        Error::InvalidArgument(format!(
+            "engines: {} is not UTF-8 text",
+            crate::error::quoted(&p.display().to_string())
+        ))
+    })
+}
+
+/// Read and judge one engine from its files; ours is results/fits/ltc-ggx.json as three.js
+/// holds it, and results/textures/ltc_ggx_zstd.ktx2 (the file the Bevy harness loads) as
+/// Bevy holds it.
+pub fn judge_files(
+    sc: &EngineScenes,
+    f: &EngineFiles,
+    results: &std::path::Path,
+) -> Result<EngineResult> {
+    let what = |t: &str| format!("{} {t}-table run", f.engine.name());
+    let shipped_run = EngineRun::parse(&read_text(f.shipped_run)?, sc, f.engine, &what("shipped"))?;
+    let ours_run = EngineRun::parse(&read_text(f.ours_run)?, sc, f.engine, &what("our"))?;
+    let held = match f.engine {
+        Engine::Three => {
+            let shipped = Shipped::parse(&read_text(f.shipped_table)?, "LTC_MAT_1", "LTC_MAT_2")?;
+            shipped.check_comparable("three.js's table")?;
+            let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+            three_held(&shipped, &ours)
+        }
+        Engine::Bevy => {
+            let shipped = crate::ltc::upload::bevy_ktx2(&read_capped(f.shipped_table)?)?;
+            shipped.check_comparable("Bevy's table")?;
+            let ours = crate::ltc::upload::bevy_ktx2(&read_capped(&results.join(BEVY_OURS))?)?;
+            bevy_held(&shipped, &ours)
+        }
+    };
+    compute(
+        sc,
+        &Inputs {
+            engine: f.engine,
+            shipped_run: &shipped_run,
+            ours_run: &ours_run,
+            held,
+        },
+    )
+}
+
+/// Our table as the Bevy harness loads it, under results/.
+pub const BEVY_OURS: &str = "textures/ltc_ggx_zstd.ktx2";
+
+/// Run the study from files and write `out`/engines.{md,json,svg}; a one-line summary.
+pub fn run(
+    scenes: &std::path::Path,
+    engines: &[EngineFiles],
+    results: &std::path::Path,
+    out: &std::path::Path,
+    command: &str,
+) -> Result<String> {
+    let sc = EngineScenes::read(scenes)?;
+    if engines.is_empty() {
+        return Err(Error::InvalidArgument(
+            "engines: no engine's runs given".into(),
+        ));
+    }
+    let mut r = EnginesResult {
+        width: sc.width,
+        height: sc.height,
+        engines: Vec::new(),
+        godot: Vec::new(),
+    };
+    let mut first_run = None;
+    for f in engines {
+        r.engines.push(judge_files(&sc, f, results)?);
+        if first_run.is_none() {
+            let text = read_text(f.shipped_run)?;
+            first_run = Some((
+                EngineRun::parse(&text, &sc, f.engine, "the first run")?,
+                f.engine,
+            ));
+        }
+    }
+    if let Some((run, engine)) = &first_run {
+        let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+        let (l1, l2) = crate::engines::godot::texels(&ours);
+        // as Godot holds them: f32
+        let f32s = |v: Vec<[f64; 4]>| -> Vec<[f64; 4]> {
+            v.iter().map(|x| x.map(|c| c as f32 as f64)).collect()
+        };
+        r.godot = godot(&sc, run, *engine, &f32s(l1), &f32s(l2))?;
+    }
+    let md = report::markdown(&r, command);
+    let picks = [
+        "r0.1-view30",
+        "r0.25-view60",
+        "r0.5-view80",
+        "r0.25-view60-straddling",
+    ];
+    let svg = report::figure(&r, &picks)?;
+    crate::io::write_atomic(&out.join("engines.md"), md.as_bytes())?;
+    crate::io::write_atomic(&out.join("engines.svg"), svg.as_bytes())?;
+    crate::io::write_atomic(
+        &out.join("engines.json"),
+        serde_json::to_string_pretty(&r)
+            .map_err(|e| Error::InvalidArgument(format!("engines: json: {e}")))?
+            .as_bytes(),
+    )?;
+    let summary: Vec<String> = r
+        .engines
+        .iter()
+        .map(|e| {
+            let p = e.engine.paths()[0];
+            format!(
+                "{} {p} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
+                e.engine.name(),
+                e.scenes.len(),
+                100.0 * e.mean("shipped", p, |x| x.engine.rel_rmse.value),
+                100.0 * e.mean("ours", p, |x| x.engine.rel_rmse.value)
+            )
+        })
+        .collect();
+    Ok(format!(
+        "wrote {}: {}",
+        out.join("engines.md").display(),
+        summary.join("; ")
+    ))
+}
