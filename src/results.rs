@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 /// name a result through these, never through a string of their own.
 pub mod names {
     pub const FILTERS: &str = "filters";
+    pub const LTC_ANISO: &str = "ltc-aniso";
+    pub const RENDER: &str = "render";
     pub const LEADR_GRIDS: &str = "leadr-grids";
     pub const LTC_GGX: &str = "ltc-ggx";
     pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";
@@ -39,9 +41,26 @@ pub fn write_result<T: serde::Serialize + ?Sized>(
     )
 }
 
-/// Read results/fits/<name>.json if present and well formed (a file of the open output
-/// set reads as its pending contents).
-pub fn read_result(results: &Path, name: &str) -> Option<serde_json::Value> {
-    let text = crate::io::read_to_string(&fit_path(results, name)).ok()?;
-    serde_json::from_str(&text).ok()
+/// Read results/fits/<name>.json: `None` when it does not exist (the study has not been
+/// run), a typed error when it exists but cannot be read or is not JSON — a malformed
+/// result is never taken for an absent one (a file of the open output set reads as its
+/// pending contents).
+pub fn read_result(results: &Path, name: &str) -> Result<Option<serde_json::Value>> {
+    let path = fit_path(results, name);
+    let text = match crate::io::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => {
+            return Err(crate::error::Error::Io {
+                path: path.display().to_string(),
+                msg: e.to_string(),
+            })
+        }
+    };
+    serde_json::from_str(&text).map(Some).map_err(|e| {
+        crate::error::Error::InvalidArgument(format!(
+            "{}: not a well-formed result ({e})",
+            crate::error::quoted(&path.display().to_string())
+        ))
+    })
 }

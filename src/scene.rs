@@ -250,13 +250,13 @@ struct Measured {
 }
 
 impl Measured {
-    fn load(results: &Path) -> Measured {
-        Measured {
-            filters: crate::results::read_result(results, crate::results::names::FILTERS),
+    fn load(results: &Path) -> Result<Measured> {
+        Ok(Measured {
+            filters: crate::results::read_result(results, crate::results::names::FILTERS)?,
             costs: crate::io::read_to_string(&results.join("costs.json"))
                 .ok()
                 .and_then(|t| serde_json::from_str(&t).ok()),
-        }
+        })
     }
     fn cost(&self, key: &str) -> Option<f64> {
         self.costs.as_ref().and_then(|c| c[key].as_f64())
@@ -358,11 +358,11 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n| aspect | choice | generated function | measured error | cost (ns/eval, f32) |\n|---|---|---|---|---|\n",
         s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
     );
-    let sl = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA);
+    let sl = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA)?;
     let dg1 = sl
         .as_ref()
         .and_then(|v| v["held_out"]["ours"]["max_dg1"].as_f64());
-    let measured_tables = Measured::load(results);
+    let measured_tables = Measured::load(results)?;
     let spec_cost = measured_tables.cost("kernel-ggx-specular/per-pixel");
     let fmt_cost =
         |c: Option<f64>| c.map_or("(run bench-report)".to_string(), |v| format!("{v:.2}"));
@@ -389,7 +389,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     if s.lights.iter().any(|l| l == "polygon") {
         fns.extend(["ltc_lut_u", "ltc_lut_v", "ltc_quad"]);
-        let lt = crate::results::read_result(results, crate::results::names::LTC_GGX);
+        let lt = crate::results::read_result(results, crate::results::names::LTC_GGX)?;
         let mean = lt
             .as_ref()
             .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64());

@@ -445,7 +445,9 @@ fn regen_filters_quick_writes_the_report() {
     ] {
         assert!(md.contains(key), "missing {key}");
     }
-    let json = ndfbench::results::read_result(&dir, "filters").unwrap();
+    let json = ndfbench::results::read_result(&dir, "filters")
+        .unwrap()
+        .unwrap();
     assert!(json["fitted"].as_array().unwrap().len() >= 4);
     // the survey on the same cases: every row, the five maps, the verdicts, no NaN
     let sv = std::fs::read_to_string(dir.join("survey.md")).unwrap();

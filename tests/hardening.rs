@@ -1092,3 +1092,27 @@ fn one_writer_per_results_folder() {
     assert!(!lock.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A result file that exists but is not JSON is an error naming it, never "not run yet";
+/// a missing one is `None`.
+#[test]
+fn a_malformed_result_is_an_error_not_an_absent_one() {
+    let dir = std::env::temp_dir().join(format!("ndfbench-result-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    assert!(matches!(
+        ndfbench::results::read_result(&dir, "filters"),
+        Ok(None)
+    ));
+    std::fs::write(dir.join("fits/filters.json"), b"{\"fitted\": [1, 2").unwrap();
+    let e = ndfbench::results::read_result(&dir, "filters")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("filters.json") && e.contains("not a well-formed result"),
+        "{e}"
+    );
+    // and the readers that used to take it for absent now say so
+    let e = ndfbench::prefilter::measured(&dir).unwrap_err().to_string();
+    assert!(e.contains("filters.json"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -83,7 +83,7 @@ fn num(v: &serde_json::Value, path: &[&str], file: &str) -> Result<f64> {
 /// Read every constant from the fit results in `results`.
 pub fn constants(results: &Path) -> Result<Vec<Const>> {
     let read = |name: &str| {
-        crate::results::read_result(results, name).ok_or_else(|| {
+        crate::results::read_result(results, name)?.ok_or_else(|| {
             Error::InvalidArgument(format!(
                 "codegen: missing or malformed {}/fits/{name}.json (run `{COMMAND}`)",
                 results.display()

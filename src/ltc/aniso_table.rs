@@ -133,9 +133,9 @@ pub fn inv7(c: &AnisoCell) -> Inv7 {
 pub fn read(results: &std::path::Path) -> crate::error::Result<AnisoTable> {
     use crate::error::Error;
     let bad = |m: &str| Error::InvalidArgument(format!("results/fits/ltc-aniso.json: {m}"));
-    let v = crate::results::read_result(results, "ltc-aniso").ok_or_else(|| {
-        bad("missing or malformed: run `cargo run --release -- regen --only ltc-aniso`")
-    })?;
+    let v = crate::results::read_result(results, crate::results::names::LTC_ANISO)?.ok_or_else(
+        || bad("missing or malformed: run `cargo run --release -- regen --only ltc-aniso`"),
+    )?;
     let grid: AnisoGrid =
         serde_json::from_value(v["grid"].clone()).map_err(|e| bad(&e.to_string()))?;
     if [grid.n_r, grid.n_phi, grid.n_t]

@@ -221,7 +221,7 @@ pub fn of_table(t: &super::table::FittedTable) -> Shipped {
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
 /// (identifies the table a comparison was made against).
 pub fn ours_mean_l2(results: &Path) -> Result<f64> {
-    crate::results::read_result(results, crate::results::names::LTC_GGX)
+    crate::results::read_result(results, crate::results::names::LTC_GGX)?
         .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64())
         .ok_or_else(|| {
             Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.l2.mean".into())

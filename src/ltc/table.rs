@@ -71,7 +71,7 @@ fn cells_of(
 /// finite numbers, or a typed error saying what is wrong.
 pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
     let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
-    let v = crate::results::read_result(results, name).ok_or_else(|| {
+    let v = crate::results::read_result(results, name)?.ok_or_else(|| {
         Error::InvalidArgument(format!(
             "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc`"
         ))

@@ -116,10 +116,10 @@ pub struct Measured {
 }
 
 /// Every measured error of the concrete rules, read from `results`/fits/filters.json
-/// (empty when the study has not been run).
-pub fn measured(results: &Path) -> (Vec<Measured>, f64) {
-    let Some(j) = crate::results::read_result(results, crate::results::names::FILTERS) else {
-        return (Vec::new(), 2.0);
+/// (empty when the study has not been run; a malformed file is an error).
+pub fn measured(results: &Path) -> Result<(Vec<Measured>, f64)> {
+    let Some(j) = crate::results::read_result(results, crate::results::names::FILTERS)? else {
+        return Ok((Vec::new(), 2.0));
     };
     let fitted = j["fitted"]
         .as_array()
@@ -160,7 +160,7 @@ pub fn measured(results: &Path) -> (Vec<Measured>, f64) {
             });
         }
     }
-    (out, c)
+    Ok((out, c))
 }
 
 /// How a stored roughness value relates to α.
@@ -296,7 +296,7 @@ pub fn run(options: Options) -> Result<Outcome> {
         } => Some((*width, *height, *bits)),
         input::Roughness::Constant(_) => None,
     };
-    let (measured, fitted_c) = measured(&options.results);
+    let (measured, fitted_c) = measured(&options.results)?;
     let filter = match options.filter {
         Filter::Best => measured
             .iter()

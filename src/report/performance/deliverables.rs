@@ -74,10 +74,13 @@ pub(super) fn prefilter_table(timed: &[Timed]) -> String {
 /// Every shipped LTC table: what its study cost (wall clock in the last cold main job on
 /// this machine), its held-out error, and criterion's time per
 /// pixel (bench `ltc-tables`: bilinear lookup of the binary16 entries + quad integral).
-pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> String {
+pub(super) fn ltc_tables_table(
+    timed: &[Timed],
+    results: &std::path::Path,
+) -> crate::error::Result<String> {
     let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n| table | study (wall clock) | held-out rel. L2 mean / max | per pixel (95 % CI) |\n|---|---|---|---|\n");
     for kind in &crate::codegen::textures::TABLES {
-        let Some(v) = crate::results::read_result(results, kind.fit) else {
+        let Some(v) = crate::results::read_result(results, kind.fit)? else {
             continue;
         };
         let study = if kind.fit.starts_with("ltc-sheen") {
@@ -106,7 +109,7 @@ pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> St
             kind.stem, kind.fit
         ));
     }
-    if let Some(v) = crate::results::read_result(results, "ltc-aniso") {
+    if let Some(v) = crate::results::read_result(results, crate::results::names::LTC_ANISO)? {
         let s = &v["summary"];
         let px = timed
             .iter()
@@ -120,7 +123,7 @@ pub(super) fn ltc_tables_table(timed: &[Timed], results: &std::path::Path) -> St
             100.0 * s["between_table"]["max"].as_f64().unwrap_or(f64::NAN),
         ));
     }
-    md
+    Ok(md)
 }
 
 /// A 1024-pixel bench's time per pixel with its interval.
@@ -136,12 +139,15 @@ fn per_pixel(t: &Timed) -> String {
 /// Each render method's cost per pixel (criterion, one core, 64² of the example scene)
 /// beside its error in results/render.md (relative MSE over the views of the default
 /// render: best – worst).
-pub(super) fn render_table(timed: &[Timed], results: &std::path::Path) -> String {
+pub(super) fn render_table(
+    timed: &[Timed],
+    results: &std::path::Path,
+) -> crate::error::Result<String> {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "render").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
-    let v = crate::results::read_result(results, "render");
+    let v = crate::results::read_result(results, crate::results::names::RENDER)?;
     let err = |scene: &str, key: &str| -> String {
         let Some(v) = &v else { return "—".into() };
         let mut r: Vec<f64> = Vec::new();
@@ -186,19 +192,22 @@ pub(super) fn render_table(timed: &[Timed], results: &std::path::Path) -> String
         };
         md.push_str(&format!("| {scene}: {key} | {px} | {e} |\n"));
     }
-    md
+    Ok(md)
 }
 
 /// The survey's representations: criterion's ns per lobe evaluation (f64, the shading
 /// rule included) beside the parameters per texel and the mean L2 error of results/survey.md.
-pub(super) fn survey_table(timed: &[Timed], results: &std::path::Path) -> String {
+pub(super) fn survey_table(
+    timed: &[Timed],
+    results: &std::path::Path,
+) -> crate::error::Result<String> {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "survey").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
     // the rows' names, parameter counts and errors from results/fits/filters.json (the
     // survey's rows follow the filters' twelve)
-    let v = crate::results::read_result(results, "filters");
+    let v = crate::results::read_result(results, crate::results::names::FILTERS)?;
     let first = crate::filters::study::MAP_FILTERS.len();
     let row = |i: usize| -> Option<(String, String, String)> {
         let r = &v.as_ref()?["survey"]["rows"][first + i];
@@ -229,7 +238,7 @@ pub(super) fn survey_table(timed: &[Timed], results: &std::path::Path) -> String
             )),
         }
     }
-    md
+    Ok(md)
 }
 
 /// Visibility lookups: criterion's ns per lookup of each horizon and shadow method.

@@ -203,18 +203,18 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
             ));
         }
     }
-    md.push_str(&alpha_me_table(&timed, results));
-    md.push_str(&smith_lambda_table(&timed, results));
-    md.push_str(&leadr_table(&timed, results));
-    md.push_str(&filters_table(&timed, results));
+    md.push_str(&alpha_me_table(&timed, results)?);
+    md.push_str(&smith_lambda_table(&timed, results)?);
+    md.push_str(&leadr_table(&timed, results)?);
+    md.push_str(&filters_table(&timed, results)?);
     md.push_str(&kernels_table(&timed, results)?);
     md.push_str(&tensor_table(&timed));
-    md.push_str(&ltc_table(&timed, results));
+    md.push_str(&ltc_table(&timed, results)?);
     md.push_str(&deliverables::shaders_table(&timed));
     md.push_str(&deliverables::prefilter_table(&timed));
-    md.push_str(&deliverables::ltc_tables_table(&timed, results));
-    md.push_str(&deliverables::render_table(&timed, results));
-    md.push_str(&deliverables::survey_table(&timed, results));
+    md.push_str(&deliverables::ltc_tables_table(&timed, results)?);
+    md.push_str(&deliverables::render_table(&timed, results)?);
+    md.push_str(&deliverables::survey_table(&timed, results)?);
     md.push_str(&deliverables::visibility_table(&timed));
     md.push_str(&main_job_table(results));
     let other: Vec<&Timed> = timed

@@ -7,12 +7,12 @@ use std::path::Path;
 
 /// Cost next to accuracy for the ways to get α_me from ‖b̄‖ (benches group `alpha-me`,
 /// errors from results/fits/multiscale-alpha-me.json).
-pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "alpha-me").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::MULTISCALE_ALPHA_ME);
+    let fit = crate::results::read_result(results, crate::results::names::MULTISCALE_ALPHA_ME)?;
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
@@ -39,18 +39,18 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> String {
             err(key)
         ));
     }
-    md
+    Ok(md)
 }
 
 /// Fit cost per LTC cell and per-pixel cost of each edge form, next to the
 /// errors results/fits/ltc-ggx.json records (benches `ltc-fit-cell`, `ltc-polygon`).
-pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let fits: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-fit-cell").collect();
     let polys: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-polygon").collect();
     if fits.is_empty() && polys.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
-    let v = crate::results::read_result(results, crate::results::names::LTC_GGX);
+    let v = crate::results::read_result(results, crate::results::names::LTC_GGX)?;
     let edge_err = |form: &str| -> Option<f64> {
         v.as_ref()?["edge_approximations"]
             .as_array()?
@@ -98,7 +98,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> String {
     {
         md.push_str(&format!("\nThe f32 shading kernel (`ltc_quad`: rational edges, no clipping, clipped-sphere horizon) is in the kernel table above; its horizon approximation costs {:.1} % energy-weighted over the same inputs.\n", 100.0 * h));
     }
-    md
+    Ok(md)
 }
 
 /// Seed 002 range queries: time against box size, O(R) SAT vs the naive sum, and one
@@ -244,12 +244,12 @@ pub(super) fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
 
 /// Cost next to accuracy for the footprint filters (bench group `filters`; errors from
 /// results/fits/filters.json).
-pub(super) fn filters_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn filters_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "filters").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::FILTERS);
+    let fit = crate::results::read_result(results, crate::results::names::FILTERS)?;
     let mut md = String::from(
         "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
     );
@@ -279,17 +279,17 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> String {
             t.hi_ns / 1024.0
         ));
     }
-    md
+    Ok(md)
 }
 
 /// Cost next to accuracy for the Beckmann Λ forms (bench group `smith-lambda`; errors from
 /// results/fits/smith-lambda.json).
-pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "smith-lambda").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA);
+    let fit = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA)?;
     let err = |key: &str| -> String {
         fit.as_ref()
             .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
@@ -315,17 +315,17 @@ pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> String {
             e
         ));
     }
-    md
+    Ok(md)
 }
 
 /// LEADR grid cost against N next to the held-out errors of results/fits/leadr-grids.json.
-pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> String {
+pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let mut rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "leadr").collect();
     if rows.is_empty() {
-        return String::new();
+        return Ok(String::new());
     }
     rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
-    let fit = crate::results::read_result(results, crate::results::names::LEADR_GRIDS);
+    let fit = crate::results::read_result(results, crate::results::names::LEADR_GRIDS)?;
     let err = |n: usize, fam: &str, kind: &str| -> String {
         fit.as_ref()
             .and_then(|v| {
@@ -358,7 +358,7 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> String {
             err(n, "gauss_hermite", "diffuse")
         ));
     }
-    md
+    Ok(md)
 }
 
 /// A held-out figure of results/fits/ltc-*.json ({"value", "error"}) as "v ± e %".
