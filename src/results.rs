@@ -46,8 +46,13 @@ pub fn write_result<T: serde::Serialize + ?Sized>(
 /// result is never taken for an absent one (a file of the open output set reads as its
 /// pending contents).
 pub fn read_result(results: &Path, name: &str) -> Result<Option<serde_json::Value>> {
-    let path = fit_path(results, name);
-    let text = match crate::io::read_to_string(&path) {
+    read_json(&fit_path(results, name))
+}
+
+/// Read any JSON file of results/ (costs.json, ltc-compare.json, …) as [`read_result`]
+/// reads a fit's: `None` when absent, a typed error when unreadable or malformed.
+pub fn read_json(path: &Path) -> Result<Option<serde_json::Value>> {
+    let text = match crate::io::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(e) => {

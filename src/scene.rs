@@ -253,9 +253,7 @@ impl Measured {
     fn load(results: &Path) -> Result<Measured> {
         Ok(Measured {
             filters: crate::results::read_result(results, crate::results::names::FILTERS)?,
-            costs: crate::io::read_to_string(&results.join("costs.json"))
-                .ok()
-                .and_then(|t| serde_json::from_str(&t).ok()),
+            costs: crate::results::read_json(&results.join("costs.json"))?,
         })
     }
     fn cost(&self, key: &str) -> Option<f64> {

@@ -122,7 +122,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(&tensorly_section(results));
     md.push_str(&query_section(&top, rmax));
     md.push_str(&sampling_section(sampled.as_ref()));
-    md.push_str(&cost_section(results));
+    md.push_str(&cost_section(results)?);
     crate::io::write_atomic(&results.join("tensor.md"), md.as_bytes())?;
     crate::results::write_result(
         results,
@@ -259,12 +259,12 @@ fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> Strin
 }
 
 /// §7: the constant-cost benchmark (criterion, via `bench-report` into results/costs.json).
-fn cost_section(results: &Path) -> String {
+fn cost_section(results: &Path) -> Result<String> {
     let costs: serde_json::Map<String, serde_json::Value> =
-        crate::io::read_to_string(&results.join("costs.json"))
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok())
-            .unwrap_or_default();
+        match crate::results::read_json(&results.join("costs.json"))? {
+            Some(serde_json::Value::Object(m)) => m,
+            _ => serde_json::Map::new(),
+        };
     let get = |k: &str| costs.get(k).and_then(|v| v.as_f64());
     let mut md = String::from("\n## Constant cost (§7)\n\nCriterion means from `cargo bench --bench engines -- tensor` and `cargo run --release -- bench-report` (results/costs.json; full tables in results/performance.md). Rank 16, 256 × 256 × 4 block; w × w boxes from one texel to the whole block; levels = the same 64 × 64 box at each depth of the tensor.\n\n| query | SAT, O(R) (ns) | naive sum (ns) |\n|---|---|---|\n");
     let mut sats = Vec::new();
@@ -300,7 +300,7 @@ fn cost_section(results: &Path) -> String {
         ));
     }
     md.push('\n');
-    md
+    Ok(md)
 }
 
 /// `prefilter --rank R`: compress one map's P-NDF blocks at rank R; writes

@@ -338,10 +338,17 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
 /// runs measured when this run lacks them.
 fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
     let path = results.join("costs.json");
-    let mut costs: serde_json::Map<String, serde_json::Value> = crate::io::read_to_string(&path)
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok())
-        .unwrap_or_default();
+    let mut costs: serde_json::Map<String, serde_json::Value> =
+        match crate::results::read_json(&path)? {
+            None => serde_json::Map::new(),
+            Some(serde_json::Value::Object(m)) => m,
+            Some(_) => {
+                return Err(crate::error::Error::InvalidArgument(format!(
+                    "{}: not a JSON object",
+                    crate::error::quoted(&path.display().to_string())
+                )))
+            }
+        };
     for t in timed {
         if t.group == "filters" {
             costs.insert(

@@ -212,7 +212,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(&table_report::between_section(&main)?);
     let var_json = table_report::variants_section(&mut md, &pl, &variants);
     table_report::error_heatmap(&main, results)?;
-    md.push_str(&shipped::section(results, st.l2.mean.value));
+    md.push_str(&shipped::section(results, st.l2.mean.value)?);
     md.push_str(&precision::section(&main));
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
     let floor = floor::compute(&main, pl.samples, spec.optimiser.max_iters.unwrap_or(400))?;

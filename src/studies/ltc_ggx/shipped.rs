@@ -4,11 +4,9 @@ use std::path::Path;
 
 /// §2: the stored comparison with the shipped table (results/ltc-compare.json, written by
 /// `ltc-compare`; the shipped file itself is never committed).
-pub(super) fn section(results: &Path, our_mean_l2: f64) -> String {
+pub(super) fn section(results: &Path, our_mean_l2: f64) -> crate::error::Result<String> {
     let mut md = String::from("## Against the shipped table\n\n");
-    let v: Option<serde_json::Value> = crate::io::read_to_string(&results.join("ltc-compare.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str(&t).ok());
+    let v = crate::results::read_json(&results.join("ltc-compare.json"))?;
     match v {
         Some(v) => {
             let stale = (v["ours_table_mean_l2"].as_f64().unwrap_or(f64::NAN) - our_mean_l2).abs()
@@ -36,5 +34,5 @@ pub(super) fn section(results: &Path, our_mean_l2: f64) -> String {
         }
         None => md.push_str("Not run: `cargo run --release -- ltc-compare --shipped ltc.js --mat g_ltc_1 --mag g_ltc_2` (or three.js's RectAreaLightTexturesLib.js with the default array names) writes results/ltc-compare.md and .json.\n\n"),
     }
-    md
+    Ok(md)
 }
