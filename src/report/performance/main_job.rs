@@ -1,0 +1,195 @@
+//! The main job's wall clock per stage: kept by every run under target/ (cold and warm),
+//! beside the committed profile from before the studies ran in parallel, and shown as one
+//! section of results/performance.md (`bench-report`, or `--main-job-only` to refresh just
+//! that section).
+
+use crate::error::Result;
+use std::path::{Path, PathBuf};
+
+/// Where the main job leaves its wall-clock profile (build output, not results/: it
+/// changes on every run): `target/main-job-cold.json` when it computed any memoised map,
+/// `target/main-job-warm.json` when every one came from the cache.
+pub fn main_job_times_path(warm: bool) -> PathBuf {
+    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+    Path::new(&target).join(if warm {
+        "main-job-warm.json"
+    } else {
+        "main-job-cold.json"
+    })
+}
+
+/// The committed profile of the main job before it ran studies in parallel and cached
+/// (sequential, uncached; measured on the 2-core development machine).
+pub const BEFORE_PATH: &str = "main-job-before.json";
+
+/// One stage of the main job: its wall clock and how many memoised items it computed
+/// and took from the cache.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct JobStage {
+    pub stage: String,
+    pub seconds: f64,
+    pub computed: usize,
+    pub reused: usize,
+}
+
+impl JobStage {
+    /// A stage without memoised maps, timed from `t0`.
+    pub fn since(name: &str, t0: std::time::Instant) -> JobStage {
+        JobStage {
+            stage: name.into(),
+            seconds: t0.elapsed().as_secs_f64(),
+            computed: 0,
+            reused: 0,
+        }
+    }
+    /// A study's stage: its seconds and, per memoised map, (items, items computed).
+    pub fn of_study(study: &str, seconds: f64, maps: &[(usize, usize)]) -> JobStage {
+        JobStage {
+            stage: study.into(),
+            seconds,
+            computed: maps.iter().map(|m| m.1).sum(),
+            reused: maps.iter().map(|m| m.0 - m.1).sum(),
+        }
+    }
+}
+
+/// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
+/// failure to write is reported, never fatal).
+pub fn write_main_job_times(stages: &[JobStage], total: f64) {
+    let warm = stages.iter().all(|s| s.computed == 0) && stages.iter().any(|s| s.reused > 0);
+    let mut sorted: Vec<&JobStage> = stages.iter().collect();
+    sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
+    println!(
+        "main job: {total:.0} s in all ({}); by stage (longest first):",
+        if warm {
+            "every memoised map from the cache"
+        } else {
+            "cold: maps computed"
+        }
+    );
+    for s in &sorted {
+        println!(
+            "  {:<28} {:>8.1} s  ({:>4.1} %)  {} items computed, {} from the cache",
+            s.stage,
+            s.seconds,
+            100.0 * s.seconds / total.max(1e-9),
+            s.computed,
+            s.reused
+        );
+    }
+    let json = serde_json::json!({
+        "total_s": total,
+        "threads": rayon::current_num_threads(),
+        "warm": warm,
+        "stages": stages,
+    });
+    let p = main_job_times_path(warm);
+    if let Err(e) = crate::io::write_unstaged(
+        &p,
+        serde_json::to_string_pretty(&json)
+            .unwrap_or_default()
+            .as_bytes(),
+    ) {
+        eprintln!("main-job profile not kept: {e}");
+    }
+}
+
+fn profile(path: &Path) -> Option<(f64, u64, Vec<(String, f64)>)> {
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+    let rows = v["stages"]
+        .as_array()?
+        .iter()
+        .filter_map(|s| Some((s["stage"].as_str()?.to_string(), s["seconds"].as_f64()?)))
+        .collect();
+    Some((
+        v["total_s"].as_f64()?,
+        v["threads"].as_u64().unwrap_or(0),
+        rows,
+    ))
+}
+
+/// Seconds of `stage` in the last cold main job on this machine, if kept.
+pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
+    let (_, _, rows) = profile(&main_job_times_path(false))?;
+    rows.into_iter().find(|(n, _)| n == stage).map(|(_, t)| t)
+}
+
+/// The main job's profile: before (committed), the last cold run and the last warm run
+/// on this machine (kept under target/), stage by stage.
+/// Replace only the main job's section of an existing results/performance.md with the
+/// profiles now in target/ (no benches needed; the criterion tables stay as they were
+/// measured). An absent page or section is an error.
+pub fn refresh_main_job(results: &Path) -> Result<String> {
+    let path = results.join("performance.md");
+    let (p, md) = (
+        path.display(),
+        crate::io::read_to_string(&path).unwrap_or_default(),
+    );
+    const HEAD: &str = "\n## Main job: wall clock per stage";
+    let start = md.find(HEAD).ok_or_else(|| {
+        let why = format!("{p}: no main-job section to refresh (run bench-report in full)");
+        crate::error::Error::InvalidArgument(why)
+    })?;
+    let end = md[start + HEAD.len()..]
+        .find("\n## ")
+        .map_or(md.len(), |k| start + HEAD.len() + k);
+    let out = format!("{}{}{}", &md[..start], main_job_table(results), &md[end..]);
+    crate::io::write_atomic(&path, out.as_bytes())?;
+    Ok(format!("{p}: main-job section refreshed"))
+}
+
+pub(super) fn main_job_table(results: &Path) -> String {
+    let cols = [
+        (
+            "before: sequential, no cache",
+            profile(&results.join(BEFORE_PATH)),
+        ),
+        (
+            "after: cold (parallel, maps computed)",
+            profile(&main_job_times_path(false)),
+        ),
+        (
+            "after: warm (parallel, maps from the cache)",
+            profile(&main_job_times_path(true)),
+        ),
+    ];
+    if cols.iter().all(|c| c.1.is_none()) {
+        return String::new();
+    }
+    let mut names: Vec<(String, f64)> = Vec::new();
+    for (_, p) in &cols {
+        for (n, t) in p.iter().flat_map(|p| p.2.iter()) {
+            match names.iter_mut().find(|(m, _)| m == n) {
+                Some(e) => e.1 = e.1.max(*t),
+                None => names.push((n.clone(), *t)),
+            }
+        }
+    }
+    names.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let cell = |p: &Option<(f64, u64, Vec<(String, f64)>)>, n: &str| -> String {
+        p.as_ref()
+            .and_then(|p| p.2.iter().find(|(m, _)| m == n))
+            .map_or("—".into(), |(_, t)| format!("{t:.1}"))
+    };
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). With studies in parallel the stages overlap, so they add up to more than the total.\n\n| stage |");
+    for (h, _) in &cols {
+        md.push_str(&format!(" {h} (s) |"));
+    }
+    md.push_str("\n|---|---|---|---|\n| **total** |");
+    for (_, p) in &cols {
+        md.push_str(&format!(
+            " **{}** |",
+            p.as_ref()
+                .map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
+        ));
+    }
+    md.push('\n');
+    for (n, _) in &names {
+        md.push_str(&format!("| {n} |"));
+        for (_, p) in &cols {
+            md.push_str(&format!(" {} |", cell(p, n)));
+        }
+        md.push('\n');
+    }
+    md
+}
