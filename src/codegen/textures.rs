@@ -374,10 +374,16 @@ pub fn render(t: &FittedTable, kind: &TableKind, command: &str) -> Vec<(String, 
             three_drop_in(t, &header).into_bytes(),
         ));
         // Godot's own layout (crate::engines::godot), f32 as Godot embeds it
-        let (l1, l2) = crate::engines::godot::texels(t);
+        // a table Godot's form cannot hold leaves the files out (the staleness test then
+        // says so)
+        let (l1, l2) = crate::engines::godot::texels(t).unwrap_or_default();
         let f32s =
             |v: Vec<[f64; 4]>| -> Vec<[f32; 4]> { v.iter().map(|x| x.map(|c| c as f32)).collect() };
-        for (k, l) in [l1, l2].into_iter().enumerate() {
+        for (k, l) in [l1, l2]
+            .into_iter()
+            .enumerate()
+            .filter(|(_, l)| !l.is_empty())
+        {
             out.push((
                 format!("{DIR}/godot/ltc_lut{}.dds", k + 1),
                 dds_f32(crate::engines::godot::N, &f32s(l)),

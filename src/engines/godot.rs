@@ -93,7 +93,7 @@ pub fn to_inverse(g: [f64; 5]) -> Option<[f64; 4]> {
 /// Our GGX table in Godot's layout: lut1 and lut2 texels (i + 64·j), each cell our
 /// table's bilinear lookup (f64 entries) at r = i/63 and the row's N·V ([`row_cos`]),
 /// converted by [`from_inverse`]; lut2 = (e, norm, fresnel, 0).
-pub fn texels(t: &FittedTable) -> (Vec<[f64; 4]>, Vec<[f64; 4]>) {
+pub fn texels(t: &FittedTable) -> crate::error::Result<(Vec<[f64; 4]>, Vec<[f64; 4]>)> {
     let mut l1 = Vec::with_capacity(N * N);
     let mut l2 = Vec::with_capacity(N * N);
     for j in 0..N {
@@ -102,13 +102,17 @@ pub fn texels(t: &FittedTable) -> (Vec<[f64; 4]>, Vec<[f64; 4]>) {
             let r = i as f64 / (N - 1) as f64;
             let e = t.bilinear(r * r, x, false);
             // our storage keeps det M⁻¹ > 0 in every cell, so its interpolation stays
-            // invertible; a failure would be a broken table, written as identity
-            let g = from_inverse([e[0], e[1], e[2], e[3]]).unwrap_or([1.0, 0.0, 1.0, 0.0, 1.0]);
+            // invertible; a table where it does not is refused, never written
+            let g = from_inverse([e[0], e[1], e[2], e[3]]).ok_or_else(|| {
+                crate::error::Error::InvalidArgument(format!(
+                    "Godot layout: our table is singular at texel ({i}, {j})"
+                ))
+            })?;
             l1.push([g[0], g[1], g[2], g[3]]);
             l2.push([g[4], e[4], e[5], 0.0]);
         }
     }
-    (l1, l2)
+    Ok((l1, l2))
 }
 
 /// What Godot's bilinear lookup returns at perceptual roughness r and N·V: (a, b, c, d,

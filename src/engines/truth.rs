@@ -132,9 +132,7 @@ pub fn table_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
     if !light.lights(x) {
         return 0.0;
     }
-    let m_inv = Matrix3::new(
-        entries[0], 0.0, entries[2], 0.0, 1.0, 0.0, entries[1], 0.0, entries[3],
-    );
+    let m_inv = m_inv_of(entries);
     let poly: Vec<V3> = light.corners().iter().map(|p| p - x).collect();
     entries[4] * ltc_integral(&m_inv, &poly, EdgeForm::Exact)
 }
@@ -157,9 +155,7 @@ pub fn three_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
     if !light.lights(x) {
         return 0.0;
     }
-    let m_inv = Matrix3::new(
-        entries[0], 0.0, entries[2], 0.0, 1.0, 0.0, entries[1], 0.0, entries[3],
-    );
+    let m_inv = m_inv_of(entries);
     let q: Vec<V3> = light
         .corners()
         .iter()
@@ -188,9 +184,7 @@ pub fn bevy_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
     if !light.lights(x) {
         return 0.0;
     }
-    let m_inv = Matrix3::new(
-        entries[0], 0.0, entries[2], 0.0, 1.0, 0.0, entries[1], 0.0, entries[3],
-    );
+    let m_inv = m_inv_of(entries);
     let poly: Vec<V3> = light
         .corners()
         .iter()
@@ -200,4 +194,11 @@ pub fn bevy_value(entries: &[f64; 5], light: &Rect, x: &V3) -> f64 {
         })
         .collect();
     entries[4] * ltc_integral(&m_inv, &poly, EdgeForm::Rational)
+}
+
+/// M⁻¹ from the entries an engine's lookup returns: [[a, 0, c], [0, 1, 0], [b, 0, d]].
+fn m_inv_of(entries: &[f64; 5]) -> Matrix3<f64> {
+    Matrix3::new(
+        entries[0], 0.0, entries[2], 0.0, 1.0, 0.0, entries[1], 0.0, entries[3],
+    )
 }

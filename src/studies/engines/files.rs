@@ -101,25 +101,17 @@ pub fn run(
         engines: Vec::new(),
         godot: Vec::new(),
     };
-    let mut first_run = None;
     for f in engines {
         r.engines.push(judge_files(&sc, f, results)?);
-        if first_run.is_none() {
-            let text = read_text(f.shipped_run)?;
-            first_run = Some((
-                EngineRun::parse(&text, &sc, f.engine, "the first run")?,
-                f.engine,
-            ));
-        }
     }
-    if let Some((run, engine)) = &first_run {
+    if let Some(first) = r.engines.first() {
         let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
-        let (l1, l2) = crate::engines::godot::texels(&ours);
+        let (l1, l2) = crate::engines::godot::texels(&ours)?;
         // as Godot holds them: f32
         let f32s = |v: Vec<[f64; 4]>| -> Vec<[f64; 4]> {
             v.iter().map(|x| x.map(|c| c as f32 as f64)).collect()
         };
-        r.godot = godot(&sc, run, *engine, &f32s(l1), &f32s(l2))?;
+        r.godot = godot(&sc, first, &f32s(l1), &f32s(l2))?;
     }
     let md = report::markdown(&r, command);
     let picks = [

@@ -2,11 +2,10 @@
 //! (`crate::engines::godot`) with our Godot files against the truth, at the pixel points
 //! of an engine that did render.
 
-use super::{errors, lobe, truth_value, Engine, EngineRun, Errors, Rect, TRUTH_REL};
+use super::{errors, EngineResult, Errors, Rect};
 use crate::engines::EngineScenes;
 use crate::error::{Error, Result};
 use crate::ltc::lobe_error::Bounded;
-use nalgebra::Vector3;
 use serde::Serialize;
 
 /// Godot 4 on one scene, in f64 only (no Godot binary here): its formulas with our
@@ -21,36 +20,33 @@ pub struct GodotScene {
     pub table_share: Errors,
 }
 
-/// Godot 4 in f64 with our files (lut1, lut2 texels as f64) at the points of `run`'s
-/// first path: per scene, its formulas and its texels' exact value against the truth.
+/// Godot 4 in f64 with our files (lut1, lut2 texels as f64) at the pixel points of an
+/// engine already judged, against the truth computed there (reused, not integrated again):
+/// per scene, its formulas and its texels' exact value.
 pub fn godot(
     s: &EngineScenes,
-    run: &EngineRun,
-    engine: Engine,
+    judged: &EngineResult,
     l1: &[[f64; 4]],
     l2: &[[f64; 4]],
 ) -> Result<Vec<GodotScene>> {
     use crate::engines::godot::{godot_exact, godot_value, lookup as godot_lookup};
     let mut out = Vec::new();
-    for (k, sc) in s.scenes.iter().enumerate() {
+    for (sc, done) in s.scenes.iter().zip(&judged.scenes) {
         let light = Rect::of(&sc.light).ok_or_else(|| {
             Error::InvalidArgument(format!("engines: scene {}: degenerate light", sc.name))
         })?;
-        let t = lobe(sc.roughness, sc.view_deg)?;
-        let pos = &run.paths[engine.paths()[0]][k].positions;
-        let pts: Vec<Vector3<f64>> = (0..s.width * s.height)
-            .filter(|&p| pos[4 * p + 3] > 0.5)
-            .map(|p| Vector3::new(pos[4 * p], pos[4 * p + 1], pos[4 * p + 2]))
-            .collect();
-        // the same points and label as that engine's truth: the memo shares it
-        let truth: Vec<Bounded> = crate::memo::map_items(
-            &format!("engine truth {} {}", engine.name(), sc.name),
-            &pts,
-            |x| Ok(truth_value(&t, &light, x, TRUTH_REL)),
-        )?;
+        let truth: Vec<Bounded> = done.truth.iter().map(|(_, b)| *b).collect();
         let g = godot_lookup(l1, l2, sc.roughness, sc.view_deg.to_radians().cos());
-        let fv: Vec<f64> = pts.iter().map(|x| godot_value(&g, &light, x)).collect();
-        let ev: Vec<f64> = pts.iter().map(|x| godot_exact(&g, &light, x)).collect();
+        let fv: Vec<f64> = done
+            .truth
+            .iter()
+            .map(|(x, _)| godot_value(&g, &light, x))
+            .collect();
+        let ev: Vec<f64> = done
+            .truth
+            .iter()
+            .map(|(x, _)| godot_exact(&g, &light, x))
+            .collect();
         out.push(GodotScene {
             name: sc.name.clone(),
             formulas: errors(&fv, &truth),

@@ -248,6 +248,10 @@ pub struct SceneResult {
     /// per path, the engine's image.
     #[serde(skip)]
     pub images: Vec<(String, Vec<f64>)>,
+    /// The covered pixels' surface points and the truth there (± its bar), kept for the
+    /// judging that reuses them (Godot's formulas) instead of integrating them again.
+    #[serde(skip)]
+    pub truth: Vec<(Vector3<f64>, Bounded)>,
 }
 
 /// One engine's runs judged.
@@ -447,6 +451,11 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
                 .fold(0.0, f64::max),
             paths,
             images,
+            truth: pts
+                .iter()
+                .map(|(_, x)| *x)
+                .zip(truth.iter().copied())
+                .collect(),
         });
     }
     let adapter = match inp.shipped_run.webgpu_adapter.as_str() {
