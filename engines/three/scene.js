@@ -5,6 +5,7 @@
 // installed by RectAreaLightUniformsLib.init() as three's own examples do.
 import * as THREE from 'three';
 import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
+import { place } from './place.js';
 
 window.renderAll = async function ( config, halfPath ) {
 
@@ -47,20 +48,7 @@ window.renderAll = async function ( config, halfPath ) {
 	const out = [];
 	for ( const sc of config.scenes ) {
 
-		const th = sc.view_deg * Math.PI / 180;
-		// the plane fills the frame: x foreshortened by cos θ on the vertical axis
-		const c = Math.cos( th );
-		const cam = new THREE.OrthographicCamera( - s, s, s * c, - s * c, 0.1, 100 );
-		cam.position.set( 10 * Math.sin( th ), 0, 10 * c );
-		cam.up.set( - c, 0, Math.sin( th ) );
-		cam.lookAt( 0, 0, 0 );
-		cam.updateMatrixWorld();
-		light.width = sc.light.width;
-		light.height = sc.light.height;
-		light.position.set( ...sc.light.center );
-		light.up.set( ...sc.light.up );
-		light.lookAt( ...sc.light.look_at );
-		light.updateMatrixWorld();
+		const cam = place( THREE, light, sc, s );
 		plane.material.roughness = sc.roughness;
 		plane.material.needsUpdate = true;
 		renderer.setRenderTarget( target );

@@ -7,6 +7,7 @@
 import * as THREE from 'three/webgpu';
 import { positionWorld, vec4 } from 'three/tsl';
 import { RectAreaLightTexturesLib } from 'three/addons/lights/RectAreaLightTexturesLib.js';
+import { place } from './place.js';
 
 window.renderAllWebGPU = async function ( config ) {
 
@@ -49,19 +50,7 @@ window.renderAllWebGPU = async function ( config ) {
 	const out = [];
 	for ( const sc of config.scenes ) {
 
-		const th = sc.view_deg * Math.PI / 180;
-		const c = Math.cos( th );
-		const cam = new THREE.OrthographicCamera( - s, s, s * c, - s * c, 0.1, 100 );
-		cam.position.set( 10 * Math.sin( th ), 0, 10 * c );
-		cam.up.set( - c, 0, Math.sin( th ) );
-		cam.lookAt( 0, 0, 0 );
-		cam.updateMatrixWorld();
-		light.width = sc.light.width;
-		light.height = sc.light.height;
-		light.position.set( ...sc.light.center );
-		light.up.set( ...sc.light.up );
-		light.lookAt( ...sc.light.look_at );
-		light.updateMatrixWorld();
+		const cam = place( THREE, light, sc, s );
 		standard.roughness = sc.roughness;
 		plane.material = standard;
 		renderer.setRenderTarget( target );
