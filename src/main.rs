@@ -37,7 +37,8 @@ enum Cmd {
     /// Run the fit specifications of fits/ and write results/fits/*.json and their reports;
     /// exit 1 if a held-out error misses its spec's tolerance.
     Regen {
-        /// Only the specs whose name contains this text (e.g. `multiscale`).
+        /// Run only these studies: exact spec names, comma-separated (e.g.
+        /// `ltc-ggx,ltc-sheen`); a study that follows others brings them along.
         #[arg(long)]
         only: Option<String>,
         #[arg(long, value_enum, default_value_t = Preset::Default)]
@@ -69,7 +70,7 @@ enum Cmd {
     Verify {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
-        /// Run only the checks whose id contains this text.
+        /// Run only these checks: exact ids (the stems of proofs/*.md), comma-separated.
         #[arg(long)]
         only: Option<String>,
     },
@@ -216,20 +217,11 @@ fn run_verify(
     only: Option<&str>,
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
-    let n = verify::all()
-        .iter()
-        .filter(|c| only.is_none_or(|f| c.id.contains(f)))
-        .count();
-    if n == 0 {
-        return Err(ndfbench::Error::InvalidArgument(format!(
-            "verify --only {:?} matches none of the {} checks (their ids are the stems of proofs/*.md)",
-            only.unwrap_or(""),
-            verify::all().len()
-        )));
-    }
+    let checks = verify::select(only)?;
+    let n = checks.len();
     ndfbench::report::stage(&format!("verify: {n} checks at the {preset:?} preset"));
     let pb = bar(n as u64, "verify");
-    let outcomes = verify::run(preset, only, |o| {
+    let outcomes = verify::run(preset, checks, |o| {
         pb.inc(1);
         pb.suspend(|| {
             println!(

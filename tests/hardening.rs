@@ -922,6 +922,28 @@ fn inputs_that_are_not_what_they_claim() {
         .output()
         .unwrap();
     assert_typed_error(&out, "verify --only", &["no-such-check"]);
+    // --only takes exact names: a part of one is refused with the names that contain it
+    let out = bin()
+        .args(["verify", "--only", "jacobian", "--preset", "quick"])
+        .output()
+        .unwrap();
+    assert_typed_error(
+        &out,
+        "verify --only part",
+        &["jacobian-reflection", "proofs/"],
+    );
+    let out = bin().args(["regen", "--only", "ltc"]).output().unwrap();
+    assert_typed_error(
+        &out,
+        "regen --only part",
+        &[
+            "\"ltc\"",
+            "ltc-ggx",
+            "ltc-sheen",
+            "multiscale-convolution",
+            "valid",
+        ],
+    );
     let d = scratch("claims");
     // a shipped table with nothing comparable
     let nan = vec!["NaN"; 64 * 64 * 4].join(", ");

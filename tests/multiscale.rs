@@ -199,7 +199,7 @@ fn regen_writes_its_results_atomically() {
     let out = ndfbench::studies::regen(
         &fits,
         &dir.join("results"),
-        Some("multiscale"),
+        Some("multiscale-alpha-me"),
         ndfbench::integrate::Preset::Quick,
     )
     .unwrap();
@@ -226,19 +226,33 @@ fn regen_writes_its_results_atomically() {
         ndfbench::studies::regen(
             &fits,
             &dir.join("results"),
-            Some("multiscale-alpha"),
+            Some("multiscale-alpha-me"),
             ndfbench::integrate::Preset::Quick
         ),
-        Err(Error::InvalidArgument(_))
+        Err(Error::InvalidArgument(ref m)) if m.contains("terms")
     ));
-    // a spec directory with no matching spec is an error, not silence
-    assert!(ndfbench::studies::regen(
-        &fits,
-        &dir.join("results"),
-        Some("nothing-here"),
-        ndfbench::integrate::Preset::Quick
-    )
-    .is_err());
+    std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();
+    // --only takes exact names: a part of one, or a study without a spec here, is an
+    // error listing the valid names, not silence and not a guess
+    for wrong in [
+        "multiscale",
+        "nothing-here",
+        "ltc-ggx",
+        "multiscale-alpha-me,",
+    ] {
+        match ndfbench::studies::regen(
+            &fits,
+            &dir.join("results"),
+            Some(wrong),
+            ndfbench::integrate::Preset::Quick,
+        ) {
+            Err(Error::InvalidArgument(m)) => assert!(
+                m.contains("valid: multiscale-alpha-me") && m.contains("--only"),
+                "{wrong}: {m}"
+            ),
+            other => panic!("--only {wrong}: {other:?}"),
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -256,7 +270,7 @@ fn convolution_regen_runs_at_the_quick_preset() {
     let out = ndfbench::studies::regen(
         &fits,
         &dir.join("results"),
-        Some("convolution"),
+        Some("multiscale-convolution"),
         ndfbench::integrate::Preset::Quick,
     )
     .unwrap();

@@ -515,8 +515,10 @@ fn the_paper_scale_study_shards_by_cluster() {
         "16 clusters × 2 maps"
     );
     assert!(a == b, "the merged clusters differ from the unsharded run");
-    // the on-request study is left out of every other selection
+    // the on-request study is left out of every other selection, and a name that merely
+    // starts like it is no selection at all
     let d = tmp("scale-substring");
+    assert!(studies::regen(&fits(), &d, Some("tensor-s"), Preset::Quick).is_err());
     let o = studies::regen(&fits(), &d, Some("tensor"), Preset::Quick).unwrap();
     assert!(
         o.iter().all(|x| x.name != name),

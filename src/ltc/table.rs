@@ -73,7 +73,7 @@ pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
     let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
     let v = crate::results::read_result(results, name)?.ok_or_else(|| {
         Error::InvalidArgument(format!(
-            "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc`"
+            "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc-ggx`"
         ))
     })?;
     let (n, cells) = cells_of(&v["table"], None, &bad)?;

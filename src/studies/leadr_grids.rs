@@ -139,7 +139,7 @@ fn markdown(k: &Computed) -> String {
         paper_held,
     } = *k;
     let mut md = String::from("# LEADR numerical integration (seed 001 §3.4–3.7)\n\n");
-    md.push_str("Written by `cargo run --release -- regen --only leadr` from `fits/leadr-grids.toml`. Estimator: the paper's simplified \
+    md.push_str("Written by `cargo run --release -- regen --only leadr-grids` from `fits/leadr-grids.toml`. Estimator: the paper's simplified \
 algorithms 1 and 3 (weighted sum of L(N) over an N×N slope grid, weights × projected area, normalised). Reference: the same ratio with \
 the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10). Test scenes: rough specular under a smooth environment \
 (sky gradient + a κ = 50 sun) and rough diffuse under one directional light; isotropic Beckmann σ. Training set σ ∈ {0.05, 0.15, 0.3, 0.5} × \
@@ -179,7 +179,7 @@ does not dominate at grazing views.\n\n",
     md
 }
 
-/// `regen --only leadr`: error against N for three grid families (paper spacing 0.9,
+/// `regen --only leadr-grids`: error against N for three grid families (paper spacing 0.9,
 /// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
 /// micronormal at silhouettes; results/leadr.md, results/leadr-pareto.svg,
 /// results/fits/leadr-grids.json.
@@ -202,7 +202,7 @@ pub fn regen(
     crate::io::write_atomic(&results.join("leadr.md"), md.as_bytes())?;
     let json = serde_json::json!({
         "spec": spec,
-        "command": "cargo run --release -- regen --only leadr",
+        "command": "cargo run --release -- regen --only leadr-grids",
         "rows": rows.iter().map(|(n, h, e)| serde_json::json!({"n": n, "fitted_h": h, "specular": {"paper": e[0].0, "fitted": e[1].0, "gauss_hermite": e[2].0}, "diffuse": {"paper": e[0].1, "fitted": e[1].1, "gauss_hermite": e[2].1}})).collect::<Vec<_>>(),
         "h_scan_n5": scan,
         "fitted_h_n5": h5,

@@ -83,32 +83,46 @@ fn load_specs(fits_dir: &Path) -> Result<Vec<FitSpec>> {
 }
 
 /// The specs `only` selects, in run order: studies without `after` first, each group by
-/// name. An exact name of a study that follows others runs those first; any other text
-/// selects the specs whose names contain it, except the studies run on request only
-/// (`Study::on_request`), which only their exact name selects.
-fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Vec<&'a FitSpec> {
-    let group: Option<Vec<&str>> = only
-        .and_then(find)
-        .filter(|e| !e.after().is_empty())
-        .map(|e| {
-            let mut g = e.after().to_vec();
-            g.push(e.name());
-            g
-        });
+/// name. `only` is one exact study name or several joined by commas; a study that follows
+/// others brings them along (they run first). Without `only`, every study but those run
+/// on request only (`Study::on_request`). A name that is no study is an error listing the
+/// valid ones.
+fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Result<Vec<&'a FitSpec>> {
+    let wanted: Option<Vec<&str>> = match only {
+        None => None,
+        Some(list) => {
+            let mut names = Vec::new();
+            for name in list.split(',').map(str::trim) {
+                let Some(study) = find(name).filter(|_| specs.iter().any(|s| s.name == name))
+                else {
+                    return Err(Error::InvalidArgument(format!(
+                        "--only {}: not a study with a spec here (valid: {})",
+                        crate::error::quoted(name),
+                        specs
+                            .iter()
+                            .map(|s| s.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )));
+                };
+                names.extend_from_slice(study.after());
+                names.push(study.name());
+            }
+            Some(names)
+        }
+    };
     let mut selected: Vec<&FitSpec> = specs
         .iter()
-        .filter(|s| match &group {
-            Some(g) => g.contains(&s.name.as_str()),
-            None => only.is_none_or(|o| s.name.contains(o)),
+        .filter(|s| match &wanted {
+            Some(w) => w.contains(&s.name.as_str()),
+            None => !find(&s.name).is_some_and(|x| x.on_request()),
         })
-        // a study run on request only (hours at its default preset) needs its exact name
-        .filter(|s| !find(&s.name).is_some_and(|x| x.on_request()) || only == Some(&s.name))
         .collect();
     selected.sort_by_key(|s| {
         let follows = find(&s.name).is_some_and(|x| !x.after().is_empty());
         (follows, s.name.clone())
     });
-    selected
+    Ok(selected)
 }
 
 /// Run one study under `mode` inside its own output set; committed only when it returns.
@@ -145,8 +159,8 @@ fn run_one(
     (r, scope, t.elapsed().as_secs_f64())
 }
 
-/// Run the studies whose spec name contains `only` (all when None; an exact name also
-/// runs the studies it follows), each published as one output set.
+/// Run the studies `only` selects (exact names, comma-separated; all but the on-request
+/// ones when None) and publish each one's output set.
 pub fn regen(
     fits_dir: &Path,
     results: &Path,
@@ -177,12 +191,11 @@ pub fn regen_with(
     opts: &RunOptions,
 ) -> Result<(Vec<FitOutcome>, Vec<StudyTime>)> {
     let specs = load_specs(fits_dir)?;
-    let selected = select(&specs, only);
+    let selected = select(&specs, only)?;
     if selected.is_empty() {
         return Err(Error::InvalidArgument(format!(
-            "no fit spec in '{}' matches {:?}",
-            fits_dir.display(),
-            only
+            "no fit spec in {} selects a study",
+            crate::error::quoted(&fits_dir.display().to_string())
         )));
     }
     let mode = || match &opts.cache {

@@ -179,16 +179,38 @@ pub fn all() -> Vec<Check> {
     ]
 }
 
-/// Run the checks whose id contains `filter` (all when None); `progress` is called after
-/// each one.
-pub fn run(
-    preset: Preset,
-    filter: Option<&str>,
-    mut progress: impl FnMut(&Outcome),
-) -> Vec<Outcome> {
-    all()
+/// The checks `only` names (exact ids, comma-separated; every check when None), in
+/// report order. An id that is no check is an error listing the valid ones.
+pub fn select(only: Option<&str>) -> crate::error::Result<Vec<Check>> {
+    let every = all();
+    let Some(list) = only else { return Ok(every) };
+    let ids: Vec<&str> = list.split(',').map(str::trim).collect();
+    if let Some(bad) = ids.iter().find(|id| !every.iter().any(|c| c.id == **id)) {
+        // the whole list is long: name the ids that contain the text, if any
+        let near: Vec<&str> = every
+            .iter()
+            .map(|c| c.id)
+            .filter(|id| !bad.is_empty() && id.contains(bad))
+            .take(6)
+            .collect();
+        let hint = if near.is_empty() {
+            String::new()
+        } else {
+            format!("; did you mean {}?", near.join(", "))
+        };
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "verify --only {}: not a check id{hint} (the {} valid ids are the stems of proofs/*.md)",
+            crate::error::quoted(bad),
+            every.len()
+        )));
+    }
+    Ok(every.into_iter().filter(|c| ids.contains(&c.id)).collect())
+}
+
+/// Run `checks`; `progress` is called after each one.
+pub fn run(preset: Preset, checks: Vec<Check>, mut progress: impl FnMut(&Outcome)) -> Vec<Outcome> {
+    checks
         .into_iter()
-        .filter(|c| filter.is_none_or(|f| c.id.contains(f)))
         .map(|c| {
             let t0 = Instant::now();
             let mut o = (c.run)(preset);

@@ -1,4 +1,4 @@
-//! `regen --only multiscale`: fit α_me(‖b̄‖), audit seed 000 Eq 5, write
+//! `regen --only multiscale-alpha-me`: fit α_me(‖b̄‖), audit seed 000 Eq 5, write
 //! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots. Compute
 //! ([`compute`]) → plots ([`plots`]) → report ([`report`]) → files.
 
@@ -174,7 +174,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     let passed = h_ours.max_rel <= spec.tolerance.max_rel;
     let json = json!({
         "spec": spec,
-        "command": "cargo run --release -- regen --only multiscale",
+        "command": "cargo run --release -- regen --only multiscale-alpha-me",
         "ours": {"coefficients": c.small, "coefficients_large": c.large, "held_out": h_ours, "whole_range": whole},
         "paper_eq5": {"coefficients": PAPER, "held_out": h_paper},
         "paper_form_refit": {"coefficients": refit.params, "objective": refit.objective, "iterations": refit.iterations, "held_out": h_refit},

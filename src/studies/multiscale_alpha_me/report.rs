@@ -26,7 +26,7 @@ pub(super) fn markdown(spec: &FitSpec, k: &Computed) -> String {
         ..
     } = *k;
     let mut md = String::from("# Multi-scale LTC: α_me from ‖b̄‖ (seed 000 §3.3)\n\n");
-    md.push_str("Written by `cargo run --release -- regen --only multiscale` from `fits/multiscale-alpha-me.toml`. \
+    md.push_str("Written by `cargo run --release -- regen --only multiscale-alpha-me` from `fits/multiscale-alpha-me.toml`. \
 Ground truth is the closed form ‖b̄‖(α) = (1 − α² artanh(k)/k)/(1 − α²), k = √(1 − α²) (proofs/mrl-closed-form.md; \
 checked against quadrature of Eq 4 to ≤ 1e-10 in results/proofs.md), inverted by safeguarded Newton. \
 Errors are relative errors in α on held-out points (log-uniform, half a step off the training grid).\n\n");
