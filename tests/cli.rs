@@ -1,10 +1,8 @@
 //! The binary: JSON from `eval`, typed errors with exit status 2, verify's exit status.
 
-use std::process::Command;
+mod common;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_ndfbench"))
-}
+use common::bin;
 
 #[test]
 fn eval_prints_json_with_the_closed_form() {
@@ -265,4 +263,41 @@ fn bench_report_refreshes_only_the_main_job_section() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("no main-job section"));
+}
+
+/// docs/cli.md is what `cli-reference` writes from the help texts now: the reference a
+/// reader opens cannot drift from `--help`.
+#[test]
+fn the_cli_reference_is_current() {
+    let d = common::scratch("cli", "reference");
+    let out = d.join("cli.md");
+    let st = bin()
+        .args(["cli-reference", "--out"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let now = std::fs::read_to_string(&out).unwrap();
+    let committed = std::fs::read_to_string("docs/cli.md").unwrap_or_default();
+    assert!(
+        now == committed,
+        "docs/cli.md is stale: run `cargo run --release -- cli-reference`"
+    );
+    // every subcommand has its section, with the detail its help carries
+    for sub in [
+        "regen",
+        "verify",
+        "prefilter",
+        "render",
+        "engines",
+        "ltc-compare",
+        "eval",
+    ] {
+        assert!(now.contains(&format!("## `ndfbench {sub}`")), "{sub}");
+    }
+    assert!(
+        now.contains("--only takes exact spec names")
+            || now.contains("`--only` takes exact spec names")
+    );
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -163,10 +163,7 @@ fn files(dir: &str, ext: &str) -> Vec<Vec<u8>> {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ndfb-fuzz-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("fuzz", name)
 }
 
 /// Run `check` on `config(CI_CASES)` cases over `seeds`.

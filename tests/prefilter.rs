@@ -10,17 +10,11 @@ mod common;
 use ndfbench::prefilter::{self, chain, input, Filter, Format, NormalMips, Options, Store};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_ndfbench"))
-}
+use common::bin;
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ndfbench-prefilter-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("prefilter", name)
 }
 
 /// Write an 8-bit RGB normal map from unit normals.

@@ -14,7 +14,6 @@ use ndfbench::studies::render::{at_preset, glint_plan, SCENES};
 use ndfbench::Error;
 use proptest::prelude::*;
 use std::path::Path;
-use std::process::Command;
 
 fn scene(text: &str) -> Result<Scene, Error> {
     Scene::parse(text, "test.toml")
@@ -319,9 +318,7 @@ fn the_shipped_ltc_lookup_matches_the_texture_reference() {
     assert!(worst < 1e-4, "{worst}");
 }
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_ndfbench"))
-}
+use common::bin;
 
 #[test]
 fn the_render_command_writes_its_report_and_rejects_bad_input() {

@@ -3,6 +3,8 @@
 //! shard is a typed error naming it and writes nothing; a cache hit equals recomputation;
 //! and, where a local Slurm answers, an 8-task job array merged by a dependent job does too.
 
+mod common;
+
 use ndfbench::integrate::Preset;
 use ndfbench::studies::{self, RunOptions};
 use ndfbench::Error;
@@ -21,10 +23,7 @@ fn fits() -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ndfb-shard-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("shard", name)
 }
 
 fn files(dir: &Path) -> Vec<Vec<u8>> {

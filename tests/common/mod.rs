@@ -28,3 +28,19 @@ pub fn config(default_cases: u32) -> ProptestConfig {
         ..base
     }
 }
+
+/// The `ndfbench` binary of this build, as a command to run.
+#[allow(dead_code)]
+pub fn bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_ndfbench"))
+}
+
+/// A fresh, empty scratch directory for one test: `<temp>/ndfb-<suite>-<name>-<pid>`,
+/// emptied first (a previous run of the same process id leaves nothing behind).
+#[allow(dead_code)]
+pub fn scratch(suite: &str, name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("ndfb-{suite}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
