@@ -167,7 +167,7 @@ fn ltc_table_benches(c: &mut Criterion) {
         .map(|(_, l)| l.vertices)
         .collect();
     for kind in &ndfbench::codegen::textures::TABLES {
-        let Ok(t) = ndfbench::ltc::table::read(Path::new("results"), kind.fit) else {
+        let Ok(t) = ndfbench::results::ltc::table(Path::new("results"), kind.fit) else {
             continue;
         };
         g.bench_function(format!("{}: 1024 pixels", kind.stem), |b| {
@@ -182,7 +182,7 @@ fn ltc_table_benches(c: &mut Criterion) {
             })
         });
     }
-    if let Ok(t) = ndfbench::ltc::aniso_table::read(Path::new("results")) {
+    if let Ok(t) = ndfbench::results::ltc::aniso_table(Path::new("results")) {
         let h = t.to_half();
         g.bench_function("ltc_ggx_aniso: 1024 pixels", |b| {
             b.iter(|| {

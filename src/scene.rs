@@ -244,20 +244,20 @@ pub struct Choice {
 /// The measured tables a scene chooses from, read once per build.
 struct Measured {
     /// results/fits/filters.json (errors)
-    filters: Option<serde_json::Value>,
+    filters: Option<crate::results::filters::Filters>,
     /// results/costs.json (ns per evaluation)
-    costs: Option<serde_json::Value>,
+    costs: Option<crate::results::costs::Costs>,
 }
 
 impl Measured {
     fn load(results: &Path) -> Result<Measured> {
         Ok(Measured {
-            filters: crate::results::read_result(results, crate::results::names::FILTERS)?,
-            costs: crate::results::read_json(&results.join("costs.json"))?,
+            filters: crate::results::read(results)?,
+            costs: crate::results::costs::read(results)?,
         })
     }
     fn cost(&self, key: &str) -> Option<f64> {
-        self.costs.as_ref().and_then(|c| c[key].as_f64())
+        self.costs.as_ref().and_then(|c| c.get(key))
     }
 }
 
@@ -270,21 +270,11 @@ fn measured(m: &Measured, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64
             } else {
                 k.to_string()
             };
-            Some((
-                f["summary"][&key]["l2_mean"].as_f64()?,
-                f["summary"][&key]["l2_se"].as_f64()?,
-            ))
+            f.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
         }
-        ErrorKey::Fitted(fam) => f["fitted"]
-            .as_array()?
-            .iter()
-            .find(|x| x["family"] == fam && x["ndf"] == if beck { "Beckmann" } else { "GGX" })
-            .and_then(|x| {
-                Some((
-                    x["held_out"]["l2_mean"].as_f64()?,
-                    x["held_out"]["l2_se"].as_f64()?,
-                ))
-            }),
+        ErrorKey::Fitted(fam) => f
+            .fitted(fam, if beck { "Beckmann" } else { "GGX" })
+            .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
     });
     let cost = match o.cost_key {
         None => Some(0.0),
@@ -356,10 +346,8 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n| aspect | choice | generated function | measured error | cost (ns/eval, f32) |\n|---|---|---|---|---|\n",
         s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
     );
-    let sl = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA)?;
-    let dg1 = sl
-        .as_ref()
-        .and_then(|v| v["held_out"]["ours"]["max_dg1"].as_f64());
+    let dg1 = crate::results::read::<crate::results::smith_lambda::SmithLambda>(results)?
+        .map(|v| v.held_out.ours.max_dg1);
     let measured_tables = Measured::load(results)?;
     let spec_cost = measured_tables.cost("kernel-ggx-specular/per-pixel");
     let fmt_cost =
@@ -387,13 +375,12 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     if s.lights.iter().any(|l| l == "polygon") {
         fns.extend(["ltc_lut_u", "ltc_lut_v", "ltc_quad"]);
-        let lt = crate::results::read_result(results, crate::results::names::LTC_GGX)?;
-        let mean = lt
-            .as_ref()
-            .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64());
+        let lt: Option<crate::results::ltc::Summary> =
+            crate::results::read_named(results, crate::results::names::LTC_GGX)?;
+        let mean = lt.as_ref().map(|v| v.held_out.l2.mean.value);
         let sph = lt
             .as_ref()
-            .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64());
+            .and_then(|v| v.sphere_horizon.map(|s| s.energy_weighted_rel));
         let cost = measured_tables.cost("kernel-ltc-quad/per-pixel");
         report.push_str(&format!(
             "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc.md) | {} (scalar, per pixel) |\n",

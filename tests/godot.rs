@@ -60,7 +60,7 @@ fn points() -> Vec<(f64, f64, Rect, Vector3<f64>)> {
 
 #[test]
 fn the_conversion_to_godots_matrix_form_keeps_every_lobe_of_our_table() {
-    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").unwrap();
+    let t = ndfbench::results::ltc::table(Path::new("results"), "ltc-ggx").unwrap();
     let pts = points();
     let mut worst: f64 = 0.0;
     for (k, c) in t.cells.iter().enumerate() {
@@ -94,7 +94,7 @@ fn the_conversion_to_godots_matrix_form_keeps_every_lobe_of_our_table() {
 
 #[test]
 fn the_files_hold_our_table_at_godots_texel_centres() {
-    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").unwrap();
+    let t = ndfbench::results::ltc::table(Path::new("results"), "ltc-ggx").unwrap();
     let (l1, l2) = (read_dds(1), read_dds(2));
     // every row's N·V is the one whose acos_approx is the row's angle
     for j in 0..N {

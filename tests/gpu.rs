@@ -394,7 +394,7 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
     use ndfbench::codegen::textures::TABLES;
     let results = std::path::Path::new("results");
     for kind in &TABLES {
-        let Ok(t) = ndfbench::ltc::table::read(results, kind.fit) else {
+        let Ok(t) = ndfbench::results::ltc::table(results, kind.fit) else {
             eprintln!(
                 "{}: results/fits/{}.json absent, skipped",
                 kind.stem, kind.fit
@@ -468,7 +468,7 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
 #[test]
 fn ltc_aniso_lookup_interpolates_as_its_reference() {
     use ndfbench::ltc::aniso_table;
-    let Ok(t) = aniso_table::read(std::path::Path::new("results")) else {
+    let Ok(t) = ndfbench::results::ltc::aniso_table(std::path::Path::new("results")) else {
         eprintln!("results/fits/ltc-aniso.json absent: skipped");
         return;
     };

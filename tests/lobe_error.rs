@@ -168,7 +168,7 @@ fn check(what: String, t: &dyn LtcTarget, width: f64, m_inv: &Matrix3<f64>, amp:
 }
 
 fn table_cell(name: &str, i: usize, j: usize) -> (f64, f64, Matrix3<f64>, f64) {
-    let t = ndfbench::ltc::table::read(Path::new("results"), name).expect("committed table");
+    let t = ndfbench::results::ltc::table(Path::new("results"), name).expect("committed table");
     let v: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(format!("results/fits/{name}.json")).unwrap(),
     )
@@ -234,7 +234,7 @@ fn held_out_metric_agrees_with_an_independent_product_rule() {
         }
     }
     // the anisotropic table at two of its nodes (one grazing)
-    let at = ndfbench::ltc::aniso_table::read(Path::new("results")).expect("committed table");
+    let at = ndfbench::results::ltc::aniso_table(Path::new("results")).expect("committed table");
     let g = at.grid;
     for (ix, iy, k, j) in [
         (g.n_r - 2, 2, 1, g.n_t / 2),

@@ -299,7 +299,7 @@ fn the_fast_flakes_are_the_full_scan_flakes() {
 
 #[test]
 fn the_shipped_ltc_lookup_matches_the_texture_reference() {
-    let t = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx")
+    let t = ndfbench::results::ltc::table(Path::new("results"), "ltc-ggx")
         .expect("results/fits/ltc-ggx.json");
     let mut worst = 0.0f64;
     for i in 0..=40 {

@@ -131,7 +131,7 @@ fn three_half_table_truncates() {
 #[test]
 fn committed_bevy_comparison_reproduces() {
     let Some(b) = bevy() else { return };
-    let ours = ndfbench::ltc::table::read(Path::new("results"), "ltc-ggx").unwrap();
+    let ours = ndfbench::results::ltc::table(Path::new("results"), "ltc-ggx").unwrap();
     let v: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string("results/ltc-compare.json").expect("results/ltc-compare.json"),
     )

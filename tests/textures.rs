@@ -12,7 +12,8 @@ use ndfbench::ltc::table::{self, FittedTable};
 use std::path::Path;
 
 fn table() -> FittedTable {
-    table::read(Path::new("results"), "ltc-ggx").expect("results/fits/ltc-ggx.json")
+    ndfbench::results::ltc::table(Path::new("results"), "ltc-ggx")
+        .expect("results/fits/ltc-ggx.json")
 }
 
 fn read(name: &str) -> Vec<u8> {
@@ -82,7 +83,7 @@ fn f16s(bytes: &[u8]) -> Vec<f16> {
 #[test]
 fn engine_files_are_fresh() {
     for kind in &textures::TABLES {
-        let t = table::read(Path::new("results"), kind.fit)
+        let t = ndfbench::results::ltc::table(Path::new("results"), kind.fit)
             .unwrap_or_else(|e| panic!("results/fits/{}.json: {e}", kind.fit));
         for (rel, bytes) in textures::render(&t, kind, ndfbench::codegen::COMMAND) {
             let p = Path::new("results").join(&rel);
@@ -104,7 +105,7 @@ fn engine_files_are_fresh() {
 #[test]
 fn every_tables_ktx2_holds_its_stored_binary16_table() {
     for kind in &textures::TABLES {
-        let t = table::read(Path::new("results"), kind.fit).unwrap();
+        let t = ndfbench::results::ltc::table(Path::new("results"), kind.fit).unwrap();
         let bytes = read(&format!("{}.ktx2", kind.stem));
         let r = ktx2::Reader::new(&bytes[..]).expect("a valid KTX2 file");
         let h = r.header();
@@ -393,7 +394,7 @@ fn ltc_compare_reads_the_es_module_back_as_the_same_table() {
     let text = std::fs::read_to_string("results/textures/ltc_ggx.js").unwrap();
     let js = Shipped::parse(&text, "LTC_MAT_1", "LTC_MAT_2").expect("parses");
     js.check_comparable("ltc_ggx.js").expect("comparable");
-    let t = ndfbench::ltc::table::read(Path::new("results"), ndfbench::results::names::LTC_GGX)
+    let t = ndfbench::results::ltc::table(Path::new("results"), ndfbench::results::names::LTC_GGX)
         .unwrap();
     assert_eq!(js.n, t.n);
     for k in 0..t.n * t.n {
@@ -419,7 +420,7 @@ fn every_stored_texel_keeps_its_lobe() {
     let mut checked = 0usize;
     let mut bad = Vec::new();
     for kind in ndfbench::codegen::textures::TABLES {
-        let Ok(t) = ndfbench::ltc::table::read(Path::new("results"), kind.fit) else {
+        let Ok(t) = ndfbench::results::ltc::table(Path::new("results"), kind.fit) else {
             continue;
         };
         let f16v: Vec<f64> = f16s(&read(&format!("{}_1_f16.bin", kind.stem)))
@@ -449,7 +450,7 @@ fn every_stored_texel_keeps_its_lobe() {
         }
     }
     // the anisotropic table: layer 0 of each (r_y, φ) node is (a, b, c, d), layer 2 (e, g, h)
-    if let Ok(at) = ndfbench::ltc::aniso_table::read(Path::new("results")) {
+    if let Ok(at) = ndfbench::results::ltc::aniso_table(Path::new("results")) {
         let g = at.grid;
         let tex = f16s(&read("ltc_ggx_aniso_f16.bin"));
         let layer = g.n_r * g.n_t * 4;

@@ -64,65 +64,44 @@ fn lit(x: f32) -> String {
     }
 }
 
-fn num(v: &serde_json::Value, path: &[&str], file: &str) -> Result<f64> {
-    let mut cur = v;
-    for p in path {
-        cur = match p.parse::<usize>() {
-            Ok(i) => &cur[i],
-            Err(_) => &cur[*p],
-        };
-    }
-    cur.as_f64().ok_or_else(|| {
-        Error::InvalidArgument(format!(
-            "codegen: results/fits/{file}.json has no number at {} (run `{COMMAND}`)",
-            path.join(".")
-        ))
-    })
-}
-
 /// Read every constant from the fit results in `results`.
 pub fn constants(results: &Path) -> Result<Vec<Const>> {
-    let read = |name: &str| {
-        crate::results::read_result(results, name)?.ok_or_else(|| {
-            Error::InvalidArgument(format!(
-                "codegen: missing or malformed {}/fits/{name}.json (run `{COMMAND}`)",
-                results.display()
-            ))
-        })
-    };
     let mut out = vec![Const {
         name: "PI".into(),
         value: std::f32::consts::PI,
         doc: "π".into(),
     }];
-    use crate::results::names;
-    let am = read(names::MULTISCALE_ALPHA_ME)?;
-    let held = num(&am, &["ours", "held_out", "max_rel"], "multiscale-alpha-me")?;
+    use crate::results::{alpha_me::AlphaMe, filters::Filters, leadr_grids::LeadrGrids};
+    use crate::results::{require, smith_lambda::SmithLambda};
+    let am: AlphaMe = require(results)?;
+    let held = am.ours.held_out.max_rel;
     // both branches of the fit: (JSON key, constant prefix, generated count, what k means)
-    for (key, prefix, want, power) in [
+    for (key, coeffs, prefix, want, power) in [
         (
             "coefficients",
+            &am.ours.coefficients,
             "ALPHA_ME_C",
             ALPHA_ME_SMALL_TERMS,
             "α ≤ 1 branch, coefficient of s^-",
         ),
         (
             "coefficients_large",
+            &am.ours.coefficients_large,
             "ALPHA_ME_D",
             ALPHA_ME_LARGE_TERMS,
             "α > 1 branch, coefficient of ‖b̄‖^",
         ),
     ] {
-        let n = am["ours"][key].as_array().map_or(0, |a| a.len());
+        let n = coeffs.len();
         if n != want {
             return Err(Error::InvalidArgument(format!(
                 "codegen: multiscale-alpha-me has {n} {key}; the generated α_me form has {want}"
             )));
         }
-        for k in 0..n {
+        for (k, c) in coeffs.iter().enumerate() {
             out.push(Const {
                 name: format!("{prefix}{}", k + 1),
-                value: num(&am, &["ours", key, &k.to_string()], "multiscale-alpha-me")? as f32,
+                value: *c as f32,
                 doc: format!(
                     "α_me(‖b̄‖) fit, {power}{} (held-out max rel. error {held:.2e})",
                     k + 1
@@ -130,34 +109,29 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             });
         }
     }
-    let sl = read(names::SMITH_LAMBDA)?;
-    let dg = num(&sl, &["held_out", "ours", "max_dg1"], "smith-lambda")?;
-    for (key, name) in [
+    let sl: SmithLambda = require(results)?;
+    let dg = sl.held_out.ours.max_dg1;
+    for ((key, name), value) in [
         ("a1", "A1"),
         ("a2", "A2"),
         ("b1", "B1"),
         ("b2", "B2"),
         ("b3", "B3"),
         ("nu_c", "NU_C"),
-    ] {
+    ]
+    .into_iter()
+    .zip(sl.parameters.array())
+    {
         out.push(Const {
             name: format!("BECKMANN_LAMBDA_{name}"),
-            value: num(&sl, &["parameters", key], "smith-lambda")? as f32,
+            value: value as f32,
             doc: format!("refitted Beckmann Λ(ν), parameter {key} (held-out max |ΔG1| {dg:.2e})"),
         });
     }
-    let fl = read(names::FILTERS)?;
-    let fitted = fl["fitted"].as_array().cloned().unwrap_or_default();
+    let fl: Filters = require(results)?;
     let find = |fam: &str, ndf: &str| -> Result<(f32, f64)> {
-        fitted
-            .iter()
-            .find(|f| f["family"] == fam && f["ndf"] == ndf)
-            .and_then(|f| {
-                Some((
-                    f["constant"].as_f64()? as f32,
-                    f["held_out"]["l2_mean"].as_f64()?,
-                ))
-            })
+        fl.fitted(fam, ndf)
+            .map(|f| (f.constant as f32, f.held_out.l2_mean))
             .ok_or_else(|| {
                 Error::InvalidArgument(format!(
                     "codegen: filters.json has no fit '{fam}' ({ndf}) (run `{COMMAND}`)"
@@ -190,8 +164,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
         value: 0.18,
         doc: "clamp δ_max of seed 003 Eq 10/13".into(),
     });
-    let lg = read(names::LEADR_GRIDS)?;
-    let h = num(&lg, &["fitted_h_n5"], "leadr-grids")?;
+    let h = require::<LeadrGrids>(results)?.fitted_h_n5;
     out.push(Const {
         name: "LEADR_SPACING_N5".into(),
         value: h as f32,
@@ -210,13 +183,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
             doc: format!("5-point slope-grid weight of node ±{k}·h (φ(kh)/Σφ with the fitted h)"),
         });
     }
-    let lt = read(names::LTC_GGX)?;
-    let n = lt["table"].as_array().map_or(0, |t| t.len());
-    if n < 2 {
-        return Err(Error::InvalidArgument(format!(
-            "codegen: results/fits/ltc-ggx.json has no table (run `{COMMAND}`)"
-        )));
-    }
+    let n = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?.n;
     out.push(Const {
         name: "LTC_LUT_SIZE".into(),
         value: n as f32,
@@ -449,7 +416,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
     }
     for kind in &textures::TABLES {
         // the GGX table is required; a table of another lobe only once its study has run
-        let t = match crate::ltc::table::read(results, kind.fit) {
+        let t = match crate::results::ltc::table(results, kind.fit) {
             Ok(t) => t,
             Err(_) if *kind != textures::GGX => continue,
             Err(e) => return Err(e),
@@ -461,7 +428,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         }
     }
     // the anisotropic table once its study has run
-    if let Ok(t) = crate::ltc::aniso_table::read(results) {
+    if let Ok(t) = crate::results::ltc::aniso_table(results) {
         for (rel, bytes) in aniso::render(&t, COMMAND) {
             let path = results.join(rel);
             crate::io::write_atomic(&path, &bytes)?;

@@ -16,7 +16,7 @@ pub type LtcTableData = crate::ltc::table::FittedTable;
 
 /// Read the fitted table.
 pub fn read(results: &Path) -> Result<LtcTableData> {
-    crate::ltc::table::read(results, crate::results::names::LTC_GGX)
+    crate::results::ltc::table(results, crate::results::names::LTC_GGX)
 }
 
 /// Shortest round-trip f32 literal (valid in Rust and WGSL).

@@ -127,27 +127,3 @@ pub fn half_cell(c: &AnisoCell) -> AnisoCell {
 pub fn inv7(c: &AnisoCell) -> Inv7 {
     [c[0], c[1], c[2], c[3], c[4], c[5], c[6]]
 }
-
-/// The shipped table of results/fits/ltc-aniso.json (a typed error if absent or
-/// malformed, with every size bounded).
-pub fn read(results: &std::path::Path) -> crate::error::Result<AnisoTable> {
-    use crate::error::Error;
-    let bad = |m: &str| Error::InvalidArgument(format!("results/fits/ltc-aniso.json: {m}"));
-    let v = crate::results::read_result(results, crate::results::names::LTC_ANISO)?.ok_or_else(
-        || bad("missing or malformed: run `cargo run --release -- regen --only ltc-aniso`"),
-    )?;
-    let grid: AnisoGrid =
-        serde_json::from_value(v["grid"].clone()).map_err(|e| bad(&e.to_string()))?;
-    if [grid.n_r, grid.n_phi, grid.n_t]
-        .iter()
-        .any(|n| !(2..=64).contains(n))
-    {
-        return Err(bad("a grid side outside 2 … 64"));
-    }
-    let cells: Vec<AnisoCell> =
-        serde_json::from_value(v["cells"].clone()).map_err(|e| bad(&e.to_string()))?;
-    if cells.len() != grid.cells() || cells.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(bad("cells do not match the grid"));
-    }
-    Ok(AnisoTable { grid, cells })
-}

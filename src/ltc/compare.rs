@@ -203,7 +203,7 @@ pub fn midpoint_error_of<T: LtcTarget>(
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.
 pub fn ours(results: &Path) -> Result<Shipped> {
-    Ok(of_table(&super::table::read(
+    Ok(of_table(&crate::results::ltc::table(
         results,
         crate::results::names::LTC_GGX,
     )?))
@@ -221,11 +221,9 @@ pub fn of_table(t: &super::table::FittedTable) -> Shipped {
 /// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
 /// (identifies the table a comparison was made against).
 pub fn ours_mean_l2(results: &Path) -> Result<f64> {
-    crate::results::read_result(results, crate::results::names::LTC_GGX)?
-        .and_then(|v| v["held_out"]["l2"]["mean"]["value"].as_f64())
-        .ok_or_else(|| {
-            Error::InvalidArgument("results/fits/ltc-ggx.json has no held_out.l2.mean".into())
-        })
+    let s: crate::results::ltc::Summary =
+        crate::results::require_named(results, crate::results::names::LTC_GGX)?;
+    Ok(s.held_out.l2.mean.value)
 }
 
 /// Smoothness: mean absolute second difference of each parameter along both axes,

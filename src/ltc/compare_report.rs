@@ -301,7 +301,7 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
             crate::error::quoted(&inp.shipped.display().to_string())
         ))
     })?;
-    let table = super::table::read(results, crate::results::names::LTC_GGX)?;
+    let table = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
     let ours = super::compare::of_table(&table);
     let ours_f16 = stored_half(&table);
     let shipped = if inp.norm_ours {

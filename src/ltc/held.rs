@@ -56,7 +56,7 @@ pub fn judge_table<T: LtcTarget>(
 }
 
 /// The held-out error of a fitted table over its cells (the f64 cells).
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Stats {
     /// Relative L2 ‖f − norm·γ_M‖/‖f‖: mean and largest, each ± its error bar.
     pub l2: Spread,

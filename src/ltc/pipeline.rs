@@ -27,7 +27,7 @@ pub struct LtcTable {
 
 impl LtcTable {
     pub fn load(results: &std::path::Path) -> Result<LtcTable> {
-        let t = super::table::read(results, crate::results::names::LTC_GGX)?;
+        let t = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
         let cells = (0..t.n)
             .map(|j| (0..t.n).map(|i| *t.cell(i, j)).collect())
             .collect();

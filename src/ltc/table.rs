@@ -1,9 +1,6 @@
-//! The one reader of a fitted LTC table (results/fits/<name>.json, the `table` array of
-//! columns j of cells i, each [a, b, c, d, norm, fresnel]). Code generation, the
-//! comparison with a shipped table and the shading pipeline all read it through here.
-
-use crate::error::{Error, Result};
-use std::path::Path;
+//! A fitted LTC table as shaders sample it: cells [a, b, c, d, norm, fresnel] on the
+//! (√α, √(1 − cos θ)) grid, their binary16 storage and the bilinear lookup engines do.
+//! Read from results/ by `crate::results::ltc::table`.
 
 /// A fitted table: `cells[i + n·j]` = [a, b, c, d, norm, fresnel] at roughness index i
 /// (r = √α = i/(n − 1)) and view index j (t = √(1 − cos θ) = j/(n − 1)).
@@ -32,66 +29,6 @@ impl FittedTable {
             None => self.cells[k].map(half::f16::from_f64),
         }
     }
-}
-
-/// Read an n × n table of cells [f64; 6] from a JSON array of columns (`what` names it
-/// in errors).
-fn cells_of(
-    v: &serde_json::Value,
-    n: Option<usize>,
-    bad: &dyn Fn(&str) -> Error,
-) -> Result<(usize, Vec<[f64; 6]>)> {
-    let table = v.as_array().ok_or_else(|| bad("no table"))?;
-    let n = n.unwrap_or(table.len());
-    if !(2..=MAX_SIDE).contains(&n) || table.len() != n {
-        return Err(bad(&format!(
-            "a table of side {}, not 2 … {MAX_SIDE}",
-            table.len()
-        )));
-    }
-    let mut cells = vec![[0.0; 6]; n * n];
-    for (j, col) in table.iter().enumerate() {
-        let col = col
-            .as_array()
-            .filter(|c| c.len() == n)
-            .ok_or_else(|| bad("malformed table"))?;
-        for (i, c) in col.iter().enumerate() {
-            for k in 0..6 {
-                cells[i + n * j][k] = c[k]
-                    .as_f64()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| bad("bad table cell"))?;
-            }
-        }
-    }
-    Ok((n, cells))
-}
-
-/// Read the table of the fit `name` under `results`: an n × n table (2 ≤ n ≤ 1024) of
-/// finite numbers, or a typed error saying what is wrong.
-pub fn read(results: &Path, name: &str) -> Result<FittedTable> {
-    let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
-    let v = crate::results::read_result(results, name)?.ok_or_else(|| {
-        Error::InvalidArgument(format!(
-            "results/fits/{name}.json missing or malformed: run `cargo run --release -- regen --only ltc-ggx`"
-        ))
-    })?;
-    let (n, cells) = cells_of(&v["table"], None, &bad)?;
-    let half = if v.get("table_f16").is_some() {
-        let (_, h) = cells_of(&v["table_f16"], Some(n), &bad)?;
-        let mut out = Vec::with_capacity(h.len());
-        for c in h {
-            let q = c.map(half::f16::from_f64);
-            if q.iter().zip(&c).any(|(a, b)| a.to_f64() != *b) {
-                return Err(bad("table_f16 holds a value that is not a binary16 number"));
-            }
-            out.push(q);
-        }
-        Some(out)
-    } else {
-        None
-    };
-    Ok(FittedTable { n, cells, half })
 }
 
 impl FittedTable {

@@ -32,7 +32,7 @@ pub fn dg1(f: &dyn Fn(f64) -> f64, nu: f64) -> f64 {
 }
 
 /// Worst |ΔG1| over a set of ν and where.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Worst {
     pub max_dg1: f64,
     pub at_nu: f64,

@@ -201,7 +201,7 @@ impl Table {
 }
 
 /// Error statistics of a method on held-out points.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct HeldOut {
     pub points: usize,
     pub max_rel: f64,

@@ -118,47 +118,32 @@ pub struct Measured {
 /// Every measured error of the concrete rules, read from `results`/fits/filters.json
 /// (empty when the study has not been run; a malformed file is an error).
 pub fn measured(results: &Path) -> Result<(Vec<Measured>, f64)> {
-    let Some(j) = crate::results::read_result(results, crate::results::names::FILTERS)? else {
+    let Some(j) = crate::results::read::<crate::results::filters::Filters>(results)? else {
         return Ok((Vec::new(), 2.0));
     };
-    let fitted = j["fitted"]
-        .as_array()
-        .and_then(|a| {
-            a.iter().find(|f| {
-                f["ndf"] == "GGX" && f["family"].as_str().is_some_and(|s| s.starts_with("vMF"))
-            })
-        })
-        .cloned();
-    let c = fitted
-        .as_ref()
-        .and_then(|f| f["constant"].as_f64())
-        .unwrap_or(2.0);
+    let fitted = j
+        .fitted
+        .iter()
+        .find(|f| f.ndf == "GGX" && f.family.starts_with("vMF"));
+    let c = fitted.map_or(2.0, |f| f.constant);
     let mut out = Vec::new();
     for f in Filter::ALL {
-        if let Some(k) = f.summary_key() {
-            let e = &j["summary"][k];
-            if let (Some(m), Some(s)) = (e["l2_mean"].as_f64(), e["l2_se"].as_f64()) {
-                out.push(Measured {
-                    filter: f,
-                    l2_mean: m,
-                    l2_se: s,
-                    what: "GGX, every map, level and view of the footprint study".into(),
-                });
-            }
+        if let Some(e) = f.summary_key().and_then(|k| j.summary.get(k)) {
+            out.push(Measured {
+                filter: f,
+                l2_mean: e.l2_mean,
+                l2_se: e.l2_se,
+                what: "GGX, every map, level and view of the footprint study".into(),
+            });
         }
     }
     if let Some(f) = fitted {
-        if let (Some(m), Some(s)) = (
-            f["held_out"]["l2_mean"].as_f64(),
-            f["held_out"]["l2_se"].as_f64(),
-        ) {
-            out.push(Measured {
-                filter: Filter::VmfFitted,
-                l2_mean: m,
-                l2_se: s,
-                what: "GGX, the held-out footprints and views only (not comparable with the all-case means)".into(),
-            });
-        }
+        out.push(Measured {
+            filter: Filter::VmfFitted,
+            l2_mean: f.held_out.l2_mean,
+            l2_se: f.held_out.l2_se,
+            what: "GGX, the held-out footprints and views only (not comparable with the all-case means)".into(),
+        });
     }
     Ok((out, c))
 }

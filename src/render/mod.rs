@@ -105,27 +105,16 @@ fn unscaled_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
 
 /// The refitted constants from results/fits/filters.json (box-pixel fits).
 pub fn constants(results: &Path) -> Result<Constants> {
-    let path = results.join("fits").join("filters.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        msg: format!("{e} (run `regen --only filters` first)"),
-    })?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        msg: e.to_string(),
-    })?;
+    let v: crate::results::filters::Filters = crate::results::require(results)?;
     let get = |family: &str| -> Result<f32> {
-        v["fitted"]
-            .as_array()
-            .and_then(|a| {
-                a.iter()
-                    .find(|f| f["family"] == family && f["ndf"] == "GGX")
-                    .and_then(|f| f["constant"].as_f64())
-            })
-            .map(|c| c as f32)
-            .ok_or_else(|| Error::Io {
-                path: path.display().to_string(),
-                msg: format!("no GGX constant for '{family}'"),
+        v.fitted(family, "GGX")
+            .map(|f| f.constant as f32)
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "results/fits/filters.json has no GGX constant for {}; run `{}`",
+                    crate::error::quoted(family),
+                    crate::results::command(crate::results::names::FILTERS)
+                ))
             })
     };
     Ok(Constants {

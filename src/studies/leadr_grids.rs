@@ -200,15 +200,35 @@ pub fn regen(
         ..
     } = k;
     crate::io::write_atomic(&results.join("leadr.md"), md.as_bytes())?;
-    let json = serde_json::json!({
-        "spec": spec,
-        "command": "cargo run --release -- regen --only leadr-grids",
-        "rows": rows.iter().map(|(n, h, e)| serde_json::json!({"n": n, "fitted_h": h, "specular": {"paper": e[0].0, "fitted": e[1].0, "gauss_hermite": e[2].0}, "diffuse": {"paper": e[0].1, "fitted": e[1].1, "gauss_hermite": e[2].1}})).collect::<Vec<_>>(),
-        "h_scan_n5": scan,
-        "fitted_h_n5": h5,
-        "artificial_micronormal": {"without": if without.is_nan() { serde_json::Value::Null } else { serde_json::json!(without) }, "with": with},
-    });
-    crate::results::write_result(results, &spec.name, &json)?;
+    use crate::results::leadr_grids::{Families, LeadrGrids, Micronormal, Row};
+    let result = LeadrGrids {
+        spec: spec.clone(),
+        command: crate::results::command(&spec.name),
+        rows: rows
+            .iter()
+            .map(|(n, h, e)| Row {
+                n: *n,
+                fitted_h: *h,
+                specular: Families {
+                    paper: e[0].0,
+                    fitted: e[1].0,
+                    gauss_hermite: e[2].0,
+                },
+                diffuse: Families {
+                    paper: e[0].1,
+                    fitted: e[1].1,
+                    gauss_hermite: e[2].1,
+                },
+            })
+            .collect(),
+        h_scan_n5: scan.clone(),
+        fitted_h_n5: h5,
+        artificial_micronormal: Micronormal {
+            without: (!without.is_nan()).then_some(without),
+            with,
+        },
+    };
+    crate::results::write(results, &result)?;
     let best = rows
         .iter()
         .find(|r| r.0 == 5)

@@ -50,16 +50,28 @@ pub fn regen(
         520,
     )?;
     crate::io::write_atomic(&results.join("smith-lambda.svg"), svg.as_bytes())?;
-    let json = serde_json::json!({
-        "spec": spec,
-        "command": "cargo run --release -- regen --only smith-lambda",
-        "parameters": {"a1": p[0], "a2": p[1], "b1": p[2], "b2": p[3], "b3": p[4], "nu_c": p[5]},
-        "iterations": iters,
-        "held_out": {"ours": ours, "walter_printed": walter, "walter_listing": listing},
-        "training": worst(&|n| rational(&p, n), &train),
-        "passed": passed,
-    });
-    crate::results::write_result(results, &spec.name, &json)?;
+    use crate::results::smith_lambda::{HeldOut, Parameters, SmithLambda};
+    let result = SmithLambda {
+        spec: spec.clone(),
+        command: crate::results::command(&spec.name),
+        parameters: Parameters {
+            a1: p[0],
+            a2: p[1],
+            b1: p[2],
+            b2: p[3],
+            b3: p[4],
+            nu_c: p[5],
+        },
+        iterations: iters as usize,
+        held_out: HeldOut {
+            ours,
+            walter_printed: walter,
+            walter_listing: listing,
+        },
+        training: worst(&|n| rational(&p, n), &train),
+        passed,
+    };
+    crate::results::write(results, &result)?;
     let mut md =
         String::from("# Beckmann Smith Λ: a better rational approximation (seed 001 §3.2)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only smith-lambda` from `fits/smith-lambda.toml`. The reference is the exact \

@@ -260,12 +260,8 @@ fn sampling_section(sampled: Option<&(String, usize, Tensor3, Cp, Cp)>) -> Strin
 
 /// §7: the constant-cost benchmark (criterion, via `bench-report` into results/costs.json).
 fn cost_section(results: &Path) -> Result<String> {
-    let costs: serde_json::Map<String, serde_json::Value> =
-        match crate::results::read_json(&results.join("costs.json"))? {
-            Some(serde_json::Value::Object(m)) => m,
-            _ => serde_json::Map::new(),
-        };
-    let get = |k: &str| costs.get(k).and_then(|v| v.as_f64());
+    let costs = crate::results::costs::read(results)?.unwrap_or_default();
+    let get = |k: &str| costs.get(k);
     let mut md = String::from("\n## Constant cost (§7)\n\nCriterion means from `cargo bench --bench engines -- tensor` and `cargo run --release -- bench-report` (results/costs.json; full tables in results/performance.md). Rank 16, 256 × 256 × 4 block; w × w boxes from one texel to the whole block; levels = the same 64 × 64 box at each depth of the tensor.\n\n| query | SAT, O(R) (ns) | naive sum (ns) |\n|---|---|---|\n");
     let mut sats = Vec::new();
     for w in [1, 4, 16, 64, 256] {

@@ -42,7 +42,7 @@ const ITERS: usize = 200;
 const TOL: f64 = 1e-10;
 
 /// What EM did (for the pitfall counts of the report).
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct EmLog {
     pub iterations: usize,
     pub reseeded: usize,

@@ -343,58 +343,31 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
 /// side of the speed/accuracy tables `scene` chooses from. Entries keep what earlier
 /// runs measured when this run lacks them.
 fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
-    let path = results.join("costs.json");
-    let mut costs: serde_json::Map<String, serde_json::Value> =
-        match crate::results::read_json(&path)? {
-            None => serde_json::Map::new(),
-            Some(serde_json::Value::Object(m)) => m,
-            Some(_) => {
-                return Err(crate::error::Error::InvalidArgument(format!(
-                    "{}: not a JSON object",
-                    crate::error::quoted(&path.display().to_string())
-                )))
-            }
-        };
+    use crate::results::costs;
+    let mut c = costs::read(results)?.unwrap_or_default();
     for t in timed {
-        if t.group == "filters" {
-            costs.insert(
-                format!("filters/{}", t.function),
-                serde_json::json!(t.mean_ns / 1024.0),
-            );
+        let (key, ns) = if t.group == "filters" {
+            (format!("filters/{}", t.function), t.mean_ns / 1024.0)
         } else if t.group == "ltc-polygon" {
-            costs.insert(
-                format!("ltc-polygon/{}", t.function),
-                serde_json::json!(t.mean_ns / 256.0),
-            );
+            (format!("ltc-polygon/{}", t.function), t.mean_ns / 256.0)
         } else if t.group == "ltc-fit-cell" {
-            costs.insert(
-                format!("ltc-fit-cell/{}", t.function),
-                serde_json::json!(t.mean_ns),
-            );
+            (format!("ltc-fit-cell/{}", t.function), t.mean_ns)
         } else if t.group.starts_with("tensor-") {
             let key = if t.param.is_empty() {
                 format!("{}/{}", t.group, t.function)
             } else {
                 format!("{}/{}/{}", t.group, t.function, t.param)
             };
-            costs.insert(key, serde_json::json!(t.mean_ns));
+            (key, t.mean_ns)
         } else if t.group.starts_with("kernel-") && t.param == "4096" {
-            costs.insert(
-                format!("{}/{}", t.group, t.function),
-                serde_json::json!(t.mean_ns / 4096.0),
-            );
-        }
+            (format!("{}/{}", t.group, t.function), t.mean_ns / 4096.0)
+        } else {
+            continue;
+        };
+        c.ns.insert(key, ns);
     }
-    costs.insert(
-        "_note".into(),
-        serde_json::json!("ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch; tensor-*: per query or sample); written by bench-report"),
-    );
-    crate::io::write_atomic(
-        &path,
-        serde_json::to_string_pretty(&serde_json::Value::Object(costs))
-            .expect("json")
-            .as_bytes(),
-    )
+    c.note = "ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch; tensor-*: per query or sample); written by bench-report".into();
+    costs::write(results, &c)
 }
 
 /// Replace every formatted non-number ("NaN", "inf", "-inf" as whole words, with an

@@ -57,7 +57,7 @@ pub fn judge_files(
         Engine::Three => {
             let shipped = Shipped::parse(&read_text(f.shipped_table)?, "LTC_MAT_1", "LTC_MAT_2")?;
             shipped.check_comparable("three.js's table")?;
-            let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+            let ours = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
             three_held(&shipped, &ours)
         }
         Engine::Bevy => {
@@ -105,7 +105,7 @@ pub fn run(
         r.engines.push(judge_files(&sc, f, results)?);
     }
     if let Some(first) = r.engines.first() {
-        let ours = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+        let ours = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
         let (l1, l2) = crate::engines::godot::texels(&ours)?;
         // as Godot holds them: f32
         let f32s = |v: Vec<[f64; 4]>| -> Vec<[f64; 4]> {

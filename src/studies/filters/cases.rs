@@ -10,7 +10,6 @@ use crate::filters::truth::{draw, CaseResult, CaseSamples, Truth};
 use crate::microfacet::NdfKind;
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
@@ -40,21 +39,7 @@ pub(super) struct ScreenCase {
     pub results: Vec<CaseResult>,
 }
 
-/// Mean ± standard error over cases (NaNs skipped), plus extremes.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Agg {
-    pub cases: usize,
-    pub energy_mean: f64,
-    pub energy_se: f64,
-    pub energy_abs_mean: f64,
-    pub l2_mean: f64,
-    pub l2_se: f64,
-    pub l2_max: f64,
-    pub peak_mean: f64,
-    pub peak_se: f64,
-    /// Largest Monte Carlo standard error of any single case's L2 (sampling noise).
-    pub l2_mc_se_max: f64,
-}
+pub use crate::results::filters::Agg;
 
 pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
     let v: Vec<f64> = x.iter().copied().filter(|a| a.is_finite()).collect();

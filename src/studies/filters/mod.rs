@@ -3,7 +3,7 @@
 //! results/fits/filters.json and the plots. Compute ([`cases`], [`constants`]) → report
 //! ([`report`], [`verdicts`], [`summary`]) → write, in that order.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -101,25 +101,6 @@ fn seed_of(base: u64, idx: usize) -> u64 {
     base ^ (idx as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }
 
-/// results/fits/filters.json.
-#[derive(Serialize)]
-struct FiltersResult<'a> {
-    spec: &'a FitSpec,
-    command: &'static str,
-    /// Per filter, read by the speed/accuracy table of results/performance.md.
-    summary: serde_json::Map<String, serde_json::Value>,
-    by_level_note: &'static str,
-    map_filters: &'static [&'static str],
-    by_level: Vec<serde_json::Value>,
-    preset: &'static str,
-    plan: &'a Plan,
-    maps: Vec<serde_json::Value>,
-    screen: Vec<serde_json::Value>,
-    fitted: Vec<serde_json::Value>,
-    /// results/survey.md's numbers.
-    survey: &'a survey_report::Summary,
-}
-
 /// The study: compute the cases and the fitted constants, then render and write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     use crate::filters::footprint::{NormalMap, Procedural};
@@ -174,22 +155,27 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         &results.join("survey.svg"),
         survey_report::pareto_svg(&survey_summary)?.as_bytes(),
     )?;
-    let json = FiltersResult {
-        spec,
-        command: "cargo run --release -- regen --only filters",
+    let result = crate::results::filters::Filters {
+        spec: spec.clone(),
+        command: crate::results::command(&spec.name),
         summary: summary::per_filter(&map_cases, &screen_cases),
         by_level_note:
-            "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views",
-        map_filters: &crate::filters::study::MAP_FILTERS,
+            "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views"
+                .into(),
+        map_filters: crate::filters::study::MAP_FILTERS
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
         by_level: summary::by_level(&map_cases, &plan, maps.len()),
-        preset: preset.name(),
-        plan: &plan,
+        preset: preset.name().into(),
+        plan: serde_json::to_value(&plan)
+            .map_err(|e| Error::InvalidArgument(format!("filters plan: {e}")))?,
         maps: json_maps,
         screen: json_screen,
         fitted: json_fits,
-        survey: &survey_summary,
+        survey: survey_summary,
     };
-    crate::results::write_result(results, &spec.name, &json)?;
+    crate::results::write(results, &result)?;
     let worst_held = fits.iter().map(|f| f.held_out.l2_mean).fold(0.0, f64::max);
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),

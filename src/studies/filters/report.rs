@@ -244,7 +244,10 @@ pub(super) fn screen_section(
 }
 
 /// The fitted-constant table; returns its JSON rows.
-pub(super) fn fits_section(md: &mut String, fits: &[Fitted]) -> Vec<serde_json::Value> {
+pub(super) fn fits_section(
+    md: &mut String,
+    fits: &[Fitted],
+) -> Vec<crate::results::filters::FittedConstant> {
     md.push_str("\n## Fitted constants (argmin scan + Brent on the mean L2 error; train = even footprints / views, held-out = odd)\n\n| family | NDF | fitted constant | train mean L2 | held-out mean L2 | held-out energy |\n|---|---|---|---|---|---|\n");
     let mut json_fits = Vec::new();
     for f in fits {
@@ -257,7 +260,13 @@ pub(super) fn fits_section(md: &mut String, fits: &[Fitted]) -> Vec<serde_json::
             100.0 * ho.l2_se,
             pct(ho.energy_mean, ho.energy_se)
         ));
-        json_fits.push(serde_json::json!({"family": fam, "ndf": kind_name(*kind), "constant": c, "train_mean_l2": tr, "held_out": ho}));
+        json_fits.push(crate::results::filters::FittedConstant {
+            family: fam.into(),
+            ndf: kind_name(*kind).into(),
+            constant: c,
+            train_mean_l2: tr,
+            held_out: *ho,
+        });
     }
     json_fits
 }

@@ -6,10 +6,12 @@ use super::{kind_name, Plan, KINDS};
 use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
+use crate::results::filters::FilterSummary;
+use std::collections::BTreeMap;
 
 /// One summary entry: mean L2 ± s.e. of `rs` under `id` (GGX) or `beckmann:id`.
 fn insert(
-    summary: &mut serde_json::Map<String, serde_json::Value>,
+    summary: &mut BTreeMap<String, FilterSummary>,
     id: &str,
     kind: NdfKind,
     name: &str,
@@ -24,7 +26,12 @@ fn insert(
     };
     summary.insert(
         key,
-        serde_json::json!({"name": name, "l2_mean": a.l2_mean, "l2_se": a.l2_se, "study": study}),
+        FilterSummary {
+            name: name.into(),
+            l2_mean: a.l2_mean,
+            l2_se: a.l2_se,
+            study: study.into(),
+        },
     );
 }
 
@@ -33,8 +40,8 @@ fn insert(
 pub(super) fn per_filter(
     map_cases: &[MapCase],
     screen_cases: &[ScreenCase],
-) -> serde_json::Map<String, serde_json::Value> {
-    let mut summary = serde_json::Map::new();
+) -> BTreeMap<String, FilterSummary> {
+    let mut summary = BTreeMap::new();
     for (id, fi) in [
         ("none-map", 0usize),
         ("toksvig-bp", 1),

@@ -2,7 +2,7 @@
 //! seed 004 §3.2 next to the footprint study's filters, on the same cases. [`summarise`]
 //! computes every number; [`markdown`] and [`pareto_svg`] only render them.
 
-use super::cases::{aggregate, mean_se, Agg, MapCase};
+use super::cases::{aggregate, mean_se, MapCase};
 use super::kind_name;
 use super::survey::{Diag, SurveyCases, FILTER_ROWS, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
@@ -14,77 +14,13 @@ use crate::report::plot::{loglog_svg_legend, Panel, Series};
 use crate::survey::em::EmLog;
 use crate::survey::sh::coefficients_needed;
 use crate::survey::tools::TOOLS;
-use serde::Serialize;
 
 /// Storage budgets (parameters per texel) of the verdicts.
 pub const BUDGETS: [usize; 8] = [2, 3, 5, 9, 16, 32, 64, 256];
 
-#[derive(Clone, Debug, Serialize)]
-pub struct RowSummary {
-    pub name: String,
-    pub family: String,
-    pub params: Option<usize>,
-    pub all: Agg,
-    pub ggx: Agg,
-    pub beckmann: Agg,
-    pub by_map: Vec<Agg>,
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct Verdict {
-    pub map: String,
-    pub budget: usize,
-    pub best: String,
-    pub best_params: usize,
-    pub l2: f64,
-    pub l2_se: f64,
-    pub runner_up: String,
-    /// Paired difference runner-up − best over the map's cases (mean, s.e.).
-    pub margin: (f64, f64),
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct LevelPair {
-    pub level: usize,
-    pub recomputed: (f64, f64),
-    pub mipped: (f64, f64),
-    pub cost: (f64, f64),
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct AlignmentRow {
-    pub map: String,
-    /// Per merged K: fraction of matched pairs that could not be aligned.
-    pub tan_misaligned: Vec<f64>,
-    pub vmf_misaligned: Vec<f64>,
-    /// Tan, 4 lobes MIP-mapped minus EM per footprint: (mean, s.e.) over footprints with a
-    /// misaligned pair and over those without.
-    pub tan_cost_misaligned: (f64, f64, usize),
-    pub tan_cost_aligned: (f64, f64, usize),
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct RuleOfThumb {
-    pub exponent: f64,
-    pub rule: f64,
-    pub needed: Vec<Option<usize>>,
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct Summary {
-    pub maps: Vec<String>,
-    pub rows: Vec<RowSummary>,
-    pub verdicts: Vec<Verdict>,
-    pub schilling: Vec<LevelPair>,
-    pub alignment: Vec<AlignmentRow>,
-    pub em: EmLog,
-    pub fournier_fit_l2: Vec<(usize, f64, f64)>,
-    pub fournier_iters: Vec<(usize, f64)>,
-    pub olano_north_z_err_max: f64,
-    pub vmf_terms_max: usize,
-    pub rule_of_thumb: Vec<RuleOfThumb>,
-    pub rule_eps: Vec<f64>,
-}
+pub use crate::results::filters::{
+    AlignmentRow, LevelPair, RowSummary, RuleOfThumb, Summary, Verdict,
+};
 
 /// Row `r` of the combined table for case `ci`: the filters first, then the survey.
 fn result<'a>(c: &'a MapCase, sv: &'a SurveyCases, ci: usize, r: usize) -> &'a CaseResult {

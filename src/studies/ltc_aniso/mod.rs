@@ -345,7 +345,7 @@ fn polygons(iso: &FittedTable, table: &AnisoTable, mc: usize) -> Result<Vec<Poly
 
 /// The study: fit, design study, cases between cells, report, write.
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
-    let iso = crate::ltc::table::read(results, crate::results::names::LTC_GGX)?;
+    let iso = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
     let pl = plan(preset, spec.domain.alpha_min);
     let (table, fitted) = fit_table(&iso, &pl)?;
     crate::report::stage(&format!(
@@ -354,29 +354,33 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     ));
     let design = report::design_study(&iso, &pl)?;
     let cases = between(&iso, &table, &pl)?;
-    let command = "cargo run --release -- regen --only ltc-aniso";
+    let command = crate::results::command(&spec.name);
     let rep = report::summarise(&fitted, &cases, &design, &pl);
     let poly = polygons(&iso, &table, pl.mc)?;
-    let mut md = report::markdown(spec, preset, &pl, &rep, command);
+    let mut md = report::markdown(spec, preset, &pl, &rep, &command);
     md.push_str(&report::polygon_section(&poly, pl.mc));
     crate::io::write_atomic(&results.join("ltc-aniso.md"), md.as_bytes())?;
     let heat = report::heatmap(&fitted, &pl)?;
     crate::io::write_atomic(&results.join("ltc-aniso-error.svg"), heat.as_bytes())?;
     let svg = report::plot(&design, &pl)?;
     crate::io::write_atomic(&results.join("ltc-aniso.svg"), svg.as_bytes())?;
-    crate::results::write_result(
+    let summary = serde_json::to_value(&rep)
+        .and_then(serde_json::from_value)
+        .map_err(|e| Error::InvalidArgument(format!("ltc-aniso summary: {e}")))?;
+    let polygons = serde_json::to_value(&poly)
+        .map_err(|e| Error::InvalidArgument(format!("ltc-aniso polygons: {e}")))?;
+    crate::results::write(
         results,
-        &spec.name,
-        &serde_json::json!({
-            "spec": spec,
-            "command": command,
-            "preset": preset.name(),
-            "grid": table.grid,
-            "layout": "cells[i_x + n_r·(i_y + n_r·(k + n_phi·j))] = [a, b, c, d, e, g, h, norm, fresnel]; r_x = √α_x = i_x/(n_r − 1), r_y likewise, φ = (π/2)·k/(n_phi − 1) the α_x tangent's azimuth from T1, t = √(1 − cos θ) = j/(n_t − 1); M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (rows)",
-            "cells": table.cells,
-            "summary": rep,
-            "polygons": poly,
-        }),
+        &crate::results::ltc::Aniso {
+            spec: spec.clone(),
+            command: command.clone(),
+            preset: preset.name().into(),
+            grid: table.grid,
+            layout: "cells[i_x + n_r·(i_y + n_r·(k + n_phi·j))] = [a, b, c, d, e, g, h, norm, fresnel]; r_x = √α_x = i_x/(n_r − 1), r_y likewise, φ = (π/2)·k/(n_phi − 1) the α_x tangent's azimuth from T1, t = √(1 − cos θ) = j/(n_t − 1); M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (rows)".into(),
+            cells: table.cells.clone(),
+            summary,
+            polygons,
+        },
     )?;
     let worst = rep.between_table.max;
     Ok(crate::study::FitOutcome {

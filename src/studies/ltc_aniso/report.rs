@@ -150,15 +150,7 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
     })
 }
 
-/// (mean, max) of a set of errors.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct MeanMax {
-    pub mean: f64,
-    /// Standard error of the mean (for a random sample of cases).
-    pub se: f64,
-    pub max: f64,
-    pub count: usize,
-}
+pub use crate::results::ltc::MeanMax;
 
 fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
     let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();

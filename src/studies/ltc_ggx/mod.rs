@@ -172,7 +172,7 @@ pub fn held_out_section(st: &Stats) -> String {
 #[derive(serde::Serialize)]
 struct LtcResult<'a> {
     spec: &'a FitSpec,
-    command: &'static str,
+    command: String,
     preset: &'static str,
     grid: Grid,
     layout: &'static str,
@@ -182,11 +182,11 @@ struct LtcResult<'a> {
     table_f16: Vec<Vec<[f64; 6]>>,
     held_out: Stats,
     variants: Vec<serde_json::Value>,
-    edge_approximations: Vec<serde_json::Value>,
+    edge_approximations: Vec<crate::results::ltc::EdgeApproximation>,
     degenerate: Vec<serde_json::Value>,
     polygons: Vec<serde_json::Value>,
     pipeline: serde_json::Value,
-    sphere_horizon: serde_json::Value,
+    sphere_horizon: crate::results::ltc::SphereHorizon,
     /// The floor of a single LTC on a spread of cells.
     floor: Vec<floor::FloorCell>,
     /// The bilinear-aware refit.
@@ -236,13 +236,17 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     crate::results::write_result(
         results,
         &spec.name,
-        &serde_json::json!({"table": table, "table_f16": table_f16}),
+        &crate::results::ltc::Tables {
+            spec: spec.clone(),
+            table: table.clone(),
+            table_f16: Some(table_f16.clone()),
+        },
     )?;
     let pipe = pipeline::section(results, preset, &mut md)?;
     crate::io::write_atomic(&results.join("ltc.md"), md.as_bytes())?;
     let json = LtcResult {
         spec,
-        command: "cargo run --release -- regen --only ltc-ggx",
+        command: crate::results::command(&spec.name),
         preset: preset.name(),
         grid: main.grid,
         layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",

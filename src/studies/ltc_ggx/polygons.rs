@@ -7,20 +7,21 @@ use crate::error::Result;
 use crate::ltc::fit::Table;
 use crate::ltc::polygon::{self, EdgeForm};
 use crate::ltc::target::GgxTarget;
+use crate::results::ltc::{EdgeApproximation, SphereHorizon};
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
 
 /// The JSON rows of the polygon study.
 pub(super) struct PolygonJson {
-    pub edge_approximations: Vec<serde_json::Value>,
+    pub edge_approximations: Vec<EdgeApproximation>,
     pub degenerate: Vec<serde_json::Value>,
-    pub sphere_horizon: serde_json::Value,
+    pub sphere_horizon: SphereHorizon,
     pub polygons: Vec<serde_json::Value>,
 }
 
 /// The edge forms, the closed-form check and the degenerate lights.
-fn edges_section(md: &mut String) -> (Vec<serde_json::Value>, Vec<serde_json::Value>) {
+fn edges_section(md: &mut String) -> (Vec<EdgeApproximation>, Vec<serde_json::Value>) {
     md.push_str("## Polygonal lights\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n| form | max rel. error on [−1, 0.999999] | where | max on [−0.99, 1] |\n|---|---|---|---|\n");
     let mut approx_json = Vec::new();
     for form in [EdgeForm::Rational, EdgeForm::Cubic] {
@@ -41,7 +42,12 @@ fn edges_section(md: &mut String) -> (Vec<serde_json::Value>, Vec<serde_json::Va
         md.push_str(&format!(
             "| {form:?} | {w:.2e} | x = {wx:.6} | {w2:.2e} |\n"
         ));
-        approx_json.push(serde_json::json!({"form": format!("{form:?}"), "max_rel": w, "at_x": wx, "max_rel_x_ge_m099": w2}));
+        approx_json.push(EdgeApproximation {
+            form: format!("{form:?}"),
+            max_rel: w,
+            at_x: wx,
+            max_rel_x_ge_m099: w2,
+        });
     }
     // closed-form check: rectangle with a corner above the shading point
     let (a, b, c) = (1.0f64, 2.0f64, 1.5f64);
@@ -117,7 +123,7 @@ fn edges_section(md: &mut String) -> (Vec<serde_json::Value>, Vec<serde_json::Va
 }
 
 /// The shipped shaders' clipped-sphere horizon against exact clipping.
-fn horizon_section(md: &mut String) -> serde_json::Value {
+fn horizon_section(md: &mut String) -> SphereHorizon {
     let sphere_json = {
         let nb = 4096;
         let d = crate::kernels::bench_inputs(nb);
@@ -140,7 +146,11 @@ fn horizon_section(md: &mut String) -> serde_json::Value {
             }
         }
         md.push_str(&format!("\n### Horizon handling: clipped-sphere approximation vs exact clipping\n\nThe shipped shaders (and the generated `ltc_quad` of results/wgsl/ltc.wgsl) skip polygon clipping and correct the unclipped vector form factor F with max((|F|² + F_z)/(|F| + 1), 0). Over 4096 random quads and LTC matrices (the kernel benchmark inputs): energy-weighted error Σ|approx − exact|/Σ exact = {:.2} %; {} of {nb} cases off by more than 10 % (of max(value, 1e-4)).\n\n", 100.0 * num / den, bad));
-        serde_json::json!({"energy_weighted_rel": num / den, "cases": nb, "off_by_more_than_10pct": bad})
+        SphereHorizon {
+            energy_weighted_rel: num / den,
+            cases: nb,
+            off_by_more_than_10pct: bad,
+        }
     };
     sphere_json
 }

@@ -11,7 +11,6 @@ use crate::multiscale::alpha_me::{
 };
 use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper};
 use crate::study::FitOutcome;
-use serde_json::json;
 use std::path::Path;
 
 mod plots;
@@ -172,19 +171,47 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
         ..
     } = k;
     let passed = h_ours.max_rel <= spec.tolerance.max_rel;
-    let json = json!({
-        "spec": spec,
-        "command": "cargo run --release -- regen --only multiscale-alpha-me",
-        "ours": {"coefficients": c.small, "coefficients_large": c.large, "held_out": h_ours, "whole_range": whole},
-        "paper_eq5": {"coefficients": PAPER, "held_out": h_paper},
-        "paper_form_refit": {"coefficients": refit.params, "objective": refit.objective, "iterations": refit.iterations, "held_out": h_refit},
-        "table": {"entries": spec.table_entries, "s0": table.s0, "ds": table.ds, "held_out": h_table},
-        "newton_closed_form": {"held_out": h_newton},
-        "integration_error": "none: the targets come from the closed form ‖b̄‖(α), verified against quadrature of Eq 4 to ≤ 1e-10 (results/proofs.md, mrl-closed-form)",
-        "eq5_audit": {"alpha_at_b_1": at_one, "alpha_at_b_2_3": at_two_thirds, "numerator_roots_in_0_1": zeros, "poles_in_0_1": poles},
-        "passed": passed,
-    });
-    crate::results::write_result(results, &spec.name, &json)?;
+    use crate::results::alpha_me::{
+        AlphaMe, Eq5Audit, Method, NewtonMethod, Ours, Refit, TableMethod,
+    };
+    let result = AlphaMe {
+        spec: spec.clone(),
+        command: crate::results::command(&spec.name),
+        ours: Ours {
+            coefficients: c.small.clone(),
+            coefficients_large: c.large.clone(),
+            held_out: h_ours.clone(),
+            whole_range: whole.clone(),
+        },
+        paper_eq5: Method {
+            coefficients: PAPER.to_vec(),
+            held_out: h_paper.clone(),
+        },
+        paper_form_refit: Refit {
+            coefficients: refit.params.clone(),
+            objective: refit.objective,
+            iterations: refit.iterations,
+            held_out: h_refit.clone(),
+        },
+        table: TableMethod {
+            entries: spec.table_entries,
+            s0: table.s0,
+            ds: table.ds,
+            held_out: h_table.clone(),
+        },
+        newton_closed_form: NewtonMethod {
+            held_out: h_newton.clone(),
+        },
+        integration_error: "none: the targets come from the closed form ‖b̄‖(α), verified against quadrature of Eq 4 to ≤ 1e-10 (results/proofs.md, mrl-closed-form)".into(),
+        eq5_audit: Eq5Audit {
+            alpha_at_b_1: at_one,
+            alpha_at_b_2_3: at_two_thirds,
+            numerator_roots_in_0_1: zeros.clone(),
+            poles_in_0_1: poles.clone(),
+        },
+        passed,
+    };
+    crate::results::write(results, &result)?;
     crate::io::write_atomic(
         &results.join("multiscale-alpha-error.svg"),
         svg_err.as_bytes(),
@@ -204,26 +231,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     })
 }
 
-/// Errors of `Ours` over the whole input range y ∈ [min normal, 1), beyond the fit domain.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct WholeRange {
-    /// Points tried (log-spaced in y for α ≤ 1 and in b = 1 − y for α > 1).
-    pub points: usize,
-    /// Smallest and largest exact α over the points.
-    pub alpha_range: [f64; 2],
-    /// Max relative error of the f64 form against Newton, and where (exact α).
-    pub f64_max_rel: f64,
-    pub f64_worst_alpha: f64,
-    /// Max relative error of the f32 form (f32 coefficients and arithmetic) against
-    /// Newton at the same f32 input, over inputs representable as normal f32.
-    pub f32_max_rel: f64,
-    pub f32_worst_alpha: f64,
-    /// Max relative error restricted to α ∈ [1e-4, 1e2] (f64 form, f32 form).
-    pub in_range_f64_max_rel: f64,
-    pub in_range_f32_max_rel: f64,
-    /// Whether every output was finite and ≥ 0 (including y = 0, y = 1 and NaN inputs).
-    pub total: bool,
-}
+pub use crate::results::alpha_me::WholeRange;
 
 /// Evaluate `Ours` against the exact inverse from y = 1e-300 to b = 1e-300.
 pub fn whole_range(c: &crate::multiscale::alpha_me::OursFit) -> WholeRange {

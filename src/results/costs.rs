@@ -1,0 +1,57 @@
+//! results/costs.json: criterion's ns per evaluation of the filters, the kernels, the
+//! LTC polygon forms and fits and the tensor queries, written by `bench-report` and read
+//! by `scene` (what it chooses from) and the reports that quote a cost.
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Costs {
+    /// What the numbers are.
+    #[serde(rename = "_note", default)]
+    pub note: String,
+    /// ns per evaluation, by `group/function[/param]`.
+    #[serde(flatten)]
+    pub ns: BTreeMap<String, f64>,
+}
+
+impl Costs {
+    /// The cost measured under `key`, if any.
+    pub fn get(&self, key: &str) -> Option<f64> {
+        self.ns.get(key).copied()
+    }
+}
+
+/// Where the costs live under `results`.
+pub fn path(results: &Path) -> PathBuf {
+    results.join("costs.json")
+}
+
+/// Read results/costs.json: `None` when absent, a typed error when it is not a map of
+/// numbers.
+pub fn read(results: &Path) -> Result<Option<Costs>> {
+    let p = path(results);
+    let Some(v) = super::read_json(&p)? else {
+        return Ok(None);
+    };
+    serde_json::from_value(v).map(Some).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{}: not a map of costs ({e}); run `cargo run --release -- bench-report`",
+            crate::error::quoted(&p.display().to_string())
+        ))
+    })
+}
+
+/// Write results/costs.json atomically (keys sorted, as every result).
+pub fn write(results: &Path, costs: &Costs) -> Result<()> {
+    let v =
+        serde_json::to_value(costs).map_err(|e| Error::InvalidArgument(format!("costs: {e}")))?;
+    crate::io::write_atomic(
+        &path(results),
+        serde_json::to_string_pretty(&v)
+            .expect("a JSON value serialises")
+            .as_bytes(),
+    )
+}

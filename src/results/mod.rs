@@ -1,0 +1,162 @@
+//! The fit results on disk: results/fits/<name>.json, written by each study and read by
+//! the code generator, the reports and the scenes. One place for the path and the format,
+//! and one type per file ([`ResultFile`]), shared by its writer and every reader: a reader
+//! never looks a number up by a string path, and a file that does not parse as its type
+//! (malformed, another study's, an older layout) is a typed error, never "absent".
+
+use crate::error::{Error, Result};
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
+
+pub mod alpha_me;
+pub mod costs;
+pub mod filters;
+pub mod leadr_grids;
+pub mod ltc;
+pub mod smith_lambda;
+
+/// The type of one results/fits file. `NAME` is its spec's name (the file's stem);
+/// the spec it embeds must carry that name, so another study's file is refused.
+pub trait ResultFile: serde::Serialize + DeserializeOwned {
+    const NAME: &'static str;
+}
+
+/// The command that writes the result `name`.
+pub fn command(name: &str) -> String {
+    format!("cargo run --release -- regen --only {name}")
+}
+
+/// Read results/fits/<T::NAME>.json as its type: `None` when the file does not exist,
+/// a typed error when it is malformed, another study's or of another layout.
+pub fn read<T: ResultFile>(results: &Path) -> Result<Option<T>> {
+    read_named(results, T::NAME)
+}
+
+/// [`read`], for a type several files share (the LTC lobe tables): the file `name`.
+pub fn read_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<Option<T>> {
+    let path = fit_path(results, name);
+    let Some(v) = read_json(&path)? else {
+        return Ok(None);
+    };
+    let bad = |what: String| {
+        Error::InvalidArgument(format!(
+            "{}: {what}; run `{}`",
+            crate::error::quoted(&path.display().to_string()),
+            command(name)
+        ))
+    };
+    // the one place a result is looked into by key: whose spec wrote it
+    match v
+        .get("spec")
+        .and_then(|s| s.get("name"))
+        .and_then(|n| n.as_str())
+    {
+        Some(n) if n == name => {}
+        Some(n) => {
+            return Err(bad(format!(
+                "written by the study {}, not {name}",
+                crate::error::quoted(n)
+            )))
+        }
+        None => return Err(bad("not a fit result (it names no spec)".into())),
+    }
+    serde_json::from_value(v).map(Some).map_err(|e| {
+        bad(format!(
+            "not a {name} result as this version writes it ({e})"
+        ))
+    })
+}
+
+/// [`read`], where the result must exist: a missing file is an error naming the command.
+pub fn require<T: ResultFile>(results: &Path) -> Result<T> {
+    require_named(results, T::NAME)
+}
+
+/// [`require`] for the file `name` of a shared type.
+pub fn require_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<T> {
+    read_named(results, name)?.ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "{} is missing: run `{}`",
+            crate::error::quoted(&fit_path(results, name).display().to_string()),
+            command(name)
+        ))
+    })
+}
+
+/// A number that may have been written as `null` (serde_json writes a NaN or an infinity
+/// so): read back as NaN, the value it stood for in the statistics that may hold one.
+pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Write results/fits/<T::NAME>.json atomically (into the open output set, if any).
+pub fn write<T: ResultFile>(results: &Path, value: &T) -> Result<()> {
+    write_result(results, T::NAME, value)
+}
+
+/// The names of the result files (results/fits/<name>.json), one per fit spec: readers
+/// name a result through these, never through a string of their own.
+pub mod names {
+    pub const FILTERS: &str = "filters";
+    pub const LTC_ANISO: &str = "ltc-aniso";
+    pub const RENDER: &str = "render";
+    pub const LEADR_GRIDS: &str = "leadr-grids";
+    pub const LTC_GGX: &str = "ltc-ggx";
+    pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";
+    pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
+    pub const SMITH_LAMBDA: &str = "smith-lambda";
+    pub const TENSOR: &str = "tensor";
+}
+
+/// Where the result of the fit `name` lives under `results`.
+pub fn fit_path(results: &Path, name: &str) -> PathBuf {
+    results.join("fits").join(format!("{name}.json"))
+}
+
+/// Write results/fits/<name>.json atomically (into the open output set, if any).
+/// A typed result is first turned into a JSON value, so its keys are written sorted
+/// whatever the struct's field order.
+pub fn write_result<T: serde::Serialize + ?Sized>(
+    results: &Path,
+    name: &str,
+    value: &T,
+) -> Result<()> {
+    let value = serde_json::to_value(value)
+        .map_err(|e| crate::error::Error::InvalidArgument(format!("result {name}: {e}")))?;
+    crate::io::write_atomic(
+        &fit_path(results, name),
+        serde_json::to_string_pretty(&value)
+            .expect("a JSON value serialises")
+            .as_bytes(),
+    )
+}
+
+/// Read results/fits/<name>.json: `None` when it does not exist (the study has not been
+/// run), a typed error when it exists but cannot be read or is not JSON — a malformed
+/// result is never taken for an absent one (a file of the open output set reads as its
+/// pending contents).
+pub fn read_result(results: &Path, name: &str) -> Result<Option<serde_json::Value>> {
+    read_json(&fit_path(results, name))
+}
+
+/// Read any JSON file of results/ (costs.json, ltc-compare.json, …) as [`read_result`]
+/// reads a fit's: `None` when absent, a typed error when unreadable or malformed.
+pub fn read_json(path: &Path) -> Result<Option<serde_json::Value>> {
+    let text = match crate::io::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => {
+            return Err(crate::error::Error::Io {
+                path: path.display().to_string(),
+                msg: e.to_string(),
+            })
+        }
+    };
+    serde_json::from_str(&text).map(Some).map_err(|e| {
+        crate::error::Error::InvalidArgument(format!(
+            "{}: not a well-formed result ({e})",
+            crate::error::quoted(&path.display().to_string())
+        ))
+    })
+}
