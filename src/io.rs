@@ -145,18 +145,37 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     h
 }
 
+/// A published set's manifest (`<results>/.sets/<name>.json`).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Manifest {
+    set: String,
+    complete: bool,
+    files: Vec<ManifestFile>,
+}
+
+/// One file of a set: its path, size and FNV-1a hash.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ManifestFile {
+    path: String,
+    bytes: usize,
+    fnv1a64: String,
+}
+
 fn manifest_text(name: &str, files: &[(PathBuf, Vec<u8>)]) -> String {
-    let list: Vec<serde_json::Value> = files
-        .iter()
-        .map(|(p, b)| {
-            serde_json::json!({
-                "path": p.display().to_string(),
-                "bytes": b.len(),
-                "fnv1a64": format!("{:016x}", fnv1a(b)),
+    let m = Manifest {
+        set: name.into(),
+        complete: true,
+        files: files
+            .iter()
+            .map(|(p, b)| ManifestFile {
+                path: p.display().to_string(),
+                bytes: b.len(),
+                fnv1a64: format!("{:016x}", fnv1a(b)),
             })
-        })
-        .collect();
-    let v = serde_json::json!({"set": name, "complete": true, "files": list});
+            .collect(),
+    };
+    // through a JSON value: keys sorted, as every file this program writes
+    let v = serde_json::to_value(&m).unwrap_or_default();
     serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
 }
 
@@ -368,18 +387,14 @@ pub fn set_is_complete(manifest: &Path) -> bool {
     let Ok(text) = std::fs::read_to_string(manifest) else {
         return false;
     };
-    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
+    let Ok(m) = serde_json::from_str::<Manifest>(&text) else {
         return false;
     };
-    let Some(files) = v["files"].as_array() else {
-        return false;
-    };
-    files.iter().all(|f| {
-        let (Some(p), Some(h)) = (f["path"].as_str(), f["fnv1a64"].as_str()) else {
-            return false;
-        };
-        std::fs::read(p).is_ok_and(|b| format!("{:016x}", fnv1a(&b)) == h)
-    })
+    m.complete
+        && m.files.iter().all(|f| {
+            std::fs::read(&f.path)
+                .is_ok_and(|b| b.len() == f.bytes && format!("{:016x}", fnv1a(&b)) == f.fnv1a64)
+        })
 }
 
 /// Run `f` inside an output set (see [`begin_set`]) and commit it if `f` succeeds.

@@ -194,16 +194,38 @@ fn filter_result(
     let representable = inputs
         .iter()
         .all(|&x| (x as f32).is_finite() && (x == 0.0 || x as f32 != 0.0));
-    let mut out = json!({"filter": format!("{f:?}"), "alpha_in": al, "detail": extra, "report": "results/filters.md"});
+    /// What `eval filter` prints besides the value.
+    #[derive(serde::Serialize)]
+    struct Out {
+        filter: String,
+        alpha_in: f64,
+        detail: serde_json::Value,
+        report: &'static str,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        f32_note: Option<&'static str>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        f32: Option<f32>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        f32_rel_diff: Option<f64>,
+    }
+    let mut out = Out {
+        filter: format!("{f:?}"),
+        alpha_in: al,
+        detail: extra,
+        report: "results/filters.md",
+        f32_note: None,
+        f32: None,
+        f32_rel_diff: None,
+    };
     if !representable {
-        out["f32_note"] = json!("an input is outside the f32 range (|x| > 3.4e38 or a non-zero |x| < 1.4e-45): the shading form cannot receive it");
+        out.f32_note = Some("an input is outside the f32 range (|x| > 3.4e38 or a non-zero |x| < 1.4e-45): the shading form cannot receive it");
     } else if v32.is_finite() {
-        out["f32"] = json!(v32);
-        out["f32_rel_diff"] = json!((v32 as f64 - v64) / v64);
+        out.f32 = Some(v32);
+        out.f32_rel_diff = Some((v32 as f64 - v64) / v64);
     } else {
         return Err(Error::InvalidArgument(format!(
             "the f32 shading form of filter {f:?} is not finite for these inputs (f64: {v64:e})"
         )));
     }
-    Ok((v64, out))
+    Ok((v64, serde_json::to_value(out).unwrap_or_default()))
 }

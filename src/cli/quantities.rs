@@ -34,24 +34,51 @@ pub(super) fn overall_alpha(a: &EvalArgs) -> Result<(f64, serde_json::Value)> {
     };
     let (mi, me) = (get(a.alpha_mi, "alpha-mi")?, get(a.alpha_me, "alpha-me")?);
     let e = crate::multiscale::overall::evaluate_pair(mi, me)?;
-    let mut m = json!({
-        "value_is": "moment-unclipped (closed form); the other metrics follow where evaluated",
-        "moment_unclipped": e.moment_unclipped,
-        "paper_eq7": crate::multiscale::overall::eq7(mi, me),
-        "note": e.note,
-        "report": "results/multiscale-convolution.md",
-    });
-    if let Some(f) = &e.fit {
-        m["moment_clipped"] = json!(f.moment_clipped);
-        m["l2"] = json!(f.l2);
-        m["caps"] = json!(f.caps);
-        m["cap_quadrature_rel_error"] = json!(f.cap_quad_rel_error);
+    /// What `eval overall-alpha` prints besides the value.
+    #[derive(serde::Serialize)]
+    struct Out<'a, C: serde::Serialize> {
+        value_is: &'static str,
+        moment_unclipped: f64,
+        paper_eq7: f64,
+        note: &'a str,
+        report: &'static str,
+        #[serde(flatten)]
+        fit: Option<FitPart<C>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        limit_every_metric: Option<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        limit_rel_error: Option<f64>,
     }
-    if let (Some(l), Some(err)) = (e.limit, e.limit_rel_error) {
-        m["limit_every_metric"] = json!(l);
-        m["limit_rel_error"] = json!(err);
+    #[derive(serde::Serialize)]
+    struct FitPart<C: serde::Serialize> {
+        moment_clipped: f64,
+        l2: f64,
+        caps: C,
+        cap_quadrature_rel_error: f64,
     }
-    Ok((e.moment_unclipped, m))
+    let (limit, limit_err) = match (e.limit, e.limit_rel_error) {
+        (Some(l), Some(err)) => (Some(l), Some(err)),
+        _ => (None, None),
+    };
+    let m = Out {
+        value_is: "moment-unclipped (closed form); the other metrics follow where evaluated",
+        moment_unclipped: e.moment_unclipped,
+        paper_eq7: crate::multiscale::overall::eq7(mi, me),
+        note: &e.note,
+        report: "results/multiscale-convolution.md",
+        fit: e.fit.as_ref().map(|f| FitPart {
+            moment_clipped: f.moment_clipped,
+            l2: f.l2,
+            caps: &f.caps,
+            cap_quadrature_rel_error: f.cap_quad_rel_error,
+        }),
+        limit_every_metric: limit,
+        limit_rel_error: limit_err,
+    };
+    Ok((
+        e.moment_unclipped,
+        serde_json::to_value(m).unwrap_or_default(),
+    ))
 }
 
 /// α_me(‖b̄‖) by the chosen method, with its held-out error.

@@ -175,25 +175,7 @@ fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
     Ok(forms)
 }
 
-/// Over the places where both tables are judged: each figure's spread, and how many
-/// places ours is better, tied or worse by more than both error bars.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Summary {
-    pub count: usize,
-    pub ours_l2: Spread,
-    pub shipped_l2: Spread,
-    pub ours_l1: Spread,
-    pub shipped_l1: Spread,
-    /// Places where ours is lower by more than the two error bars together (relative L2).
-    pub ours_better: usize,
-    /// Places where ours is higher by more than the two error bars together.
-    pub ours_worse: usize,
-    /// The earlier sampled estimate: its means and its "ours no worse" count (ours ≤
-    /// shipped × 1.001), over the same places.
-    pub sampled_ours_mean: f64,
-    pub sampled_shipped_mean: f64,
-    pub sampled_no_worse: usize,
-}
+pub use crate::results::compare::Summary;
 
 pub(super) fn worse(a: &Bounded, b: &Bounded) -> bool {
     a.value - a.error > b.value + b.error
@@ -225,19 +207,6 @@ pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
         sampled_shipped_mean: sampled.iter().map(|x| x.1).sum::<f64>() / ms,
         sampled_no_worse: sampled.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
     }
-}
-
-/// results/ltc-compare.json.
-#[derive(Serialize)]
-struct CompareJson<'a> {
-    command: String,
-    source: Option<&'a str>,
-    bevy_source: Option<String>,
-    norms: &'static str,
-    ours_table_mean_l2: f64,
-    convention: &'static str,
-    summary: Vec<(String, Summary)>,
-    forms: &'a [Form],
 }
 
 /// Largest shipped-table file read.
@@ -379,17 +348,19 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
     ));
     md.push_str(&norms_section(&ours, &shipped, &forms[0]));
     let (heat, rows) = heatmaps(n, &forms)?;
-    let json = CompareJson {
+    let json = crate::results::compare::LtcCompare {
         command: command.clone(),
-        source: inp.source,
+        source: inp.source.map(str::to_string),
         bevy_source: inp.bevy.map(|p| p.display().to_string()),
         norms: if inp.norm_ours {
             "ours"
         } else {
             "each table's own"
-        },
+        }
+        .into(),
         ours_table_mean_l2: super::compare::ours_mean_l2(results)?,
-        convention: "α = max(r², 1e-5); uv = (r, t)·63/64 + 0.5/64, bilinear; three.js: r ≥ 0.045",
+        convention: "α = max(r², 1e-5); uv = (r, t)·63/64 + 0.5/64, bilinear; three.js: r ≥ 0.045"
+            .into(),
         summary: forms
             .iter()
             .flat_map(|f| {

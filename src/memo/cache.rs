@@ -60,28 +60,42 @@ pub fn load<T: DeserializeOwned>(path: &Path, key: &str, label: &str, n: usize) 
             return None;
         }
     };
-    let ok = v["format"] == FORMAT
-        && v["key"] == key
-        && v["label"] == label
-        && v["items"].as_u64() == Some(n as u64);
-    if !ok {
+    let Ok(e) = serde_json::from_value::<Entry>(v) else {
+        corrupt("is not a cache entry");
+        return None;
+    };
+    if e.format != FORMAT || e.key != key || e.label != label || e.items != n {
         return None;
     }
-    let items: Vec<T> = serde_json::from_value(v["values"].clone()).ok()?;
+    let items: Vec<T> = serde_json::from_value(e.values).ok()?;
     (items.len() == n).then_some(items)
+}
+
+/// A cache entry: which map and key it answers, how many items, and their values
+/// (sealed with the SHA-256 of its content).
+#[derive(Serialize, serde::Deserialize)]
+struct Entry {
+    format: String,
+    key: String,
+    label: String,
+    items: usize,
+    values: serde_json::Value,
 }
 
 /// Store `values` under `key` (best effort: a value that cannot be stored exactly, or a
 /// directory that cannot be written, leaves no entry and is said on stderr).
 pub fn store<T: Serialize + DeserializeOwned>(path: &Path, key: &str, label: &str, values: &[T]) {
     let entry = super::exact_json(label, values).map(|vals| {
-        super::seal::seal(serde_json::json!({
-            "format": FORMAT,
-            "key": key,
-            "label": label,
-            "items": values.len(),
-            "values": vals,
-        }))
+        super::seal::seal(
+            serde_json::to_value(Entry {
+                format: FORMAT.into(),
+                key: key.into(),
+                label: label.into(),
+                items: values.len(),
+                values: vals,
+            })
+            .unwrap_or_default(),
+        )
     });
     let res = entry.and_then(|e| {
         let text = serde_json::to_string(&e).unwrap_or_default();

@@ -164,10 +164,18 @@ fn read_one(path: &Path) -> Result<ShardFile> {
         std::fs::read_to_string(path).map_err(|e| Error::Shard(format!("shard '{name}': {e}")))?;
     let v: serde_json::Value = serde_json::from_str(&text)
         .map_err(|e| Error::Shard(format!("shard '{name}' is not a shard file: {e}")))?;
-    if v.get("format").and_then(|f| f.as_str()) != Some(FORMAT) {
+    // the format first, so a file of another format says so before its seal is checked
+    #[derive(serde::Deserialize)]
+    struct Format {
+        format: Option<serde_json::Value>,
+    }
+    let format = serde_json::from_value::<Format>(v.clone())
+        .ok()
+        .and_then(|f| f.format);
+    if format.as_ref().and_then(|f| f.as_str()) != Some(FORMAT) {
         return Err(Error::Shard(format!(
             "shard '{name}': format {}, expected '{FORMAT}'",
-            v.get("format").map_or("none".into(), |f| f.to_string())
+            format.map_or("none".into(), |f| f.to_string())
         )));
     }
     let v = super::seal::open(v).map_err(|why| {

@@ -9,10 +9,12 @@ use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
 pub mod alpha_me;
+pub mod compare;
 pub mod costs;
 pub mod filters;
 pub mod leadr_grids;
 pub mod ltc;
+pub mod render;
 pub mod smith_lambda;
 
 /// The type of one results/fits file. `NAME` is its spec's name (the file's stem);

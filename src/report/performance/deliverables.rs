@@ -80,7 +80,9 @@ pub(super) fn ltc_tables_table(
 ) -> crate::error::Result<String> {
     let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n| table | study (wall clock) | held-out rel. L2 mean / max | per pixel (95 % CI) |\n|---|---|---|---|\n");
     for kind in &crate::codegen::textures::TABLES {
-        let Some(v) = crate::results::read_result(results, kind.fit)? else {
+        let Some(v) =
+            crate::results::read_named::<crate::results::ltc::Summary>(results, kind.fit)?
+        else {
             continue;
         };
         let study = if kind.fit.starts_with("ltc-sheen") {
@@ -92,12 +94,8 @@ pub(super) fn ltc_tables_table(
         };
         let fit = super::cold_stage_seconds(study)
             .map_or("—".into(), |s| format!("{s:.0} s ({study})"));
-        let h = &v["held_out"]["l2"];
-        let err = format!(
-            "{} / {}",
-            super::tables::held_pct(&h["mean"], 2),
-            super::tables::held_pct(&h["max"], 1)
-        );
+        let h = &v.held_out.l2;
+        let err = format!("{} / {}", h.mean.pct(2), h.max.pct(1));
         let px = timed
             .iter()
             .find(|t| {
@@ -109,8 +107,8 @@ pub(super) fn ltc_tables_table(
             kind.stem, kind.fit
         ));
     }
-    if let Some(v) = crate::results::read_result(results, crate::results::names::LTC_ANISO)? {
-        let s = &v["summary"];
+    if let Some(v) = crate::results::read::<crate::results::ltc::Aniso>(results)? {
+        let s = &v.summary;
         let px = timed
             .iter()
             .find(|t| t.group == "ltc-tables" && t.function == "ltc_ggx_aniso: 1024 pixels")
@@ -118,9 +116,9 @@ pub(super) fn ltc_tables_table(
         md.push_str(&format!(
             "| ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells) | {} for {} cells | {:.2} % / {:.1} % | {px} |\n",
             super::cold_stage_seconds("ltc-aniso").map_or("—".into(), |t| format!("{t:.0} s")),
-            s["cells_fitted"].as_u64().unwrap_or(0),
-            100.0 * s["between_table"]["mean"].as_f64().unwrap_or(f64::NAN),
-            100.0 * s["between_table"]["max"].as_f64().unwrap_or(f64::NAN),
+            s.cells_fitted,
+            100.0 * s.between_table.mean,
+            100.0 * s.between_table.max,
         ));
     }
     Ok(md)
@@ -147,22 +145,19 @@ pub(super) fn render_table(
     if rows.is_empty() {
         return Ok(String::new());
     }
-    let v = crate::results::read_result(results, crate::results::names::RENDER)?;
+    let v: Option<crate::results::render::Render> = crate::results::read(results)?;
     let err = |scene: &str, key: &str| -> String {
         let Some(v) = &v else { return "—".into() };
-        let mut r: Vec<f64> = Vec::new();
-        for rd in v["renders"].as_array().into_iter().flatten() {
-            if rd["scene"]["name"] != scene {
-                continue;
-            }
-            for view in rd["views"].as_array().into_iter().flatten() {
-                for m in view["methods"].as_array().into_iter().flatten() {
-                    if m["key"] == key {
-                        r.extend(m["measures"]["rel_mse"]["value"].as_f64());
-                    }
-                }
-            }
-        }
+        let r: Vec<f64> = v
+            .renders
+            .iter()
+            .filter(|rd| rd.scene.name == scene)
+            .flat_map(|rd| &rd.views)
+            .flat_map(|view| &view.methods)
+            .filter(|m| m.key == key)
+            .map(|m| m.measures.rel_mse.value)
+            .filter(|x| x.is_finite())
+            .collect();
         if r.is_empty() {
             return "—".into();
         }
@@ -207,19 +202,21 @@ pub(super) fn survey_table(
     }
     // the rows' names, parameter counts and errors from results/fits/filters.json (the
     // survey's rows follow the filters' twelve)
-    let v = crate::results::read_result(results, crate::results::names::FILTERS)?;
+    let v: Option<crate::results::filters::Filters> = crate::results::read(results)?;
     let first = crate::filters::study::MAP_FILTERS.len();
     let row = |i: usize| -> Option<(String, String, String)> {
-        let r = &v.as_ref()?["survey"]["rows"][first + i];
-        let name = r["name"].as_str()?.to_string();
-        let params = r["params"]
-            .as_u64()
-            .map_or("all texels".into(), |p| p.to_string());
-        let err = match (r["ggx"]["l2_mean"].as_f64(), r["ggx"]["l2_se"].as_f64()) {
-            (Some(m), Some(s)) => format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * s),
-            _ => "—".into(),
+        let r = v.as_ref()?.survey.rows.get(first + i)?;
+        let params = r.params.map_or("all texels".into(), |p| p.to_string());
+        let err = if r.ggx.l2_mean.is_finite() {
+            format!(
+                "{:.1} % ± {:.1}",
+                100.0 * r.ggx.l2_mean,
+                100.0 * r.ggx.l2_se
+            )
+        } else {
+            "—".into()
         };
-        Some((name, params, err))
+        Some((r.name.clone(), params, err))
     };
     let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n| representation | params | per evaluation (95 % CI) | L2, GGX (results/survey.md) |\n|---|---|---|---|\n");
     for t in rows {

@@ -24,12 +24,28 @@ pub const BEFORE_PATH: &str = "main-job-before.json";
 
 /// One stage of the main job: its wall clock and how many memoised items it computed
 /// and took from the cache.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct JobStage {
     pub stage: String,
     pub seconds: f64,
+    #[serde(default)]
     pub computed: usize,
+    #[serde(default)]
     pub reused: usize,
+}
+
+/// A main job's wall-clock profile as kept on disk (target/main-job-{cold,warm}.json,
+/// results/main-job-before.json).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Profile {
+    pub total_s: f64,
+    pub threads: usize,
+    #[serde(default)]
+    pub warm: bool,
+    /// How and when it was measured (the kept "before" profile).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    pub stages: Vec<JobStage>,
 }
 
 impl JobStage {
@@ -77,12 +93,13 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
             s.reused
         );
     }
-    let json = serde_json::json!({
-        "total_s": total,
-        "threads": rayon::current_num_threads(),
-        "warm": warm,
-        "stages": stages,
-    });
+    let json = Profile {
+        total_s: total,
+        threads: rayon::current_num_threads(),
+        warm,
+        note: None,
+        stages: stages.to_vec(),
+    };
     let p = main_job_times_path(warm);
     if let Err(e) = crate::io::write_unstaged(
         &p,
@@ -94,18 +111,20 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
     }
 }
 
+/// A kept profile: (total seconds, threads, (stage, seconds) rows); `None` when the file
+/// is absent, or unreadable (said on stderr: a profile is a local measurement, not a
+/// result, so the report goes on without it).
 fn profile(path: &Path) -> Option<(f64, u64, Vec<(String, f64)>)> {
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
-    let rows = v["stages"]
-        .as_array()?
-        .iter()
-        .filter_map(|s| Some((s["stage"].as_str()?.to_string(), s["seconds"].as_f64()?)))
-        .collect();
-    Some((
-        v["total_s"].as_f64()?,
-        v["threads"].as_u64().unwrap_or(0),
-        rows,
-    ))
+    let text = std::fs::read_to_string(path).ok()?;
+    let p: Profile = match serde_json::from_str(&text) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("{}: not a main-job profile ({e}); left out", path.display());
+            return None;
+        }
+    };
+    let rows = p.stages.into_iter().map(|s| (s.stage, s.seconds)).collect();
+    Some((p.total_s, p.threads as u64, rows))
 }
 
 /// Seconds of `stage` in the last cold main job on this machine, if kept.

@@ -12,10 +12,11 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::R
     if rows.is_empty() {
         return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::MULTISCALE_ALPHA_ME)?;
+    let fit: Option<crate::results::alpha_me::AlphaMe> = crate::results::read(results)?;
     let err = |key: &str| -> String {
         fit.as_ref()
-            .and_then(|v| v[key]["held_out"]["max_rel"].as_f64())
+            .and_then(|v| v.held_out(key))
+            .map(|h| h.max_rel)
             .map(|e| format!("{e:.2e}"))
             .unwrap_or_else(|| "(run regen)".into())
     };
@@ -50,21 +51,22 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     if fits.is_empty() && polys.is_empty() {
         return Ok(String::new());
     }
-    let v = crate::results::read_result(results, crate::results::names::LTC_GGX)?;
+    let v: Option<crate::results::ltc::Summary> =
+        crate::results::read_named(results, crate::results::names::LTC_GGX)?;
     let edge_err = |form: &str| -> Option<f64> {
-        v.as_ref()?["edge_approximations"]
-            .as_array()?
+        v.as_ref()?
+            .edge_approximations
             .iter()
-            .find(|e| e["form"].as_str() == Some(form))?["max_rel"]
-            .as_f64()
+            .find(|e| e.form == form)
+            .map(|e| e.max_rel)
     };
     let mut md = String::from("\n## LTC fitting and polygon integration\n\n");
-    if let Some(held) = v.as_ref().map(|v| &v["held_out"]) {
+    if let Some(held) = v.as_ref().map(|v| &v.held_out) {
         md.push_str(&format!(
             "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc.md).\n\n",
             super::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
-            held_pct(&held["l2"]["mean"], 2),
-            held_pct(&held["l2"]["max"], 1)
+            held.l2.mean.pct(2),
+            held.l2.max.pct(1)
         ));
     }
     md.push_str("| fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique) | time (95 % CI) |\n|---|---|\n");
@@ -94,7 +96,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     }
     if let Some(h) = v
         .as_ref()
-        .and_then(|v| v["sphere_horizon"]["energy_weighted_rel"].as_f64())
+        .and_then(|v| v.sphere_horizon.map(|s| s.energy_weighted_rel))
     {
         md.push_str(&format!("\nThe f32 shading kernel (`ltc_quad`: rational edges, no clipping, clipped-sphere horizon) is in the kernel table above; its horizon approximation costs {:.1} % energy-weighted over the same inputs.\n", 100.0 * h));
     }
@@ -249,26 +251,23 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> crate::error::Re
     if rows.is_empty() {
         return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::FILTERS)?;
+    let fit: Option<crate::results::filters::Filters> = crate::results::read(results)?;
     let mut md = String::from(
         "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
     );
     for t in rows {
         let (name, err) = fit
             .as_ref()
-            .map(|v| &v["summary"][t.function.as_str()])
+            .and_then(|v| v.summary.get(t.function.as_str()))
             .map(|e| {
                 (
-                    e["name"].as_str().unwrap_or(&t.function).to_string(),
-                    match (e["l2_mean"].as_f64(), e["l2_se"].as_f64()) {
-                        (Some(m), Some(s)) => format!(
-                            "{:.1} % ± {:.1} ({})",
-                            100.0 * m,
-                            100.0 * s,
-                            e["study"].as_str().unwrap_or("")
-                        ),
-                        _ => "(run regen)".into(),
-                    },
+                    e.name.clone(),
+                    format!(
+                        "{:.1} % ± {:.1} ({})",
+                        100.0 * e.l2_mean,
+                        100.0 * e.l2_se,
+                        e.study
+                    ),
                 )
             })
             .unwrap_or_else(|| (t.function.clone(), "(run regen)".into()));
@@ -289,10 +288,16 @@ pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> crate::erro
     if rows.is_empty() {
         return Ok(String::new());
     }
-    let fit = crate::results::read_result(results, crate::results::names::SMITH_LAMBDA)?;
+    let fit: Option<crate::results::smith_lambda::SmithLambda> = crate::results::read(results)?;
     let err = |key: &str| -> String {
         fit.as_ref()
-            .and_then(|v| v["held_out"][key]["max_dg1"].as_f64())
+            .and_then(|v| match key {
+                "ours" => Some(v.held_out.ours),
+                "walter_printed" => Some(v.held_out.walter_printed),
+                "walter_listing" => Some(v.held_out.walter_listing),
+                _ => None,
+            })
+            .map(|w| w.max_dg1)
             .map(|e| format!("{e:.2e}"))
             .unwrap_or_else(|| "(run regen)".into())
     };
@@ -325,17 +330,23 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> crate::error::Resu
         return Ok(String::new());
     }
     rows.sort_by_key(|t| t.param.parse::<usize>().unwrap_or(0));
-    let fit = crate::results::read_result(results, crate::results::names::LEADR_GRIDS)?;
+    let fit: Option<crate::results::leadr_grids::LeadrGrids> = crate::results::read(results)?;
     let err = |n: usize, fam: &str, kind: &str| -> String {
         fit.as_ref()
-            .and_then(|v| {
-                v["rows"].as_array().and_then(|r| {
-                    r.iter()
-                        .find(|x| x["n"].as_u64() == Some(n as u64))
-                        .cloned()
-                })
+            .and_then(|v| v.rows.iter().find(|x| x.n == n))
+            .and_then(|r| {
+                let f = match kind {
+                    "specular" => r.specular,
+                    _ => r.diffuse,
+                };
+                match fam {
+                    "paper" => Some(f.paper),
+                    "fitted" => Some(f.fitted),
+                    "gauss_hermite" => Some(f.gauss_hermite),
+                    _ => None,
+                }
             })
-            .and_then(|r| r[kind][fam][1].as_f64())
+            .map(|e| e.1)
             .map(|e| format!("{e:.2e}"))
             .unwrap_or_else(|| "–".into())
     };
@@ -359,12 +370,4 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> crate::error::Resu
         ));
     }
     Ok(md)
-}
-
-/// A held-out figure of results/fits/ltc-*.json ({"value", "error"}) as "v ± e %".
-pub(super) fn held_pct(v: &serde_json::Value, decimals: usize) -> String {
-    match serde_json::from_value::<crate::ltc::lobe_error::Bounded>(v.clone()) {
-        Ok(b) => b.pct(decimals),
-        Err(_) => "—".into(),
-    }
 }

@@ -1,0 +1,59 @@
+//! results/ltc-compare.json: our GGX table against a shipped one (three.js's, Bevy's) as
+//! shaders sample them, written by `ltc-compare` and summarised in results/ltc.md.
+
+use crate::error::{Error, Result};
+use crate::ltc::lobe_error::Spread;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The file. `F` is the per-form detail: the writer's forms (every cell and square);
+/// a reader that only wants the summaries leaves it as JSON.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LtcCompare<F = serde_json::Value> {
+    pub command: String,
+    pub source: Option<String>,
+    pub bevy_source: Option<String>,
+    /// Whose norms the comparison used.
+    pub norms: String,
+    /// The held-out mean relative L2 of our table when the comparison ran (identifies
+    /// the table it was made against).
+    pub ours_table_mean_l2: f64,
+    pub convention: String,
+    /// Per place ("three.js FloatType cells", …).
+    pub summary: Vec<(String, Summary)>,
+    pub forms: F,
+}
+
+/// Over the places where both tables are judged: each figure's spread, and how many
+/// places ours is better, tied or worse by more than both error bars.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    pub count: usize,
+    pub ours_l2: Spread,
+    pub shipped_l2: Spread,
+    pub ours_l1: Spread,
+    pub shipped_l1: Spread,
+    /// Places where ours is lower by more than the two error bars together (relative L2).
+    pub ours_better: usize,
+    /// Places where ours is higher by more than the two error bars together.
+    pub ours_worse: usize,
+    /// The earlier sampled estimate: its means and its "ours no worse" count (ours ≤
+    /// shipped × 1.001), over the same places.
+    pub sampled_ours_mean: f64,
+    pub sampled_shipped_mean: f64,
+    pub sampled_no_worse: usize,
+}
+
+/// Read results/ltc-compare.json: `None` when absent, a typed error when malformed.
+pub fn read(results: &Path) -> Result<Option<LtcCompare>> {
+    let p = results.join("ltc-compare.json");
+    let Some(v) = super::read_json(&p)? else {
+        return Ok(None);
+    };
+    serde_json::from_value(v).map(Some).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{}: not a comparison as this version writes it ({e}); rerun `ltc-compare`",
+            crate::error::quoted(&p.display().to_string())
+        ))
+    })
+}
