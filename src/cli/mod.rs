@@ -3,6 +3,7 @@
 //! filters in [`filter`]; the `prefilter` arguments in [`prefilter`].
 
 pub mod batch;
+pub mod command;
 mod filter;
 pub mod prefilter;
 mod quantities;
