@@ -47,16 +47,18 @@ pub fn read_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<Opt
             command(name)
         ))
     };
-    // the one place a result is looked into by key: whose spec wrote it
+    // the one place a result is looked into by key: whose spec wrote it. A study writes
+    // the file of its own name and, for variant tables, files named `<its name>-…`
+    // (ltc-sheen writes ltc-sheen-neubelt)
     match v
         .get("spec")
         .and_then(|s| s.get("name"))
         .and_then(|n| n.as_str())
     {
-        Some(n) if n == name => {}
+        Some(n) if written_by(name, n) => {}
         Some(n) => {
             return Err(bad(format!(
-                "written by the study {}, not {name}",
+                "written by the study {}, not by {name}'s",
                 crate::error::quoted(n)
             )))
         }
@@ -67,6 +69,15 @@ pub fn read_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<Opt
             "not a {name} result as this version writes it ({e})"
         ))
     })
+}
+
+/// Whether the study `study` writes the result file `name`: its own, or a variant
+/// `<study>-…` of it.
+fn written_by(name: &str, study: &str) -> bool {
+    name == study
+        || name
+            .strip_prefix(study)
+            .is_some_and(|rest| rest.starts_with('-'))
 }
 
 /// [`read`], where the result must exist: a missing file is an error naming the command.

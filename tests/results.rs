@@ -1,0 +1,94 @@
+//! The typed results: every committed results/fits file reads as its type, and a file
+//! that is malformed, another study's or of another layout is a typed error naming the
+//! file — never taken for "absent", never a default.
+
+mod common;
+
+use ndfbench::results::{self, alpha_me::AlphaMe, filters::Filters, leadr_grids::LeadrGrids};
+use ndfbench::results::{ltc, smith_lambda::SmithLambda};
+use std::path::Path;
+
+#[test]
+fn every_committed_result_reads_as_its_type() {
+    let r = Path::new("results");
+    let sl: SmithLambda = results::require(r).unwrap();
+    // the generated constants carry these numbers: the typed read gives them exactly
+    assert!(sl.held_out.ours.max_dg1 > 0.0 && sl.held_out.ours.max_dg1 < sl.spec.tolerance.max_rel);
+    let am: AlphaMe = results::require(r).unwrap();
+    assert_eq!(am.ours.coefficients.len(), 7);
+    let lg: LeadrGrids = results::require(r).unwrap();
+    assert!(lg.fitted_h_n5 > 0.2 && lg.fitted_h_n5 < 2.2);
+    let f: Filters = results::require(r).unwrap();
+    assert!(f.fitted("vMF α² + c/κ", "GGX").is_some());
+    assert!(!f.summary.is_empty() && !f.survey.rows.is_empty());
+    let _: results::render::Render = results::require(r).unwrap();
+    let _: ltc::Aniso = results::require(r).unwrap();
+    for name in [
+        "ltc-ggx",
+        "ltc-sheen",
+        "ltc-sheen-neubelt",
+        "ltc-diffuse",
+        "ltc-diffuse-engines",
+    ] {
+        let s: ltc::Summary = results::require_named(r, name).unwrap();
+        assert_eq!(s.held_out.cells, 4096, "{name}");
+        assert_eq!(ltc::table(r, name).unwrap().n, 64, "{name}");
+    }
+    assert!(results::costs::read(r).unwrap().is_some());
+}
+
+#[test]
+fn a_wrong_result_file_is_a_typed_error_naming_it() {
+    let d = common::scratch("results", "wrong");
+    std::fs::create_dir_all(d.join("fits")).unwrap();
+    let file = d.join("fits/smith-lambda.json");
+    // absent: None, not an error
+    assert!(results::read::<SmithLambda>(&d).unwrap().is_none());
+    let missing = results::require::<SmithLambda>(&d).unwrap_err().to_string();
+    assert!(
+        missing.contains("smith-lambda.json") && missing.contains("regen --only smith-lambda"),
+        "{missing}"
+    );
+    let leadr = std::fs::read_to_string("results/fits/leadr-grids.json").unwrap();
+    let ours = std::fs::read_to_string("results/fits/smith-lambda.json").unwrap();
+    for (body, needle) in [
+        ("{", "not a well-formed result"),
+        ("[]", "names no spec"),
+        // another study's file under this name
+        (leadr.as_str(), "written by the study \"leadr-grids\""),
+        // an older layout: a field renamed
+        (
+            &ours.replacen("\"max_dg1\"", "\"max_delta_g1\"", 1),
+            "not a smith-lambda result",
+        ),
+        // a number that is not one
+        (
+            &ours.replacen("\"iterations\": ", "\"iterations\": -", 1),
+            "not a smith-lambda result",
+        ),
+    ] {
+        std::fs::write(&file, body).unwrap();
+        let e = results::read::<SmithLambda>(&d).unwrap_err().to_string();
+        assert!(
+            e.contains("smith-lambda.json") && e.contains(needle),
+            "{needle}: {e}"
+        );
+    }
+    // a variant table is read as its study's file; another study's is not
+    let sheen = std::fs::read_to_string("results/fits/ltc-sheen.json").unwrap();
+    std::fs::write(d.join("fits/ltc-sheen-neubelt.json"), &sheen).unwrap();
+    assert!(ltc::table(&d, "ltc-sheen-neubelt").is_ok());
+    std::fs::write(d.join("fits/ltc-ggx.json"), &sheen).unwrap();
+    let e = ltc::table(&d, "ltc-ggx").unwrap_err().to_string();
+    assert!(e.contains("written by the study \"ltc-sheen\""), "{e}");
+    // a table cell that is not a number
+    let broken = sheen.replacen(
+        "\"table\": [\n    [\n      [\n",
+        "\"table\": [\n    [\n      [\n null,",
+        1,
+    );
+    assert_ne!(broken, sheen);
+    std::fs::write(d.join("fits/ltc-sheen.json"), broken).unwrap();
+    assert!(ltc::table(&d, "ltc-sheen").is_err());
+    let _ = std::fs::remove_dir_all(&d);
+}
