@@ -242,7 +242,8 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
 
 #[test]
 fn shipped_table_parser_and_comparison() {
-    use ndfbench::ltc::compare::{js_array, ours, Shipped};
+    use ndfbench::ltc::compare::{js_array, Shipped};
+    use ndfbench::results::compare::ours;
     // the shipped files write negative numbers as "- 4.5e-07"
     assert_eq!(
         js_array("const A = [ 1, - 4.5e-07, 2e-05 ];", "A").unwrap(),
@@ -301,7 +302,9 @@ fn shipped_table_parser_and_comparison() {
 fn pipeline_brute_force_agrees_with_per_texel_ltc() {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
     use ndfbench::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
-    let table = LtcTable::load(std::path::Path::new("results")).unwrap();
+    let table = LtcTable::of(
+        &ndfbench::results::ltc::table(std::path::Path::new("results"), "ltc-ggx").unwrap(),
+    );
     // lookup at a grid node returns the stored cell
     let n = table.n;
     let (i, j) = (n / 3, n / 2);

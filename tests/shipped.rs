@@ -30,7 +30,7 @@ fn shipped_table_is_the_64_squared_ltc_code_fit() {
 #[test]
 fn committed_comparison_reproduces_from_the_shipped_file() {
     let Some(s) = shipped() else { return };
-    let ours = ndfbench::ltc::compare::ours(Path::new("results")).unwrap();
+    let ours = ndfbench::results::compare::ours(Path::new("results")).unwrap();
     let v: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string("results/ltc-compare.json").expect("results/ltc-compare.json"),
     )

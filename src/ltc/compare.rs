@@ -13,7 +13,6 @@ use crate::error::{Error, Result};
 use crate::ltc::fit::inverse_from_production;
 use crate::ltc::lobe_error::{judge, LobeError, Tolerance};
 use crate::ltc::target::{GgxTarget, LtcTarget};
-use std::path::Path;
 
 /// Extract the numeric array assigned to `name` (`name = [ … ]` or `name: [ … ]`) from
 /// JS/JSON text. Tolerates `- 4.2e-07` (a space after the sign), as in the shipped files.
@@ -201,14 +200,6 @@ pub fn midpoint_error_of<T: LtcTarget>(
     Ok((cell_error_of(&lobe, albedo, &[entries])[0], albedo))
 }
 
-/// Our table from results/fits/ltc-ggx.json in the shipped layout.
-pub fn ours(results: &Path) -> Result<Shipped> {
-    Ok(of_table(&crate::results::ltc::table(
-        results,
-        crate::results::names::LTC_GGX,
-    )?))
-}
-
 /// A fitted table in the shipped layout (f64 entries).
 pub fn of_table(t: &super::table::FittedTable) -> Shipped {
     Shipped {
@@ -216,14 +207,6 @@ pub fn of_table(t: &super::table::FittedTable) -> Shipped {
         mat: t.cells.iter().map(|c| [c[0], c[1], c[2], c[3]]).collect(),
         mag: t.cells.iter().map(|c| [c[4], c[5]]).collect(),
     }
-}
-
-/// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
-/// (identifies the table a comparison was made against).
-pub fn ours_mean_l2(results: &Path) -> Result<f64> {
-    let s: crate::results::ltc::Summary =
-        crate::results::require_named(results, crate::results::names::LTC_GGX)?;
-    Ok(s.held_out.l2.mean.value)
 }
 
 /// Smoothness: mean absolute second difference of each parameter along both axes,

@@ -26,12 +26,12 @@ pub struct LtcTable {
 }
 
 impl LtcTable {
-    pub fn load(results: &std::path::Path) -> Result<LtcTable> {
-        let t = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
+    /// The f64 cells of a fitted table (`crate::results::ltc::table` reads one).
+    pub fn of(t: &super::table::FittedTable) -> LtcTable {
         let cells = (0..t.n)
             .map(|j| (0..t.n).map(|i| *t.cell(i, j)).collect())
             .collect();
-        Ok(LtcTable { n: t.n, cells })
+        LtcTable { n: t.n, cells }
     }
     /// Bilinear lookup: (M⁻¹, norm) for roughness α and cos θ of the view.
     pub fn lookup(&self, alpha: f64, cos_theta: f64) -> (Matrix3<f64>, f64) {

@@ -57,3 +57,18 @@ pub fn read(results: &Path) -> Result<Option<LtcCompare>> {
         ))
     })
 }
+
+/// Our table from results/fits/ltc-ggx.json in the shipped layout.
+pub fn ours(results: &Path) -> Result<crate::ltc::compare::Shipped> {
+    Ok(crate::ltc::compare::of_table(&super::ltc::table(
+        results,
+        super::names::LTC_GGX,
+    )?))
+}
+
+/// The held-out mean relative L2 of our table as recorded in results/fits/ltc-ggx.json
+/// (identifies the table a comparison was made against).
+pub fn ours_mean_l2(results: &Path) -> Result<f64> {
+    let s: super::ltc::Summary = super::require_named(results, super::names::LTC_GGX)?;
+    Ok(s.held_out.l2.mean.value)
+}

@@ -16,7 +16,10 @@ pub(super) fn section(
 ) -> Result<serde_json::Value> {
     use crate::filters::footprint::{NormalMap, Procedural};
     use crate::ltc::pipeline::{run_map, LtcTable, METHODS};
-    let table = LtcTable::load(results)?;
+    let table = LtcTable::of(&crate::results::ltc::table(
+        results,
+        crate::results::names::LTC_GGX,
+    )?);
     let (size, levels, per, samples): (usize, Vec<usize>, usize, usize) = match preset {
         Preset::Quick => (16, vec![0, 2, 4], 2, 512),
         Preset::Default => (64, vec![0, 1, 2, 3, 4, 5], 4, 4096),
