@@ -22,6 +22,8 @@ fn every_committed_result_reads_as_its_type() {
     assert!(f.fitted("vMF α² + c/κ", "GGX").is_some());
     assert!(!f.summary.is_empty() && !f.survey.rows.is_empty());
     let _: results::render::Render = results::require(r).unwrap();
+    let t: results::tensor::Tensor = results::require(r).unwrap();
+    assert!(t.rows.iter().all(|x| x.mean_rel_error <= x.max_rel_error));
     let _: ltc::Aniso = results::require(r).unwrap();
     for name in [
         "ltc-ggx",

@@ -16,6 +16,7 @@ pub mod leadr_grids;
 pub mod ltc;
 pub mod render;
 pub mod smith_lambda;
+pub mod tensor;
 
 /// The type of one results/fits file. `NAME` is its spec's name (the file's stem);
 /// the spec it embeds must carry that name, so another study's file is refused.

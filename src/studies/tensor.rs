@@ -85,7 +85,19 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
                 it,
                 nn_it
             ));
-            json.push(serde_json::json!({"map": kind.name(), "rank": r, "clusters": fits.len(), "mean_rel_error": mean, "max_rel_error": max, "nonnegative_mean_rel_error": nn_mean, "nonnegative_max_rel_error": nn_max, "compression": comp, "mean_iterations": it, "nonnegative_mean_iterations": nn_it, "runs_at_cap": capped}));
+            json.push(crate::results::tensor::Row {
+                map: kind.name().into(),
+                rank: r,
+                clusters: fits.len(),
+                mean_rel_error: mean,
+                max_rel_error: max,
+                nonnegative_mean_rel_error: nn_mean,
+                nonnegative_max_rel_error: nn_max,
+                compression: comp,
+                mean_iterations: it,
+                nonnegative_mean_iterations: nn_it,
+                runs_at_cap: capped,
+            });
             if r == rmax {
                 top.extend(tensors.iter().cloned().zip(fits.iter().cloned()));
             }
@@ -124,10 +136,14 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(&sampling_section(sampled.as_ref()));
     md.push_str(&cost_section(results)?);
     crate::io::write_atomic(&results.join("tensor.md"), md.as_bytes())?;
-    crate::results::write_result(
+    crate::results::write(
         results,
-        &spec.name,
-        &serde_json::json!({"spec": spec, "command": "cargo run --release -- regen --only tensor", "preset": preset.name(), "rows": json}),
+        &crate::results::tensor::Tensor {
+            spec: spec.clone(),
+            command: crate::results::command(&spec.name),
+            preset: preset.name().into(),
+            rows: json,
+        },
     )?;
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
