@@ -445,10 +445,8 @@ fn regen_filters_quick_writes_the_report() {
     ] {
         assert!(md.contains(key), "missing {key}");
     }
-    let json = ndfbench::results::read_result(&dir, "filters")
-        .unwrap()
-        .unwrap();
-    assert!(json["fitted"].as_array().unwrap().len() >= 4);
+    let json: ndfbench::results::filters::Filters = ndfbench::results::require(&dir).unwrap();
+    assert!(json.fitted.len() >= 4);
     // the survey on the same cases: every row, the five maps, the verdicts, no NaN
     let sv = std::fs::read_to_string(dir.join("survey.md")).unwrap();
     for key in [
@@ -466,16 +464,16 @@ fn regen_filters_quick_writes_the_report() {
     assert!(std::fs::read_to_string(dir.join("survey.svg"))
         .unwrap()
         .contains("parameters per texel"));
-    let rows = json["survey"]["rows"].as_array().unwrap();
+    let rows = &json.survey.rows;
     assert_eq!(
         rows.len(),
         12 + ndfbench::studies::filters::survey::ROWS.len()
     );
     // the exact distribution is the floor: no stored representation beats it on average
-    let l2 = |r: &serde_json::Value| r["all"]["l2_mean"].as_f64().unwrap();
-    let floor = l2(&rows[12]);
+    let floor = rows[12].all.l2_mean;
+    assert!(floor.is_finite());
     assert!(
-        rows.iter().all(|r| l2(r) >= floor - 0.02),
+        rows.iter().all(|r| r.all.l2_mean >= floor - 0.02),
         "a representation beats the exact q_A"
     );
     std::fs::remove_dir_all(&dir).ok();

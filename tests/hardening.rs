@@ -1116,11 +1116,11 @@ fn a_malformed_result_is_an_error_not_an_absent_one() {
     let dir = std::env::temp_dir().join(format!("ndfbench-result-{}", std::process::id()));
     std::fs::create_dir_all(dir.join("fits")).unwrap();
     assert!(matches!(
-        ndfbench::results::read_result(&dir, "filters"),
+        ndfbench::results::read::<ndfbench::results::filters::Filters>(&dir),
         Ok(None)
     ));
     std::fs::write(dir.join("fits/filters.json"), b"{\"fitted\": [1, 2").unwrap();
-    let e = ndfbench::results::read_result(&dir, "filters")
+    let e = ndfbench::results::read::<ndfbench::results::filters::Filters>(&dir)
         .unwrap_err()
         .to_string();
     assert!(

@@ -1,7 +1,7 @@
 //! results/ltc-compare.json: our GGX table against a shipped one (three.js's, Bevy's) as
 //! shaders sample them, written by `ltc-compare` and summarised in results/ltc.md.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::ltc::lobe_error::Spread;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -46,16 +46,11 @@ pub struct Summary {
 
 /// Read results/ltc-compare.json: `None` when absent, a typed error when malformed.
 pub fn read(results: &Path) -> Result<Option<LtcCompare>> {
-    let p = results.join("ltc-compare.json");
-    let Some(v) = super::read_json(&p)? else {
-        return Ok(None);
-    };
-    serde_json::from_value(v).map(Some).map_err(|e| {
-        Error::InvalidArgument(format!(
-            "{}: not a comparison as this version writes it ({e}); rerun `ltc-compare`",
-            crate::error::quoted(&p.display().to_string())
-        ))
-    })
+    super::read_typed(
+        &results.join("ltc-compare.json"),
+        "a comparison",
+        "rerun `ltc-compare`",
+    )
 }
 
 /// Our table from results/fits/ltc-ggx.json in the shipped layout.

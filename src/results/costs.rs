@@ -32,16 +32,11 @@ pub fn path(results: &Path) -> PathBuf {
 /// Read results/costs.json: `None` when absent, a typed error when it is not a map of
 /// numbers.
 pub fn read(results: &Path) -> Result<Option<Costs>> {
-    let p = path(results);
-    let Some(v) = super::read_json(&p)? else {
-        return Ok(None);
-    };
-    serde_json::from_value(v).map(Some).map_err(|e| {
-        Error::InvalidArgument(format!(
-            "{}: not a map of costs ({e}); run `cargo run --release -- bench-report`",
-            crate::error::quoted(&p.display().to_string())
-        ))
-    })
+    super::read_typed(
+        &path(results),
+        "a map of costs",
+        "run `cargo run --release -- bench-report`",
+    )
 }
 
 /// Write results/costs.json atomically (keys sorted, as every result).

@@ -99,18 +99,24 @@ pub struct Verdict {
     pub budget: usize,
     pub best: String,
     pub best_params: usize,
+    #[serde(deserialize_with = "super::f64_or_nan")]
     pub l2: f64,
+    #[serde(deserialize_with = "super::f64_or_nan")]
     pub l2_se: f64,
     pub runner_up: String,
     /// Paired difference runner-up − best over the map's cases (mean, s.e.).
+    #[serde(deserialize_with = "super::pair_or_nan")]
     pub margin: (f64, f64),
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct LevelPair {
     pub level: usize,
+    #[serde(deserialize_with = "super::pair_or_nan")]
     pub recomputed: (f64, f64),
+    #[serde(deserialize_with = "super::pair_or_nan")]
     pub mipped: (f64, f64),
+    #[serde(deserialize_with = "super::pair_or_nan")]
     pub cost: (f64, f64),
 }
 
@@ -122,7 +128,9 @@ pub struct AlignmentRow {
     pub vmf_misaligned: Vec<f64>,
     /// Tan, 4 lobes MIP-mapped minus EM per footprint: (mean, s.e.) over footprints with a
     /// misaligned pair and over those without.
+    #[serde(deserialize_with = "super::mean_se_n_or_nan")]
     pub tan_cost_misaligned: (f64, f64, usize),
+    #[serde(deserialize_with = "super::mean_se_n_or_nan")]
     pub tan_cost_aligned: (f64, f64, usize),
 }
 

@@ -104,6 +104,38 @@ pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
+/// A (mean, s.e.) pair that may hold `null`s (a mean over no cases): NaN for each.
+pub fn pair_or_nan<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<(f64, f64), D::Error> {
+    use serde::Deserialize;
+    let (a, b) = <(Option<f64>, Option<f64>)>::deserialize(d)?;
+    Ok((a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)))
+}
+
+/// A (mean, s.e., count) triple whose mean and s.e. may be `null` (count 0): NaN.
+pub fn mean_se_n_or_nan<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<(f64, f64, usize), D::Error> {
+    use serde::Deserialize;
+    let (a, b, n) = <(Option<f64>, Option<f64>, usize)>::deserialize(d)?;
+    Ok((a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN), n))
+}
+
+/// Read the JSON file `path` as `T`: `None` when absent, a typed error naming the file,
+/// `what` it should be and how to rewrite it (`redo`) when it does not parse as `T`.
+pub fn read_typed<T: DeserializeOwned>(path: &Path, what: &str, redo: &str) -> Result<Option<T>> {
+    let Some(v) = read_json(path)? else {
+        return Ok(None);
+    };
+    serde_json::from_value(v).map(Some).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{}: not {what} as this version writes it ({e}); {redo}",
+            crate::error::quoted(&path.display().to_string())
+        ))
+    })
+}
+
 /// Write results/fits/<T::NAME>.json atomically (into the open output set, if any).
 pub fn write<T: ResultFile>(results: &Path, value: &T) -> Result<()> {
     write_result(results, T::NAME, value)
@@ -146,16 +178,8 @@ pub fn write_result<T: serde::Serialize + ?Sized>(
     )
 }
 
-/// Read results/fits/<name>.json: `None` when it does not exist (the study has not been
-/// run), a typed error when it exists but cannot be read or is not JSON — a malformed
-/// result is never taken for an absent one (a file of the open output set reads as its
-/// pending contents).
-pub fn read_result(results: &Path, name: &str) -> Result<Option<serde_json::Value>> {
-    read_json(&fit_path(results, name))
-}
-
-/// Read any JSON file of results/ (costs.json, ltc-compare.json, …) as [`read_result`]
-/// reads a fit's: `None` when absent, a typed error when unreadable or malformed.
+/// Read any JSON file of results/: `None` when absent, a typed error when unreadable or
+/// malformed (a file of the open output set reads as its pending contents).
 pub fn read_json(path: &Path) -> Result<Option<serde_json::Value>> {
     let text = match crate::io::read_to_string(path) {
         Ok(t) => t,

@@ -87,6 +87,15 @@ fn load_specs(fits_dir: &Path) -> Result<Vec<FitSpec>> {
 /// others brings them along (they run first). Without `only`, every study but those run
 /// on request only (`Study::on_request`). A name that is no study is an error listing the
 /// valid ones.
+/// The names of `specs`, comma-separated (for messages that list the valid ones).
+fn spec_names(specs: &[FitSpec]) -> String {
+    specs
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Result<Vec<&'a FitSpec>> {
     let wanted: Option<Vec<&str>> = match only {
         None => None,
@@ -98,11 +107,7 @@ fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Result<Vec<&'a FitSpe
                     return Err(Error::InvalidArgument(format!(
                         "--only {}: not a study with a spec here (valid: {})",
                         crate::error::quoted(name),
-                        specs
-                            .iter()
-                            .map(|s| s.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
+                        spec_names(specs)
                     )));
                 };
                 names.extend_from_slice(study.after());
@@ -301,11 +306,7 @@ fn sharded_spec<'a>(specs: &'a [FitSpec], name: &str) -> Result<&'a FitSpec> {
         Error::Shard(format!(
             "--shard needs --only with a study's exact name; {} is none (known: {})",
             crate::error::quoted(name),
-            specs
-                .iter()
-                .map(|s| s.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
+            spec_names(specs)
         ))
     })
 }
