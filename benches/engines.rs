@@ -9,7 +9,7 @@ use ndfbench::integrate::mc::{mis, CosineHemisphere, Strategy};
 use ndfbench::microfacet::sampling::NdfSampler;
 use ndfbench::microfacet::shading::{self, Rough32};
 use ndfbench::microfacet::{Microsurface, Roughness};
-use ndfbench::report::convergence::{integrands, run_engine, Engine};
+use ndfbench::studies::convergence::{integrands, run_engine, Engine};
 use std::hint::black_box;
 use std::time::Duration;
 

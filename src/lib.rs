@@ -40,6 +40,7 @@ pub mod memo;
 pub mod microfacet;
 pub mod multiscale;
 pub mod optimize;
+pub mod parmap;
 pub mod prefilter;
 pub mod progress;
 pub mod render;

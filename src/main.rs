@@ -76,12 +76,12 @@ fn run_regen_timed(
     fits: &std::path::Path,
     results: &std::path::Path,
     opts: &ndfbench::studies::RunOptions,
-    times: &mut Vec<ndfbench::report::performance::JobStage>,
+    times: &mut Vec<ndfbench::studies::performance::JobStage>,
 ) -> Result<bool, ndfbench::Error> {
     let (out, t) = ndfbench::studies::regen_with(fits, results, only, preset, opts)?;
     times.extend(t.iter().map(|t| {
         let maps: Vec<(usize, usize)> = t.maps.iter().map(|m| (m.items, m.computed)).collect();
-        ndfbench::report::performance::JobStage::of_study(&t.study, t.seconds, &maps)
+        ndfbench::studies::performance::JobStage::of_study(&t.study, t.seconds, &maps)
     }));
     let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
@@ -106,7 +106,7 @@ fn run_regen_timed(
         Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
         Err(e) => eprintln!("shader translation skipped: {e}"),
     }
-    times.push(ndfbench::report::performance::JobStage::since(
+    times.push(ndfbench::studies::performance::JobStage::since(
         "codegen, scenes, shaders",
         t0,
     ));
@@ -145,7 +145,7 @@ fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
     )?;
     let t = std::time::Instant::now();
     let ok = run_verify(Preset::Default, None, &cli.results)? && fits_ok;
-    times.push(ndfbench::report::performance::JobStage::since(
+    times.push(ndfbench::studies::performance::JobStage::since(
         "verify (every proof)",
         t,
     ));
@@ -154,14 +154,14 @@ fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
     let conv = in_set(
         "convergence",
         &results_manifest(&cli.results, "convergence"),
-        || ndfbench::report::convergence::run(Preset::Default, &cli.results),
+        || ndfbench::studies::convergence::run(Preset::Default, &cli.results),
     )?;
-    times.push(ndfbench::report::performance::JobStage::since(
+    times.push(ndfbench::studies::performance::JobStage::since(
         "convergence study",
         t,
     ));
     println!("{conv}");
-    ndfbench::report::performance::write_main_job_times(&times, start.elapsed().as_secs_f64());
+    ndfbench::studies::performance::write_main_job_times(&times, start.elapsed().as_secs_f64());
     Ok(ok)
 }
 
@@ -274,7 +274,7 @@ fn main() -> ExitCode {
         Some(Cmd::Convergence { preset }) => in_set(
             "convergence",
             &results_manifest(&cli.results, "convergence"),
-            || ndfbench::report::convergence::run(preset, &cli.results),
+            || ndfbench::studies::convergence::run(preset, &cli.results),
         )
         .map(|s| {
             println!("{s}");
@@ -332,8 +332,8 @@ fn main() -> ExitCode {
             "ltc-compare",
             &dir.join(".sets").join("ltc-compare.json"),
             || {
-                ndfbench::ltc::compare_report::run(
-                    &ndfbench::ltc::compare_report::Inputs {
+                ndfbench::studies::ltc_compare::run(
+                    &ndfbench::studies::ltc_compare::Inputs {
                         shipped: &shipped,
                         mat: &mat,
                         mag: &mag,
@@ -375,8 +375,8 @@ fn main() -> ExitCode {
             "performance",
             &results_manifest(&cli.results, "performance"),
             || match main_job_only {
-                true => ndfbench::report::performance::refresh_main_job(&cli.results),
-                false => ndfbench::report::performance::run(&criterion, &cli.results),
+                true => ndfbench::studies::performance::refresh_main_job(&cli.results),
+                false => ndfbench::studies::performance::run(&criterion, &cli.results),
             },
         )
         .map(|s| {

@@ -990,7 +990,7 @@ fn inputs_that_are_not_what_they_claim() {
 #[test]
 fn missing_values_show_as_dashes() {
     let md = "| a | NaN× | inf | 1.5× | NaN % |\nx NaN\n";
-    let out = ndfbench::report::performance::missing_as_dash(md);
+    let out = ndfbench::studies::performance::missing_as_dash(md);
     assert_eq!(out, "| a | — | — | 1.5× | — % |\nx —\n");
 }
 

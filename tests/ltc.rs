@@ -10,6 +10,7 @@ use ndfbench::ltc::fit::{self as ltc_fit, fit_table, Grid, Method, Metric};
 use ndfbench::ltc::polygon::{self, EdgeForm, Light};
 use ndfbench::ltc::target::{GgxTarget, LtcTarget};
 use ndfbench::ltc::LtcDist;
+use ndfbench::parmap::Plain;
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -199,6 +200,7 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
         alpha_min: 1e-4,
     };
     let mut t = fit_table(
+        &Plain,
         grid,
         &GgxTarget::new,
         12,
@@ -209,6 +211,7 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
     )
     .unwrap();
     ndfbench::ltc::held::judge_table(
+        &Plain,
         &mut t,
         &GgxTarget::new,
         ndfbench::ltc::lobe_error::Tolerance::default(),
@@ -370,6 +373,7 @@ fn bilinear_pass_is_deterministic_at_any_thread_count_and_lowers_its_objective()
         alpha_min: 1e-3,
     };
     let t = fit_table(
+        &Plain,
         grid,
         &GgxTarget::new,
         8,
@@ -409,7 +413,7 @@ fn bilinear_pass_is_deterministic_at_any_thread_count_and_lowers_its_objective()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| sweep(&lattice, 8, 30, &|| {}).unwrap())
+            .install(|| sweep(&Plain, &lattice, 8, 30, &|| {}).unwrap())
     };
     let (one, moved) = run(1);
     let (two, _) = run(2);

@@ -13,6 +13,7 @@ use ndfbench::ltc::aniso::{fit_cell, inverse_of, mirror_y, production_of, rel_l2
 use ndfbench::ltc::aniso_table::{AnisoGrid, AnisoTable};
 use ndfbench::ltc::target::{GgxTarget, LtcTarget};
 use ndfbench::ltc::LtcDist;
+use ndfbench::parmap::Plain;
 use proptest::prelude::*;
 
 type V3 = Vector3<f64>;
@@ -117,6 +118,7 @@ fn the_fit_beats_the_isotropic_substitute_on_anisotropic_cells() {
         let th = f64::to_radians(deg);
         let g = (ax * ay as f64).sqrt();
         let iso = fit_table(
+            &Plain,
             Grid { n: 2, alpha_min: g },
             &|_, _| GgxTarget::new(g, th),
             12,

@@ -12,6 +12,7 @@ use ndfbench::ltc::diffuse::{BurleyRoughness, BurleyTarget};
 use ndfbench::ltc::fit::{self, Method, Metric};
 use ndfbench::ltc::sheen::{charlie_d, ek_lambda, CharlieTarget, SheenVisibility};
 use ndfbench::ltc::target::LtcTarget;
+use ndfbench::parmap::Plain;
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -222,6 +223,7 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
         alpha_min: 1e-4,
     };
     let a = fit_table(
+        &Plain,
         grid,
         &GgxTarget::new,
         8,
@@ -232,6 +234,7 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
     )
     .unwrap();
     let b = fit_table(
+        &Plain,
         grid,
         &|al, th| Lobe::Ggx.target(al, th),
         8,

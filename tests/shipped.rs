@@ -45,8 +45,7 @@ fn committed_comparison_reproduces_from_the_shipped_file() {
         if (i as f64) / 63.0 < ndfbench::ltc::upload::THREE_MIN_ROUGHNESS {
             continue;
         }
-        let (alpha, theta) =
-            ndfbench::ltc::compare_report::alpha_theta(i as f64 / 63.0, j as f64 / 63.0);
+        let (alpha, theta) = ndfbench::ltc::compare::alpha_theta(i as f64 / 63.0, j as f64 / 63.0);
         let q = |x: f64| x as f32 as f64;
         for (t, side) in [(&ours, "ours"), (&s, "shipped")] {
             let inv = t.mat[k].map(q);
@@ -147,8 +146,7 @@ fn committed_bevy_comparison_reproduces() {
     let cells = form["cells"].as_array().unwrap();
     for k in (0..64 * 64).step_by(509) {
         let (i, j) = (k % 64, k / 64);
-        let (alpha, theta) =
-            ndfbench::ltc::compare_report::alpha_theta(i as f64 / 63.0, j as f64 / 63.0);
+        let (alpha, theta) = ndfbench::ltc::compare::alpha_theta(i as f64 / 63.0, j as f64 / 63.0);
         let h = ours.half_cell(k).map(|x| x.to_f64());
         for (inv, norm, side) in [
             ([h[0], h[1], h[2], h[3]], h[4], "ours"),

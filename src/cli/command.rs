@@ -164,7 +164,7 @@ pub enum Cmd {
     /// `--m`, `--w` as `x,y,z`; `--slope x,y` for `p22`; `--map
     /// normal-to-slope|reflection|half-vector|slope-parallel|projected-disk` for
     /// `jacobian`.
-    Eval(super::EvalArgs),
+    Eval(super::args::EvalArgs),
     /// Roughness mips from your normal map (PNG): the footprint variance of every mip
     /// folded into roughness by a measured rule, written as KTX2 (every level) and PNGs,
     /// with the normal mips and a report of the rule's measured error. With --study, the

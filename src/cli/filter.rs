@@ -1,6 +1,6 @@
 //! `eval filter`: α′ of one footprint filter, f64 reference and f32 shading form.
 
-use super::*;
+use super::args::*;
 use crate::error::{Error, Result};
 use crate::microfacet::Roughness;
 use nalgebra::Matrix2;

@@ -1,7 +1,7 @@
 //! `eval` of the model quantities: the microsurface, the Jacobians, ‖b̄‖, α_me and the
 //! overall α.
 
-use super::*;
+use super::args::*;
 use crate::error::{Error, Result};
 use crate::jacobian::{DirMap, HalfToSlope, HalfVector, NormalToSlope, ProjectedDisk, Reflection};
 use crate::microfacet::sampling::VndfSampler;

@@ -158,7 +158,7 @@ fn ltc_aniso_weights(lut: texture_2d_array<f32>, s: sampler, alpha_x: f32, alpha
 ";
     let text = format!(
         "{}// Anisotropic GGX LTC lookup (results/ltc-aniso.md): the engine binds ltc_ggx_aniso.ktx2 as a 2D array texture and a linear sampler and passes them in.\n\n{body}",
-        super::header("//", command, "src/codegen/aniso.rs"),
+        super::text::header("//", command, "src/codegen/aniso.rs"),
     );
     namespace::apply(&text, &IDENTS)
 }

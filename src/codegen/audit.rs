@@ -461,7 +461,7 @@ Each generated f32 function (the Rust twin, the same text as results/wgsl/) eval
 receive — not only its fit's domain — against its f64 reference at the same f32 inputs. \"non-finite\" counts NaN or ±∞ \
 outputs where the reference is finite (and, for nonsense inputs such as NaN, any non-finite output). Domains: the fit's or \
 the study's.\n\n| function | inputs | metric | points | max error, domain | domain | max error, whole range | worst at | non-finite |\n|---|---|---|---|---|---|---|---|---|\n",
-        super::header("<!--", command, "src/codegen/audit.rs")
+        super::text::header("<!--", command, "src/codegen/audit.rs")
     );
     for a in audits {
         md.push_str(&format!(

@@ -9,7 +9,7 @@
 //! and no entry points; every function and constant is namespaced (`namespace`).
 
 use super::desc::FnDesc;
-use super::{closure, header, render_items, Const, MODULES};
+use super::text::{closure, header, render_items, Const, MODULES};
 use crate::error::Result;
 
 /// The package name of the importable forms: `ndfbench::ndf`, `ndfbench::ltc`, ….
@@ -93,7 +93,7 @@ pub fn render_module(
     form: Form,
 ) -> Result<String> {
     if form == Form::Plain {
-        return super::render_wgsl(title, names, consts, command);
+        return super::text::render_wgsl(title, names, consts, command);
     }
     let st = stem(file);
     let all = closure(names)?;

@@ -24,7 +24,7 @@ pub struct Entry {
 /// The shaders to translate: (name, path relative to `results`), modules first, then
 /// the scenes present under `results`/scenes, in name order.
 pub fn sources(results: &Path) -> Vec<(String, String)> {
-    let mut out: Vec<(String, String)> = super::MODULES
+    let mut out: Vec<(String, String)> = super::text::MODULES
         .iter()
         .map(|(f, _, _)| super::forms::stem(f).to_string())
         .chain(["ltc_table", "ltc_table_f16", "ltc_lut", "ltc_aniso"].map(String::from))
@@ -91,7 +91,7 @@ pub const VALIDATORS_LINE: &str = "Validators:";
 
 /// results/shaders.md.
 pub fn markdown(entries: &[Entry], command: &str) -> String {
-    let mut s = super::header(
+    let mut s = super::text::header(
         "<!--",
         command,
         "results/wgsl/*.wgsl and results/scenes/*/scene.wgsl",
@@ -210,7 +210,7 @@ pub fn render(entries: &[Entry], command: &str) -> Vec<(String, Vec<u8>)> {
 pub fn write(results: &Path) -> Result<Vec<String>> {
     let entries = measure(results, true)?;
     let mut written = Vec::new();
-    for (rel, bytes) in render(&entries, super::COMMAND) {
+    for (rel, bytes) in render(&entries, super::text::COMMAND) {
         let p = results.join(rel);
         crate::io::write_atomic(&p, &bytes)?;
         written.push(p.display().to_string());

@@ -44,7 +44,7 @@ pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
         "{}// GGX LTC table ({}×{}, {}); {LAYOUT}. The error this precision costs: results/ltc.md.\n// Most renderers upload the table once as two {} textures and sample it bilinearly at (ndfb_ltc_lut_u, ndfb_ltc_lut_v) of ltc.wgsl; the arrays serve compute passes and tests.\n\nconst LTC_TABLE_N: u32 = {}u;\n\n",
-        super::header("//", command, "results/fits/ltc-ggx.json"),
+        super::text::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,
         if half { "binary16 pairs packed in u32" } else { "f32" },
@@ -117,7 +117,7 @@ pub fn render_rust(t: &LtcTableData, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
         "{}//! GGX LTC table ({}×{}); {LAYOUT}. `*_F16` hold the table's binary16 storage (the f16 neighbours chosen by the fit, `table_f16`; round to nearest where the file has none), two per u32 with the first in bits 0–15 (WGSL's `unpack2x16float` layout). The error each precision costs: results/ltc.md.\n\npub const LTC_TABLE_N: usize = {};\n\n",
-        super::header("//", command, "results/fits/ltc-ggx.json"),
+        super::text::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,
         t.n

@@ -361,7 +361,7 @@ pub fn render(t: &FittedTable, kind: &TableKind, command: &str) -> Vec<(String, 
         ));
     }
     out.push((p(".json"), manifest(t, kind, command).into_bytes()));
-    let header = super::header("//", command, &format!("results/fits/{}.json", kind.fit));
+    let header = super::text::header("//", command, &format!("results/fits/{}.json", kind.fit));
     out.push((p(".js"), es_module(t, kind, &header).into_bytes()));
     if kind.fit == GGX.fit {
         // Bevy's own file is zstd-supercompressed; an error of the compressor leaves the

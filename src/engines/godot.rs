@@ -24,7 +24,7 @@
 //!   opposite split at the point nearest the shading point, |Σ|/(2π); the Fresnel weight
 //!   f0·mag + (f90 − f0)·fres (f90 = 1 for a metal).
 
-use super::truth::Rect;
+use super::scenes::Rect;
 use crate::ltc::polygon::{ltc_integral, EdgeForm};
 use crate::ltc::table::FittedTable;
 use nalgebra::{Matrix3, Vector3};

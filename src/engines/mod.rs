@@ -26,5 +26,6 @@ pub mod godot;
 pub mod scenes;
 pub mod truth;
 
+pub use scenes::Rect;
 pub use scenes::{EngineScenes, Scene};
-pub use truth::{table_value, truth_value, Rect};
+pub use truth::{table_value, truth_value};

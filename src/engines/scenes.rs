@@ -2,7 +2,10 @@
 //! finite and bounded, every size bounded, a typed one-line error otherwise.
 
 use crate::error::{Error, Result};
+use nalgebra::Vector3;
 use serde::Deserialize;
+
+type V3 = Vector3<f64>;
 
 /// A rectangular light: centre, the point it faces, the up vector of its frame, size.
 #[derive(Clone, Debug, Deserialize)]
@@ -79,7 +82,7 @@ impl EngineScenes {
                     "scene {name}: the light needs finite coordinates (|x| ≤ 1000) and a positive size"
                 )));
             }
-            if super::truth::Rect::of(l).is_none() {
+            if Rect::of(l).is_none() {
                 return Err(bad(format!(
                     "scene {name}: the light's look_at equals its centre or its up vector is parallel to its direction"
                 )));
@@ -95,5 +98,46 @@ impl EngineScenes {
             msg: e.to_string(),
         })?;
         Self::parse(&text)
+    }
+}
+
+/// A rectangular light in world space, as three.js builds it: corners c ± hw ± hh, and
+/// the unit normal of its lit side.
+#[derive(Clone, Copy, Debug)]
+pub struct Rect {
+    pub c: V3,
+    pub hw: V3,
+    pub hh: V3,
+    pub front: V3,
+}
+
+impl Rect {
+    /// The light of a scene: `lookAt` makes local z = normalize(centre − target), x =
+    /// normalize(up × z), y = z × x; it shines along −z. `None` if degenerate.
+    pub fn of(l: &LightSpec) -> Option<Rect> {
+        let c = V3::from(l.center);
+        let z = c - V3::from(l.look_at);
+        let z = z.try_normalize(1e-12)?;
+        let x = V3::from(l.up).cross(&z).try_normalize(1e-12)?;
+        let y = z.cross(&x);
+        Some(Rect {
+            c,
+            hw: x * (0.5 * l.width),
+            hh: y * (0.5 * l.height),
+            front: -z,
+        })
+    }
+    /// The corners in three.js's order (counter-clockwise seen from the lit side).
+    pub fn corners(&self) -> [V3; 4] {
+        [
+            self.c + self.hw - self.hh,
+            self.c - self.hw - self.hh,
+            self.c - self.hw + self.hh,
+            self.c + self.hw + self.hh,
+        ]
+    }
+    /// Whether `x` is on the lit side.
+    pub fn lights(&self, x: &V3) -> bool {
+        (x - self.c).dot(&self.front) > 0.0
     }
 }

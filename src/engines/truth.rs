@@ -1,7 +1,7 @@
 //! Per pixel: the exact value of a scene (the GGX lobe integrated over the light) and the
 //! value an LTC table gives there (its lookup, its edge integral).
 
-use super::scenes::LightSpec;
+use super::scenes::Rect;
 use crate::integrate::cubature::{cubature, SAFETY_SMOOTH};
 use crate::ltc::lobe_error::Bounded;
 use crate::ltc::polygon::{ltc_integral, EdgeForm};
@@ -9,47 +9,6 @@ use crate::ltc::target::GgxTarget;
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
-
-/// A rectangular light in world space, as three.js builds it: corners c ± hw ± hh, and
-/// the unit normal of its lit side.
-#[derive(Clone, Copy, Debug)]
-pub struct Rect {
-    pub c: V3,
-    pub hw: V3,
-    pub hh: V3,
-    pub front: V3,
-}
-
-impl Rect {
-    /// The light of a scene: `lookAt` makes local z = normalize(centre − target), x =
-    /// normalize(up × z), y = z × x; it shines along −z. `None` if degenerate.
-    pub fn of(l: &LightSpec) -> Option<Rect> {
-        let c = V3::from(l.center);
-        let z = c - V3::from(l.look_at);
-        let z = z.try_normalize(1e-12)?;
-        let x = V3::from(l.up).cross(&z).try_normalize(1e-12)?;
-        let y = z.cross(&x);
-        Some(Rect {
-            c,
-            hw: x * (0.5 * l.width),
-            hh: y * (0.5 * l.height),
-            front: -z,
-        })
-    }
-    /// The corners in three.js's order (counter-clockwise seen from the lit side).
-    pub fn corners(&self) -> [V3; 4] {
-        [
-            self.c + self.hw - self.hh,
-            self.c - self.hw - self.hh,
-            self.c - self.hw + self.hh,
-            self.c + self.hw + self.hh,
-        ]
-    }
-    /// Whether `x` is on the lit side.
-    pub fn lights(&self, x: &V3) -> bool {
-        (x - self.c).dot(&self.front) > 0.0
-    }
-}
 
 /// The lobe at a pixel: α = roughness², the view at `view_deg` in the xz-plane.
 pub fn lobe(roughness: f64, view_deg: f64) -> crate::error::Result<GgxTarget> {

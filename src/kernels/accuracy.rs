@@ -2,7 +2,9 @@
 //! scalar twin, on the benchmark inputs. The f64 references of the LTC quad kernel and
 //! its conditioning live here too.
 
-use super::*;
+use super::batch::*;
+use super::dispatch::*;
+use super::inputs::bench_inputs;
 use crate::error::{Error, Result};
 use crate::generated::shading as g;
 

@@ -2,7 +2,7 @@
 //! time. Each function processes the largest multiple of 8 and returns where it stopped;
 //! the caller finishes the tail with the scalar twin.
 
-use super::{DeferredIn, LeadrIn, LtcQuadIn, SpecularIn};
+use super::batch::{DeferredIn, LeadrIn, LtcQuadIn, SpecularIn};
 use crate::generated::shading as g;
 use std::arch::x86_64::*;
 
@@ -115,7 +115,7 @@ pub(super) unsafe fn multiscale(y_me: &[f32], y_mi: &[f32], out: &mut [f32]) -> 
     let half = _mm256_set1_ps(0.5);
     let tiny = _mm256_set1_ps(f32::MIN_POSITIVE);
     let third = _mm256_set1_ps(1.0 / 3.0);
-    let (c, d) = (super::ALPHA_ME_C, super::ALPHA_ME_D);
+    let (c, d) = (super::batch::ALPHA_ME_C, super::batch::ALPHA_ME_D);
     let mut i = 0;
     while i < n {
         let a = ld(y_me, i);

@@ -200,6 +200,32 @@ pub fn midpoint_error_of<T: LtcTarget>(
     Ok((cell_error_of(&lobe, albedo, &[entries])[0], albedo))
 }
 
+/// The roughness and view of grid coordinates (r, t) in the shipped convention
+/// (α = max(r², 1e-5), θ from t = √(1 − cos θ)).
+pub fn alpha_theta(r: f64, t: f64) -> (f64, f64) {
+    ((r * r).max(1e-5), (1.0 - t * t).clamp(0.0, 1.0).acos())
+}
+
+/// Our table as its binary16 files hold it, in the shipped layout.
+pub fn stored_half(table: &super::table::FittedTable) -> Shipped {
+    let cell = |k: usize| table.half_cell(k).map(|x| x.to_f64());
+    Shipped {
+        n: table.n,
+        mat: (0..table.n * table.n)
+            .map(|k| {
+                let h = cell(k);
+                [h[0], h[1], h[2], h[3]]
+            })
+            .collect(),
+        mag: (0..table.n * table.n)
+            .map(|k| {
+                let h = cell(k);
+                [h[4], h[5]]
+            })
+            .collect(),
+    }
+}
+
 /// A fitted table in the shipped layout (f64 entries).
 pub fn of_table(t: &super::table::FittedTable) -> Shipped {
     Shipped {

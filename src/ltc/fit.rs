@@ -23,6 +23,7 @@ use crate::integrate::mc::Strategy;
 use crate::ltc::lobe_error::Held;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
+use crate::parmap::ParMap;
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -467,6 +468,7 @@ pub struct Table {
 /// each cell starting from its neighbour's solution (the first from the isotropic
 /// M = diag(α, α, 1)).
 pub fn fit_table<T: LtcTarget>(
+    pm: &impl ParMap,
     grid: Grid,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     n: usize,
@@ -475,12 +477,12 @@ pub fn fit_table<T: LtcTarget>(
     max_iters: u64,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
-    // one θ column per item: memoised (cached, shardable; crate::memo)
+    // one θ column per item of the caller's map
     let label = format!(
         "ltc table {}² ({metric:?}, {method:?}, {n}² samples)",
         grid.n
     );
-    let cols: Vec<Vec<Cell>> = crate::memo::map(&label, grid.n, |j| -> Result<Vec<Cell>> {
+    let cols: Vec<Vec<Cell>> = pm.map(&label, grid.n, |j| -> Result<Vec<Cell>> {
         let theta = grid.theta(j);
         let mut col = Vec::with_capacity(grid.n);
         let mut p = [0.0f64; 4];

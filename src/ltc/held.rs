@@ -6,13 +6,15 @@ use crate::error::Result;
 use crate::ltc::fit::{inverse_from_production, production_metrics, Cell, Table};
 use crate::ltc::lobe_error::{judge, Held, LobeError, Spread, Tolerance};
 use crate::ltc::target::LtcTarget;
+use crate::parmap::ParMap;
 use serde::Serialize;
 
 /// The held-out figures of every cell of a table in every precision it is stored in
 /// (`Cell::held`): one cubature per cell judges the f64 cell, its f32 and
 /// round-to-nearest binary16 roundings and its stored binary16 cell (`Cell::half`)
-/// against `target(α, θ)`. One θ column per item of a memoised map.
+/// against `target(α, θ)`. One θ column per item of the caller's map.
 pub fn judge_table<T: LtcTarget>(
+    pm: &impl ParMap,
     table: &mut Table,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     tol: Tolerance,
@@ -22,7 +24,7 @@ pub fn judge_table<T: LtcTarget>(
         "held-out figures {}² (tolerance {:e})",
         table.grid.n, tol.rel
     );
-    let held: Vec<Vec<Held>> = crate::memo::map(&label, cols.len(), |j| {
+    let held: Vec<Vec<Held>> = pm.map(&label, cols.len(), |j| {
         cols[j]
             .iter()
             .map(|c| {
@@ -106,12 +108,13 @@ pub struct Sampled {
 
 /// [`Sampled`] of a judged table against `target(α, θ)`.
 pub fn sampled_estimate<T: LtcTarget>(
+    pm: &impl ParMap,
     t: &Table,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     n: usize,
 ) -> Result<Sampled> {
     let cells: Vec<&Cell> = t.cells.iter().flatten().collect();
-    let v: Vec<f64> = crate::memo::map_items("sampled estimate (earlier method)", &cells, |c| {
+    let v: Vec<f64> = pm.map_items("sampled estimate (earlier method)", &cells, |c| {
         Ok(
             production_metrics(&target(c.alpha, c.theta)?, &c.inv, c.norm, n, 0.25)
                 .map_or(f64::NAN, |m| m.1),

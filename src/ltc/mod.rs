@@ -24,8 +24,6 @@ pub mod aniso;
 pub mod aniso_table;
 pub mod chart;
 pub mod compare;
-pub mod compare_render;
-pub mod compare_report;
 pub mod diffuse;
 pub mod dist;
 pub mod fit;

@@ -1,11 +1,9 @@
-//! The multi-scale shading pipeline of seed 000 §3–4 against brute force:
-//! normal map → mips without renormalisation → ‖b̄‖ per texel and level → overall α →
-//! LTC table lookup → polygon light, compared with the exact footprint average of the
-//! per-texel GGX shading of the same polygon, at several mip levels, and with plain LTC on
-//! the renormalised mip normal (the aliasing baseline).
-
-use crate::error::{Error, Result};
-use crate::filters::footprint::{MipChain, NormalMap};
+//! The pieces of the multi-scale shading pipeline of seed 000 §3–4: a fitted LTC table as a
+//! renderer samples it (bilinear), a polygon light shaded through it (`ltc_shade`), and the
+//! brute force it is judged against — the exact footprint average of each texel's GGX
+//! shading of the same polygon (`brute_force`). The comparison over mip levels, with plain
+//! LTC on the renormalised mip normal as the aliasing baseline, is the GGX LTC study's.
+use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::ltc::polygon::{self, EdgeForm, Light};
 use crate::microfacet::lobe::{lobe, Frame};
@@ -13,7 +11,6 @@ use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::{Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
-use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
@@ -211,94 +208,4 @@ fn sample_quad(light: &Light, u: [f64; 3]) -> V3 {
         t = 1.0 - t;
     }
     v[0] + (p1 - v[0]) * s + (p2 - v[0]) * t
-}
-
-/// The methods compared.
-pub const METHODS: [&str; 5] = [
-    "per-texel LTC, averaged (the table at full resolution; cost ∝ texels)",
-    "plain LTC, renormalised mip normal, base α (aliasing baseline)",
-    "multi-scale LTC: α = ρ⁻¹(‖μ‖ρ(α)) (seed 000 + product identity)",
-    "multi-scale LTC with seed 000 Eq 5 + Eq 7",
-    "vMF α² + 2/κ",
-];
-
-/// One footprint case.
-#[derive(Clone, Debug, Serialize)]
-pub struct PipeCase {
-    pub map: String,
-    pub level: usize,
-    pub view_deg: f64,
-    pub truth: f64,
-    pub truth_se: f64,
-    pub methods: Vec<f64>,
-}
-
-/// Run the pipeline on one map for the given levels, footprints per level and views.
-#[allow(clippy::too_many_arguments)]
-pub fn run_map(
-    table: &LtcTable,
-    map: &NormalMap,
-    alpha: f64,
-    levels: &[usize],
-    per_level: usize,
-    views_deg: &[f64],
-    light: &Light,
-    samples: usize,
-    seed: u64,
-) -> Result<Vec<PipeCase>> {
-    let chain = MipChain::build(map);
-    let rho = crate::multiscale::mrl::mrl_pair(alpha).0;
-    let mut out = Vec::new();
-    for &lv in levels {
-        let level = chain
-            .levels
-            .get(lv)
-            .ok_or_else(|| Error::InvalidArgument(format!("level {lv} beyond the chain")))?;
-        for fp in 0..per_level {
-            let idx = (fp * 2654435761usize + 7) % (level.width * level.height);
-            let (i, j) = (idx % level.width, idx / level.width);
-            let st = level.stats[idx];
-            let mu = V3::from(st.mean_normal);
-            let r = mu.norm().min(1.0);
-            let nbar = mu / mu.norm();
-            let normals = map.block(lv, i, j);
-            for (vi, &vd) in views_deg.iter().enumerate() {
-                let th = vd.to_radians();
-                let v = V3::new(th.sin(), 0.0, th.cos());
-                let (t, se) = brute_force(
-                    &normals,
-                    alpha,
-                    &v,
-                    light,
-                    samples,
-                    seed ^ ((lv * 1000 + fp * 10 + vi) as u64),
-                )?;
-                let a_ms =
-                    crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
-                let a_eq = crate::filters::rules::seed000_paper(alpha, r).max(1e-4);
-                let a_vmf = crate::filters::rules::vmf(alpha, r, 2.0);
-                let per_texel = normals
-                    .iter()
-                    .map(|m| ltc_shade(table, m, alpha, &v, light))
-                    .sum::<f64>()
-                    / normals.len() as f64;
-                let methods = std::iter::once(per_texel)
-                    .chain(
-                        [alpha, a_ms, a_eq, a_vmf]
-                            .iter()
-                            .map(|a| ltc_shade(table, &nbar, a.min(1.0), &v, light)),
-                    )
-                    .collect();
-                out.push(PipeCase {
-                    map: map.name.clone(),
-                    level: lv,
-                    view_deg: vd,
-                    truth: t,
-                    truth_se: se,
-                    methods,
-                });
-            }
-        }
-    }
-    Ok(out)
 }

@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::ltc::fit::{inverse_from_production, metrics};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
+use crate::parmap::ParMap;
 use rayon::prelude::*;
 
 /// The relative L2 of one production-form lobe against a target (∞ where singular).
@@ -226,6 +227,7 @@ pub fn errors<T: LtcTarget>(
 
 /// One sweep over the table in four colours; returns the new cells and how many moved.
 pub fn sweep<T: LtcTarget>(
+    pm: &impl ParMap,
     grid: &Lattice<'_, T>,
     n: usize,
     max_iters: u64,
@@ -246,9 +248,9 @@ pub fn sweep<T: LtcTarget>(
             at_cells: grid.at_cells,
             at_squares: grid.at_squares,
         };
-        // memoised (cached, shardable; crate::memo): a pure function of the snapshot
+        // one item per cell of this colour: a pure function of the snapshot
         let label = format!("bilinear sweep {nn}², colour {colour}");
-        let new: Vec<[f64; 4]> = crate::memo::map(&label, ks.len(), |x| {
+        let new: Vec<[f64; 4]> = pm.map(&label, ks.len(), |x| {
             let r = refit_cell(&snapshot, ks[x], n, max_iters);
             progress();
             r
@@ -276,6 +278,7 @@ pub struct BilinearPass {
 /// as a GPU interpolates them, every term relative to its error before the pass; then the
 /// moved cells' fit parameters are recomputed (and their held-out figures cleared).
 pub fn bilinear_pass<T: LtcTarget>(
+    pm: &impl ParMap,
     main: &mut crate::ltc::fit::Table,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     n: usize,
@@ -310,11 +313,11 @@ pub fn bilinear_pass<T: LtcTarget>(
         at_squares: &at_squares,
     };
     let pb = crate::progress::Progress::new("ltc bilinear pass", (g * g) as u64);
-    let (new, cells_moved) = sweep(&lattice, n, max_iters, &|| pb.inc(1))?;
+    let (new, cells_moved) = sweep(pm, &lattice, n, max_iters, &|| pb.inc(1))?;
     pb.finish();
     // write back, with the held-out errors and the fit parameters of the moved cells
     let before_cols = main.cells.clone();
-    main.cells = crate::memo::map(
+    main.cells = pm.map(
         &format!("bilinear write-back {g}²"),
         g,
         |j| -> Result<Vec<Cell>> {

@@ -150,28 +150,28 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
 /// The binary16 storage of every cell of a fitted table (`Cell::half`), each chosen by
 /// [`half_storage`] against its own target (`target(α, θ)`).
 pub fn store_table<T: LtcTarget>(
+    pm: &impl crate::parmap::ParMap,
     table: &mut crate::ltc::fit::Table,
     target: &(dyn Fn(f64, f64) -> crate::error::Result<T> + Sync),
     n: usize,
 ) -> crate::error::Result<()> {
-    // one column per item, memoised (cached, shardable; crate::memo)
+    // one column per item of the caller's map
     let g = table.cells.len();
     let cols = &table.cells;
-    let halves: Vec<Vec<[f64; 6]>> =
-        crate::memo::map(&format!("binary16 storage {g} columns"), g, |j| {
-            cols[j]
-                .iter()
-                .map(|c| {
-                    Ok(half_storage(
-                        &target(c.alpha, c.theta)?,
-                        &c.inv,
-                        c.norm,
-                        c.fresnel,
-                        n,
-                    ))
-                })
-                .collect()
-        })?;
+    let halves: Vec<Vec<[f64; 6]>> = pm.map(&format!("binary16 storage {g} columns"), g, |j| {
+        cols[j]
+            .iter()
+            .map(|c| {
+                Ok(half_storage(
+                    &target(c.alpha, c.theta)?,
+                    &c.inv,
+                    c.norm,
+                    c.fresnel,
+                    n,
+                ))
+            })
+            .collect()
+    })?;
     for (col, h) in table.cells.iter_mut().zip(halves) {
         for (c, h) in col.iter_mut().zip(h) {
             c.half = h;

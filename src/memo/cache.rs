@@ -85,7 +85,7 @@ struct Entry {
 /// Store `values` under `key` (best effort: a value that cannot be stored exactly, or a
 /// directory that cannot be written, leaves no entry and is said on stderr).
 pub fn store<T: Serialize + DeserializeOwned>(path: &Path, key: &str, label: &str, values: &[T]) {
-    let entry = super::exact_json(label, values).map(|vals| {
+    let entry = super::shards::exact_json(label, values).map(|vals| {
         super::seal::seal(
             serde_json::to_value(Entry {
                 format: FORMAT.into(),

@@ -32,6 +32,7 @@ use rayon::prelude::*;
 use serde::{de::DeserializeOwned, Serialize};
 use std::cell::RefCell;
 
+use shards::exact_json;
 pub use shards::Part;
 
 /// The build's code version (SHA-256 of the sources, the manifest and the lock file).
@@ -117,27 +118,6 @@ enum Step {
     Cached(std::path::PathBuf, String),
     Shard(usize, usize),
     Merged(Part),
-}
-
-/// The JSON text of `values`, checked to parse back to the same text (so to the same bits).
-pub(crate) fn exact_json<T: Serialize + DeserializeOwned>(
-    label: &str,
-    values: &[T],
-) -> Result<serde_json::Value> {
-    let text = serde_json::to_string(values)
-        .map_err(|e| Error::InvalidArgument(format!("map '{label}': not serialisable: {e}")))?;
-    let back: Vec<T> = serde_json::from_str(&text).map_err(|e| {
-        Error::InvalidArgument(format!(
-            "map '{label}': its items do not survive JSON (NaN or infinity?): {e}"
-        ))
-    })?;
-    let again = serde_json::to_string(&back).unwrap_or_default();
-    if again != text {
-        return Err(Error::InvalidArgument(format!(
-            "map '{label}': its items change through JSON; they cannot be stored exactly"
-        )));
-    }
-    serde_json::from_str(&text).map_err(|e| Error::InvalidArgument(format!("map '{label}': {e}")))
 }
 
 fn compute<T: Send, F: Fn(usize) -> Result<T> + Sync>(
@@ -259,4 +239,19 @@ where
     F: Fn(&I) -> Result<T> + Sync,
 {
     map(label, items.len(), |i| f(&items[i]))
+}
+
+/// The memoised map as the [`crate::parmap::ParMap`] a model takes: [`map`] under the
+/// installed scope (cached, sharded or merged), plain without one.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Memo;
+
+impl crate::parmap::ParMap for Memo {
+    fn map<T, F>(&self, label: &str, n: usize, f: F) -> Result<Vec<T>>
+    where
+        T: Serialize + DeserializeOwned + Send,
+        F: Fn(usize) -> Result<T> + Sync,
+    {
+        map(label, n, f)
+    }
 }

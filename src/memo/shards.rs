@@ -295,3 +295,24 @@ pub fn load_set(paths: &[PathBuf], expect: &Identity) -> Result<Part> {
     (merged.indices, merged.values) = pairs.into_iter().unzip();
     Ok(merged)
 }
+
+/// The JSON text of `values`, checked to parse back to the same text (so to the same bits).
+pub(crate) fn exact_json<T: Serialize + DeserializeOwned>(
+    label: &str,
+    values: &[T],
+) -> Result<serde_json::Value> {
+    let text = serde_json::to_string(values)
+        .map_err(|e| Error::InvalidArgument(format!("map '{label}': not serialisable: {e}")))?;
+    let back: Vec<T> = serde_json::from_str(&text).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "map '{label}': its items do not survive JSON (NaN or infinity?): {e}"
+        ))
+    })?;
+    let again = serde_json::to_string(&back).unwrap_or_default();
+    if again != text {
+        return Err(Error::InvalidArgument(format!(
+            "map '{label}': its items change through JSON; they cannot be stored exactly"
+        )));
+    }
+    serde_json::from_str(&text).map_err(|e| Error::InvalidArgument(format!("map '{label}': {e}")))
+}

@@ -1,7 +1,6 @@
-//! Reports: convergence study of the engines and the criterion performance summary.
+//! Reports: SVG plots and heat maps (plotters) and progress lines. Studies compute and format;
+//! this module only draws what it is given and says where a run is.
 
-pub mod convergence;
-pub mod performance;
 pub mod plot;
 
 /// One progress line per stage on stderr, with the time since the first stage: long jobs

@@ -3,7 +3,7 @@
 //! set. Independent studies may run at the same time (each on its own thread, sharing the
 //! rayon pool); their outputs do not depend on it.
 
-use super::{find, STUDIES};
+use super::registry::{find, STUDIES};
 use crate::error::{Error, Result};
 use crate::fit::spec::{self, FitSpec};
 use crate::integrate::Preset;

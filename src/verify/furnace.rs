@@ -4,7 +4,7 @@
 
 use super::cases::{dir, directions, surfaces};
 use super::ndf::{lobe_rule, pass_tol, reflected_rule, tol, widened, z_score, MAX_Z};
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::mc::{mis, Strategy};
 use crate::integrate::sphere::integrate_sphere;
 use crate::integrate::{Estimate, Preset};

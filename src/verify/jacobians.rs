@@ -2,7 +2,7 @@
 //! step-size study and (2) a Monte Carlo solid-angle ratio.
 
 use super::cases::dir;
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::Preset;
 use crate::jacobian::{
     mc_jacobian, step_study, DirMap, HalfToSlope, HalfVector, Ltc, NormalToSlope, ProjectedDisk,

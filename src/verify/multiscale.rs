@@ -1,6 +1,6 @@
 //! Multi-scale LTC identities (seed 000 §3.3): the closed form of ‖b̄‖(α).
 
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::mc::{mis, Strategy};
 use crate::integrate::quad::Tol;
 use crate::integrate::sphere::{integrate_sphere, SphereRule};

@@ -1,7 +1,7 @@
 //! NDF, Smith and sampling identities (seed 001 Eq 1–2, 8–9, §3.2; seed 003 App. A).
 
 use super::cases::{dir, directions, surfaces};
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::mc::{mis, CosineHemisphere, Strategy};
 use crate::integrate::quad::{integrate_1d, Subst, Tol};
 use crate::integrate::sphere::frame;

@@ -2,7 +2,7 @@
 //! quadrature over the hemisphere around ω, and the visible-normal sampler's first and
 //! second moments against the same quadrature of ⟨ω·m⟩D(m)/σ(ω).
 
-use super::Outcome;
+use super::outcome::Outcome;
 use crate::integrate::quad::gauss_legendre;
 use crate::integrate::Preset;
 use crate::microfacet::lobe::Frame;

@@ -7,7 +7,7 @@
 //! - the SH convolution theorem ∫ k(n·η)p(n)dn = Σ k̂_l p_lm Y_lm(η) (sphere quadrature of
 //!   the convolution for a band-limited p).
 
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::quad::gauss_legendre;
 use crate::integrate::Preset;
 use crate::survey::em::{inverse_langevin, langevin, vmf_log_norm};

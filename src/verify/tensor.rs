@@ -2,7 +2,7 @@
 //! tensor is the product of 1D box averages; the O(R) range query equals the naive
 //! average up to rounding.
 
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::Preset;
 use crate::tensor::query::{range, range_error_bound, range_f32, range_naive, Sat};
 use rand::{Rng, SeedableRng};

@@ -1,6 +1,6 @@
 //! Tokuyoshi 2017 §4: the eigenvalue bound (Eq 11) and the world-space shortcut (Eq 12).
 
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::sphere::frame;
 use crate::integrate::Preset;
 use crate::linalg::sym2_eigen;

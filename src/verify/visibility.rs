@@ -6,7 +6,7 @@
 //! - Chebyshev's bound (VSM) is exact for one planar occluder parallel to the receiver;
 //! - F(b) − F(a) is the box integral of Fig. 6's pulse train.
 
-use super::{Outcome, Worst};
+use super::outcome::{Outcome, Worst};
 use crate::integrate::quad::gauss_legendre;
 use crate::integrate::Preset;
 use crate::visibility::horizon::{self, legendre_coeffs, legendre_eval, Dir};

@@ -1,10 +1,11 @@
 //! The engine check from files: the harnesses' outputs, the shipped tables as the engines
 //! ship them and ours from results/, judged and published as results/engines.{md,json,svg}.
 
-use super::godot::godot;
-use super::{
-    bevy_held, compute, report, three_held, Engine, EngineResult, EngineRun, EnginesResult, Inputs,
+use super::compute::{
+    bevy_held, compute, three_held, Engine, EngineResult, EngineRun, EnginesResult, Inputs,
 };
+use super::godot::godot;
+use super::report;
 use crate::engines::EngineScenes;
 use crate::error::{Error, Result};
 use crate::ltc::compare::Shipped;

@@ -2,23 +2,11 @@
 //! (`crate::engines::godot`) with our Godot files against the truth, at the pixel points
 //! of an engine that did render.
 
-use super::{errors, EngineResult, Errors, Rect};
+use super::compute::{errors, EngineResult, GodotScene};
 use crate::engines::EngineScenes;
+use crate::engines::Rect;
 use crate::error::{Error, Result};
 use crate::ltc::lobe_error::Bounded;
-use serde::Serialize;
-
-/// Godot 4 on one scene, in f64 only (no Godot binary here): its formulas with our
-/// files (results/textures/godot/) against the truth, and the same texels with the exact
-/// edge integral (the table's share).
-#[derive(Clone, Debug, Serialize)]
-pub struct GodotScene {
-    pub name: String,
-    /// Godot's lookup and `ltc_evaluate_specular` (Hill's edge fit) against the truth.
-    pub formulas: Errors,
-    /// Godot's lookup with the exact edge integral against the truth.
-    pub table_share: Errors,
-}
 
 /// Godot 4 in f64 with our files (lut1, lut2 texels as f64) at the pixel points of an
 /// engine already judged, against the truth computed there (reused, not integrated again):

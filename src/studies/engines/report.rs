@@ -2,7 +2,7 @@
 //! and a labelled figure (truth, both tables' images, their error maps, with a colour bar)
 //! of a few scenes. Formats only.
 
-use super::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
+use super::compute::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
 use crate::error::Result;
 use crate::render::picture::Rgb;
 

@@ -2,7 +2,7 @@
 //! every screen-space (NDF, pixel, α, κ, anisotropy, view), drawn and measured; their
 //! aggregation into mean ± standard error.
 
-use super::{dir, seed_of, Plan, KINDS};
+use super::plan::{dir, seed_of, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::{MipChain, NormalMap, Stats};
 use crate::filters::study::{self, Field, PixelFilter};

@@ -3,7 +3,7 @@
 //! the training cases (even footprints / views), judged on the held-out rest.
 
 use super::cases::{aggregate, Agg, MapCase, ScreenCase};
-use super::KINDS;
+use super::plan::KINDS;
 use crate::filters::rules;
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::{Candidate, CaseResult};

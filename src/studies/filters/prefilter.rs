@@ -1,8 +1,8 @@
 //! `prefilter --input`: the footprint map study on a user's normal map.
 
 use super::cases::map_study;
+use super::plan::Plan;
 use super::report::map_section;
-use super::Plan;
 use crate::error::Result;
 use crate::filters::footprint::{MipChain, NormalMap};
 use crate::filters::rules;

@@ -3,7 +3,7 @@
 
 use super::cases::{aggregate, MapCase, ScreenCase};
 use super::constants::Fitted;
-use super::{kind_name, pct, Plan, KINDS};
+use super::plan::{kind_name, pct, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::NormalMap;
 use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
@@ -14,7 +14,7 @@ use crate::report::plot::{loglog_svg, Panel, Series};
 use std::path::Path;
 
 /// The energy, L2 and peak columns of one NDF for one filter.
-fn agg_cells(a: &super::Agg) -> String {
+fn agg_cells(a: &super::cases::Agg) -> String {
     format!(
         "{} | {:.1} % ± {:.1} | {}",
         pct(a.energy_mean, a.energy_se),

@@ -2,7 +2,7 @@
 //! per filter (read by the speed/accuracy table of results/performance.md) and per level.
 
 use super::cases::{aggregate, MapCase, ScreenCase};
-use super::{kind_name, Plan, KINDS};
+use super::plan::{kind_name, Plan, KINDS};
 use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;

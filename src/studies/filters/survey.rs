@@ -5,7 +5,7 @@
 //! level down for the MIP-mapped variants) and measured on every view's samples.
 
 use super::cases::MapCase;
-use super::seed_of;
+use super::plan::seed_of;
 use crate::error::Result;
 use crate::filters::footprint::NormalMap;
 use crate::filters::rules;

@@ -3,7 +3,7 @@
 //! computes every number; [`markdown`] and [`pareto_svg`] only render them.
 
 use super::cases::{aggregate, mean_se, MapCase};
-use super::kind_name;
+use super::plan::kind_name;
 use super::survey::{Diag, SurveyCases, FILTER_ROWS, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
 use crate::filters::study::MAP_FILTERS;

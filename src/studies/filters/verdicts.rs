@@ -2,7 +2,7 @@
 
 use super::cases::{aggregate, mean_se, Agg, MapCase, ScreenCase};
 use super::constants::Fitted;
-use super::{kind_name, pct, KINDS};
+use super::plan::{kind_name, pct, KINDS};
 use crate::filters::study::{PixelFilter, MAP_FILTERS};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;

@@ -3,7 +3,7 @@
 //! error predicted for other table sizes, the fitted cells and the cases between them
 //! against the engines' isotropic substitutes, by anisotropy.
 
-use super::{fit_case, Between, Case, Fitted, Plan};
+use super::compute::{fit_case, Between, Case, Fitted, Plan};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
@@ -116,7 +116,7 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
         |(_, _, inv, norm, c)| {
             let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
             let (albedo, _, _) = t.albedo(1e-7);
-            let (l2, _, bar) = super::held_out(&t, albedo, &[(*inv, *norm)]);
+            let (l2, _, bar) = super::compute::held_out(&t, albedo, &[(*inv, *norm)]);
             Ok((l2[0], bar))
         },
     )?;
@@ -431,7 +431,7 @@ pub(super) fn plot(d: &Design, pl: &Plan) -> Result<String> {
 }
 
 /// The polygon-light section.
-pub(super) fn polygon_section(rows: &[super::PolygonRow], mc: usize) -> String {
+pub(super) fn polygon_section(rows: &[super::compute::PolygonRow], mc: usize) -> String {
     let mut md = format!("\n## Polygon lights\n\nThe table as a shader reads it (binary16, interpolated at the case) × the quad (exact edges), and the isotropic table at √(α_x α_y), against MC of the true lobe over the quad (MIS of light-area and VNDF sampling, {mc} samples each, ± standard error); the error also as a fraction of the lobe's albedo:\n\n| α_x | α_y | φ | θ | light | MC truth | this table | rel. error | error / albedo | isotropic at √(α_x α_y) | rel. error |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         let c = &r.check;

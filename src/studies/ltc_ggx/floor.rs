@@ -6,11 +6,11 @@
 //! floor when the norm may trade energy for shape. Every error is the held-out figure of
 //! `ltc::lobe_error` (converged integrals, ± their error bars).
 
-use super::GgxTarget;
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Cell, Method, Metric, Table};
 use crate::ltc::lobe_error::{judge, Bounded, Tolerance};
+use crate::ltc::target::GgxTarget;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 

@@ -5,125 +5,24 @@
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table};
+use crate::ltc::fit::{Grid, Table};
 use crate::ltc::held::{self, held_out_stats as stats, Stats};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::ltc::target::GgxTarget;
-use nalgebra::Matrix3;
+use crate::memo::Memo;
 use std::path::Path;
 
+mod compute;
 mod floor;
 mod pipeline;
 mod polygons;
 mod precision;
 mod shipped;
-mod table_report;
+pub(crate) mod table_report;
 
-struct Plan {
-    n: usize,
-    samples: usize,
-    sub: usize,
-    mc: usize,
-}
-
-fn plan(p: Preset) -> Plan {
-    match p {
-        Preset::Quick => Plan {
-            n: 8,
-            samples: 12,
-            sub: 4,
-            mc: 1 << 12,
-        },
-        Preset::Default => Plan {
-            n: 64,
-            samples: 24,
-            sub: 12,
-            mc: 1 << 16,
-        },
-        Preset::Precise => Plan {
-            n: 64,
-            samples: 32,
-            sub: 16,
-            mc: 1 << 18,
-        },
-    }
-}
-
-/// The LTC of a cell as (M⁻¹ from the production form, norm).
-pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
-    (fit::inverse_from_production(&c.inv), c.norm)
-}
-
-/// The main table and the optimiser/metric variants on the sub-grid.
-fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
-    let grid = Grid {
-        n: pl.n,
-        alpha_min: spec.domain.alpha_min,
-    };
-    let iters = spec.optimiser.max_iters.unwrap_or(400);
-    let pb = indicatif::ProgressBar::new((pl.n * pl.n + 3 * pl.sub * pl.sub) as u64);
-    pb.set_message("ltc fit");
-    let tick = || pb.inc(1);
-    let main = fit_table(
-        grid,
-        &GgxTarget::new,
-        pl.samples,
-        Metric::Cubic,
-        Method::NelderMead,
-        iters,
-        &tick,
-    )?;
-    let sub = Grid {
-        n: pl.sub,
-        alpha_min: spec.domain.alpha_min,
-    };
-    let variants = [
-        (
-            "Nelder–Mead, cubic metric",
-            fit_table(
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::Cubic,
-                Method::NelderMead,
-                iters,
-                &tick,
-            )?,
-        ),
-        (
-            "Nelder–Mead, L2 metric",
-            fit_table(
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::L2,
-                Method::NelderMead,
-                iters,
-                &tick,
-            )?,
-        ),
-        (
-            "L-BFGS (central differences), cubic metric",
-            fit_table(
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::Cubic,
-                Method::Lbfgs,
-                iters,
-                &tick,
-            )?,
-        ),
-    ];
-    pb.finish_and_clear();
-    let mut variants: Vec<(&'static str, Table)> = variants.into();
-    for (_, t) in variants.iter_mut() {
-        held::judge_table(t, &GgxTarget::new, Tolerance::default())?;
-    }
-    crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
-    Ok((main, variants))
-}
+pub use compute::cell_ltc;
+use compute::{fit_tables, plan, Plan};
 
 /// The title, the method and the table error.
 fn intro(
@@ -197,12 +96,12 @@ struct LtcResult<'a> {
 pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
     let (mut main, variants) = fit_tables(spec, &pl)?;
-    let bilinear = bilinear_pass(&mut main, &GgxTarget::new, pl.samples)?;
-    crate::ltc::storage::store_table(&mut main, &GgxTarget::new, pl.samples)?;
+    let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
+    crate::ltc::storage::store_table(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
-    held::judge_table(&mut main, &GgxTarget::new, Tolerance::default())?;
+    held::judge_table(&Memo, &mut main, &GgxTarget::new, Tolerance::default())?;
     let st = stats(&main);
-    let sampled = held::sampled_estimate(&main, &GgxTarget::new, 2 * pl.samples)?;
+    let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
     let mut md = intro(spec, preset, &pl, &main, &sampled);
     md.push_str(&format!(
         "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",

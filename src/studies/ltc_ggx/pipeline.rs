@@ -1,9 +1,12 @@
 //! The multi-scale pipeline of seed 000 §3–4 against brute force, in results/ltc.md.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::filters::footprint::{MipChain, NormalMap};
 use crate::integrate::Preset;
+use crate::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
 use crate::ltc::polygon::Light;
 use nalgebra::Vector3;
+use serde::Serialize;
 use std::path::Path;
 
 type V3 = Vector3<f64>;
@@ -14,8 +17,7 @@ pub(super) fn section(
     preset: Preset,
     md: &mut String,
 ) -> Result<serde_json::Value> {
-    use crate::filters::footprint::{NormalMap, Procedural};
-    use crate::ltc::pipeline::{run_map, LtcTable, METHODS};
+    use crate::filters::footprint::Procedural;
     let table = LtcTable::of(&crate::results::ltc::table(
         results,
         crate::results::names::LTC_GGX,
@@ -48,7 +50,7 @@ pub(super) fn section(
     };
     let mut by_level = Vec::new();
     for &lv in &levels {
-        let cs: Vec<&crate::ltc::pipeline::PipeCase> = cases
+        let cs: Vec<&PipeCase> = cases
             .iter()
             .filter(|c| c.level == lv && c.truth > 0.0)
             .collect();
@@ -91,4 +93,94 @@ pub(super) fn section(
         .fold(0.0, f64::max);
     md.push_str(&format!("\nLargest relative Monte Carlo s.e. of a brute-force value: {:.2} %. The first column shades every texel with the table and averages — an independent check of the brute force (it differs only by the LTC fit's error) and the target the single-lobe models approximate at one lookup per pixel. Level 0 measures the LTC table alone; the growth with the level is what each footprint model adds. Relative errors are largest where the light is off-specular and the truth is small (tails).\n", 100.0 * worst_se));
     Ok(serde_json::json!({"alpha": alpha, "views_deg": views, "levels": by_level}))
+}
+
+/// The methods compared.
+pub const METHODS: [&str; 5] = [
+    "per-texel LTC, averaged (the table at full resolution; cost ∝ texels)",
+    "plain LTC, renormalised mip normal, base α (aliasing baseline)",
+    "multi-scale LTC: α = ρ⁻¹(‖μ‖ρ(α)) (seed 000 + product identity)",
+    "multi-scale LTC with seed 000 Eq 5 + Eq 7",
+    "vMF α² + 2/κ",
+];
+
+/// One footprint case.
+#[derive(Clone, Debug, Serialize)]
+pub struct PipeCase {
+    pub map: String,
+    pub level: usize,
+    pub view_deg: f64,
+    pub truth: f64,
+    pub truth_se: f64,
+    pub methods: Vec<f64>,
+}
+
+/// Run the pipeline on one map for the given levels, footprints per level and views.
+#[allow(clippy::too_many_arguments)]
+pub fn run_map(
+    table: &LtcTable,
+    map: &NormalMap,
+    alpha: f64,
+    levels: &[usize],
+    per_level: usize,
+    views_deg: &[f64],
+    light: &Light,
+    samples: usize,
+    seed: u64,
+) -> Result<Vec<PipeCase>> {
+    let chain = MipChain::build(map);
+    let rho = crate::multiscale::mrl::mrl_pair(alpha).0;
+    let mut out = Vec::new();
+    for &lv in levels {
+        let level = chain
+            .levels
+            .get(lv)
+            .ok_or_else(|| Error::InvalidArgument(format!("level {lv} beyond the chain")))?;
+        for fp in 0..per_level {
+            let idx = (fp * 2654435761usize + 7) % (level.width * level.height);
+            let (i, j) = (idx % level.width, idx / level.width);
+            let st = level.stats[idx];
+            let mu = V3::from(st.mean_normal);
+            let r = mu.norm().min(1.0);
+            let nbar = mu / mu.norm();
+            let normals = map.block(lv, i, j);
+            for (vi, &vd) in views_deg.iter().enumerate() {
+                let th = vd.to_radians();
+                let v = V3::new(th.sin(), 0.0, th.cos());
+                let (t, se) = brute_force(
+                    &normals,
+                    alpha,
+                    &v,
+                    light,
+                    samples,
+                    seed ^ ((lv * 1000 + fp * 10 + vi) as u64),
+                )?;
+                let a_ms =
+                    crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
+                let a_eq = crate::filters::rules::seed000_paper(alpha, r).max(1e-4);
+                let a_vmf = crate::filters::rules::vmf(alpha, r, 2.0);
+                let per_texel = normals
+                    .iter()
+                    .map(|m| ltc_shade(table, m, alpha, &v, light))
+                    .sum::<f64>()
+                    / normals.len() as f64;
+                let methods = std::iter::once(per_texel)
+                    .chain(
+                        [alpha, a_ms, a_eq, a_vmf]
+                            .iter()
+                            .map(|a| ltc_shade(table, &nbar, a.min(1.0), &v, light)),
+                    )
+                    .collect();
+                out.push(PipeCase {
+                    map: map.name.clone(),
+                    level: lv,
+                    view_deg: vd,
+                    truth: t,
+                    truth_se: se,
+                    methods,
+                });
+            }
+        }
+    }
+    Ok(out)
 }

@@ -2,7 +2,7 @@
 //! closed-form rectangle, degenerate lights, the shipped shaders' clipped-sphere horizon,
 //! and the fitted LTC × polygon against Monte Carlo of the true BRDF.
 
-use super::cell_ltc;
+use super::compute::cell_ltc;
 use crate::error::Result;
 use crate::ltc::fit::Table;
 use crate::ltc::polygon::{self, EdgeForm};

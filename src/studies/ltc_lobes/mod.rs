@@ -10,115 +10,15 @@
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::ltc::fit::{fit_table, Grid, Method, Metric, Table};
+use crate::ltc::fit::Table;
 use crate::ltc::held::held_out_stats;
-use crate::ltc::lobe_error::Tolerance;
-use crate::ltc::lobes::{Lobe, LobeTarget};
-use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use std::path::Path;
 
+mod compute;
 mod report;
 
-/// A table family: the lobe of its main table and of its variant.
-#[derive(Clone, Copy, Debug)]
-pub struct Family {
-    pub name: &'static str,
-    pub title: &'static str,
-    pub main: Lobe,
-    pub variant: Lobe,
-    /// The spec name of the variant's table (results/fits/<variant_name>.json).
-    pub variant_name: &'static str,
-}
-
-/// The families, by spec name.
-pub fn family(name: &str) -> Option<Family> {
-    match name {
-        "ltc-sheen" => Some(Family {
-            name: "ltc-sheen",
-            title: "Charlie sheen LTC tables",
-            main: Lobe::SheenEstevezKulla,
-            variant: Lobe::SheenNeubelt,
-            variant_name: "ltc-sheen-neubelt",
-        }),
-        "ltc-diffuse" => Some(Family {
-            name: "ltc-diffuse",
-            title: "Burley diffuse LTC tables",
-            main: Lobe::BurleyPaper,
-            variant: Lobe::BurleyEngines,
-            variant_name: "ltc-diffuse-engines",
-        }),
-        _ => None,
-    }
-}
-
-pub(crate) struct Plan {
-    pub n: usize,
-    pub samples: usize,
-    pub mc: usize,
-}
-
-fn plan(p: Preset) -> Plan {
-    match p {
-        Preset::Quick => Plan {
-            n: 8,
-            samples: 12,
-            mc: 1 << 12,
-        },
-        Preset::Default => Plan {
-            n: 64,
-            samples: 16,
-            mc: 1 << 16,
-        },
-        Preset::Precise => Plan {
-            n: 64,
-            samples: 32,
-            mc: 1 << 18,
-        },
-    }
-}
-
-/// A fitted, bilinear-refitted, binary16-stored table of one lobe.
-pub(crate) struct Fitted {
-    pub lobe: Lobe,
-    pub table: Table,
-    pub bilinear: BilinearPass,
-}
-
-/// The target constructor of a lobe.
-fn target_of(lobe: Lobe) -> impl Fn(f64, f64) -> Result<LobeTarget> + Sync {
-    move |a, t| lobe.target(a, t)
-}
-
-/// Fit one lobe's table: the per-cell fit (cubic metric, L2 polish), one bilinear pass,
-/// the binary16 storage.
-fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
-    let grid = Grid {
-        n: pl.n,
-        alpha_min: spec.domain.alpha_min,
-    };
-    let iters = spec.optimiser.max_iters.unwrap_or(400);
-    let pb =
-        crate::progress::Progress::new(format!("ltc fit: {}", lobe.short()), (pl.n * pl.n) as u64);
-    let target = target_of(lobe);
-    let mut table = fit_table(
-        grid,
-        &target,
-        pl.samples,
-        Metric::Cubic,
-        Method::NelderMead,
-        iters,
-        &|| pb.inc(1),
-    )?;
-    pb.finish();
-    let bilinear = bilinear_pass(&mut table, &target, pl.samples)?;
-    crate::ltc::storage::store_table(&mut table, &target, pl.samples)?;
-    crate::ltc::held::judge_table(&mut table, &target, Tolerance::default())?;
-    Ok(Fitted {
-        lobe,
-        table,
-        bilinear,
-    })
-}
+pub use compute::{family, Family};
+use compute::{fit_lobe, plan};
 
 /// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
 fn per_cell(t: &Table) -> serde_json::Value {

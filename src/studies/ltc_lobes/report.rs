@@ -5,7 +5,7 @@
 //! (a light straddling the horizon included), and the cost of shading one lobe with the
 //! other's table. Compute (`compute`) → markdown (`markdown`) → heat maps (`heatmaps`).
 
-use super::{Family, Fitted, Plan};
+use super::compute::{Family, Fitted, Plan};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
@@ -16,6 +16,7 @@ use crate::ltc::lobe_error::{Bounded, LobeError, Spread};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
+use crate::memo::Memo;
 use serde::Serialize;
 
 /// One cell, as reported among the worst.
@@ -370,7 +371,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         norm_mc_left_out: zs.iter().filter(|z| z.is_none()).count(),
         polygons,
         facts: facts(t),
-        sampled: crate::ltc::held::sampled_estimate(t, &target, 2 * pl.samples)?,
+        sampled: crate::ltc::held::sampled_estimate(&Memo, t, &target, 2 * pl.samples)?,
     })
 }
 
@@ -554,7 +555,8 @@ pub(super) fn markdown(
 
 /// results/<family>-error.svg: both tables' held-out error.
 pub(super) fn heatmaps(main: &Fitted, variant: &Fitted) -> Result<String> {
-    use crate::report::plot::{heatmap_svg, ltc_error_panel};
+    use crate::report::plot::heatmap_svg;
+    use crate::studies::ltc_ggx::table_report::ltc_error_panel;
     let panel = |f: &Fitted| ltc_error_panel(&f.table, &format!("{}: relative L2", f.lobe.short()));
     heatmap_svg(&[panel(main), panel(variant)], 1300, 620)
 }

@@ -1,7 +1,7 @@
 //! The plots of the α_me study: the error of every method beyond the fit domain on both
 //! sides, and α_me against 1 − ‖b̄‖.
 
-use super::Computed;
+use super::compute::Computed;
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::multiscale::alpha_me::{held_out_alphas, paper_form, paper_method};

@@ -1,9 +1,11 @@
 //! results/multiscale.md: the held-out table, the whole-range check, the audit of Eq 5
 //! and our form.
 
-use super::{row, whole_range_md, Computed};
+use super::compute::Computed;
 use crate::fit::spec::FitSpec;
+use crate::multiscale::alpha_me::HeldOut;
 use crate::multiscale::mrl::{alpha_me_paper, mrl_pair};
+use crate::results::alpha_me::WholeRange;
 
 /// The report.
 pub(super) fn markdown(spec: &FitSpec, k: &Computed) -> String {
@@ -100,4 +102,34 @@ d_k (weights 1/g). Pass b itself where it is small, or y ≥ ½, for which b = 1
 product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 refit and the engines' rules are in \
 [multiscale-convolution.md](multiscale-convolution.md) (`regen --only multiscale-convolution`).\n");
     md
+}
+
+pub(super) fn row(name: &str, h: &HeldOut, cost: &str) -> String {
+    format!(
+        "| {name} | {:.3e} | {:.3e} | {:.4e} | {:+.3e} | {:+.3e} | {cost} |\n",
+        h.max_rel, h.rms_rel, h.worst_alpha, h.rel_at_min, h.rel_at_max
+    )
+}
+
+pub(super) fn whole_range_md(w: &WholeRange) -> String {
+    format!(
+        "## Over the whole input range\n\nThe same form evaluated over y = 1 − ‖b̄‖ from 1e-300 to 1/3 and over ‖b̄‖ \
+from 1e-300 to 2/3 ({} points, exact α from {:.2e} to {:.2e}), against Newton on the closed form at the same input. \
+Outside α ∈ [1e-4, 1e2] both branches follow their exact asymptotes.\n\n\
+| form | max rel. error, α ∈ [1e-4, 1e2] | max rel. error, whole range | worst at α |\n|---|---|---|---|\n\
+| f64 | {:.3e} | {:.3e} | {:.3e} |\n\
+| f32 (generated `alpha_me`, f32 coefficients; inputs that are normal f32) | {:.3e} | {:.3e} | {:.3e} |\n\n\
+Total: every input gives a finite α ≥ 0 (y = 0 ↦ the α → 0 end, y = 1 ↦ π/(2m) with m the smallest normal number, \
+NaN and values outside [0, 1] are clamped first): **{}**.\n\n",
+        w.points,
+        w.alpha_range[0],
+        w.alpha_range[1],
+        w.in_range_f64_max_rel,
+        w.f64_max_rel,
+        w.f64_worst_alpha,
+        w.in_range_f32_max_rel,
+        w.f32_max_rel,
+        w.f32_worst_alpha,
+        if w.total { "yes" } else { "NO" }
+    )
 }

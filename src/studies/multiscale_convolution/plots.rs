@@ -1,7 +1,7 @@
 //! The plots of the overall-α study: slices of α(α_mi, α_me) and maps of each model's
 //! error over the held-out grid.
 
-use super::{models, Computed};
+use super::compute::{models, Computed};
 use crate::error::Result;
 use crate::multiscale::alpha_me::held_out_alphas;
 use crate::multiscale::overall::{alpha_moment, eq7, improved, sum_of_squares};

@@ -1,7 +1,7 @@
 //! The report of the overall-α study: the metric spread, the models against the
 //! closed-form target, Eq 7 recomputed, and the models against each metric.
 
-use super::{metric_value, models, stats, Computed, Row};
+use super::compute::{metric_value, models, stats, Computed, Row};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::multiscale::overall::{alpha_moment, improved, Metric, CAPS};

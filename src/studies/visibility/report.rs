@@ -1,7 +1,7 @@
 //! results/survey-visibility.md and its Pareto plots: [`summarise`] aggregates the
 //! measured cases; [`markdown`] and [`pareto_svg`] only render.
 
-use super::{mean_se, shadow_methods, Measured, ASHIKHMIN_WIDTH, LEGENDRE_K};
+use super::compute::{mean_se, shadow_methods, Measured, ASHIKHMIN_WIDTH, LEGENDRE_K};
 use crate::error::Result;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg_legend, Panel, Series};
@@ -78,7 +78,7 @@ pub type HorizonSummary = (
     f64,
 );
 
-pub fn horizon_summary(cases: &[super::HorizonCase]) -> HorizonSummary {
+pub fn horizon_summary(cases: &[super::compute::HorizonCase]) -> HorizonSummary {
     let hg: Vec<String> = {
         let mut g: Vec<String> = cases.iter().map(|c| c.map.clone()).collect();
         g.dedup();
@@ -188,7 +188,7 @@ pub fn summarise(m: &Measured) -> Summary {
 fn by_scene(
     m: &Measured,
     occ: &[Occluders],
-    err: &dyn Fn(&super::ShadowCase) -> f64,
+    err: &dyn Fn(&super::compute::ShadowCase) -> f64,
 ) -> (Vec<f64>, Vec<Vec<f64>>) {
     let all = m.shadow.iter().map(err).collect();
     let per = occ
@@ -229,15 +229,16 @@ fn shadow_summary(m: &Measured) -> ShadowSummary {
             .iter()
             .enumerate()
             .map(|(k, meth)| {
-                let err =
-                    |c: &super::ShadowCase| ((if f16 { &c.f16 } else { &c.f32 })[k] - c.pcf).abs();
+                let err = |c: &super::compute::ShadowCase| {
+                    ((if f16 { &c.f16 } else { &c.f32 })[k] - c.pcf).abs()
+                };
                 let (e, g) = by_scene(m, &occ, &err);
                 row(method_name(meth), meth.params(), &e, g)
             })
             .collect()
     };
     let eq33 = {
-        let err = |c: &super::ShadowCase| (c.pcf_mean_depth - c.pcf).abs();
+        let err = |c: &super::compute::ShadowCase| (c.pcf_mean_depth - c.pcf).abs();
         let (e, g) = by_scene(m, &occ, &err);
         row(
             "PCF at the mean receiver depth (Eq 33's assumption)".into(),

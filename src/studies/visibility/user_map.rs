@@ -1,7 +1,8 @@
 //! `horizon --input HEIGHT.png`: the horizon-map study of results/survey-visibility.md on
 //! a user's height map.
 
-use super::{horizon_cases, report, Plan};
+use super::compute::{horizon_cases, Plan};
+use super::report;
 use crate::error::Result;
 use crate::integrate::Preset;
 use crate::visibility::HeightField;

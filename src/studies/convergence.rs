@@ -4,7 +4,7 @@
 //! (results/convergence.svg). Deterministic (fixed seeds); timing lives in the criterion
 //! benches (benches/engines.rs → results/performance.md).
 
-use super::plot::{loglog_svg, Panel, Series};
+use crate::report::plot::{loglog_svg, Panel, Series};
 use crate::error::Result;
 use crate::integrate::mc::{mis, CosineHemisphere, Strategy};
 use crate::integrate::qmc::qmc_mis;

@@ -1,7 +1,7 @@
 //! The per-topic tables of results/performance.md: each study's cost (criterion) next to
 //! the error it buys (its results/fits JSON).
 
-use super::{fmt_ratio, Timed};
+use super::criterion::{fmt_ratio, Timed};
 use crate::error::Result;
 use std::path::Path;
 
@@ -64,7 +64,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     if let Some(held) = v.as_ref().map(|v| &v.held_out) {
         md.push_str(&format!(
             "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc.md).\n\n",
-            super::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
+            super::main_job::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
             held.l2.mean.pct(2),
             held.l2.max.pct(1)
         ));

@@ -2,7 +2,7 @@
 //! generated shader through naga and the Khronos validators, and the prefilter tool on a
 //! 2048² map next to the per-mip re-read a one-pass-per-mip tool does.
 
-use super::{fmt_time, Timed};
+use super::criterion::{fmt_time, Timed};
 
 const SHADER_COLUMNS: [&str; 7] = [
     "naga parse + validate",
@@ -92,7 +92,7 @@ pub(super) fn ltc_tables_table(
         } else {
             kind.fit
         };
-        let fit = super::cold_stage_seconds(study)
+        let fit = super::main_job::cold_stage_seconds(study)
             .map_or("—".into(), |s| format!("{s:.0} s ({study})"));
         let h = &v.held_out.l2;
         let err = format!("{} / {}", h.mean.pct(2), h.max.pct(1));
@@ -115,7 +115,7 @@ pub(super) fn ltc_tables_table(
             .map_or("—".to_string(), per_pixel);
         md.push_str(&format!(
             "| ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells) | {} for {} cells | {:.2} % / {:.1} % | {px} |\n",
-            super::cold_stage_seconds("ltc-aniso").map_or("—".into(), |t| format!("{t:.0} s")),
+            super::main_job::cold_stage_seconds("ltc-aniso").map_or("—".into(), |t| format!("{t:.0} s")),
             s.cells_fitted,
             100.0 * s.between_table.mean,
             100.0 * s.between_table.max,

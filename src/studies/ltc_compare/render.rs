@@ -1,10 +1,11 @@
-//! The rendering of `ltc-compare` (`compare_report`): the markdown report and the heat
+//! The rendering of `ltc-compare` (`studies::ltc_compare`): the markdown report and the heat
 //! maps of a comparison already computed. Formats only.
 
-use super::compare::Shipped;
-use super::compare_report::{alpha_theta, summarise, worse, Form, Pair};
-use super::lobe_error::LobeError;
+use super::compute::{summarise, worse, Form, Pair};
 use crate::error::Result;
+use crate::ltc::compare::alpha_theta;
+use crate::ltc::compare::Shipped;
+use crate::ltc::lobe_error::LobeError;
 
 /// The markdown report.
 pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {

@@ -1,0 +1,196 @@
+//! The comparison's computation: every table an engine may hold, judged at every cell and
+//! square centre, and the summary of ours against the shipped.
+
+use crate::error::Result;
+use crate::ltc::compare::{alpha_theta, cell_error_of, square_entries, Shipped};
+use crate::ltc::lobe_error::{Bounded, LobeError, Spread};
+use crate::ltc::target::{GgxTarget, LtcTarget};
+use crate::ltc::upload;
+use crate::results::compare::Summary;
+use serde::Serialize;
+
+/// Both tables' held-out figures at one place (`None` where a table is singular there or
+/// leaves it out).
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
+pub struct Pair {
+    pub ours: Option<LobeError>,
+    pub shipped: Option<LobeError>,
+    /// The relative L2 as earlier versions estimated it (48² + 48² stratified samples,
+    /// a biased ratio of sums; NaN where not judged), kept to say what changed.
+    pub ours_sampled: f64,
+    pub shipped_sampled: f64,
+}
+
+/// One way an engine uploads both tables, judged at its reachable places.
+#[derive(Clone, Debug, Serialize)]
+pub struct Form {
+    pub name: &'static str,
+    /// What the engine's path holds: ours / the shipped table.
+    pub holds: &'static str,
+    /// The smallest perceptual roughness its shader reads.
+    pub r_min: f64,
+    /// cells[i + n·j]
+    pub cells: Vec<Pair>,
+    /// squares[i + (n − 1)·j]: the square with corners (i, j) and (i + 1, j + 1)
+    pub squares: Vec<Pair>,
+}
+
+/// The entries every table holds at one place (cell or square centre): the same place in
+/// every table, `None` where a table leaves it out.
+pub(super) fn entries_at(t: &Shipped, square: bool, i: usize, j: usize) -> Option<([f64; 4], f64)> {
+    if square {
+        square_entries(t, i, j)
+    } else {
+        let k = i + t.n * j;
+        let e = (t.mat[k], t.mag[k][0]);
+        (e.0.iter().all(|v| v.is_finite()) && e.1.is_finite()).then_some(e)
+    }
+}
+
+/// The tables an engine may hold, in the order of [`TABLES`].
+pub(super) struct Tables {
+    pub(super) ours_f32: Shipped,
+    pub(super) ours_f16: Shipped,
+    pub(super) three_f32: Shipped,
+    pub(super) three_f16: Shipped,
+    pub(super) bevy: Option<Shipped>,
+}
+
+/// The held-out figures of every table at a place, and the earlier sampled estimate.
+pub(super) type Judged = ([Option<LobeError>; 5], [f64; 5]);
+
+/// Every place of every table, judged in one cubature per place.
+pub(super) fn judge_places(tables: &Tables, square: bool) -> Result<Vec<Judged>> {
+    let n = tables.ours_f32.n;
+    let w = if square { n - 1 } else { n };
+    let off = if square { 0.5 } else { 0.0 };
+    let list: [Option<&Shipped>; 5] = [
+        Some(&tables.ours_f32),
+        Some(&tables.ours_f16),
+        Some(&tables.three_f32),
+        Some(&tables.three_f16),
+        tables.bevy.as_ref(),
+    ];
+    let label = format!(
+        "ltc-compare {} {n}²",
+        if square { "squares" } else { "cells" }
+    );
+    crate::memo::map(&label, w * w, |k| {
+        let (i, j) = (k % w, k / w);
+        let r = (i as f64 + off) / (n - 1) as f64;
+        let (alpha, theta) = alpha_theta(r, (j as f64 + off) / (n - 1) as f64);
+        let t = GgxTarget::new(alpha, theta)?;
+        let (albedo, _, _) = t.albedo(1e-8);
+        // three.js never reads below its roughness clamp
+        let reachable = |q: usize| q < 2 || q == 4 || r >= upload::THREE_MIN_ROUGHNESS;
+        let places: Vec<(usize, ([f64; 4], f64))> = list
+            .iter()
+            .enumerate()
+            .filter(|(q, _)| reachable(*q))
+            .filter_map(|(q, t)| t.and_then(|t| entries_at(t, square, i, j)).map(|e| (q, e)))
+            .collect();
+        let e = cell_error_of(
+            &t,
+            albedo,
+            &places.iter().map(|(_, e)| *e).collect::<Vec<_>>(),
+        );
+        let mut out = [None; 5];
+        let mut sampled = [f64::NAN; 5];
+        for ((q, entries), e) in places.iter().zip(e) {
+            out[*q] = e;
+            sampled[*q] = crate::ltc::fit::production_metrics(&t, &entries.0, entries.1, 48, 0.25)
+                .map_or(f64::NAN, |m| m.1);
+        }
+        Ok((out, sampled))
+    })
+}
+
+/// Every cell and square of both tables in each engine's upload.
+pub(super) fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
+    crate::report::stage("ltc-compare: cells");
+    let cells = judge_places(tables, false)?;
+    crate::report::stage("ltc-compare: squares");
+    let squares = judge_places(tables, true)?;
+    let n = tables.ours_f32.n;
+    let pick = |v: &[Judged], ours: usize, theirs: usize, r_min: f64, w: usize, off: f64| {
+        v.iter()
+            .enumerate()
+            .map(|(k, (e, sm))| {
+                let r = ((k % w) as f64 + off) / (n - 1) as f64;
+                if r < r_min {
+                    Pair {
+                        ours: None,
+                        shipped: None,
+                        ours_sampled: f64::NAN,
+                        shipped_sampled: f64::NAN,
+                    }
+                } else {
+                    Pair {
+                        ours: e[ours],
+                        shipped: e[theirs],
+                        ours_sampled: sm[ours],
+                        shipped_sampled: sm[theirs],
+                    }
+                }
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut forms = vec![
+        Form {
+            name: "three.js FloatType",
+            holds: "ours: our table in f32 (ltc_ggx.js); shipped: LTC_MAT_1/2 as Float32Array",
+            r_min: upload::THREE_MIN_ROUGHNESS,
+            cells: pick(&cells, 0, 2, upload::THREE_MIN_ROUGHNESS, n, 0.0),
+            squares: pick(&squares, 0, 2, upload::THREE_MIN_ROUGHNESS, n - 1, 0.5),
+        },
+        Form {
+            name: "three.js HalfFloatType",
+            holds: "ours: our stored binary16 table (ltc_ggx_*_f16.bin); shipped: DataUtils.toHalfFloat of LTC_MAT_1/2 (truncated)",
+            r_min: upload::THREE_MIN_ROUGHNESS,
+            cells: pick(&cells, 1, 3, upload::THREE_MIN_ROUGHNESS, n, 0.0),
+            squares: pick(&squares, 1, 3, upload::THREE_MIN_ROUGHNESS, n - 1, 0.5),
+        },
+    ];
+    if tables.bevy.is_some() {
+        forms.push(Form {
+            name: "Bevy ltc.ktx2",
+            holds: "ours: our stored binary16 table (ltc_ggx.ktx2); shipped: bevy_pbr's embedded ltc.ktx2 (RGBA16F, zstd)",
+            r_min: 0.0,
+            cells: pick(&cells, 1, 4, 0.0, n, 0.0),
+            squares: pick(&squares, 1, 4, 0.0, n - 1, 0.5),
+        });
+    }
+    Ok(forms)
+}
+
+pub(super) fn worse(a: &Bounded, b: &Bounded) -> bool {
+    a.value - a.error > b.value + b.error
+}
+
+pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
+    let pairs: Vec<&Pair> = v
+        .filter(|p| p.ours.is_some() && p.shipped.is_some())
+        .collect();
+    let both: Vec<(&LobeError, &LobeError)> = pairs
+        .iter()
+        .filter_map(|p| Some((p.ours.as_ref()?, p.shipped.as_ref()?)))
+        .collect();
+    let sampled: Vec<(f64, f64)> = pairs
+        .iter()
+        .map(|p| (p.ours_sampled, p.shipped_sampled))
+        .filter(|x| x.0.is_finite() && x.1.is_finite())
+        .collect();
+    let ms = sampled.len().max(1) as f64;
+    Summary {
+        count: both.len(),
+        ours_l2: Spread::of(both.iter().map(|p| Some(&p.0.l2))),
+        shipped_l2: Spread::of(both.iter().map(|p| Some(&p.1.l2))),
+        ours_l1: Spread::of(both.iter().map(|p| Some(&p.0.l1))),
+        shipped_l1: Spread::of(both.iter().map(|p| Some(&p.1.l1))),
+        ours_better: both.iter().filter(|p| worse(&p.1.l2, &p.0.l2)).count(),
+        ours_worse: both.iter().filter(|p| worse(&p.0.l2, &p.1.l2)).count(),
+        sampled_ours_mean: sampled.iter().map(|x| x.0).sum::<f64>() / ms,
+        sampled_shipped_mean: sampled.iter().map(|x| x.1).sum::<f64>() / ms,
+        sampled_no_worse: sampled.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
+    }
+}
