@@ -6,7 +6,7 @@
 //! lookup of its binary16 entries and the quad integral); every render method's shading
 //! pass per pixel on one core (the G-buffer, each approximation of the example scenes,
 //! seed 002's brute force and CP query); every representation of the survey study
-//! (results/survey.md) evaluated as the lobe it shades. `cargo run --release -- bench-report`
+//! (results/filters-survey.md) evaluated as the lobe it shades. `cargo run --release -- bench-report`
 //! renders them into results/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};

@@ -448,7 +448,7 @@ fn tensor(c: &mut Criterion) {
 /// The cost of fitting one LTC cell (Nelder–Mead, four parameters, the
 /// default preset's 24×24 samples per technique) and of integrating one pixel's quad light
 /// with each edge form (f64, clipped to the horizon), next to their errors in
-/// results/ltc.md.
+/// results/ltc-ggx.md.
 fn ltc(c: &mut Criterion) {
     use ndfbench::ltc::fit::{fit_cell, Method, Metric};
     use ndfbench::ltc::polygon::{ltc_integral, EdgeForm};

@@ -368,6 +368,15 @@ fn main() -> ExitCode {
                 },
             )
         }
+        Some(Cmd::ResultsReadme) => {
+            let out = cli.results.join("README.md");
+            ndfbench::io::write_atomic(&out, ndfbench::results::index::readme().as_bytes()).map(
+                |()| {
+                    eprintln!("wrote {}", out.display());
+                    true
+                },
+            )
+        }
         Some(Cmd::BenchReport {
             criterion,
             main_job_only,

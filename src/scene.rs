@@ -383,7 +383,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
             .and_then(|v| v.sphere_horizon.map(|s| s.energy_weighted_rel));
         let cost = measured_tables.cost("kernel-ltc-quad/per-pixel");
         report.push_str(&format!(
-            "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc.md) | {} (scalar, per pixel) |\n",
+            "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc-ggx.md) | {} (scalar, per pixel) |\n",
             mean.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
             sph.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
             fmt_cost(cost)
@@ -392,7 +392,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     if s.lights.iter().any(|l| l == "environment") {
         fns.push("leadr5_env");
         let cost = measured_tables.cost("kernel-leadr/per-pixel");
-        report.push_str(&format!("| environment | LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup) | leadr5_env | grid error: results/leadr.md | {} (scalar, per pixel) |\n", fmt_cost(cost)));
+        report.push_str(&format!("| environment | LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup) | leadr5_env | grid error: results/leadr-grids.md | {} (scalar, per pixel) |\n", fmt_cost(cost)));
     }
     let mut choices = Vec::new();
     for (aspect, want, opts) in [

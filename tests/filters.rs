@@ -115,7 +115,7 @@ fn lean_adds_twice_the_covariance() {
 
 #[test]
 fn seed000_moment_fit_matches_newton_within_the_fit_error() {
-    // held-out max relative error of the α_me fit is 1.6e-4 (results/multiscale.md)
+    // held-out max relative error of the α_me fit is 1.6e-4 (results/multiscale-alpha-me.md)
     let spec = ndfbench::fit::spec::load_dir(std::path::Path::new("fits"))
         .unwrap()
         .into_iter()
@@ -448,7 +448,7 @@ fn regen_filters_quick_writes_the_report() {
     let json: ndfbench::results::filters::Filters = ndfbench::results::require(&dir).unwrap();
     assert!(json.fitted.len() >= 4);
     // the survey on the same cases: every row, the five maps, the verdicts, no NaN
-    let sv = std::fs::read_to_string(dir.join("survey.md")).unwrap();
+    let sv = std::fs::read_to_string(dir.join("filters-survey.md")).unwrap();
     for key in [
         "## Verdicts: the best representation",
         "| scratches |",
@@ -458,10 +458,10 @@ fn regen_filters_quick_writes_the_report() {
         "SGGX / Neyret ellipsoid (Eq 18)",
         "## Han et al.'s rule of thumb",
     ] {
-        assert!(sv.contains(key), "survey.md misses {key}");
+        assert!(sv.contains(key), "filters-survey.md misses {key}");
     }
-    assert!(!sv.contains("NaN"), "survey.md holds a NaN");
-    assert!(std::fs::read_to_string(dir.join("survey.svg"))
+    assert!(!sv.contains("NaN"), "filters-survey.md holds a NaN");
+    assert!(std::fs::read_to_string(dir.join("filters-survey.svg"))
         .unwrap()
         .contains("parameters per texel"));
     let rows = &json.survey.rows;

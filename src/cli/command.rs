@@ -44,17 +44,17 @@ pub enum Cmd {
     /// 64×64 GGX
     /// LTC table (four parameters per cell) and measures polygon integration, the
     /// multi-scale pipeline, what f32/f16 storage costs and the floor of a single LTC
-    /// (`results/ltc.md`; every cell's held-out figures are judged as exact integrals;
+    /// (`results/ltc-ggx.md`; every cell's held-out figures are judged as exact integrals;
     /// results/performance.md has each study's wall clock), and writes the
     /// engine files (`results/textures/`); `--only tensor` CP-compresses P-NDF image blocks
     /// at several ranks (`results/tensor.md`); `--only tensor-scale` runs seed 002
     /// at the paper's scale (`results/tensor-scale.md`; on request only,
     /// never part of the main job or of a selection of other studies); `--only visibility`
     /// measures the horizon, shadow and procedural methods
-    /// (`results/survey-visibility.md`); `--only filters` runs the footprint-filter group
+    /// (`results/visibility.md`); `--only filters` runs the footprint-filter group
     /// (LEADR grids, Smith Λ refit, footprint filters, and on the same cases the survey's
     /// pre-filtering representations) and writes `results/filters.md` and
-    /// `results/survey.md` with progress bars. Every regen then regenerates the code: WGSL
+    /// `results/filters-survey.md` with progress bars. Every regen then regenerates the code: WGSL
     /// modules under `results/wgsl/` (including the LTC table as data: `ltc_table.wgsl`
     /// f32, `ltc_table_f16.wgsl` binary16) and, for the canonical `results/`, the Rust
     /// twins in `src/generated/shading.rs` and the table constants in
@@ -262,12 +262,12 @@ pub enum Cmd {
         #[arg(long, value_enum, default_value_t = Preset::Default)]
         preset: Preset,
     },
-    /// The horizon-map study of results/survey-visibility.md on a height map: a square,
+    /// The horizon-map study of results/visibility.md on a height map: a square,
     /// power-of-two grey PNG (8/16-bit, ≤ 4096²), heights = value × SCALE texels. Writes
     /// DIR/horizon.md (every method's error against the exact visible fractions) and
     /// DIR/horizon.json.
     ///
-    /// The horizon-map study of `results/survey-visibility.md` on your height map (square,
+    /// The horizon-map study of `results/visibility.md` on your height map (square,
     /// power-of-two grey PNG, 8/16-bit, ≤ 4096²; heights = grey value × S texels, S ∈ (0,
     /// 1e6], default 16): Fournier's ramp, Tan et al.'s erf HDF, the Legendre series and
     /// the joint forms (product, Eq 28, Ashikhmin) against the exact visible fractions of
@@ -329,7 +329,7 @@ pub enum Cmd {
     /// norm, stored in f32 and in f16, every cell and every square (both textures
     /// interpolated bilinearly at its centre), per row and per column, the worst cells,
     /// heat maps; writes DIR/ltc-compare.{md,json,svg} and ltc-compare-rows.svg, which
-    /// `regen --only ltc-ggx` summarises in results/ltc.md. `--norm-ours`
+    /// `regen --only ltc-ggx` summarises in results/ltc-ggx.md. `--norm-ours`
     /// uses our quadrature norms for both tables (only the matrices are compared; the file
     /// then needs only the matrix array); cells given as NaN are skipped, so a partial
     /// table works; `--source` records where the file came from. The file is only read,
@@ -380,6 +380,10 @@ pub enum Cmd {
         #[arg(long, default_value = "docs/cli.md")]
         out: PathBuf,
     },
+    /// Write results/README.md: every output of results/, the command that writes it and
+    /// what it reads (from the index in src/results/index.rs).
+    #[command(hide = true)]
+    ResultsReadme,
     /// Turn criterion output (target/criterion) into results/performance.md.
     ///
     /// Reads criterion's output (default `target/criterion`) and writes

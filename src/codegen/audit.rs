@@ -482,6 +482,6 @@ the study's.\n\n| function | inputs | metric | points | max error, domain | doma
             a.non_finite
         ));
     }
-    md.push_str("\nThe α_me fit's own held-out study is in [multiscale.md](multiscale.md); the Λ refit's in [smith-lambda.md](smith-lambda.md); the filters' errors against the footprint-averaged BRDF in [filters.md](filters.md). The property tests of tests/codegen.rs sample the same ranges at random.\n");
+    md.push_str("\nThe α_me fit's own held-out study is in [multiscale-alpha-me.md](multiscale-alpha-me.md); the Λ refit's in [smith-lambda.md](smith-lambda.md); the filters' errors against the footprint-averaged BRDF in [filters.md](filters.md). The property tests of tests/codegen.rs sample the same ranges at random.\n");
     md
 }

@@ -323,7 +323,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "ltc_edge_factor",
-        doc: "θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).",
+        doc: "θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc-ggx.md).",
         params: "x: f32",
         ret: "f32",
         body: Body::Text("    let y: f32 = abs(x);
@@ -382,7 +382,7 @@ pub const FUNCTIONS: &[FnDesc] = &[
     },
     FnDesc {
         name: "leadr_env",
-        doc: "The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.",
+        doc: "The analytic test environment of results/leadr-grids.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.",
         params: "rx: f32, ry: f32, rz: f32",
         ret: "f32",
         body: Body::Text("    let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;

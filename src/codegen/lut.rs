@@ -45,7 +45,7 @@ fn ltc_lut_weights(lut: texture_2d_array<f32>, s: sampler, alpha: f32, cos_theta
 }
 ";
     let text = format!(
-        "{}// LTC table lookup for every table of results/textures/ (GGX, sheen, diffuse): the engine binds the table's 2-layer texture and a linear sampler and passes them in. The error of each table between cells: results/ltc.md, results/ltc-sheen.md, results/ltc-diffuse.md.\n\n{body}",
+        "{}// LTC table lookup for every table of results/textures/ (GGX, sheen, diffuse): the engine binds the table's 2-layer texture and a linear sampler and passes them in. The error of each table between cells: results/ltc-ggx.md, results/ltc-sheen.md, results/ltc-diffuse.md.\n\n{body}",
         super::text::header("//", command, "src/codegen/lut.rs"),
     );
     namespace::apply(&text, &IDENTS)

@@ -5,7 +5,7 @@
 //! (r = √α = i/(n−1)), view index j (t = √(1 − cos θ) = j/(n−1)) at i + n·j; LTC_1 =
 //! (a, b, c, d) of M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] (column-major as in WGSL's
 //! `mat3x3(vec3(a, 0, b), vec3(0, 1, 0), vec3(c, 0, d))`), LTC_2 = (norm, fresnel). The
-//! error each precision costs is measured in results/ltc.md.
+//! error each precision costs is measured in results/ltc-ggx.md.
 
 use crate::error::Result;
 use half::f16;
@@ -43,7 +43,7 @@ pub fn pack_half(x: f16, y: f16) -> u32 {
 pub fn render_wgsl(t: &LtcTableData, half: bool, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
-        "{}// GGX LTC table ({}×{}, {}); {LAYOUT}. The error this precision costs: results/ltc.md.\n// Most renderers upload the table once as two {} textures and sample it bilinearly at (ndfb_ltc_lut_u, ndfb_ltc_lut_v) of ltc.wgsl; the arrays serve compute passes and tests.\n\nconst LTC_TABLE_N: u32 = {}u;\n\n",
+        "{}// GGX LTC table ({}×{}, {}); {LAYOUT}. The error this precision costs: results/ltc-ggx.md.\n// Most renderers upload the table once as two {} textures and sample it bilinearly at (ndfb_ltc_lut_u, ndfb_ltc_lut_v) of ltc.wgsl; the arrays serve compute passes and tests.\n\nconst LTC_TABLE_N: u32 = {}u;\n\n",
         super::text::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,
@@ -116,7 +116,7 @@ pub const TABLE_IDENTS: [&str; 5] = [
 pub fn render_rust(t: &LtcTableData, command: &str) -> String {
     let nn = t.n * t.n;
     let mut s = format!(
-        "{}//! GGX LTC table ({}×{}); {LAYOUT}. `*_F16` hold the table's binary16 storage (the f16 neighbours chosen by the fit, `table_f16`; round to nearest where the file has none), two per u32 with the first in bits 0–15 (WGSL's `unpack2x16float` layout). The error each precision costs: results/ltc.md.\n\npub const LTC_TABLE_N: usize = {};\n\n",
+        "{}//! GGX LTC table ({}×{}); {LAYOUT}. `*_F16` hold the table's binary16 storage (the f16 neighbours chosen by the fit, `table_f16`; round to nearest where the file has none), two per u32 with the first in bits 0–15 (WGSL's `unpack2x16float` layout). The error each precision costs: results/ltc-ggx.md.\n\npub const LTC_TABLE_N: usize = {};\n\n",
         super::text::header("//", command, "results/fits/ltc-ggx.json"),
         t.n,
         t.n,

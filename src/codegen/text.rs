@@ -146,7 +146,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
     out.push(Const {
         name: "LEADR_SPACING_N5".into(),
         value: h as f32,
-        doc: "fitted uniform slope-grid spacing for N = 5 (results/leadr.md; the paper uses 0.9)"
+        doc: "fitted uniform slope-grid spacing for N = 5 (results/leadr-grids.md; the paper uses 0.9)"
             .into(),
     });
     // weights ∝ φ(k h), k = 0, ±1, ±2, normalised (the paper's construction, seed 001 §3.4)
@@ -307,7 +307,7 @@ pub const MODULES: [(&str, &str, &[&str]); 5] = [
     ),
     (
         "ltc.wgsl",
-        "LTC polygon lights: table coordinates, edge integral and the quad integral with the clipped-sphere horizon (results/ltc.md); the table itself is data (results/fits/ltc-ggx.json), sampled as two textures",
+        "LTC polygon lights: table coordinates, edge integral and the quad integral with the clipped-sphere horizon (results/ltc-ggx.md); the table itself is data (results/fits/ltc-ggx.json), sampled as two textures",
         &["ltc_lut_u", "ltc_lut_v", "ltc_quad"],
     ),
     (

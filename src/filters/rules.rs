@@ -110,7 +110,7 @@ pub fn godot_limiter<T: Float>(alpha: T, r: T) -> T {
 }
 
 /// Seed 000 Eq 5 (α_me from ‖b̄‖ = |μ|), clamped at 0 (it is negative for
-/// ‖b̄‖ > 0.999725, results/multiscale.md), combined with the base α by Eq 7.
+/// ‖b̄‖ > 0.999725, results/multiscale-alpha-me.md), combined with the base α by Eq 7.
 pub fn seed000_paper<T: Float>(alpha: T, r: T) -> T {
     let b = r;
     let num = (((k::<T>(1.629) * b + k(17.05)) * b - k(18.96)) * b - k(23.37)) * b + k(23.65);

@@ -90,7 +90,7 @@ pub const FILTER_VMF_C_GGX: f32 = 1.8643675;
 pub const FILTER_EQ13_SIGMA2_GAUSSIAN_PIXEL: f32 = 0.12291626;
 /// clamp δ_max of seed 003 Eq 10/13
 pub const FILTER_DELTA_MAX: f32 = 0.18;
-/// fitted uniform slope-grid spacing for N = 5 (results/leadr.md; the paper uses 0.9)
+/// fitted uniform slope-grid spacing for N = 5 (results/leadr-grids.md; the paper uses 0.9)
 pub const LEADR_SPACING_N5: f32 = 0.7523244;
 /// 5-point slope-grid weight of node ±0·h (φ(kh)/Σφ with the fitted h)
 pub const LEADR_W0: f32 = 0.31727582;
@@ -295,7 +295,7 @@ pub fn ltc_lut_v(cos_theta: f32) -> f32 {
     return (t * (LTC_LUT_SIZE - 1.0) + 0.5) / LTC_LUT_SIZE;
 }
 
-/// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).
+/// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc-ggx.md).
 pub fn ltc_edge_factor(x: f32) -> f32 {
     let y: f32 = abs(x);
     let a: f32 = 0.8543985 + (0.4965155 + 0.0145206 * y) * y;
@@ -347,7 +347,7 @@ pub fn ltc_quad(a: f32, b: f32, c: f32, d: f32, p0x: f32, p0y: f32, p0z: f32, p1
     return clamp((len * len + fz2) / (len + 1.0), 0.0, 1.0);
 }
 
-/// The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.
+/// The analytic test environment of results/leadr-grids.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.
 pub fn leadr_env(rx: f32, ry: f32, rz: f32) -> f32 {
     let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;
     return 0.5 + 0.5 * rz + 10.0 * exp(max(50.0 * (c - 1.0), -87.0));

@@ -81,7 +81,7 @@ pub fn accuracy(kernel: &str, backend: Backend, n: usize) -> Result<(f64, f64)> 
             ltc_quad(backend, &inp, &mut out)?;
             ltc_quad(Backend::Scalar, &inp, &mut sc)?;
             // reference: the same vector form factor and sphere horizon in f64 with the
-            // exact θ/sin θ (the approximation's own error is measured in results/ltc.md)
+            // exact θ/sin θ (the approximation's own error is measured in results/ltc-ggx.md)
             (0..n)
                 .map(|i| {
                     let f = |k: usize| c[k][i] as f64;

@@ -1,5 +1,5 @@
 //! results/ltc-compare.json: our GGX table against a shipped one (three.js's, Bevy's) as
-//! shaders sample them, written by `ltc-compare` and summarised in results/ltc.md.
+//! shaders sample them, written by `ltc-compare` and summarised in results/ltc-ggx.md.
 
 use crate::error::Result;
 use crate::ltc::lobe_error::Spread;

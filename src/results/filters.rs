@@ -142,7 +142,7 @@ pub struct RuleOfThumb {
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
-/// results/survey.md's numbers: every representation's row, the verdicts per budget and
+/// results/filters-survey.md's numbers: every representation's row, the verdicts per budget and
 /// the diagnostics of the survey's pitfalls.
 pub struct Summary {
     pub maps: Vec<String>,

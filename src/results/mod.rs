@@ -12,6 +12,7 @@ pub mod alpha_me;
 pub mod compare;
 pub mod costs;
 pub mod filters;
+pub mod index;
 pub mod leadr_grids;
 pub mod ltc;
 pub mod render;

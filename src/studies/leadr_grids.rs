@@ -128,7 +128,7 @@ fn pareto_svg(rows: &[NRow]) -> Result<String> {
     )
 }
 
-/// results/leadr.md.
+/// results/leadr-grids.md.
 fn markdown(k: &Computed) -> String {
     let Computed {
         ref rows,
@@ -181,7 +181,7 @@ does not dominate at grazing views.\n\n",
 
 /// `regen --only leadr-grids`: error against N for three grid families (paper spacing 0.9,
 /// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
-/// micronormal at silhouettes; results/leadr.md, results/leadr-pareto.svg,
+/// micronormal at silhouettes; results/leadr-grids.md, results/leadr-pareto.svg,
 /// results/fits/leadr-grids.json.
 pub fn regen(
     spec: &crate::fit::spec::FitSpec,
@@ -199,7 +199,7 @@ pub fn regen(
         with,
         ..
     } = k;
-    crate::io::write_atomic(&results.join("leadr.md"), md.as_bytes())?;
+    crate::io::write_atomic(&results.join("leadr-grids.md"), md.as_bytes())?;
     use crate::results::leadr_grids::{Families, LeadrGrids, Micronormal, Row};
     let result = LeadrGrids {
         spec: spec.clone(),

@@ -67,7 +67,7 @@ fn ndfb_ltc_lut_v(cos_theta: f32) -> f32 {
     return (t * (NDFB_LTC_LUT_SIZE - 1.0) + 0.5) / NDFB_LTC_LUT_SIZE;
 }
 
-/// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc.md).
+/// θ/(2π sin θ) of a polygon edge from x = cos θ = p₁·p₂ (unit vertices): the rational fit shipped with the LTC demos (max rel. error 1.4e-6 where 1 − x² ≥ 1e-7; results/ltc-ggx.md).
 fn ndfb_ltc_edge_factor(x: f32) -> f32 {
     let y: f32 = abs(x);
     let a: f32 = 0.8543985 + (0.4965155 + 0.0145206 * y) * y;

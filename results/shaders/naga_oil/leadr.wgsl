@@ -3,7 +3,7 @@
 
 #define_import_path ndfbench::leadr
 
-/// fitted uniform slope-grid spacing for N = 5 (results/leadr.md; the paper uses 0.9)
+/// fitted uniform slope-grid spacing for N = 5 (results/leadr-grids.md; the paper uses 0.9)
 const NDFB_LEADR_SPACING_N5: f32 = 0.7523244;
 /// 5-point slope-grid weight of node ±0·h (φ(kh)/Σφ with the fitted h)
 const NDFB_LEADR_W0: f32 = 0.31727582;
@@ -12,7 +12,7 @@ const NDFB_LEADR_W1: f32 = 0.23907457;
 /// 5-point slope-grid weight of node ±2·h (φ(kh)/Σφ with the fitted h)
 const NDFB_LEADR_W2: f32 = 0.10228751;
 
-/// The analytic test environment of results/leadr.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.
+/// The analytic test environment of results/leadr-grids.md: sky 0.5 + 0.5 r_z plus a κ = 50 sun toward normalize(0.5, 0.2, 0.8) with intensity 10.
 fn ndfb_leadr_env(rx: f32, ry: f32, rz: f32) -> f32 {
     let c: f32 = (0.5 * rx + 0.2 * ry + 0.8 * rz) * 1.0369517;
     return 0.5 + 0.5 * rz + 10.0 * exp(max(50.0 * (c - 1.0), -87.0));

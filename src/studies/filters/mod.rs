@@ -70,11 +70,11 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     crate::io::write_atomic(&results.join("filters.md"), md.as_bytes())?;
     let n_all = map_cases.len() + extra_cases.len();
     crate::io::write_atomic(
-        &results.join("survey.md"),
+        &results.join("filters-survey.md"),
         survey_report::markdown(&survey_summary, preset, n_all).as_bytes(),
     )?;
     crate::io::write_atomic(
-        &results.join("survey.svg"),
+        &results.join("filters-survey.svg"),
         survey_report::pareto_svg(&survey_summary)?.as_bytes(),
     )?;
     let result = crate::results::filters::Filters {

@@ -284,7 +284,7 @@ describes.\n";
 pub(super) fn embed(results: &Path) -> String {
     let mut s = String::new();
     for (file, title) in [
-        ("leadr.md", "LEADR numerical integration"),
+        ("leadr-grids.md", "LEADR numerical integration"),
         ("smith-lambda.md", "Smith Λ approximations"),
     ] {
         if let Ok(t) = crate::io::read_to_string(&results.join(file)) {

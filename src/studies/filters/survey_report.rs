@@ -1,4 +1,4 @@
-//! results/survey.md, results/survey.svg and the survey's JSON: the representations of
+//! results/filters-survey.md, results/filters-survey.svg and the survey's JSON: the representations of
 //! seed 004 §3.2 next to the footprint study's filters, on the same cases. [`summarise`]
 //! computes every number; [`markdown`] and [`pareto_svg`] only render them.
 
@@ -333,7 +333,7 @@ pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
     )
 }
 
-/// results/survey.md.
+/// results/filters-survey.md.
 pub(super) fn markdown(s: &Summary, preset: Preset, cases: usize) -> String {
     let mut md = String::from(
         "# The survey's normal-map pre-filtering families, measured (seed 004 §3.2, §7)\n\n",
@@ -377,7 +377,7 @@ The first twelve rows are results/filters.md's filters on the same samples.\n\n"
         md.push('\n');
     }
     md.push_str("\nPer-map columns carry standard errors of the same size as the NDF columns × √(number of maps) (results/fits/filters.json \
-holds them). ![error against storage](survey.svg)\n\nThe cost per evaluation of each representation (criterion, ns) is in \
+holds them). ![error against storage](filters-survey.svg)\n\nThe cost per evaluation of each representation (criterion, ns) is in \
 results/performance.md (\"Survey representations\"), beside these errors.\n\n");
     md.push_str(&verdict_section(s));
     md.push_str(&diagnostics_section(s));

@@ -161,7 +161,7 @@ pub fn norms_section(ours: &Shipped, shipped: &Shipped, f32_cells: &Form) -> Str
     format!(
         "## The shipped norms against the albedo
 
-The norm channel is the lobe's energy: a light covering the whole hemisphere returns exactly it. Ours is the albedo by quadrature (error ≤ 1e-9). Shipped norm / albedo over all {} cells: min {a0:.4}, median {a1:.4}, max {a2:.4}, mean |ratio − 1| = {:.2} %. At the {} cells where the shipped table is better beyond the error bars (three.js FloatType): min {w0:.4}, median {w1:.4}, max {w2:.4}, mean |ratio − 1| = {:.2} %; {wl} of them carry less energy than the BRDF: a lower norm lowers the L2 error of a lobe shape that cannot follow the BRDF's tail (results/ltc.md, the floor with an L2-optimal amplitude), and ours keeps the energy exact.\n\n",
+The norm channel is the lobe's energy: a light covering the whole hemisphere returns exactly it. Ours is the albedo by quadrature (error ≤ 1e-9). Shipped norm / albedo over all {} cells: min {a0:.4}, median {a1:.4}, max {a2:.4}, mean |ratio − 1| = {:.2} %. At the {} cells where the shipped table is better beyond the error bars (three.js FloatType): min {w0:.4}, median {w1:.4}, max {w2:.4}, mean |ratio − 1| = {:.2} %; {wl} of them carry less energy than the BRDF: a lower norm lowers the L2 error of a lobe shape that cannot follow the BRDF's tail (results/ltc-ggx.md, the floor with an L2-optimal amplitude), and ours keeps the energy exact.\n\n",
         all.len(),
         100.0 * a3,
         worse_r.len(),

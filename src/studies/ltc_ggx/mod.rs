@@ -1,5 +1,5 @@
 //! `regen --only ltc-ggx`: the GGX LTC table fit, the polygon-integration study (§3),
-//! results/ltc.md, results/ltc-error.svg and results/fits/ltc-ggx.json. Compute (the
+//! results/ltc-ggx.md, results/ltc-error.svg and results/fits/ltc-ggx.json. Compute (the
 //! tables) → the report sections, each in its own file → the files.
 
 use crate::error::Result;
@@ -142,7 +142,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         },
     )?;
     let pipe = pipeline::section(results, preset, &mut md)?;
-    crate::io::write_atomic(&results.join("ltc.md"), md.as_bytes())?;
+    crate::io::write_atomic(&results.join("ltc-ggx.md"), md.as_bytes())?;
     let json = LtcResult {
         spec,
         command: crate::results::command(&spec.name),

@@ -1,4 +1,4 @@
-//! The multi-scale pipeline of seed 000 §3–4 against brute force, in results/ltc.md.
+//! The multi-scale pipeline of seed 000 §3–4 against brute force, in results/ltc-ggx.md.
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};

@@ -1,4 +1,4 @@
-//! The stored comparison with the shipped table, summarised in results/ltc.md.
+//! The stored comparison with the shipped table, summarised in results/ltc-ggx.md.
 
 use std::path::Path;
 

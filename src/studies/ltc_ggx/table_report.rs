@@ -5,9 +5,9 @@
 use super::compute::Plan;
 use crate::error::Result;
 use crate::ltc::fit::{Cell, Table};
-use crate::report::plot::{heatmap_svg, HeatPanel};
 use crate::ltc::held::held_out_stats as stats;
 use crate::ltc::target::GgxTarget;
+use crate::report::plot::{heatmap_svg, HeatPanel};
 use std::path::Path;
 
 /// Corners, collapse/sign checks and smoothness of the main table.

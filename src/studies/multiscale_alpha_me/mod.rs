@@ -1,5 +1,5 @@
 //! `regen --only multiscale-alpha-me`: fit α_me(‖b̄‖), audit seed 000 Eq 5, write
-//! results/fits/multiscale-alpha-me.json, results/multiscale.md and its plots. Compute
+//! results/fits/multiscale-alpha-me.json, results/multiscale-alpha-me.md and its plots. Compute
 //! ([`compute`]) → plots ([`plots`]) → report ([`report`]) → files.
 
 use crate::error::Result;
@@ -84,7 +84,7 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
     )?;
     crate::io::write_atomic(&results.join("multiscale-alpha-me.svg"), svg_mrl.as_bytes())?;
     let md = report::markdown(spec, &k);
-    crate::io::write_atomic(&results.join("multiscale.md"), md.as_bytes())?;
+    crate::io::write_atomic(&results.join("multiscale-alpha-me.md"), md.as_bytes())?;
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: h_ours.max_rel,

@@ -1,4 +1,4 @@
-//! results/multiscale.md: the held-out table, the whole-range check, the audit of Eq 5
+//! results/multiscale-alpha-me.md: the held-out table, the whole-range check, the audit of Eq 5
 //! and our form.
 
 use super::compute::Computed;

@@ -48,7 +48,7 @@ pub(super) fn models_section(
 The convolution c = γ_me ∗ γ_mi (Eq 6) is computed by nested adaptive quadrature (proofs/mrl-product.md, checked against \
 Monte Carlo in results/proofs.md); one isotropic LTC γ_α is fitted to it under a selectable metric:\n\n\
 - **moment (unclipped)**: ρ(α) = ρ(α_me)·ρ(α_mi) — closed form by the product identity, so α = ρ⁻¹(‖b̄‖·ρ(α_mi)): \
-the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as α_me (results/multiscale.md). No Eq 7 needed.\n\
+the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as α_me (results/multiscale-alpha-me.md). No Eq 7 needed.\n\
 - **moment (clipped)**: the same on the clipped, renormalised distribution (normals rotated below the horizon dropped).\n\
 - **L2**: min_α ∫(c − γ_α)² over the sphere (c tabulated on Gauss–Legendre nodes, Brent via argmin).\n\
 - **caps**: min_α Σ ((E_c − E_α)/E_c)² over 9 spherical-cap lights (axis θ, half-angle r) = ");

@@ -191,7 +191,7 @@ pub(super) fn render_table(
 }
 
 /// The survey's representations: criterion's ns per lobe evaluation (f64, the shading
-/// rule included) beside the parameters per texel and the mean L2 error of results/survey.md.
+/// rule included) beside the parameters per texel and the mean L2 error of results/filters-survey.md.
 pub(super) fn survey_table(
     timed: &[Timed],
     results: &std::path::Path,
@@ -218,7 +218,7 @@ pub(super) fn survey_table(
         };
         Some((r.name.clone(), params, err))
     };
-    let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n| representation | params | per evaluation (95 % CI) | L2, GGX (results/survey.md) |\n|---|---|---|---|\n");
+    let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/filters-survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n| representation | params | per evaluation (95 % CI) | L2, GGX (results/filters-survey.md) |\n|---|---|---|---|\n");
     for t in rows {
         let per = |x: f64| fmt_time(x / 1024.0);
         let time = format!("{} ({} – {})", per(t.mean_ns), per(t.lo_ns), per(t.hi_ns));
@@ -244,7 +244,7 @@ pub(super) fn visibility_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Visibility lookups: cost per lookup\n\nCriterion's mean per lookup (95 % CI, one core, f64) from the footprint's filtered parameters (`cargo bench --bench deliverables -- visibility`): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow methods from a layered-scene footprint. Their errors are in results/survey-visibility.md.\n\n| method | per lookup (95 % CI) |\n|---|---|\n");
+    let mut md = String::from("\n## Visibility lookups: cost per lookup\n\nCriterion's mean per lookup (95 % CI, one core, f64) from the footprint's filtered parameters (`cargo bench --bench deliverables -- visibility`): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow methods from a layered-scene footprint. Their errors are in results/visibility.md.\n\n| method | per lookup (95 % CI) |\n|---|---|\n");
     for t in rows {
         let per = |x: f64| fmt_time(x / 1024.0);
         md.push_str(&format!(

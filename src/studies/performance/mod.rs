@@ -3,8 +3,8 @@
 //! reaches (recomputed deterministically, same seed as the bench).
 
 use super::convergence::{integrands, run_engine, Engine};
-use crate::report::plot::{loglog_svg, Panel, Series};
 use crate::error::{Error, Result};
+use crate::report::plot::{loglog_svg, Panel, Series};
 use serde::Deserialize;
 use std::path::Path;
 

@@ -21,7 +21,7 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::R
             .unwrap_or_else(|| "(run regen)".into())
     };
     let mut md = String::from(
-        "\n## α_me from ‖b̄‖: cost and accuracy (seed 000 §3.3)\n\nns per evaluation (criterion mean over 1024 inputs, 95 % CI) next to the max relative error in α on the held-out points of results/multiscale.md (α ∈ [1e-3, 1]).\n\n| method | ns/eval (95 % CI) | max rel. error |\n|---|---|---|\n",
+        "\n## α_me from ‖b̄‖: cost and accuracy (seed 000 §3.3)\n\nns per evaluation (criterion mean over 1024 inputs, 95 % CI) next to the max relative error in α on the held-out points of results/multiscale-alpha-me.md (α ∈ [1e-3, 1]).\n\n| method | ns/eval (95 % CI) | max rel. error |\n|---|---|---|\n",
     );
     for t in rows {
         let key = match t.function.as_str() {
@@ -63,7 +63,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     let mut md = String::from("\n## LTC fitting and polygon integration\n\n");
     if let Some(held) = v.as_ref().map(|v| &v.held_out) {
         md.push_str(&format!(
-            "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc.md).\n\n",
+            "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc-ggx.md).\n\n",
             super::main_job::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
             held.l2.mean.pct(2),
             held.l2.max.pct(1)
@@ -79,7 +79,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
             t.hi_ns / 1e6
         ));
     }
-    md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n| edge form | ns per pixel (95 % CI) | max rel. error of the edge factor |\n|---|---|---|\n");
+    md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n| edge form | ns per pixel (95 % CI) | max rel. error of the edge factor |\n|---|---|---|\n");
     for t in &polys {
         let err = match t.function.as_str() {
             "rational" => edge_err("Rational").map_or("—".into(), |e| format!("{e:.2e}")),
@@ -351,7 +351,7 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> crate::error::Resu
             .unwrap_or_else(|| "–".into())
     };
     let mut md = String::from(
-        "\n## LEADR N×N grids: cost and accuracy (seed 001 §3.4–3.5)\n\nTime of one N×N estimate (criterion mean, 95 % CI; the cost per grid point is the same for every family) next to the held-out max relative error of results/leadr.md.\n\n| N | ns per estimate (95 % CI) | ns per grid point | specular: paper h / fitted h / Gauss–Hermite | diffuse: paper h / fitted h / Gauss–Hermite |\n|---|---|---|---|---|\n",
+        "\n## LEADR N×N grids: cost and accuracy (seed 001 §3.4–3.5)\n\nTime of one N×N estimate (criterion mean, 95 % CI; the cost per grid point is the same for every family) next to the held-out max relative error of results/leadr-grids.md.\n\n| N | ns per estimate (95 % CI) | ns per grid point | specular: paper h / fitted h / Gauss–Hermite | diffuse: paper h / fitted h / Gauss–Hermite |\n|---|---|---|---|---|\n",
     );
     for t in rows {
         let n: usize = t.param.parse().unwrap_or(0);

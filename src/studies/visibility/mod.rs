@@ -53,11 +53,11 @@ pub fn run(
     crate::report::stage("regen visibility: measured");
     let summary = report::summarise(&m);
     crate::io::write_atomic(
-        &results.join("survey-visibility.md"),
+        &results.join("visibility.md"),
         report::markdown(&summary, &m, preset).as_bytes(),
     )?;
     crate::io::write_atomic(
-        &results.join("survey-visibility.svg"),
+        &results.join("visibility.svg"),
         report::pareto_svg(&summary)?.as_bytes(),
     )?;
     #[derive(Serialize)]

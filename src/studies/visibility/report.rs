@@ -1,4 +1,4 @@
-//! results/survey-visibility.md and its Pareto plots: [`summarise`] aggregates the
+//! results/visibility.md and its Pareto plots: [`summarise`] aggregates the
 //! measured cases; [`markdown`] and [`pareto_svg`] only render.
 
 use super::compute::{mean_se, shadow_methods, Measured, ASHIKHMIN_WIDTH, LEGENDRE_K};
@@ -407,7 +407,7 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
     }
     md.push_str("\nBeyond these c the stored warp overflows to ∞ (the binary16 rows above show what the larger c cost).\n\n");
     md.push_str(&procedural_section(m));
-    md.push_str("\n![error against parameters per texel](survey-visibility.svg)\n\nns per lookup: results/performance.md (\"Visibility lookups\").\n");
+    md.push_str("\n![error against parameters per texel](visibility.svg)\n\nns per lookup: results/performance.md (\"Visibility lookups\").\n");
     md
 }
 

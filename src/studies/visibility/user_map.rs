@@ -1,4 +1,4 @@
-//! `horizon --input HEIGHT.png`: the horizon-map study of results/survey-visibility.md on
+//! `horizon --input HEIGHT.png`: the horizon-map study of results/visibility.md on
 //! a user's height map.
 
 use super::compute::{horizon_cases, Plan};
@@ -8,7 +8,7 @@ use crate::integrate::Preset;
 use crate::visibility::HeightField;
 
 /// `horizon --input HEIGHT.png --scale S --out DIR`: the horizon study of
-/// results/survey-visibility.md on a user's height map (heights = grey value × S texels).
+/// results/visibility.md on a user's height map (heights = grey value × S texels).
 /// Writes DIR/horizon.md and DIR/horizon.json; returns their paths, and first the note
 /// that an RGB map was converted to grey, where it was.
 pub fn horizon_file(
@@ -25,7 +25,7 @@ pub fn horizon_file(
     let h = report::horizon_summary(&cases);
     let md = format!(
         "# Horizon-map pre-filtering on {}\n\nWritten by `cargo run --release -- horizon --input {} --scale {scale}` (preset {}): \
-{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/survey-visibility.md.{}\n\n{}",
+{} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/visibility.md.{}\n\n{}",
         input.display(),
         input.display(),
         preset.name(),
