@@ -199,3 +199,73 @@ fn the_index_of_results_holds_to_the_folder_and_its_readme_is_current() {
         "results/README.md is stale: run `cargo run --release -- results-readme`"
     );
 }
+
+/// Every measured figure the README and docs/ quote — a number with %, ×, or a unit of
+/// time, a range's two ends each — appears as such in a file of results/: the docs quote
+/// what results/ generates and nothing else, so a rerun that changes a figure leaves no
+/// stale copy behind in prose.
+#[test]
+fn the_docs_quote_only_figures_results_generate() {
+    let mut generated = String::new();
+    for f in result_files() {
+        if [".md", ".json", ".svg"].iter().any(|x| f.ends_with(x)) {
+            generated.push_str(&std::fs::read_to_string(Path::new("results").join(&f)).unwrap());
+        }
+    }
+    let units = ["%", "×", "ms", "µs", "ns", "s", "min", "minutes"];
+    let mut docs = vec!["README.md".to_string()];
+    for e in std::fs::read_dir("docs").unwrap().flatten() {
+        docs.push(e.path().display().to_string());
+    }
+    let mut missing = Vec::new();
+    for d in docs.iter().filter(|d| d.ends_with(".md")) {
+        let text = std::fs::read_to_string(d).unwrap();
+        let chars: Vec<char> = text.chars().collect();
+        let mut i = 0;
+        while i < chars.len() {
+            let starts = chars[i].is_ascii_digit()
+                && (i == 0 || !(chars[i - 1].is_alphanumeric() || ".,_".contains(chars[i - 1])));
+            if !starts {
+                i += 1;
+                continue;
+            }
+            // a number, and a range's second end after – or -
+            let mut nums = Vec::new();
+            let mut j = i;
+            loop {
+                let s = j;
+                while j < chars.len() && (chars[j].is_ascii_digit() || chars[j] == '.') {
+                    j += 1;
+                }
+                let n: String = chars[s..j].iter().collect();
+                nums.push(n.trim_end_matches('.').to_string());
+                if j + 1 < chars.len() && "–-".contains(chars[j]) && chars[j + 1].is_ascii_digit()
+                {
+                    j += 1;
+                    continue;
+                }
+                break;
+            }
+            let rest: String = chars[j..chars.len().min(j + 9)].iter().collect();
+            let spaced = rest.starts_with(' ');
+            let after = rest.trim_start();
+            let unit = units.iter().copied().find(|u| {
+                after.starts_with(u) && !after[u.len()..].starts_with(|c: char| c.is_alphanumeric())
+            });
+            if let Some(u) = unit {
+                for n in &nums {
+                    let forms = [format!("{n} {u}"), format!("{n}{u}")];
+                    if !forms.iter().any(|f| generated.contains(f.as_str())) {
+                        let sep = if spaced { " " } else { "" };
+                        missing.push(format!("{d}: {n}{sep}{u}"));
+                    }
+                }
+            }
+            i = j.max(i + 1);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "figures quoted in the docs that no file of results/ generates: {missing:?}"
+    );
+}
