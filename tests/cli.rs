@@ -116,7 +116,7 @@ fn eval_filter_vmf_matches_banerjee_by_hand() {
 
 #[test]
 fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-prefilter-{}", std::process::id()));
+    let dir = common::scratch("cli", "prefilter");
     std::fs::create_dir_all(&dir).unwrap();
     let map = ndfbench::filters::footprint::NormalMap::procedural(
         ndfbench::filters::footprint::Procedural::Flakes,
@@ -157,7 +157,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
 
 #[test]
 fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-tensor-{}", std::process::id()));
+    let dir = common::scratch("cli", "tensor");
     let out = bin()
         .args([
             "prefilter",
@@ -225,7 +225,7 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
 /// performance page (every other line kept byte for byte) and refuses a page without one.
 #[test]
 fn bench_report_refreshes_only_the_main_job_section() {
-    let dir = std::env::temp_dir().join(format!("ndfb-perf-{}", std::process::id()));
+    let dir = common::scratch("cli", "perf");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let page = "# Performance\n\nkept above\n\n## Main job: wall clock per stage\n\nold table\n\n## After\n\nkept below\n";

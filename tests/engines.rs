@@ -11,6 +11,8 @@
 //!
 //! .ci/run provides all of it best-effort; each test skips with one line without it.
 
+mod common;
+
 use ndfbench::engines::EngineScenes;
 use ndfbench::studies::engines::{Engine, EngineFiles, EngineResult};
 use std::path::Path;
@@ -56,7 +58,7 @@ fn three_renders_both_tables_as_their_formulas_say_and_ours_is_closer_to_the_tru
         eprintln!("skipped: {m} absent (see .ci/run: apt chromium, npm ci in engines/three)");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("ndfbench-engines-{}", std::process::id()));
+    let dir = common::scratch("engines", "engines");
     std::fs::create_dir_all(&dir).unwrap();
     let (a, b) = (dir.join("shipped.json"), dir.join("ours.json"));
     if let Err(e) = render("shipped", &a).and_then(|_| render("ours", &b)) {
@@ -157,7 +159,7 @@ fn bevy_renders_both_tables_as_its_formulas_say_and_ours_is_closer_to_the_truth(
         );
         return;
     }
-    let dir = std::env::temp_dir().join(format!("ndfbench-bevy-{}", std::process::id()));
+    let dir = common::scratch("engines", "bevy");
     std::fs::create_dir_all(&dir).unwrap();
     let (a, b) = (dir.join("bevy.json"), dir.join("ours.json"));
     if let Err(e) = bevy_render("bevy", &a).and_then(|_| bevy_render("ours", &b)) {

@@ -393,7 +393,7 @@ fn small_curvature_beckmann_is_the_gaussian_convolution() {
 
 #[test]
 fn png_round_trip_and_bad_input() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-png-{}", std::process::id()));
+    let dir = common::scratch("filters", "png");
     std::fs::create_dir_all(&dir).unwrap();
     let map = NormalMap::procedural(Procedural::IsotropicNoise, 16, 1).unwrap();
     let p = dir.join("n.png");
@@ -424,7 +424,7 @@ fn png_round_trip_and_bad_input() {
 
 #[test]
 fn regen_filters_quick_writes_the_report() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-filters-{}", std::process::id()));
+    let dir = common::scratch("filters", "filters");
     std::fs::create_dir_all(&dir).unwrap();
     let out = ndfbench::studies::regen(
         std::path::Path::new("fits"),

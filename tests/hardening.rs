@@ -1113,7 +1113,7 @@ fn one_writer_per_results_folder() {
 /// a missing one is `None`.
 #[test]
 fn a_malformed_result_is_an_error_not_an_absent_one() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-result-{}", std::process::id()));
+    let dir = common::scratch("hardening", "result");
     std::fs::create_dir_all(dir.join("fits")).unwrap();
     assert!(matches!(
         ndfbench::results::read::<ndfbench::results::filters::Filters>(&dir),

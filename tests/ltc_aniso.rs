@@ -211,7 +211,7 @@ fn bad_input_is_a_typed_error_and_the_extremes_are_finite() {
 /// A malformed results/fits/ltc-aniso.json is a typed error naming the file.
 #[test]
 fn a_malformed_table_file_is_a_typed_error() {
-    let dir = std::env::temp_dir().join(format!("ndfb-aniso-{}", std::process::id()));
+    let dir = common::scratch("ltc_aniso", "aniso");
     std::fs::create_dir_all(dir.join("fits")).unwrap();
     for body in [
         "{",

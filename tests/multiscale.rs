@@ -192,7 +192,7 @@ fn malformed_specs_are_typed_errors_naming_the_problem() {
 
 #[test]
 fn regen_writes_its_results_atomically() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-regen-{}", std::process::id()));
+    let dir = common::scratch("multiscale", "regen");
     let fits = dir.join("fits");
     std::fs::create_dir_all(&fits).unwrap();
     std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();
@@ -258,7 +258,7 @@ fn regen_writes_its_results_atomically() {
 
 #[test]
 fn convolution_regen_runs_at_the_quick_preset() {
-    let dir = std::env::temp_dir().join(format!("ndfbench-conv-{}", std::process::id()));
+    let dir = common::scratch("multiscale", "conv");
     let fits = dir.join("fits");
     std::fs::create_dir_all(&fits).unwrap();
     std::fs::write(fits.join("multiscale-alpha-me.toml"), SPEC).unwrap();

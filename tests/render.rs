@@ -322,7 +322,7 @@ use common::bin;
 
 #[test]
 fn the_render_command_writes_its_report_and_rejects_bad_input() {
-    let dir = std::env::temp_dir().join(format!("ndfb-render-{}", std::process::id()));
+    let dir = common::scratch("render", "render");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("dir");
     let sc = dir.join("tiny.toml");
@@ -468,7 +468,7 @@ fn derived_sizes_and_every_camera_frame_are_checked() {
             other => panic!("{preset:?} at {bad}: {other:?}"),
         }
     }
-    let dir = std::env::temp_dir().join(format!("ndfb-derived-{}", std::process::id()));
+    let dir = common::scratch("render", "derived");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("dir");
     let glints = SCENES
@@ -522,4 +522,72 @@ fn derived_sizes_and_every_camera_frame_are_checked() {
         "path = { to = [0.0, 9.0, -3.0], frames = 4 }",
     );
     assert!(scene(&near).is_ok());
+}
+
+#[test]
+fn grids_name_their_columns_and_rows_in_the_picture() {
+    use ndfbench::render::picture::{grid, label, labelled_grid, Rgb, LINE};
+    let tile = |v: u8| Rgb::new(16, 16, [v, v, v]);
+    let tiles = vec![vec![tile(10), tile(20)], vec![tile(30), tile(40)]];
+    let cols = vec!["A".to_string(), String::new()];
+    let rows = vec!["row".to_string(), "α".to_string()];
+    let (gap, lines, side) = (2, 2, 24);
+    let g = labelled_grid(&tiles, gap, &cols, &rows, lines, side).unwrap();
+    let body = grid(&tiles, gap);
+    let head = lines * LINE + gap;
+    assert_eq!((g.w, g.h), (side + body.w, head + body.h));
+    // the body is the plain grid, moved right and down
+    for y in 0..body.h {
+        for x in 0..body.w {
+            assert_eq!(g.px[(head + y) * g.w + side + x], body.px[y * body.w + x]);
+        }
+    }
+    let white = |x0: usize, x1: usize, y0: usize, y1: usize| {
+        (y0..y1).any(|y| (x0..x1).any(|x| g.px[y * g.w + x] == [255, 255, 255]))
+    };
+    // column 0 is named, column 1 is not; both rows are named
+    let c0 = side + gap;
+    assert!(white(c0, c0 + 16, 0, head));
+    assert!(!white(c0 + 16 + gap, c0 + 32 + gap, 0, head));
+    assert!(white(0, side, head, head + 16) && white(0, side, head + 18, head + 34));
+    // the glyph is font8x8's: 'I' row by row, least significant bit leftmost
+    let i = label("I", 8, 1);
+    for (gy, bits) in font8x8::legacy::BASIC_LEGACY[b'I' as usize]
+        .iter()
+        .enumerate()
+    {
+        for gx in 0..8 {
+            let lit = i.px[(1 + gy) * 8 + gx] == [255, 255, 255];
+            assert_eq!(lit, bits >> gx & 1 == 1, "pixel ({gx}, {gy}) of 'I'");
+        }
+    }
+    // Greek letters are spelled in ASCII; the wrong number of names is a typed error
+    assert_eq!(label("α", 40, 1).px, label("alpha", 40, 1).px);
+    assert!(labelled_grid(&tiles, gap, &cols[..1], &rows, lines, side).is_err());
+}
+
+#[test]
+fn the_committed_render_grids_are_labelled() {
+    let dir = Path::new("results/render");
+    let mut seen = 0;
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.extension().is_none_or(|x| x != "png") {
+            continue;
+        }
+        let img = image::open(&p).unwrap().to_rgb8();
+        // the band above the first row of tiles holds the column names: white text pixels
+        let band = 2 * ndfbench::render::picture::LINE;
+        let text = (0..band as u32)
+            .flat_map(|y| (0..img.width()).map(move |x| (x, y)))
+            .filter(|&(x, y)| img.get_pixel(x, y).0 == [255, 255, 255])
+            .count();
+        assert!(
+            text > 20,
+            "{} has no column names in its top band",
+            p.display()
+        );
+        seen += 1;
+    }
+    assert!(seen >= 4, "only {seen} render pictures");
 }

@@ -4,6 +4,8 @@
 //! translated by naga's four back ends, the SPIR-V and GLSL accepted by the Khronos
 //! validators where they are installed, and results/shaders.md fresh.
 
+mod common;
+
 use ndfbench::codegen::{self, backends, forms, shaders, validators};
 use std::path::Path;
 
@@ -170,7 +172,7 @@ fn wesl_composes_every_module_as_the_package_ndfbench() {
     // the user's layout: their shader root holds main.wesl; our modules are the package
     // `ndfbench` (Bevy main registers them under that name), imported as ndfbench::<module>
     use wesl::syntax::{ModulePath, PathOrigin};
-    let dir = std::env::temp_dir().join(format!("ndfbench-wesl-{}", std::process::id()));
+    let dir = common::scratch("shaders", "wesl");
     let pkg = dir.join("ndfbench");
     std::fs::create_dir_all(&pkg).unwrap();
     let mods = modules();

@@ -5,6 +5,8 @@
 //! Skips with a message when python3, numpy or TensorLy is missing (`.ci/run` installs
 //! them when PyPI can be reached). Times are printed, never asserted.
 
+mod common;
+
 use ndfbench::filters::footprint::{NormalMap, Procedural};
 use ndfbench::tensor::cluster::cluster_tensors;
 use ndfbench::tensor::compare::{run_ours, run_tensorly, tensorly_available};
@@ -16,7 +18,7 @@ fn ours_walks_the_same_als_path_as_tensorly() {
         eprintln!("skipping TensorLy comparison: {why}");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("ndfbench-tensorly-{}", std::process::id()));
+    let dir = common::scratch("tensorly", "tensorly");
     std::fs::create_dir_all(&dir).unwrap();
     for (kind, rank) in [(Procedural::Flakes, 8), (Procedural::BrushedMetal, 12)] {
         let map = NormalMap::procedural(kind, 32, 3).unwrap();

@@ -66,7 +66,7 @@ fn hdf_methods_match_a_single_horizon_exactly() {
 fn height_fields_reject_bad_input() {
     assert!(HeightField::procedural(Relief::Noise, 48, 1).is_err());
     assert!(HeightField::procedural(Relief::Bumps, 8, 1).is_err());
-    let dir = std::env::temp_dir().join(format!("ndfbench-height-{}", std::process::id()));
+    let dir = common::scratch("visibility", "height");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("h.png");
     image::GrayImage::from_fn(32, 16, |x, _| image::Luma([x as u8]))

@@ -242,9 +242,9 @@ pub enum Cmd {
     /// `"specular-aa"`: the seed 003 and engine kernels; `"glints"`: seed 002's brute-force
     /// P-NDF, CP range queries at three ranks and a plain mip; `"truth-only"`), each
     /// through the shipped f32 code. Writes DIR/<name>.md (RMSE, relative MSE and ꟻLIP,
-    /// each ± s.e., the truth's noise floor, flicker along a camera path, ms per frame),
+    /// each ± s.e., the truth's noise floor, flicker along a camera path),
     /// DIR/<name>.json and DIR/<name>-grid.png (truth first, each method's ꟻLIP map under
-    /// it; DIR/<name>-strip.png for a path). Scene keys: `[camera]` position, look_at, up,
+    /// it, columns and rows named in the picture; DIR/<name>-strip.png for a path). Scene keys: `[camera]` position, look_at, up,
     /// fov_deg, width, height (even, ≤ 2048), `path = { to, frames }`; `[surface]` kind
     /// (plane|sphere|torus), radius, minor_radius, repeats; `[material]` lobe
     /// (ggx|gaussian|ltc), alpha, sigma_r, normal_map (a generator, `flat` or a PNG path

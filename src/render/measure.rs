@@ -172,7 +172,6 @@ pub struct Scored {
     pub key: String,
     pub label: String,
     pub m: Measures,
-    pub ms: f64,
     pub flip_map: Vec<f32>,
 }
 
@@ -209,7 +208,6 @@ pub fn measure_render(r: &super::Render) -> Measured {
                             truth_noise: noise,
                             pixels,
                         },
-                        ms: mi.ms,
                         flip_map,
                     }
                 })

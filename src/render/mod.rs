@@ -29,7 +29,6 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 use scene::{MethodSet, Scene};
 use std::path::Path;
-use std::time::Instant;
 use texture::Texture;
 use truth::{PixelTruth, Shader};
 
@@ -39,8 +38,6 @@ pub struct MethodImage {
     pub key: String,
     pub label: String,
     pub pixels: Vec<f32>,
-    /// Wall-clock milliseconds of this image on this machine (reported, never asserted).
-    pub ms: f64,
 }
 
 /// Everything of one view (a scale of the map and a frame of the camera path).
@@ -49,7 +46,6 @@ pub struct View {
     pub scale: f64,
     pub frame: usize,
     pub truth: Vec<PixelTruth>,
-    pub truth_ms: f64,
     pub methods: Vec<MethodImage>,
 }
 
@@ -162,12 +158,6 @@ impl GlintPlan {
     }
 }
 
-fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    let t = Instant::now();
-    let v = f();
-    (v, 1e3 * t.elapsed().as_secs_f64())
-}
-
 /// Render every scale × frame of a scene: the truth and each method of its set.
 pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Result<Render> {
     let tex = Texture::new(normal_map(scene, base)?);
@@ -181,32 +171,29 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut views = Vec::new();
     let mut notes = Vec::new();
-    let mut cps: Vec<(glints::CpGlints, f64)> = Vec::new();
-    // the truth of every view (scale × frame), memoised per view: a cached view keeps the
-    // time it took when it was computed
+    let mut cps: Vec<glints::CpGlints> = Vec::new();
+    // the truth of every view (scale × frame), memoised per view
     let frames = scene.frames();
     let mut truths = crate::memo::map(
         &format!("render truth {}", scene.name),
         scene.render.scales.len() * frames,
-        |v| -> Result<(Vec<PixelTruth>, f64)> {
+        |v| -> Result<Vec<PixelTruth>> {
             let surf = Surface::new(&scene.surface, scene.render.scales[v / frames]);
             let cam = Camera::at_frame(&scene.camera, v % frames);
-            Ok(timed(|| {
-                (0..w * h)
-                    .into_par_iter()
-                    .map(|k| {
-                        truth::pixel(
-                            &cam,
-                            &surf,
-                            &sh,
-                            k % w,
-                            k / w,
-                            scene.render.truth_samples,
-                            scene.render.seed,
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            }))
+            Ok((0..w * h)
+                .into_par_iter()
+                .map(|k| {
+                    truth::pixel(
+                        &cam,
+                        &surf,
+                        &sh,
+                        k % w,
+                        k / w,
+                        scene.render.truth_samples,
+                        scene.render.seed,
+                    )
+                })
+                .collect::<Vec<_>>())
         },
     )?
     .into_iter();
@@ -214,10 +201,10 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
         let surf = Surface::new(&scene.surface, scale);
         for frame in 0..frames {
             let cam = Camera::at_frame(&scene.camera, frame);
-            let (truth, truth_ms) = truths
+            let truth = truths
                 .next()
                 .ok_or_else(|| Error::InvalidArgument("render: a view without truth".into()))?;
-            let (g, g_ms) = timed(|| methods::gbuffer(&cam, &surf, &tex));
+            let g = methods::gbuffer(&cam, &surf, &tex);
             let alpha = m.alpha as f32;
             let mut out = Vec::new();
             let list: &[Method] = match scene.render.methods {
@@ -226,13 +213,11 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                 _ => &[],
             };
             for &meth in list {
-                let (pixels, ms) = timed(|| methods::shade_image(meth, &g, w, alpha, &lights, c));
-                let pixels = pixels?;
+                let pixels = methods::shade_image(meth, &g, w, alpha, &lights, c)?;
                 out.push(MethodImage {
                     key: meth.key().into(),
                     label: meth.label(c),
                     pixels,
-                    ms: ms + g_ms,
                 });
             }
             if scene.render.methods == MethodSet::Glints {
@@ -247,13 +232,12 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                         &mut notes,
                     )?;
                 }
-                out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps, g_ms));
+                out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps));
             }
             views.push(View {
                 scale,
                 frame,
                 truth,
-                truth_ms,
                 methods: out,
             });
         }
@@ -276,7 +260,7 @@ fn build_cps(
     plan: &GlintPlan,
     seed: u64,
     notes: &mut Vec<String>,
-) -> Result<Vec<(glints::CpGlints, f64)>> {
+) -> Result<Vec<glints::CpGlints>> {
     let (cx, cy) = (cam.width as f64 * 0.5, cam.height as f64 * 0.5);
     let hit = surf.intersect(&cam.eye, &cam.dir(cx, cy)).ok_or_else(|| {
         Error::InvalidArgument("glints: the centre ray misses the surface".into())
@@ -286,39 +270,32 @@ fn build_cps(
     let var =
         (fp[0][0].powi(2) + fp[0][1].powi(2) + fp[1][0].powi(2) + fp[1][1].powi(2)) * s * s / 24.0;
     let sigma_p = (var + 1.0 / 12.0).sqrt();
-    let (images, pndf_ms) =
-        timed(|| glints::pndf_grid(tex, plan.res, plan.stride, sigma_p, sigma_r));
-    let images = images?;
+    let images = glints::pndf_grid(tex, plan.res, plan.stride, sigma_p, sigma_r)?;
     notes.push(format!(
-        "P-NDF grid: {}² footprints (stride {}, σ_P = {sigma_p:.2} texels from the centre pixel's footprint), {}² images, {:.0} ms",
+        "P-NDF grid: {}² footprints (stride {}, σ_P = {sigma_p:.2} texels from the centre pixel's footprint), {}² images",
         tex.map.width / plan.stride,
         plan.stride,
         plan.res,
-        pndf_ms
     ));
     let mut out = Vec::new();
     for &rank in &plan.ranks {
-        let (cp, ms) = timed(|| {
-            glints::CpGlints::build(
-                &images,
-                plan.res,
-                plan.stride,
-                plan.t,
-                rank,
-                plan.iters,
-                seed,
-            )
-        });
-        let cp = cp?;
+        let cp = glints::CpGlints::build(
+            &images,
+            plan.res,
+            plan.stride,
+            plan.t,
+            rank,
+            plan.iters,
+            seed,
+        )?;
         notes.push(format!(
-            "CP rank {rank}: relative reconstruction error {:.2} %, {} of {} numbers ({:.2} %), compressed in {:.0} ms",
+            "CP rank {rank}: relative reconstruction error {:.2} %, {} of {} numbers ({:.2} %)",
             100.0 * cp.rel_error,
             cp.stored,
             cp.dense,
             100.0 * cp.stored as f64 / cp.dense.max(1) as f64,
-            ms
         ));
-        out.push((cp, ms));
+        out.push(cp);
     }
     Ok(out)
 }
@@ -329,20 +306,17 @@ fn glint_images(
     tex: &Texture,
     lights: &[light::Light],
     sigma_r: f64,
-    cps: &[(glints::CpGlints, f64)],
-    g_ms: f64,
+    cps: &[glints::CpGlints],
 ) -> Vec<MethodImage> {
     let w = cam.width;
-    let img = |f: &(dyn Fn(usize, &methods::GPixel) -> f32 + Sync)| -> (Vec<f32>, f64) {
-        timed(|| {
-            (0..g.len())
-                .into_par_iter()
-                .map(|k| g[k].as_ref().map_or(0.0, |gp| f(k, gp)))
-                .collect()
-        })
+    let img = |f: &(dyn Fn(usize, &methods::GPixel) -> f32 + Sync)| -> Vec<f32> {
+        (0..g.len())
+            .into_par_iter()
+            .map(|k| g[k].as_ref().map_or(0.0, |gp| f(k, gp)))
+            .collect()
     };
     let mut out = Vec::new();
-    let (p, ms) = img(&|k, gp| {
+    let p = img(&|k, gp| {
         glints::brute(
             cam,
             gp,
@@ -357,23 +331,20 @@ fn glint_images(
         key: "pndf-brute".into(),
         label: "brute-force P-NDF footprint query (Eq 2)".into(),
         pixels: p,
-        ms: ms + g_ms,
     });
-    for (cp, _) in cps {
-        let (p, ms) = img(&|_, gp| cp.shade(gp, tex, lights));
+    for cp in cps {
+        let p = img(&|_, gp| cp.shade(gp, tex, lights));
         out.push(MethodImage {
             key: format!("cp-r{}", cp.rank),
             label: format!("CP range query, R = {}", cp.rank),
             pixels: p,
-            ms: ms + g_ms,
         });
     }
-    let (p, ms) = img(&|_, gp| glints::mip(gp, lights, sigma_r));
+    let p = img(&|_, gp| glints::mip(gp, lights, sigma_r));
     out.push(MethodImage {
         key: "plain-mip".into(),
         label: "plain mip (renormalised normal)".into(),
         pixels: p,
-        ms: ms + g_ms,
     });
     out
 }

@@ -120,3 +120,121 @@ pub fn colour_bar(w: usize, h: usize) -> Rgb {
     }
     bar
 }
+
+/// The ASCII spelling of a label's other characters (font8x8's basic set is ASCII).
+fn ascii(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars() {
+        match c {
+            'α' => out.push_str("alpha"),
+            'κ' => out.push_str("kappa"),
+            'σ' => out.push_str("sigma"),
+            'δ' => out.push_str("delta"),
+            'ρ' => out.push_str("rho"),
+            'ψ' => out.push_str("psi"),
+            'ꟻ' => out.push('F'),
+            '²' => out.push_str("^2"),
+            '¼' => out.push_str("^(1/4)"),
+            '→' => out.push_str("to"),
+            '⁻' => out.push_str("^-"),
+            '¹' => out.push('1'),
+            '×' => out.push('x'),
+            '–' | '—' => out.push('-'),
+            '≥' => out.push_str(">="),
+            '≤' => out.push_str("<="),
+            '·' => out.push('.'),
+            '‖' => out.push('|'),
+            c if c.is_ascii() => out.push(c),
+            _ => out.push('?'),
+        }
+    }
+    out
+}
+
+/// Wrap `s` at spaces into lines of at most `cols` characters (a longer word is cut).
+fn wrap(s: &str, cols: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in s.split_whitespace() {
+        let mut word = word.to_string();
+        while word.len() > cols {
+            let rest = word.split_off(cols);
+            lines.push(std::mem::replace(&mut word, rest));
+        }
+        match lines.last_mut() {
+            Some(l) if !l.is_empty() && l.len() + 1 + word.len() <= cols => {
+                l.push(' ');
+                l.push_str(&word);
+            }
+            _ => lines.push(word),
+        }
+    }
+    lines
+}
+
+/// Pixels per text line (an 8×8 glyph and a 2-pixel lead).
+pub const LINE: usize = 10;
+
+/// A label: `s` in font8x8's 8×8 glyphs, white on the grids' grey, wrapped into a box
+/// `w` pixels wide and `lines` text lines high (text beyond them is cut; Greek letters and
+/// other marks are spelled in ASCII).
+pub fn label(s: &str, w: usize, lines: usize) -> Rgb {
+    let mut img = Rgb::new(w, lines * LINE, [96, 96, 96]);
+    let cols = (w / 8).max(1);
+    for (l, line) in wrap(&ascii(s), cols).iter().take(lines).enumerate() {
+        for (k, ch) in line.bytes().enumerate() {
+            let glyph = font8x8::legacy::BASIC_LEGACY[(ch as usize).min(127)];
+            for (gy, bits) in glyph.iter().enumerate() {
+                for gx in 0..8 {
+                    if bits >> gx & 1 == 1 {
+                        let (x, y) = (k * 8 + gx, l * LINE + 1 + gy);
+                        if x < w {
+                            img.px[y * w + x] = [255, 255, 255];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    img
+}
+
+/// A grid ([`grid`]) with its columns named above it and its rows named to its left, in
+/// the picture itself: `cols[c]` heads column c, `rows[r]` names row r (an empty name
+/// leaves the row unnamed). The names must match the tiles' layout.
+pub fn labelled_grid(
+    tiles: &[Vec<Rgb>],
+    gap: usize,
+    cols: &[String],
+    rows: &[String],
+    head_lines: usize,
+    side: usize,
+) -> Result<Rgb> {
+    let ncols = tiles.iter().map(|r| r.len()).max().unwrap_or(0);
+    if cols.len() != ncols || rows.len() != tiles.len() {
+        return Err(Error::InvalidArgument(format!(
+            "a labelled grid of {} rows × {ncols} columns given {} row and {} column names",
+            tiles.len(),
+            rows.len(),
+            cols.len()
+        )));
+    }
+    let body = grid(tiles, gap);
+    let tw = tiles.iter().flatten().map(|t| t.w).max().unwrap_or(1);
+    let th = tiles.iter().flatten().map(|t| t.h).max().unwrap_or(1);
+    let head = head_lines * LINE + gap;
+    let mut g = Rgb::new(side + body.w, head + body.h, [96, 96, 96]);
+    g.blit(&body, side, head);
+    for (c, name) in cols.iter().enumerate() {
+        g.blit(
+            &label(name, tw, head_lines),
+            side + gap + c * (tw + gap),
+            gap,
+        );
+    }
+    let side_lines = (th / LINE).max(1);
+    for (r, name) in rows.iter().enumerate() {
+        let l = label(name, side.saturating_sub(gap).max(8), side_lines);
+        g.blit(&l, gap, head + gap + r * (th + gap));
+    }
+    Ok(g)
+}

@@ -1,10 +1,11 @@
 //! Writing one render: the PNG grid (truth in the first column, each method's tile with
 //! its ꟻLIP map under it, one pair of rows per view), the frame strip of a camera path,
-//! the markdown tables (error ± s.e., ꟻLIP, flicker, ms) and the typed JSON.
+//! the markdown tables (error ± s.e., ꟻLIP, flicker) and the typed JSON. No wall clock:
+//! the cost of each method per pixel is criterion's, in results/performance.md.
 
 use crate::error::Result;
 use crate::render::measure::{Measured, Scored};
-use crate::render::picture::{colour_bar, grid, Rgb};
+use crate::render::picture::{colour_bar, labelled_grid, Rgb};
 use crate::render::Render;
 use std::path::Path;
 
@@ -72,10 +73,12 @@ fn view_name(r: &Render, k: usize) -> String {
 }
 
 /// The grid: per shown view a row of images (truth, methods) and a row of ꟻLIP maps
-/// (the colour bar under the truth).
-pub fn grid_png(r: &Render, m: &Measured, tile: usize) -> Rgb {
+/// (the colour bar under the truth), the methods named above their columns and the views
+/// to the left of their rows.
+pub fn grid_png(r: &Render, m: &Measured, tile: usize) -> Result<Rgb> {
     let exp = r.scene.render.exposure;
     let mut rows = Vec::new();
+    let mut names = Vec::new();
     for k in shown(r) {
         let v = &r.views[k];
         let t: Vec<f64> = v.truth.iter().map(|p| p.value).collect();
@@ -88,13 +91,18 @@ pub fn grid_png(r: &Render, m: &Measured, tile: usize) -> Rgb {
         }
         rows.push(imgs);
         rows.push(errs);
+        names.push(view_name(r, k));
+        names.push(format!("{}: ꟻLIP 0 → 1", view_name(r, k)));
     }
-    grid(&rows, 4)
+    let cols: Vec<String> = std::iter::once("truth".to_string())
+        .chain(r.views[0].methods.iter().map(|mi| mi.label.clone()))
+        .collect();
+    labelled_grid(&rows, 4, &cols, &names, 6, tile)
 }
 
-/// A strip of consecutive frames (rows: truth, then each method) of a path, cropped
-/// around the image centre.
-pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Rgb {
+/// A strip of consecutive frames (rows: truth, then each method, named to their left;
+/// columns named by frame) of a path, cropped around the image centre.
+pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Result<Rgb> {
     let exp = r.scene.render.exposure;
     let n = r.views.len().min(frames);
     let start = (r.views.len() - n) / 2;
@@ -120,17 +128,22 @@ pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Rgb {
                 .collect(),
         );
     }
-    grid(&rows, 2)
+    let cols: Vec<String> = (start..start + n)
+        .map(|k| format!("frame {}", r.views[k].frame))
+        .collect();
+    let names: Vec<String> = std::iter::once("truth".to_string())
+        .chain(r.views[0].methods.iter().map(|mi| mi.label.clone()))
+        .collect();
+    labelled_grid(&rows, 2, &cols, &names, 2, 3 * tile)
 }
 
 fn row(s: &Scored) -> String {
     format!(
-        "| {} | {} | {} | {} | {:.1} |\n",
+        "| {} | {} | {} | {} |\n",
         s.label,
         sci(&s.m.rmse),
         pct(&s.m.rel_mse),
         format!("{:.4} ± {:.4}", s.m.flip.value, s.m.flip.se),
-        s.ms
     )
 }
 
@@ -170,10 +183,9 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
         let mean_t = on.clone().map(|p| p.value).sum::<f64>() / count;
         let t2 = on.map(|p| p.value * p.value).sum::<f64>() / count;
         md.push_str(&format!(
-            "\n### {}: {} — truth {:.0} ms, mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, which adds ≈ {:.2} % to every method’s relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. | ms per frame |\n|---|---|---|---|---|\n",
+            "\n### {}: {} — mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, which adds ≈ {:.2} % to every method’s relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. |\n|---|---|---|---|\n",
             sc.name,
             view_name(r, k),
-            v.truth_ms,
             100.0 * noise * noise / t2.max(1e-300),
             m.views[k].first().map_or(0, |s| s.m.pixels)
         ));
@@ -214,8 +226,7 @@ pub fn json(r: &Render, m: &Measured) -> serde_json::Value {
             serde_json::json!({
                 "scale": v.scale,
                 "frame": v.frame,
-                "truth_ms": v.truth_ms,
-                "methods": s.iter().map(|x| serde_json::json!({"key": x.key, "label": x.label, "measures": x.m, "ms": x.ms})).collect::<Vec<_>>(),
+                "methods": s.iter().map(|x| serde_json::json!({"key": x.key, "label": x.label, "measures": x.m})).collect::<Vec<_>>(),
             })
         })
         .collect();
@@ -241,11 +252,11 @@ pub fn write_pictures(
     })?;
     let mut out = Vec::new();
     let g = dir.join(format!("{}-grid.png", r.scene.name));
-    grid_png(r, m, tile).write(&g)?;
+    grid_png(r, m, tile)?.write(&g)?;
     out.push(g);
     if r.scene.frames() > 1 {
         let s = dir.join(format!("{}-strip.png", r.scene.name));
-        strip_png(r, 8, tile / 2).write(&s)?;
+        strip_png(r, 8, tile / 2)?.write(&s)?;
         out.push(s);
     }
     Ok(out)
