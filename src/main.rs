@@ -121,6 +121,13 @@ fn run_regen_timed(
     Ok(out.iter().all(|o| o.passed))
 }
 
+/// Write a generated document (the CLI reference, results/README.md) and say so.
+fn write_doc(out: &std::path::Path, text: &str) -> Result<bool, ndfbench::Error> {
+    ndfbench::io::write_atomic(out, text.as_bytes())?;
+    eprintln!("wrote {}", out.display());
+    Ok(true)
+}
+
 /// Print to stdout; a closed pipe (e.g. `| head`) is not an error worth a panic.
 fn out(s: &str) {
     use std::io::Write;
@@ -360,23 +367,11 @@ fn main() -> ExitCode {
             print!("{}", ndfbench::tensor::compare::table(&r));
             true
         }),
-        Some(Cmd::CliReference { out }) => {
-            ndfbench::io::write_atomic(&out, ndfbench::cli::command::reference().as_bytes()).map(
-                |()| {
-                    eprintln!("wrote {}", out.display());
-                    true
-                },
-            )
-        }
-        Some(Cmd::ResultsReadme) => {
-            let out = cli.results.join("README.md");
-            ndfbench::io::write_atomic(&out, ndfbench::results::index::readme().as_bytes()).map(
-                |()| {
-                    eprintln!("wrote {}", out.display());
-                    true
-                },
-            )
-        }
+        Some(Cmd::CliReference { out }) => write_doc(&out, &ndfbench::cli::command::reference()),
+        Some(Cmd::ResultsReadme) => write_doc(
+            &cli.results.join("README.md"),
+            &ndfbench::results::index::readme(),
+        ),
         Some(Cmd::BenchReport {
             criterion,
             main_job_only,
