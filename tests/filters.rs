@@ -6,7 +6,7 @@ mod common;
 use nalgebra::Vector3;
 use ndfbench::filters::footprint::{MipChain, NormalMap, Procedural, Stats};
 use ndfbench::filters::rules as r;
-use ndfbench::filters::study::{pixel_footprint, screen_alphas, Field, PixelFilter};
+use ndfbench::filters::study::{pixel_footprint, screen_alphas, screen_index, Field, PixelFilter};
 use ndfbench::filters::truth::{draw, Candidate, Footprint, Frame, Truth};
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
@@ -377,7 +377,7 @@ fn small_curvature_beckmann_is_the_gaussian_convolution() {
     let fp = pixel_footprint(&f, PixelFilter::Gaussian, alpha);
     let t = Truth::new(NdfKind::Beckmann, alpha, &fp).unwrap();
     let exact = (alpha * alpha + 2.0 * 0.25 * 0.02f64.powi(2)).sqrt();
-    let a10 = screen_alphas(alpha, &f)[3];
+    let a10 = screen_alphas(alpha, &f)[screen_index("eigen-eq10")];
     assert!(
         (a10 / exact - 1.0).abs() < 1e-3,
         "Eq 10 α′ {a10} vs {exact}"
@@ -477,4 +477,26 @@ fn regen_filters_quick_writes_the_report() {
         "a representation beats the exact q_A"
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn each_footprint_filter_is_listed_once_by_a_unique_key() {
+    use ndfbench::filters::study::{map_index, MAP, SCREEN};
+    for list in [
+        MAP.iter().map(|f| (f.key, f.label)).collect::<Vec<_>>(),
+        SCREEN.iter().map(|f| (f.key, f.label)).collect(),
+    ] {
+        let mut keys: Vec<&str> = list.iter().map(|x| x.0).collect();
+        let mut labels: Vec<&str> = list.iter().map(|x| x.1).collect();
+        keys.sort();
+        keys.dedup();
+        labels.sort();
+        labels.dedup();
+        assert_eq!((keys.len(), labels.len()), (list.len(), list.len()));
+    }
+    // the lobes that propose samples come first: the engines' rules after them were added
+    // later and measured on the same samples
+    let first_quiet = MAP.iter().position(|f| !f.proposes).unwrap();
+    assert!(MAP[first_quiet..].iter().all(|f| !f.proposes));
+    assert_eq!(first_quiet, map_index("filament"));
 }

@@ -119,8 +119,9 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
                 let cands = study::map_candidates(kind, alpha, &stats)?;
                 let props: Vec<(V3, f64)> = cands
                     .iter()
-                    .take(study::PROPOSING_MAP_FILTERS)
-                    .map(|c| c.proposal)
+                    .zip(&study::MAP)
+                    .filter(|(_, f)| f.proposes)
+                    .map(|(c, _)| c.proposal)
                     .collect();
                 let samples = draw(&truth, &v, &props, plan.samples, seed_of(seed, ci))?;
                 let results = cands

@@ -84,9 +84,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         by_level_note:
             "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views"
                 .into(),
-        map_filters: crate::filters::study::MAP_FILTERS
+        map_filters: crate::filters::study::MAP
             .iter()
-            .map(|s| s.to_string())
+            .map(|f| f.label.to_string())
             .collect(),
         by_level: summary::by_level(&map_cases, &plan, maps.len()),
         preset: preset.name().into(),

@@ -6,7 +6,7 @@ use super::constants::Fitted;
 use super::plan::{kind_name, pct, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::NormalMap;
-use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
+use crate::filters::study::{PixelFilter, MAP, SCREEN};
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -61,7 +61,7 @@ pub(super) fn map_section(
 ) -> Result<Vec<serde_json::Value>> {
     md.push_str(&format!("## Map: {}\n\n| filter | GGX energy | GGX L2 | GGX peak | Beckmann energy | Beckmann L2 | Beckmann peak |\n|---|---|---|---|---|---|---|\n", map.name));
     let mut row_json = Vec::new();
-    for (fi, name) in MAP_FILTERS.iter().enumerate() {
+    for (fi, name) in MAP.iter().map(|f| f.label).enumerate() {
         let mut cells = Vec::new();
         let mut aj = Vec::new();
         for &kind in &KINDS {
@@ -87,9 +87,7 @@ pub(super) fn map_section(
     let mut worst: Vec<(f64, &MapCase, usize)> = map_cases
         .iter()
         .filter(|c| c.map == m)
-        .flat_map(|c| {
-            (0..MAP_FILTERS.len()).map(move |fi| (c.results[fi].energy.value.abs(), c, fi))
-        })
+        .flat_map(|c| (0..MAP.len()).map(move |fi| (c.results[fi].energy.value.abs(), c, fi)))
         .filter(|w| w.0.is_finite())
         .collect();
     worst.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -98,7 +96,7 @@ pub(super) fn map_section(
         let r = &c.results[*fi];
         md.push_str(&format!(
             "| {} | {} | {} | {} | {:.4} | {:?} | {} | {:.1} % ± {:.1} |\n",
-            MAP_FILTERS[*fi],
+            MAP[*fi].label,
             kind_name(c.kind),
             c.alpha,
             c.level,
@@ -111,8 +109,9 @@ pub(super) fn map_section(
     }
     md.push_str(&format!("\nLargest single-case Monte Carlo s.e. of an L2 error on this map: {:.2} %. L2 error against footprint size (GGX, all α and views): ![{}](filters-{}.svg)\n\n", 100.0 * mc, map.name, map.name));
     // per-level plot
-    let series: Vec<Series> = MAP_FILTERS
+    let series: Vec<Series> = MAP
         .iter()
+        .map(|f| f.label)
         .enumerate()
         .map(|(fi, name)| Series {
             name: name.to_string(),
@@ -159,7 +158,7 @@ pub(super) fn screen_section(
     let mut json_screen = Vec::new();
     for pixel in [PixelFilter::Gaussian, PixelFilter::Box] {
         md.push_str(&format!("### Pixel footprint: {}\n\n| kernel | GGX energy | GGX L2 | GGX peak | Beckmann energy | Beckmann L2 | Beckmann peak |\n|---|---|---|---|---|---|---|\n", if pixel == PixelFilter::Gaussian { "Gaussian σ² = 0.25 px²" } else { "1×1 box" }));
-        for (fi, name) in SCREEN_FILTERS.iter().enumerate() {
+        for (fi, name) in SCREEN.iter().map(|f| f.label).enumerate() {
             let mut cells = Vec::new();
             for &kind in &KINDS {
                 let rs: Vec<&CaseResult> = screen_cases
@@ -179,8 +178,9 @@ pub(super) fn screen_section(
     let mut kappas: Vec<f64> = plan.screen_pairs.iter().map(|p| p.1).collect();
     kappas.sort_by(f64::total_cmp);
     kappas.dedup();
-    let kseries: Vec<Series> = SCREEN_FILTERS
+    let kseries: Vec<Series> = SCREEN
         .iter()
+        .map(|f| f.label)
         .enumerate()
         .map(|(fi, name)| Series {
             name: name.to_string(),

@@ -3,7 +3,7 @@
 
 use super::cases::{aggregate, MapCase, ScreenCase};
 use super::plan::{kind_name, Plan, KINDS};
-use crate::filters::study::{PixelFilter, MAP_FILTERS, SCREEN_FILTERS};
+use crate::filters::study::{PixelFilter, MAP, SCREEN};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 use crate::results::filters::FilterSummary;
@@ -59,7 +59,7 @@ pub(super) fn per_filter(
                 .filter(|c| c.kind == kind)
                 .map(|c| &c.results[fi])
                 .collect();
-            insert(&mut summary, id, kind, MAP_FILTERS[fi], &rs, "maps");
+            insert(&mut summary, id, kind, MAP[fi].label, &rs, "maps");
         }
     }
     for (id, fi) in [
@@ -81,7 +81,7 @@ pub(super) fn per_filter(
                 &mut summary,
                 id,
                 kind,
-                SCREEN_FILTERS[fi],
+                SCREEN[fi].label,
                 &rs,
                 "screen (Gaussian pixel)",
             );
@@ -99,7 +99,7 @@ pub(super) fn by_level(map_cases: &[MapCase], plan: &Plan, maps: usize) -> Vec<s
             let mc = map_cases;
             (0..maps).flat_map(move |m| {
                 KINDS.iter().flat_map(move |&kind| {
-                    (0..MAP_FILTERS.len()).map(move |fi| {
+                    (0..MAP.len()).map(move |fi| {
                         let rs: Vec<&CaseResult> = mc
                             .iter()
                             .filter(|c| c.map == m && c.kind == kind && c.level == lv)

@@ -105,24 +105,6 @@ pub const ROWS: [Row; 24] = [
     ),
 ];
 
-/// The footprint study's map filters (results/filters.md) as survey rows, in
-/// `filters::study::MAP_FILTERS` order: the renormalised normal (2), the rules that read
-/// the unnormalised mean normal (3), LEAN (5: mean slope and the 2×2 second moment).
-pub const FILTER_ROWS: [(&str, usize); 12] = [
-    ("none", 2),
-    ("Toksvig", 3),
-    ("Toksvig", 3),
-    ("Toksvig", 3),
-    ("vMF rules", 3),
-    ("vMF rules", 3),
-    ("vMF rules", 3),
-    ("LEAN", 5),
-    ("seed 000", 3),
-    ("seed 000", 3),
-    ("engines", 3),
-    ("engines", 3),
-];
-
 /// What building one footprint's representations found (for the report's diagnostics).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Diag {

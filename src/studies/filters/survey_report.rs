@@ -4,9 +4,9 @@
 
 use super::cases::{aggregate, mean_se, MapCase};
 use super::plan::kind_name;
-use super::survey::{Diag, SurveyCases, FILTER_ROWS, FOURNIER_K, MIP_K, ROWS};
+use super::survey::{Diag, SurveyCases, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
-use crate::filters::study::MAP_FILTERS;
+use crate::filters::study::MAP;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -24,16 +24,16 @@ pub use crate::results::filters::{
 
 /// Row `r` of the combined table for case `ci`: the filters first, then the survey.
 fn result<'a>(c: &'a MapCase, sv: &'a SurveyCases, ci: usize, r: usize) -> &'a CaseResult {
-    if r < MAP_FILTERS.len() {
+    if r < MAP.len() {
         &c.results[r]
     } else {
-        &sv.results[ci][r - MAP_FILTERS.len()]
+        &sv.results[ci][r - MAP.len()]
     }
 }
 
 /// The combined-table index of the survey row named `name` (a name of [`ROWS`]).
 fn row_index(name: &str) -> usize {
-    MAP_FILTERS.len()
+    MAP.len()
         + ROWS
             .iter()
             .position(|r| r.name == name)
@@ -41,15 +41,15 @@ fn row_index(name: &str) -> usize {
 }
 
 fn n_rows() -> usize {
-    MAP_FILTERS.len() + ROWS.len()
+    MAP.len() + ROWS.len()
 }
 
 fn row_meta(r: usize) -> (String, String, Option<usize>) {
-    if r < MAP_FILTERS.len() {
-        let (fam, p) = FILTER_ROWS[r];
-        (MAP_FILTERS[r].to_string(), fam.to_string(), Some(p))
+    if r < MAP.len() {
+        let f = &MAP[r];
+        (f.label.to_string(), f.family.to_string(), Some(f.params))
     } else {
-        let row = ROWS[r - MAP_FILTERS.len()];
+        let row = ROWS[r - MAP.len()];
         (row.name.to_string(), row.family.to_string(), row.params)
     }
 }

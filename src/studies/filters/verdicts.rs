@@ -3,7 +3,7 @@
 use super::cases::{aggregate, mean_se, Agg, MapCase, ScreenCase};
 use super::constants::Fitted;
 use super::plan::{kind_name, pct, KINDS};
-use crate::filters::study::{PixelFilter, MAP_FILTERS};
+use crate::filters::study::{map_index, screen_index, MapRule, PixelFilter, MAP};
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 
@@ -27,12 +27,15 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
     };
     let mut s = String::from("\n## Verdicts\n\n");
     for &kind in &KINDS {
-        let v: Vec<(usize, Agg)> = (4..7).map(|i| (i, map_l2(kind, i))).collect();
+        let v: Vec<(usize, Agg)> = (0..MAP.len())
+            .filter(|&i| matches!(MAP[i].rule, MapRule::Vmf(_)))
+            .map(|i| (i, map_l2(kind, i)))
+            .collect();
         let best = v
             .iter()
             .min_by(|a, b| a.1.l2_mean.total_cmp(&b.1.l2_mean))
             .map(|x| x.0)
-            .unwrap_or(4);
+            .unwrap_or(map_index("vmf-2"));
         let fitted = fits
             .iter()
             .find(|f| f.family.starts_with("vMF") && f.kind == kind)
@@ -44,13 +47,13 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
             100.0 * v[0].1.l2_mean, 100.0 * v[0].1.l2_se,
             100.0 * v[1].1.l2_mean, 100.0 * v[1].1.l2_se,
             100.0 * v[2].1.l2_mean, 100.0 * v[2].1.l2_se,
-            MAP_FILTERS[best],
+            MAP[best].label,
             pct(v[0].1.energy_mean, v[0].1.energy_se),
             pct(v[1].1.energy_mean, v[1].1.energy_se),
             pct(v[2].1.energy_mean, v[2].1.energy_se),
         ));
     }
-    let all: Vec<(usize, Agg)> = (0..MAP_FILTERS.len())
+    let all: Vec<(usize, Agg)> = (0..MAP.len())
         .map(|i| (i, map_l2(NdfKind::Ggx, i)))
         .collect();
     let best = all
@@ -60,13 +63,16 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         .unwrap_or(0);
     s.push_str(&format!(
         "- **Best map filter (GGX, all maps)**: {} (mean L2 {:.1} % ± {:.1}); no filter: {:.1} % ± {:.1}.\n",
-        MAP_FILTERS[best],
+        MAP[best].label,
         100.0 * all[best].1.l2_mean,
         100.0 * all[best].1.l2_se,
-        100.0 * all[0].1.l2_mean,
-        100.0 * all[0].1.l2_se
+        100.0 * all[map_index("none")].1.l2_mean,
+        100.0 * all[map_index("none")].1.l2_se
     ));
-    s.push_str(&engine_tool_verdicts(map_cases, &map_l2(NdfKind::Ggx, 4)));
+    s.push_str(&engine_tool_verdicts(
+        map_cases,
+        &map_l2(NdfKind::Ggx, map_index("vmf-2")),
+    ));
     let fitted = |fam: &str, kind: NdfKind| {
         fits.iter()
             .find(|f| f.family == fam && f.kind == kind)
@@ -77,8 +83,8 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         (PixelFilter::Box, "box pixel"),
     ] {
         for &kind in &KINDS {
-            let a2 = scr(kind, pixel, 1, 0.0);
-            let a1 = scr(kind, pixel, 8, 0.0);
+            let a2 = scr(kind, pixel, screen_index("tokuyoshi-deferred"), 0.0);
+            let a1 = scr(kind, pixel, screen_index("godot"), 0.0);
             let f2 = fitted(&format!("Eq 13 σ² ({p})"), kind);
             let f1 = fitted(&format!("kernel on α σ² ({p})"), kind);
             if let (Some(f2), Some(f1)) = (f2, f1) {
@@ -112,18 +118,30 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         sig("Eq 13 σ² (box pixel)", NdfKind::Ggx),
         sig("Eq 13 σ² (box pixel)", NdfKind::Beckmann),
     ));
-    let fs = scr(NdfKind::Ggx, PixelFilter::Gaussian, 10, 0.0);
-    let fp = scr(NdfKind::Ggx, PixelFilter::Gaussian, 11, 0.0);
+    let fs = scr(
+        NdfKind::Ggx,
+        PixelFilter::Gaussian,
+        screen_index("kaplanyan-forward"),
+        0.0,
+    );
+    let fp = scr(
+        NdfKind::Ggx,
+        PixelFilter::Gaussian,
+        screen_index("tokuyoshi-forward"),
+        0.0,
+    );
     s.push_str(&format!(
         "- **Forward kernels** (GGX, Gaussian pixel): slope-space derivatives (Kaplanyan, Eq 2–3) L2 {:.1} % ± {:.1}, energy {}; projected-disk derivatives (Tokuyoshi, Eq 7) L2 {:.1} % ± {:.1}, energy {} — the slope-space projection inflates the kernel for shallow half-vectors (seed 003 §3.1–3.2), Eq 7 removes that bias and is the most accurate kernel measured here.\n",
         100.0 * fs.l2_mean, 100.0 * fs.l2_se, pct(fs.energy_mean, fs.energy_se),
         100.0 * fp.l2_mean, 100.0 * fp.l2_se, pct(fp.energy_mean, fp.energy_se),
     ));
     let kmax = screen.iter().map(|c| c.field.kappa_u).fold(0.0, f64::max);
-    let cl = scr(NdfKind::Ggx, PixelFilter::Gaussian, 1, kmax);
-    let un = scr(NdfKind::Ggx, PixelFilter::Gaussian, 2, kmax);
-    let cl10 = scr(NdfKind::Ggx, PixelFilter::Gaussian, 3, kmax);
-    let un10 = scr(NdfKind::Ggx, PixelFilter::Gaussian, 9, kmax);
+    let gauss =
+        |key: &str, kmin: f64| scr(NdfKind::Ggx, PixelFilter::Gaussian, screen_index(key), kmin);
+    let cl = gauss("tokuyoshi-deferred", kmax);
+    let un = gauss("eq13-unclamped", kmax);
+    let cl10 = gauss("eigen-eq10", kmax);
+    let un10 = gauss("eq10-unclamped", kmax);
     s.push_str(&format!(
         "- **The 0.18 clamp** at the largest curvature (κ = {kmax} rad/px, GGX, Gaussian pixel, mean L2): Eq 13 clamped {:.1} % ± {:.1} vs unclamped {:.1} % ± {:.1}; Eq 10 clamped {:.1} % ± {:.1} vs unclamped {:.1} % ± {:.1}. {} These derivative fields are exact (no estimation noise), so this measures only what the clamp does to the filtering itself; its stated purpose, robustness to noisy ddx/ddy at grazing views (seed 003 §3.1), is not modelled here.\n",
         100.0 * cl.l2_mean, 100.0 * cl.l2_se, 100.0 * un.l2_mean, 100.0 * un.l2_se,
@@ -134,8 +152,8 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
             "For the exact eigenvalue kernel the clamp does not help; with Eq 13 it only offsets the trace over-estimate."
         }
     ));
-    let e13 = scr(NdfKind::Ggx, PixelFilter::Gaussian, 1, 0.0);
-    let e10 = scr(NdfKind::Ggx, PixelFilter::Gaussian, 3, 0.0);
+    let e13 = gauss("tokuyoshi-deferred", 0.0);
+    let e10 = gauss("eigen-eq10", 0.0);
     s.push_str(&format!(
         "- **Eq 13 vs Eq 10** (GGX, Gaussian pixel): {:.1} % ± {:.1} vs {:.1} % ± {:.1}. Eq 13 bounds λ_max by the trace, i.e. doubles the kernel for isotropic curvature (energy {} vs {}).\n",
         100.0 * e13.l2_mean, 100.0 * e13.l2_se, 100.0 * e10.l2_mean, 100.0 * e10.l2_se,
@@ -149,9 +167,10 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
 /// error next to vMF α² + 2/κ (`vmf`), and the paired difference over the same cases.
 fn engine_tool_verdicts(map_cases: &[MapCase], vmf: &Agg) -> String {
     let mut s = String::new();
+    let vmf2 = map_index("vmf-2");
     for (fi, tool) in [
-        (10usize, "Filament's roughness-prefilter"),
-        (11, "Godot's roughness limiter"),
+        (map_index("filament"), "Filament's roughness-prefilter"),
+        (map_index("godot"), "Godot's roughness limiter"),
     ] {
         let rs: Vec<&CaseResult> = map_cases
             .iter()
@@ -162,12 +181,12 @@ fn engine_tool_verdicts(map_cases: &[MapCase], vmf: &Agg) -> String {
         let d: Vec<f64> = map_cases
             .iter()
             .filter(|c| c.kind == NdfKind::Ggx)
-            .map(|c| c.results[fi].l2.value - c.results[4].l2.value)
+            .map(|c| c.results[fi].l2.value - c.results[vmf2].l2.value)
             .collect();
         let (dm, ds) = mean_se(&d);
         s.push_str(&format!(
             "- **{tool} (GGX, all maps)**: {} mean L2 {:.1} % ± {:.1}, peak {} (vMF α² + 2/κ: {:.1} % ± {:.1}, peak {}); paired difference {:+.1} % ± {:.1} — {}.\n",
-            MAP_FILTERS[fi],
+            MAP[fi].label,
             100.0 * e.l2_mean,
             100.0 * e.l2_se,
             pct(e.peak_mean, e.peak_se),
