@@ -563,6 +563,9 @@ fn grids_name_their_columns_and_rows_in_the_picture() {
     }
     // Greek letters are spelled in ASCII; the wrong number of names is a typed error
     assert_eq!(label("α", 40, 1).px, label("alpha", 40, 1).px);
+    // a fourth root after a caret is not given a second caret
+    assert_eq!(label("A)^¼", 80, 1).px, label("A)^(1/4)", 80, 1).px);
+    assert_eq!(label("A¼", 80, 1).px, label("A^(1/4)", 80, 1).px);
     assert!(labelled_grid(&tiles, gap, &cols[..1], &rows, lines, side).is_err());
 }
 

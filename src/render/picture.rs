@@ -134,7 +134,12 @@ fn ascii(s: &str) -> String {
             'ψ' => out.push_str("psi"),
             'ꟻ' => out.push('F'),
             '²' => out.push_str("^2"),
-            '¼' => out.push_str("^(1/4)"),
+            // after a caret already: "A)^¼" reads "A)^(1/4)"
+            '¼' => out.push_str(if out.ends_with('^') {
+                "(1/4)"
+            } else {
+                "^(1/4)"
+            }),
             '→' => out.push_str("to"),
             '⁻' => out.push_str("^-"),
             '¹' => out.push('1'),
