@@ -2,36 +2,22 @@
 //! *set* of files that belong together (one study's JSON, reports and plots; one
 //! `prefilter` or `scene` output) is published in one step:
 //!
-//! 1. [`begin_set`] starts collecting: while a set is open, [`write_atomic`] only records
-//!    the bytes;
-//! 2. [`SetGuard::commit`] checks every target first (a directory in the way of a file, an
-//!    unwritable parent) and writes nothing if any fails; then it writes and syncs every
-//!    temporary file, removes the set's old manifest, renames the temporaries into place
-//!    and writes the manifest (paths, sizes and FNV-1a hashes) last;
-//! 3. a set dropped without `commit` (an error on the way) writes nothing.
+//! 1. the code that makes a set writes nothing: it adds each file's bytes to an
+//!    [`Outputs`] value, which is data like any other result;
+//! 2. the driver hands it to [`Outputs::publish`], which checks every target first (a
+//!    directory in the way of a file, an unwritable parent) and writes nothing if any
+//!    fails; then it writes and syncs every temporary file, removes the set's old
+//!    manifest, renames the temporaries into place and writes the manifest (paths, sizes
+//!    and FNV-1a hashes) last;
+//! 3. a set whose making failed is dropped: nothing is written.
 //!
 //! A run killed between the renames leaves a set without a manifest, or one whose files
 //! disagree with it: [`set_is_complete`] tells. Temporary files of processes that no longer
 //! exist are removed by the next commit into the same directories (and are git-ignored).
 
 use crate::error::{Error, Result};
-use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// The open set: its manifest path and the files recorded so far.
-struct Stage {
-    manifest: PathBuf,
-    name: String,
-    files: Vec<(PathBuf, Vec<u8>)>,
-}
-
-// The open set belongs to the thread that opened it (the thread that runs the study and
-// writes its files; studies write from their own thread, never from rayon workers), so
-// that concurrent callers in one process (tests) keep their sets apart.
-thread_local! {
-    static STAGE: RefCell<Option<Stage>> = const { RefCell::new(None) };
-}
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |e| Error::Io {
@@ -72,20 +58,9 @@ fn write_tmp(path: &Path, bytes: &[u8]) -> Result<PathBuf> {
 }
 
 /// Write `bytes` to `path` atomically (temp file in the same directory + rename; parent
-/// directories are created). While a set is open ([`begin_set`]) the file joins the set
-/// and is written when the set is committed.
+/// directories are created): a lone file (a generated document, a cache entry, a shard).
+/// A set of files that belong together goes through [`Outputs`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let staged = STAGE.with_borrow_mut(|g| match g.as_mut() {
-        Some(st) => {
-            st.files.retain(|(p, _)| p != path);
-            st.files.push((path.to_path_buf(), bytes.to_vec()));
-            true
-        }
-        None => false,
-    });
-    if staged {
-        return Ok(());
-    }
     let tmp = write_tmp(path, bytes)?;
     if path.is_dir() {
         let _ = std::fs::remove_file(&tmp);
@@ -100,39 +75,49 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
-/// Write `bytes` to `path` atomically, outside any open set (caches and shard files,
-/// which are not part of a study's published output).
-pub fn write_unstaged(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = write_tmp(path, bytes)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io_err(path)(e)
-    })
+/// The files of one output set, as data (see the module doc): paths and bytes in the order
+/// they were added; a path added twice keeps its last bytes.
+#[derive(Debug, Default)]
+#[must_use = "an output set is written only when published"]
+pub struct Outputs {
+    files: Vec<(PathBuf, Vec<u8>)>,
 }
 
-/// An open output set; see the module doc.
-#[must_use = "a set is written only when committed"]
-pub struct SetGuard {
-    open: bool,
-}
+impl Outputs {
+    /// An empty set.
+    pub fn new() -> Outputs {
+        Outputs::default()
+    }
 
-/// Open a set named `name` whose manifest is written to `manifest`. Sets do not nest: a
-/// second `begin_set` while one is open is an error.
-pub fn begin_set(name: &str, manifest: &Path) -> Result<SetGuard> {
-    STAGE.with_borrow_mut(|g| {
-        if let Some(st) = g.as_ref() {
-            return Err(Error::InvalidArgument(format!(
-                "output set '{name}' opened while '{}' is open",
-                st.name
-            )));
-        }
-        *g = Some(Stage {
-            manifest: manifest.to_path_buf(),
-            name: name.to_string(),
-            files: Vec::new(),
-        });
-        Ok(SetGuard { open: true })
-    })
+    /// Add the file `path` with `bytes` (replacing an earlier file of the same path).
+    pub fn put(&mut self, path: impl Into<PathBuf>, bytes: impl AsRef<[u8]>) {
+        let path = path.into();
+        self.files.retain(|(p, _)| *p != path);
+        self.files.push((path, bytes.as_ref().to_vec()));
+    }
+
+    /// The bytes of `path`, if the set holds it.
+    pub fn get(&self, path: &Path) -> Option<&[u8]> {
+        self.files
+            .iter()
+            .find(|(p, _)| p == path)
+            .map(|(_, b)| b.as_slice())
+    }
+
+    /// The paths of the set, in the order added.
+    pub fn paths(&self) -> impl Iterator<Item = &Path> {
+        self.files.iter().map(|(p, _)| p.as_path())
+    }
+
+    /// How many files the set holds.
+    pub fn len(&self) -> usize {
+        self.files.len()
+    }
+
+    /// Whether the set holds no file.
+    pub fn is_empty(&self) -> bool {
+        self.files.is_empty()
+    }
 }
 
 /// FNV-1a 64 of a byte string (manifest checksums: detects a mixed set, not an attacker).
@@ -179,13 +164,22 @@ fn manifest_text(name: &str, files: &[(PathBuf, Vec<u8>)]) -> String {
     serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
 }
 
-impl SetGuard {
-    /// Publish the set (see the module doc). Returns the paths written.
-    pub fn commit(mut self) -> Result<Vec<PathBuf>> {
-        self.open = false;
-        let st = STAGE
-            .with_borrow_mut(Option::take)
-            .ok_or_else(|| Error::InvalidArgument("no output set is open".into()))?;
+/// A set to publish: its name, its manifest and its files.
+struct Stage {
+    manifest: PathBuf,
+    name: String,
+    files: Vec<(PathBuf, Vec<u8>)>,
+}
+
+impl Outputs {
+    /// Publish the set named `name`, whose manifest is `manifest` (see the module doc).
+    /// Returns the paths written.
+    pub fn publish(self, name: &str, manifest: &Path) -> Result<Vec<PathBuf>> {
+        let st = Stage {
+            manifest: manifest.to_path_buf(),
+            name: name.to_string(),
+            files: self.files,
+        };
         // 1. every target must be writable as a file before anything is written
         for (p, _) in &st.files {
             if p.is_dir() {
@@ -340,15 +334,6 @@ fn process_runs(pid: u32) -> bool {
     Path::new(&format!("/proc/{pid}")).exists()
 }
 
-impl Drop for SetGuard {
-    fn drop(&mut self) {
-        if self.open {
-            // an error on the way: discard what was recorded, write nothing
-            STAGE.with_borrow_mut(Option::take);
-        }
-    }
-}
-
 /// Remove `.NAME.tmp.PID` files in `dir` whose process no longer runs (Linux: /proc/PID).
 pub fn remove_stale_temporaries(dir: &Path) {
     let Ok(rd) = std::fs::read_dir(if dir.as_os_str().is_empty() {
@@ -397,11 +382,15 @@ pub fn set_is_complete(manifest: &Path) -> bool {
         })
 }
 
-/// Run `f` inside an output set (see [`begin_set`]) and commit it if `f` succeeds.
-pub fn in_set<T>(name: &str, manifest: &Path, f: impl FnOnce() -> Result<T>) -> Result<T> {
-    let g = begin_set(name, manifest)?;
-    let v = f()?;
-    g.commit()?;
+/// Let `f` make the set `name` into an [`Outputs`] and publish it if `f` succeeds.
+pub fn in_set<T>(
+    name: &str,
+    manifest: &Path,
+    f: impl FnOnce(&mut Outputs) -> Result<T>,
+) -> Result<T> {
+    let mut out = Outputs::new();
+    let v = f(&mut out)?;
+    out.publish(name, manifest)?;
     Ok(v)
 }
 
@@ -409,23 +398,4 @@ pub fn in_set<T>(name: &str, manifest: &Path, f: impl FnOnce() -> Result<T>) -> 
 /// (git-ignored: a manifest records one run, and the committed files speak for themselves).
 pub fn results_manifest(results: &Path, name: &str) -> PathBuf {
     results.join(".sets").join(format!("{name}.json"))
-}
-
-/// Read a text file as the running program sees it: a file recorded in the open set (not
-/// yet published) reads as its pending contents, so a study can read back what it wrote.
-pub fn read_to_string(path: &Path) -> std::io::Result<String> {
-    let pending = STAGE.with_borrow(|g| {
-        g.as_ref().and_then(|st| {
-            st.files
-                .iter()
-                .rev()
-                .find(|(p, _)| p == path)
-                .map(|(_, b)| b.clone())
-        })
-    });
-    match pending {
-        Some(b) => String::from_utf8(b)
-            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e)),
-        None => std::fs::read_to_string(path),
-    }
 }

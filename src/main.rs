@@ -46,8 +46,8 @@ fn run_verify(
     let ok = outcomes.iter().all(|o| o.passed);
     ndfbench::report::stage("verify: done");
     if only.is_none() {
-        in_set("proofs", &results_manifest(results, "proofs"), || {
-            verify::write_results(&outcomes, preset, results)
+        in_set("proofs", &results_manifest(results, "proofs"), |set| {
+            verify::write_results(set, &outcomes, preset, results)
         })?;
         eprintln!("wrote {}/proofs.md", results.display());
     }
@@ -86,22 +86,22 @@ fn run_regen_timed(
     let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits
     ndfbench::report::stage("codegen");
-    match in_set("codegen", &results_manifest(results, "codegen"), || {
-        ndfbench::codegen::write_all(results)
+    match in_set("codegen", &results_manifest(results, "codegen"), |set| {
+        ndfbench::codegen::write_all(set, results)
     }) {
         Ok(paths) => eprintln!("generated {}", paths.join(", ")),
         Err(e) => eprintln!("codegen skipped: {e}"),
     }
-    match in_set("scenes", &results_manifest(results, "scenes"), || {
-        ndfbench::scene::regen_examples(results)
+    match in_set("scenes", &results_manifest(results, "scenes"), |set| {
+        ndfbench::scene::regen_examples(set, results)
     }) {
         Ok(n) if !n.is_empty() => eprintln!("rebuilt example scenes {}", n.join(", ")),
         Ok(_) => {}
         Err(e) => eprintln!("example scenes skipped: {e}"),
     }
     // every generated shader through naga's back ends and the validators
-    match in_set("shaders", &results_manifest(results, "shaders"), || {
-        ndfbench::codegen::shaders::write(results)
+    match in_set("shaders", &results_manifest(results, "shaders"), |set| {
+        ndfbench::codegen::shaders::write(set, results)
     }) {
         Ok(paths) => eprintln!("translated and validated {} shader files", paths.len()),
         Err(e) => eprintln!("shader translation skipped: {e}"),
@@ -161,7 +161,7 @@ fn run_main_job(cli: &Cli) -> Result<bool, ndfbench::Error> {
     let conv = in_set(
         "convergence",
         &results_manifest(&cli.results, "convergence"),
-        || ndfbench::studies::convergence::run(Preset::Default, &cli.results),
+        |set| ndfbench::studies::convergence::run(set, Preset::Default, &cli.results),
     )?;
     times.push(ndfbench::studies::performance::JobStage::since(
         "convergence study",
@@ -208,8 +208,8 @@ fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
             });
         }
     }
-    in_set("engines", &dir.join(".sets").join("engines.json"), || {
-        ndfbench::studies::engines::run(scenes, &files, &cli.results, dir, &command)
+    in_set("engines", &dir.join(".sets").join("engines.json"), |set| {
+        ndfbench::studies::engines::run(set, scenes, &files, &cli.results, dir, &command)
     })
     .map(|s| {
         println!("{s}");
@@ -253,6 +253,30 @@ fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     }
 }
 
+/// `bench-report`: results/performance.md from criterion's output (or only its main-job
+/// section), then the example scenes, which quote its costs.
+fn run_bench_report(
+    criterion: &std::path::Path,
+    main_job_only: bool,
+    results: &std::path::Path,
+) -> Result<bool, ndfbench::Error> {
+    let s = in_set(
+        "performance",
+        &results_manifest(results, "performance"),
+        |set| match main_job_only {
+            true => ndfbench::studies::performance::refresh_main_job(set, results),
+            false => ndfbench::studies::performance::run(set, criterion, results),
+        },
+    )?;
+    println!("{s}");
+    if let Err(e) = in_set("scenes", &results_manifest(results, "scenes"), |set| {
+        ndfbench::scene::regen_examples(set, results)
+    }) {
+        eprintln!("example scenes skipped: {e}");
+    }
+    Ok(true)
+}
+
 fn main() -> ExitCode {
     // clap's own errors (bad flags, unparsable numbers) exit 2 with their first line only;
     // --help and --version print as usual
@@ -281,7 +305,7 @@ fn main() -> ExitCode {
         Some(Cmd::Convergence { preset }) => in_set(
             "convergence",
             &results_manifest(&cli.results, "convergence"),
-            || ndfbench::studies::convergence::run(preset, &cli.results),
+            |set| ndfbench::studies::convergence::run(set, preset, &cli.results),
         )
         .map(|s| {
             println!("{s}");
@@ -292,19 +316,21 @@ fn main() -> ExitCode {
             true
         }),
         Some(Cmd::Prefilter(a)) => ndfbench::cli::prefilter::run(a, &cli.results),
-        Some(Cmd::Scene { file, out: dir }) => in_set("scene", &dir.join(".manifest.json"), || {
-            ndfbench::scene::run(&file, &dir, &cli.results)
-        })
-        .map(|w| {
-            println!("wrote {}", w.join(", "));
-            true
-        }),
+        Some(Cmd::Scene { file, out: dir }) => {
+            in_set("scene", &dir.join(".manifest.json"), |set| {
+                ndfbench::scene::run(set, &file, &dir, &cli.results)
+            })
+            .map(|w| {
+                println!("wrote {}", w.join(", "));
+                true
+            })
+        }
         Some(Cmd::Render {
             file,
             out: dir,
             preset,
-        }) => in_set("render", &dir.join(".manifest.json"), || {
-            ndfbench::studies::render::render_file(&file, &dir, &cli.results, preset)
+        }) => in_set("render", &dir.join(".manifest.json"), |set| {
+            ndfbench::studies::render::render_file(set, &file, &dir, &cli.results, preset)
         })
         .map(|w| {
             println!("wrote {}", w.join(", "));
@@ -315,8 +341,8 @@ fn main() -> ExitCode {
             scale,
             out: dir,
             preset,
-        }) => in_set("horizon", &dir.join(".manifest.json"), || {
-            ndfbench::studies::visibility::horizon_file(&input, scale, &dir, preset)
+        }) => in_set("horizon", &dir.join(".manifest.json"), |set| {
+            ndfbench::studies::visibility::horizon_file(set, &input, scale, &dir, preset)
         })
         .map(|w| {
             let (notes, paths): (Vec<_>, Vec<_>) =
@@ -338,8 +364,9 @@ fn main() -> ExitCode {
         }) => in_set(
             "ltc-compare",
             &dir.join(".sets").join("ltc-compare.json"),
-            || {
+            |set| {
                 ndfbench::studies::ltc_compare::run(
+                    set,
                     &ndfbench::studies::ltc_compare::Inputs {
                         shipped: &shipped,
                         mat: &mat,
@@ -361,7 +388,7 @@ fn main() -> ExitCode {
         Some(Cmd::TensorlyCompare { python, preset }) => in_set(
             "tensorly-compare",
             &results_manifest(&cli.results, "tensorly-compare"),
-            || ndfbench::tensor::compare::run(&cli.results, &python, preset),
+            |set| ndfbench::tensor::compare::run(set, &cli.results, &python, preset),
         )
         .map(|r| {
             print!("{}", ndfbench::tensor::compare::table(&r));
@@ -373,23 +400,9 @@ fn main() -> ExitCode {
             &ndfbench::results::index::readme(),
         ),
         Some(Cmd::BenchReport {
-            criterion,
+            ref criterion,
             main_job_only,
-        }) => in_set(
-            "performance",
-            &results_manifest(&cli.results, "performance"),
-            || match main_job_only {
-                true => ndfbench::studies::performance::refresh_main_job(&cli.results),
-                false => ndfbench::studies::performance::run(&criterion, &cli.results),
-            },
-        )
-        .map(|s| {
-            println!("{s}");
-            if let Err(e) = ndfbench::scene::regen_examples(&cli.results) {
-                eprintln!("example scenes skipped: {e}");
-            }
-            true
-        }),
+        }) => run_bench_report(criterion, main_job_only, &cli.results),
     };
     match res {
         Ok(true) => ExitCode::SUCCESS,

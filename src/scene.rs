@@ -441,13 +441,18 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
 }
 
 /// Write the scene's outputs into `out` (atomically, each file); returns the paths.
-pub fn run(path: &Path, out: &Path, results: &Path) -> Result<Vec<String>> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    path: &Path,
+    out: &Path,
+    results: &Path,
+) -> Result<Vec<String>> {
     let s = Scene::load(path)?;
     let files = build(&s, results)?;
     let mut written = Vec::new();
     for (name, text) in files {
         let p = out.join(name);
-        crate::io::write_atomic(&p, text.as_bytes())?;
+        set.put(&p, text.as_bytes());
         written.push(p.display().to_string());
     }
     Ok(written)
@@ -456,7 +461,7 @@ pub fn run(path: &Path, out: &Path, results: &Path) -> Result<Vec<String>> {
 /// Rebuild the example scenes (tests/scenes/*.toml → results/scenes/<name>/) so their
 /// committed outputs follow the fits and costs; run by `regen` and `bench-report` on the
 /// canonical results/ directory. Returns the scene names rebuilt.
-pub fn regen_examples(results: &Path) -> Result<Vec<String>> {
+pub fn regen_examples(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<String>> {
     let dir = Path::new("tests/scenes");
     if results != Path::new("results") || !dir.is_dir() {
         return Ok(Vec::new());
@@ -473,7 +478,7 @@ pub fn regen_examples(results: &Path) -> Result<Vec<String>> {
     let mut names = Vec::new();
     for f in files {
         let s = Scene::load(&f)?;
-        run(&f, &results.join("scenes").join(&s.name), results)?;
+        run(set, &f, &results.join("scenes").join(&s.name), results)?;
         names.push(s.name);
     }
     Ok(names)

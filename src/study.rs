@@ -1,7 +1,6 @@
 //! What a study is, apart from any particular one: the context it runs in, what it
-//! reports back, and the trait the registry (`studies`) holds. Studies implement nothing
-//! here themselves; the registry adapts their entry points, so no study imports the
-//! driver that runs it.
+//! reports back, and the trait each study implements and the registry (`studies`) holds.
+//! A study imports this, never the driver that runs it.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -41,6 +40,7 @@ pub trait Study: Sync {
     fn on_request(&self) -> bool {
         false
     }
-    /// Compute, report and write (into the open output set).
-    fn run(&self, ctx: &Ctx) -> Result<FitOutcome>;
+    /// Compute and report; every file goes into `set`, which the driver publishes (a
+    /// study writes nothing itself).
+    fn run(&self, ctx: &Ctx, set: &mut crate::io::Outputs) -> Result<FitOutcome>;
 }

@@ -416,3 +416,90 @@ fn folders_point_one_way_and_report_knows_no_model() {
         "folders on an import circle: {circles:?} (arrows: {edges:?})"
     );
 }
+
+/// The modules that may touch the disk, and why. Everything else, every study included,
+/// hands its files to the driver as `io::Outputs`, which publishes them as one set.
+const WRITERS: &[(&str, &str)] = &[
+    (
+        "io",
+        "the one publisher of output sets, and lone atomic files",
+    ),
+    (
+        "main",
+        "the driver: publishes each command's set; the generated documents",
+    ),
+    (
+        "cli::batch",
+        "the `slurm` command publishes its scripts as a set",
+    ),
+    (
+        "cli::prefilter",
+        "the `prefilter` command publishes its mips as a set",
+    ),
+    (
+        "studies::run",
+        "the `regen` driver publishes each study's set",
+    ),
+    ("memo::cache", "cache entries, not results"),
+    ("memo::shards", "shard files, not results"),
+    (
+        "studies::performance::main_job",
+        "the main job's own profile under target/",
+    ),
+    (
+        "codegen::validators",
+        "a scratch file for an external validator",
+    ),
+    ("tensor::compare", "the scratch script TensorLy runs in"),
+];
+
+/// What writes a file or publishes a set, as it appears in the source.
+const WRITES: &[&str] = &[
+    "write_atomic(",
+    "fs::write(",
+    "File::create(",
+    "create_dir_all(",
+    "OpenOptions",
+    "fs::rename(",
+    "in_set(",
+    ".publish(",
+];
+
+#[test]
+fn no_study_writes_files_itself() {
+    let mut found = Vec::new();
+    let mut writers: Vec<&str> = Vec::new();
+    for (m, t) in sources() {
+        let code: String = t
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let hits: Vec<&str> = WRITES
+            .iter()
+            .copied()
+            .filter(|w| code.contains(w))
+            .collect();
+        if hits.is_empty() {
+            continue;
+        }
+        match WRITERS.iter().find(|(w, _)| *w == m) {
+            Some((w, _)) => writers.push(w),
+            None => found.push(format!("{m}: {hits:?}")),
+        }
+    }
+    found.sort();
+    assert!(
+        found.is_empty(),
+        "modules that write files themselves (add them to an io::Outputs the driver publishes): {found:?}"
+    );
+    let stale: Vec<&str> = WRITERS
+        .iter()
+        .map(|w| w.0)
+        .filter(|w| !writers.contains(w))
+        .collect();
+    assert!(
+        stale.is_empty(),
+        "listed as writers but write nothing (remove them from WRITERS): {stale:?}"
+    );
+}

@@ -125,7 +125,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
     )
     .unwrap();
     let png = dir.join("flakes16.png");
-    map.to_png(&png).unwrap();
+    std::fs::write(&png, map.png().unwrap()).unwrap();
     let out = bin()
         .args(["prefilter", "--input"])
         .arg(&png)

@@ -1074,7 +1074,7 @@ fn horizon_command_rejects_bad_height_maps_and_writes_nothing() {
 /// is taken over at once; the lock is gone after the set is published.
 #[test]
 fn one_writer_per_results_folder() {
-    use ndfbench::io::{in_set, write_atomic};
+    use ndfbench::io::in_set;
     let dir = scratch("lock");
     let manifest = dir.join(".sets").join("x.json");
     let lock = dir.join(".sets").join(".publish.lock");
@@ -1084,15 +1084,23 @@ fn one_writer_per_results_folder() {
     let pid = dead.id();
     dead.wait().unwrap();
     std::fs::write(&lock, format!("{pid}\n")).unwrap();
-    in_set("x", &manifest, || write_atomic(&dir.join("a.txt"), b"a")).expect("taken over");
+    in_set("x", &manifest, |set| {
+        set.put(dir.join("a.txt"), b"a");
+        Ok(())
+    })
+    .expect("taken over");
     assert_eq!(std::fs::read(dir.join("a.txt")).unwrap(), b"a");
     assert!(!lock.exists(), "released after publishing");
     // a live holder: nothing is published while it runs
     let mut live = Command::new("sleep").arg("60").spawn().expect("sleep runs");
     std::fs::write(&lock, format!("{}\n", live.id())).unwrap();
     let (d2, m2) = (dir.clone(), manifest.clone());
-    let writer =
-        std::thread::spawn(move || in_set("x", &m2, || write_atomic(&d2.join("b.txt"), b"b")));
+    let writer = std::thread::spawn(move || {
+        in_set("x", &m2, |set| {
+            set.put(d2.join("b.txt"), b"b");
+            Ok(())
+        })
+    });
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert!(
         !dir.join("b.txt").exists(),

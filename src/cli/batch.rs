@@ -164,6 +164,7 @@ pub fn scripts(
 
 /// Write the scripts into `a.out` (one output set; `submit.sh` made executable).
 pub fn write_scripts(
+    set: &mut crate::io::Outputs,
     a: &SlurmArgs,
     exe: &Path,
     fits: &Path,
@@ -173,7 +174,7 @@ pub fn write_scripts(
     let mut written = Vec::new();
     for (name, text) in &files {
         let p = a.out.join(name);
-        crate::io::write_atomic(&p, text.as_bytes())?;
+        set.put(&p, text.as_bytes());
         written.push(p.display().to_string());
     }
     Ok(written)
@@ -226,8 +227,8 @@ pub fn slurm(a: &SlurmArgs, fits: &Path, results: &Path) -> Result<bool> {
         path: "current executable".into(),
         msg: e.to_string(),
     })?;
-    let w = crate::io::in_set("slurm", &a.out.join(".manifest.json"), || {
-        write_scripts(a, &exe, fits, results)
+    let w = crate::io::in_set("slurm", &a.out.join(".manifest.json"), |set| {
+        write_scripts(set, a, &exe, fits, results)
     })?;
     make_executable(&a.out);
     println!(

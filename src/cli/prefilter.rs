@@ -77,12 +77,13 @@ impl PrefilterArgs {
 /// `prefilter`: one output set (atomically published) per call.
 pub fn run(a: PrefilterArgs, results: &std::path::Path) -> Result<bool, crate::Error> {
     let dir = a.out.clone();
-    crate::io::in_set("prefilter", &dir.join(".manifest.json"), || {
-        prefilter_set(a, &dir, results)
+    crate::io::in_set("prefilter", &dir.join(".manifest.json"), |set| {
+        prefilter_set(set, a, &dir, results)
     })
 }
 
 fn prefilter_set(
+    set: &mut crate::io::Outputs,
     a: PrefilterArgs,
     dir: &std::path::Path,
     results: &std::path::Path,
@@ -100,7 +101,7 @@ fn prefilter_set(
     } = a;
     let msg = match (input, generator, rank) {
         (Some(p), None, None) if study => {
-            crate::studies::filters::prefilter(&p, dir, alpha.unwrap_or(0.1), preset)?
+            crate::studies::filters::prefilter(set, &p, dir, alpha.unwrap_or(0.1), preset)?
         }
         (Some(_), None, None) => {
             let options = tool.expect("tool options with --input");
@@ -117,7 +118,7 @@ fn prefilter_set(
             let outcome = crate::prefilter::run(options)?;
             let files = crate::prefilter::output::render(&outcome, &command)?;
             for (name, bytes) in &files {
-                crate::io::write_atomic(&dir.join(name), bytes)?;
+                set.put(&dir.join(name), bytes);
             }
             format!(
                 "wrote {} files to {} ({} levels, rule {})",
@@ -129,7 +130,7 @@ fn prefilter_set(
         }
         (Some(p), None, Some(r)) => {
             let map = NormalMap::from_png(&p)?;
-            crate::studies::tensor::prefilter_tensor(&map, dir, r, preset)?
+            crate::studies::tensor::prefilter_tensor(set, &map, dir, r, preset)?
         }
         (None, Some(g), r) => {
             let kind = Procedural::ALL
@@ -139,7 +140,7 @@ fn prefilter_set(
                 .ok_or_else(|| crate::Error::InvalidArgument(format!("--generator '{g}': one of isotropic-noise, brushed-metal, flakes, sharp-bumps, scratches")))?;
             let map = NormalMap::procedural(kind, 64, 1)?;
             match r {
-                Some(r) => crate::studies::tensor::prefilter_tensor(&map, dir, r, preset)?,
+                Some(r) => crate::studies::tensor::prefilter_tensor(set, &map, dir, r, preset)?,
                 None => {
                     return Err(crate::Error::InvalidArgument(
                         "--generator needs --rank (the footprint-filter study takes --input PNG)"

@@ -90,7 +90,7 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
 /// Write the generated files: WGSL under `results`/wgsl, Rust under src/generated when
 /// `results` is the canonical `results` directory (so a redirected --results never
 /// rewrites the crate's sources). Returns the paths written.
-pub fn write_all(results: &Path) -> Result<Vec<String>> {
+pub fn write_all(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<String>> {
     let canonical = results == Path::new("results");
     let mut written = Vec::new();
     for (rel, text) in render_all(results, canonical)? {
@@ -103,7 +103,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         } else {
             Path::new(&rel).to_path_buf()
         };
-        crate::io::write_atomic(&path, text.as_bytes())?;
+        set.put(&path, text.as_bytes());
         written.push(path.display().to_string());
     }
     for kind in &textures::TABLES {
@@ -115,7 +115,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         };
         for (rel, bytes) in textures::render(&t, kind, COMMAND) {
             let path = results.join(rel);
-            crate::io::write_atomic(&path, &bytes)?;
+            set.put(&path, &bytes);
             written.push(path.display().to_string());
         }
     }
@@ -123,7 +123,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
     if let Ok(t) = crate::results::ltc::aniso_table(results) {
         for (rel, bytes) in aniso::render(&t, COMMAND) {
             let path = results.join(rel);
-            crate::io::write_atomic(&path, &bytes)?;
+            set.put(&path, &bytes);
             written.push(path.display().to_string());
         }
     }
@@ -138,7 +138,7 @@ pub fn write_all(results: &Path) -> Result<Vec<String>> {
         if rendered == COMPILED_TWINS {
             let md = audit::markdown(&audit::run(), COMMAND);
             let p = results.join("generated-range.md");
-            crate::io::write_atomic(&p, md.as_bytes())?;
+            set.put(&p, md.as_bytes());
             written.push(p.display().to_string());
         } else {
             crate::report::stage(

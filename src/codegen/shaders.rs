@@ -53,7 +53,7 @@ pub fn measure(results: &Path, validate: bool) -> Result<Vec<Entry>> {
     let mut entries = Vec::new();
     for (name, rel) in sources(results) {
         let path = results.join(&rel);
-        let src = crate::io::read_to_string(&path).map_err(|e| Error::Io {
+        let src = std::fs::read_to_string(&path).map_err(|e| Error::Io {
             path: path.display().to_string(),
             msg: e.to_string(),
         })?;
@@ -207,12 +207,12 @@ pub fn render(entries: &[Entry], command: &str) -> Vec<(String, Vec<u8>)> {
 }
 
 /// Measure and write results/shaders.md and the SPIR-V files; returns the paths.
-pub fn write(results: &Path) -> Result<Vec<String>> {
+pub fn write(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<String>> {
     let entries = measure(results, true)?;
     let mut written = Vec::new();
     for (rel, bytes) in render(&entries, super::text::COMMAND) {
         let p = results.join(rel);
-        crate::io::write_atomic(&p, &bytes)?;
+        set.put(&p, &bytes);
         written.push(p.display().to_string());
     }
     Ok(written)

@@ -93,7 +93,7 @@ impl EngineScenes {
 
     /// Read the file.
     pub fn read(path: &std::path::Path) -> Result<EngineScenes> {
-        let text = crate::io::read_to_string(path).map_err(|e| Error::Io {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
             path: path.display().to_string(),
             msg: e.to_string(),
         })?;

@@ -319,8 +319,8 @@ impl NormalMap {
         })
     }
 
-    /// Encode as an 8-bit RGB PNG (used by tests and examples).
-    pub fn to_png(&self, path: &Path) -> Result<()> {
+    /// The map as 8-bit RGB PNG bytes (used by tests and examples).
+    pub fn png(&self) -> Result<Vec<u8>> {
         let mut img = image::RgbImage::new(self.width as u32, self.height as u32);
         for (i, n) in self.normals.iter().enumerate() {
             let c = |x: f64| ((x * 0.5 + 0.5) * 255.0).round().clamp(0.0, 255.0) as u8;
@@ -335,11 +335,8 @@ impl NormalMap {
             &mut std::io::Cursor::new(&mut bytes),
             image::ImageFormat::Png,
         )
-        .map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            msg: e.to_string(),
-        })?;
-        crate::io::write_atomic(path, &bytes)
+        .map_err(|e| Error::InvalidArgument(format!("PNG encoding: {e}")))?;
+        Ok(bytes)
     }
 
     /// The base normals of the 2^level × 2^level block at texel (i, j) of `level`.

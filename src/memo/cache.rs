@@ -99,7 +99,7 @@ pub fn store<T: Serialize + DeserializeOwned>(path: &Path, key: &str, label: &st
     });
     let res = entry.and_then(|e| {
         let text = serde_json::to_string(&e).unwrap_or_default();
-        crate::io::write_unstaged(path, text.as_bytes())
+        crate::io::write_atomic(path, text.as_bytes())
     });
     if let Err(e) = res {
         eprintln!("cache: not stored: {e}");

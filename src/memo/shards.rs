@@ -101,7 +101,7 @@ pub fn write(dir: &Path, id: &Identity, k: usize, n: usize, part: Part) -> Resul
     let v = serde_json::to_value(&f).map_err(|e| Error::Shard(e.to_string()))?;
     let text =
         serde_json::to_string(&super::seal::seal(v)).map_err(|e| Error::Shard(e.to_string()))?;
-    crate::io::write_unstaged(&path, text.as_bytes())?;
+    crate::io::write_atomic(&path, text.as_bytes())?;
     Ok(path)
 }
 

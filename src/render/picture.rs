@@ -5,7 +5,6 @@
 
 use super::measure::tone;
 use crate::error::{Error, Result};
-use std::path::Path;
 
 /// An RGB8 image.
 #[derive(Clone, Debug)]
@@ -80,9 +79,6 @@ impl Rgb {
         img.write_to(&mut out, image::ImageFormat::Png)
             .map_err(|e| Error::InvalidArgument(format!("PNG encoding: {e}")))?;
         Ok(out.into_inner())
-    }
-    pub fn write(&self, path: &Path) -> Result<()> {
-        crate::io::write_atomic(path, &self.png()?)
     }
 }
 

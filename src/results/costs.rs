@@ -2,7 +2,7 @@
 //! LTC polygon forms and fits and the tensor queries, written by `bench-report` and read
 //! by `scene` (what it chooses from) and the reports that quote a cost.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -39,14 +39,8 @@ pub fn read(results: &Path) -> Result<Option<Costs>> {
     )
 }
 
-/// Write results/costs.json atomically (keys sorted, as every result).
-pub fn write(results: &Path, costs: &Costs) -> Result<()> {
-    let v =
-        serde_json::to_value(costs).map_err(|e| Error::InvalidArgument(format!("costs: {e}")))?;
-    crate::io::write_atomic(
-        &path(results),
-        serde_json::to_string_pretty(&v)
-            .expect("a JSON value serialises")
-            .as_bytes(),
-    )
+/// Add results/costs.json to the output set `out` (keys sorted, as every result).
+pub fn put(set: &mut crate::io::Outputs, results: &Path, costs: &Costs) -> Result<()> {
+    set.put(path(results), super::json_text("costs", costs)?);
+    Ok(())
 }

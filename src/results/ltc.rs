@@ -63,7 +63,13 @@ pub struct EdgeApproximation {
 /// (2 ≤ n ≤ [`MAX_SIDE`]) of finite numbers whose binary16 storage, if given, holds only
 /// binary16 numbers — or a typed error saying what is wrong.
 pub fn table(results: &Path, name: &str) -> Result<FittedTable> {
-    let t: Tables = super::require_named(results, name)?;
+    table_of(name, &super::require_named(results, name)?)
+}
+
+/// The table of the LTC result `t` (the file `name`), checked as [`table`] checks it: what
+/// a reader of the file gets, for the study that has the result in hand before it is
+/// published.
+pub fn table_of(name: &str, t: &Tables) -> Result<FittedTable> {
     let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
     let (n, cells) = cells_of(&t.table, None, &bad)?;
     let half = match &t.table_f16 {

@@ -137,9 +137,9 @@ pub fn read_typed<T: DeserializeOwned>(path: &Path, what: &str, redo: &str) -> R
     })
 }
 
-/// Write results/fits/<T::NAME>.json atomically (into the open output set, if any).
-pub fn write<T: ResultFile>(results: &Path, value: &T) -> Result<()> {
-    write_result(results, T::NAME, value)
+/// Add results/fits/<T::NAME>.json to the output set `out`.
+pub fn put<T: ResultFile>(set: &mut crate::io::Outputs, results: &Path, value: &T) -> Result<()> {
+    put_named(set, results, T::NAME, value)
 }
 
 /// The names of the result files (results/fits/<name>.json), one per fit spec: readers
@@ -161,28 +161,29 @@ pub fn fit_path(results: &Path, name: &str) -> PathBuf {
     results.join("fits").join(format!("{name}.json"))
 }
 
-/// Write results/fits/<name>.json atomically (into the open output set, if any).
-/// A typed result is first turned into a JSON value, so its keys are written sorted
-/// whatever the struct's field order.
-pub fn write_result<T: serde::Serialize + ?Sized>(
+/// Add results/fits/<name>.json to the output set `out`. A typed result is first turned
+/// into a JSON value, so its keys are written sorted whatever the struct's field order.
+pub fn put_named<T: serde::Serialize + ?Sized>(
+    set: &mut crate::io::Outputs,
     results: &Path,
     name: &str,
     value: &T,
 ) -> Result<()> {
+    set.put(fit_path(results, name), json_text(name, value)?);
+    Ok(())
+}
+
+/// A value as this program writes JSON: through a JSON value (keys sorted), pretty.
+pub fn json_text<T: serde::Serialize + ?Sized>(what: &str, value: &T) -> Result<String> {
     let value = serde_json::to_value(value)
-        .map_err(|e| crate::error::Error::InvalidArgument(format!("result {name}: {e}")))?;
-    crate::io::write_atomic(
-        &fit_path(results, name),
-        serde_json::to_string_pretty(&value)
-            .expect("a JSON value serialises")
-            .as_bytes(),
-    )
+        .map_err(|e| crate::error::Error::InvalidArgument(format!("{what}: {e}")))?;
+    Ok(serde_json::to_string_pretty(&value).expect("a JSON value serialises"))
 }
 
 /// Read any JSON file of results/: `None` when absent, a typed error when unreadable or
-/// malformed (a file of the open output set reads as its pending contents).
+/// malformed.
 pub fn read_json(path: &Path) -> Result<Option<serde_json::Value>> {
-    let text = match crate::io::read_to_string(path) {
+    let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(e) => {

@@ -216,8 +216,8 @@ pub fn fitted_order(rows: &[&Row]) -> f64 {
     -sxy / sxx
 }
 
-/// Run the study, write results/convergence.{md,json,svg}; returns a one-line summary.
-pub fn run(p: Preset, dir: &std::path::Path) -> Result<String> {
+/// Run the study into `set` (results/convergence.{md,json,svg}); returns a one-line summary.
+pub fn run(set: &mut crate::io::Outputs, p: Preset, dir: &std::path::Path) -> Result<String> {
     let igs = integrands();
     let mut rows = Vec::new();
     for ig in &igs {
@@ -313,14 +313,14 @@ results/performance.md.\n\n",
         })
         .collect();
     let svg = loglog_svg(&panels, 1500, 480)?;
-    crate::io::write_atomic(&dir.join("convergence.svg"), svg.as_bytes())?;
-    crate::io::write_atomic(&dir.join("convergence.md"), md.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&dir.join("convergence.svg"), svg.as_bytes());
+    set.put(&dir.join("convergence.md"), md.as_bytes());
+    set.put(
         &dir.join("convergence.json"),
         serde_json::to_string_pretty(&rows)
             .expect("json")
             .as_bytes(),
-    )?;
+    );
     Ok(format!(
         "wrote {}/convergence.md ({} points)",
         dir.display(),

@@ -145,19 +145,23 @@ fn run_one(
     let (r, scope) = memo::run_in(scope, || -> Result<FitOutcome> {
         let study = find(&s.name)
             .ok_or_else(|| Error::InvalidArgument(format!("spec '{}' names no study", s.name)))?;
-        // one study = one output set, published in one step (crate::io)
-        let set = crate::io::begin_set(&s.name, &crate::io::results_manifest(results, &s.name))?;
         crate::report::stage(&format!("regen {}: started", s.name));
         // the study's own line while it runs (between its maps too)
         let _running = crate::progress::Progress::new(s.name.clone(), 0);
-        let o = study.run(&Ctx {
-            spec: s,
-            specs,
-            results,
-            preset,
-        })?;
+        // one study = one output set, made by the study as data and published here in
+        // one step (crate::io)
+        let mut set = crate::io::Outputs::new();
+        let o = study.run(
+            &Ctx {
+                spec: s,
+                specs,
+                results,
+                preset,
+            },
+            &mut set,
+        )?;
         if commit {
-            set.commit()?;
+            set.publish(&s.name, &crate::io::results_manifest(results, &s.name))?;
         }
         Ok(o)
     });

@@ -12,7 +12,12 @@ use crate::tensor::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use rayon::prelude::*;
 use std::path::Path;
 
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     let (size, res, ranks, iters): (usize, usize, Vec<usize>, usize) = match preset {
         Preset::Quick => (32, 32, vec![2, 4], 50),
         Preset::Default => (64, 64, vec![4, 8, 16, 32], 200),
@@ -120,23 +125,14 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         });
     }
     md.push_str("\nThe paper reports compression ratios of 1.06–8.21 % at R = 16 or 32 on 2K² maps with 256² images (Table 2); these maps and images are far smaller, so each cluster holds fewer blocks (small L) and the same rank costs relatively more: the ratios above are not comparable with Table 2, and the paper's scale (256² images of 2K² maps) was not run (its P-NDF images alone take hours of brute force here).\n\n![mean relative reconstruction error against rank](tensor-rank.svg)\n");
-    let svg = loglog_svg(
-        &[Panel {
-            title: "CP-ALS: mean relative reconstruction error".into(),
-            x_label: "rank R".into(),
-            y_label: "‖T − T̂‖/‖T‖".into(),
-            series,
-        }],
-        640,
-        420,
-    )?;
-    crate::io::write_atomic(&results.join("tensor-rank.svg"), svg.as_bytes())?;
+    set.put(&results.join("tensor-rank.svg"), rank_svg(series)?);
     md.push_str(&tensorly_section(results));
     md.push_str(&query_section(&top, rmax));
     md.push_str(&sampling_section(sampled.as_ref()));
     md.push_str(&cost_section(results)?);
-    crate::io::write_atomic(&results.join("tensor.md"), md.as_bytes())?;
-    crate::results::write(
+    set.put(&results.join("tensor.md"), md.as_bytes());
+    crate::results::put(
+        set,
         results,
         &crate::results::tensor::Tensor {
             spec: spec.clone(),
@@ -159,12 +155,26 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     })
 }
 
+/// The error-against-rank plot, one series per map kind.
+fn rank_svg(series: Vec<Series>) -> Result<String> {
+    loglog_svg(
+        &[Panel {
+            title: "CP-ALS: mean relative reconstruction error".into(),
+            x_label: "rank R".into(),
+            y_label: "‖T − T̂‖/‖T‖".into(),
+            series,
+        }],
+        640,
+        420,
+    )
+}
+
 /// §3: the stored TensorLy comparison (results/tensor-tensorly.json, written by
 /// `tensorly-compare`, which needs Python), or why there is none.
 fn tensorly_section(results: &Path) -> String {
     let mut md = String::from("\n## Against TensorLy's parafac (§3)\n\n");
     let path = results.join("tensor-tensorly.json");
-    match crate::io::read_to_string(&path)
+    match std::fs::read_to_string(&path)
         .ok()
         .and_then(|t| serde_json::from_str::<crate::tensor::compare::Report>(&t).ok())
     {
@@ -319,6 +329,7 @@ fn cost_section(results: &Path) -> Result<String> {
 /// DIR/tensor-<name>.json (per cluster: shape, weights, factors, error) and
 /// DIR/tensor-<name>.md. Every check happens before anything is written.
 pub fn prefilter_tensor(
+    set: &mut crate::io::Outputs,
     map: &NormalMap,
     out: &Path,
     rank: usize,
@@ -419,9 +430,9 @@ pub fn prefilter_tensor(
     let jp = out.join(format!("tensor-{}.json", map.name));
     let mp = out.join(format!("tensor-{}.md", map.name));
     let sp = out.join(format!("tensor-{}-rank.svg", map.name));
-    crate::io::write_atomic(&jp, serde_json::to_string(&json).expect("json").as_bytes())?;
-    crate::io::write_atomic(&sp, svg.as_bytes())?;
-    crate::io::write_atomic(&mp, md.as_bytes())?;
+    set.put(&jp, serde_json::to_string(&json).expect("json").as_bytes());
+    set.put(&sp, svg.as_bytes());
+    set.put(&mp, md.as_bytes());
     Ok(format!(
         "wrote {}, {} and {}: rank {rank}, mean error {:.2} %, compression {:.2} %",
         jp.display(),
@@ -430,4 +441,20 @@ pub fn prefilter_tensor(
         100.0 * mean,
         100.0 * stored as f64 / dense.max(1) as f64
     ))
+}
+
+/// The seed 002 tensor study, as the registry holds it.
+pub struct Tensor;
+
+impl crate::study::Study for Tensor {
+    fn name(&self) -> &'static str {
+        "tensor"
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

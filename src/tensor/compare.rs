@@ -140,7 +140,12 @@ pub fn run_ours(t: &Tensor3, o: &AlsOptions, repeats: usize) -> Result<(f64, usi
 }
 
 /// Build the tensors of the preset, run both sides, write results/tensor-tensorly.json.
-pub fn run(results: &Path, python: &str, preset: Preset) -> Result<Report> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    results: &Path,
+    python: &str,
+    preset: Preset,
+) -> Result<Report> {
     let version = tensorly_available(python).map_err(|why| {
         Error::InvalidArgument(format!(
             "TensorLy comparison needs python3 with numpy and tensorly (`pip install numpy tensorly`): {why}"
@@ -224,12 +229,12 @@ pub fn run(results: &Path, python: &str, preset: Preset) -> Result<Report> {
         repeats,
         rows,
     };
-    crate::io::write_atomic(
+    set.put(
         &results.join("tensor-tensorly.json"),
         serde_json::to_string_pretty(&report)
             .expect("json")
             .as_bytes(),
-    )?;
+    );
     Ok(report)
 }
 

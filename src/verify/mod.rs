@@ -224,11 +224,17 @@ error over all cases tried, in the unit of the `kind` column. Times are wall-clo
 }
 
 /// Write results/proofs.md and results/proofs.json atomically.
-pub fn write_results(outcomes: &[Outcome], preset: Preset, dir: &std::path::Path) -> Result<()> {
-    crate::io::write_atomic(
+pub fn write_results(
+    set: &mut crate::io::Outputs,
+    outcomes: &[Outcome],
+    preset: Preset,
+    dir: &std::path::Path,
+) -> Result<()> {
+    set.put(
         &dir.join("proofs.md"),
         report_markdown(outcomes, preset).as_bytes(),
-    )?;
+    );
     let json = serde_json::to_string_pretty(outcomes).expect("outcomes serialise");
-    crate::io::write_atomic(&dir.join("proofs.json"), json.as_bytes())
+    set.put(&dir.join("proofs.json"), json.as_bytes());
+    Ok(())
 }

@@ -82,8 +82,9 @@ pub fn judge_files(
 /// Our table as the Bevy harness loads it, under results/.
 pub const BEVY_OURS: &str = "textures/ltc_ggx_zstd.ktx2";
 
-/// Run the study from files and write `out`/engines.{md,json,svg}; a one-line summary.
+/// Run the study from files into `set` (`out`/engines.{md,json,svg}); a one-line summary.
 pub fn run(
+    set: &mut crate::io::Outputs,
     scenes: &std::path::Path,
     engines: &[EngineFiles],
     results: &std::path::Path,
@@ -122,14 +123,14 @@ pub fn run(
         "r0.25-view60-straddling",
     ];
     let svg = report::figure(&r, &picks)?;
-    crate::io::write_atomic(&out.join("engines.md"), md.as_bytes())?;
-    crate::io::write_atomic(&out.join("engines.svg"), svg.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&out.join("engines.md"), md.as_bytes());
+    set.put(&out.join("engines.svg"), svg.as_bytes());
+    set.put(
         &out.join("engines.json"),
         serde_json::to_string_pretty(&r)
             .map_err(|e| Error::InvalidArgument(format!("engines: json: {e}")))?
             .as_bytes(),
-    )?;
+    );
     let summary: Vec<String> = r
         .engines
         .iter()

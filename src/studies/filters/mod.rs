@@ -23,8 +23,13 @@ pub use plan::Plan;
 pub use cases::{aggregate, Agg};
 pub use prefilter::prefilter;
 
-/// The study: compute the cases and the fitted constants, then render and write.
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+/// The study: compute the cases and the fitted constants, then render them into `set`.
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     use crate::filters::footprint::{NormalMap, Procedural};
     let plan = Plan::new(preset);
     let seed = spec.seed;
@@ -59,24 +64,24 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let mut md = report::intro(preset, &plan);
     let mut json_maps = Vec::new();
     for (m, map) in maps.iter().enumerate() {
-        let row_json = report::map_section(&mut md, m, map, &map_cases, &plan, results)?;
+        let row_json = report::map_section(set, &mut md, m, map, &map_cases, &plan, results)?;
         json_maps.push(serde_json::json!({"map": map.name, "filters": row_json}));
     }
-    let json_screen = report::screen_section(&mut md, &plan, &screen_cases, results)?;
+    let json_screen = report::screen_section(set, &mut md, &plan, &screen_cases, results)?;
     let json_fits = report::fits_section(&mut md, &fits);
     md.push_str(&verdicts::verdicts(&map_cases, &screen_cases, &fits));
     md.push_str(report::LISTING3_NOTE);
     md.push_str(&report::embed(results));
-    crate::io::write_atomic(&results.join("filters.md"), md.as_bytes())?;
+    set.put(&results.join("filters.md"), md.as_bytes());
     let n_all = map_cases.len() + extra_cases.len();
-    crate::io::write_atomic(
+    set.put(
         &results.join("filters-survey.md"),
         survey_report::markdown(&survey_summary, preset, n_all).as_bytes(),
-    )?;
-    crate::io::write_atomic(
+    );
+    set.put(
         &results.join("filters-survey.svg"),
         survey_report::pareto_svg(&survey_summary)?.as_bytes(),
-    )?;
+    );
     let result = crate::results::filters::Filters {
         spec: spec.clone(),
         command: crate::results::command(&spec.name),
@@ -97,7 +102,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         fitted: json_fits,
         survey: survey_summary,
     };
-    crate::results::write(results, &result)?;
+    crate::results::put(set, results, &result)?;
     let worst_held = fits.iter().map(|f| f.held_out.l2_mean).fold(0.0, f64::max);
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
@@ -111,4 +116,23 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             fits[0].constant
         ),
     })
+}
+
+/// The footprint-filter study; results/filters.md embeds the LEADR and Λ reports, so they run first, as the registry holds it.
+pub struct Filters;
+
+impl crate::study::Study for Filters {
+    fn name(&self) -> &'static str {
+        "filters"
+    }
+    fn after(&self) -> &'static [&'static str] {
+        &["leadr-grids", "smith-lambda"]
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

@@ -12,7 +12,13 @@ use std::path::Path;
 /// `prefilter`: the map study on a user's normal map (PNG), at base roughness `alpha`.
 /// Writes DIR/prefilter-<name>.md/.json, the L2-vs-footprint plot, and for every mip
 /// level ≥ 1 the vMF (c = 2) filtered α′ as an 8-bit grey PNG (α′ = value/255).
-pub fn prefilter(input: &Path, out: &Path, alpha: f64, preset: Preset) -> Result<String> {
+pub fn prefilter(
+    set: &mut crate::io::Outputs,
+    input: &Path,
+    out: &Path,
+    alpha: f64,
+    preset: Preset,
+) -> Result<String> {
     if !(alpha.is_finite() && alpha > 0.0) {
         return Err(crate::error::Error::InvalidRoughness(alpha));
     }
@@ -38,7 +44,7 @@ pub fn prefilter(input: &Path, out: &Path, alpha: f64, preset: Preset) -> Result
         plan.views_deg,
         plan.samples
     );
-    let rows = map_section(&mut md, 0, &map, &cases, &plan, out)?;
+    let rows = map_section(set, &mut md, 0, &map, &cases, &plan, out)?;
     let mut written = Vec::new();
     for (l, lv) in chain.levels.iter().enumerate().skip(1) {
         let mut img = image::GrayImage::new(lv.width as u32, lv.height as u32);
@@ -60,7 +66,7 @@ pub fn prefilter(input: &Path, out: &Path, alpha: f64, preset: Preset) -> Result
             msg: e.to_string(),
         })?;
         let p = out.join(format!("{}-alpha-L{l}.png", map.name));
-        crate::io::write_atomic(&p, &bytes)?;
+        set.put(&p, &bytes);
         written.push(p.display().to_string());
     }
     md.push_str(&format!(
@@ -68,14 +74,14 @@ pub fn prefilter(input: &Path, out: &Path, alpha: f64, preset: Preset) -> Result
         written.join(", ")
     ));
     let mdp = out.join(format!("prefilter-{}.md", map.name));
-    crate::io::write_atomic(&mdp, md.as_bytes())?;
+    set.put(&mdp, md.as_bytes());
     let json = serde_json::json!({"input": input.display().to_string(), "alpha": alpha, "plan": plan, "filters": rows});
-    crate::io::write_atomic(
+    set.put(
         &out.join(format!("prefilter-{}.json", map.name)),
         serde_json::to_string_pretty(&json)
             .expect("json")
             .as_bytes(),
-    )?;
+    );
     Ok(format!(
         "wrote {} ({} cases) and {} α′ maps",
         mdp.display(),

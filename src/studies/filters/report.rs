@@ -52,6 +52,7 @@ statistics (unnormalised mean normal; E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃�
 
 /// The markdown section of one map (table, worst cases, plot); returns its JSON rows.
 pub(super) fn map_section(
+    set: &mut crate::io::Outputs,
     md: &mut String,
     m: usize,
     map: &NormalMap,
@@ -139,16 +140,17 @@ pub(super) fn map_section(
         900,
         560,
     )?;
-    crate::io::write_atomic(
+    set.put(
         &svg_dir.join(format!("filters-{}.svg", map.name)),
         svg.as_bytes(),
-    )?;
+    );
     Ok(row_json)
 }
 
 /// The screen-space kernel section (tables per pixel filter, the L2-vs-κ plot, the
 /// clamp table); returns its JSON rows.
 pub(super) fn screen_section(
+    set: &mut crate::io::Outputs,
     md: &mut String,
     plan: &Plan,
     screen_cases: &[ScreenCase],
@@ -211,7 +213,7 @@ pub(super) fn screen_section(
         900,
         560,
     )?;
-    crate::io::write_atomic(&results.join("filters-screen.svg"), svg.as_bytes())?;
+    set.put(&results.join("filters-screen.svg"), svg.as_bytes());
     md.push_str("L2 error against curvature per kernel (GGX, Gaussian pixel): ![screen](filters-screen.svg)\n\n");
     // by κ table for the clamp question
     md.push_str("### The clamp δ = 0.18, by curvature (GGX, Gaussian pixel; L2 error, mean ± s.e. over the α paired with that κ, both anisotropies and all views)\n\n| κ (rad/px) | none | Eq 13 (δ 0.18) | Eq 13 unclamped | Eq 10 | Eq 10 unclamped | Godot (on α) | Filament |\n|---|---|---|---|---|---|---|---|\n");
@@ -287,7 +289,7 @@ pub(super) fn embed(results: &Path) -> String {
         ("leadr-grids.md", "LEADR numerical integration"),
         ("smith-lambda.md", "Smith Λ approximations"),
     ] {
-        if let Ok(t) = crate::io::read_to_string(&results.join(file)) {
+        if let Ok(t) = std::fs::read_to_string(&results.join(file)) {
             s.push_str(&format!("\n## {title} (from results/{file})\n"));
             for line in t.lines().skip(1) {
                 if let Some(h) = line.strip_prefix("## ") {

@@ -19,8 +19,13 @@ mod report;
 use compute::{between, fit_table, plan, polygons};
 pub use compute::{Between, Case, Fitted, PolygonRow};
 
-/// The study: fit, design study, cases between cells, report, write.
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+/// The study: fit, design study, cases between cells and report, into `set`.
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     let iso = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
     let pl = plan(preset, spec.domain.alpha_min);
     let (table, fitted) = fit_table(&iso, &pl)?;
@@ -35,17 +40,18 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     let poly = polygons(&iso, &table, pl.mc)?;
     let mut md = report::markdown(spec, preset, &pl, &rep, &command);
     md.push_str(&report::polygon_section(&poly, pl.mc));
-    crate::io::write_atomic(&results.join("ltc-aniso.md"), md.as_bytes())?;
+    set.put(&results.join("ltc-aniso.md"), md.as_bytes());
     let heat = report::heatmap(&fitted, &pl)?;
-    crate::io::write_atomic(&results.join("ltc-aniso-error.svg"), heat.as_bytes())?;
+    set.put(&results.join("ltc-aniso-error.svg"), heat.as_bytes());
     let svg = report::plot(&design, &pl)?;
-    crate::io::write_atomic(&results.join("ltc-aniso.svg"), svg.as_bytes())?;
+    set.put(&results.join("ltc-aniso.svg"), svg.as_bytes());
     let summary = serde_json::to_value(&rep)
         .and_then(serde_json::from_value)
         .map_err(|e| Error::InvalidArgument(format!("ltc-aniso summary: {e}")))?;
     let polygons = serde_json::to_value(&poly)
         .map_err(|e| Error::InvalidArgument(format!("ltc-aniso polygons: {e}")))?;
-    crate::results::write(
+    crate::results::put(
+        set,
         results,
         &crate::results::ltc::Aniso {
             spec: spec.clone(),
@@ -74,4 +80,23 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             100.0 * rep.between_iso_geo.mean
         ),
     })
+}
+
+/// The anisotropic LTC study; its fits start from the isotropic GGX table, as the registry holds it.
+pub struct LtcAniso;
+
+impl crate::study::Study for LtcAniso {
+    fn name(&self) -> &'static str {
+        "ltc-aniso"
+    }
+    fn after(&self) -> &'static [&'static str] {
+        &["ltc-ggx"]
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

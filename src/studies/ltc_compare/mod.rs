@@ -52,9 +52,14 @@ fn read_capped(path: &Path, cap: u64) -> Result<Vec<u8>> {
     std::fs::read(path).map_err(io)
 }
 
-/// Run the comparison and write `out`/ltc-compare.{md,json,svg} and ltc-compare-rows.svg;
+/// Run the comparison into `set` (`out`/ltc-compare.{md,json,svg}, ltc-compare-rows.svg);
 /// returns a one-line summary.
-pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    inp: &Inputs,
+    results: &Path,
+    out: &Path,
+) -> Result<String> {
     let bytes = read_capped(inp.shipped, MAX_SHIPPED_BYTES)?;
     let text = String::from_utf8(bytes).map_err(|_| {
         Error::InvalidArgument(format!(
@@ -164,15 +169,15 @@ pub fn run(inp: &Inputs, results: &Path, out: &Path) -> Result<String> {
             .collect(),
         forms: &forms,
     };
-    crate::io::write_atomic(&out.join("ltc-compare.md"), md.as_bytes())?;
-    crate::io::write_atomic(&out.join("ltc-compare.svg"), heat.as_bytes())?;
-    crate::io::write_atomic(&out.join("ltc-compare-rows.svg"), rows.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&out.join("ltc-compare.md"), md.as_bytes());
+    set.put(&out.join("ltc-compare.svg"), heat.as_bytes());
+    set.put(&out.join("ltc-compare-rows.svg"), rows.as_bytes());
+    set.put(
         &out.join("ltc-compare.json"),
         serde_json::to_string(&json)
             .map_err(|e| Error::InvalidArgument(format!("ltc-compare: json: {e}")))?
             .as_bytes(),
-    )?;
+    );
     let c = summarise(forms[0].cells.iter());
     let s = summarise(forms[0].squares.iter());
     Ok(format!(

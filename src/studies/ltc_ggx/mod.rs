@@ -92,8 +92,13 @@ struct LtcResult<'a> {
     bilinear_pass: BilinearPass,
 }
 
-/// The study: fit, report, write.
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+/// The study: fit and report, into `set`.
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     let pl = plan(preset);
     let (mut main, variants) = fit_tables(spec, &pl)?;
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
@@ -110,7 +115,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
     md.push_str(&table_report::structure_section(&main));
     md.push_str(&table_report::between_section(&main)?);
     let var_json = table_report::variants_section(&mut md, &pl, &variants);
-    table_report::error_heatmap(&main, results)?;
+    table_report::error_heatmap(set, &main, results)?;
     md.push_str(&shipped::section(results, st.l2.mean.value)?);
     md.push_str(&precision::section(&main));
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
@@ -130,10 +135,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         n,
     ));
     let poly = polygons::section(&mut md, &main, pl.mc)?;
-    // write the table first: the pipeline looks it up like a renderer would
+    // the pipeline reads the table as a renderer reads the published file
     let (table, table_f16) = crate::ltc::fit::stored(&main);
-    crate::results::write_result(
-        results,
+    let stored = crate::results::ltc::table_of(
         &spec.name,
         &crate::results::ltc::Tables {
             spec: spec.clone(),
@@ -141,8 +145,8 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             table_f16: Some(table_f16.clone()),
         },
     )?;
-    let pipe = pipeline::section(results, preset, &mut md)?;
-    crate::io::write_atomic(&results.join("ltc-ggx.md"), md.as_bytes())?;
+    let pipe = pipeline::section(&stored, preset, &mut md)?;
+    set.put(&results.join("ltc-ggx.md"), md.as_bytes());
     let json = LtcResult {
         spec,
         command: crate::results::command(&spec.name),
@@ -161,7 +165,7 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         floor,
         bilinear_pass: bilinear,
     };
-    crate::results::write_result(results, &spec.name, &json)?;
+    crate::results::put_named(set, results, &spec.name, &json)?;
     let passed = st.l2.max.value <= spec.tolerance.max_rel;
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),
@@ -176,4 +180,20 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             st.l2.max.pct(1)
         ),
     })
+}
+
+/// The GGX LTC table study, as the registry holds it.
+pub struct LtcGgx;
+
+impl crate::study::Study for LtcGgx {
+    fn name(&self) -> &'static str {
+        "ltc-ggx"
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

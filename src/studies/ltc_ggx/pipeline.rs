@@ -7,21 +7,17 @@ use crate::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
 use crate::ltc::polygon::Light;
 use nalgebra::Vector3;
 use serde::Serialize;
-use std::path::Path;
 
 type V3 = Vector3<f64>;
 
 /// The multi-scale pipeline against brute force (appends to `md`); returns its JSON.
 pub(super) fn section(
-    results: &Path,
+    stored: &crate::ltc::table::FittedTable,
     preset: Preset,
     md: &mut String,
 ) -> Result<serde_json::Value> {
     use crate::filters::footprint::Procedural;
-    let table = LtcTable::of(&crate::results::ltc::table(
-        results,
-        crate::results::names::LTC_GGX,
-    )?);
+    let table = LtcTable::of(stored);
     let (size, levels, per, samples): (usize, Vec<usize>, usize, usize) = match preset {
         Preset::Quick => (16, vec![0, 2, 4], 2, 512),
         Preset::Default => (64, vec![0, 1, 2, 3, 4, 5], 4, 4096),

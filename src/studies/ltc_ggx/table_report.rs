@@ -150,9 +150,13 @@ pub(super) fn variants_section(
 }
 
 /// The heat map of the held-out relative L2 error (results/ltc-error.svg).
-pub(super) fn error_heatmap(main: &Table, results: &Path) -> Result<()> {
+pub(super) fn error_heatmap(
+    set: &mut crate::io::Outputs,
+    main: &Table,
+    results: &Path,
+) -> Result<()> {
     let svg = ltc_error_heatmap(main, "LTC fit: relative L2 error")?;
-    crate::io::write_atomic(&results.join("ltc-error.svg"), svg.as_bytes())?;
+    set.put(&results.join("ltc-error.svg"), svg.as_bytes());
     Ok(())
 }
 

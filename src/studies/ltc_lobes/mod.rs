@@ -35,8 +35,13 @@ fn per_cell(t: &Table) -> serde_json::Value {
     })
 }
 
-/// The study: fit both tables of the family, report, write.
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+/// The study: fit both tables of the family and report, into `set`.
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     let fam = family(&spec.name).ok_or_else(|| {
         Error::InvalidArgument(format!(
             "fits/{}.toml: no LTC table family of that name (ltc-sheen, ltc-diffuse)",
@@ -82,13 +87,13 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             "cross": rep.cross,
             "bilinear_pass": f.bilinear,
         });
-        crate::results::write_result(results, name, &json)?;
+        crate::results::put_named(set, results, name, &json)?;
     }
-    crate::io::write_atomic(&results.join(format!("{}.md", fam.name)), md.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&results.join(format!("{}.md", fam.name)), md.as_bytes());
+    set.put(
         &results.join(format!("{}-error.svg", fam.name)),
         svg.as_bytes(),
-    )?;
+    );
     let st = held_out_stats(&main.table);
     let sv = held_out_stats(&variant.table);
     let worst = st.l2.max.value.max(sv.l2.max.value);
@@ -108,4 +113,21 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             n = pl.n
         ),
     })
+}
+
+/// An LTC lobe table study (ltc-diffuse, ltc-sheen), as the registry holds it: one type,
+/// one entry per spec name.
+pub struct LtcLobes(pub &'static str);
+
+impl crate::study::Study for LtcLobes {
+    fn name(&self) -> &'static str {
+        self.0
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

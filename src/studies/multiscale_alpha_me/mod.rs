@@ -17,7 +17,12 @@ pub use compute::whole_range;
 use compute::{compute, Computed};
 
 /// Run the multiscale α_me fit described by `spec`.
-pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    _preset: Preset,
+) -> Result<FitOutcome> {
     let k = compute(spec)?;
     let (svg_err, svg_mrl) = plots::render(spec, &k)?;
     let Computed {
@@ -77,14 +82,14 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
         },
         passed,
     };
-    crate::results::write(results, &result)?;
-    crate::io::write_atomic(
+    crate::results::put(set, results, &result)?;
+    set.put(
         &results.join("multiscale-alpha-error.svg"),
         svg_err.as_bytes(),
-    )?;
-    crate::io::write_atomic(&results.join("multiscale-alpha-me.svg"), svg_mrl.as_bytes())?;
+    );
+    set.put(&results.join("multiscale-alpha-me.svg"), svg_mrl.as_bytes());
     let md = report::markdown(spec, &k);
-    crate::io::write_atomic(&results.join("multiscale-alpha-me.md"), md.as_bytes())?;
+    set.put(&results.join("multiscale-alpha-me.md"), md.as_bytes());
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: h_ours.max_rel,
@@ -98,3 +103,19 @@ pub fn run(spec: &FitSpec, results: &Path, _preset: Preset) -> Result<FitOutcome
 }
 
 pub use crate::results::alpha_me::WholeRange;
+
+/// The α_me study, as the registry holds it.
+pub struct MultiscaleAlphaMe;
+
+impl crate::study::Study for MultiscaleAlphaMe {
+    fn name(&self) -> &'static str {
+        "multiscale-alpha-me"
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
+}

@@ -18,14 +18,20 @@ use compute::{compute, Computed};
 
 /// `all` is every spec of the fits directory: the α_me spec is taken from it.
 
-/// The study: compute, report, plot, write.
-pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> Result<FitOutcome> {
+/// The study: compute, report and plot, into `set`.
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    all: &[FitSpec],
+    results: &Path,
+    preset: Preset,
+) -> Result<FitOutcome> {
     let c = compute(spec, all, preset)?;
     let (mut md, model_json, spread_max) = report::models_section(spec, &c)?;
     let (pm_md, passed) = report::per_metric_section(spec, &c);
     md.push_str(&pm_md);
-    md.push_str(&plots::write(&c, results)?);
-    crate::io::write_atomic(&results.join("multiscale-convolution.md"), md.as_bytes())?;
+    md.push_str(&plots::write(set, &c, results)?);
+    set.put(&results.join("multiscale-convolution.md"), md.as_bytes());
     let Computed {
         ref ci,
         ref c7,
@@ -38,7 +44,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
         ref per_metric_corr,
         ..
     } = c;
-    crate::io::write_atomic(&results.join("multiscale-convolution.md"), md.as_bytes())?;
+    set.put(&results.join("multiscale-convolution.md"), md.as_bytes());
     let json = json!({
         "spec": spec,
         "command": "cargo run --release -- regen --only multiscale-convolution",
@@ -51,7 +57,7 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
         "metric_grid_held_out": held_fits,
         "passed": passed,
     });
-    crate::results::write_result(results, &spec.name, &json)?;
+    crate::results::put_named(set, results, &spec.name, &json)?;
     Ok(FitOutcome {
         name: spec.name.clone(),
         held_out_max_rel: ours.max_rel,
@@ -65,4 +71,20 @@ pub fn run(spec: &FitSpec, all: &[FitSpec], results: &Path, preset: Preset) -> R
             spread_max.0
         ),
     })
+}
+
+/// The convolution study, as the registry holds it.
+pub struct MultiscaleConvolution;
+
+impl crate::study::Study for MultiscaleConvolution {
+    fn name(&self) -> &'static str {
+        "multiscale-convolution"
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.specs, c.results, c.preset)
+    }
 }

@@ -9,7 +9,7 @@ use crate::report::plot::{loglog_svg, Panel, Series};
 use std::path::Path;
 
 /// Write results/multiscale-convolution{,-maps}.svg; returns the markdown that shows them.
-pub(super) fn write(c: &Computed, results: &Path) -> Result<String> {
+pub(super) fn write(set: &mut crate::io::Outputs, c: &Computed, results: &Path) -> Result<String> {
     let Computed {
         lo,
         hi,
@@ -49,7 +49,7 @@ pub(super) fn write(c: &Computed, results: &Path) -> Result<String> {
         })
         .collect();
     let svg = loglog_svg(&slices, 1500, 520)?;
-    crate::io::write_atomic(&results.join("multiscale-convolution.svg"), svg.as_bytes())?;
+    set.put(&results.join("multiscale-convolution.svg"), svg.as_bytes());
     md.push_str("![slices of the overall α](multiscale-convolution.svg)\n\n");
     // maps on the held-out grid: the target surface and each model's relative error
     let map = |f: &dyn Fn(f64, f64) -> f64| -> Vec<Vec<f64>> {
@@ -95,10 +95,10 @@ pub(super) fn write(c: &Computed, results: &Path) -> Result<String> {
         2000,
         430,
     )?;
-    crate::io::write_atomic(
+    set.put(
         &results.join("multiscale-convolution-maps.svg"),
         maps.as_bytes(),
-    )?;
+    );
     md.push_str("Maps over the held-out grid (unclipped-moment target; colour = log10, range in each title; ours degrades only where the target α > 1, outside the α_me fit's domain):\n\n![maps](multiscale-convolution-maps.svg)\n");
     Ok(md)
 }

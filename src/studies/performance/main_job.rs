@@ -101,7 +101,7 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
         stages: stages.to_vec(),
     };
     let p = main_job_times_path(warm);
-    if let Err(e) = crate::io::write_unstaged(
+    if let Err(e) = crate::io::write_atomic(
         &p,
         serde_json::to_string_pretty(&json)
             .unwrap_or_default()
@@ -138,11 +138,11 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 /// Replace only the main job's section of an existing results/performance.md with the
 /// profiles now in target/ (no benches needed; the criterion tables stay as they were
 /// measured). An absent page or section is an error.
-pub fn refresh_main_job(results: &Path) -> Result<String> {
+pub fn refresh_main_job(set: &mut crate::io::Outputs, results: &Path) -> Result<String> {
     let path = results.join("performance.md");
     let (p, md) = (
         path.display(),
-        crate::io::read_to_string(&path).unwrap_or_default(),
+        std::fs::read_to_string(&path).unwrap_or_default(),
     );
     const HEAD: &str = "\n## Main job: wall clock per stage";
     let start = md.find(HEAD).ok_or_else(|| {
@@ -153,7 +153,7 @@ pub fn refresh_main_job(results: &Path) -> Result<String> {
         .find("\n## ")
         .map_or(md.len(), |k| start + HEAD.len() + k);
     let out = format!("{}{}{}", &md[..start], main_job_table(results), &md[end..]);
-    crate::io::write_atomic(&path, out.as_bytes())?;
+    set.put(&path, out.as_bytes());
     Ok(format!("{p}: main-job section refreshed"))
 }
 

@@ -25,10 +25,10 @@ use tables::{
     tensor_table,
 };
 
-/// Write results/performance.md.
-pub fn run(criterion: &Path, results: &Path) -> Result<String> {
+/// results/performance.md (and costs.json, the plots) into `set`.
+pub fn run(set: &mut crate::io::Outputs, criterion: &Path, results: &Path) -> Result<String> {
     let timed = read_criterion(criterion)?;
-    write_costs(&timed, results)?;
+    write_costs(set, &timed, results)?;
     let igs = integrands();
     let mut md = String::from("# Performance\n\n");
     md.push_str(
@@ -71,7 +71,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
             est.error
         ));
     }
-    md.push_str(&error_vs_time(results, &ns_per_eval)?);
+    md.push_str(&error_vs_time(set, results, &ns_per_eval)?);
     let scaling: Vec<&Timed> = timed
         .iter()
         .filter(|t| t.group.starts_with("rayon-scaling"))
@@ -95,7 +95,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&smith_lambda_table(&timed, results)?);
     md.push_str(&leadr_table(&timed, results)?);
     md.push_str(&filters_table(&timed, results)?);
-    md.push_str(&kernels_table(&timed, results)?);
+    md.push_str(&kernels_table(set, &timed, results)?);
     md.push_str(&tensor_table(&timed));
     md.push_str(&ltc_table(&timed, results)?);
     md.push_str(&deliverables::shaders_table(&timed));
@@ -138,7 +138,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     }
     // a benchmark missing from a partial criterion directory shows as "—", never as NaN
     let md = missing_as_dash(&md);
-    crate::io::write_atomic(&results.join("performance.md"), md.as_bytes())?;
+    set.put(&results.join("performance.md"), md.as_bytes());
     Ok(format!(
         "wrote {}/performance.md ({} benchmarks)",
         results.display(),
@@ -148,7 +148,11 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
 
 /// Error against (estimated) time: the convergence study's points (results/convergence.json)
 /// with time = evaluations × the measured ns/eval of that engine on that integrand.
-fn error_vs_time(results: &Path, ns: &[(String, Engine, f64)]) -> Result<String> {
+fn error_vs_time(
+    set: &mut crate::io::Outputs,
+    results: &Path,
+    ns: &[(String, Engine, f64)],
+) -> Result<String> {
     #[derive(Deserialize)]
     struct Row {
         integrand: String,
@@ -157,7 +161,7 @@ fn error_vs_time(results: &Path, ns: &[(String, Engine, f64)]) -> Result<String>
         abs_error: f64,
     }
     let path = results.join("convergence.json");
-    let Ok(text) = crate::io::read_to_string(&path) else {
+    let Ok(text) = std::fs::read_to_string(&path) else {
         return Ok("\n(no results/convergence.json: run `cargo run --release -- convergence` for the error-vs-time table)\n".into());
     };
     let rows: Vec<Row> = serde_json::from_str(&text).map_err(|e| Error::Io {
@@ -216,7 +220,7 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
         });
     }
     let svg = loglog_svg(&panels, 1500, 480)?;
-    crate::io::write_atomic(&results.join("error-vs-time.svg"), svg.as_bytes())?;
+    set.put(&results.join("error-vs-time.svg"), svg.as_bytes());
     Ok(md)
 }
 
@@ -224,7 +228,7 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
 /// `filters`) and ns per pixel of each kernel backend at a 4096-pixel batch — the cost
 /// side of the speed/accuracy tables `scene` chooses from. Entries keep what earlier
 /// runs measured when this run lacks them.
-fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
+fn write_costs(set: &mut crate::io::Outputs, timed: &[Timed], results: &Path) -> Result<()> {
     use crate::results::costs;
     let mut c = costs::read(results)?.unwrap_or_default();
     for t in timed {
@@ -249,7 +253,7 @@ fn write_costs(timed: &[Timed], results: &Path) -> Result<()> {
         c.ns.insert(key, ns);
     }
     c.note = "ns per evaluation (filters: f32 roughness update; kernels: per pixel at a 4096-pixel batch; tensor-*: per query or sample); written by bench-report".into();
-    costs::write(results, &c)
+    costs::put(set, results, &c)
 }
 
 /// Replace every formatted non-number ("NaN", "inf", "-inf" as whole words, with an

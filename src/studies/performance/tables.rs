@@ -163,7 +163,11 @@ pub(super) fn tensor_table(timed: &[Timed]) -> String {
 /// SIMD kernels: pixels/s of each backend per batch size, the ratio, and each kernel's
 /// measured error next to its speed (benches `kernel-*`; accuracy measured here on 2^16
 /// of the benchmark inputs).
-pub(super) fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
+pub(super) fn kernels_table(
+    set: &mut crate::io::Outputs,
+    timed: &[Timed],
+    results: &Path,
+) -> Result<String> {
     let rows: Vec<&Timed> = timed
         .iter()
         .filter(|t| t.group.starts_with("kernel-"))
@@ -239,7 +243,7 @@ pub(super) fn kernels_table(timed: &[Timed], results: &Path) -> Result<String> {
         800,
         480,
     )?;
-    crate::io::write_atomic(&results.join("kernels-speedup.svg"), svg.as_bytes())?;
+    set.put(&results.join("kernels-speedup.svg"), svg.as_bytes());
     md.push_str("\n![speed-up](kernels-speedup.svg)\n");
     Ok(md)
 }

@@ -80,6 +80,7 @@ pub fn glint_plan(preset: Preset) -> GlintPlan {
 
 /// Render and measure one scene; write its pictures into `pictures`.
 pub fn render_one(
+    set: &mut crate::io::Outputs,
     scene: &Scene,
     base: &Path,
     results: &Path,
@@ -89,15 +90,21 @@ pub fn render_one(
     let c = crate::render::constants(results)?;
     let r = crate::render::render(scene, base, &c, &glint_plan(preset))?;
     let m = measure::measure_render(&r);
-    let files = report::write_pictures(pictures, &r, &m, report::TILE.min(r.width))?;
+    let files = report::put_pictures(set, pictures, &r, &m, report::TILE.min(r.width))?;
     Ok((r, m, files))
 }
 
 /// `render SCENE.toml --out DIR`: DIR/<name>.md, DIR/<name>.json and the pictures.
-pub fn render_file(file: &Path, out: &Path, results: &Path, preset: Preset) -> Result<Vec<String>> {
+pub fn render_file(
+    set: &mut crate::io::Outputs,
+    file: &Path,
+    out: &Path,
+    results: &Path,
+    preset: Preset,
+) -> Result<Vec<String>> {
     let scene = Scene::load(file)?;
     let base = file.parent().unwrap_or(Path::new("."));
-    let (r, m, files) = render_one(&scene, base, results, preset, out)?;
+    let (r, m, files) = render_one(set, &scene, base, results, preset, out)?;
     let md = format!(
         "# Render of {}\n\nWritten by `cargo run --release -- render {}` (preset {}).\n\n{}",
         scene.name,
@@ -107,13 +114,13 @@ pub fn render_file(file: &Path, out: &Path, results: &Path, preset: Preset) -> R
     );
     let mdp = out.join(format!("{}.md", scene.name));
     let jp = out.join(format!("{}.json", scene.name));
-    crate::io::write_atomic(&mdp, md.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&mdp, md.as_bytes());
+    set.put(
         &jp,
         serde_json::to_string_pretty(&report::json(&r, &m))
             .unwrap_or_default()
             .as_bytes(),
-    )?;
+    );
     let mut names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
     names.push(mdp.display().to_string());
     names.push(jp.display().to_string());
@@ -139,7 +146,12 @@ fn checks_section(rows: &[check::CheckResult]) -> String {
     md
 }
 
-pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::study::FitOutcome> {
+pub fn run(
+    set: &mut crate::io::Outputs,
+    spec: &FitSpec,
+    results: &Path,
+    preset: Preset,
+) -> Result<crate::study::FitOutcome> {
     let pictures = results.join("render");
     let mut md = format!(
         "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). Times are wall-clock on this machine with {} threads (reported, never asserted; the G-buffer pass is included in each method's time).\n\n",
@@ -182,7 +194,14 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
                 s.camera.height,
                 s.render.scales.len() * s.frames()
             ));
-            let (r, m, _) = render_one(&s, Path::new("fits/render"), results, preset, &pictures)?;
+            let (r, m, _) = render_one(
+                set,
+                &s,
+                Path::new("fits/render"),
+                results,
+                preset,
+                &pictures,
+            )?;
             if let (Some(none), Some(tc)) = (m.flicker.first(), m.truth_change) {
                 worst_flicker_gap = worst_flicker_gap.min(none.2.change.value - tc.value);
             }
@@ -192,8 +211,9 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
         }
     }
     md.push_str(&checks_section(&checks));
-    crate::io::write_atomic(&results.join("render.md"), md.as_bytes())?;
-    crate::results::write_result(
+    set.put(&results.join("render.md"), md.as_bytes());
+    crate::results::put_named(
+        set,
         results,
         &spec.name,
         &serde_json::json!({"spec": spec, "command": "cargo run --release -- regen --only render", "preset": preset.name(), "checks": checks, "renders": json}),
@@ -211,4 +231,23 @@ pub fn run(spec: &FitSpec, results: &Path, preset: Preset) -> Result<crate::stud
             worst_flicker_gap
         ),
     })
+}
+
+/// The rendered evidence; the renders read the footprint study's refitted constants, as the registry holds it.
+pub struct RenderStudy;
+
+impl crate::study::Study for RenderStudy {
+    fn name(&self) -> &'static str {
+        "render"
+    }
+    fn after(&self) -> &'static [&'static str] {
+        &["filters"]
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

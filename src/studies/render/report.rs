@@ -239,24 +239,22 @@ pub fn json(r: &Render, m: &Measured) -> serde_json::Value {
     })
 }
 
-/// Write a render's pictures into `dir` (grid, and strip for a path); returns their paths.
-pub fn write_pictures(
+/// Add a render's pictures under `dir` to `set` (grid, and strip for a path); returns
+/// their paths.
+pub fn put_pictures(
+    set: &mut crate::io::Outputs,
     dir: &Path,
     r: &Render,
     m: &Measured,
     tile: usize,
 ) -> Result<Vec<std::path::PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::Io {
-        path: dir.display().to_string(),
-        msg: e.to_string(),
-    })?;
     let mut out = Vec::new();
     let g = dir.join(format!("{}-grid.png", r.scene.name));
-    grid_png(r, m, tile)?.write(&g)?;
+    set.put(&g, grid_png(r, m, tile)?.png()?);
     out.push(g);
     if r.scene.frames() > 1 {
         let s = dir.join(format!("{}-strip.png", r.scene.name));
-        strip_png(r, 8, tile / 2)?.write(&s)?;
+        set.put(&s, strip_png(r, 8, tile / 2)?.png()?);
         out.push(s);
     }
     Ok(out)

@@ -25,8 +25,9 @@ pub use compute::{
 
 pub use user_map::horizon_file;
 
-/// The study: compute, report, write.
+/// The study: compute and report, into `set`.
 pub fn run(
+    set: &mut crate::io::Outputs,
     spec: &FitSpec,
     results: &std::path::Path,
     preset: Preset,
@@ -52,14 +53,14 @@ pub fn run(
     };
     crate::report::stage("regen visibility: measured");
     let summary = report::summarise(&m);
-    crate::io::write_atomic(
+    set.put(
         &results.join("visibility.md"),
         report::markdown(&summary, &m, preset).as_bytes(),
-    )?;
-    crate::io::write_atomic(
+    );
+    set.put(
         &results.join("visibility.svg"),
         report::pareto_svg(&summary)?.as_bytes(),
-    )?;
+    );
     #[derive(Serialize)]
     struct Out<'a> {
         spec: &'a FitSpec,
@@ -68,7 +69,8 @@ pub fn run(
         summary: &'a report::Summary,
         plan: &'a Plan,
     }
-    crate::results::write_result(
+    crate::results::put_named(
+        set,
         results,
         &spec.name,
         &Out {
@@ -92,4 +94,20 @@ pub fn run(
             worst
         ),
     })
+}
+
+/// The visibility survey, as the registry holds it.
+pub struct Visibility;
+
+impl crate::study::Study for Visibility {
+    fn name(&self) -> &'static str {
+        "visibility"
+    }
+    fn run(
+        &self,
+        c: &crate::study::Ctx,
+        set: &mut crate::io::Outputs,
+    ) -> Result<crate::study::FitOutcome> {
+        run(set, c.spec, c.results, c.preset)
+    }
 }

@@ -12,6 +12,7 @@ use crate::visibility::HeightField;
 /// Writes DIR/horizon.md and DIR/horizon.json; returns their paths, and first the note
 /// that an RGB map was converted to grey, where it was.
 pub fn horizon_file(
+    set: &mut crate::io::Outputs,
     input: &std::path::Path,
     scale: f64,
     out: &std::path::Path,
@@ -36,15 +37,15 @@ pub fn horizon_file(
         report::horizon_markdown(&h)
     );
     let (mp, jp) = (out.join("horizon.md"), out.join("horizon.json"));
-    crate::io::write_atomic(&mp, md.as_bytes())?;
-    crate::io::write_atomic(
+    set.put(&mp, md.as_bytes());
+    set.put(
         &jp,
         serde_json::to_string_pretty(
             &serde_json::json!({"single": h.1, "joint": h.2, "hotspot": h.3}),
         )
         .unwrap_or_default()
         .as_bytes(),
-    )?;
+    );
     let mut said: Vec<String> = note.into_iter().collect();
     said.extend([mp.display().to_string(), jp.display().to_string()]);
     Ok(said)
