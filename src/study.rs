@@ -30,6 +30,9 @@ pub struct Ctx<'a> {
 pub trait Study: Sync {
     /// The spec name it runs (fits/<name>.toml).
     fn name(&self) -> &'static str;
+    /// Its module, as `module_path!()` gives it: its cache entries are keyed by the code
+    /// this module reaches (`memo::deps`), not by every source file.
+    fn module(&self) -> &'static str;
     /// Studies that must run first because this one embeds their reports; `regen --only
     /// NAME` with this exact name runs them too.
     fn after(&self) -> &'static [&'static str] {

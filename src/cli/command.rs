@@ -21,8 +21,8 @@ pub struct Cli {
     /// Directory holding the fit specifications.
     #[arg(long, default_value = "fits", global = true)]
     pub fits: PathBuf,
-    /// The main job's result cache (memoised maps keyed by the hash of the code, the spec,
-    /// the preset and the inputs).
+    /// The main job's result cache (memoised maps keyed by the hash of the code the study
+    /// reaches, the spec, the preset and the inputs).
     #[arg(long, default_value = "target/ndfbench-cache", global = true)]
     pub cache: PathBuf,
     /// The main job computes everything (no cache lookups, nothing stored).
@@ -73,9 +73,12 @@ pub enum Cmd {
     ///
     /// Usage: `regen … --cached`, `regen … --parallel`. Look every memoised map up in the
     /// cache (`--cache DIR`, default `target/ndfbench-cache`) under the SHA-256 of the
-    /// code, the spec, the preset and the inputs (a miss computes and stores it; a hit
-    /// gives the same bits, `tests/shard.rs`); run studies whose inputs are ready at the
-    /// same time. The main job does both; `--no-cache` makes it compute everything.
+    /// code the study reaches (its own files and those it imports, found by the build
+    /// script: an edit to another study, a report it does not use, the driver or a test
+    /// leaves it warm), the spec, the preset and the inputs (a miss computes and stores
+    /// it; a hit gives the same bits, `tests/shard.rs`, `tests/cache_keys.rs`); run
+    /// studies whose inputs are ready at the same time. The main job does both;
+    /// `--no-cache` makes it compute everything.
     Regen {
         /// Run only these studies: exact spec names, comma-separated (e.g.
         /// `ltc-ggx,ltc-sheen`); a study that follows others brings them along.

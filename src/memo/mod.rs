@@ -6,9 +6,9 @@
 //! index. What happens depends on the [`Scope`] the driver installed on the study's thread:
 //!
 //! - none, or [`Mode::Plain`]: every item is computed (rayon), as a plain `par_iter` would;
-//! - [`Mode::Cache`]: each map is looked up under the hash of the code, the spec, the
-//!   preset, the inputs and the map's place in the study ([`cache`]); a miss computes and
-//!   stores it;
+//! - [`Mode::Cache`]: each map is looked up under the hash of the code its study reaches
+//!   ([`deps`]), the spec, the preset, the inputs and the map's place in the study
+//!   ([`cache`]); a miss computes and stores it;
 //! - [`Mode::Shard`]: only the items `i ≡ k (mod n)` of the study's *first* map are
 //!   computed; they go into the scope ([`Part`]) and the study stops with
 //!   [`Error::ShardDone`], which the driver turns into a shard file ([`shards`]);
@@ -24,6 +24,7 @@
 //! its study follows (`Study::after`), which are what the key hashes. Nothing else.
 
 pub mod cache;
+pub mod deps;
 pub mod seal;
 pub mod shards;
 
@@ -37,6 +38,19 @@ pub use shards::Part;
 
 /// The build's code version (SHA-256 of the sources, the manifest and the lock file).
 pub const CODE_HASH: &str = env!("NDFB_CODE_HASH");
+
+include!(concat!(env!("OUT_DIR"), "/unit_hashes.rs"));
+
+/// The code version of the module `module_path` (as `module_path!()` gives it): the hash
+/// of the files its unit reaches ([`deps`]), or the whole build's [`CODE_HASH`] for a
+/// module outside any unit.
+pub fn code_hash_of(module_path: &str) -> &'static str {
+    let rel = module_path.split("::").skip(1).collect::<Vec<_>>();
+    let file = format!("src/{}.rs", rel.join("/"));
+    deps::unit_of(&file)
+        .and_then(|u| UNIT_HASHES.iter().find(|(n, _)| *n == u).map(|(_, h)| *h))
+        .unwrap_or(CODE_HASH)
+}
 
 /// How a study's maps run.
 pub enum Mode {

@@ -251,6 +251,9 @@ impl crate::study::Study for LeadrGrids {
     fn name(&self) -> &'static str {
         "leadr-grids"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

@@ -28,7 +28,7 @@ pub struct StudyTime {
     pub maps: Vec<MapLog>,
 }
 
-/// What identifies a study's run: the code, its spec, its inputs (every spec, since a
+/// What identifies a study's run: the code it reaches, its spec, its inputs (every spec, since a
 /// study may read another's settings, and the published manifests of the studies it
 /// follows), the preset.
 pub fn identity(spec: &FitSpec, specs: &[FitSpec], results: &Path, preset: Preset) -> Identity {
@@ -44,7 +44,10 @@ pub fn identity(spec: &FitSpec, specs: &[FitSpec], results: &Path, preset: Prese
     let parts: Vec<&[u8]> = inputs.iter().map(Vec::as_slice).collect();
     Identity {
         study: spec.name.clone(),
-        code: memo::CODE_HASH.to_string(),
+        // the code the study reaches, not every source file (memo::deps)
+        code: find(&spec.name)
+            .map_or(memo::CODE_HASH, |s| memo::code_hash_of(s.module()))
+            .to_string(),
         spec: memo::key(&[&json(spec)]),
         inputs: memo::key(&parts),
         preset: preset.name().to_string(),

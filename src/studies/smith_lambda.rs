@@ -108,6 +108,9 @@ impl crate::study::Study for SmithLambda {
     fn name(&self) -> &'static str {
         "smith-lambda"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

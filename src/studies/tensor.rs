@@ -450,6 +450,9 @@ impl crate::study::Study for Tensor {
     fn name(&self) -> &'static str {
         "tensor"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

@@ -247,6 +247,9 @@ impl crate::study::Study for TensorScale {
     fn name(&self) -> &'static str {
         "tensor-scale"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn on_request(&self) -> bool {
         true
     }

@@ -125,6 +125,9 @@ impl crate::study::Study for Filters {
     fn name(&self) -> &'static str {
         "filters"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn after(&self) -> &'static [&'static str] {
         &["leadr-grids", "smith-lambda"]
     }

@@ -89,6 +89,9 @@ impl crate::study::Study for LtcAniso {
     fn name(&self) -> &'static str {
         "ltc-aniso"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn after(&self) -> &'static [&'static str] {
         &["ltc-ggx"]
     }

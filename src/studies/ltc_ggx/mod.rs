@@ -189,6 +189,9 @@ impl crate::study::Study for LtcGgx {
     fn name(&self) -> &'static str {
         "ltc-ggx"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

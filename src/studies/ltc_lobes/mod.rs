@@ -123,6 +123,9 @@ impl crate::study::Study for LtcLobes {
     fn name(&self) -> &'static str {
         self.0
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

@@ -111,6 +111,9 @@ impl crate::study::Study for MultiscaleAlphaMe {
     fn name(&self) -> &'static str {
         "multiscale-alpha-me"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

@@ -80,6 +80,9 @@ impl crate::study::Study for MultiscaleConvolution {
     fn name(&self) -> &'static str {
         "multiscale-convolution"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,

@@ -240,6 +240,9 @@ impl crate::study::Study for RenderStudy {
     fn name(&self) -> &'static str {
         "render"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn after(&self) -> &'static [&'static str] {
         &["filters"]
     }

@@ -103,6 +103,9 @@ impl crate::study::Study for Visibility {
     fn name(&self) -> &'static str {
         "visibility"
     }
+    fn module(&self) -> &'static str {
+        module_path!()
+    }
     fn run(
         &self,
         c: &crate::study::Ctx,
