@@ -219,3 +219,29 @@ fn mc_over_the_plane_with_heavy_and_light_tailed_proposals() {
     let e = mis(&p22, &both, 200_000, 2);
     assert!(e.agrees_with(1.0, 4.0, 0.0), "{e}");
 }
+
+/// The one sample-mean type every report prints: mean and standard error by hand for a
+/// small sample, NaN for none, and one formatter rule (a mean over nothing is "—").
+#[test]
+fn a_sample_mean_carries_its_standard_error_and_prints_one_way() {
+    use ndfbench::integrate::MeanSe;
+    // 1, 2, 3, 4: mean 2.5, sample variance 5/3, s.e. √(5/12)
+    let m = MeanSe::of(&[1.0, 2.0, 3.0, 4.0]);
+    assert_eq!(m.value, 2.5);
+    assert!((m.se - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+    // one sample: no spread to speak of
+    assert_eq!(MeanSe::of(&[0.25]).pair(), (0.25, 0.0));
+    let none = MeanSe::of(&[]);
+    assert!(none.value.is_nan() && none.se.is_nan());
+    for s in [none.pct(1), none.pct_signed(2), none.sci(3, 1)] {
+        assert_eq!(s, "—");
+    }
+    let e = MeanSe {
+        value: 0.0123,
+        se: 0.00045,
+    };
+    assert_eq!(e.pct(1), "1.2 % ± 0.0");
+    assert_eq!(e.pct(2), "1.23 % ± 0.04");
+    assert_eq!(e.pct_signed(1), "+1.2 % ± 0.0");
+    assert_eq!(e.sci(3, 1), "1.230e-2 ± 4.5e-4");
+}

@@ -99,11 +99,7 @@ impl<'a> Candidate<'a> {
 }
 
 /// A ratio with its standard error.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Est {
-    pub value: f64,
-    pub se: f64,
-}
+pub use crate::integrate::MeanSe as Est;
 
 /// One candidate against the truth for one (footprint, view).
 #[derive(Clone, Debug, Serialize)]
@@ -318,13 +314,7 @@ impl CaseSamples {
     /// ∫ f_truth over light directions (estimate, s.e.).
     pub fn truth_energy(&self) -> Est {
         let x: Vec<f64> = self.t.iter().zip(&self.q).map(|(t, q)| t / q).collect();
-        let n = x.len() as f64;
-        let m = x.iter().sum::<f64>() / n;
-        let var = x.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-        Est {
-            value: m,
-            se: (var / n).sqrt(),
-        }
+        Est::of(&x)
     }
 
     /// Measure one candidate lobe f(v, l) against the truth; `normal` is the lobe's own

@@ -1,6 +1,6 @@
 //! The value every engine returns: a number together with its error and its cost.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// What the `error` field of an [`Estimate`] means.
@@ -101,3 +101,62 @@ impl Welford {
         (self.m2 / ((self.n - 1) as f64) / self.n as f64).sqrt()
     }
 }
+
+/// A sample mean (or a ratio of means) with its standard error: how every report writes a
+/// measured spread as "value ± error". The one constructor from samples is [`MeanSe::of`];
+/// the formatters below are the only ones reports use for it, and all write a value that
+/// is not finite (a mean over no sample) as "—".
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeanSe {
+    pub value: f64,
+    pub se: f64,
+}
+
+impl MeanSe {
+    /// The mean of `v` and its standard error (the n − 1 sample variance over n); NaN
+    /// for an empty sample, and a zero error for a single sample.
+    pub fn of(v: &[f64]) -> MeanSe {
+        if v.is_empty() {
+            return MeanSe {
+                value: f64::NAN,
+                se: f64::NAN,
+            };
+        }
+        let n = v.len() as f64;
+        let m = v.iter().sum::<f64>() / n;
+        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        MeanSe {
+            value: m,
+            se: (var / n).sqrt(),
+        }
+    }
+
+    /// As a pair (value, s.e.).
+    pub fn pair(self) -> (f64, f64) {
+        (self.value, self.se)
+    }
+
+    /// "12.3 % ± 0.4": value and error in percent, `d` decimals each.
+    pub fn pct(&self, d: usize) -> String {
+        self.shown(|v, e| format!("{:.d$} % ± {:.d$}", 100.0 * v, 100.0 * e))
+    }
+
+    /// "+12.3 % ± 0.4": [`MeanSe::pct`] with the sign always written (a bias).
+    pub fn pct_signed(&self, d: usize) -> String {
+        self.shown(|v, e| format!("{:+.d$} % ± {:.d$}", 100.0 * v, 100.0 * e))
+    }
+
+    /// "1.234e-3 ± 5.6e-5": the value with `vd` decimals of mantissa, the error with `ed`.
+    pub fn sci(&self, vd: usize, ed: usize) -> String {
+        self.shown(|v, e| format!("{v:.vd$e} ± {e:.ed$e}"))
+    }
+
+    fn shown(&self, f: impl Fn(f64, f64) -> String) -> String {
+        if self.value.is_finite() {
+            f(self.value, self.se)
+        } else {
+            "—".into()
+        }
+    }
+}
+

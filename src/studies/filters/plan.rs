@@ -78,7 +78,7 @@ pub(super) fn kind_name(k: NdfKind) -> &'static str {
 }
 
 pub(super) fn pct(m: f64, se: f64) -> String {
-    format!("{:+.1} % ± {:.1}", 100.0 * m, 100.0 * se)
+    crate::integrate::MeanSe { value: m, se }.pct_signed(1)
 }
 
 pub(super) fn seed_of(base: u64, idx: usize) -> u64 {

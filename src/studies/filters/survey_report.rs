@@ -268,7 +268,7 @@ fn pm_or_dash(x: (f64, f64, usize)) -> String {
 }
 
 fn pm(m: f64, s: f64) -> String {
-    format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * s)
+    crate::integrate::MeanSe { value: m, se: s }.pct(1)
 }
 
 /// The Pareto plot: per family, mean relative L2 against parameters per texel (one panel

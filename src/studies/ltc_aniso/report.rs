@@ -154,12 +154,10 @@ pub use crate::results::ltc::MeanMax;
 
 fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
     let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
-    let n = v.len().max(1) as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    let (mean, se) = crate::integrate::MeanSe::of(&v).pair();
     MeanMax {
         mean,
-        se: (var / n).sqrt(),
+        se,
         max: v.iter().cloned().fold(0.0, f64::max),
         count: v.len(),
     }
@@ -167,7 +165,11 @@ fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
 
 /// A sample mean with its standard error, in percent.
 fn pct_se(m: &MeanMax) -> String {
-    format!("{:.2} % ± {:.2}", 100.0 * m.mean, 100.0 * m.se)
+    crate::integrate::MeanSe {
+        value: m.mean,
+        se: m.se,
+    }
+    .pct(2)
 }
 
 /// A row of the per-anisotropy tables.

@@ -155,10 +155,7 @@ pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<Floo
 }
 
 fn mean_se(v: &[f64]) -> (f64, f64) {
-    let m = v.len().max(1) as f64;
-    let mean = v.iter().sum::<f64>() / m;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (m - 1.0).max(1.0);
-    (mean, (var / m).sqrt())
+    crate::integrate::MeanSe::of(v).pair()
 }
 
 /// The markdown section: per sampled cell and the implied floors of the table's mean and

@@ -38,12 +38,7 @@ pub(super) fn section(
         METHODS.join(" | "),
         "---|".repeat(METHODS.len())
     ));
-    let stat = |v: &[f64]| -> (f64, f64) {
-        let n = v.len() as f64;
-        let m = v.iter().sum::<f64>() / n;
-        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-        (m, (var / n).sqrt())
-    };
+    let stat = |v: &[f64]| crate::integrate::MeanSe::of(v).pair();
     let mut by_level = Vec::new();
     for &lv in &levels {
         let cs: Vec<&PipeCase> = cases

@@ -13,11 +13,11 @@ use std::path::Path;
 pub const TILE: usize = 96;
 
 fn pct(e: &crate::render::measure::Est) -> String {
-    format!("{:.1} % ± {:.1}", 100.0 * e.value, 100.0 * e.se)
+    e.pct(1)
 }
 
 fn sci(e: &crate::render::measure::Est) -> String {
-    format!("{:.3e} ± {:.1e}", e.value, e.se)
+    e.sci(3, 1)
 }
 
 /// Which views the grid shows: four frames of a path, else every other scale (the

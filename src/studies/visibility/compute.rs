@@ -284,13 +284,7 @@ pub struct ColourRow {
 }
 
 pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    if x.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let m = x.iter().sum::<f64>() / n;
-    let v = x.iter().map(|a| (a - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (m, (v / n).sqrt())
+    crate::integrate::MeanSe::of(x).pair()
 }
 
 pub(super) fn colour_rows(plan: &Plan, seed: u64) -> Vec<ColourRow> {

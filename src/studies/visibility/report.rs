@@ -300,11 +300,11 @@ fn shadow_summary(m: &Measured) -> ShadowSummary {
 }
 
 fn pm(x: (f64, f64)) -> String {
-    if x.0.is_finite() {
-        format!("{:.2e} ± {:.1e}", x.0, x.1)
-    } else {
-        "—".into()
+    crate::integrate::MeanSe {
+        value: x.0,
+        se: x.1,
     }
+    .sci(2, 1)
 }
 
 fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
