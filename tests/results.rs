@@ -269,3 +269,43 @@ fn the_docs_quote_only_figures_results_generate() {
         "figures quoted in the docs that no file of results/ generates: {missing:?}"
     );
 }
+
+/// The files of results/ that may hold wall clock, and why: the main job's profile and
+/// criterion's times, and seed 002 at the paper's scale, whose comparison with the paper's
+/// Table 2 is one of time.
+const TIMED: &[&str] = &[
+    "performance.md",
+    "main-job-before.json",
+    "tensor-scale.md",
+    "fits/tensor-scale.json",
+];
+
+/// A result is the same on every machine and at every thread count: no file outside
+/// [`TIMED`] states a thread count, "wall-clock", or a JSON field of seconds.
+#[test]
+fn results_hold_no_wall_clock_or_thread_count_outside_the_profile() {
+    let mut found = Vec::new();
+    for rel in result_files() {
+        if TIMED.contains(&rel.as_str()) || !(rel.ends_with(".md") || rel.ends_with(".json")) {
+            continue;
+        }
+        let text = std::fs::read_to_string(Path::new("results").join(&rel)).unwrap();
+        let threads = text
+            .match_indices(" threads")
+            .any(|(at, _)| text[..at].ends_with(|c: char| c.is_ascii_digit()));
+        let wall = text.contains("wall-clock on") || text.contains("\"seconds\"");
+        if threads || wall {
+            found.push(rel);
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "results that depend on the machine or the thread count: {found:?}"
+    );
+    for t in TIMED {
+        assert!(
+            Path::new("results").join(t).exists(),
+            "{t} is listed but gone"
+        );
+    }
+}

@@ -188,14 +188,14 @@ pub fn report_markdown(outcomes: &[Outcome], preset: Preset) -> String {
     s.push_str(&format!(
         "Written by `cargo run --release -- verify --preset {}` (or the no-argument main job). \
 Each row checks one identity of proofs/ by independent methods; `worst error` is the largest \
-error over all cases tried, in the unit of the `kind` column. Times are wall-clock on the machine that ran it (informational).\n\n",
+error over all cases tried, in the unit of the `kind` column.\n\n",
         preset.name()
     ));
-    s.push_str("| identity | source | ranges tried | cases | worst error | kind | worst case | tolerance | result | time (s) |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| identity | source | ranges tried | cases | worst error | kind | worst case | tolerance | result |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|\n");
     for o in outcomes {
         s.push_str(&format!(
-            "| [{}](../proofs/{}.md) | {} | {} | {} | {:.3e} | {} | {} | {:.1e} | {} | {:.2} |\n",
+            "| [{}](../proofs/{}.md) | {} | {} | {} | {:.3e} | {} | {} | {:.1e} | {} |\n",
             o.title,
             o.id,
             o.source,
@@ -206,7 +206,6 @@ error over all cases tried, in the unit of the `kind` column. Times are wall-clo
             o.worst_case,
             o.tolerance,
             if o.passed { "pass" } else { "**FAIL**" },
-            o.seconds
         ));
     }
     s.push_str("\n## Findings\n\n");

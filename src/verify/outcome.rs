@@ -20,6 +20,9 @@ pub struct Outcome {
     pub worst_case: String,
     pub tolerance: f64,
     pub passed: bool,
+    /// Wall clock of the check: said on the terminal while verify runs, never written into
+    /// results/ (a result is the same on every machine).
+    #[serde(skip)]
     pub seconds: f64,
     /// Measured findings worth reading (numbers with their errors).
     pub notes: Vec<String>,

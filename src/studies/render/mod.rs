@@ -117,9 +117,7 @@ pub fn render_file(
     set.put(&mdp, md.as_bytes());
     set.put(
         &jp,
-        serde_json::to_string_pretty(&report::json(&r, &m))
-            .unwrap_or_default()
-            .as_bytes(),
+        crate::results::json_text(&scene.name, &report::json(&r, &m))?.as_bytes(),
     );
     let mut names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
     names.push(mdp.display().to_string());
@@ -154,10 +152,9 @@ pub fn run(
 ) -> Result<crate::study::FitOutcome> {
     let pictures = results.join("render");
     let mut md = format!(
-        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). Times are wall-clock on this machine with {} threads (reported, never asserted; the G-buffer pass is included in each method's time).\n\n",
+        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
         preset.name(),
         report::TILE,
-        rayon::current_num_threads()
     );
     let checks: Vec<check::CheckResult> = check::scenes()
         .iter()
@@ -216,7 +213,13 @@ pub fn run(
         set,
         results,
         &spec.name,
-        &serde_json::json!({"spec": spec, "command": "cargo run --release -- regen --only render", "preset": preset.name(), "checks": checks, "renders": json}),
+        &RenderResult {
+            spec,
+            command: "cargo run --release -- regen --only render",
+            preset: preset.name(),
+            checks: &checks,
+            renders: &json,
+        },
     )?;
     let worst = checks.iter().map(|c| c.max_rel).fold(0.0, f64::max);
     Ok(crate::study::FitOutcome {
@@ -231,6 +234,16 @@ pub fn run(
             worst_flicker_gap
         ),
     })
+}
+
+/// results/fits/render.json.
+#[derive(serde::Serialize)]
+struct RenderResult<'a> {
+    spec: &'a FitSpec,
+    command: &'static str,
+    preset: &'static str,
+    checks: &'a [check::CheckResult],
+    renders: &'a [report::RenderJson],
 }
 
 /// The rendered evidence; the renders read the footprint study's refitted constants, as the registry holds it.

@@ -216,27 +216,74 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     md
 }
 
-/// The typed JSON of one render's measures.
-pub fn json(r: &Render, m: &Measured) -> serde_json::Value {
-    let views: Vec<serde_json::Value> = r
-        .views
-        .iter()
-        .zip(&m.views)
-        .map(|(v, s)| {
-            serde_json::json!({
-                "scale": v.scale,
-                "frame": v.frame,
-                "methods": s.iter().map(|x| serde_json::json!({"key": x.key, "label": x.label, "measures": x.m})).collect::<Vec<_>>(),
+/// One method's measures in one view.
+#[derive(serde::Serialize)]
+struct MethodJson {
+    key: String,
+    label: String,
+    measures: crate::render::measure::Measures,
+}
+
+/// One view (scale or frame) of a render.
+#[derive(serde::Serialize)]
+struct ViewJson {
+    scale: f64,
+    frame: usize,
+    methods: Vec<MethodJson>,
+}
+
+/// One method's flicker along a camera path.
+#[derive(serde::Serialize)]
+struct FlickerJson {
+    key: String,
+    label: String,
+    flicker: crate::render::measure::Flicker,
+}
+
+/// The typed JSON of one render's measures (an element of results/fits/render.json's
+/// `renders`, and the `render` command's DIR/<name>.json).
+#[derive(serde::Serialize)]
+pub struct RenderJson {
+    scene: crate::render::scene::Scene,
+    views: Vec<ViewJson>,
+    flicker: Vec<FlickerJson>,
+    truth_change: Option<crate::render::measure::Est>,
+    notes: Vec<String>,
+}
+
+/// One render's measures as [`RenderJson`].
+pub fn json(r: &Render, m: &Measured) -> RenderJson {
+    RenderJson {
+        scene: r.scene.clone(),
+        views: r
+            .views
+            .iter()
+            .zip(&m.views)
+            .map(|(v, s)| ViewJson {
+                scale: v.scale,
+                frame: v.frame,
+                methods: s
+                    .iter()
+                    .map(|x| MethodJson {
+                        key: x.key.clone(),
+                        label: x.label.clone(),
+                        measures: x.m,
+                    })
+                    .collect(),
             })
-        })
-        .collect();
-    serde_json::json!({
-        "scene": r.scene,
-        "views": views,
-        "flicker": m.flicker.iter().map(|(k, l, f)| serde_json::json!({"key": k, "label": l, "flicker": f})).collect::<Vec<_>>(),
-        "truth_change": m.truth_change,
-        "notes": r.notes,
-    })
+            .collect(),
+        flicker: m
+            .flicker
+            .iter()
+            .map(|(k, l, f)| FlickerJson {
+                key: k.clone(),
+                label: l.clone(),
+                flicker: *f,
+            })
+            .collect(),
+        truth_change: m.truth_change,
+        notes: r.notes.clone(),
+    }
 }
 
 /// Add a render's pictures under `dir` to `set` (grid, and strip for a path); returns
