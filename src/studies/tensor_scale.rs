@@ -66,6 +66,18 @@ fn sample(plan: &ScalePlan, n: usize) -> Vec<usize> {
         .collect()
 }
 
+/// results/fits/tensor-scale.json: the plan and every cluster's summary row.
+#[derive(serde::Serialize)]
+struct ScaleResult<'a> {
+    spec: &'a FitSpec,
+    command: &'static str,
+    preset: &'static str,
+    size: usize,
+    plan: &'a ScalePlan,
+    maps: [&'static str; 2],
+    clusters: &'a [ClusterRun],
+}
+
 /// Mean and standard error of the mean.
 fn mean_se(v: &[f64]) -> (f64, f64) {
     crate::integrate::MeanSe::of(v).pair()
@@ -101,7 +113,15 @@ pub fn run(
         set,
         results,
         &spec.name,
-        &serde_json::json!({"spec": spec, "command": COMMAND, "preset": preset.name(), "size": size, "plan": plan, "maps": kinds.map(|k| k.name()), "clusters": runs}),
+        &ScaleResult {
+            spec,
+            command: COMMAND,
+            preset: preset.name(),
+            size,
+            plan: &plan,
+            maps: kinds.map(|k| k.name()),
+            clusters: &runs,
+        },
     )?;
     Ok(crate::study::FitOutcome {
         name: spec.name.clone(),

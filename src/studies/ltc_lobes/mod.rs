@@ -12,6 +12,7 @@ use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::ltc::fit::Table;
 use crate::ltc::held::held_out_stats;
+use serde::Serialize;
 use std::path::Path;
 
 mod compute;
@@ -21,18 +22,51 @@ pub use compute::{family, Family};
 use compute::{fit_lobe, plan};
 
 /// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
-fn per_cell(t: &Table) -> serde_json::Value {
+#[derive(Serialize)]
+struct HeldOutCells {
+    layout: &'static str,
+    l2: Vec<Vec<Option<[f64; 2]>>>,
+    l1: Vec<Vec<Option<[f64; 2]>>>,
+}
+
+fn per_cell(t: &Table) -> HeldOutCells {
     let fig = |c: &crate::ltc::fit::Cell, l1: bool| {
         c.held
             .and_then(|h| h.f64)
             .map(|e| if l1 { e.l1 } else { e.l2 })
             .map(|b| [b.value, b.error])
     };
-    serde_json::json!({
-        "layout": "[j][i] = [value, error] (null where singular)",
-        "l2": t.cells.iter().map(|col| col.iter().map(|c| fig(c, false)).collect::<Vec<_>>()).collect::<Vec<_>>(),
-        "l1": t.cells.iter().map(|col| col.iter().map(|c| fig(c, true)).collect::<Vec<_>>()).collect::<Vec<_>>(),
-    })
+    let grid = |l1: bool| {
+        t.cells
+            .iter()
+            .map(|col| col.iter().map(|c| fig(c, l1)).collect())
+            .collect()
+    };
+    HeldOutCells {
+        layout: "[j][i] = [value, error] (null where singular)",
+        l2: grid(false),
+        l1: grid(true),
+    }
+}
+
+/// results/fits/<name>.json of a lobe table (and of its variant): the table every reader
+/// reads (`results::ltc::Tables`), its held-out figures and the study's report.
+#[derive(Serialize)]
+struct LobeResult<'a> {
+    spec: &'a FitSpec,
+    command: &'a str,
+    preset: &'static str,
+    lobe: crate::ltc::lobes::Lobe,
+    target: &'static str,
+    grid: crate::ltc::fit::Grid,
+    layout: &'static str,
+    table: crate::results::ltc::Columns,
+    table_f16: crate::results::ltc::Columns,
+    held_out: crate::ltc::held::Stats,
+    held_out_cells: HeldOutCells,
+    report: &'a report::TableReport,
+    cross: &'a report::Cross,
+    bilinear_pass: &'a crate::ltc::smooth::BilinearPass,
 }
 
 /// The study: fit both tables of the family and report, into `set`.
@@ -71,22 +105,22 @@ pub fn run(
         (fam.variant_name, &variant, &rep.variant),
     ] {
         let (table, table_f16) = crate::ltc::fit::stored(&f.table);
-        let json = serde_json::json!({
-            "spec": spec,
-            "command": command,
-            "preset": preset.name(),
-            "lobe": f.lobe,
-            "target": f.lobe.describe(),
-            "grid": f.table.grid,
-            "layout": "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
-            "table": table,
-            "table_f16": table_f16,
-            "held_out": held_out_stats(&f.table),
-            "held_out_cells": per_cell(&f.table),
-            "report": r,
-            "cross": rep.cross,
-            "bilinear_pass": f.bilinear,
-        });
+        let json = LobeResult {
+            spec,
+            command: &command,
+            preset: preset.name(),
+            lobe: f.lobe,
+            target: f.lobe.describe(),
+            grid: f.table.grid,
+            layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
+            table,
+            table_f16,
+            held_out: held_out_stats(&f.table),
+            held_out_cells: per_cell(&f.table),
+            report: r,
+            cross: &rep.cross,
+            bilinear_pass: &f.bilinear,
+        };
         crate::results::put_named(set, results, name, &json)?;
     }
     set.put(&results.join(format!("{}.md", fam.name)), md.as_bytes());
