@@ -10,6 +10,7 @@ pub mod filters;
 pub mod leadr_grids;
 pub mod ltc_aniso;
 pub mod ltc_compare;
+pub mod ltc_error_map;
 pub mod ltc_ggx;
 pub mod ltc_lobes;
 pub mod multiscale_alpha_me;

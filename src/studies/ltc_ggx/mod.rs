@@ -19,7 +19,7 @@ mod pipeline;
 mod polygons;
 mod precision;
 mod shipped;
-pub(crate) mod table_report;
+mod table_report;
 
 pub use compute::cell_ltc;
 use compute::{fit_tables, plan, Plan};

@@ -556,7 +556,7 @@ pub(super) fn markdown(
 /// results/<family>-error.svg: both tables' held-out error.
 pub(super) fn heatmaps(main: &Fitted, variant: &Fitted) -> Result<String> {
     use crate::report::plot::heatmap_svg;
-    use crate::studies::ltc_ggx::table_report::ltc_error_panel;
+    use crate::studies::ltc_error_map::ltc_error_panel;
     let panel = |f: &Fitted| ltc_error_panel(&f.table, &format!("{}: relative L2", f.lobe.short()));
     heatmap_svg(&[panel(main), panel(variant)], 1300, 620)
 }
