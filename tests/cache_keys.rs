@@ -178,3 +178,46 @@ fn the_resolver_follows_groups_super_impls_and_includes_but_not_comments() {
         assert!(y.contains(f), "studies::y misses {f}: {y:?}");
     }
 }
+
+/// The study → study arrows the sources have, each with its reason. Any other arrow from
+/// one study to another fails: shared drawing goes beside the studies
+/// (`studies::ltc_error_map`), so a study's cache never reaches another study's files.
+const STUDY_ARROWS: &[(&str, &str, &str)] = &[(
+    "studies::performance",
+    "studies::convergence",
+    "performance.md times the convergence study's engines on its integrands",
+)];
+
+#[test]
+fn no_study_imports_another_study() {
+    let g = ndfbench::memo::deps::graph(&tree());
+    // the driver (run, registry) and the shared drawing are not studies
+    let study = |u: &str| {
+        u.starts_with("studies::")
+            && ![
+                "studies::run",
+                "studies::registry",
+                "studies::ltc_error_map",
+            ]
+            .contains(&u)
+    };
+    let mut found: Vec<(String, String)> = Vec::new();
+    for (from, to) in &g.arrows {
+        for t in to {
+            if study(from) && study(t) && t != from {
+                found.push((from.clone(), t.clone()));
+            }
+        }
+    }
+    let listed: Vec<(String, String)> = STUDY_ARROWS
+        .iter()
+        .map(|(a, b, _)| (a.to_string(), b.to_string()))
+        .collect();
+    let extra: Vec<_> = found.iter().filter(|a| !listed.contains(a)).collect();
+    assert!(extra.is_empty(), "studies importing studies: {extra:?}");
+    let gone: Vec<_> = listed.iter().filter(|a| !found.contains(a)).collect();
+    assert!(
+        gone.is_empty(),
+        "listed arrows that are gone (remove them): {gone:?}"
+    );
+}
