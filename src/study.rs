@@ -19,6 +19,7 @@ pub struct FitOutcome {
 
 /// Everything a study may read: its spec, every spec of the run (a study may read
 /// another's settings), where results go, and the preset.
+#[derive(Clone, Copy)]
 pub struct Ctx<'a> {
     pub spec: &'a FitSpec,
     pub specs: &'a [FitSpec],
@@ -47,3 +48,50 @@ pub trait Study: Sync {
     /// study writes nothing itself).
     fn run(&self, ctx: &Ctx, set: &mut crate::io::Outputs) -> Result<FitOutcome>;
 }
+
+/// Declare a study in the module that runs it: a unit struct implementing [`Study`],
+/// named as its spec, following `after`, main job or `on request`, whose `run` is the
+/// module's `fn(&mut Outputs, &Ctx) -> Result<FitOutcome>`. Its cache is keyed by the
+/// code of the module the macro is invoked in (`module_path!()` there).
+///
+/// ```ignore
+/// crate::study::study! {
+///     /// The Λ refit.
+///     SmithLambda = "smith-lambda", after [], on request false, runs regen
+/// }
+/// ```
+macro_rules! study {
+    (
+        $(#[$doc:meta])*
+        $ty:ident = $name:literal,
+        after [$($after:literal),*],
+        on request $on_request:literal,
+        runs $run:path
+    ) => {
+        $(#[$doc])*
+        pub struct $ty;
+
+        impl $crate::study::Study for $ty {
+            fn name(&self) -> &'static str {
+                $name
+            }
+            fn module(&self) -> &'static str {
+                module_path!()
+            }
+            fn after(&self) -> &'static [&'static str] {
+                &[$($after),*]
+            }
+            fn on_request(&self) -> bool {
+                $on_request
+            }
+            fn run(
+                &self,
+                c: &$crate::study::Ctx,
+                set: &mut $crate::io::Outputs,
+            ) -> $crate::error::Result<$crate::study::FitOutcome> {
+                $run(set, c)
+            }
+        }
+    };
+}
+pub(crate) use study;

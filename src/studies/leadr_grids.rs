@@ -2,7 +2,9 @@
 //! written here.
 
 use crate::error::Result;
+use crate::io::Outputs;
 use crate::leadr::*;
+use crate::study::{Ctx, FitOutcome};
 use nalgebra::Vector3;
 type V3 = Vector3<f64>;
 
@@ -183,11 +185,8 @@ does not dominate at grazing views.\n\n",
 /// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
 /// micronormal at silhouettes; results/leadr-grids.md, results/leadr-pareto.svg,
 /// results/fits/leadr-grids.json.
-pub fn regen(
-    set: &mut crate::io::Outputs,
-    spec: &crate::fit::spec::FitSpec,
-    results: &std::path::Path,
-) -> Result<crate::study::FitOutcome> {
+pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results) = (c.spec, c.results);
     let k = compute()?;
     let svg = pareto_svg(&k.rows)?;
     set.put(&results.join("leadr-pareto.svg"), svg.as_bytes());
@@ -244,21 +243,7 @@ pub fn regen(
     })
 }
 
-/// The LEADR grid study, as the registry holds it.
-pub struct LeadrGrids;
-
-impl crate::study::Study for LeadrGrids {
-    fn name(&self) -> &'static str {
-        "leadr-grids"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        regen(set, c.spec, c.results)
-    }
+crate::study::study! {
+    /// The LEADR grid study, as the registry holds it.
+    LeadrGrids = "leadr-grids", after [], on request false, runs regen
 }

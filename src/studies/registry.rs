@@ -1,6 +1,7 @@
-//! The registry of studies, as data: one entry per fits/*.toml. Each study implements
-//! `study::Study` itself (its name, the studies it follows, whether the main job leaves
-//! it out); the list below is the one place that names them all.
+//! The registry of studies, as data: one entry per fits/*.toml. Each study declares
+//! itself in its own module (`study::study!`: its name, the studies it follows, whether
+//! the main job leaves it out, its entry point); the list below is the one place that
+//! names them all.
 
 use crate::study::Study;
 
@@ -12,9 +13,9 @@ use super::{
 /// Every study, as data.
 pub static STUDIES: &[&dyn Study] = &[
     &leadr_grids::LeadrGrids,
-    &ltc_lobes::LtcLobes("ltc-diffuse"),
+    &ltc_lobes::LtcDiffuse,
     &ltc_ggx::LtcGgx,
-    &ltc_lobes::LtcLobes("ltc-sheen"),
+    &ltc_lobes::LtcSheen,
     &multiscale_alpha_me::MultiscaleAlphaMe,
     &multiscale_convolution::MultiscaleConvolution,
     &smith_lambda::SmithLambda,

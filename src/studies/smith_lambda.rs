@@ -2,16 +2,15 @@
 //! and written here.
 
 use crate::error::Result;
+use crate::io::Outputs;
 use crate::microfacet::lambda;
 use crate::microfacet::lambda_fit::*;
+use crate::study::{Ctx, FitOutcome};
 
 /// `regen --only smith-lambda`: fit, judge on held-out ν; results/fits/smith-lambda.json and
 /// results/smith-lambda.md with a plot go into `set`.
-pub fn regen(
-    set: &mut crate::io::Outputs,
-    spec: &crate::fit::spec::FitSpec,
-    results: &std::path::Path,
-) -> Result<crate::study::FitOutcome> {
+pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results) = (c.spec, c.results);
     use crate::report::plot::{loglog_svg, Panel, Series};
     let (train, held) = grids(
         spec.training.points,
@@ -101,21 +100,7 @@ nothing else changes — no separate fit is needed.\n\n");
     })
 }
 
-/// The Smith Λ refit, as the registry holds it.
-pub struct SmithLambda;
-
-impl crate::study::Study for SmithLambda {
-    fn name(&self) -> &'static str {
-        "smith-lambda"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        regen(set, c.spec, c.results)
-    }
+crate::study::study! {
+    /// The Smith Λ refit, as the registry holds it.
+    SmithLambda = "smith-lambda", after [], on request false, runs regen
 }

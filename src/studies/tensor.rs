@@ -4,20 +4,17 @@
 
 use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural};
-use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::io::Outputs;
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::study::{Ctx, FitOutcome};
 use crate::tensor::cluster::cluster_tensors;
 use crate::tensor::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use rayon::prelude::*;
 use std::path::Path;
 
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let (size, res, ranks, iters): (usize, usize, Vec<usize>, usize) = match preset {
         Preset::Quick => (32, 32, vec![2, 4], 50),
         Preset::Default => (64, 64, vec![4, 8, 16, 32], 200),
@@ -443,21 +440,7 @@ pub fn prefilter_tensor(
     ))
 }
 
-/// The seed 002 tensor study, as the registry holds it.
-pub struct Tensor;
-
-impl crate::study::Study for Tensor {
-    fn name(&self) -> &'static str {
-        "tensor"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The seed 002 tensor study, as the registry holds it.
+    Tensor = "tensor", after [], on request false, runs run
 }

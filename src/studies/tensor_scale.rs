@@ -9,8 +9,9 @@ use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::io::Outputs;
+use crate::study::{Ctx, FitOutcome};
 use crate::tensor::scale::{run_cluster, ClusterRun, ScalePlan};
-use std::path::Path;
 
 /// Table 2 of seed 002 (geometric optics, 2K², stride 32): map, rank, NDF generation
 /// (min), compression (min), storage without / with compression (MB), ratio (%). Timed on
@@ -83,12 +84,8 @@ fn mean_se(v: &[f64]) -> (f64, f64) {
     crate::integrate::MeanSe::of(v).pair()
 }
 
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let (size, n, plan) = plan(preset, spec);
     let clusters = sample(&plan, n);
     let kinds = [Procedural::Flakes, Procedural::BrushedMetal];
@@ -257,24 +254,8 @@ fn report(
     md
 }
 
-/// The seed 002 at the paper's scale: hours at its default preset, so on request only, as the registry holds it.
-pub struct TensorScale;
-
-impl crate::study::Study for TensorScale {
-    fn name(&self) -> &'static str {
-        "tensor-scale"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn on_request(&self) -> bool {
-        true
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The seed 002 at the paper's scale: hours at its default preset, so on request only, as
+    /// the registry holds it.
+    TensorScale = "tensor-scale", after [], on request true, runs run
 }

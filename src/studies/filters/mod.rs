@@ -4,9 +4,8 @@
 //! ([`report`], [`verdicts`], [`summary`]) → write, in that order.
 
 use crate::error::{Error, Result};
-use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
-use std::path::Path;
+use crate::io::Outputs;
+use crate::study::{Ctx, FitOutcome};
 
 mod cases;
 mod constants;
@@ -24,12 +23,8 @@ pub use cases::{aggregate, Agg};
 pub use prefilter::prefilter;
 
 /// The study: compute the cases and the fitted constants, then render them into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     use crate::filters::footprint::{NormalMap, Procedural};
     let plan = Plan::new(preset);
     let seed = spec.seed;
@@ -118,24 +113,8 @@ pub fn run(
     })
 }
 
-/// The footprint-filter study; results/filters.md embeds the LEADR and Λ reports, so they run first, as the registry holds it.
-pub struct Filters;
-
-impl crate::study::Study for Filters {
-    fn name(&self) -> &'static str {
-        "filters"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn after(&self) -> &'static [&'static str] {
-        &["leadr-grids", "smith-lambda"]
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The footprint-filter study; results/filters.md embeds the LEADR and Λ reports, so they
+    /// run first, as the registry holds it.
+    Filters = "filters", after ["leadr-grids", "smith-lambda"], on request false, runs run
 }

@@ -9,9 +9,8 @@
 //! (the isotropic table at √(α_x α_y) or at max(α_x, α_y)). Report (`report`) → files.
 
 use crate::error::{Error, Result};
-use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
-use std::path::Path;
+use crate::io::Outputs;
+use crate::study::{Ctx, FitOutcome};
 
 mod compute;
 mod report;
@@ -20,12 +19,8 @@ use compute::{between, fit_table, plan, polygons};
 pub use compute::{Between, Case, Fitted, PolygonRow};
 
 /// The study: fit, design study, cases between cells and report, into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let iso = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
     let pl = plan(preset, spec.domain.alpha_min);
     let (table, fitted) = fit_table(&iso, &pl)?;
@@ -82,24 +77,8 @@ pub fn run(
     })
 }
 
-/// The anisotropic LTC study; its fits start from the isotropic GGX table, as the registry holds it.
-pub struct LtcAniso;
-
-impl crate::study::Study for LtcAniso {
-    fn name(&self) -> &'static str {
-        "ltc-aniso"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn after(&self) -> &'static [&'static str] {
-        &["ltc-ggx"]
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The anisotropic LTC study; its fits start from the isotropic GGX table, as the registry
+    /// holds it.
+    LtcAniso = "ltc-aniso", after ["ltc-ggx"], on request false, runs run
 }

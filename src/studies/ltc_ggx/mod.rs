@@ -5,13 +5,14 @@
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::io::Outputs;
 use crate::ltc::fit::{Grid, Table};
 use crate::ltc::held::{self, held_out_stats as stats, Stats};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::ltc::target::GgxTarget;
 use crate::memo::Memo;
-use std::path::Path;
+use crate::study::{Ctx, FitOutcome};
 
 mod compute;
 mod floor;
@@ -93,12 +94,8 @@ struct LtcResult<'a> {
 }
 
 /// The study: fit and report, into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let pl = plan(preset);
     let (mut main, variants) = fit_tables(spec, &pl)?;
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
@@ -182,21 +179,7 @@ pub fn run(
     })
 }
 
-/// The GGX LTC table study, as the registry holds it.
-pub struct LtcGgx;
-
-impl crate::study::Study for LtcGgx {
-    fn name(&self) -> &'static str {
-        "ltc-ggx"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The GGX LTC table study, as the registry holds it.
+    LtcGgx = "ltc-ggx", after [], on request false, runs run
 }

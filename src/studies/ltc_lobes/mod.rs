@@ -9,11 +9,11 @@
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
+use crate::io::Outputs;
 use crate::ltc::fit::Table;
 use crate::ltc::held::held_out_stats;
+use crate::study::{Ctx, FitOutcome};
 use serde::Serialize;
-use std::path::Path;
 
 mod compute;
 mod report;
@@ -70,12 +70,8 @@ struct LobeResult<'a> {
 }
 
 /// The study: fit both tables of the family and report, into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let fam = family(&spec.name).ok_or_else(|| {
         Error::InvalidArgument(format!(
             "fits/{}.toml: no LTC table family of that name (ltc-sheen, ltc-diffuse)",
@@ -149,22 +145,13 @@ pub fn run(
     })
 }
 
-/// An LTC lobe table study (ltc-diffuse, ltc-sheen), as the registry holds it: one type,
-/// one entry per spec name.
-pub struct LtcLobes(pub &'static str);
+crate::study::study! {
+    /// The diffuse LTC table study (Burley; the engines' α), as the registry holds it.
+    LtcDiffuse = "ltc-diffuse", after [], on request false, runs run
+}
 
-impl crate::study::Study for LtcLobes {
-    fn name(&self) -> &'static str {
-        self.0
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The sheen LTC table study (Charlie, both visibility conventions), as the registry
+    /// holds it.
+    LtcSheen = "ltc-sheen", after [], on request false, runs run
 }

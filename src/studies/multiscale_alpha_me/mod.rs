@@ -3,11 +3,9 @@
 //! ([`compute`]) → plots ([`plots`]) → report ([`report`]) → files.
 
 use crate::error::Result;
-use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
+use crate::io::Outputs;
 use crate::multiscale::alpha_me::PAPER;
-use crate::study::FitOutcome;
-use std::path::Path;
+use crate::study::{Ctx, FitOutcome};
 
 mod compute;
 mod plots;
@@ -17,12 +15,8 @@ pub use compute::whole_range;
 use compute::{compute, Computed};
 
 /// Run the multiscale α_me fit described by `spec`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    _preset: Preset,
-) -> Result<FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results) = (c.spec, c.results);
     let k = compute(spec)?;
     let (svg_err, svg_mrl) = plots::render(spec, &k)?;
     let Computed {
@@ -104,21 +98,7 @@ pub fn run(
 
 pub use crate::results::alpha_me::WholeRange;
 
-/// The α_me study, as the registry holds it.
-pub struct MultiscaleAlphaMe;
-
-impl crate::study::Study for MultiscaleAlphaMe {
-    fn name(&self) -> &'static str {
-        "multiscale-alpha-me"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The α_me study, as the registry holds it.
+    MultiscaleAlphaMe = "multiscale-alpha-me", after [], on request false, runs run
 }

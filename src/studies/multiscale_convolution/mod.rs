@@ -5,10 +5,9 @@
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
-use crate::study::FitOutcome;
+use crate::io::Outputs;
+use crate::study::{Ctx, FitOutcome};
 use serde::Serialize;
-use std::path::Path;
 
 mod compute;
 mod plots;
@@ -67,13 +66,8 @@ struct ConvolutionResult<'a> {
 /// `all` is every spec of the fits directory: the α_me spec is taken from it.
 
 /// The study: compute, report and plot, into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    all: &[FitSpec],
-    results: &Path,
-    preset: Preset,
-) -> Result<FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, all, results, preset) = (c.spec, c.specs, c.results, c.preset);
     let c = compute(spec, all, preset)?;
     let (mut md, model_json, spread_max) = report::models_section(spec, &c)?;
     let (pm_md, passed) = report::per_metric_section(spec, &c);
@@ -128,21 +122,7 @@ pub fn run(
     })
 }
 
-/// The convolution study, as the registry holds it.
-pub struct MultiscaleConvolution;
-
-impl crate::study::Study for MultiscaleConvolution {
-    fn name(&self) -> &'static str {
-        "multiscale-convolution"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.specs, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The convolution study, as the registry holds it.
+    MultiscaleConvolution = "multiscale-convolution", after [], on request false, runs run
 }

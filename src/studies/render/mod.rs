@@ -10,8 +10,10 @@ pub mod report;
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::io::Outputs;
 use crate::render::scene::Scene;
 use crate::render::{check, measure, GlintPlan, Render};
+use crate::study::{Ctx, FitOutcome};
 use std::path::Path;
 
 /// The example scenes, as shipped in fits/render/.
@@ -144,12 +146,8 @@ fn checks_section(rows: &[check::CheckResult]) -> String {
     md
 }
 
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let pictures = results.join("render");
     let mut md = format!(
         "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
@@ -246,24 +244,8 @@ struct RenderResult<'a> {
     renders: &'a [report::RenderJson],
 }
 
-/// The rendered evidence; the renders read the footprint study's refitted constants, as the registry holds it.
-pub struct RenderStudy;
-
-impl crate::study::Study for RenderStudy {
-    fn name(&self) -> &'static str {
-        "render"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn after(&self) -> &'static [&'static str] {
-        &["filters"]
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The rendered evidence; the renders read the footprint study's refitted constants, as the
+    /// registry holds it.
+    RenderStudy = "render", after ["filters"], on request false, runs run
 }

@@ -6,7 +6,8 @@
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
+use crate::io::Outputs;
+use crate::study::{Ctx, FitOutcome};
 use crate::visibility::{HeightField, Relief};
 use serde::Serialize;
 
@@ -26,12 +27,8 @@ pub use compute::{
 pub use user_map::horizon_file;
 
 /// The study: compute and report, into `set`.
-pub fn run(
-    set: &mut crate::io::Outputs,
-    spec: &FitSpec,
-    results: &std::path::Path,
-    preset: Preset,
-) -> Result<crate::study::FitOutcome> {
+pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let (spec, results, preset) = (c.spec, c.results, c.preset);
     let plan = Plan::new(preset);
     let seed = spec.seed;
     let m = Measured {
@@ -96,21 +93,7 @@ pub fn run(
     })
 }
 
-/// The visibility survey, as the registry holds it.
-pub struct Visibility;
-
-impl crate::study::Study for Visibility {
-    fn name(&self) -> &'static str {
-        "visibility"
-    }
-    fn module(&self) -> &'static str {
-        module_path!()
-    }
-    fn run(
-        &self,
-        c: &crate::study::Ctx,
-        set: &mut crate::io::Outputs,
-    ) -> Result<crate::study::FitOutcome> {
-        run(set, c.spec, c.results, c.preset)
-    }
+crate::study::study! {
+    /// The visibility survey, as the registry holds it.
+    Visibility = "visibility", after [], on request false, runs run
 }
