@@ -238,13 +238,16 @@ fn render_benches(c: &mut Criterion) {
             })
         });
         let alpha = sc.material.alpha as f32;
-        let consts = consts.with_alpha(sc.material.alpha);
-        let list: &[methods::Method] = match sc.render.methods {
-            MethodSet::Multiscale => &methods::Method::MULTISCALE,
-            MethodSet::SpecularAa => &methods::Method::SPECULAR_AA,
+        let consts = consts.clone().with_alpha(sc.material.alpha);
+        let list: &[&str] = match sc.render.methods {
+            MethodSet::Multiscale => &methods::MULTISCALE,
+            MethodSet::SpecularAa => &methods::SPECULAR_AA,
             _ => &[],
         };
-        for &m in list {
+        for key in list {
+            let Ok(m) = methods::Method::new(key, &consts) else {
+                continue;
+            };
             g.bench_function(format!("{name}: {}, {n} pixels", m.key()), |b| {
                 b.iter(|| {
                     window

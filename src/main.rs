@@ -311,7 +311,7 @@ fn main() -> ExitCode {
             println!("{s}");
             true
         }),
-        Some(Cmd::Eval(args)) => cli::eval(&args, &cli.fits).map(|json| {
+        Some(Cmd::Eval(args)) => cli::eval(&args, &cli.fits, &cli.results).map(|json| {
             out(&json);
             true
         }),

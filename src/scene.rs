@@ -7,6 +7,7 @@
 
 use crate::codegen;
 use crate::error::{Error, Result};
+use crate::filters::registry::{Domain, Filter, MapRule, Rule, ScreenRule};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -21,9 +22,9 @@ pub struct Scene {
     pub roughness: String,
     /// any of "point", "polygon", "environment"
     pub lights: Vec<String>,
-    /// "none" | "toksvig" | "vmf" | "vmf-fitted" | "multiscale" | "auto"
+    /// a map filter's key with a generated function (results/filters.md), "mip-normal" or "auto"
     pub normal_map_filter: String,
-    /// "none" | "deferred" | "deferred-fitted" | "eq10" | "projected" | "auto"
+    /// a screen-space kernel's key with a generated function, "none" or "auto"
     pub screen_space_aa: String,
     /// "f32" | "f16"
     pub precision: String,
@@ -31,86 +32,21 @@ pub struct Scene {
     pub error_budget: f64,
 }
 
-/// One option for a scene aspect.
-struct Opt {
-    key: &'static str,
-    function: Option<&'static str>,
-    error_key: ErrorKey,
-    cost_key: Option<&'static str>,
+/// The options of one scene aspect: the footprint filters of `domain` that ship a
+/// generated shading function, and the one that filters nothing (read from the registry,
+/// [`crate::filters::registry`]).
+fn options(domain: Domain) -> Vec<Filter> {
+    Filter::all()
+        .filter(|f| f.domain() == domain)
+        .filter(|f| {
+            f.uses().shader.is_some()
+                || matches!(
+                    f.rule(),
+                    Rule::Map(MapRule::Renormalised) | Rule::Screen(ScreenRule::None)
+                )
+        })
+        .collect()
 }
-
-enum ErrorKey {
-    /// results/fits/filters.json summary entry
-    Summary(&'static str),
-    /// results/fits/filters.json fitted family (GGX)
-    Fitted(&'static str),
-}
-
-const MAP_OPTS: &[Opt] = &[
-    Opt {
-        key: "none",
-        function: None,
-        error_key: ErrorKey::Summary("none-map"),
-        cost_key: None,
-    },
-    Opt {
-        key: "toksvig",
-        function: Some("filter_toksvig"),
-        error_key: ErrorKey::Summary("toksvig"),
-        cost_key: Some("filters/toksvig"),
-    },
-    Opt {
-        key: "vmf",
-        function: Some("filter_vmf"),
-        error_key: ErrorKey::Summary("vmf"),
-        cost_key: Some("filters/vmf"),
-    },
-    Opt {
-        key: "vmf-fitted",
-        function: Some("filter_vmf_fitted"),
-        error_key: ErrorKey::Fitted("vMF α² + c/κ"),
-        cost_key: Some("filters/vmf"),
-    },
-    Opt {
-        key: "multiscale",
-        function: Some("multiscale_alpha"),
-        error_key: ErrorKey::Summary("seed000-moment"),
-        cost_key: Some("filters/seed000-moment"),
-    },
-];
-
-const AA_OPTS: &[Opt] = &[
-    Opt {
-        key: "none",
-        function: None,
-        error_key: ErrorKey::Summary("none-screen"),
-        cost_key: None,
-    },
-    Opt {
-        key: "deferred",
-        function: Some("filter_deferred"),
-        error_key: ErrorKey::Summary("deferred"),
-        cost_key: Some("filters/deferred"),
-    },
-    Opt {
-        key: "deferred-fitted",
-        function: Some("filter_deferred_fitted"),
-        error_key: ErrorKey::Fitted("Eq 13 σ² (Gaussian pixel)"),
-        cost_key: Some("filters/deferred"),
-    },
-    Opt {
-        key: "eq10",
-        function: Some("filter_eq10"),
-        error_key: ErrorKey::Summary("eigen"),
-        cost_key: Some("filters/eigen"),
-    },
-    Opt {
-        key: "projected",
-        function: Some("filter_projected"),
-        error_key: ErrorKey::Summary("projected"),
-        cost_key: Some("filters/projected"),
-    },
-];
 
 /// Longest scene name (it names the output directory and appears in generated headers).
 pub const MAX_NAME_LEN: usize = 64;
@@ -158,9 +94,13 @@ impl Scene {
         for l in &s.lights {
             one_of("lights", l, &["point", "polygon", "environment"])?;
         }
-        let keys = |o: &[Opt]| o.iter().map(|x| x.key).chain(["auto"]).collect::<Vec<_>>();
-        one_of("normal_map_filter", &s.normal_map_filter, &keys(MAP_OPTS))?;
-        one_of("screen_space_aa", &s.screen_space_aa, &keys(AA_OPTS))?;
+        let keys = |d: Domain| {
+            (options(d).into_iter().map(|f| f.key()))
+                .chain(["auto"])
+                .collect::<Vec<_>>()
+        };
+        one_of("normal_map_filter", &s.normal_map_filter, &keys(Domain::Map))?;
+        one_of("screen_space_aa", &s.screen_space_aa, &keys(Domain::Screen))?;
         one_of("precision", &s.precision, &["f32", "f16"])?;
         if !(s.error_budget.is_finite() && s.error_budget > 0.0) {
             return Err(Error::InvalidArgument(format!(
@@ -186,10 +126,12 @@ impl Scene {
                 s.roughness
             )));
         }
-        if s.normal_map_filter == "multiscale" && s.ndf != "ggx" {
+        let moment = Filter::find(&s.normal_map_filter)
+            .is_some_and(|f| f.rule() == Rule::Map(MapRule::Moment));
+        if moment && s.ndf != "ggx" {
             return Err(Error::InvalidArgument(format!(
-                "scene {origin}: keys 'normal_map_filter' = \"multiscale\" and 'ndf' = \"{}\" contradict: the multi-scale LTC model is GGX",
-                s.ndf
+                "scene {origin}: keys 'normal_map_filter' = \"{}\" and 'ndf' = \"{}\" contradict: the multi-scale LTC model is GGX",
+                s.normal_map_filter, s.ndf
             )));
         }
         if s.lights.iter().any(|l| l == "polygon") && (s.ndf != "ggx" || s.roughness != "isotropic")
@@ -261,24 +203,27 @@ impl Measured {
     }
 }
 
-fn measured(m: &Measured, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
+fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
     let beck = ndf == "beckmann";
-    let err = m.filters.as_ref().and_then(|f| match o.error_key {
-        ErrorKey::Summary(k) => {
+    let err = m.filters.as_ref().and_then(|t| match (f.family(), f.uses().summary) {
+        (Some(family), _) => t
+            .fitted(family, if beck { "Beckmann" } else { "GGX" })
+            .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
+        (None, Some(k)) => {
             let key = if beck {
                 format!("beckmann:{k}")
             } else {
                 k.to_string()
             };
-            f.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
+            t.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
         }
-        ErrorKey::Fitted(fam) => f
-            .fitted(fam, if beck { "Beckmann" } else { "GGX" })
-            .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
+        (None, None) => None,
     });
-    let cost = match o.cost_key {
-        None => Some(0.0),
-        Some(k) => m.cost(k),
+    // a filter that ships no function costs nothing; the others their bench's time
+    let cost = match (f.uses().shader, f.uses().bench) {
+        (None, _) => Some(0.0),
+        (Some(_), Some(b)) => m.cost(&format!("filters/{b}")),
+        (Some(_), None) => None,
     };
     (err, cost)
 }
@@ -286,24 +231,24 @@ fn measured(m: &Measured, o: &Opt, ndf: &str) -> (Option<(f64, f64)>, Option<f64
 fn choose(
     aspect: &str,
     want: &str,
-    opts: &[Opt],
+    opts: &[Filter],
     budget: f64,
     ndf: &str,
     m: &Measured,
 ) -> Result<Choice> {
-    let mk = |o: &Opt| {
-        let (error, cost_ns) = measured(m, o, ndf);
+    let mk = |o: &Filter| {
+        let (error, cost_ns) = measured(m, *o, ndf);
         Choice {
             aspect: aspect.into(),
-            key: o.key.into(),
-            function: o.function.map(String::from),
+            key: o.key().into(),
+            function: o.uses().shader.map(String::from),
             error,
             error_note: format!("mean relative L2 lobe error ± s.e. against the footprint-averaged {ndf} BRDF (results/filters.md)"),
             cost_ns,
         }
     };
     if want != "auto" {
-        let o = opts.iter().find(|o| o.key == want).expect("validated key");
+        let o = opts.iter().find(|o| o.key() == want).expect("validated key");
         return Ok(mk(o));
     }
     let all: Vec<Choice> = opts.iter().map(mk).collect();
@@ -396,10 +341,10 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     let mut choices = Vec::new();
     for (aspect, want, opts) in [
-        ("normal-map filter", s.normal_map_filter.as_str(), MAP_OPTS),
-        ("screen-space AA", s.screen_space_aa.as_str(), AA_OPTS),
+        ("normal-map filter", s.normal_map_filter.as_str(), options(Domain::Map)),
+        ("screen-space AA", s.screen_space_aa.as_str(), options(Domain::Screen)),
     ] {
-        let c = choose(aspect, want, opts, s.error_budget, &s.ndf, &measured_tables)?;
+        let c = choose(aspect, want, &opts, s.error_budget, &s.ndf, &measured_tables)?;
         if let Some(f) = &c.function {
             fns.push(
                 codegen::desc::FUNCTIONS

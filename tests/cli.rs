@@ -87,7 +87,7 @@ fn verify_only_runs_a_subset_and_exits_0() {
 fn eval_filter_vmf_matches_banerjee_by_hand() {
     let out = bin()
         .args([
-            "eval", "filter", "--filter", "vmf2", "--alpha", "0.1", "--b", "0.98",
+            "eval", "filter", "--filter", "vmf-2", "--alpha", "0.1", "--b", "0.98",
         ])
         .output()
         .unwrap();
@@ -107,7 +107,7 @@ fn eval_filter_vmf_matches_banerjee_by_hand() {
     assert!((f32v / expected - 1.0).abs() < 1e-6);
     // a missing input is a typed error, exit status 2
     let out = bin()
-        .args(["eval", "filter", "--filter", "deferred", "--alpha", "0.1"])
+        .args(["eval", "filter", "--filter", "tokuyoshi-deferred", "--alpha", "0.1"])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));

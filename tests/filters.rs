@@ -6,7 +6,8 @@ mod common;
 use nalgebra::Vector3;
 use ndfbench::filters::footprint::{MipChain, NormalMap, Procedural, Stats};
 use ndfbench::filters::rules as r;
-use ndfbench::filters::study::{pixel_footprint, screen_alphas, screen_index, Field, PixelFilter};
+use ndfbench::filters::registry::screen_index;
+use ndfbench::filters::study::{pixel_footprint, screen_alphas, Field, PixelFilter};
 use ndfbench::filters::truth::{draw, Candidate, Footprint, Frame, Truth};
 use ndfbench::integrate::quad::Tol;
 use ndfbench::integrate::sphere::{integrate_sphere, SphereRule};
@@ -481,7 +482,7 @@ fn regen_filters_quick_writes_the_report() {
 
 #[test]
 fn each_footprint_filter_is_listed_once_by_a_unique_key() {
-    use ndfbench::filters::study::{map_index, MAP, SCREEN};
+    use ndfbench::filters::registry::{map_index, MAP, SCREEN};
     for list in [
         MAP.iter().map(|f| (f.key, f.label)).collect::<Vec<_>>(),
         SCREEN.iter().map(|f| (f.key, f.label)).collect(),
@@ -498,5 +499,67 @@ fn each_footprint_filter_is_listed_once_by_a_unique_key() {
     // later and measured on the same samples
     let first_quiet = MAP.iter().position(|f| !f.proposes).unwrap();
     assert!(MAP[first_quiet..].iter().all(|f| !f.proposes));
-    assert_eq!(first_quiet, map_index("filament"));
+    assert_eq!(first_quiet, map_index("filament-prefilter"));
+}
+
+/// The registry of footprint filters: unique keys; each refit replaces a constant of a
+/// map filter or kernel; every generated function, bench, summary entry and fitted family
+/// it names exists.
+mod registry {
+    use ndfbench::filters::registry::{Filter, REFIT};
+
+    #[test]
+    fn keys_are_unique_and_refits_name_a_base_with_a_constant() {
+        let keys: Vec<&str> = Filter::all().map(|f| f.key()).collect();
+        let mut sorted = keys.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), keys.len(), "{keys:?}");
+        for r in REFIT.iter() {
+            let base = Filter::find(r.base).expect(r.base);
+            assert!(!matches!(base, Filter::Refit(_)), "{}", r.key);
+            // the refit changes the rule: its base has a constant to replace
+            let refitted = Filter::Refit(r).rule_with(|_| Some(0.123)).unwrap();
+            assert_ne!(refitted, base.rule(), "{}", r.key);
+        }
+    }
+
+    #[test]
+    fn every_shader_bench_and_summary_the_registry_names_exists() {
+        // bench ids as criterion names them: the first string of each bench!( call
+        let benches: String = include_str!("../benches/engines.rs").split_whitespace().collect();
+        let summary: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string("results/fits/filters.json").expect("results/fits/filters.json"),
+        )
+        .expect("json");
+        let families: Vec<&str> = summary["fitted"]
+            .as_array()
+            .expect("fitted")
+            .iter()
+            .filter_map(|f| f["family"].as_str())
+            .collect();
+        for f in Filter::all() {
+            let u = f.uses();
+            if let Some(name) = u.shader {
+                assert!(
+                    ndfbench::codegen::desc::FUNCTIONS.iter().any(|d| d.name == name),
+                    "{}: no generated function {name}",
+                    f.key()
+                );
+            }
+            if let Some(b) = u.bench {
+                assert!(
+                    benches.contains(&format!("bench!(\"{b}\"")),
+                    "{}: no bench {b}",
+                    f.key()
+                );
+            }
+            if let Some(k) = u.summary {
+                assert!(summary["summary"][k].is_object(), "{}: no summary {k}", f.key());
+            }
+            if let Some(fam) = f.family() {
+                assert!(families.contains(&fam), "{}: no fitted family {fam}", f.key());
+            }
+        }
+    }
 }

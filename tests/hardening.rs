@@ -7,7 +7,7 @@
 
 mod common;
 
-use ndfbench::cli::{AlphaMethod, EvalArgs, FilterName, LambdaArg, MapName, NdfArg, Quantity};
+use ndfbench::cli::{AlphaMethod, EvalArgs, LambdaArg, MapName, NdfArg, Quantity};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -321,7 +321,7 @@ fn extreme_eval_inputs_give_correct_values() {
     let y = a * a * ((2.0 / a).ln() - 1.0);
     assert!((y / 1e-300 - 1.0).abs() < 1e-12, "α {a}: y {y}");
     // toksvig / vMF at ‖μ‖ → 0: f64 finite; f32 absent (input below f32) or finite
-    for f in ["toksvig", "vmf2", "toksvig-half", "vmf1", "vmf-half"] {
+    for f in ["toksvig-2", "vmf-2", "toksvig-1", "vmf-1", "vmf-half"] {
         for b in ["1e-300", "1e-30", "1e-45"] {
             let v = eval_ok(&["filter", "--filter", f, "--alpha", "0.5", "--b", b]);
             let bb: f64 = b.parse().unwrap();
@@ -524,26 +524,11 @@ const QUANTITIES: [Quantity; 14] = [
     Quantity::D,
 ];
 
-const FILTERS: [FilterName; 18] = [
-    FilterName::ToksvigBp,
-    FilterName::Toksvig,
-    FilterName::ToksvigHalf,
-    FilterName::Vmf2,
-    FilterName::Vmf1,
-    FilterName::VmfHalf,
-    FilterName::Lean,
-    FilterName::Seed000Paper,
-    FilterName::Seed000Moment,
-    FilterName::Deferred,
-    FilterName::DeferredUnclamped,
-    FilterName::Filament,
-    FilterName::Unity,
-    FilterName::UnityProjected,
-    FilterName::Godot,
-    FilterName::Eigen,
-    FilterName::KaplanyanRect,
-    FilterName::Forward,
-];
+/// Every footprint filter of the registry, by key (the refitted ones read results/).
+fn filter_key(i: usize) -> String {
+    let all: Vec<_> = ndfbench::filters::registry::Filter::all().collect();
+    all[i % all.len()].key().to_string()
+}
 
 const MAPS: [MapName; 5] = [
     MapName::NormalToSlope,
@@ -563,7 +548,7 @@ proptest! {
     #[test]
     fn every_eval_quantity_is_finite_or_a_typed_error(
         qi in 0usize..QUANTITIES.len(),
-        fi in 0usize..FILTERS.len(),
+        fi in 0usize..ndfbench::filters::registry::Filter::all().count(),
         mi in 0usize..MAPS.len(),
         beck in any::<bool>(),
         rough_kind in 0u8..3,
@@ -595,7 +580,7 @@ proptest! {
         a.slope = list(&[x[9], x[10]]);
         a.map = Some(MAPS[mi]);
         a.b = Some(x[9].abs().min(1.0));
-        a.filter = Some(FILTERS[fi]);
+        a.filter = Some(filter_key(fi));
         a.cov = list(&[x[9].abs(), x[10].abs(), x[11] * 1e-3]);
         a.dn_u = list(&[x[3], x[4], x[5]]);
         a.dn_v = list(&[x[6], x[7], x[8]]);
@@ -617,7 +602,7 @@ proptest! {
             a.alpha_mi = Some(mi);
             a.alpha_me = Some(me);
         }
-        match ndfbench::cli::eval(&a, Path::new("fits")) {
+        match ndfbench::cli::eval(&a, Path::new("fits"), Path::new("results")) {
             Ok(text) => {
                 let v: serde_json::Value = serde_json::from_str(&text).unwrap();
                 if v["value"].is_null() {

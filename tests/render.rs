@@ -236,7 +236,8 @@ fn the_batched_simd_image_is_the_per_pixel_scalar_image() {
     for &scale in &s.render.scales {
         let surf = ndfbench::render::geometry::Surface::new(&s.surface, scale);
         let g = methods::gbuffer(&cam, &surf, &tex);
-        for &m in &methods::Method::MULTISCALE {
+        for key in methods::MULTISCALE {
+            let m = methods::Method::new(key, &c).expect("a registry key");
             let img = methods::shade_image(m, &g, cam.width, s.material.alpha as f32, &lights, &c)
                 .expect("kernel");
             for (k, v) in img.iter().enumerate() {

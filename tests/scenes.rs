@@ -59,7 +59,7 @@ fn parse_err(text: &str) -> String {
     Scene::parse(text, "t.toml").unwrap_err().to_string()
 }
 
-const BASE: &str = "name = \"t\"\nndf = \"ggx\"\nroughness = \"isotropic\"\nlights = [\"point\"]\nnormal_map_filter = \"vmf\"\nscreen_space_aa = \"none\"\nprecision = \"f32\"\nerror_budget = 0.5\n";
+const BASE: &str = "name = \"t\"\nndf = \"ggx\"\nroughness = \"isotropic\"\nlights = [\"point\"]\nnormal_map_filter = \"vmf-2\"\nscreen_space_aa = \"none\"\nprecision = \"f32\"\nerror_budget = 0.5\n";
 
 #[test]
 fn bad_scenes_name_the_key() {
@@ -92,7 +92,7 @@ fn bad_scenes_name_the_key() {
 
 #[test]
 fn auto_respects_the_budget_and_says_when_it_cannot() {
-    let tight = BASE.replace("\"vmf\"", "\"auto\"").replace("0.5", "0.01");
+    let tight = BASE.replace("\"vmf-2\"", "\"auto\"").replace("0.5", "0.01");
     let s = Scene::parse(&tight, "t.toml").unwrap();
     let e = build(&s, Path::new("results")).unwrap_err().to_string();
     assert!(
@@ -100,8 +100,8 @@ fn auto_respects_the_budget_and_says_when_it_cannot() {
         "{e}"
     );
     // a loose budget picks the cheapest: no filter at all costs nothing
-    let loose = BASE.replace("\"vmf\"", "\"auto\"").replace("0.5", "10.0");
+    let loose = BASE.replace("\"vmf-2\"", "\"auto\"").replace("0.5", "10.0");
     let s = Scene::parse(&loose, "t.toml").unwrap();
     let r = &build(&s, Path::new("results")).unwrap()[2].1;
-    assert!(r.contains("| normal-map filter | none (auto"), "{r}");
+    assert!(r.contains("| normal-map filter | mip-normal (auto"), "{r}");
 }

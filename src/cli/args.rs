@@ -39,45 +39,12 @@ pub enum Quantity {
     Filter,
 }
 
-/// Filters for `eval filter` (results/filters.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum FilterName {
-    /// Toksvig, Blinn–Phong form (--b)
-    ToksvigBp,
-    /// α′² = α² + 2σ², σ² = (1 − |μ|)/|μ| (--b)
-    Toksvig,
-    /// α′² = α² + σ² (--b)
-    ToksvigHalf,
-    /// α′² = α² + 2/κ (--b)
-    Vmf2,
-    /// α′² = α² + 1/κ (--b)
-    Vmf1,
-    /// α′² = α² + 1/(2κ) (--b)
-    VmfHalf,
-    /// LEAN A = α²I + 2Σ (--cov xx,yy,xy); value = √λ_max(A)
-    Lean,
-    /// seed 000 Eq 5 + Eq 7 (--b)
-    Seed000Paper,
-    /// ρ⁻¹(|μ|ρ(α)) by Newton (f64) and the fitted form (f32) (--b)
-    Seed000Moment,
-    /// seed 003 Eq 13, σ² 0.25, δ 0.18 (--dn-u, --dn-v)
-    Deferred,
-    /// Eq 13 without the clamp
-    DeferredUnclamped,
-    /// Filament 0.15 / 0.04
-    Filament,
-    /// Unity HDRP 0.1 / 0.04
-    Unity,
-    /// Unity projected space 0.1 / 0.04
-    UnityProjected,
-    /// Godot 0.25 / 0.18 added to α
-    Godot,
-    /// seed 003 Eq 10 (--du, --dv: projected-disk derivatives)
-    Eigen,
-    /// Kaplanyan rectangular kernel, Listing 3 (--du, --dv: slope derivatives)
-    KaplanyanRect,
-    /// forward matrix A = α²I + 2Σ (Eq 3 with Eq 2 or 7 derivatives --du, --dv); value = √λ_max(A)
-    Forward,
+/// The keys `eval filter --filter` accepts: every filter of the registry
+/// ([`crate::filters::registry`]), each with its label as help.
+pub fn filter_keys() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(crate::filters::registry::Filter::all().map(|f| {
+        clap::builder::PossibleValue::new(f.key()).help(f.label())
+    }))
 }
 
 /// Ways to get α_me from ‖b̄‖.
@@ -150,9 +117,12 @@ pub struct EvalArgs {
     /// meso-scale roughness α_me
     #[arg(long)]
     pub alpha_me: Option<f64>,
-    /// which footprint filter (`eval filter`)
-    #[arg(long, value_enum)]
-    pub filter: Option<FilterName>,
+    /// which footprint filter (`eval filter`): a key of results/filters.md's filters;
+    /// map filters need --b (LEAN --cov), the deferred kernels --dn-u/--dn-v, Eq 10,
+    /// the rect and the forward kernels --du/--dv; refitted ones read
+    /// results/fits/filters.json
+    #[arg(long, value_parser = filter_keys())]
+    pub filter: Option<String>,
     /// slope covariance xx,yy,xy (LEAN)
     #[arg(long)]
     pub cov: Option<String>,

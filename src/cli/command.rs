@@ -154,12 +154,13 @@ pub enum Cmd {
     /// in the fit's domain), `overall-alpha` (`--alpha-mi`, `--alpha-me`: the one-LTC fit
     /// of γ_me ∗ γ_mi under every metric, ~1 s of quadrature, when both lie in [1e-3, 3];
     /// elsewhere the closed-form moment metric, and the limit max(α_mi, α_me) when one is
-    /// below 1e-3 of the other, with its error), `filter` (`--filter NAME --alpha A` plus
-    /// the filter's inputs: `--b` = ‖μ‖ for
-    /// toksvig-bp/toksvig/toksvig-half/vmf2/vmf1/vmf-half/seed000-paper/seed000-moment,
-    /// `--cov XX,YY,XY` for lean, `--dn-u`/`--dn-v` for
-    /// deferred/deferred-unclamped/filament/unity/unity-projected/godot, `--du`/`--dv` for
-    /// eigen/kaplanyan-rect/forward; prints the f64 α′ and the f32 shading form — the
+    /// below 1e-3 of the other, with its error), `filter` (`--filter KEY --alpha A` plus
+    /// the filter's inputs, KEY one of the footprint filters listed under `--filter`: `--b`
+    /// = ‖μ‖ for the map filters, `--cov XX,YY,XY` for lean, `--dn-u`/`--dn-v` for the
+    /// deferred kernels (tokuyoshi-deferred, filament, unity-hdrp, unity-projected, godot
+    /// and their refits), `--du`/`--dv` for eigen-eq10, kaplanyan-rect and the forward
+    /// kernels; refitted filters read their constant from results/fits/filters.json;
+    /// prints the f64 α′ and the f32 shading form — the
     /// latter only where every input is an f32, otherwise `f32_note` says why). Surface:
     /// `--ndf ggx|beckmann`, one of `--alpha A`, `--alpha-xy AX,AY`, `--matrix
     /// A11,A12,A22`; optional `--mean MX,MY`, `--lambda
@@ -220,8 +221,9 @@ pub enum Cmd {
     /// (1–64 characters of `[A-Za-z0-9_-]`, starting with a letter), `ndf` (ggx|beckmann),
     /// `roughness` (isotropic|anisotropic|matrix), `lights` (point, polygon — LTC table +
     /// quad integral, GGX isotropic —, environment — LEADR 5×5 grid, Beckmann),
-    /// `normal_map_filter` (none|toksvig|vmf|vmf-fitted|multiscale|auto), `screen_space_aa`
-    /// (none|deferred|deferred-fitted|eq10|projected|auto), `precision` (f32; f16 is
+    /// `normal_map_filter` (auto, mip-normal or the key of a map filter that ships a
+    /// generated function; an unknown key is an error listing the valid ones),
+    /// `screen_space_aa` (auto, none or the key of such a kernel), `precision` (f32; f16 is
     /// refused with the reason), `error_budget` (mean relative L2 lobe error; `auto` takes
     /// the cheapest option whose measured error + 1 s.e. meets it). Unknown or
     /// contradictory keys are errors naming the key; the WGSL is validated with naga before

@@ -2,29 +2,43 @@
 
 use super::args::*;
 use crate::error::{Error, Result};
+use crate::filters::registry::{Filter, MapRule, Rule, ScreenRule};
+use crate::filters::rules;
 use crate::microfacet::Roughness;
 use nalgebra::Matrix2;
 use serde_json::json;
 
-/// `eval filter`: α′ of one footprint filter, f64 reference and f32 shading form.
+/// `eval filter`: α′ of one footprint filter of the registry
+/// ([`crate::filters::registry`]), f64 reference and f32 shading form. A refitted filter
+/// reads its constant from `results`/fits/filters.json.
 pub(super) fn filter_eval(
     a: &EvalArgs,
     fits: &std::path::Path,
+    results: &std::path::Path,
 ) -> Result<(f64, serde_json::Value)> {
-    use crate::filters::rules as r;
-    let f = a
+    let key = a
         .filter
+        .as_deref()
         .ok_or_else(|| Error::InvalidArgument("filter needs --filter NAME".into()))?;
+    let f = Filter::get(key, "--filter")?;
     let al = a
         .alpha
         .ok_or_else(|| Error::InvalidArgument("filter needs --alpha".into()))?;
     if !(al.is_finite() && al > 0.0) {
         return Err(Error::InvalidRoughness(al));
     }
+    let (rule, constant) = match f.family() {
+        Some(family) => {
+            let v: crate::results::filters::Filters = crate::results::require(results)?;
+            let c = v.fitted(family, "GGX").map(|x| x.constant);
+            (f.rule_with(|_| c)?, c)
+        }
+        None => (f.rule(), None),
+    };
     let b = || -> Result<f64> {
         let b = a.b.ok_or_else(|| {
             Error::InvalidArgument(format!(
-                "filter {f:?} needs --b (|μ| of the mip-mapped normal)"
+                "filter {key} needs --b (|μ| of the mip-mapped normal)"
             ))
         })?;
         if !(b > 0.0 && b <= 1.0) {
@@ -37,54 +51,33 @@ pub(super) fn filter_eval(
     let v3 = |s: &Option<String>, n: &str| -> Result<[f64; 3]> {
         let s = s
             .as_ref()
-            .ok_or_else(|| Error::InvalidArgument(format!("filter {f:?} needs --{n}")))?;
+            .ok_or_else(|| Error::InvalidArgument(format!("filter {key} needs --{n}")))?;
         let v = parse_list(s, 3, n)?;
         Ok([v[0], v[1], v[2]])
     };
     let v2 = |s: &Option<String>, n: &str| -> Result<[f64; 2]> {
         let s = s
             .as_ref()
-            .ok_or_else(|| Error::InvalidArgument(format!("filter {f:?} needs --{n}")))?;
+            .ok_or_else(|| Error::InvalidArgument(format!("filter {key} needs --{n}")))?;
         let v = parse_list(s, 2, n)?;
         Ok([v[0], v[1]])
     };
-    let c32 = |x: [f64; 3]| x.map(|y| y as f32);
-    let d32 = |x: [f64; 2]| x.map(|y| y as f32);
     let lmax = |m: [f64; 3]| crate::linalg::sym2_eigen(&Matrix2::new(m[0], m[2], m[2], m[1])).1;
     let a32 = al as f32;
-    // a rule evaluated twice from one argument list: f64 reference and f32 shading form
-    // (the literal constants infer to either precision)
-    macro_rules! both {
-        ($f:path; $x64:expr, $x32:expr; $($c:expr),*) => {
-            ($f(al, $x64, $($c),*), $f(a32, $x32, $($c),*), json!({}))
-        };
-        ($f:path; $x64:expr, $y64:expr, $x32:expr, $y32:expr; $($c:expr),*) => {
-            ($f(al, $x64, $y64, $($c),*), $f(a32, $x32, $y32, $($c),*), json!({}))
-        };
-    }
-    let (v64, v32, extra): (f64, f32, serde_json::Value) = match f {
-        FilterName::ToksvigBp => {
-            let bv = b()?;
+    // every rule is one generic function: f64 reference and f32 shading form
+    let (v64, v32, extra): (f64, f32, serde_json::Value) = match rule {
+        Rule::Map(MapRule::Lean) => {
+            let c = v3(&a.cov, "cov")?;
+            let m = rules::lean(al, c);
+            Roughness::matrix(Matrix2::new(m[0], m[2], m[2], m[1]))?;
+            let m32 = rules::lean(a32, c.map(|y| y as f32));
             (
-                r::toksvig_bp(al, bv),
-                r::toksvig_bp(a32, bv as f32),
-                json!({}),
+                lmax(m).sqrt(),
+                lmax(m32.map(|x| x as f64)).sqrt() as f32,
+                json!({"matrix_xx_yy_xy": m}),
             )
         }
-        FilterName::Toksvig => both!(r::toksvig_alpha2; b()?, b()? as f32; 2.0),
-        FilterName::ToksvigHalf => both!(r::toksvig_alpha2; b()?, b()? as f32; 1.0),
-        FilterName::Vmf2 => both!(r::vmf; b()?, b()? as f32; 2.0),
-        FilterName::Vmf1 => both!(r::vmf; b()?, b()? as f32; 1.0),
-        FilterName::VmfHalf => both!(r::vmf; b()?, b()? as f32; 0.5),
-        FilterName::Seed000Paper => {
-            let bv = b()?;
-            (
-                r::seed000_paper(al, bv),
-                r::seed000_paper(a32, bv as f32),
-                json!({}),
-            )
-        }
-        FilterName::Seed000Moment => {
+        Rule::Map(MapRule::Moment) => {
             let rho = crate::multiscale::mrl::mrl_pair(al).0;
             let y = 1.0 - b()? * rho;
             let exact = crate::multiscale::mrl::alpha_from_one_minus(y)?;
@@ -92,58 +85,55 @@ pub(super) fn filter_eval(
             let (s32, l32) = coeffs.to_f32();
             (
                 exact,
-                r::seed000_moment_fit(b()? as f32, rho as f32, &s32, &l32),
+                rules::seed000_moment_fit(b()? as f32, rho as f32, &s32, &l32),
                 json!({"rho_base": rho, "fit": "results/fits/multiscale-alpha-me.json (ours)"}),
             )
         }
-        FilterName::Lean => {
-            let c = v3(&a.cov, "cov")?;
-            let m = r::lean(al, c);
-            Roughness::matrix(Matrix2::new(m[0], m[2], m[2], m[1]))?;
-            let m32 = r::lean(a32, c32(c));
+        Rule::Map(r) => {
+            let bv = b()?;
+            let none = || unreachable!("the moment rule is handled above");
+            (
+                r.alpha(al, bv, none).unwrap_or(f64::NAN),
+                r.alpha(a32, bv as f32, || f32::NAN).unwrap_or(f32::NAN),
+                json!({}),
+            )
+        }
+        Rule::Screen(ScreenRule::None) => (al, a32, json!({})),
+        Rule::Screen(
+            r @ (ScreenRule::Deferred { .. }
+            | ScreenRule::DeferredOnAlpha { .. }
+            | ScreenRule::ProjectedSpace { .. }),
+        ) => {
+            let (u, v) = (v3(&a.dn_u, "dn-u")?, v3(&a.dn_v, "dn-v")?);
+            let f32s = |x: [f64; 3]| x.map(|y| y as f32);
+            (
+                r.alpha_from_normals(al, u, v).unwrap_or(f64::NAN),
+                r.alpha_from_normals(a32, f32s(u), f32s(v)).unwrap_or(f32::NAN),
+                json!({}),
+            )
+        }
+        Rule::Screen(r @ (ScreenRule::Eigen { .. } | ScreenRule::KaplanyanRect { .. })) => {
+            let (u, v) = (v2(&a.du, "du")?, v2(&a.dv, "dv")?);
+            let f32s = |x: [f64; 2]| x.map(|y| y as f32);
+            (
+                r.alpha_from_2d(al, u, v).unwrap_or(f64::NAN),
+                r.alpha_from_2d(a32, f32s(u), f32s(v)).unwrap_or(f32::NAN),
+                json!({}),
+            )
+        }
+        Rule::Screen(ScreenRule::Forward { .. }) => {
+            let (u, v) = (v2(&a.du, "du")?, v2(&a.dv, "dv")?);
+            let f32s = |x: [f64; 2]| x.map(|y| y as f32);
+            let m = rules::forward_matrix(al, u, v, 0.25);
+            let m32 = rules::forward_matrix(a32, f32s(u), f32s(v), 0.25);
             (
                 lmax(m).sqrt(),
                 lmax(m32.map(|x| x as f64)).sqrt() as f32,
                 json!({"matrix_xx_yy_xy": m}),
             )
         }
-        FilterName::Deferred
-        | FilterName::DeferredUnclamped
-        | FilterName::Filament
-        | FilterName::Unity
-        | FilterName::UnityProjected
-        | FilterName::Godot => {
-            let (u, v) = (v3(&a.dn_u, "dn-u")?, v3(&a.dn_v, "dn-v")?);
-            let (u3, w3) = (c32(u), c32(v));
-            match f {
-                FilterName::Deferred => both!(r::deferred; u, v, u3, w3; 0.25, 0.18),
-                // 1e30 for "no clamp": the saturation at α′ = 1 acts long before it
-                FilterName::DeferredUnclamped => both!(r::deferred; u, v, u3, w3; 0.25, 1e30),
-                FilterName::Filament => both!(r::deferred; u, v, u3, w3; 0.15, 0.04),
-                FilterName::Unity => both!(r::deferred; u, v, u3, w3; 0.1, 0.04),
-                FilterName::UnityProjected => both!(r::projected_space; u, v, u3, w3; 0.1, 0.04),
-                _ => both!(r::deferred_on_alpha; u, v, u3, w3; 0.25, 0.18),
-            }
-        }
-        FilterName::Eigen | FilterName::KaplanyanRect | FilterName::Forward => {
-            let (u, v) = (v2(&a.du, "du")?, v2(&a.dv, "dv")?);
-            let (u2, w2) = (d32(u), d32(v));
-            match f {
-                FilterName::Eigen => both!(r::eigen_eq10; u, v, u2, w2; 0.25, 0.18),
-                FilterName::KaplanyanRect => both!(r::kaplanyan_rect; u, v, u2, w2; 0.25, 0.18),
-                _ => {
-                    let m = r::forward_matrix(al, u, v, 0.25);
-                    let m32 = r::forward_matrix(a32, u2, w2, 0.25);
-                    (
-                        lmax(m).sqrt(),
-                        lmax(m32.map(|x| x as f64)).sqrt() as f32,
-                        json!({"matrix_xx_yy_xy": m}),
-                    )
-                }
-            }
-        }
     };
-    filter_result(a, f, al, (v64, v32, extra))
+    filter_result(a, (f, constant), al, (v64, v32, extra))
 }
 
 /// The `Ours` α_me coefficients, refitted from fits/multiscale-alpha-me.toml exactly as
@@ -170,13 +160,13 @@ fn ours_coefficients(fits: &std::path::Path) -> Result<crate::multiscale::alpha_
 /// input is an f32 (otherwise why it is absent).
 fn filter_result(
     a: &EvalArgs,
-    f: FilterName,
+    (f, constant): (Filter, Option<f64>),
     al: f64,
     (v64, v32, extra): (f64, f32, serde_json::Value),
 ) -> Result<(f64, serde_json::Value)> {
     if !v64.is_finite() {
         return Err(Error::InvalidArgument(format!(
-            "filter {f:?} is not finite for these inputs"
+            "filter {} is not finite for these inputs", f.key()
         )));
     }
     // the f32 shading form is reported only where every input is an f32 (no overflow to ∞
@@ -198,6 +188,7 @@ fn filter_result(
     #[derive(serde::Serialize)]
     struct Out {
         filter: String,
+        label: String,
         alpha_in: f64,
         detail: serde_json::Value,
         report: &'static str,
@@ -209,7 +200,8 @@ fn filter_result(
         f32_rel_diff: Option<f64>,
     }
     let mut out = Out {
-        filter: format!("{f:?}"),
+        filter: f.key().into(),
+        label: f.label_with(constant),
         alpha_in: al,
         detail: extra,
         report: "results/filters.md",
@@ -224,7 +216,7 @@ fn filter_result(
         out.f32_rel_diff = Some((v32 as f64 - v64) / v64);
     } else {
         return Err(Error::InvalidArgument(format!(
-            "the f32 shading form of filter {f:?} is not finite for these inputs (f64: {v64:e})"
+            "the f32 shading form of filter {} is not finite for these inputs (f64: {v64:e})", f.key()
         )));
     }
     Ok((v64, serde_json::to_value(out).unwrap_or_default()))

@@ -13,7 +13,7 @@ use filter::filter_eval;
 use quantities::{alpha_me, jacobian, mrl, overall_alpha, surface_quantity};
 
 pub use args::{
-    parse_list, surface, AlphaMethod, EvalArgs, FilterName, LambdaArg, MapName, NdfArg, Quantity,
+    parse_list, surface, AlphaMethod, EvalArgs, LambdaArg, MapName, NdfArg, Quantity,
 };
 
 use crate::error::{Error, Result};
@@ -21,9 +21,9 @@ use serde_json::json;
 
 /// Evaluate and return pretty JSON. Closed forms carry no statistical error; the JSON
 /// says so and points to the measured agreement in results/proofs.md.
-pub fn eval(a: &EvalArgs, fits: &std::path::Path) -> Result<String> {
+pub fn eval(a: &EvalArgs, fits: &std::path::Path, results: &std::path::Path) -> Result<String> {
     let (value, extra) = match a.quantity {
-        Quantity::Filter => filter_eval(a, fits)?,
+        Quantity::Filter => filter_eval(a, fits, results)?,
         Quantity::Mrl => mrl(a)?,
         Quantity::OverallAlpha => overall_alpha(a)?,
         Quantity::AlphaMe => alpha_me(a, fits)?,

@@ -24,9 +24,10 @@ pub struct PrefilterArgs {
     /// one base α for the whole map (the study's base roughness with --study; default 0.1 there)
     #[arg(long)]
     pub alpha: Option<f64>,
-    /// the rule: best = the measured one with the smallest error (results/fits/filters.json)
-    #[arg(long, value_enum, default_value_t = crate::prefilter::Filter::Best)]
-    pub filter: crate::prefilter::Filter,
+    /// the rule: best = the measured one with the smallest error (results/fits/filters.json),
+    /// or a map filter's key (results/filters.md)
+    #[arg(long, default_value = "best", value_parser = crate::prefilter::Choice::keys())]
+    pub filter: String,
     /// what the roughness texels hold
     #[arg(long, value_enum, default_value_t = crate::prefilter::Store::Perceptual)]
     pub store: crate::prefilter::Store,
@@ -56,21 +57,23 @@ pub struct PrefilterArgs {
 }
 
 impl PrefilterArgs {
-    /// The mip-chain tool's options (None without --input).
-    pub fn options(&self, results: &Path) -> Option<crate::prefilter::Options> {
-        self.input.clone().map(|input| crate::prefilter::Options {
+    /// The mip-chain tool's options (None without --input; a typed error for a filter key
+    /// that is not a chain's rule).
+    pub fn options(&self, results: &Path) -> crate::error::Result<Option<crate::prefilter::Options>> {
+        let filter = crate::prefilter::Choice::parse(&self.filter)?;
+        Ok(self.input.clone().map(|input| crate::prefilter::Options {
             input,
             roughness: self.roughness.clone(),
             alpha: self.alpha,
             channel: self.channel,
-            filter: self.filter,
+            filter,
             store: self.store,
             format: self.format,
             layout: self.layout,
             normals: self.normals,
             reconstruct_z: self.reconstruct_z,
             results: PathBuf::from(results),
-        })
+        }))
     }
 }
 
@@ -89,7 +92,7 @@ fn prefilter_set(
     results: &std::path::Path,
 ) -> Result<bool, crate::Error> {
     use crate::filters::footprint::{NormalMap, Procedural};
-    let tool = a.options(results);
+    let tool = a.options(results)?;
     let PrefilterArgs {
         input,
         generator,
@@ -97,6 +100,7 @@ fn prefilter_set(
         study,
         rank,
         preset,
+        filter: a_filter,
         ..
     } = a;
     let msg = match (input, generator, rank) {
@@ -113,7 +117,7 @@ fn prefilter_set(
                     (None, Some(x)) => format!("--alpha {x}"),
                     _ => String::new(),
                 },
-                options.filter.name()
+                a_filter
             );
             let outcome = crate::prefilter::run(options)?;
             let files = crate::prefilter::output::render(&outcome, &command)?;
@@ -125,7 +129,7 @@ fn prefilter_set(
                 files.len(),
                 dir.display(),
                 outcome.levels.len(),
-                outcome.filter.name()
+                outcome.filter.key()
             )
         }
         (Some(p), None, Some(r)) => {

@@ -10,6 +10,9 @@
 //! In seed 004 §7's terms ([`crate::survey::tools`]): Toksvig and the vMF rules are
 //! convolution methods with the moments tool (one moment of the macroscopic NDF, the mean
 //! normal, the second deduced from it); LEAN is a direct moments method (Eq 19).
+//!
+//! [`MapRule`] and [`ScreenRule`] name one rule with its constants, as the registry of
+//! filters ([`super::registry`]) lists them, and evaluate it at either precision.
 
 use num_traits::Float;
 
@@ -205,6 +208,150 @@ pub fn forward_matrix<T: Float>(alpha: T, du: [T; 2], dv: [T; 2], sigma2: T) -> 
     let two = k::<T>(2.0);
     let a2 = alpha * alpha;
     [a2 + two * s[0], a2 + two * s[1], two * s[2]]
+}
+
+/// How a map filter turns the base α and the mip's mean-normal length r into α′.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MapRule {
+    /// the renormalised mip normal with the base α
+    Renormalised,
+    /// Toksvig, Blinn–Phong form
+    ToksvigBp,
+    /// Toksvig α² + c·σ²
+    Toksvig(f64),
+    /// vMF α² + c/κ
+    Vmf(f64),
+    /// LEAN's anisotropic matrix A = α²I + 2Σ with the mean slope (no isotropic α′)
+    Lean,
+    /// seed 000 Eq 5 + Eq 7 as printed
+    Seed000Paper,
+    /// the product identity ρ⁻¹(‖μ‖ρ(α)) (seed 000's moment)
+    Moment,
+    /// Filament's roughness-prefilter
+    Filament,
+    /// Godot's roughness limiter
+    Godot,
+}
+
+impl MapRule {
+    /// α′ of the isotropic rules at base α and mean-normal length r, in T (f64: the
+    /// reference; f32: the shading form). The moment rule takes ρ⁻¹(‖μ‖ρ(α)) from
+    /// `moment` (Newton in f64, the fitted form in f32); LEAN is anisotropic: `None`.
+    pub fn alpha<T: Float>(self, alpha: T, r: T, moment: impl FnOnce() -> T) -> Option<T> {
+        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
+        Some(match self {
+            MapRule::Renormalised => alpha,
+            MapRule::ToksvigBp => toksvig_bp(alpha, r),
+            MapRule::Toksvig(k) => toksvig_alpha2(alpha, r, c(k)),
+            MapRule::Vmf(k) => vmf(alpha, r, c(k)),
+            MapRule::Lean => return None,
+            MapRule::Seed000Paper => seed000_paper(alpha, r),
+            MapRule::Moment => moment(),
+            MapRule::Filament => filament_prefilter(alpha, r),
+            MapRule::Godot => godot_limiter(alpha, r),
+        })
+    }
+
+    /// Whether the rule works on perceptual roughness p = √α as the engines' import tools
+    /// do (a texture tool then averages p, not α²).
+    pub fn on_perceptual(self) -> bool {
+        matches!(self, MapRule::Filament | MapRule::Godot)
+    }
+
+    /// The same rule with its constant replaced by a refitted one (rules without a
+    /// constant are returned as they are).
+    pub(crate) fn with_constant(self, c: f64) -> MapRule {
+        match self {
+            MapRule::Toksvig(_) => MapRule::Toksvig(c),
+            MapRule::Vmf(_) => MapRule::Vmf(c),
+            r => r,
+        }
+    }
+}
+
+/// How a screen-space kernel turns the base α and the pixel quad's derivatives into α′
+/// (σ² the kernel variance, δ the clamp; ∞ for none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ScreenRule {
+    /// no antialiasing: the base α
+    None,
+    /// Tokuyoshi's deferred kernel on α² (seed 003 Eq 13; Filament's and Unity's form)
+    Deferred { s2: f64, delta: f64 },
+    /// the same kernel added to α (Godot)
+    DeferredOnAlpha { s2: f64, delta: f64 },
+    /// the exact largest eigenvalue (seed 003 Eq 10) of the projected-disk derivatives
+    Eigen { s2: f64, delta: f64 },
+    /// Kaplanyan's rect (Listing 3, as intended: in the quad average's frame)
+    KaplanyanRect { s2: f64, delta: f64 },
+    /// Unity's projected-space form
+    ProjectedSpace { s2: f64, delta: f64 },
+    /// a forward kernel per light: slope space (Kaplanyan, Eq 2–3) or the projected disk
+    /// (Tokuyoshi, Eq 7); anisotropic, so no isotropic α′
+    Forward { slope: bool },
+}
+
+impl ScreenRule {
+    /// The kernel variance σ² (the forward kernels' is 0.25, seed 003 Eq 2), `None` for
+    /// no antialiasing.
+    pub fn sigma2(self) -> Option<f64> {
+        match self {
+            ScreenRule::None => None,
+            ScreenRule::Deferred { s2, .. }
+            | ScreenRule::DeferredOnAlpha { s2, .. }
+            | ScreenRule::Eigen { s2, .. }
+            | ScreenRule::KaplanyanRect { s2, .. }
+            | ScreenRule::ProjectedSpace { s2, .. } => Some(s2),
+            ScreenRule::Forward { .. } => Some(0.25),
+        }
+    }
+
+    /// α′ of the kernels that read the derivatives of the world normal across the quad
+    /// (3-vectors: the deferred kernels and the projected-space form), in T (f64: the
+    /// reference; f32: the shading form); `None` for the other kernels.
+    pub fn alpha_from_normals<T: Float>(self, alpha: T, du: [T; 3], dv: [T; 3]) -> Option<T> {
+        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
+        Some(match self {
+            ScreenRule::None => alpha,
+            ScreenRule::Deferred { s2, delta } => deferred(alpha, du, dv, c(s2), c(delta)),
+            ScreenRule::DeferredOnAlpha { s2, delta } => {
+                deferred_on_alpha(alpha, du, dv, c(s2), c(delta))
+            }
+            ScreenRule::ProjectedSpace { s2, delta } => {
+                projected_space(alpha, du, dv, c(s2), c(delta))
+            }
+            _ => return None,
+        })
+    }
+
+    /// α′ of the kernels that read 2D derivatives: Eq 10 (projected-disk derivatives of
+    /// the normal) and Kaplanyan's rect (slope-space derivatives in the quad average's
+    /// frame); `None` for the other kernels.
+    pub fn alpha_from_2d<T: Float>(self, alpha: T, du: [T; 2], dv: [T; 2]) -> Option<T> {
+        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
+        Some(match self {
+            ScreenRule::Eigen { s2, delta } => eigen_eq10(alpha, du, dv, c(s2), c(delta)),
+            ScreenRule::KaplanyanRect { s2, delta } => {
+                kaplanyan_rect(alpha, du, dv, c(s2), c(delta))
+            }
+            _ => return None,
+        })
+    }
+
+    /// The same kernel with its variance σ² replaced by a refitted one.
+    pub(crate) fn with_constant(self, c: f64) -> ScreenRule {
+        match self {
+            ScreenRule::Deferred { delta, .. } => ScreenRule::Deferred { s2: c, delta },
+            ScreenRule::DeferredOnAlpha { delta, .. } => {
+                ScreenRule::DeferredOnAlpha { s2: c, delta }
+            }
+            ScreenRule::Eigen { delta, .. } => ScreenRule::Eigen { s2: c, delta },
+            ScreenRule::KaplanyanRect { delta, .. } => ScreenRule::KaplanyanRect { s2: c, delta },
+            ScreenRule::ProjectedSpace { delta, .. } => {
+                ScreenRule::ProjectedSpace { s2: c, delta }
+            }
+            r => r,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! where the footprint's normal distribution is known exactly).
 
 use super::footprint::Stats;
+use super::registry::{screen_index, MapRule, ScreenRule, MAP, SCREEN};
 use super::rules;
 use super::truth::{matrix, Candidate, Footprint, Frame};
 use crate::error::Result;
@@ -12,194 +13,12 @@ use nalgebra::{Vector2, Vector3};
 
 type V3 = Vector3<f64>;
 
-/// How a map filter turns the base α and the mip's mean-normal length r into α′.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MapRule {
-    /// the renormalised mip normal with the base α
-    Renormalised,
-    /// Toksvig, Blinn–Phong form
-    ToksvigBp,
-    /// Toksvig α² + c·σ²
-    Toksvig(f64),
-    /// vMF α² + c/κ
-    Vmf(f64),
-    /// LEAN's anisotropic matrix A = α²I + 2Σ with the mean slope (no isotropic α′)
-    Lean,
-    /// seed 000 Eq 5 + Eq 7 as printed
-    Seed000Paper,
-    /// the product identity ρ⁻¹(‖μ‖ρ(α)) (seed 000's moment)
-    Moment,
-    /// Filament's roughness-prefilter
-    Filament,
-    /// Godot's roughness limiter
-    Godot,
-}
-
-/// One map filter of the footprint study: its key, its report label, its rule, the survey
-/// family and parameters per texel it is listed under, and whether its lobe is one of the
-/// importance-sampling proposals of every map case.
-#[derive(Clone, Copy, Debug)]
-pub struct MapFilter {
-    pub key: &'static str,
-    pub label: &'static str,
-    pub rule: MapRule,
-    pub family: &'static str,
-    pub params: usize,
-    pub proposes: bool,
-}
-
-const fn mf(
-    key: &'static str,
-    label: &'static str,
-    rule: MapRule,
-    family: &'static str,
-    params: usize,
-    proposes: bool,
-) -> MapFilter {
-    MapFilter {
-        key,
-        label,
-        rule,
-        family,
-        params,
-        proposes,
-    }
-}
-
-/// The map filters, in report order: the one list the study, its reports and its summary
-/// read; code finds a filter by key ([`map_index`]). The engines' tool rules come last and
-/// propose no lobe: their lobes lie between the vMF variants', and the defensive mixture
-/// covers every lobe, so adding them left the other filters' numbers unchanged.
-pub const MAP: [MapFilter; 12] = [
-    mf(
-        "none",
-        "none (renormalised mip normal)",
-        MapRule::Renormalised,
-        "none",
-        2,
-        true,
-    ),
-    mf(
-        "toksvig-bp",
-        "Toksvig, Blinn–Phong form",
-        MapRule::ToksvigBp,
-        "Toksvig",
-        3,
-        true,
-    ),
-    mf(
-        "toksvig-2",
-        "Toksvig α² + 2σ²",
-        MapRule::Toksvig(2.0),
-        "Toksvig",
-        3,
-        true,
-    ),
-    mf(
-        "toksvig-1",
-        "Toksvig α² + σ²",
-        MapRule::Toksvig(1.0),
-        "Toksvig",
-        3,
-        true,
-    ),
-    mf(
-        "vmf-2",
-        "vMF α² + 2/κ",
-        MapRule::Vmf(2.0),
-        "vMF rules",
-        3,
-        true,
-    ),
-    mf(
-        "vmf-1",
-        "vMF α² + 1/κ",
-        MapRule::Vmf(1.0),
-        "vMF rules",
-        3,
-        true,
-    ),
-    mf(
-        "vmf-half",
-        "vMF α² + 1/(2κ)",
-        MapRule::Vmf(0.5),
-        "vMF rules",
-        3,
-        true,
-    ),
-    mf(
-        "lean",
-        "LEAN (Eq 19: A = α²I + 2Σ, mean slope)",
-        MapRule::Lean,
-        "LEAN",
-        5,
-        true,
-    ),
-    mf(
-        "seed000-eq5-eq7",
-        "seed 000 Eq 5 + Eq 7",
-        MapRule::Seed000Paper,
-        "seed 000",
-        3,
-        true,
-    ),
-    mf(
-        "seed000-moment",
-        "seed 000 moment: ρ⁻¹(‖μ‖ρ(α))",
-        MapRule::Moment,
-        "seed 000",
-        3,
-        true,
-    ),
-    mf(
-        "filament",
-        "Filament roughness-prefilter: α + 2/κ",
-        MapRule::Filament,
-        "engines",
-        3,
-        false,
-    ),
-    mf(
-        "godot",
-        "Godot roughness limiter: α + min(0.75/κ, 0.16)",
-        MapRule::Godot,
-        "engines",
-        3,
-        false,
-    ),
-];
-
-/// The place of the map filter `key` in [`MAP`] (results are indexed like it). The keys
-/// are this module's constants; an unknown one is a programming error.
-pub fn map_index(key: &str) -> usize {
-    MAP.iter()
-        .position(|f| f.key == key)
-        .unwrap_or_else(|| panic!("no map filter {key:?}"))
-}
-
-impl MapRule {
-    /// α′ (f64 reference); `moment` is ρ⁻¹(‖μ‖ρ(α)), computed once per footprint.
-    fn alpha(self, alpha: f64, r: f64, moment: f64) -> f64 {
-        match self {
-            MapRule::Renormalised => alpha,
-            MapRule::ToksvigBp => rules::toksvig_bp(alpha, r),
-            MapRule::Toksvig(c) => rules::toksvig_alpha2(alpha, r, c),
-            MapRule::Vmf(c) => rules::vmf(alpha, r, c),
-            MapRule::Lean => f64::NAN,
-            MapRule::Seed000Paper => rules::seed000_paper(alpha, r),
-            MapRule::Moment => moment,
-            MapRule::Filament => rules::filament_prefilter(alpha, r),
-            MapRule::Godot => rules::godot_limiter(alpha, r),
-        }
-    }
-}
-
 /// α′ of every isotropic map filter (f64 references), indexed like [`MAP`] (LEAN is
 /// anisotropic: NaN here).
 pub fn map_alphas(alpha: f64, r: f64) -> Result<[f64; 12]> {
     let y = 1.0 - r * mrl_pair(alpha).0;
     let moment = alpha_from_one_minus(y.max(1e-300))?;
-    Ok(MAP.map(|f| f.rule.alpha(alpha, r, moment)))
+    Ok(MAP.map(|f| f.rule.alpha(alpha, r, || moment).unwrap_or(f64::NAN)))
 }
 
 /// The map-filter candidates for one footprint's statistics.
@@ -281,138 +100,6 @@ pub fn pixel_footprint(f: &Field, pf: PixelFilter, alpha: f64) -> Footprint {
     }
 }
 
-/// How a screen-space kernel turns the base α and the pixel quad's derivatives into α′
-/// (σ² the kernel variance, δ the clamp; ∞ for none).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ScreenRule {
-    /// no antialiasing: the base α
-    None,
-    /// Tokuyoshi's deferred kernel on α² (seed 003 Eq 13; Filament's and Unity's form)
-    Deferred { s2: f64, delta: f64 },
-    /// the same kernel added to α (Godot)
-    DeferredOnAlpha { s2: f64, delta: f64 },
-    /// the exact largest eigenvalue (seed 003 Eq 10) of the projected-disk derivatives
-    Eigen { s2: f64, delta: f64 },
-    /// Kaplanyan's rect (Listing 3, as intended: in the quad average's frame)
-    KaplanyanRect { s2: f64, delta: f64 },
-    /// Unity's projected-space form
-    ProjectedSpace { s2: f64, delta: f64 },
-    /// a forward kernel per light: slope space (Kaplanyan, Eq 2–3) or the projected disk
-    /// (Tokuyoshi, Eq 7); anisotropic, so no isotropic α′
-    Forward { slope: bool },
-}
-
-/// One screen-space kernel of the footprint study: its key, its report label, its rule.
-#[derive(Clone, Copy, Debug)]
-pub struct ScreenFilter {
-    pub key: &'static str,
-    pub label: &'static str,
-    pub rule: ScreenRule,
-}
-
-const fn sf(key: &'static str, label: &'static str, rule: ScreenRule) -> ScreenFilter {
-    ScreenFilter { key, label, rule }
-}
-
-const INF: f64 = f64::INFINITY;
-
-/// The screen-space kernels, in report order: the one list the study and its reports
-/// read; code finds a kernel by key ([`screen_index`]).
-pub const SCREEN: [ScreenFilter; 12] = [
-    sf("none", "none", ScreenRule::None),
-    sf(
-        "tokuyoshi-deferred",
-        "Tokuyoshi deferred (Eq 13, σ² 0.25, δ 0.18)",
-        ScreenRule::Deferred {
-            s2: 0.25,
-            delta: 0.18,
-        },
-    ),
-    sf(
-        "eq13-unclamped",
-        "Eq 13 without the clamp",
-        ScreenRule::Deferred {
-            s2: 0.25,
-            delta: INF,
-        },
-    ),
-    sf(
-        "eigen-eq10",
-        "exact eigenvalue (Eq 10, σ² 0.25, δ 0.18)",
-        ScreenRule::Eigen {
-            s2: 0.25,
-            delta: 0.18,
-        },
-    ),
-    sf(
-        "kaplanyan-rect",
-        "Kaplanyan rect (Listing 3, intended)",
-        ScreenRule::KaplanyanRect {
-            s2: 0.25,
-            delta: 0.18,
-        },
-    ),
-    sf(
-        "filament",
-        "Filament (0.15 / 0.04)",
-        ScreenRule::Deferred {
-            s2: 0.15,
-            delta: 0.04,
-        },
-    ),
-    sf(
-        "unity-hdrp",
-        "Unity HDRP (0.1 / 0.04)",
-        ScreenRule::Deferred {
-            s2: 0.1,
-            delta: 0.04,
-        },
-    ),
-    sf(
-        "unity-projected",
-        "Unity projected space (0.1 / 0.04)",
-        ScreenRule::ProjectedSpace {
-            s2: 0.1,
-            delta: 0.04,
-        },
-    ),
-    sf(
-        "godot",
-        "Godot (0.25 / 0.18 on α)",
-        ScreenRule::DeferredOnAlpha {
-            s2: 0.25,
-            delta: 0.18,
-        },
-    ),
-    sf(
-        "eq10-unclamped",
-        "Eq 10 without the clamp",
-        ScreenRule::Eigen {
-            s2: 0.25,
-            delta: INF,
-        },
-    ),
-    sf(
-        "kaplanyan-forward",
-        "Kaplanyan forward (slope space, Eq 2–3)",
-        ScreenRule::Forward { slope: true },
-    ),
-    sf(
-        "tokuyoshi-forward",
-        "Tokuyoshi forward (projected disk, Eq 7)",
-        ScreenRule::Forward { slope: false },
-    ),
-];
-
-/// The place of the kernel `key` in [`SCREEN`] (results are indexed like it). The keys are
-/// this module's constants; an unknown one is a programming error.
-pub fn screen_index(key: &str) -> usize {
-    SCREEN
-        .iter()
-        .position(|f| f.key == key)
-        .unwrap_or_else(|| panic!("no screen kernel {key:?}"))
-}
-
 /// Quad derivatives as a GPU computes them for the even pixel at the origin:
 /// ddx = value(1, 0) − value(0, 0), ddy = value(0, 1) − value(0, 0).
 fn quad_d<T: Copy + std::ops::Sub<Output = T>>(g: &dyn Fn(f64, f64) -> T) -> (T, T) {
@@ -446,20 +133,13 @@ pub fn screen_alphas(alpha: f64, f: &Field) -> [f64; 12] {
         let n = qf.local(&f.normal(x, y));
         Vector2::new(n.x / n.z.abs(), n.y / n.z.abs())
     });
-    SCREEN.map(|k| match k.rule {
-        ScreenRule::None => alpha,
-        ScreenRule::Deferred { s2, delta } => rules::deferred(alpha, du, dv, s2, delta),
-        ScreenRule::DeferredOnAlpha { s2, delta } => {
-            rules::deferred_on_alpha(alpha, du, dv, s2, delta)
-        }
-        ScreenRule::Eigen { s2, delta } => rules::eigen_eq10(alpha, arr2(pu), arr2(pv), s2, delta),
-        ScreenRule::KaplanyanRect { s2, delta } => {
-            rules::kaplanyan_rect(alpha, arr2(su), arr2(sv), s2, delta)
-        }
-        ScreenRule::ProjectedSpace { s2, delta } => {
-            rules::projected_space(alpha, du, dv, s2, delta)
-        }
-        ScreenRule::Forward { .. } => f64::NAN,
+    SCREEN.map(|k| {
+        (k.rule.alpha_from_normals(alpha, du, dv))
+            .or_else(|| match k.rule {
+                ScreenRule::Eigen { .. } => k.rule.alpha_from_2d(alpha, arr2(pu), arr2(pv)),
+                _ => k.rule.alpha_from_2d(alpha, arr2(su), arr2(sv)),
+            })
+            .unwrap_or(f64::NAN)
     })
 }
 

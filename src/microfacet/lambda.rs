@@ -50,6 +50,13 @@ pub fn ggx(nu: f64) -> f64 {
     inv2 / (2.0 * (1.0 + (1.0 + inv2).sqrt()))
 }
 
+/// The ν coefficient of Walter et al.'s denominator (seed 001 §3.2): the ν → 0 limit it
+/// implies is Λ ≈ 1/(3.535ν), against the exact 1/(2√π ν).
+pub const WALTER_B1: f64 = 3.535;
+
+/// Where Walter et al.'s printed form sets Λ = 0 (seed 001 §3.2).
+pub const WALTER_CUT: f64 = 1.6;
+
 /// Walter et al. 2007's rational approximation of the Beckmann Λ exactly as printed in
 /// seed 001 §3.2: (1 − 1.259ν + 0.396ν²)/(3.535ν + 2.181ν²) for ν < 1.6, else 0.
 pub fn walter_printed(nu: f64) -> f64 {
@@ -59,10 +66,10 @@ pub fn walter_printed(nu: f64) -> f64 {
     if nu <= 0.0 {
         return f64::INFINITY;
     }
-    if nu >= 1.6 {
+    if nu >= WALTER_CUT {
         return 0.0;
     }
-    (1.0 - 1.259 * nu + 0.396 * nu * nu) / (3.535 * nu + 2.181 * nu * nu)
+    (1.0 - 1.259 * nu + 0.396 * nu * nu) / (WALTER_B1 * nu + 2.181 * nu * nu)
 }
 
 /// The shader listing of seed 001 §3.2: ν clamped to [0.001, 1.599] then the same
@@ -73,7 +80,7 @@ pub fn walter_listing(nu: f64) -> f64 {
         return f64::NAN;
     }
     let v = nu.clamp(0.001, 1.599);
-    (1.0 - 1.259 * v + 0.396 * v * v) / (3.535 * v + 2.181 * v * v)
+    (1.0 - 1.259 * v + 0.396 * v * v) / (WALTER_B1 * v + 2.181 * v * v)
 }
 
 /// Root of Walter's numerator 0.396ν² − 1.259ν + 1 = 0 below 1.6: past it the printed

@@ -5,105 +5,93 @@
 //! after Banerjee et al. as in Neubelt & Pettineo and Karis), or one of the engines'
 //! tools as they ship (Filament's roughness-prefilter, Godot's import-time limiter); by
 //! default the one the measurements rank best. Pipeline: inputs (`input`) → statistics
-//! pyramid (`chain`) → rule per texel (`Filter::alpha`) → files (`output`).
+//! pyramid (`chain`) → rule per texel ([`texel_alpha`], the registry's rule) → files (`output`).
 
 pub mod chain;
 pub mod input;
 pub mod output;
 
 use crate::error::{Error, Result};
-use crate::filters::rules;
+use crate::filters::registry::{Domain, Filter, MapRule, Rule};
 use std::path::{Path, PathBuf};
 
-/// A rule from (r, mean α², mean perceptual roughness) of a footprint to its α′.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-pub enum Filter {
-    /// the measured rule with the smallest mean lobe error (results/fits/filters.json)
+/// The rule the tool applies: the measured best, or one filter of the registry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Choice {
+    /// the rule with the smallest measured mean lobe error (results/fits/filters.json)
     Best,
-    /// no normal-variance term: α′² = ⟨α²⟩ (the mip of α² alone)
-    None,
-    /// Toksvig, Blinn–Phong form
-    ToksvigBp,
-    /// Toksvig α′² = ⟨α²⟩ + 2σ², σ² = (1 − r)/r
-    Toksvig,
-    /// vMF α′² = ⟨α²⟩ + 2/κ, κ = (3r − r³)/(1 − r²)
-    Vmf,
-    /// vMF with the constant refitted against the footprint-averaged GGX BRDF
-    VmfFitted,
-    /// Filament's roughness-prefilter: p′² = ⟨p⟩² + 2/κ on perceptual roughness
-    Filament,
-    /// Godot's import roughness limiter: p′² = ⟨p⟩² + min(0.75/κ, 0.16) on perceptual roughness
-    Godot,
+    Filter(Filter),
 }
 
-impl Filter {
-    /// Every concrete rule.
-    pub const ALL: [Filter; 7] = [
-        Filter::None,
-        Filter::ToksvigBp,
-        Filter::Toksvig,
-        Filter::Vmf,
-        Filter::VmfFitted,
-        Filter::Filament,
-        Filter::Godot,
-    ];
-
-    /// The CLI name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Filter::Best => "best",
-            Filter::None => "none",
-            Filter::ToksvigBp => "toksvig-bp",
-            Filter::Toksvig => "toksvig",
-            Filter::Vmf => "vmf",
-            Filter::VmfFitted => "vmf-fitted",
-            Filter::Filament => "filament",
-            Filter::Godot => "godot",
+impl Choice {
+    /// The choice of a key: "best" or an [`eligible`] filter's key (typed error otherwise).
+    pub fn parse(key: &str) -> Result<Choice> {
+        if key == "best" {
+            return Ok(Choice::Best);
         }
+        eligible()
+            .find(|f| f.key() == key)
+            .map(Choice::Filter)
+            .ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "--filter {}: not a map filter with an isotropic α′; valid: best, {}",
+                    crate::error::quoted(key),
+                    eligible().map(|f| f.key()).collect::<Vec<_>>().join(", ")
+                ))
+            })
     }
 
-    /// The rule in words.
-    pub fn formula(self, fitted_c: f64) -> String {
-        match self {
-            Filter::Best => "the best measured rule".into(),
-            Filter::None => "α′² = ⟨α²⟩ (no normal-variance term)".into(),
-            Filter::ToksvigBp => "Toksvig, Blinn–Phong form: s = 2/⟨α²⟩ − 2, s′ = s/(1 + sσ²), α′ = √(2/(s′ + 2)), σ² = (1 − r)/r".into(),
-            Filter::Toksvig => "α′² = ⟨α²⟩ + 2σ², σ² = (1 − r)/r".into(),
-            Filter::Vmf => "α′² = ⟨α²⟩ + 2/κ, κ = (3r − r³)/(1 − r²)".into(),
-            Filter::VmfFitted => format!("α′² = ⟨α²⟩ + c/κ, c = {fitted_c:.4} (refitted, GGX)"),
-            Filter::Filament => "p′² = ⟨p⟩² + 2/κ on perceptual roughness p (α = p²), as Filament's roughness-prefilter".into(),
-            Filter::Godot => "p′² = ⟨p⟩² + min(0.75/κ, 0.16) on perceptual roughness p, as Godot's Image::generate_mipmap_roughness".into(),
-        }
+    /// The keys the CLI accepts, each with its label as help.
+    pub fn keys() -> clap::builder::PossibleValuesParser {
+        use clap::builder::PossibleValue;
+        clap::builder::PossibleValuesParser::new(
+            std::iter::once(PossibleValue::new("best").help("the measured rule with the smallest mean lobe error (results/fits/filters.json)"))
+                .chain(eligible().map(|f| PossibleValue::new(f.key()).help(f.label()))),
+        )
     }
+}
 
-    /// Its entry in results/fits/filters.json `summary` (GGX, all maps), if measured.
-    pub fn summary_key(self) -> Option<&'static str> {
-        match self {
-            Filter::None => Some("none-map"),
-            Filter::ToksvigBp => Some("toksvig-bp"),
-            Filter::Toksvig => Some("toksvig"),
-            Filter::Vmf => Some("vmf"),
-            Filter::Filament => Some("filament"),
-            Filter::Godot => Some("godot"),
-            _ => None,
-        }
-    }
+/// The filters a roughness chain can carry: every map filter of the registry with an
+/// isotropic α′ that returns the base roughness where the footprint does not vary
+/// (r = 1), refitted ones included. Not LEAN (a matrix), and not seed 000's Eq 5 + Eq 7
+/// as printed (0.07α² + 0.94α at r = 1, not α: it is measured, not shipped).
+pub fn eligible() -> impl Iterator<Item = Filter> {
+    Filter::all().filter(|f| {
+        f.domain() == Domain::Map
+            && !matches!(
+                f.rule(),
+                Rule::Map(MapRule::Lean | MapRule::Seed000Paper)
+            )
+    })
+}
 
-    /// α′ of a footprint with mean-normal length r, mean α² and mean perceptual
-    /// roughness p (f64; r is clamped as in the shading forms, r = 1 gives the base).
-    pub fn alpha(self, r: f64, mean_a2: f64, mean_p: f64, fitted_c: f64) -> f64 {
-        let a = mean_a2.max(0.0).sqrt();
-        match self {
-            Filter::Best | Filter::Vmf => rules::vmf(a, r, 2.0),
-            Filter::None => a,
-            Filter::ToksvigBp => rules::toksvig_bp(a, r),
-            Filter::Toksvig => rules::toksvig_alpha2(a, r, 2.0),
-            Filter::VmfFitted => rules::vmf(a, r, fitted_c),
-            // α′ = p′² with p′² as the engines compute it, on their box-filtered p
-            Filter::Filament => rules::filament_prefilter(mean_p * mean_p, r),
-            Filter::Godot => rules::godot_limiter(mean_p * mean_p, r),
+/// α′ of a footprint with mean-normal length r, mean α² and mean perceptual roughness p
+/// under `rule` (f64; r = 1 gives the base). The engines' tools work on the box-filtered
+/// perceptual roughness (α = p²), the others on √⟨α²⟩. The moment rule's
+/// ρ⁻¹(rρ(α)) takes rρ and 1 − rρ = (1 − ρ) + (1 − r)ρ, each without cancellation, and
+/// the inverse of [`crate::multiscale::mrl::alpha_from_pair`] (NaN where it fails, which
+/// the caller reports).
+pub fn texel_alpha(rule: MapRule, r: f64, mean_a2: f64, mean_p: f64) -> f64 {
+    let a = if rule.on_perceptual() {
+        mean_p * mean_p
+    } else {
+        mean_a2.max(0.0).sqrt()
+    };
+    let moment = || {
+        let r = crate::filters::rules::clamp_r(r);
+        let (rho, one_minus) = if a > 0.0 {
+            crate::multiscale::mrl::mrl_pair(a)
+        } else {
+            (1.0, 0.0)
+        };
+        // (‖b̄‖, 1 − ‖b̄‖) of the footprint, each without cancellation
+        let (b, y) = (r * rho, one_minus + (1.0 - r) * rho);
+        if y <= 0.0 {
+            return a;
         }
-    }
+        crate::multiscale::mrl::alpha_from_pair(b.min(1.0), y.min(1.0)).unwrap_or(f64::NAN)
+    };
+    rule.alpha(a, r, moment).unwrap_or(f64::NAN)
 }
 
 /// A filter's measured error: mean lobe L2 over the footprint study's cases ± s.e.
@@ -115,37 +103,58 @@ pub struct Measured {
     pub what: String,
 }
 
-/// Every measured error of the concrete rules, read from `results`/fits/filters.json
-/// (empty when the study has not been run; a malformed file is an error).
-pub fn measured(results: &Path) -> Result<(Vec<Measured>, f64)> {
+/// What results/fits/filters.json says about the eligible filters: every measured error,
+/// and the refitted constants by family (GGX). Empty when the study has not been run; a
+/// malformed file is an error.
+#[derive(Debug)]
+pub struct Evidence {
+    pub measured: Vec<Measured>,
+    pub fitted: Vec<(String, f64)>,
+}
+
+impl Evidence {
+    /// The GGX constant of a refitted family.
+    pub fn constant(&self, family: &str) -> Option<f64> {
+        self.fitted.iter().find(|f| f.0 == family).map(|f| f.1)
+    }
+}
+
+/// Read the evidence from `results`/fits/filters.json.
+pub fn measured(results: &Path) -> Result<Evidence> {
     let Some(j) = crate::results::read::<crate::results::filters::Filters>(results)? else {
-        return Ok((Vec::new(), 2.0));
+        return Ok(Evidence {
+            measured: Vec::new(),
+            fitted: Vec::new(),
+        });
     };
-    let fitted = j
-        .fitted
-        .iter()
-        .find(|f| f.ndf == "GGX" && f.family.starts_with("vMF"));
-    let c = fitted.map_or(2.0, |f| f.constant);
     let mut out = Vec::new();
-    for f in Filter::ALL {
-        if let Some(e) = f.summary_key().and_then(|k| j.summary.get(k)) {
+    for f in eligible() {
+        if let Some(e) = f.uses().summary.and_then(|k| j.summary.get(k)) {
             out.push(Measured {
                 filter: f,
                 l2_mean: e.l2_mean,
                 l2_se: e.l2_se,
                 what: "GGX, every map, level and view of the footprint study".into(),
             });
+        } else if let Some(x) = f.family().and_then(|fam| j.fitted(fam, "GGX")) {
+            out.push(Measured {
+                filter: f,
+                l2_mean: x.held_out.l2_mean,
+                l2_se: x.held_out.l2_se,
+                what: "GGX, the held-out footprints and views only (not comparable with the all-case means)".into(),
+            });
         }
     }
-    if let Some(f) = fitted {
-        out.push(Measured {
-            filter: Filter::VmfFitted,
-            l2_mean: f.held_out.l2_mean,
-            l2_se: f.held_out.l2_se,
-            what: "GGX, the held-out footprints and views only (not comparable with the all-case means)".into(),
-        });
-    }
-    Ok((out, c))
+    let fitted = j
+        .fitted
+        .iter()
+        .filter(|f| f.ndf == "GGX")
+        .map(|f| (f.family.clone(), f.constant))
+        .collect();
+    Ok(Evidence {
+        measured: out,
+        fitted,
+    })
 }
 
 /// How a stored roughness value relates to α.
@@ -193,7 +202,7 @@ pub struct Options {
     pub roughness: Option<PathBuf>,
     pub alpha: Option<f64>,
     pub channel: input::Channel,
-    pub filter: Filter,
+    pub filter: Choice,
     pub store: Store,
     pub format: Format,
     pub layout: Layout,
@@ -206,9 +215,11 @@ pub struct Options {
 /// What the tool computed: the chain and the rule with its evidence.
 pub struct Outcome {
     pub options: Options,
+    /// The filter applied ([`Choice::Best`] resolved) and its rule (a refitted one's
+    /// with its constant).
     pub filter: Filter,
-    pub fitted_c: f64,
-    pub measured: Vec<Measured>,
+    pub rule: MapRule,
+    pub evidence: Evidence,
     pub width: usize,
     pub height: usize,
     pub input_bits: u8,
@@ -224,6 +235,11 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// A filter's label, a refitted one's with its constant.
+    pub fn label(&self, f: Filter) -> String {
+        f.label_with(f.family().and_then(|family| self.evidence.constant(family)))
+    }
+
     /// (occlusion, metallic) under texel k of level l (glTF layout): the roughness map's
     /// own mip where it has one of that size, else its base read nearest; (1, 0) without one.
     pub fn others_at(&self, l: usize, k: usize) -> [f32; 2] {
@@ -281,14 +297,19 @@ pub fn run(options: Options) -> Result<Outcome> {
         } => Some((*width, *height, *bits)),
         input::Roughness::Constant(_) => None,
     };
-    let (measured, fitted_c) = measured(&options.results)?;
+    let evidence = measured(&options.results)?;
     let filter = match options.filter {
-        Filter::Best => measured
+        // the all-case means only: a refit's held-out mean is not comparable with them
+        Choice::Best => evidence
+            .measured
             .iter()
-            .filter(|m| m.filter != Filter::VmfFitted)
+            .filter(|m| m.filter.family().is_none())
             .min_by(|a, b| a.l2_mean.total_cmp(&b.l2_mean))
-            .map_or(Filter::Vmf, |m| m.filter),
-        f => f,
+            .map_or(Filter::of("vmf-2"), |m| m.filter),
+        Choice::Filter(f) => f,
+    };
+    let Rule::Map(rule) = filter.rule_with(|family| evidence.constant(family))? else {
+        unreachable!("every eligible filter is a map filter")
     };
     let others = match (&rough, options.layout) {
         (
@@ -306,11 +327,15 @@ pub fn run(options: Options) -> Result<Outcome> {
     let levels = chain::pyramid(normals, &rough);
     let mut stored = Vec::with_capacity(levels.len());
     let mut clamped = Vec::with_capacity(levels.len());
+    let mut nonfinite = 0usize;
     for lv in &levels {
         let mut over = 0;
         let values: Vec<f32> = (0..lv.width * lv.height)
             .map(|k| {
-                let a = filter.alpha(lv.r(k), lv.mean_a2[k] as f64, lv.mean_p[k] as f64, fitted_c);
+                let a = texel_alpha(rule, lv.r(k), lv.mean_a2[k] as f64, lv.mean_p[k] as f64);
+                if !a.is_finite() {
+                    nonfinite += 1;
+                }
                 if a > 1.0 {
                     over += 1;
                 }
@@ -324,11 +349,17 @@ pub fn run(options: Options) -> Result<Outcome> {
         stored.push(values);
         clamped.push(over);
     }
+    if nonfinite > 0 {
+        return Err(Error::InvalidArgument(format!(
+            "--filter {}: α′ is not finite at {nonfinite} texels (no chain written)",
+            filter.key()
+        )));
+    }
     Ok(Outcome {
         options,
         filter,
-        fitted_c,
-        measured,
+        rule,
+        evidence,
         width: w,
         height: h,
         input_bits: bits,

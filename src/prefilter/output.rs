@@ -3,7 +3,7 @@
 //! and one PNG per level, and a report (markdown + JSON) with the rule's measured error.
 //! Rendered to bytes here; the caller publishes them as one set.
 
-use super::{Filter, Format, Layout, NormalMips, Outcome, Store};
+use super::{eligible, Choice, Format, Layout, NormalMips, Outcome, Store};
 use crate::error::{Error, Result};
 use crate::ktx2;
 
@@ -159,8 +159,8 @@ fn stored_meaning(o: &Outcome) -> String {
             Store::Perceptual => "perceptual roughness p = sqrt(alpha)",
             Store::Alpha => "alpha",
         },
-        o.filter.name(),
-        o.filter.formula(o.fitted_c)
+        o.filter.key(),
+        o.label(o.filter)
     )
 }
 
@@ -240,7 +240,7 @@ fn pct(m: f64, s: f64) -> String {
 
 /// The report (markdown) and its typed twin (JSON).
 fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
-    let chosen = o.measured.iter().find(|m| m.filter == o.filter);
+    let chosen = o.evidence.measured.iter().find(|m| m.filter == o.filter);
     let error = chosen.map_or(
         "not measured here: results/fits/filters.json is absent or lacks this rule (run `cargo run --release -- regen --only filters`)".to_string(),
         |m| format!("mean lobe L2 error {} ({})", pct(m.l2_mean, m.l2_se), m.what),
@@ -267,9 +267,9 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
             (None, Some(a)) => format!("constant α = {a}"),
             _ => "—".into(),
         },
-        o.filter.name(),
-        o.filter.formula(o.fitted_c),
-        if o.options.filter == Filter::Best {
+        o.filter.key(),
+        o.label(o.filter),
+        if o.options.filter == Choice::Best {
             " Chosen as the measured rule with the smallest mean error (below)."
         } else {
             ""
@@ -290,13 +290,13 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         },
     );
     md.push_str("## Every rule's measured error (results/filters.md)\n\n| rule | formula | mean lobe L2 | cases |\n|---|---|---|---|\n");
-    for f in Filter::ALL {
-        let m = o.measured.iter().find(|m| m.filter == f);
+    for f in eligible() {
+        let m = o.evidence.measured.iter().find(|m| m.filter == f);
         md.push_str(&format!(
             "| {}{} | {} | {} | {} |\n",
-            f.name(),
+            f.key(),
             if f == o.filter { " (used)" } else { "" },
-            f.formula(o.fitted_c),
+            o.label(f),
             m.map_or("not measured".into(), |m| pct(m.l2_mean, m.l2_se)),
             m.map_or("—".into(), |m| m.what.clone())
         ));
@@ -313,9 +313,9 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         "input_bits": o.input_bits,
         "roughness": o.options.roughness.as_ref().map(|p| p.display().to_string()),
         "alpha": o.options.alpha,
-        "filter": o.filter.name(),
-        "formula": o.filter.formula(o.fitted_c),
-        "measured": o.measured,
+        "filter": o.filter.key(),
+        "formula": o.label(o.filter),
+        "measured": o.evidence.measured,
         "store": o.options.store,
         "format": o.options.format,
         "layout": o.options.layout,

@@ -13,6 +13,7 @@ use super::light::Light;
 use super::texture::Texture;
 use super::truth::shading_frame;
 use crate::filters::footprint::Stats;
+use crate::filters::registry::{Filter, MapRule, Rule, ScreenRule};
 use crate::filters::rules;
 use crate::generated::ltc_table::{LTC_1_F16, LTC_2_F16, LTC_TABLE_N};
 use crate::generated::shading as gs;
@@ -63,34 +64,67 @@ pub fn gbuffer(cam: &Camera, surf: &Surface, tex: &Texture) -> Vec<Option<GPixel
         .collect()
 }
 
-/// Every approximate method, in report order within its set.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum Method {
-    MipNormal,
-    Seed000Paper,
-    Seed000Ours,
-    Vmf2,
-    VmfRefit,
-    Lean,
-    NoAa,
-    TokuyoshiDeferred,
-    Eq13Refit,
-    TokuyoshiForward,
-    Kaplanyan,
-    Filament,
-    Unity,
-    Godot,
-    GodotRefit,
+/// The multiscale set's methods (map filters of the registry), in report order.
+pub const MULTISCALE: [&str; 6] = [
+    "mip-normal",
+    "seed000-eq5-eq7",
+    "seed000-moment",
+    "vmf-2",
+    "vmf-refit",
+    "lean",
+];
+
+/// The specular-AA set's methods (kernels of the registry), in report order.
+pub const SPECULAR_AA: [&str; 9] = [
+    "none",
+    "tokuyoshi-deferred",
+    "eq13-refit-box",
+    "tokuyoshi-forward",
+    "kaplanyan-rect",
+    "filament",
+    "unity-projected",
+    "godot",
+    "godot-refit-box",
+];
+
+/// A footprint filter of the registry ([`crate::filters::registry`]) as the renderer
+/// shades it: its rule resolved once, a refitted filter's with its constant.
+#[derive(Clone, Copy, Debug)]
+pub struct Method {
+    pub filter: Filter,
+    rule: Rule,
+    constant: Option<f64>,
 }
 
-/// The refitted constants the methods read (results/fits/filters.json, box pixel) and
-/// the per-material constant y_mi = 1 − ρ(α) of the product identity, computed once per
-/// material as an engine would ([`Constants::with_alpha`]), not per pixel.
-#[derive(Clone, Copy, Debug, Serialize)]
+impl Method {
+    /// The method of a registry key, with the refitted constants of `c`.
+    pub fn new(key: &str, c: &Constants) -> crate::error::Result<Method> {
+        let filter = Filter::get(key, "render method")?;
+        let constant = filter.family().and_then(|f| c.constant(f));
+        Ok(Method {
+            filter,
+            rule: filter.rule_with(|f| c.constant(f))?,
+            constant,
+        })
+    }
+
+    /// Short file-name key.
+    pub fn key(self) -> &'static str {
+        self.filter.key()
+    }
+
+    /// The name in reports, with a refitted filter's constant.
+    pub fn label(self) -> String {
+        self.filter.label_with(self.constant)
+    }
+}
+
+/// The refitted constants the methods read (results/fits/filters.json `fitted`, GGX, by
+/// family) and the per-material constant y_mi = 1 − ρ(α) of the product identity,
+/// computed once per material as an engine would ([`Constants::with_alpha`]), not per pixel.
+#[derive(Clone, Debug, Serialize)]
 pub struct Constants {
-    pub vmf_c: f32,
-    pub eq13_sigma2_box: f32,
-    pub alpha_sigma2_box: f32,
+    pub fitted: Vec<(String, f64)>,
     /// 1 − ρ(α_base) (NaN until [`Constants::with_alpha`] sets it).
     pub y_mi: f32,
 }
@@ -103,73 +137,10 @@ impl Constants {
             ..self
         }
     }
-}
 
-impl Method {
-    pub const MULTISCALE: [Method; 6] = [
-        Method::MipNormal,
-        Method::Seed000Paper,
-        Method::Seed000Ours,
-        Method::Vmf2,
-        Method::VmfRefit,
-        Method::Lean,
-    ];
-    pub const SPECULAR_AA: [Method; 9] = [
-        Method::NoAa,
-        Method::TokuyoshiDeferred,
-        Method::Eq13Refit,
-        Method::TokuyoshiForward,
-        Method::Kaplanyan,
-        Method::Filament,
-        Method::Unity,
-        Method::Godot,
-        Method::GodotRefit,
-    ];
-    /// Short file-name key.
-    pub fn key(self) -> &'static str {
-        match self {
-            Method::MipNormal => "mip-normal",
-            Method::Seed000Paper => "seed000-eq5-eq7",
-            Method::Seed000Ours => "alpha-me-product",
-            Method::Vmf2 => "vmf-2",
-            Method::VmfRefit => "vmf-refit",
-            Method::Lean => "lean",
-            Method::NoAa => "none",
-            Method::TokuyoshiDeferred => "tokuyoshi-deferred",
-            Method::Eq13Refit => "eq13-refit",
-            Method::TokuyoshiForward => "tokuyoshi-forward",
-            Method::Kaplanyan => "kaplanyan",
-            Method::Filament => "filament",
-            Method::Unity => "unity",
-            Method::Godot => "godot",
-            Method::GodotRefit => "godot-refit",
-        }
-    }
-    /// The name in reports, with its constants.
-    pub fn label(self, c: &Constants) -> String {
-        match self {
-            Method::MipNormal => "renormalised mip normal (baseline)".into(),
-            Method::Seed000Paper => "seed 000 Eq 5 + Eq 7 as printed".into(),
-            Method::Seed000Ours => "our α_me + product identity".into(),
-            Method::Vmf2 => "vMF α² + 2/κ".into(),
-            Method::VmfRefit => format!("vMF α² + c/κ, refitted c = {:.3}", c.vmf_c),
-            Method::Lean => "LEAN (isotropic LTC at (det A)^¼)".into(),
-            Method::NoAa => "none (mip normal, base α)".into(),
-            Method::TokuyoshiDeferred => "Tokuyoshi deferred (Eq 13, σ² 0.25, δ 0.18)".into(),
-            Method::Eq13Refit => format!(
-                "Eq 13 = Filament's form, refitted σ² {:.4}, δ 0.18",
-                c.eq13_sigma2_box
-            ),
-            Method::TokuyoshiForward => "Tokuyoshi forward (Eq 7, σ² 0.25)".into(),
-            Method::Kaplanyan => "Kaplanyan rect (σ² 0.25, δ 0.18)".into(),
-            Method::Filament => "Filament (σ² 0.15, δ 0.04)".into(),
-            Method::Unity => "Unity HDRP projected (σ² 0.1, δ 0.04)".into(),
-            Method::Godot => "Godot (on α, σ² 0.25, δ 0.18)".into(),
-            Method::GodotRefit => format!(
-                "Godot's form, refitted σ² {:.4}, δ 0.18",
-                c.alpha_sigma2_box
-            ),
-        }
+    /// The GGX constant of a fitted family.
+    pub fn constant(&self, family: &str) -> Option<f64> {
+        self.fitted.iter().find(|f| f.0 == family).map(|f| f.1)
     }
 }
 
@@ -234,66 +205,47 @@ fn filter(
         None => (V3::zeros(), V3::zeros()),
     };
     let (du3, dv3) = (a3(du), a3(dv));
-    let ded = |s2: f32, d: f32| {
-        gs::filter_deferred(alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], s2, d)
-    };
-    match m {
-        Method::MipNormal | Method::NoAa => iso(alpha),
-        Method::Seed000Paper => iso(rules::seed000_paper(alpha, r)),
-        Method::Seed000Ours => iso(gs::multiscale_alpha(1.0 - r, c.y_mi)),
-        Method::Vmf2 => iso(gs::filter_vmf(alpha, r, 2.0)),
-        Method::VmfRefit => iso(gs::filter_vmf(alpha, r, c.vmf_c)),
-        Method::Lean => {
-            let cov = gp.stats.covariance().map(|x| x as f32);
-            let a = rules::lean(alpha, cov);
-            let ms = gp.stats.mean_slope();
-            let n_t = V3::new(-ms.x, -ms.y, 1.0).normalize();
-            // the slope covariance's axes are the tangent's: keep them about the mean normal
-            let n_w = gp.hit.frame.world(&n_t);
-            let t = gp.hit.frame.t - n_w * n_w.dot(&gp.hit.frame.t);
-            Filtered::Matrix {
-                frame: Frame {
-                    t: t.normalize(),
-                    b: n_w.cross(&t.normalize()),
-                    n: n_w,
-                },
-                a,
-            }
+    let f = |x: f64| x as f32;
+    match m.rule {
+        Rule::Map(MapRule::Lean) => lean(alpha, gp),
+        // the generated shading functions where the crate ships one, as engines call them
+        Rule::Map(MapRule::Moment) => iso(gs::multiscale_alpha(1.0 - r, c.y_mi)),
+        Rule::Map(MapRule::Vmf(k)) => iso(gs::filter_vmf(alpha, r, f(k))),
+        Rule::Map(rule) => iso(rule.alpha(alpha, r, || f32::NAN).unwrap_or(alpha)),
+        Rule::Screen(ScreenRule::Deferred { s2, delta }) => iso(gs::filter_deferred(
+            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], f(s2), f(delta),
+        )),
+        Rule::Screen(ScreenRule::ProjectedSpace { s2, delta }) => iso(gs::filter_projected(
+            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], f(s2), f(delta),
+        )),
+        Rule::Screen(rule @ (ScreenRule::None | ScreenRule::DeferredOnAlpha { .. })) => {
+            iso(rule.alpha_from_normals(alpha, du3, dv3).unwrap_or(alpha))
         }
-        Method::TokuyoshiDeferred => iso(ded(0.25, 0.18)),
-        Method::Eq13Refit => iso(ded(c.eq13_sigma2_box, 0.18)),
-        Method::Filament => iso(ded(0.15, 0.04)),
-        Method::Unity => iso(gs::filter_projected(
-            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], 0.1, 0.04,
-        )),
-        Method::Godot => iso(rules::deferred_on_alpha(alpha, du3, dv3, 0.25, 0.18)),
-        Method::GodotRefit => iso(rules::deferred_on_alpha(
-            alpha,
-            du3,
-            dv3,
-            c.alpha_sigma2_box,
-            0.18,
-        )),
-        Method::Kaplanyan => {
+        Rule::Screen(rule @ (ScreenRule::KaplanyanRect { .. } | ScreenRule::Eigen { .. })) => {
             let Some(q) = q else { return iso(alpha) };
-            let avg = (q[0].n_w + q[1].n_w + q[2].n_w + q[3].n_w).normalize();
-            let f = Frame::around(avg);
+            // Listing 3 as intended: slopes in the quad average's frame; Eq 10: the
+            // projected disk of the top-left pixel's frame
+            let rect = matches!(rule, ScreenRule::KaplanyanRect { .. });
+            let fr = if rect {
+                Frame::around((q[0].n_w + q[1].n_w + q[2].n_w + q[3].n_w).normalize())
+            } else {
+                Frame::around(q[0].n_w)
+            };
             let s = |n: &V3| {
-                let l = f.local(n);
-                [(l.x / l.z.abs()) as f32, (l.y / l.z.abs()) as f32]
+                let l = fr.local(n);
+                if rect {
+                    [(l.x / l.z.abs()) as f32, (l.y / l.z.abs()) as f32]
+                } else {
+                    [l.x as f32, l.y as f32]
+                }
             };
             let (s0, s1, s2) = (s(&q[0].n_w), s(&q[1].n_w), s(&q[2].n_w));
-            iso(rules::kaplanyan_rect(
-                alpha,
-                [s1[0] - s0[0], s1[1] - s0[1]],
-                [s2[0] - s0[0], s2[1] - s0[1]],
-                0.25,
-                0.18,
-            ))
+            let d = |a: [f32; 2]| [a[0] - s0[0], a[1] - s0[1]];
+            iso(rule.alpha_from_2d(alpha, d(s1), d(s2)).unwrap_or(alpha))
         }
-        Method::TokuyoshiForward => {
+        Rule::Screen(ScreenRule::Forward { slope }) => {
             // the half-vector of the first point/directional light, on each pixel's own
-            // projected disk (seed 003 Eq 7)
+            // projected disk (seed 003 Eq 7) or in its slope space (Eq 2)
             let Some(q) = q else { return iso(alpha) };
             let Some(light) = lights.iter().find(|l| !matches!(l, Light::Quad { .. })) else {
                 return iso(alpha);
@@ -301,7 +253,11 @@ fn filter(
             let h = |p: &GPixel| -> [f32; 2] {
                 let (l, _) = light_dir(light, &p.hit.p).unwrap_or((V3::z(), 0.0));
                 let hl = Frame::around(p.n_w).local(&(p.view + l).normalize());
-                [hl.x as f32, hl.y as f32]
+                if slope {
+                    [(-hl.x / hl.z) as f32, (-hl.y / hl.z) as f32]
+                } else {
+                    [hl.x as f32, hl.y as f32]
+                }
             };
             let (h0, h1, h2) = (h(&q[0]), h(&q[1]), h(&q[2]));
             let a = rules::forward_matrix(
@@ -315,6 +271,25 @@ fn filter(
                 a,
             }
         }
+    }
+}
+
+/// LEAN: A = α²I + 2Σ about the mean slope's normal, the covariance's axes kept in the
+/// tangent frame.
+fn lean(alpha: f32, gp: &GPixel) -> Filtered {
+    let cov = gp.stats.covariance().map(|x| x as f32);
+    let a = rules::lean(alpha, cov);
+    let ms = gp.stats.mean_slope();
+    let n_t = V3::new(-ms.x, -ms.y, 1.0).normalize();
+    let n_w = gp.hit.frame.world(&n_t);
+    let t = gp.hit.frame.t - n_w * n_w.dot(&gp.hit.frame.t);
+    Filtered::Matrix {
+        frame: Frame {
+            t: t.normalize(),
+            b: n_w.cross(&t.normalize()),
+            n: n_w,
+        },
+        a,
     }
 }
 

@@ -99,24 +99,17 @@ fn unscaled_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
     NormalMap::from_png(&p)
 }
 
-/// The refitted constants from results/fits/filters.json (box-pixel fits).
+/// The refitted constants from results/fits/filters.json (GGX, every family; a method
+/// that needs a missing one fails when it is built).
 pub fn constants(results: &Path) -> Result<Constants> {
     let v: crate::results::filters::Filters = crate::results::require(results)?;
-    let get = |family: &str| -> Result<f32> {
-        v.fitted(family, "GGX")
-            .map(|f| f.constant as f32)
-            .ok_or_else(|| {
-                Error::InvalidArgument(format!(
-                    "results/fits/filters.json has no GGX constant for {}; run `{}`",
-                    crate::error::quoted(family),
-                    crate::results::command(crate::results::names::FILTERS)
-                ))
-            })
-    };
     Ok(Constants {
-        vmf_c: get("vMF α² + c/κ")?,
-        eq13_sigma2_box: get("Eq 13 σ² (box pixel)")?,
-        alpha_sigma2_box: get("kernel on α σ² (box pixel)")?,
+        fitted: v
+            .fitted
+            .iter()
+            .filter(|f| f.ndf == "GGX")
+            .map(|f| (f.family.clone(), f.constant))
+            .collect(),
         y_mi: f32::NAN,
     })
 }
@@ -167,7 +160,7 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
     let lights = light::resolve(&scene.lights);
     let m = &scene.material;
     let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex)?;
-    let c = &c.with_alpha(m.alpha);
+    let c = &c.clone().with_alpha(m.alpha);
     let (w, h) = (scene.camera.width, scene.camera.height);
     let mut views = Vec::new();
     let mut notes = Vec::new();
@@ -207,16 +200,17 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
             let g = methods::gbuffer(&cam, &surf, &tex);
             let alpha = m.alpha as f32;
             let mut out = Vec::new();
-            let list: &[Method] = match scene.render.methods {
-                MethodSet::Multiscale => &Method::MULTISCALE,
-                MethodSet::SpecularAa => &Method::SPECULAR_AA,
+            let list: &[&str] = match scene.render.methods {
+                MethodSet::Multiscale => &methods::MULTISCALE,
+                MethodSet::SpecularAa => &methods::SPECULAR_AA,
                 _ => &[],
             };
-            for &meth in list {
+            for key in list {
+                let meth = Method::new(key, c)?;
                 let pixels = methods::shade_image(meth, &g, w, alpha, &lights, c)?;
                 out.push(MethodImage {
                     key: meth.key().into(),
-                    label: meth.label(c),
+                    label: meth.label(),
                     pixels,
                 });
             }

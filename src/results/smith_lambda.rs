@@ -15,6 +15,26 @@ pub struct SmithLambda {
     /// The worst |ΔG1| on the training ν.
     pub training: Worst,
     pub passed: bool,
+    /// Where Walter et al.'s form departs from the exact Λ at its ends.
+    pub limits: Limits,
+}
+
+/// The ends of the ν range, exact against Walter et al.'s printed form: the ν → 0
+/// coefficient (exact 2√π), the root of Walter's numerator (past it his Λ is negative)
+/// and the exact Λ his cut drops to 0.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Limits {
+    /// 2√π: Λ ≈ 1/(2√π ν) as ν → 0.
+    pub exact_b1: f64,
+    /// Walter's printed b₁.
+    pub walter_b1: f64,
+    /// 1 − walter_b1/exact_b1.
+    pub walter_b1_rel_miss: f64,
+    /// The ν where Walter's numerator changes sign.
+    pub walter_numerator_root: f64,
+    /// Walter's cut, and the exact Λ there.
+    pub walter_cut: f64,
+    pub exact_lambda_at_cut: f64,
 }
 
 /// The six numbers of the rational form.

@@ -1,57 +1,37 @@
-//! The `smith-lambda` study (its spec in fits/): the model in `crate::microfacet::lambda_fit`, measured, reported
-//! and written here.
+//! The `smith-lambda` study (its spec in fits/): the model in `crate::microfacet::lambda_fit`
+//! fitted and measured ([`compute`]), then reported ([`render`]).
 
 use crate::error::Result;
 use crate::io::Outputs;
+use crate::report::table::Table;
 use crate::microfacet::lambda;
 use crate::microfacet::lambda_fit::*;
+use crate::results::smith_lambda::{HeldOut, Limits, Parameters, SmithLambda as Fitted};
 use crate::study::{Ctx, FitOutcome};
 
-/// `regen --only smith-lambda`: fit, judge on held-out ν; results/fits/smith-lambda.json and
-/// results/smith-lambda.md with a plot go into `set`.
-pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, results) = (c.spec, c.results);
-    use crate::report::plot::{loglog_svg, Panel, Series};
+/// What the study computed: the typed result and the held-out |ΔG1| curves it plots.
+pub struct Computed {
+    pub result: Fitted,
+    /// (ν, |ΔG1|) on the held-out ν: Walter printed, Walter listing, ours.
+    pub curves: [Vec<(f64, f64)>; 3],
+}
+
+/// Fit, judge on held-out ν, and measure Walter et al.'s ends (nothing is formatted).
+pub fn compute(c: &Ctx) -> Result<Computed> {
+    let spec = c.spec;
     let (train, held) = grids(
         spec.training.points,
         spec.domain.alpha_min,
         spec.domain.alpha_max,
     );
     let (p, iters) = fit(&train, spec.optimiser.max_iters.unwrap_or(4000))?;
-    let ours = worst(&|n| rational(&p, n), &held);
-    let walter = worst(&lambda::walter_printed, &held);
-    let listing = worst(&lambda::walter_listing, &held);
-    let tol = spec.tolerance.max_rel;
-    let passed = ours.max_dg1 <= tol;
+    let ours_f = |n: f64| rational(&p, n);
     let curve = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
         held.iter().map(|&n| (n, dg1(f, n).max(1e-12))).collect()
     };
-    let svg = loglog_svg(
-        &[Panel {
-            title: "|ΔG1| of Beckmann Λ approximations (held-out ν)".into(),
-            x_label: "ν = cot θ / α".into(),
-            y_label: "|G1_approx − G1|".into(),
-            series: vec![
-                Series {
-                    name: "Walter (printed, cut at 1.6)".into(),
-                    points: curve(&lambda::walter_printed),
-                },
-                Series {
-                    name: "Walter (listing, ν clamped)".into(),
-                    points: curve(&lambda::walter_listing),
-                },
-                Series {
-                    name: "ours (6 numbers)".into(),
-                    points: curve(&|n| rational(&p, n)),
-                },
-            ],
-        }],
-        900,
-        520,
-    )?;
-    set.put(&results.join("smith-lambda.svg"), svg.as_bytes());
-    use crate::results::smith_lambda::{HeldOut, Parameters, SmithLambda};
-    let result = SmithLambda {
+    let ours = worst(&ours_f, &held);
+    let exact_b1 = 2.0 * std::f64::consts::PI.sqrt();
+    let result = Fitted {
         spec: spec.clone(),
         command: crate::results::command(&spec.name),
         parameters: Parameters {
@@ -65,13 +45,60 @@ pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
         iterations: iters as usize,
         held_out: HeldOut {
             ours,
-            walter_printed: walter,
-            walter_listing: listing,
+            walter_printed: worst(&lambda::walter_printed, &held),
+            walter_listing: worst(&lambda::walter_listing, &held),
         },
-        training: worst(&|n| rational(&p, n), &train),
-        passed,
+        training: worst(&ours_f, &train),
+        passed: ours.max_dg1 <= spec.tolerance.max_rel,
+        limits: Limits {
+            exact_b1,
+            walter_b1: lambda::WALTER_B1,
+            walter_b1_rel_miss: 1.0 - lambda::WALTER_B1 / exact_b1,
+            walter_numerator_root: lambda::walter_numerator_root(),
+            walter_cut: lambda::WALTER_CUT,
+            exact_lambda_at_cut: lambda::beckmann(lambda::WALTER_CUT),
+        },
     };
-    crate::results::put(set, results, &result)?;
+    Ok(Computed {
+        result,
+        curves: [
+            curve(&lambda::walter_printed),
+            curve(&lambda::walter_listing),
+            curve(&ours_f),
+        ],
+    })
+}
+
+/// results/smith-lambda.{json,md,svg} of a computed study (formats only).
+pub fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
+    use crate::report::plot::{loglog_svg, Panel, Series};
+    let r = &c.result;
+    let names = [
+        "Walter (printed, cut at 1.6)",
+        "Walter (listing, ν clamped)",
+        "ours (6 numbers)",
+    ];
+    let svg = loglog_svg(
+        &[Panel {
+            title: "|ΔG1| of Beckmann Λ approximations (held-out ν)".into(),
+            x_label: "ν = cot θ / α".into(),
+            y_label: "|G1_approx − G1|".into(),
+            series: names
+                .iter()
+                .zip(&c.curves)
+                .map(|(n, pts)| Series {
+                    name: (*n).into(),
+                    points: pts.clone(),
+                })
+                .collect(),
+        }],
+        900,
+        520,
+    )?;
+    set.put(&results.join("smith-lambda.svg"), svg.as_bytes());
+    crate::results::put(set, results, r)?;
+    let (h, p, l) = (&r.held_out, r.parameters.array(), &r.limits);
+    let tol = r.spec.tolerance.max_rel;
     let mut md =
         String::from("# Beckmann Smith Λ: a better rational approximation (seed 001 §3.2)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only smith-lambda` from `fits/smith-lambda.toml`. The reference is the exact \
@@ -79,23 +106,43 @@ pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
 |1/(1 + Λ̃) − 1/(1 + Λ)| on held-out ν (log-uniform in [1e-3, 10], half a step off the training grid). The approximation is a \
 function of ν alone, so it serves the non-centred (LEAN/LEADR) Λ too: there ν = (cot θ − μ(φ))/(σ(φ)√2) (seed 001 §3.2) and \
 nothing else changes — no separate fit is needed.\n\n");
-    md.push_str(&format!("| form | numbers | held-out max \\|ΔG1\\| | at ν |\n|---|---|---|---|\n| Walter (printed: Λ = 0 for ν ≥ 1.6) | 5 | {:.3e} | {:.4} |\n| Walter (shader listing: ν clamped to [0.001, 1.599]) | 5 | {:.3e} | {:.4} |\n| ours: (1 − ν/ν_c)²(1 + a₁ν + a₂ν²)/(b₁ν + b₂ν² + b₃ν³) | 6 | **{:.3e}** | {:.4} |\n\n",
-        walter.max_dg1, walter.at_nu, listing.max_dg1, listing.at_nu, ours.max_dg1, ours.at_nu));
+    let mut t = Table::new(["form", "numbers", "held-out max \\|ΔG1\\|", "at ν"]);
+    for (form, n, w, bold) in [
+        ("Walter (printed: Λ = 0 for ν ≥ 1.6)", 5, &h.walter_printed, false),
+        ("Walter (shader listing: ν clamped to [0.001, 1.599])", 5, &h.walter_listing, false),
+        ("ours: (1 − ν/ν_c)²(1 + a₁ν + a₂ν²)/(b₁ν + b₂ν² + b₃ν³)", 6, &h.ours, true),
+    ] {
+        let e = format!("{:.3e}", w.max_dg1);
+        let e = if bold { format!("**{e}**") } else { e };
+        t.row([form.to_string(), n.to_string(), e, format!("{:.4}", w.at_nu)]);
+    }
+    md.push_str(&t.to_string());
+    md.push('\n');
     md.push_str(&format!(
         "Goal: |ΔG1| ≤ {tol:.0e} with at most two more coefficients than Walter's — **{}**.\n\n",
-        if passed { "met" } else { "MISSED" }
+        if r.passed { "met" } else { "MISSED" }
     ));
-    md.push_str(&format!("Parameters: a₁ = {:.10}, a₂ = {:.10}, b₁ = {:.10}, b₂ = {:.10}, b₃ = {:.10}, ν_c = {:.10} (argmin Nelder–Mead, {} iterations over 6 restarts, L⁸ surrogate of the max). b₁ ≈ 2√π = 3.5449 recovers the exact ν → 0 limit Λ ≈ 1/(2√π ν) (Walter's 3.535 misses it by 0.28 %); the squared factor closes the curve at ν_c with zero value and slope, so there is no negative band and no jump (Walter's numerator changes sign at ν = 1.548 and his cut at 1.6 drops Λ(1.6) = 1.8e-3 at once).\n\n", p[0], p[1], p[2], p[3], p[4], p[5], iters));
+    md.push_str(&format!("Parameters: a₁ = {:.10}, a₂ = {:.10}, b₁ = {:.10}, b₂ = {:.10}, b₃ = {:.10}, ν_c = {:.10} (argmin Nelder–Mead, {} iterations over 6 restarts, L⁸ surrogate of the max). b₁ ≈ 2√π = {:.4} recovers the exact ν → 0 limit Λ ≈ 1/(2√π ν) (Walter's {} misses it by {:.2} %); the squared factor closes the curve at ν_c with zero value and slope, so there is no negative band and no jump (Walter's numerator changes sign at ν = {:.3} and his cut at {} drops Λ({}) = {:.1e} at once).\n\n", p[0], p[1], p[2], p[3], p[4], p[5], r.iterations, l.exact_b1, l.walter_b1, 100.0 * l.walter_b1_rel_miss, l.walter_numerator_root, l.walter_cut, l.walter_cut, l.exact_lambda_at_cut));
     md.push_str("Cost next to accuracy: results/performance.md (bench group `smith-lambda`).\n\n![|ΔG1|](smith-lambda.svg)\n");
     set.put(&results.join("smith-lambda.md"), md.as_bytes());
+    Ok(())
+}
+
+/// `regen --only smith-lambda`: compute, then render into `set`; the outcome is read off
+/// the result.
+pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+    let computed = compute(c)?;
+    render(set, c.results, &computed)?;
+    let r = &computed.result;
+    let (h, tol) = (&r.held_out, r.spec.tolerance.max_rel);
     Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: ours.max_dg1,
+        name: r.spec.name.clone(),
+        held_out_max_rel: h.ours.max_dg1,
         tolerance: tol,
-        passed,
+        passed: r.passed,
         summary: format!(
             "ours max |ΔG1| {:.2e} (tol {tol:.0e}); Walter printed {:.2e}, listing {:.2e}",
-            ours.max_dg1, walter.max_dg1, listing.max_dg1
+            h.ours.max_dg1, h.walter_printed.max_dg1, h.walter_listing.max_dg1
         ),
     })
 }

@@ -114,7 +114,7 @@ pub(super) fn map_study(maps: &[NormalMap], plan: &Plan, seed: u64) -> Result<Ve
                 let cands = study::map_candidates(kind, alpha, &stats)?;
                 let props: Vec<(V3, f64)> = cands
                     .iter()
-                    .zip(&study::MAP)
+                    .zip(&crate::filters::registry::MAP)
                     .filter(|(_, f)| f.proposes)
                     .map(|(c, _)| c.proposal)
                     .collect();

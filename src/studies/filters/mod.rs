@@ -84,7 +84,7 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
         by_level_note:
             "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views"
                 .into(),
-        map_filters: crate::filters::study::MAP
+        map_filters: crate::filters::registry::MAP
             .iter()
             .map(|f| f.label.to_string())
             .collect(),

@@ -6,7 +6,9 @@ use super::constants::Fitted;
 use super::plan::{kind_name, pct, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::NormalMap;
-use crate::filters::study::{PixelFilter, MAP, SCREEN};
+use crate::filters::registry::{screen_index, MAP, SCREEN};
+use crate::report::table::Table;
+use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -14,15 +16,23 @@ use crate::report::plot::{loglog_svg, Panel, Series};
 use std::path::Path;
 
 /// The energy, L2 and peak columns of one NDF for one filter.
-fn agg_cells(a: &super::cases::Agg) -> String {
-    format!(
-        "{} | {:.1} % ± {:.1} | {}",
+fn agg_cells(a: &super::cases::Agg) -> [String; 3] {
+    [
         pct(a.energy_mean, a.energy_se),
-        100.0 * a.l2_mean,
-        100.0 * a.l2_se,
-        pct(a.peak_mean, a.peak_se)
-    )
+        format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se),
+        pct(a.peak_mean, a.peak_se),
+    ]
 }
+
+/// The per-NDF columns of the map and kernel tables.
+const NDF_COLUMNS: [&str; 6] = [
+    "GGX energy",
+    "GGX L2",
+    "GGX peak",
+    "Beckmann energy",
+    "Beckmann L2",
+    "Beckmann peak",
+];
 
 /// The title, the method and the plan.
 pub(super) fn intro(preset: Preset, plan: &Plan) -> String {
@@ -60,7 +70,8 @@ pub(super) fn map_section(
     plan: &Plan,
     svg_dir: &Path,
 ) -> Result<Vec<serde_json::Value>> {
-    md.push_str(&format!("## Map: {}\n\n| filter | GGX energy | GGX L2 | GGX peak | Beckmann energy | Beckmann L2 | Beckmann peak |\n|---|---|---|---|---|---|---|\n", map.name));
+    md.push_str(&format!("## Map: {}\n\n", map.name));
+    let mut t = Table::new(std::iter::once("filter").chain(NDF_COLUMNS));
     let mut row_json = Vec::new();
     for (fi, name) in MAP.iter().map(|f| f.label).enumerate() {
         let mut cells = Vec::new();
@@ -72,12 +83,13 @@ pub(super) fn map_section(
                 .map(|c| &c.results[fi])
                 .collect();
             let a = aggregate(&rs);
-            cells.push(agg_cells(&a));
+            cells.extend(agg_cells(&a));
             aj.push(serde_json::json!({"ndf": kind_name(kind), "all": a}));
         }
-        md.push_str(&format!("| {name} | {} |\n", cells.join(" | ")));
+        t.row(std::iter::once(name.to_string()).chain(cells));
         row_json.push(serde_json::json!({"filter": name, "by_ndf": aj}));
     }
+    md.push_str(&t.to_string());
     let mc = map_cases
         .iter()
         .filter(|c| c.map == m)
@@ -92,22 +104,22 @@ pub(super) fn map_section(
         .filter(|w| w.0.is_finite())
         .collect();
     worst.sort_by(|a, b| b.0.total_cmp(&a.0));
-    md.push_str("\nLargest energy errors on this map (single cases, ± Monte Carlo s.e.):\n\n| filter | NDF | base α | level | ‖μ‖ | view (θ, φ) | energy | L2 |\n|---|---|---|---|---|---|---|---|\n");
+    md.push_str("\nLargest energy errors on this map (single cases, ± Monte Carlo s.e.):\n\n");
+    let mut t = Table::new(["filter", "NDF", "base α", "level", "‖μ‖", "view (θ, φ)", "energy", "L2"]);
     for (_, c, fi) in worst.iter().take(4) {
         let r = &c.results[*fi];
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {:.4} | {:?} | {} | {:.1} % ± {:.1} |\n",
-            MAP[*fi].label,
-            kind_name(c.kind),
-            c.alpha,
-            c.level,
-            c.stats.mrl(),
-            plan.views_deg[c.view],
+        t.row([
+            MAP[*fi].label.to_string(),
+            kind_name(c.kind).to_string(),
+            c.alpha.to_string(),
+            c.level.to_string(),
+            format!("{:.4}", c.stats.mrl()),
+            format!("{:?}", plan.views_deg[c.view]),
             pct(r.energy.value, r.energy.se),
-            100.0 * r.l2.value,
-            100.0 * r.l2.se
-        ));
+            format!("{:.1} % ± {:.1}", 100.0 * r.l2.value, 100.0 * r.l2.se),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!("\nLargest single-case Monte Carlo s.e. of an L2 error on this map: {:.2} %. L2 error against footprint size (GGX, all α and views): ![{}](filters-{}.svg)\n\n", 100.0 * mc, map.name, map.name));
     // per-level plot
     let series: Vec<Series> = MAP
@@ -159,7 +171,8 @@ pub(super) fn screen_section(
     md.push_str(&format!("## Screen-space kernels on synthetic curved surfaces\n\nThe pixel sees a surface whose normal is normalize(z + R_30° diag(κ, a·κ)·p) at screen offset p (pixels): curvature × distance gives κ rad/px, anisotropy a ∈ {:?}; (α, κ) ∈ {:?}; views θ ∈ {:?}° (φ = 20°). Derivatives are quad finite differences (ddx = n(1,0) − n(0,0)) exactly as a GPU forms them. The truth averages the exact per-normal lobe over the pixel footprint: a Gaussian of variance 0.25 px² (the kernels' own σ²) or the 1×1 box, by a tensor midpoint rule fine enough that neighbouring nodes' normals differ by < α/2 (up to 64² nodes).\n\n", plan.anisotropy, plan.screen_pairs, plan.screen_views_deg));
     let mut json_screen = Vec::new();
     for pixel in [PixelFilter::Gaussian, PixelFilter::Box] {
-        md.push_str(&format!("### Pixel footprint: {}\n\n| kernel | GGX energy | GGX L2 | GGX peak | Beckmann energy | Beckmann L2 | Beckmann peak |\n|---|---|---|---|---|---|---|\n", if pixel == PixelFilter::Gaussian { "Gaussian σ² = 0.25 px²" } else { "1×1 box" }));
+        md.push_str(&format!("### Pixel footprint: {}\n\n", if pixel == PixelFilter::Gaussian { "Gaussian σ² = 0.25 px²" } else { "1×1 box" }));
+        let mut t = Table::new(std::iter::once("kernel").chain(NDF_COLUMNS));
         for (fi, name) in SCREEN.iter().map(|f| f.label).enumerate() {
             let mut cells = Vec::new();
             for &kind in &KINDS {
@@ -169,11 +182,12 @@ pub(super) fn screen_section(
                     .map(|c| &c.results[fi])
                     .collect();
                 let a = aggregate(&rs);
-                cells.push(agg_cells(&a));
+                cells.extend(agg_cells(&a));
                 json_screen.push(serde_json::json!({"pixel": format!("{pixel:?}"), "ndf": kind_name(kind), "kernel": name, "all": a}));
             }
-            md.push_str(&format!("| {name} | {} |\n", cells.join(" | ")));
+            t.row(std::iter::once(name.to_string()).chain(cells));
         }
+        md.push_str(&t.to_string());
         md.push('\n');
     }
     // L2 vs κ plot (GGX, Gaussian pixel)
@@ -216,7 +230,18 @@ pub(super) fn screen_section(
     set.put(&results.join("filters-screen.svg"), svg.as_bytes());
     md.push_str("L2 error against curvature per kernel (GGX, Gaussian pixel): ![screen](filters-screen.svg)\n\n");
     // by κ table for the clamp question
-    md.push_str("### The clamp δ = 0.18, by curvature (GGX, Gaussian pixel; L2 error, mean ± s.e. over the α paired with that κ, both anisotropies and all views)\n\n| κ (rad/px) | none | Eq 13 (δ 0.18) | Eq 13 unclamped | Eq 10 | Eq 10 unclamped | Godot (on α) | Filament |\n|---|---|---|---|---|---|---|---|\n");
+    md.push_str("### The clamp δ = 0.18, by curvature (GGX, Gaussian pixel; L2 error, mean ± s.e. over the α paired with that κ, both anisotropies and all views)\n\n");
+    // the kernels of the clamp question, by registry key, with their column names
+    let clamp_cols = [
+        ("none", "none"),
+        ("tokuyoshi-deferred", "Eq 13 (δ 0.18)"),
+        ("eq13-unclamped", "Eq 13 unclamped"),
+        ("eigen-eq10", "Eq 10"),
+        ("eq10-unclamped", "Eq 10 unclamped"),
+        ("godot", "Godot (on α)"),
+        ("filament", "Filament"),
+    ];
+    let mut t = Table::new(std::iter::once("κ (rad/px)").chain(clamp_cols.iter().map(|c| c.1)));
     for &k in &kappas {
         let cell = |fi: usize| {
             let rs: Vec<&CaseResult> = screen_cases
@@ -231,17 +256,9 @@ pub(super) fn screen_section(
             let a = aggregate(&rs);
             format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)
         };
-        md.push_str(&format!(
-            "| {k} | {} | {} | {} | {} | {} | {} | {} |\n",
-            cell(0),
-            cell(1),
-            cell(2),
-            cell(3),
-            cell(9),
-            cell(8),
-            cell(5)
-        ));
+        t.row(std::iter::once(k.to_string()).chain(clamp_cols.iter().map(|c| cell(screen_index(c.0)))));
     }
+    md.push_str(&t.to_string());
     Ok(json_screen)
 }
 
@@ -250,18 +267,26 @@ pub(super) fn fits_section(
     md: &mut String,
     fits: &[Fitted],
 ) -> Vec<crate::results::filters::FittedConstant> {
-    md.push_str("\n## Fitted constants (argmin scan + Brent on the mean L2 error; train = even footprints / views, held-out = odd)\n\n| family | NDF | fitted constant | train mean L2 | held-out mean L2 | held-out energy |\n|---|---|---|---|---|---|\n");
+    md.push_str("\n## Fitted constants (argmin scan + Brent on the mean L2 error; train = even footprints / views, held-out = odd)\n\n");
+    let mut t = Table::new([
+        "family",
+        "NDF",
+        "fitted constant",
+        "train mean L2",
+        "held-out mean L2",
+        "held-out energy",
+    ]);
     let mut json_fits = Vec::new();
     for f in fits {
         let (fam, kind, c, tr, ho) = (f.family, &f.kind, f.constant, f.train_mean_l2, &f.held_out);
-        md.push_str(&format!(
-            "| {fam} | {} | {c:.4} | {:.2} % | {:.2} % ± {:.2} | {} |\n",
-            kind_name(*kind),
-            100.0 * tr,
-            100.0 * ho.l2_mean,
-            100.0 * ho.l2_se,
-            pct(ho.energy_mean, ho.energy_se)
-        ));
+        t.row([
+            fam.to_string(),
+            kind_name(*kind).to_string(),
+            format!("{c:.4}"),
+            format!("{:.2} %", 100.0 * tr),
+            format!("{:.2} % ± {:.2}", 100.0 * ho.l2_mean, 100.0 * ho.l2_se),
+            pct(ho.energy_mean, ho.energy_se),
+        ]);
         json_fits.push(crate::results::filters::FittedConstant {
             family: fam.into(),
             ndf: kind_name(*kind).into(),
@@ -270,6 +295,7 @@ pub(super) fn fits_section(
             held_out: *ho,
         });
     }
+    md.push_str(&t.to_string());
     json_fits
 }
 

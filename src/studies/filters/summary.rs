@@ -3,7 +3,8 @@
 
 use super::cases::{aggregate, MapCase, ScreenCase};
 use super::plan::{kind_name, Plan, KINDS};
-use crate::filters::study::{PixelFilter, MAP, SCREEN};
+use crate::filters::registry::{MAP, SCREEN};
+use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 use crate::results::filters::FilterSummary;
@@ -42,35 +43,20 @@ pub(super) fn per_filter(
     screen_cases: &[ScreenCase],
 ) -> BTreeMap<String, FilterSummary> {
     let mut summary = BTreeMap::new();
-    for (id, fi) in [
-        ("none-map", 0usize),
-        ("toksvig-bp", 1),
-        ("toksvig", 2),
-        ("vmf", 4),
-        ("lean", 7),
-        ("seed000-paper", 8),
-        ("seed000-moment", 9),
-        ("filament", 10),
-        ("godot", 11),
-    ] {
+    // the filters the registry gives a summary id, at their place in the study's lists
+    for (fi, f) in MAP.iter().enumerate() {
+        let Some(id) = f.uses.summary else { continue };
         for kind in KINDS {
             let rs: Vec<&CaseResult> = map_cases
                 .iter()
                 .filter(|c| c.kind == kind)
                 .map(|c| &c.results[fi])
                 .collect();
-            insert(&mut summary, id, kind, MAP[fi].label, &rs, "maps");
+            insert(&mut summary, id, kind, f.label, &rs, "maps");
         }
     }
-    for (id, fi) in [
-        ("none-screen", 0usize),
-        ("deferred", 1),
-        ("eigen", 3),
-        ("rect", 4),
-        ("projected", 7),
-        ("on-alpha", 8),
-        ("forward", 11),
-    ] {
+    for (fi, f) in SCREEN.iter().enumerate() {
+        let Some(id) = f.uses.summary else { continue };
         for kind in KINDS {
             let rs: Vec<&CaseResult> = screen_cases
                 .iter()
@@ -81,7 +67,7 @@ pub(super) fn per_filter(
                 &mut summary,
                 id,
                 kind,
-                SCREEN[fi].label,
+                f.label,
                 &rs,
                 "screen (Gaussian pixel)",
             );

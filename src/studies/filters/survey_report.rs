@@ -6,7 +6,8 @@ use super::cases::{aggregate, mean_se, MapCase};
 use super::plan::kind_name;
 use super::survey::{Diag, SurveyCases, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
-use crate::filters::study::MAP;
+use crate::filters::registry::MAP;
+use crate::report::table::Table;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
@@ -347,35 +348,35 @@ scratches (which do not enter the filters' fitted constants). Every number is a 
         cases
     ));
     md.push_str(METHOD);
-    md.push_str(
-        "\n## The generic tools (§7)\n\n| representation | tool | method |\n|---|---|---|\n",
-    );
-    for (n, t, m) in TOOLS {
-        md.push_str(&format!("| {n} | {t:?} | {m:?} |\n"));
+    md.push_str("\n## The generic tools (§7)\n\n");
+    let mut t = Table::new(["representation", "tool", "method"]);
+    for (n, tool, m) in TOOLS {
+        t.row([n.to_string(), format!("{tool:?}"), format!("{m:?}")]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\n## Every row: error against storage\n\n");
     md.push_str("Mean relative L2 error of the lobe over all light directions (± s.e. over cases), parameters per texel, by NDF and by map. \
 The first twelve rows are results/filters.md's filters on the same samples.\n\n");
-    md.push_str("| representation | params | GGX | Beckmann |");
-    for m in &s.maps {
-        md.push_str(&format!(" {m} |"));
-    }
-    md.push_str("\n|---|---|---|---|");
-    md.push_str(&"---|".repeat(s.maps.len()));
-    md.push('\n');
+    let mut t = Table::new(
+        ["representation", "params", "GGX", "Beckmann"]
+            .into_iter()
+            .map(String::from)
+            .chain(s.maps.iter().map(|m| m.to_string())),
+    );
     for r in &s.rows {
         let p = r.params.map_or("all texels".into(), |p| p.to_string());
-        md.push_str(&format!(
-            "| {} | {p} | {} | {} |",
-            r.name,
-            pm(r.ggx.l2_mean, r.ggx.l2_se),
-            pm(r.beckmann.l2_mean, r.beckmann.l2_se)
-        ));
-        for a in &r.by_map {
-            md.push_str(&format!(" {:.1} % |", 100.0 * a.l2_mean));
-        }
-        md.push('\n');
+        t.row(
+            [
+                r.name.to_string(),
+                p,
+                pm(r.ggx.l2_mean, r.ggx.l2_se),
+                pm(r.beckmann.l2_mean, r.beckmann.l2_se),
+            ]
+            .into_iter()
+            .chain(r.by_map.iter().map(|a| format!("{:.1} %", 100.0 * a.l2_mean))),
+        );
     }
+    md.push_str(&t.to_string());
     md.push_str("\nPer-map columns carry standard errors of the same size as the NDF columns × √(number of maps) (results/fits/filters.json \
 holds them). ![error against storage](filters-survey.svg)\n\nThe cost per evaluation of each representation (criterion, ns) is in \
 results/performance.md (\"Survey representations\"), beside these errors.\n\n");
@@ -387,25 +388,24 @@ results/performance.md (\"Survey representations\"), beside these errors.\n\n");
 fn verdict_section(s: &Summary) -> String {
     let mut md = String::from("## Verdicts: the best representation within each storage budget, per map\n\n\
 The winner is the row with the lowest mean L2 among those with at most that many parameters per texel (the exact distribution excluded); \
-the margin is the paired difference runner-up − winner over the map's cases (± s.e.): a margin within 2 s.e. of zero is a tie.\n\n\
-| map | budget | winner | its L2 | runner-up | margin |\n|---|---|---|---|---|---|\n");
+the margin is the paired difference runner-up − winner over the map's cases (± s.e.): a margin within 2 s.e. of zero is a tie.\n\n");
+    let mut t = Table::new(["map", "budget", "winner", "its L2", "runner-up", "margin"]);
     for v in &s.verdicts {
         let tie = if v.margin.0.abs() < 2.0 * v.margin.1 {
             " (tie)"
         } else {
             ""
         };
-        md.push_str(&format!(
-            "| {} | ≤ {} | {} ({}) | {} | {} | {}{tie} |\n",
-            v.map,
-            v.budget,
-            v.best,
-            v.best_params,
+        t.row([
+            v.map.to_string(),
+            format!("≤ {}", v.budget),
+            format!("{} ({})", v.best, v.best_params),
             pm(v.l2, v.l2_se),
-            v.runner_up,
-            pm(v.margin.0, v.margin.1)
-        ));
+            v.runner_up.to_string(),
+            format!("{}{tie}", pm(v.margin.0, v.margin.1)),
+        ]);
     }
+    md.push_str(&t.to_string());
     md
 }
 
@@ -413,57 +413,56 @@ fn diagnostics_section(s: &Summary) -> String {
     let mut md = String::from("\n## Schilling: the cost of MIP-mapping a per-frame covariance linearly\n\n\
 The recomputed row evaluates each level's slope covariance in its own mean normal's frame from the base texels; the MIP-mapped row averages \
 the four children's matrices (each in its own frame) as if they shared the parent's. Built this way from the base level, every level would \
-hold only the base lobe (one texel has no spread), which is the first row of the table above; one level of linear averaging already costs:\n\n\
-| level | recomputed | MIP-mapped | cost (paired) |\n|---|---|---|---|\n");
+hold only the base lobe (one texel has no spread), which is the first row of the table above; one level of linear averaging already costs:\n\n");
+    let mut t = Table::new(["level", "recomputed", "MIP-mapped", "cost (paired)"]);
     for l in &s.schilling {
-        md.push_str(&format!(
-            "| {} | {} | {} | {} |\n",
-            l.level,
+        t.row([
+            l.level.to_string(),
             pm(l.recomputed.0, l.recomputed.1),
             pm(l.mipped.0, l.mipped.1),
-            pm(l.cost.0, l.cost.1)
-        ));
+            pm(l.cost.0, l.cost.1),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\n## Lobe alignment and sharp edges (Tan et al., Han et al.)\n\n\
 A MIP-mapped parent takes its lobes from its four children, each fitted by EM; the children's lobes are matched to the first child's by the \
 permutation with the smallest total distance, and the interpolable quantities are averaged. A matched pair is *misaligned* when its means lie \
 farther apart than twice the sum of the two lobes' widths: at a sharp edge (flakes' cell borders, a bump's rim) there is no lobe to match. \
 What we do there is what linear filtering does: the average is one wide lobe between the two (the best single Gaussian of the pair), and the \
-table shows what that costs against the per-footprint EM fit.\n\n\
-| map | misaligned pairs, Tan 2 / 4 lobes | vMF 2 / 4 lobes | Tan 4: MIP − EM where misaligned (footprints) | where aligned |\n|---|---|---|---|---|\n");
+table shows what that costs against the per-footprint EM fit.\n\n");
+    let mut t = Table::new([
+        "map",
+        "misaligned pairs, Tan 2 / 4 lobes",
+        "vMF 2 / 4 lobes",
+        "Tan 4: MIP − EM where misaligned (footprints)",
+        "where aligned",
+    ]);
     for a in &s.alignment {
-        md.push_str(&format!(
-            "| {} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {} ({}) | {} ({}) |\n",
-            a.map,
-            100.0 * a.tan_misaligned[0],
-            100.0 * a.tan_misaligned[1],
-            100.0 * a.vmf_misaligned[0],
-            100.0 * a.vmf_misaligned[1],
-            pm_or_dash(a.tan_cost_misaligned),
-            a.tan_cost_misaligned.2,
-            pm_or_dash(a.tan_cost_aligned),
-            a.tan_cost_aligned.2
-        ));
+        t.row([
+            a.map.to_string(),
+            format!("{:.0} % / {:.0} %", 100.0 * a.tan_misaligned[0], 100.0 * a.tan_misaligned[1]),
+            format!("{:.0} % / {:.0} %", 100.0 * a.vmf_misaligned[0], 100.0 * a.vmf_misaligned[1]),
+            format!("{} ({})", pm_or_dash(a.tan_cost_misaligned), a.tan_cost_misaligned.2),
+            format!("{} ({})", pm_or_dash(a.tan_cost_aligned), a.tan_cost_aligned.2),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\n## Han et al.'s rule of thumb: SH coefficients for a Blinn–Phong exponent\n\n\
 The survey quotes about 4(α + √α) coefficients for exponent α. Measured: the smallest (L + 1)² whose truncated series of the normalised lobe \
-(α + 1)/(2π) t₊^α has relative L2 error at most ε on the sphere (Parseval over the zonal coefficients, exact up to the quadrature's 1e-9).\n\n| exponent | 4(α + √α) |");
-    for e in &s.rule_eps {
-        md.push_str(&format!(" needed at ε = {:.0} % |", 100.0 * e));
-    }
-    md.push_str("\n|---|---|");
-    md.push_str(&"---|".repeat(s.rule_eps.len()));
-    md.push('\n');
+(α + 1)/(2π) t₊^α has relative L2 error at most ε on the sphere (Parseval over the zonal coefficients, exact up to the quadrature's 1e-9).\n\n");
+    let mut t = Table::new(
+        ["exponent".to_string(), "4(α + √α)".to_string()]
+            .into_iter()
+            .chain(s.rule_eps.iter().map(|e| format!("needed at ε = {:.0} %", 100.0 * e))),
+    );
     for r in &s.rule_of_thumb {
-        md.push_str(&format!("| {} | {:.0} |", r.exponent, r.rule));
-        for n in &r.needed {
-            md.push_str(&format!(
-                " {} |",
-                n.map_or("> 361 201".into(), |n| n.to_string())
-            ));
-        }
-        md.push('\n');
+        t.row(
+            [r.exponent.to_string(), format!("{:.0}", r.rule)]
+                .into_iter()
+                .chain(r.needed.iter().map(|n| n.map_or("> 361 201".into(), |n| n.to_string()))),
+        );
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!(
         "\n## Fits and EM\n\n\
 - Fournier's least squares (L-BFGS, ≤ 100 iterations, from the vMF EM fit): relative L2 of the fit to the footprint distribution on its 256 \

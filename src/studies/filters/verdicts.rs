@@ -3,7 +3,8 @@
 use super::cases::{aggregate, mean_se, Agg, MapCase, ScreenCase};
 use super::constants::Fitted;
 use super::plan::{kind_name, pct, KINDS};
-use crate::filters::study::{map_index, screen_index, MapRule, PixelFilter, MAP};
+use crate::filters::registry::{map_index, screen_index, MapRule, MAP};
+use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
 
@@ -66,8 +67,8 @@ pub(super) fn verdicts(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fit
         MAP[best].label,
         100.0 * all[best].1.l2_mean,
         100.0 * all[best].1.l2_se,
-        100.0 * all[map_index("none")].1.l2_mean,
-        100.0 * all[map_index("none")].1.l2_se
+        100.0 * all[map_index("mip-normal")].1.l2_mean,
+        100.0 * all[map_index("mip-normal")].1.l2_se
     ));
     s.push_str(&engine_tool_verdicts(
         map_cases,
@@ -129,8 +130,8 @@ fn engine_tool_verdicts(map_cases: &[MapCase], vmf: &Agg) -> String {
     let mut s = String::new();
     let vmf2 = map_index("vmf-2");
     for (fi, tool) in [
-        (map_index("filament"), "Filament's roughness-prefilter"),
-        (map_index("godot"), "Godot's roughness limiter"),
+        (map_index("filament-prefilter"), "Filament's roughness-prefilter"),
+        (map_index("godot-limiter"), "Godot's roughness limiter"),
     ] {
         let rs: Vec<&CaseResult> = map_cases
             .iter()

@@ -203,7 +203,7 @@ pub(super) fn survey_table(
     // the rows' names, parameter counts and errors from results/fits/filters.json (the
     // survey's rows follow the filters' twelve)
     let v: Option<crate::results::filters::Filters> = crate::results::read(results)?;
-    let first = crate::filters::study::MAP.len();
+    let first = crate::filters::registry::MAP.len();
     let row = |i: usize| -> Option<(String, String, String)> {
         let r = v.as_ref()?.survey.rows.get(first + i)?;
         let params = r.params.map_or("all texels".into(), |p| p.to_string());

@@ -1,6 +1,7 @@
 //! results/visibility.md and its Pareto plots: [`summarise`] aggregates the
 //! measured cases; [`markdown`] and [`pareto_svg`] only render.
 
+use crate::report::table::Table;
 use super::compute::{mean_se, shadow_methods, Measured, ASHIKHMIN_WIDTH, LEGENDRE_K};
 use crate::error::Result;
 use crate::integrate::Preset;
@@ -308,26 +309,15 @@ fn pm(x: (f64, f64)) -> String {
 }
 
 fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
-    md.push_str(&format!("| {head} | params | all | max |"));
-    for g in groups {
-        md.push_str(&format!(" {g} |"));
-    }
-    md.push_str("\n|---|---|---|---|");
-    md.push_str(&"---|".repeat(groups.len()));
-    md.push('\n');
+    let mut t = Table::new([head, "params", "all", "max"].into_iter().chain(groups.iter().map(|g| g.as_str())));
     for r in rows {
-        md.push_str(&format!(
-            "| {} | {} | {} | {:.2e} |",
-            r.name,
-            r.params,
-            pm(r.all),
-            r.max
-        ));
-        for g in &r.groups {
-            md.push_str(&format!(" {} |", pm(*g)));
-        }
-        md.push('\n');
+        t.row(
+            [r.name.clone(), r.params.to_string(), pm(r.all), format!("{:.2e}", r.max)]
+                .into_iter()
+                .chain(r.groups.iter().map(|g| pm(*g))),
+        );
     }
+    md.push_str(&t.to_string());
 }
 
 /// The horizon tables alone (the `horizon` command on a user's height map).
@@ -392,19 +382,24 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
     table(&mut md, "method", &s.shadow_groups, &rows);
     md.push_str("\n### Stored in binary16\n\n");
     table(&mut md, "method", &s.shadow_groups, &s.shadow_f16);
-    md.push_str("\n### VSM light bleeding, ESM divergence, precision limits\n\n| scene | VSM lit fraction where PCF = 0 | footprints |\n|---|---|---|\n");
+    md.push_str("\n### VSM light bleeding, ESM divergence, precision limits\n\n");
+    let mut t = Table::new(["scene", "VSM lit fraction where PCF = 0", "footprints"]);
     for (n, b, k) in &s.bleeding {
-        md.push_str(&format!("| {n} | {} | {k} |\n", pm(*b)));
+        t.row([n.clone(), pm(*b), k.to_string()]);
     }
-    md.push_str("\nVSM is exact for one planar occluder parallel to the receiver (proofs/vsm-single-plane.md); with overlapping layers the bound leaks light.\n\n\
-| ESM c | error where some texel is deeper than d̄ (d < Z) | elsewhere |\n|---|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\nVSM is exact for one planar occluder parallel to the receiver (proofs/vsm-single-plane.md); with overlapping layers the bound leaks light.\n\n");
+    let mut t = Table::new(["ESM c", "error where some texel is deeper than d̄ (d < Z)", "elsewhere"]);
     for (c, a, b) in &s.esm_divergence {
-        md.push_str(&format!("| {c} | {} | {} |\n", pm(*a), pm(*b)));
+        t.row([c.to_string(), pm(*a), pm(*b)]);
     }
-    md.push_str("\n| warp | largest c, f32 | largest c, binary16 |\n|---|---|---|\n");
+    md.push_str(&t.to_string());
+    let mut t = Table::new(["warp", "largest c, f32", "largest c, binary16"]);
     for (n, a, b) in &s.precision {
-        md.push_str(&format!("| {n} | {a:.2} | {b:.2} |\n"));
+        t.row([n.to_string(), format!("{a:.2}"), format!("{b:.2}")]);
     }
+    md.push('\n');
+    md.push_str(&t.to_string());
     md.push_str("\nBeyond these c the stored warp overflows to ∞ (the binary16 rows above show what the larger c cost).\n\n");
     md.push_str(&procedural_section(m));
     md.push_str("\n![error against parameters per texel](visibility.svg)\n\nns per lookup: results/performance.md (\"Visibility lookups\").\n");
@@ -413,50 +408,52 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
 
 fn procedural_section(m: &Measured) -> String {
     let mut md = String::from("## Procedural maps (§6)\n\n### Colour: Fig. 6's pulse train ⌊2x⌋ mod 2, box footprints\n\nThe truth sums the pulses cell by cell; \
-analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.md).\n\n| width | point sample | global fading | analytic F(b) − F(a) |\n|---|---|---|---|\n");
+analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.md).\n\n");
+    let mut t = Table::new(["width", "point sample", "global fading", "analytic F(b) − F(a)"]);
     for r in &m.colour {
-        md.push_str(&format!(
-            "| {} | {} | {} | {} |\n",
-            r.width,
-            pm(r.pulse[0]),
-            pm(r.pulse[1]),
-            pm(r.pulse[2])
-        ));
+        t.row([r.width.to_string(), pm(r.pulse[0]), pm(r.pulse[1]), pm(r.pulse[2])]);
     }
-    md.push_str("\n### The 2D grid f(x)f(y) under a sheared footprint\n\nThe separable product of 1D analytic averages over the footprint's bounding box, against the exact clipped areas.\n\n| scale | rotation | anisotropy | mean absolute error |\n|---|---|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\n### The 2D grid f(x)f(y) under a sheared footprint\n\nThe separable product of 1D analytic averages over the footprint's bounding box, against the exact clipped areas.\n\n");
+    let mut t = Table::new(["scale", "rotation", "anisotropy", "mean absolute error"]);
     for (s, r, a, e) in &m.grid {
-        md.push_str(&format!("| {s} | {r}° | {a} | {} |\n", pm(*e)));
+        t.row([s.to_string(), format!("{r}°"), a.to_string(), pm(*e)]);
     }
-    md.push_str("\n### Frequency clamping of a spectral sum (8 octaves, amplitude 2^−i)\n\nTerms with f·w ≤ c/2 kept, faded to 0 at f·w = c; widths 2^−8…2^−1; truth: each term's exact box average (sinc).\n\n| threshold c | mean absolute error |\n|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\n### Frequency clamping of a spectral sum (8 octaves, amplitude 2^−i)\n\nTerms with f·w ≤ c/2 kept, faded to 0 at f·w = c; widths 2^−8…2^−1; truth: each term's exact box average (sinc).\n\n");
+    let mut t = Table::new(["threshold c", "mean absolute error"]);
     for (c, e) in &m.spectral {
         let n = if *c == 0.0 {
             "none (point sample)".to_string()
         } else {
             c.to_string()
         };
-        md.push_str(&format!("| {n} | {} |\n", pm(*e)));
+        t.row([n, pm(*e)]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\n### Procedural normals (§6.2): 32 height waves, slope rms 0.3, GGX α 0.1\n\nRelative L2 lobe error against the footprint-averaged BRDF \
-(the footprint's normals sampled on a grid), views 0° and 60°.\n\n| footprint width | clamped normal only | + clamped terms' covariance (Bruneton et al.) | box-averaged normal + vMF 2/κ |\n|---|---|---|---|\n");
+(the footprint's normals sampled on a grid), views 0° and 60°.\n\n");
+    let mut t = Table::new([
+        "footprint width",
+        "clamped normal only",
+        "+ clamped terms' covariance (Bruneton et al.)",
+        "box-averaged normal + vMF 2/κ",
+    ]);
     for r in &m.normals {
-        md.push_str(&format!(
-            "| {} | {} | {} | {} |\n",
-            r.width,
-            pm(r.l2[0]),
-            pm(r.l2[1]),
-            pm(r.l2[2])
-        ));
+        t.row([r.width.to_string(), pm(r.l2[0]), pm(r.l2[1]), pm(r.l2[2])]);
     }
-    md.push_str("\n## Correlations (§8.1): what Hypothesis 1's separation costs\n\nBumps height field, GGX α 0.3; relative L2 over the light hemisphere of the separated form against the joint footprint average (24 × 48 Gauss–Legendre light directions).\n\n\
-| footprint | view elevation | colour tied to slope: (Σk)(Σρ) vs Σkρ | visibility tied to normals: V_A(l,v)·ρ_A vs ΣV(l)V(v)ρ/ΣV(v) |\n|---|---|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\n## Correlations (§8.1): what Hypothesis 1's separation costs\n\nBumps height field, GGX α 0.3; relative L2 over the light hemisphere of the separated form against the joint footprint average (24 × 48 Gauss–Legendre light directions).\n\n");
+    let mut t = Table::new([
+        "footprint",
+        "view elevation",
+        "colour tied to slope: (Σk)(Σρ) vs Σkρ",
+        "visibility tied to normals: V_A(l,v)·ρ_A vs ΣV(l)V(v)ρ/ΣV(v)",
+    ]);
     for (l, e, c, v) in &m.correlation {
-        md.push_str(&format!(
-            "| {0}×{0} | {e}° | {1} | {2} |\n",
-            1usize << l,
-            pm(*c),
-            pm(*v)
-        ));
+        t.row([format!("{0}×{0}", 1usize << l), format!("{e}°"), pm(*c), pm(*v)]);
     }
+    md.push_str(&t.to_string());
     md
 }
 
