@@ -4,6 +4,7 @@
 //! (results/convergence.svg). Deterministic (fixed seeds); timing lives in the criterion
 //! benches (benches/engines.rs → results/performance.md).
 
+use crate::report::table::Table;
 use crate::error::Result;
 use crate::integrate::mc::{mis, CosineHemisphere, Strategy};
 use crate::integrate::qmc::qmc_mis;
@@ -252,7 +253,14 @@ Beckmann integrand has a kink along o·m = 0: tensor Gauss–Legendre (no break 
 results/performance.md.\n\n",
         p.name()
     ));
-    md.push_str("## Fitted orders and cost to reach 1e-6\n\n| integrand | engine | fitted order | evals for \\|error\\| ≤ 1e-6 | best \\|error\\| (evals) |\n|---|---|---|---|---|\n");
+    md.push_str("## Fitted orders and cost to reach 1e-6\n\n");
+    let mut t = Table::new([
+        "integrand",
+        "engine",
+        "fitted order",
+        "evals for \\|error\\| ≤ 1e-6",
+        "best \\|error\\| (evals)",
+    ]);
     for ig in &igs {
         for e in Engine::ALL {
             let rs: Vec<&Row> = rows
@@ -270,28 +278,36 @@ results/performance.md.\n\n",
                 .min_by(|a, b| a.abs_error.total_cmp(&b.abs_error))
                 .map(|r| format!("{:.2e} ({})", r.abs_error, r.evals))
                 .unwrap_or_default();
-            md.push_str(&format!(
-                "| {} | {} | {:.2} | {} | {} |\n",
-                ig.title,
-                e.name(),
-                order,
+            t.row([
+                ig.title.to_string(),
+                e.name().to_string(),
+                format!("{order:.2}"),
                 reach,
-                best
-            ));
+                best,
+            ]);
         }
     }
-    md.push_str("\n## All points\n\n| integrand | engine | level | evals | \\|error\\| | reported error |\n|---|---|---|---|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\n## All points\n\n");
+    let mut t = Table::new([
+        "integrand",
+        "engine",
+        "level",
+        "evals",
+        "\\|error\\|",
+        "reported error",
+    ]);
     for r in &rows {
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3e} | {:.3e} |\n",
-            r.integrand,
-            r.engine.name(),
-            r.level,
-            r.evals,
-            r.abs_error,
-            r.reported_error
-        ));
+        t.row([
+            r.integrand.to_string(),
+            r.engine.name().to_string(),
+            r.level.to_string(),
+            r.evals.to_string(),
+            format!("{:.3e}", r.abs_error),
+            format!("{:.3e}", r.reported_error),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\n![convergence](convergence.svg)\n");
     let panels: Vec<Panel> = igs
         .iter()

@@ -1,6 +1,7 @@
 //! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured, reported and
 //! written here.
 
+use crate::report::table::Table;
 use crate::error::Result;
 use crate::io::Outputs;
 use crate::leadr::*;
@@ -146,18 +147,42 @@ algorithms 1 and 3 (weighted sum of L(N) over an N×N slope grid, weights × pro
 the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10). Test scenes: rough specular under a smooth environment \
 (sky gradient + a κ = 50 sun) and rough diffuse under one directional light; isotropic Beckmann σ. Training set σ ∈ {0.05, 0.15, 0.3, 0.5} × \
 θ_o ∈ {0°, 30°, 60°, 75°}; held-out σ ∈ {0.1, 0.2, 0.4, 0.6} × θ_o ∈ {15°, 45°, 70°, 80°}.\n\n");
-    md.push_str("## Error against N (held-out max relative error; RMS in parentheses)\n\n| N | grid points | paper h | fitted h | specular: paper h | specular: fitted h | specular: Gauss–Hermite | diffuse: paper h | diffuse: fitted h | diffuse: Gauss–Hermite |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("## Error against N (held-out max relative error; RMS in parentheses)\n\n");
+    let mut t = Table::new([
+        "N",
+        "grid points",
+        "paper h",
+        "fitted h",
+        "specular: paper h",
+        "specular: fitted h",
+        "specular: Gauss–Hermite",
+        "diffuse: paper h",
+        "diffuse: fitted h",
+        "diffuse: Gauss–Hermite",
+    ]);
     for (n, h, e) in rows {
-        md.push_str(&format!(
-            "| {n} | {} | {:.3} | {h:.3} | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) | {:.2e} ({:.1e}) |\n",
-            n * n, paper_spacing(*n), e[0].0 .1, e[0].0 .0, e[1].0 .1, e[1].0 .0, e[2].0 .1, e[2].0 .0, e[0].1 .1, e[0].1 .0, e[1].1 .1, e[1].1 .0, e[2].1 .1, e[2].1 .0
-        ));
+        // (RMS, max) per family: specular then diffuse
+        let cell = |x: (f64, f64)| format!("{:.2e} ({:.1e})", x.1, x.0);
+        t.row(
+            [
+                n.to_string(),
+                (n * n).to_string(),
+                format!("{:.3}", paper_spacing(*n)),
+                format!("{h:.3}"),
+            ]
+            .into_iter()
+            .chain((0..3).map(|k| cell(e[k].0)))
+            .chain((0..3).map(|k| cell(e[k].1))),
+        );
     }
+    md.push_str(&t.to_string());
     md.push_str("\nCost is the same per grid point for every family (one normal, one projected area, one shading call): ns per evaluation at each N is in results/performance.md (bench group `leadr`). ![Pareto](leadr-pareto.svg)\n\n");
-    md.push_str("## Why spacing 0.9 for 5×5\n\nThe paper's weights are exactly the normalised Gaussian density at the nodes (φ(p)/Σφ at h = 0.9 reproduces 0.0725, 0.2443, 0.3663 to four digits), i.e. its grid is a uniform Riemann sum of the slope density. RMS relative error on the training set against the spacing h (N = 5):\n\n| h | specular | diffuse |\n|---|---|---|\n");
+    md.push_str("## Why spacing 0.9 for 5×5\n\nThe paper's weights are exactly the normalised Gaussian density at the nodes (φ(p)/Σφ at h = 0.9 reproduces 0.0725, 0.2443, 0.3663 to four digits), i.e. its grid is a uniform Riemann sum of the slope density. RMS relative error on the training set against the spacing h (N = 5):\n\n");
+    let mut t = Table::new(["h", "specular", "diffuse"]);
     for (h, a, b) in scan {
-        md.push_str(&format!("| {h:.2} | {a:.2e} | {b:.2e} |\n"));
+        t.row([format!("{h:.2}"), format!("{a:.2e}"), format!("{b:.2e}")]);
     }
+    md.push_str(&t.to_string());
     let argmin_col = |k: usize| {
         scan.iter()
             .min_by(|a, b| {

@@ -1,6 +1,7 @@
 //! results/multiscale-alpha-me.md: the held-out table, the whole-range check, the audit of Eq 5
 //! and our form.
 
+use crate::report::table::Table;
 use super::compute::Computed;
 use crate::fit::spec::FitSpec;
 use crate::multiscale::alpha_me::HeldOut;
@@ -33,20 +34,29 @@ Ground truth is the closed form ‖b̄‖(α) = (1 − α² artanh(k)/k)/(1 − 
 checked against quadrature of Eq 4 to ≤ 1e-10 in results/proofs.md), inverted by safeguarded Newton. \
 Errors are relative errors in α on held-out points (log-uniform, half a step off the training grid).\n\n");
     md.push_str(&format!(
-        "## Methods on the fit domain α ∈ [{lo}, {hi}] ({} held-out points)\n\n| method | max rel. error | RMS rel. error | worst at α | rel. error at α = {lo} | at α = {hi} | cost |\n|---|---|---|---|---|---|---|\n",
+        "## Methods on the fit domain α ∈ [{lo}, {hi}] ({} held-out points)\n\n",
         spec.held_out.points
     ));
-    md.push_str(&row(
+    let mut t = Table::new([
+        "method".to_string(),
+        "max rel. error".into(),
+        "RMS rel. error".into(),
+        "worst at α".into(),
+        format!("rel. error at α = {lo}"),
+        format!("at α = {hi}"),
+        "cost".into(),
+    ]);
+    t.row(row(
         "paper Eq 5 (as printed)",
         &h_paper,
         "see performance.md",
     ));
-    md.push_str(&row(
+    t.row(row(
         "paper's form, refitted (argmin Nelder–Mead)",
         &h_refit,
         "see performance.md",
     ));
-    md.push_str(&row(
+    t.row(row(
         &format!(
             "ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})",
             spec.terms, spec.terms_large
@@ -54,7 +64,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         &h_ours,
         "see performance.md",
     ));
-    md.push_str(&row(
+    t.row(row(
         &format!(
             "lookup table, {} entries, linear in (s, ln α)",
             spec.table_entries
@@ -62,11 +72,12 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
         &h_table,
         "see performance.md",
     ));
-    md.push_str(&row(
+    t.row(row(
         "Newton on the closed form",
         &h_newton,
         "see performance.md",
     ));
+    md.push_str(&t.to_string());
     md.push_str(&format!(
         "\nGoal: max relative error ≤ {:.0e} on held-out points — ours: **{}** ({:.2e}).\n\n",
         spec.tolerance.max_rel,
@@ -104,32 +115,42 @@ product identity of mean resultant lengths (proofs/mrl-product.md), the Eq 7 ref
     md
 }
 
-pub(super) fn row(name: &str, h: &HeldOut, cost: &str) -> String {
-    format!(
-        "| {name} | {:.3e} | {:.3e} | {:.4e} | {:+.3e} | {:+.3e} | {cost} |\n",
-        h.max_rel, h.rms_rel, h.worst_alpha, h.rel_at_min, h.rel_at_max
-    )
+pub(super) fn row(name: &str, h: &HeldOut, cost: &str) -> [String; 7] {
+    [
+        name.to_string(),
+        format!("{:.3e}", h.max_rel),
+        format!("{:.3e}", h.rms_rel),
+        format!("{:.4e}", h.worst_alpha),
+        format!("{:+.3e}", h.rel_at_min),
+        format!("{:+.3e}", h.rel_at_max),
+        cost.to_string(),
+    ]
 }
 
 pub(super) fn whole_range_md(w: &WholeRange) -> String {
+    let mut t = Table::new([
+        "form",
+        "max rel. error, α ∈ [1e-4, 1e2]",
+        "max rel. error, whole range",
+        "worst at α",
+    ]);
+    let e = |x: f64| format!("{x:.3e}");
+    t.row(["f64".to_string(), e(w.in_range_f64_max_rel), e(w.f64_max_rel), e(w.f64_worst_alpha)]);
+    t.row([
+        "f32 (generated `alpha_me`, f32 coefficients; inputs that are normal f32)".to_string(),
+        e(w.in_range_f32_max_rel),
+        e(w.f32_max_rel),
+        e(w.f32_worst_alpha),
+    ]);
     format!(
         "## Over the whole input range\n\nThe same form evaluated over y = 1 − ‖b̄‖ from 1e-300 to 1/3 and over ‖b̄‖ \
 from 1e-300 to 2/3 ({} points, exact α from {:.2e} to {:.2e}), against Newton on the closed form at the same input. \
-Outside α ∈ [1e-4, 1e2] both branches follow their exact asymptotes.\n\n\
-| form | max rel. error, α ∈ [1e-4, 1e2] | max rel. error, whole range | worst at α |\n|---|---|---|---|\n\
-| f64 | {:.3e} | {:.3e} | {:.3e} |\n\
-| f32 (generated `alpha_me`, f32 coefficients; inputs that are normal f32) | {:.3e} | {:.3e} | {:.3e} |\n\n\
+Outside α ∈ [1e-4, 1e2] both branches follow their exact asymptotes.\n\n{t}\n\
 Total: every input gives a finite α ≥ 0 (y = 0 ↦ the α → 0 end, y = 1 ↦ π/(2m) with m the smallest normal number, \
 NaN and values outside [0, 1] are clamped first): **{}**.\n\n",
         w.points,
         w.alpha_range[0],
         w.alpha_range[1],
-        w.in_range_f64_max_rel,
-        w.f64_max_rel,
-        w.f64_worst_alpha,
-        w.in_range_f32_max_rel,
-        w.f32_max_rel,
-        w.f32_worst_alpha,
         if w.total { "yes" } else { "NO" }
     )
 }
