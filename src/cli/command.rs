@@ -181,10 +181,9 @@ pub enum Cmd {
     /// power-of-two sides up to 8192, non-square allowed; `--reconstruct-z` for two-channel
     /// maps) gives per texel of every mip the mean of the unit normals under it, r = ‖μ‖;
     /// the rule turns r and the mean base roughness into α′: `best` (default: the measured
-    /// rule with the smallest mean lobe error in `results/fits/filters.json`, today
-    /// toksvig-bp), `none`, `toksvig-bp`, `toksvig`, `vmf`, `vmf-fitted`, `filament`
-    /// (Filament's roughness-prefilter as it ships), `godot` (Godot's import limiter as it
-    /// ships). The roughness map holds perceptual roughness (α = value², glTF), grey or the
+    /// rule with the smallest mean lobe error in `results/fits/filters.json`) or the key of
+    /// a map filter (listed under `--filter`; `filament-prefilter` and `godot-limiter` are
+    /// Filament's roughness-prefilter and Godot's import limiter as they ship). The roughness map holds perceptual roughness (α = value², glTF), grey or the
     /// G channel of RGB(A); it may be smaller than the normal map by a power of two along
     /// both axes, and each of its texels then covers that block (nearest) — the chain is
     /// written at the normal map's size, as three.js's RoughnessMipmapper does. Writes
