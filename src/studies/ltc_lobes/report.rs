@@ -5,6 +5,7 @@
 //! (a light straddling the horizon included), and the cost of shading one lobe with the
 //! other's table. Compute (`compute`) → markdown (`markdown`) → heat maps (`heatmaps`).
 
+use crate::report::table::Table as MdTable;
 use super::compute::{Family, Fitted, Plan};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -447,38 +448,50 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
         f.bilinear.cells_moved, f.table.grid.n * f.table.grid.n
     ));
     md.push_str(&format!("{}\n\n", r.sampled.sentence(st.l2.mean.value)));
-    md.push_str("Worst cells:\n\n| α | θ | a | b | c | d | norm | fresnel | rel. L2 | rel. L1 |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("Worst cells:\n\n");
+    let mut t = MdTable::new(["α", "θ", "a", "b", "c", "d", "norm", "fresnel", "rel. L2", "rel. L1"]);
     for c in &r.worst {
-        md.push_str(&format!(
-            "| {:.2e} | {:.2}° | {:.4e} | {:+.4e} | {:+.4e} | {:.4e} | {:.5} | {:.5} | {} | {} |\n",
-            c.alpha,
-            c.theta_deg,
-            c.inv[0],
-            c.inv[1],
-            c.inv[2],
-            c.inv[3],
-            c.norm,
-            c.fresnel,
+        t.row([
+            format!("{:.2e}", c.alpha),
+            format!("{:.2}°", c.theta_deg),
+            format!("{:.4e}", c.inv[0]),
+            format!("{:+.4e}", c.inv[1]),
+            format!("{:+.4e}", c.inv[2]),
+            format!("{:.4e}", c.inv[3]),
+            format!("{:.5}", c.norm),
+            format!("{:.5}", c.fresnel),
             c.l2.pct(2),
-            c.l1.pct(2)
-        ));
+            c.l1.pct(2),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!(
         "\nBetween cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of the squares, judged against the lobe there by the same integrals, over the {} squares whose lobe has an albedo of at least {:e}: {}.{}\n\n",
         r.between.l2.count, VISIBLE_ALBEDO, both(&r.between),
         if r.between_left_out > 0 { format!(" {} squares are left out: their lobe carries almost no energy (sheen seen head-on at small α), and between corners whose albedos differ by orders of magnitude the interpolated norm dwarfs it, so their relative error says nothing about the picture", r.between_left_out) } else { String::new() }
     ));
-    md.push_str("Storage precision (change of the held-out relative L2 per cell against the f64 table, ± the sum of the two figures' error bars; 0.01 = one point):\n\n| storage | mean change | largest change | where (α, θ) | cells with a non-positive determinant |\n|---|---|---|---|---|\n");
+    md.push_str("Storage precision (change of the held-out relative L2 per cell against the f64 table, ± the sum of the two figures' error bars; 0.01 = one point):\n\n");
+    let mut t = MdTable::new([
+        "storage",
+        "mean change",
+        "largest change",
+        "where (α, θ)",
+        "cells with a non-positive determinant",
+    ]);
     for (s, name) in r.storage.iter().zip([
         "f32",
         "binary16, each entry to nearest",
         "binary16 as stored (neighbours chosen by the training L2, determinant and b's sign kept)",
     ]) {
-        md.push_str(&format!(
-            "| {name} | {:+.2e} ± {:.1e} | {:+.2e} ± {:.1e} | ({:.2e}, {:.1}°) | {} |\n",
-            s.mean_change, s.mean_bar, s.largest_change, s.largest_bar, s.at.0, s.at.1, s.mirrored
-        ));
+        t.row([
+            name.to_string(),
+            format!("{:+.2e} ± {:.1e}", s.mean_change, s.mean_bar),
+            format!("{:+.2e} ± {:.1e}", s.largest_change, s.largest_bar),
+            format!("({:.2e}, {:.1}°)", s.at.0, s.at.1),
+            s.mirrored.to_string(),
+        ]);
     }
+    md.push_str(&t.to_string());
     if r.storage_left_out > 0 {
         md.push_str(&format!("\n{} cells have an albedo below binary16's normal range (6.1e-5) and are left out above: binary16 stores their weight as a subnormal or 0, which is what they are worth on screen.\n", r.storage_left_out));
     }
@@ -493,14 +506,33 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
         f.lobe.why_above_one(),
         100.0 * fx.below_horizon_mean, 100.0 * fx.below_horizon_max, fx.below_horizon_at.0, fx.below_horizon_at.1
     ));
-    md.push_str("Polygon lights: the fitted cell's norm × the LTC integral of M⁻¹P against MC of the true lobe over the quad (MIS of light-area and lobe sampling, ± standard error; the relative error's first-order bias, (s.e./truth)², is below its own s.e. on every row whose s.e. is under 10 %):\n\n| α | θ | light | MC truth | LTC (exact edges) | rel. error | error / albedo | LTC (rational edges) | rel. error |\n|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("Polygon lights: the fitted cell's norm × the LTC integral of M⁻¹P against MC of the true lobe over the quad (MIS of light-area and lobe sampling, ± standard error; the relative error's first-order bias, (s.e./truth)², is below its own s.e. on every row whose s.e. is under 10 %):\n\n");
+    let mut t = MdTable::new([
+        "α",
+        "θ",
+        "light",
+        "MC truth",
+        "LTC (exact edges)",
+        "rel. error",
+        "error / albedo",
+        "LTC (rational edges)",
+        "rel. error",
+    ]);
     for (a, th, norm, p) in &r.polygons {
         let rel = |x: f64| crate::report::rel_vs_mc(x, p.mc, p.mc_se);
-        md.push_str(&format!(
-            "| {a:.3} | {th:.1}° | {} | {:.4e} ± {:.1e} | {:.4e} | {} | {:+.3} % ± {:.3} | {:.4e} | {} |\n",
-            p.light, p.mc, p.mc_se, p.ltc_exact, rel(p.ltc_exact), 100.0 * (p.ltc_exact - p.mc) / norm, 100.0 * p.mc_se / norm, p.ltc_rational, rel(p.ltc_rational)
-        ));
+        t.row([
+            format!("{a:.3}"),
+            format!("{th:.1}°"),
+            p.light.to_string(),
+            format!("{:.4e} ± {:.1e}", p.mc, p.mc_se),
+            format!("{:.4e}", p.ltc_exact),
+            rel(p.ltc_exact),
+            format!("{:+.3} % ± {:.3}", 100.0 * (p.ltc_exact - p.mc) / norm, 100.0 * p.mc_se / norm),
+            format!("{:.4e}", p.ltc_rational),
+            rel(p.ltc_rational),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\nThe relative error of a light that catches almost none of the lobe (a sheen lobe seen near normal incidence puts its energy at grazing directions) is large however small the absolute one; the error / albedo column is the misplaced energy as a fraction of the cell's whole albedo.\n\n");
 }
 

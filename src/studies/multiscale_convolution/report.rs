@@ -1,6 +1,7 @@
 //! The report of the overall-α study: the metric spread, the models against the
 //! closed-form target, Eq 7 recomputed, and the models against each metric.
 
+use crate::report::table::Table;
 use super::compute::{metric_value, models, stats, Computed, Row, Stats};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -78,7 +79,17 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
             .join("; "),
     );
     md.push_str(". The cap energy of c is a 1D integral over θ of c(θ) times the arc of the cap at θ; polygon energies integrate c (Gauss–Legendre table with barycentric interpolation) and γ_α over the polygon by adaptive sphere quadrature with the edges' great circles as kink circles. The last column of the next table is the worst relative quadrature error estimate of the convolution's light energies.\n\n");
-    md.push_str(&format!("## How much the best α depends on the metric ({m}×{m} grid, log-spaced in [{lo}, {hi}]²)\n\n| α_mi | α_me | moment (unclipped) | moment (clipped) | L2 | caps | max/min | cap quad. rel. error |\n|---|---|---|---|---|---|---|---|\n"));
+    md.push_str(&format!("## How much the best α depends on the metric ({m}×{m} grid, log-spaced in [{lo}, {hi}]²)\n\n"));
+    let mut t = Table::new([
+        "α_mi",
+        "α_me",
+        "moment (unclipped)",
+        "moment (clipped)",
+        "L2",
+        "caps",
+        "max/min",
+        "cap quad. rel. error",
+    ]);
     let mut spread_max = (1.0f64, 0.0, 0.0);
     for p in fits {
         let v: Vec<f64> = Metric::ALL.iter().map(|&k| metric_value(p, k)).collect();
@@ -88,29 +99,43 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
         if mx / mn > spread_max.0 {
             spread_max = (mx / mn, p.alpha_mi, p.alpha_me);
         }
-        md.push_str(&format!(
-            "| {:.3} | {:.3} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.1e} |\n",
-            p.alpha_mi,
-            p.alpha_me,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-            mx / mn,
-            p.cap_quad_rel_error
-        ));
+        t.row([
+            format!("{:.3}", p.alpha_mi),
+            format!("{:.3}", p.alpha_me),
+            format!("{:.4}", v[0]),
+            format!("{:.4}", v[1]),
+            format!("{:.4}", v[2]),
+            format!("{:.4}", v[3]),
+            format!("{:.3}", mx / mn),
+            format!("{:.1e}", p.cap_quad_rel_error),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!("\nLargest disagreement between metrics: a factor {:.3} at (α_mi, α_me) = ({:.3}, {:.3}). The unclipped moment keeps the mass that rotates below the horizon and so over-estimates α for rough pairs; the clipped moment, L2 and cap metrics agree much more closely with each other.\n\n", spread_max.0, spread_max.1, spread_max.2));
-    md.push_str(&format!("## Models against the unclipped-moment target (closed form; {}² training points, {}² held-out points)\n\n| model | held-out max rel. | RMS rel. | worst at (α_mi, α_me) | max rel. where target α ≤ 1 | limit α(α_mi, 0) = α_mi (max rel. dev.) | limit α(0, α_me) = α_me |\n|---|---|---|---|---|---|---|\n", g.dense_points, g.dense_points - 1));
+    md.push_str(&format!("## Models against the unclipped-moment target (closed form; {}² training points, {}² held-out points)\n\n", g.dense_points, g.dense_points - 1));
+    let mut t = Table::new([
+        "model",
+        "held-out max rel.",
+        "RMS rel.",
+        "worst at (α_mi, α_me)",
+        "max rel. where target α ≤ 1",
+        "limit α(α_mi, 0) = α_mi (max rel. dev.)",
+        "limit α(0, α_me) = α_me",
+    ]);
     let mut model_json = Vec::new();
     for (name, f) in &models {
         let s = stats(&held, f.as_ref());
         let sc = stats(&held_clamp, f.as_ref());
         let (l1, l2) = limit(f.as_ref());
-        md.push_str(&format!(
-            "| {name} | {:.3e} | {:.3e} | ({:.3}, {:.3}) | {:.3e} | {:.2e} | {:.2e} |\n",
-            s.max_rel, s.rms_rel, s.worst.0, s.worst.1, sc.max_rel, l1, l2
-        ));
+        t.row([
+            name.to_string(),
+            format!("{:.3e}", s.max_rel),
+            format!("{:.3e}", s.rms_rel),
+            format!("({:.3}, {:.3})", s.worst.0, s.worst.1),
+            format!("{:.3e}", sc.max_rel),
+            format!("{l1:.2e}"),
+            format!("{l2:.2e}"),
+        ]);
         model_json.push(ModelRow {
             model: name,
             held_out: s,
@@ -119,6 +144,7 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
             limit_mi0: l2,
         });
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!("\nGoal: max relative error ≤ {:.0} % over [0.01, 1]². Ours (the product identity through the α_me fit; no fitted coefficients of its own) on the {} held-out points whose target α lies in the α_me fit's domain ({} left out; the paper clamps at α = 1, the fit does not need to): **{}** ({:.2e}). The 6-coefficient polynomial α² = α_mi² + α_me² + α_mi α_me P(α_mi, α_me) (both limits exact) reaches {:.2e} on all held-out points, including the corner where the unclipped moment sends α to {:.2}.\n\n", 100.0 * spec.tolerance.max_rel, held_clamp.len(), held.len() - held_clamp.len(), if passed_moment { "met" } else { "MISSED" }, ours.max_rel, stats(&held, &|x, y| improved(&ci, x, y)).max_rel, alpha_moment(hi, hi)?));
     md.push_str(&format!("## Eq 7 recomputed\n\nPaper: α = 0.07 α_mi² + 0.94 α_mi + α_me − 0.83 α_mi α_me, SSE 0.6492 (grid and metric not stated).\n\nRefit of the same basis by linear least squares on our {n}×{n} log-spaced grid against the unclipped-moment target: α = {:.4} α_mi² + {:.4} α_mi + {:.4} α_me {:+.4} α_mi α_me, SSE {:.4} (the paper's coefficients give SSE {:.4} on the same grid). SSE scales with the number and placement of grid points and with the metric, so 0.6492 cannot be compared across grids; the paper's own limits are off: Eq 7 gives α(α_mi, 0) = 0.07α_mi² + 0.94α_mi ≠ α_mi (6 % low at α_mi = 0.01, 1 % high at α_mi = 1).\n\n", c7[0], c7[1], c7[2], c7[3], sse7, sse_paper, n = g.dense_points));
     Ok((md, model_json, spread_max))
@@ -137,18 +163,10 @@ pub(super) fn per_metric_section(spec: &FitSpec, c: &Computed) -> (String, bool)
     let models = models(c);
     let mut md = String::new();
     // models against the quadrature metrics (in-sample on the metric grid)
-    md.push_str("## Models against each metric (metric grid, in-sample)\n\n| model | ");
-    md.push_str(
-        &Metric::ALL
-            .iter()
-            .map(|k| k.name())
-            .collect::<Vec<_>>()
-            .join(" | "),
-    );
-    md.push_str(" |\n|---|---|---|---|---|\n");
+    md.push_str("## Models against each metric (metric grid, in-sample)\n\n");
+    let mut t = Table::new(std::iter::once("model").chain(Metric::ALL.iter().map(|k| k.name())));
     // per-metric refits, in-sample on the metric grid and held-out on the offset grid
     for (name, f) in &models {
-        md.push_str(&format!("| {name} | "));
         let cells: Vec<String> = Metric::ALL
             .iter()
             .map(|&k| {
@@ -160,9 +178,9 @@ pub(super) fn per_metric_section(spec: &FitSpec, c: &Computed) -> (String, bool)
                 format!("{:.2e}", stats(&pts, f.as_ref()).max_rel)
             })
             .collect();
-        md.push_str(&cells.join(" | "));
-        md.push_str(" |\n");
+        t.row(std::iter::once(name.to_string()).chain(cells));
     }
+    md.push_str(&t.to_string());
     let tol = spec.tolerance.max_rel;
     // the per-metric models have 10 coefficients: they are only judged (and gate `regen`)
     // when the metric grid has at least twice as many points (not at the quick preset)

@@ -128,21 +128,29 @@ pub fn render_file(
 }
 
 fn checks_section(rows: &[check::CheckResult]) -> String {
-    let mut md = String::from("## The truth, checked\n\nThe renderer's truth on flat maps, where a closed form exists (render/check.rs; the same checks run in tests/render.rs). 32² pixels of 10° field of view; the exact value is the lobe (or the LTC's exact polygon integral) averaged over each pixel square by Gauss–Legendre (16² or 6² nodes). The ratio Σ(truth − exact)²/Σs.e.² is ≈ 1 when the standard errors are honest. Point and directional lights on exact footprints involve no MC: what remains is the midpoint rule within each texel's share of the pixel.\n\n| check | pixels | max relative difference | Σ(t − e)²/Σ s.e.² | pixels beyond 4 pooled s.e. |\n|---|---|---|---|---|\n");
+    let mut md = String::from("## The truth, checked\n\nThe renderer's truth on flat maps, where a closed form exists (render/check.rs; the same checks run in tests/render.rs). 32² pixels of 10° field of view; the exact value is the lobe (or the LTC's exact polygon integral) averaged over each pixel square by Gauss–Legendre (16² or 6² nodes). The ratio Σ(truth − exact)²/Σs.e.² is ≈ 1 when the standard errors are honest. Point and directional lights on exact footprints involve no MC: what remains is the midpoint rule within each texel's share of the pixel.\n\n");
+    let mut t = crate::report::table::Table::new([
+        "check",
+        "pixels",
+        "max relative difference",
+        "Σ(t − e)²/Σ s.e.²",
+        "pixels beyond 4 pooled s.e.",
+    ]);
     for r in rows {
         let ratio = if r.mse_over_se2.is_finite() {
             format!("{:.2}", r.mse_over_se2)
         } else {
             "— (s.e. 0: no MC)".into()
         };
-        md.push_str(&format!(
-            "| {} | {} | {:.2e} | {ratio} | {:.1} % |\n",
-            r.name,
-            r.pixels,
-            r.max_rel,
-            100.0 * r.frac_z4
-        ));
+        t.row([
+            r.name.to_string(),
+            r.pixels.to_string(),
+            format!("{:.2e}", r.max_rel),
+            ratio,
+            format!("{:.1} %", 100.0 * r.frac_z4),
+        ]);
     }
+    md.push_str(&t.to_string());
     md
 }
 

@@ -3,6 +3,7 @@
 //! the markdown tables (error ± s.e., ꟻLIP, flicker) and the typed JSON. No wall clock:
 //! the cost of each method per pixel is criterion's, in results/performance.md.
 
+use crate::report::table::Table;
 use crate::error::Result;
 use crate::render::measure::{Measured, Scored};
 use crate::render::picture::{colour_bar, labelled_grid, Rgb};
@@ -40,27 +41,21 @@ fn summary(r: &Render, m: &Measured) -> String {
     } else {
         (0..r.views.len()).collect()
     };
-    let mut md = String::from("| method |");
-    for &k in &views {
-        md.push_str(&format!(" {} |", view_name(r, k)));
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(views.len()));
-    md.push('\n');
+    let mut t = Table::new(
+        std::iter::once("method".to_string()).chain(views.iter().map(|&k| view_name(r, k))),
+    );
     for (i, mi) in r.views[0].methods.iter().enumerate() {
-        md.push_str(&format!("| {} |", mi.label));
-        for &k in &views {
+        t.row(std::iter::once(mi.label.clone()).chain(views.iter().map(|&k| {
             let s = &m.views[k][i].m;
-            md.push_str(&format!(
-                " {:.1} % ± {:.1} · ꟻLIP {:.3} |",
+            format!(
+                "{:.1} % ± {:.1} · ꟻLIP {:.3}",
                 100.0 * s.rel_mse.value,
                 100.0 * s.rel_mse.se,
                 s.flip.value
-            ));
-        }
-        md.push('\n');
+            )
+        })));
     }
-    md
+    t.to_string()
 }
 
 fn view_name(r: &Render, k: usize) -> String {
@@ -137,14 +132,13 @@ pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Result<Rgb> {
     labelled_grid(&rows, 2, &cols, &names, 2, 3 * tile)
 }
 
-fn row(s: &Scored) -> String {
-    format!(
-        "| {} | {} | {} | {} |\n",
-        s.label,
+fn row(s: &Scored) -> [String; 4] {
+    [
+        s.label.to_string(),
         sci(&s.m.rmse),
         pct(&s.m.rel_mse),
         format!("{:.4} ± {:.4}", s.m.flip.value, s.m.flip.se),
-    )
+    ]
 }
 
 /// The markdown of one render (tables per view, flicker), image links relative to the
@@ -183,35 +177,41 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
         let mean_t = on.clone().map(|p| p.value).sum::<f64>() / count;
         let t2 = on.map(|p| p.value * p.value).sum::<f64>() / count;
         md.push_str(&format!(
-            "\n### {}: {} — mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, which adds ≈ {:.2} % to every method’s relative MSE ({} covered pixels)\n\n| method | RMSE ± s.e. | relative MSE ± s.e. | ꟻLIP ± s.e. |\n|---|---|---|---|\n",
+            "\n### {}: {} — mean radiance {mean_t:.3e}, truth noise floor √mean(s.e.²) = {noise:.2e}, which adds ≈ {:.2} % to every method’s relative MSE ({} covered pixels)\n\n",
             sc.name,
             view_name(r, k),
             100.0 * noise * noise / t2.max(1e-300),
             m.views[k].first().map_or(0, |s| s.m.pixels)
         ));
+        let mut t = Table::new(["method", "RMSE ± s.e.", "relative MSE ± s.e.", "ꟻLIP ± s.e."]);
         for s in &m.views[k] {
-            md.push_str(&row(s));
+            t.row(row(s));
         }
+        md.push_str(&t.to_string());
     }
     if let Some(tc) = &m.truth_change {
         md.push_str(&format!(
-            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {:.3e} ± {:.1e}\n\n| method | mean abs frame-to-frame change | excess over the truth | temporal RMSE |\n|---|---|---|---|\n",
+            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {:.3e} ± {:.1e}\n\n",
             sc.name,
             r.views.len(),
             tc.value,
             tc.se
         ));
+        let mut t = Table::new([
+            "method",
+            "mean abs frame-to-frame change",
+            "excess over the truth",
+            "temporal RMSE",
+        ]);
         for (_, label, f) in &m.flicker {
-            md.push_str(&format!(
-                "| {label} | {:.3e} ± {:.1e} | {:+.3e} ± {:.1e} | {:.3e} ± {:.1e} |\n",
-                f.change.value,
-                f.change.se,
-                f.excess.value,
-                f.excess.se,
-                f.temporal_rmse.value,
-                f.temporal_rmse.se
-            ));
+            t.row([
+                label.to_string(),
+                format!("{:.3e} ± {:.1e}", f.change.value, f.change.se),
+                format!("{:+.3e} ± {:.1e}", f.excess.value, f.excess.se),
+                format!("{:.3e} ± {:.1e}", f.temporal_rmse.value, f.temporal_rmse.se),
+            ]);
         }
+        md.push_str(&t.to_string());
     }
     md
 }
