@@ -460,28 +460,39 @@ pub fn markdown(audits: &[Audit], command: &str) -> String {
 Each generated f32 function (the Rust twin, the same text as results/wgsl/) evaluated over every input its shader can \
 receive — not only its fit's domain — against its f64 reference at the same f32 inputs. \"non-finite\" counts NaN or ±∞ \
 outputs where the reference is finite (and, for nonsense inputs such as NaN, any non-finite output). Domains: the fit's or \
-the study's.\n\n| function | inputs | metric | points | max error, domain | domain | max error, whole range | worst at | non-finite |\n|---|---|---|---|---|---|---|---|---|\n",
+the study's.\n\n",
         super::text::header("<!--", command, "src/codegen/audit.rs")
     );
+    let mut t = crate::report::table::Table::new([
+        "function",
+        "inputs",
+        "metric",
+        "points",
+        "max error, domain",
+        "domain",
+        "max error, whole range",
+        "worst at",
+        "non-finite",
+    ]);
     for a in audits {
-        md.push_str(&format!(
-            "| `{}` | {} | {} | {} | {} | {} | {:.3e} | {} | {} |\n",
-            a.function,
-            a.inputs,
-            a.metric,
-            a.points,
+        t.row([
+            format!("`{}`", a.function),
+            a.inputs.to_string(),
+            a.metric.to_string(),
+            a.points.to_string(),
             a.in_domain_max_error
                 .map_or("—".into(), |e| format!("{e:.3e}")),
-            a.domain,
-            a.max_error,
+            a.domain.to_string(),
+            format!("{:.3e}", a.max_error),
             if a.worst_at.is_empty() {
-                "—"
+                "—".to_string()
             } else {
-                &a.worst_at
+                a.worst_at.to_string()
             },
-            a.non_finite
-        ));
+            a.non_finite.to_string(),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\nThe α_me fit's own held-out study is in [multiscale-alpha-me.md](multiscale-alpha-me.md); the Λ refit's in [smith-lambda.md](smith-lambda.md); the filters' errors against the footprint-averaged BRDF in [filters.md](filters.md). The property tests of tests/codegen.rs sample the same ranges at random.\n");
     md
 }

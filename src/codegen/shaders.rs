@@ -121,7 +121,20 @@ pub fn markdown(entries: &[Entry], command: &str) -> String {
     let mut ok = 0;
     let mut valid = 0;
     let mut total = 0;
-    s.push_str("| shader | source | functions | WGSL | back end | translated | size | validator |\n|---|---|---:|---:|---|---|---:|---|\n");
+    use crate::report::table::{Align, Table};
+    let mut t = Table::new([
+        "shader",
+        "source",
+        "functions",
+        "WGSL",
+        "back end",
+        "translated",
+        "size",
+        "validator",
+    ])
+    .align(2, Align::Right)
+    .align(3, Align::Right)
+    .align(6, Align::Right);
     for e in entries {
         for (o, v) in &e.outputs {
             total += 1;
@@ -139,19 +152,19 @@ pub fn markdown(entries: &[Entry], command: &str) -> String {
             if *v == Verdict::Valid {
                 valid += 1;
             }
-            s.push_str(&format!(
-                "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                e.name,
-                e.source,
-                e.functions,
+            t.row([
+                e.name.to_string(),
+                e.source.to_string(),
+                e.functions.to_string(),
                 kib(e.wgsl_bytes),
-                o.backend.target(),
+                o.backend.target().to_string(),
                 tr,
                 size,
-                v.cell(tool)
-            ));
+                v.cell(tool).to_string(),
+            ]);
         }
     }
+    s.push_str(&t.to_string());
     let validated = entries.len()
         * BACKENDS
             .iter()

@@ -185,17 +185,17 @@ pub fn readme() -> String {
          (`cargo run --release`) rewrites every study's outputs (tensor-scale's only when named) and the steps after them; the \
          other commands are run on request. Each study reads its spec in fits/ and writes its \
          report (`NAME.md`, named as the spec), its plots and its typed result \
-         (`fits/NAME.json`).\n\n\
-         | output | what | written by | reads |\n|---|---|---|---|\n"
+         (`fits/NAME.json`).\n\n"
     );
+    let mut t = crate::report::table::Table::new(["output", "what", "written by", "reads"]);
     for o in OUTPUTS {
-        md.push_str(&format!(
-            "| `{}` | {} | `{}` | {} |\n",
-            o.path,
-            o.what,
-            o.by.command(),
-            o.by.reads()
-        ));
+        t.row([
+            format!("`{}`", o.path),
+            o.what.to_string(),
+            format!("`{}`", o.by.command()),
+            o.by.reads().to_string(),
+        ]);
     }
+    md.push_str(&t.to_string());
     md
 }
