@@ -291,20 +291,6 @@ pub enum ScreenRule {
 }
 
 impl ScreenRule {
-    /// The kernel variance σ² (the forward kernels' is 0.25, seed 003 Eq 2), `None` for
-    /// no antialiasing.
-    pub fn sigma2(self) -> Option<f64> {
-        match self {
-            ScreenRule::None => None,
-            ScreenRule::Deferred { s2, .. }
-            | ScreenRule::DeferredOnAlpha { s2, .. }
-            | ScreenRule::Eigen { s2, .. }
-            | ScreenRule::KaplanyanRect { s2, .. }
-            | ScreenRule::ProjectedSpace { s2, .. } => Some(s2),
-            ScreenRule::Forward { .. } => Some(0.25),
-        }
-    }
-
     /// α′ of the kernels that read the derivatives of the world normal across the quad
     /// (3-vectors: the deferred kernels and the projected-space form), in T (f64: the
     /// reference; f32: the shading form); `None` for the other kernels.
