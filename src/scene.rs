@@ -99,7 +99,11 @@ impl Scene {
                 .chain(["auto"])
                 .collect::<Vec<_>>()
         };
-        one_of("normal_map_filter", &s.normal_map_filter, &keys(Domain::Map))?;
+        one_of(
+            "normal_map_filter",
+            &s.normal_map_filter,
+            &keys(Domain::Map),
+        )?;
         one_of("screen_space_aa", &s.screen_space_aa, &keys(Domain::Screen))?;
         one_of("precision", &s.precision, &["f32", "f16"])?;
         if !(s.error_budget.is_finite() && s.error_budget > 0.0) {
@@ -205,20 +209,23 @@ impl Measured {
 
 fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
     let beck = ndf == "beckmann";
-    let err = m.filters.as_ref().and_then(|t| match (f.family(), f.uses().summary) {
-        (Some(family), _) => t
-            .fitted(family, if beck { "Beckmann" } else { "GGX" })
-            .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
-        (None, Some(k)) => {
-            let key = if beck {
-                format!("beckmann:{k}")
-            } else {
-                k.to_string()
-            };
-            t.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
-        }
-        (None, None) => None,
-    });
+    let err = m
+        .filters
+        .as_ref()
+        .and_then(|t| match (f.family(), f.uses().summary) {
+            (Some(family), _) => t
+                .fitted(family, if beck { "Beckmann" } else { "GGX" })
+                .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
+            (None, Some(k)) => {
+                let key = if beck {
+                    format!("beckmann:{k}")
+                } else {
+                    k.to_string()
+                };
+                t.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
+            }
+            (None, None) => None,
+        });
     // a filter that ships no function costs nothing; the others their bench's time
     let cost = match (f.uses().shader, f.uses().bench) {
         (None, _) => Some(0.0),
@@ -248,7 +255,10 @@ fn choose(
         }
     };
     if want != "auto" {
-        let o = opts.iter().find(|o| o.key() == want).expect("validated key");
+        let o = opts
+            .iter()
+            .find(|o| o.key() == want)
+            .expect("validated key");
         return Ok(mk(o));
     }
     let all: Vec<Choice> = opts.iter().map(mk).collect();
@@ -341,10 +351,25 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
     }
     let mut choices = Vec::new();
     for (aspect, want, opts) in [
-        ("normal-map filter", s.normal_map_filter.as_str(), options(Domain::Map)),
-        ("screen-space AA", s.screen_space_aa.as_str(), options(Domain::Screen)),
+        (
+            "normal-map filter",
+            s.normal_map_filter.as_str(),
+            options(Domain::Map),
+        ),
+        (
+            "screen-space AA",
+            s.screen_space_aa.as_str(),
+            options(Domain::Screen),
+        ),
     ] {
-        let c = choose(aspect, want, &opts, s.error_budget, &s.ndf, &measured_tables)?;
+        let c = choose(
+            aspect,
+            want,
+            &opts,
+            s.error_budget,
+            &s.ndf,
+            &measured_tables,
+        )?;
         if let Some(f) = &c.function {
             fns.push(
                 codegen::desc::FUNCTIONS

@@ -107,7 +107,14 @@ fn eval_filter_vmf_matches_banerjee_by_hand() {
     assert!((f32v / expected - 1.0).abs() < 1e-6);
     // a missing input is a typed error, exit status 2
     let out = bin()
-        .args(["eval", "filter", "--filter", "tokuyoshi-deferred", "--alpha", "0.1"])
+        .args([
+            "eval",
+            "filter",
+            "--filter",
+            "tokuyoshi-deferred",
+            "--alpha",
+            "0.1",
+        ])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));

@@ -5,8 +5,8 @@ mod common;
 
 use nalgebra::Vector3;
 use ndfbench::filters::footprint::{MipChain, NormalMap, Procedural, Stats};
-use ndfbench::filters::rules as r;
 use ndfbench::filters::registry::screen_index;
+use ndfbench::filters::rules as r;
 use ndfbench::filters::study::{pixel_footprint, screen_alphas, Field, PixelFilter};
 use ndfbench::filters::truth::{draw, Candidate, Footprint, Frame, Truth};
 use ndfbench::integrate::quad::Tol;
@@ -527,9 +527,12 @@ mod registry {
     #[test]
     fn every_shader_bench_and_summary_the_registry_names_exists() {
         // bench ids as criterion names them: the first string of each bench!( call
-        let benches: String = include_str!("../benches/engines.rs").split_whitespace().collect();
+        let benches: String = include_str!("../benches/engines.rs")
+            .split_whitespace()
+            .collect();
         let summary: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string("results/fits/filters.json").expect("results/fits/filters.json"),
+            &std::fs::read_to_string("results/fits/filters.json")
+                .expect("results/fits/filters.json"),
         )
         .expect("json");
         let families: Vec<&str> = summary["fitted"]
@@ -542,7 +545,9 @@ mod registry {
             let u = f.uses();
             if let Some(name) = u.shader {
                 assert!(
-                    ndfbench::codegen::desc::FUNCTIONS.iter().any(|d| d.name == name),
+                    ndfbench::codegen::desc::FUNCTIONS
+                        .iter()
+                        .any(|d| d.name == name),
                     "{}: no generated function {name}",
                     f.key()
                 );
@@ -555,10 +560,18 @@ mod registry {
                 );
             }
             if let Some(k) = u.summary {
-                assert!(summary["summary"][k].is_object(), "{}: no summary {k}", f.key());
+                assert!(
+                    summary["summary"][k].is_object(),
+                    "{}: no summary {k}",
+                    f.key()
+                );
             }
             if let Some(fam) = f.family() {
-                assert!(families.contains(&fam), "{}: no fitted family {fam}", f.key());
+                assert!(
+                    families.contains(&fam),
+                    "{}: no fitted family {fam}",
+                    f.key()
+                );
             }
         }
     }

@@ -8,7 +8,9 @@
 mod common;
 
 use ndfbench::filters::registry::{Filter, MapRule, Rule};
-use ndfbench::prefilter::{self, chain, input, texel_alpha, Choice, Format, NormalMips, Options, Store};
+use ndfbench::prefilter::{
+    self, chain, input, texel_alpha, Choice, Format, NormalMips, Options, Store,
+};
 
 /// The map rule of a registry key.
 fn rule(key: &str) -> MapRule {
@@ -160,7 +162,12 @@ fn the_default_rule_is_the_measured_best() {
     })
     .unwrap();
     assert_eq!(o.filter.uses().summary, Some(best));
-    let m = o.evidence.measured.iter().find(|m| m.filter == o.filter).unwrap();
+    let m = o
+        .evidence
+        .measured
+        .iter()
+        .find(|m| m.filter == o.filter)
+        .unwrap();
     assert!(m.l2_se > 0.0 && m.l2_mean > 0.0);
 }
 

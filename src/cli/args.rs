@@ -42,9 +42,10 @@ pub enum Quantity {
 /// The keys `eval filter --filter` accepts: every filter of the registry
 /// ([`crate::filters::registry`]), each with its label as help.
 pub fn filter_keys() -> clap::builder::PossibleValuesParser {
-    clap::builder::PossibleValuesParser::new(crate::filters::registry::Filter::all().map(|f| {
-        clap::builder::PossibleValue::new(f.key()).help(f.label())
-    }))
+    clap::builder::PossibleValuesParser::new(
+        crate::filters::registry::Filter::all()
+            .map(|f| clap::builder::PossibleValue::new(f.key()).help(f.label())),
+    )
 }
 
 /// Ways to get α_me from ‖b̄‖.

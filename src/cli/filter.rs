@@ -91,9 +91,9 @@ pub(super) fn filter_eval(
         }
         Rule::Map(r) => {
             let bv = b()?;
-            let none = || unreachable!("the moment rule is handled above");
+            // the moment rule and LEAN are handled above: no moment is needed here
             (
-                r.alpha(al, bv, none).unwrap_or(f64::NAN),
+                r.alpha(al, bv, || f64::NAN).unwrap_or(f64::NAN),
                 r.alpha(a32, bv as f32, || f32::NAN).unwrap_or(f32::NAN),
                 json!({}),
             )
@@ -108,7 +108,8 @@ pub(super) fn filter_eval(
             let f32s = |x: [f64; 3]| x.map(|y| y as f32);
             (
                 r.alpha_from_normals(al, u, v).unwrap_or(f64::NAN),
-                r.alpha_from_normals(a32, f32s(u), f32s(v)).unwrap_or(f32::NAN),
+                r.alpha_from_normals(a32, f32s(u), f32s(v))
+                    .unwrap_or(f32::NAN),
                 json!({}),
             )
         }
@@ -166,7 +167,8 @@ fn filter_result(
 ) -> Result<(f64, serde_json::Value)> {
     if !v64.is_finite() {
         return Err(Error::InvalidArgument(format!(
-            "filter {} is not finite for these inputs", f.key()
+            "filter {} is not finite for these inputs",
+            f.key()
         )));
     }
     // the f32 shading form is reported only where every input is an f32 (no overflow to ∞
@@ -216,7 +218,8 @@ fn filter_result(
         out.f32_rel_diff = Some((v32 as f64 - v64) / v64);
     } else {
         return Err(Error::InvalidArgument(format!(
-            "the f32 shading form of filter {} is not finite for these inputs (f64: {v64:e})", f.key()
+            "the f32 shading form of filter {} is not finite for these inputs (f64: {v64:e})",
+            f.key()
         )));
     }
     Ok((v64, serde_json::to_value(out).unwrap_or_default()))

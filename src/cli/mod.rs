@@ -12,9 +12,7 @@ mod quantities;
 use filter::filter_eval;
 use quantities::{alpha_me, jacobian, mrl, overall_alpha, surface_quantity};
 
-pub use args::{
-    parse_list, surface, AlphaMethod, EvalArgs, LambdaArg, MapName, NdfArg, Quantity,
-};
+pub use args::{parse_list, surface, AlphaMethod, EvalArgs, LambdaArg, MapName, NdfArg, Quantity};
 
 use crate::error::{Error, Result};
 use serde_json::json;

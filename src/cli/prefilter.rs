@@ -59,7 +59,10 @@ pub struct PrefilterArgs {
 impl PrefilterArgs {
     /// The mip-chain tool's options (None without --input; a typed error for a filter key
     /// that is not a chain's rule).
-    pub fn options(&self, results: &Path) -> crate::error::Result<Option<crate::prefilter::Options>> {
+    pub fn options(
+        &self,
+        results: &Path,
+    ) -> crate::error::Result<Option<crate::prefilter::Options>> {
         let filter = crate::prefilter::Choice::parse(&self.filter)?;
         Ok(self.input.clone().map(|input| crate::prefilter::Options {
             input,

@@ -261,7 +261,11 @@ pub static SCREEN: [ScreenFilter; 12] = [
             s2: 0.1,
             delta: 0.04,
         },
-        uses(Some("filter_projected"), Some("projected"), Some("projected")),
+        uses(
+            Some("filter_projected"),
+            Some("projected"),
+            Some("projected"),
+        ),
     ),
     sf(
         "godot",
@@ -419,7 +423,10 @@ impl Filter {
             Error::InvalidArgument(format!(
                 "{what}: no footprint filter {}; valid: {}",
                 crate::error::quoted(key),
-                Filter::all().map(|f| f.key()).collect::<Vec<_>>().join(", ")
+                Filter::all()
+                    .map(|f| f.key())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))
         })
     }
@@ -490,7 +497,9 @@ impl Filter {
         match self.base() {
             Filter::Map(f) => Rule::Map(f.rule),
             Filter::Screen(f) => Rule::Screen(f.rule),
-            Filter::Refit(_) => unreachable!("a refitted filter's base is a map filter or a kernel"),
+            Filter::Refit(_) => {
+                unreachable!("a refitted filter's base is a map filter or a kernel")
+            }
         }
     }
 

@@ -332,9 +332,7 @@ impl ScreenRule {
             }
             ScreenRule::Eigen { delta, .. } => ScreenRule::Eigen { s2: c, delta },
             ScreenRule::KaplanyanRect { delta, .. } => ScreenRule::KaplanyanRect { s2: c, delta },
-            ScreenRule::ProjectedSpace { delta, .. } => {
-                ScreenRule::ProjectedSpace { s2: c, delta }
-            }
+            ScreenRule::ProjectedSpace { delta, .. } => ScreenRule::ProjectedSpace { s2: c, delta },
             r => r,
         }
     }

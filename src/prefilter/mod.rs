@@ -45,8 +45,10 @@ impl Choice {
     pub fn keys() -> clap::builder::PossibleValuesParser {
         use clap::builder::PossibleValue;
         clap::builder::PossibleValuesParser::new(
-            std::iter::once(PossibleValue::new("best").help("the measured rule with the smallest mean lobe error (results/fits/filters.json)"))
-                .chain(eligible().map(|f| PossibleValue::new(f.key()).help(f.label()))),
+            std::iter::once(PossibleValue::new("best").help(
+                "the measured rule with the smallest mean lobe error (results/fits/filters.json)",
+            ))
+            .chain(eligible().map(|f| PossibleValue::new(f.key()).help(f.label()))),
         )
     }
 }
@@ -58,10 +60,7 @@ impl Choice {
 pub fn eligible() -> impl Iterator<Item = Filter> {
     Filter::all().filter(|f| {
         f.domain() == Domain::Map
-            && !matches!(
-                f.rule(),
-                Rule::Map(MapRule::Lean | MapRule::Seed000Paper)
-            )
+            && !matches!(f.rule(), Rule::Map(MapRule::Lean | MapRule::Seed000Paper))
     })
 }
 

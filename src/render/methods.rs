@@ -213,10 +213,26 @@ fn filter(
         Rule::Map(MapRule::Vmf(k)) => iso(gs::filter_vmf(alpha, r, f(k))),
         Rule::Map(rule) => iso(rule.alpha(alpha, r, || f32::NAN).unwrap_or(alpha)),
         Rule::Screen(ScreenRule::Deferred { s2, delta }) => iso(gs::filter_deferred(
-            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], f(s2), f(delta),
+            alpha,
+            du3[0],
+            du3[1],
+            du3[2],
+            dv3[0],
+            dv3[1],
+            dv3[2],
+            f(s2),
+            f(delta),
         )),
         Rule::Screen(ScreenRule::ProjectedSpace { s2, delta }) => iso(gs::filter_projected(
-            alpha, du3[0], du3[1], du3[2], dv3[0], dv3[1], dv3[2], f(s2), f(delta),
+            alpha,
+            du3[0],
+            du3[1],
+            du3[2],
+            dv3[0],
+            dv3[1],
+            dv3[2],
+            f(s2),
+            f(delta),
         )),
         Rule::Screen(rule @ (ScreenRule::None | ScreenRule::DeferredOnAlpha { .. })) => {
             iso(rule.alpha_from_normals(alpha, du3, dv3).unwrap_or(alpha))

@@ -43,10 +43,10 @@ impl Table {
     }
 
     /// Append a row. A row with fewer cells than columns is padded with empty cells; one
-    /// with more is a programming error (debug builds panic, release builds truncate).
+    /// with more is a programming error (it would drop a cell silently), so it panics.
     pub fn row<S: Display>(&mut self, cells: impl IntoIterator<Item = S>) -> &mut Table {
         let mut r: Vec<String> = cells.into_iter().map(|c| c.to_string()).collect();
-        debug_assert!(
+        assert!(
             r.len() <= self.head.len(),
             "a row of {} cells in a table of {} columns",
             r.len(),

@@ -4,7 +4,6 @@
 //! (results/convergence.svg). Deterministic (fixed seeds); timing lives in the criterion
 //! benches (benches/engines.rs → results/performance.md).
 
-use crate::report::table::Table;
 use crate::error::Result;
 use crate::integrate::mc::{mis, CosineHemisphere, Strategy};
 use crate::integrate::qmc::qmc_mis;
@@ -14,6 +13,7 @@ use crate::integrate::{Estimate, Preset};
 use crate::microfacet::sampling::NdfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::report::table::Table;
 use nalgebra::Vector3;
 use serde::Serialize;
 use std::f64::consts::PI;

@@ -1,10 +1,10 @@
 //! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured, reported and
 //! written here.
 
-use crate::report::table::Table;
 use crate::error::Result;
 use crate::io::Outputs;
 use crate::leadr::*;
+use crate::report::table::Table;
 use crate::study::{Ctx, FitOutcome};
 use nalgebra::Vector3;
 type V3 = Vector3<f64>;

@@ -3,9 +3,9 @@
 
 use crate::error::Result;
 use crate::io::Outputs;
-use crate::report::table::Table;
 use crate::microfacet::lambda;
 use crate::microfacet::lambda_fit::*;
+use crate::report::table::Table;
 use crate::results::smith_lambda::{HeldOut, Limits, Parameters, SmithLambda as Fitted};
 use crate::study::{Ctx, FitOutcome};
 
@@ -73,8 +73,9 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 pub fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
     use crate::report::plot::{loglog_svg, Panel, Series};
     let r = &c.result;
+    let printed = format!("Walter (printed, cut at {})", r.limits.walter_cut);
     let names = [
-        "Walter (printed, cut at 1.6)",
+        printed.as_str(),
         "Walter (listing, ν clamped)",
         "ours (6 numbers)",
     ];
@@ -107,14 +108,30 @@ pub fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Res
 function of ν alone, so it serves the non-centred (LEAN/LEADR) Λ too: there ν = (cot θ − μ(φ))/(σ(φ)√2) (seed 001 §3.2) and \
 nothing else changes — no separate fit is needed.\n\n");
     let mut t = Table::new(["form", "numbers", "held-out max \\|ΔG1\\|", "at ν"]);
+    let printed = format!("Walter (printed: Λ = 0 for ν ≥ {})", l.walter_cut);
     for (form, n, w, bold) in [
-        ("Walter (printed: Λ = 0 for ν ≥ 1.6)", 5, &h.walter_printed, false),
-        ("Walter (shader listing: ν clamped to [0.001, 1.599])", 5, &h.walter_listing, false),
-        ("ours: (1 − ν/ν_c)²(1 + a₁ν + a₂ν²)/(b₁ν + b₂ν² + b₃ν³)", 6, &h.ours, true),
+        (printed.as_str(), 5, &h.walter_printed, false),
+        (
+            "Walter (shader listing: ν clamped to [0.001, 1.599])",
+            5,
+            &h.walter_listing,
+            false,
+        ),
+        (
+            "ours: (1 − ν/ν_c)²(1 + a₁ν + a₂ν²)/(b₁ν + b₂ν² + b₃ν³)",
+            6,
+            &h.ours,
+            true,
+        ),
     ] {
         let e = format!("{:.3e}", w.max_dg1);
         let e = if bold { format!("**{e}**") } else { e };
-        t.row([form.to_string(), n.to_string(), e, format!("{:.4}", w.at_nu)]);
+        t.row([
+            form.to_string(),
+            n.to_string(),
+            e,
+            format!("{:.4}", w.at_nu),
+        ]);
     }
     md.push_str(&t.to_string());
     md.push('\n');

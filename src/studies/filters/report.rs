@@ -7,12 +7,12 @@ use super::plan::{kind_name, pct, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::footprint::NormalMap;
 use crate::filters::registry::{screen_index, MAP, SCREEN};
-use crate::report::table::Table;
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
 use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::report::table::Table;
 use std::path::Path;
 
 /// The energy, L2 and peak columns of one NDF for one filter.
@@ -105,7 +105,16 @@ pub(super) fn map_section(
         .collect();
     worst.sort_by(|a, b| b.0.total_cmp(&a.0));
     md.push_str("\nLargest energy errors on this map (single cases, ± Monte Carlo s.e.):\n\n");
-    let mut t = Table::new(["filter", "NDF", "base α", "level", "‖μ‖", "view (θ, φ)", "energy", "L2"]);
+    let mut t = Table::new([
+        "filter",
+        "NDF",
+        "base α",
+        "level",
+        "‖μ‖",
+        "view (θ, φ)",
+        "energy",
+        "L2",
+    ]);
     for (_, c, fi) in worst.iter().take(4) {
         let r = &c.results[*fi];
         t.row([
@@ -171,7 +180,14 @@ pub(super) fn screen_section(
     md.push_str(&format!("## Screen-space kernels on synthetic curved surfaces\n\nThe pixel sees a surface whose normal is normalize(z + R_30° diag(κ, a·κ)·p) at screen offset p (pixels): curvature × distance gives κ rad/px, anisotropy a ∈ {:?}; (α, κ) ∈ {:?}; views θ ∈ {:?}° (φ = 20°). Derivatives are quad finite differences (ddx = n(1,0) − n(0,0)) exactly as a GPU forms them. The truth averages the exact per-normal lobe over the pixel footprint: a Gaussian of variance 0.25 px² (the kernels' own σ²) or the 1×1 box, by a tensor midpoint rule fine enough that neighbouring nodes' normals differ by < α/2 (up to 64² nodes).\n\n", plan.anisotropy, plan.screen_pairs, plan.screen_views_deg));
     let mut json_screen = Vec::new();
     for pixel in [PixelFilter::Gaussian, PixelFilter::Box] {
-        md.push_str(&format!("### Pixel footprint: {}\n\n", if pixel == PixelFilter::Gaussian { "Gaussian σ² = 0.25 px²" } else { "1×1 box" }));
+        md.push_str(&format!(
+            "### Pixel footprint: {}\n\n",
+            if pixel == PixelFilter::Gaussian {
+                "Gaussian σ² = 0.25 px²"
+            } else {
+                "1×1 box"
+            }
+        ));
         let mut t = Table::new(std::iter::once("kernel").chain(NDF_COLUMNS));
         for (fi, name) in SCREEN.iter().map(|f| f.label).enumerate() {
             let mut cells = Vec::new();
@@ -256,7 +272,10 @@ pub(super) fn screen_section(
             let a = aggregate(&rs);
             format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)
         };
-        t.row(std::iter::once(k.to_string()).chain(clamp_cols.iter().map(|c| cell(screen_index(c.0)))));
+        t.row(
+            std::iter::once(k.to_string())
+                .chain(clamp_cols.iter().map(|c| cell(screen_index(c.0)))),
+        );
     }
     md.push_str(&t.to_string());
     Ok(json_screen)

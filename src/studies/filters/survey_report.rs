@@ -7,11 +7,11 @@ use super::plan::kind_name;
 use super::survey::{Diag, SurveyCases, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
 use crate::filters::registry::MAP;
-use crate::report::table::Table;
 use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
 use crate::microfacet::NdfKind;
 use crate::report::plot::{loglog_svg_legend, Panel, Series};
+use crate::report::table::Table;
 use crate::survey::em::EmLog;
 use crate::survey::sh::coefficients_needed;
 use crate::survey::tools::TOOLS;
@@ -373,7 +373,11 @@ The first twelve rows are results/filters.md's filters on the same samples.\n\n"
                 pm(r.beckmann.l2_mean, r.beckmann.l2_se),
             ]
             .into_iter()
-            .chain(r.by_map.iter().map(|a| format!("{:.1} %", 100.0 * a.l2_mean))),
+            .chain(
+                r.by_map
+                    .iter()
+                    .map(|a| format!("{:.1} %", 100.0 * a.l2_mean)),
+            ),
         );
     }
     md.push_str(&t.to_string());
@@ -440,10 +444,26 @@ table shows what that costs against the per-footprint EM fit.\n\n");
     for a in &s.alignment {
         t.row([
             a.map.to_string(),
-            format!("{:.0} % / {:.0} %", 100.0 * a.tan_misaligned[0], 100.0 * a.tan_misaligned[1]),
-            format!("{:.0} % / {:.0} %", 100.0 * a.vmf_misaligned[0], 100.0 * a.vmf_misaligned[1]),
-            format!("{} ({})", pm_or_dash(a.tan_cost_misaligned), a.tan_cost_misaligned.2),
-            format!("{} ({})", pm_or_dash(a.tan_cost_aligned), a.tan_cost_aligned.2),
+            format!(
+                "{:.0} % / {:.0} %",
+                100.0 * a.tan_misaligned[0],
+                100.0 * a.tan_misaligned[1]
+            ),
+            format!(
+                "{:.0} % / {:.0} %",
+                100.0 * a.vmf_misaligned[0],
+                100.0 * a.vmf_misaligned[1]
+            ),
+            format!(
+                "{} ({})",
+                pm_or_dash(a.tan_cost_misaligned),
+                a.tan_cost_misaligned.2
+            ),
+            format!(
+                "{} ({})",
+                pm_or_dash(a.tan_cost_aligned),
+                a.tan_cost_aligned.2
+            ),
         ]);
     }
     md.push_str(&t.to_string());
@@ -453,13 +473,21 @@ The survey quotes about 4(α + √α) coefficients for exponent α. Measured: th
     let mut t = Table::new(
         ["exponent".to_string(), "4(α + √α)".to_string()]
             .into_iter()
-            .chain(s.rule_eps.iter().map(|e| format!("needed at ε = {:.0} %", 100.0 * e))),
+            .chain(
+                s.rule_eps
+                    .iter()
+                    .map(|e| format!("needed at ε = {:.0} %", 100.0 * e)),
+            ),
     );
     for r in &s.rule_of_thumb {
         t.row(
             [r.exponent.to_string(), format!("{:.0}", r.rule)]
                 .into_iter()
-                .chain(r.needed.iter().map(|n| n.map_or("> 361 201".into(), |n| n.to_string()))),
+                .chain(
+                    r.needed
+                        .iter()
+                        .map(|n| n.map_or("> 361 201".into(), |n| n.to_string())),
+                ),
         );
     }
     md.push_str(&t.to_string());

@@ -130,7 +130,10 @@ fn engine_tool_verdicts(map_cases: &[MapCase], vmf: &Agg) -> String {
     let mut s = String::new();
     let vmf2 = map_index("vmf-2");
     for (fi, tool) in [
-        (map_index("filament-prefilter"), "Filament's roughness-prefilter"),
+        (
+            map_index("filament-prefilter"),
+            "Filament's roughness-prefilter",
+        ),
         (map_index("godot-limiter"), "Godot's roughness limiter"),
     ] {
         let rs: Vec<&CaseResult> = map_cases

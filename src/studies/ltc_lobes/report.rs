@@ -5,7 +5,6 @@
 //! (a light straddling the horizon included), and the cost of shading one lobe with the
 //! other's table. Compute (`compute`) → markdown (`markdown`) → heat maps (`heatmaps`).
 
-use crate::report::table::Table as MdTable;
 use super::compute::{Family, Fitted, Plan};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -18,6 +17,7 @@ use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
 use crate::memo::Memo;
+use crate::report::table::Table as MdTable;
 use serde::Serialize;
 
 /// One cell, as reported among the worst.
@@ -449,7 +449,9 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
     ));
     md.push_str(&format!("{}\n\n", r.sampled.sentence(st.l2.mean.value)));
     md.push_str("Worst cells:\n\n");
-    let mut t = MdTable::new(["α", "θ", "a", "b", "c", "d", "norm", "fresnel", "rel. L2", "rel. L1"]);
+    let mut t = MdTable::new([
+        "α", "θ", "a", "b", "c", "d", "norm", "fresnel", "rel. L2", "rel. L1",
+    ]);
     for c in &r.worst {
         t.row([
             format!("{:.2e}", c.alpha),
@@ -527,7 +529,11 @@ fn table_section(md: &mut String, f: &Fitted, r: &TableReport, file: &str) {
             format!("{:.4e} ± {:.1e}", p.mc, p.mc_se),
             format!("{:.4e}", p.ltc_exact),
             rel(p.ltc_exact),
-            format!("{:+.3} % ± {:.3}", 100.0 * (p.ltc_exact - p.mc) / norm, 100.0 * p.mc_se / norm),
+            format!(
+                "{:+.3} % ± {:.3}",
+                100.0 * (p.ltc_exact - p.mc) / norm,
+                100.0 * p.mc_se / norm
+            ),
             format!("{:.4e}", p.ltc_rational),
             rel(p.ltc_rational),
         ]);

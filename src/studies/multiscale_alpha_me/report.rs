@@ -1,11 +1,11 @@
 //! results/multiscale-alpha-me.md: the held-out table, the whole-range check, the audit of Eq 5
 //! and our form.
 
-use crate::report::table::Table;
 use super::compute::Computed;
 use crate::fit::spec::FitSpec;
 use crate::multiscale::alpha_me::HeldOut;
 use crate::multiscale::mrl::{alpha_me_paper, mrl_pair};
+use crate::report::table::Table;
 use crate::results::alpha_me::WholeRange;
 
 /// The report.
@@ -135,7 +135,12 @@ pub(super) fn whole_range_md(w: &WholeRange) -> String {
         "worst at α",
     ]);
     let e = |x: f64| format!("{x:.3e}");
-    t.row(["f64".to_string(), e(w.in_range_f64_max_rel), e(w.f64_max_rel), e(w.f64_worst_alpha)]);
+    t.row([
+        "f64".to_string(),
+        e(w.in_range_f64_max_rel),
+        e(w.f64_max_rel),
+        e(w.f64_worst_alpha),
+    ]);
     t.row([
         "f32 (generated `alpha_me`, f32 coefficients; inputs that are normal f32)".to_string(),
         e(w.in_range_f32_max_rel),

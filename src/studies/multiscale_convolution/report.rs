@@ -1,11 +1,11 @@
 //! The report of the overall-α study: the metric spread, the models against the
 //! closed-form target, Eq 7 recomputed, and the models against each metric.
 
-use crate::report::table::Table;
 use super::compute::{metric_value, models, stats, Computed, Row, Stats};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::multiscale::overall::{alpha_moment, improved, Metric, CAPS};
+use crate::report::table::Table;
 
 /// One model against the unclipped-moment target (results/fits/multiscale-convolution.json
 /// `models`).

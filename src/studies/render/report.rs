@@ -3,11 +3,11 @@
 //! the markdown tables (error ± s.e., ꟻLIP, flicker) and the typed JSON. No wall clock:
 //! the cost of each method per pixel is criterion's, in results/performance.md.
 
-use crate::report::table::Table;
 use crate::error::Result;
 use crate::render::measure::{Measured, Scored};
 use crate::render::picture::{colour_bar, labelled_grid, Rgb};
 use crate::render::Render;
+use crate::report::table::Table;
 use std::path::Path;
 
 /// Pixels of a grid tile's side (centre crop of the full image).
@@ -45,15 +45,17 @@ fn summary(r: &Render, m: &Measured) -> String {
         std::iter::once("method".to_string()).chain(views.iter().map(|&k| view_name(r, k))),
     );
     for (i, mi) in r.views[0].methods.iter().enumerate() {
-        t.row(std::iter::once(mi.label.clone()).chain(views.iter().map(|&k| {
-            let s = &m.views[k][i].m;
-            format!(
-                "{:.1} % ± {:.1} · ꟻLIP {:.3}",
-                100.0 * s.rel_mse.value,
-                100.0 * s.rel_mse.se,
-                s.flip.value
-            )
-        })));
+        t.row(
+            std::iter::once(mi.label.clone()).chain(views.iter().map(|&k| {
+                let s = &m.views[k][i].m;
+                format!(
+                    "{:.1} % ± {:.1} · ꟻLIP {:.3}",
+                    100.0 * s.rel_mse.value,
+                    100.0 * s.rel_mse.se,
+                    s.flip.value
+                )
+            })),
+        );
     }
     t.to_string()
 }
@@ -183,7 +185,12 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
             100.0 * noise * noise / t2.max(1e-300),
             m.views[k].first().map_or(0, |s| s.m.pixels)
         ));
-        let mut t = Table::new(["method", "RMSE ± s.e.", "relative MSE ± s.e.", "ꟻLIP ± s.e."]);
+        let mut t = Table::new([
+            "method",
+            "RMSE ± s.e.",
+            "relative MSE ± s.e.",
+            "ꟻLIP ± s.e.",
+        ]);
         for s in &m.views[k] {
             t.row(row(s));
         }

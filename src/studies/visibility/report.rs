@@ -1,11 +1,11 @@
 //! results/visibility.md and its Pareto plots: [`summarise`] aggregates the
 //! measured cases; [`markdown`] and [`pareto_svg`] only render.
 
-use crate::report::table::Table;
 use super::compute::{mean_se, shadow_methods, Measured, ASHIKHMIN_WIDTH, LEGENDRE_K};
 use crate::error::Result;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg_legend, Panel, Series};
+use crate::report::table::Table;
 use crate::visibility::shadow::{max_usable_c, Method, Occluders, Precision};
 use serde::Serialize;
 
@@ -309,12 +309,21 @@ fn pm(x: (f64, f64)) -> String {
 }
 
 fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
-    let mut t = Table::new([head, "params", "all", "max"].into_iter().chain(groups.iter().map(|g| g.as_str())));
+    let mut t = Table::new(
+        [head, "params", "all", "max"]
+            .into_iter()
+            .chain(groups.iter().map(|g| g.as_str())),
+    );
     for r in rows {
         t.row(
-            [r.name.clone(), r.params.to_string(), pm(r.all), format!("{:.2e}", r.max)]
-                .into_iter()
-                .chain(r.groups.iter().map(|g| pm(*g))),
+            [
+                r.name.clone(),
+                r.params.to_string(),
+                pm(r.all),
+                format!("{:.2e}", r.max),
+            ]
+            .into_iter()
+            .chain(r.groups.iter().map(|g| pm(*g))),
         );
     }
     md.push_str(&t.to_string());
@@ -389,7 +398,11 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
     }
     md.push_str(&t.to_string());
     md.push_str("\nVSM is exact for one planar occluder parallel to the receiver (proofs/vsm-single-plane.md); with overlapping layers the bound leaks light.\n\n");
-    let mut t = Table::new(["ESM c", "error where some texel is deeper than d̄ (d < Z)", "elsewhere"]);
+    let mut t = Table::new([
+        "ESM c",
+        "error where some texel is deeper than d̄ (d < Z)",
+        "elsewhere",
+    ]);
     for (c, a, b) in &s.esm_divergence {
         t.row([c.to_string(), pm(*a), pm(*b)]);
     }
@@ -409,9 +422,19 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
 fn procedural_section(m: &Measured) -> String {
     let mut md = String::from("## Procedural maps (§6)\n\n### Colour: Fig. 6's pulse train ⌊2x⌋ mod 2, box footprints\n\nThe truth sums the pulses cell by cell; \
 analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.md).\n\n");
-    let mut t = Table::new(["width", "point sample", "global fading", "analytic F(b) − F(a)"]);
+    let mut t = Table::new([
+        "width",
+        "point sample",
+        "global fading",
+        "analytic F(b) − F(a)",
+    ]);
     for r in &m.colour {
-        t.row([r.width.to_string(), pm(r.pulse[0]), pm(r.pulse[1]), pm(r.pulse[2])]);
+        t.row([
+            r.width.to_string(),
+            pm(r.pulse[0]),
+            pm(r.pulse[1]),
+            pm(r.pulse[2]),
+        ]);
     }
     md.push_str(&t.to_string());
     md.push_str("\n### The 2D grid f(x)f(y) under a sheared footprint\n\nThe separable product of 1D analytic averages over the footprint's bounding box, against the exact clipped areas.\n\n");
@@ -451,7 +474,12 @@ analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.
         "visibility tied to normals: V_A(l,v)·ρ_A vs ΣV(l)V(v)ρ/ΣV(v)",
     ]);
     for (l, e, c, v) in &m.correlation {
-        t.row([format!("{0}×{0}", 1usize << l), format!("{e}°"), pm(*c), pm(*v)]);
+        t.row([
+            format!("{0}×{0}", 1usize << l),
+            format!("{e}°"),
+            pm(*c),
+            pm(*v),
+        ]);
     }
     md.push_str(&t.to_string());
     md
