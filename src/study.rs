@@ -1,10 +1,16 @@
 //! What a study is, apart from any particular one: the context it runs in, what it
-//! reports back, and the trait each study implements and the registry (`studies`) holds.
-//! A study imports this, never the driver that runs it.
+//! computes, what it reports back, and the trait each study implements and the registry
+//! (`studies`) holds. A study imports this, never the driver that runs it.
+//!
+//! A study runs in two steps: `compute` returns its typed result (nothing formatted, no
+//! file written), then [`Computed::render`] turns that result into its output files as
+//! data (markdown, SVG, PNG, the typed JSON), which the driver publishes as one set. The
+//! driver reads the run's outcome off the result ([`Computed::outcome`]).
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
+use crate::io::Outputs;
 use std::path::Path;
 
 /// What one study produced.
@@ -17,6 +23,21 @@ pub struct FitOutcome {
     pub summary: String,
 }
 
+impl FitOutcome {
+    /// The outcome of the study specified by `spec` whose held-out figure is
+    /// `held_out_max_rel`, judged against the spec's tolerance.
+    pub fn judged(spec: &FitSpec, held_out_max_rel: f64, summary: String) -> FitOutcome {
+        let tolerance = spec.tolerance.max_rel;
+        FitOutcome {
+            name: spec.name.clone(),
+            held_out_max_rel,
+            tolerance,
+            passed: held_out_max_rel <= tolerance,
+            summary,
+        }
+    }
+}
+
 /// Everything a study may read: its spec, every spec of the run (a study may read
 /// another's settings), where results go, and the preset.
 #[derive(Clone, Copy)]
@@ -25,6 +46,15 @@ pub struct Ctx<'a> {
     pub specs: &'a [FitSpec],
     pub results: &'a Path,
     pub preset: Preset,
+}
+
+/// A study's computed result: everything its reports show, already measured.
+pub trait Computed: Send {
+    /// The study's output files under `results`, as data (formats only: no number is
+    /// computed here that the result does not hold).
+    fn render(&self, results: &Path) -> Result<Outputs>;
+    /// The run's outcome, read off the result.
+    fn outcome(&self) -> FitOutcome;
 }
 
 /// One study: named as its fits/*.toml, ordered after the studies whose reports it embeds.
@@ -44,20 +74,38 @@ pub trait Study: Sync {
     fn on_request(&self) -> bool {
         false
     }
-    /// Compute and report; every file goes into `set`, which the driver publishes (a
-    /// study writes nothing itself).
-    fn run(&self, ctx: &Ctx, set: &mut crate::io::Outputs) -> Result<FitOutcome>;
+    /// Compute the typed result (the driver renders and publishes it).
+    fn compute(&self, ctx: &Ctx) -> Result<Box<dyn Computed>>;
+}
+
+/// A study that still computes and writes in one pass (`study!` with `runs`): its files
+/// made while computing, and its outcome. Studies leave it as they are split
+/// (tests/architecture.rs lists the ones left).
+pub struct OnePass {
+    pub files: Outputs,
+    pub outcome: FitOutcome,
+}
+
+impl Computed for OnePass {
+    fn render(&self, _results: &Path) -> Result<Outputs> {
+        Ok(self.files.clone())
+    }
+    fn outcome(&self) -> FitOutcome {
+        self.outcome.clone()
+    }
 }
 
 /// Declare a study in the module that runs it: a unit struct implementing [`Study`],
-/// named as its spec, following `after`, main job or `on request`, whose `run` is the
-/// module's `fn(&mut Outputs, &Ctx) -> Result<FitOutcome>`. Its cache is keyed by the
-/// code of the module the macro is invoked in (`module_path!()` there).
+/// named as its spec, following `after`, main job or `on request`. Its entry point is
+/// either `computes f` with `f: fn(&Ctx) -> Result<R>`, `R: Computed` (the study computes,
+/// then renders), or `runs f` with `f: fn(&mut Outputs, &Ctx) -> Result<FitOutcome>` (one
+/// pass, see [`OnePass`]). Its cache is keyed by the code of the module the macro is
+/// invoked in (`module_path!()` there).
 ///
 /// ```ignore
 /// crate::study::study! {
 ///     /// The Λ refit.
-///     SmithLambda = "smith-lambda", after [], on request false, runs regen
+///     SmithLambda = "smith-lambda", after [], on request false, computes compute
 /// }
 /// ```
 macro_rules! study {
@@ -66,7 +114,7 @@ macro_rules! study {
         $ty:ident = $name:literal,
         after [$($after:literal),*],
         on request $on_request:literal,
-        runs $run:path
+        $how:ident $run:path
     ) => {
         $(#[$doc])*
         pub struct $ty;
@@ -84,14 +132,21 @@ macro_rules! study {
             fn on_request(&self) -> bool {
                 $on_request
             }
-            fn run(
+            fn compute(
                 &self,
                 c: &$crate::study::Ctx,
-                set: &mut $crate::io::Outputs,
-            ) -> $crate::error::Result<$crate::study::FitOutcome> {
-                $run(set, c)
+            ) -> $crate::error::Result<Box<dyn $crate::study::Computed>> {
+                $crate::study::study!(@entry $how $run, c)
             }
         }
     };
+    (@entry computes $run:path, $c:ident) => {
+        Ok(Box::new($run($c)?))
+    };
+    (@entry runs $run:path, $c:ident) => {{
+        let mut files = $crate::io::Outputs::new();
+        let outcome = $run(&mut files, $c)?;
+        Ok(Box::new($crate::study::OnePass { files, outcome }))
+    }};
 }
 pub(crate) use study;

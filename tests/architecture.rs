@@ -554,3 +554,48 @@ fn markdown_tables_go_through_the_one_writer() {
         "no hand-built table left (take them off NOT_YET): {done:?}"
     );
 }
+
+/// A study computes its typed result and renders it in a separate step (`study!` with
+/// `computes`); the studies that still compute and write in one pass (`runs`) are listed
+/// here, and the list only shrinks.
+#[test]
+fn studies_compute_then_render() {
+    const ONE_PASS: [&str; 7] = [
+        "studies::filters",
+        "studies::ltc_aniso",
+        "studies::ltc_ggx",
+        "studies::ltc_lobes",
+        "studies::render",
+        "studies::tensor",
+        "studies::tensor_scale",
+    ];
+    let mut declared = Vec::new();
+    let (mut new, mut done) = (Vec::new(), Vec::new());
+    for (m, text) in sources() {
+        let Some(at) = text.find("crate::study::study! {") else {
+            continue;
+        };
+        if m == "study" {
+            continue; // the macro's own doc example
+        }
+        declared.push(m.clone());
+        let one_pass = text[at..].contains(", runs ");
+        match (one_pass, ONE_PASS.contains(&m.as_str())) {
+            (true, false) => new.push(m),
+            (false, true) => done.push(m),
+            _ => {}
+        }
+    }
+    assert!(
+        declared.len() >= 12,
+        "found only {declared:?} declaring a study"
+    );
+    assert!(
+        new.is_empty(),
+        "studies that compute and write in one pass (split them: `computes`): {new:?}"
+    );
+    assert!(
+        done.is_empty(),
+        "these studies compute then render now (take them off ONE_PASS): {done:?}"
+    );
+}

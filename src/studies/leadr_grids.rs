@@ -1,5 +1,5 @@
-//! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured, reported and
-//! written here.
+//! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured
+//! ([`compute`]), then reported (the `Computed` impl's `render`).
 
 use crate::error::Result;
 use crate::io::Outputs;
@@ -22,11 +22,17 @@ struct Computed {
     without: f64,
     with: f64,
     paper_held: (f64, f64),
+    /// The paper's spacing at each row's N.
+    paper_h: Vec<f64>,
+    /// The h of the scan's least specular and least diffuse error.
+    scan_argmin: (f64, f64),
+    /// The typed result (results/fits/leadr-grids.json).
+    result: crate::results::leadr_grids::LeadrGrids,
 }
 
 /// Error against N for three grid families, the h-scan at N = 5 and the artificial
 /// micronormal at a silhouette.
-fn compute() -> Result<Computed> {
+fn compute(c: &Ctx) -> Result<Computed> {
     let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
     let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
     let ns = [3usize, 4, 5, 6, 8, 12, 16, 24, 32];
@@ -77,6 +83,17 @@ fn compute() -> Result<Computed> {
     let without = grid_estimate(&Grid::paper5(), &s, &v, &env, None);
     let with = grid_estimate(&Grid::paper5(), &s, &v, &env, Some((1.01, 1e-5)));
     let paper_held = grid_error(&Grid::paper5(), &held, true);
+    let argmin = |k: usize| {
+        scan.iter()
+            .min_by(|a, b| {
+                (if k == 0 { a.1 } else { a.2 }).total_cmp(&(if k == 0 { b.1 } else { b.2 }))
+            })
+            .map(|r| r.0)
+            .unwrap_or(f64::NAN)
+    };
+    let scan_argmin = (argmin(0), argmin(1));
+    let paper_h = rows.iter().map(|r| paper_spacing(r.0)).collect();
+    let result = result(c, &rows, &scan, h5, without, with);
     Ok(Computed {
         rows,
         scan,
@@ -84,7 +101,49 @@ fn compute() -> Result<Computed> {
         without,
         with,
         paper_held,
+        paper_h,
+        scan_argmin,
+        result,
     })
+}
+
+/// The typed result of the study.
+fn result(
+    c: &Ctx,
+    rows: &[NRow],
+    scan: &[(f64, f64, f64)],
+    h5: f64,
+    without: f64,
+    with: f64,
+) -> crate::results::leadr_grids::LeadrGrids {
+    use crate::results::leadr_grids::{Families, LeadrGrids, Micronormal, Row};
+    LeadrGrids {
+        spec: c.spec.clone(),
+        command: crate::results::command(&c.spec.name),
+        rows: rows
+            .iter()
+            .map(|(n, h, e)| Row {
+                n: *n,
+                fitted_h: *h,
+                specular: Families {
+                    paper: e[0].0,
+                    fitted: e[1].0,
+                    gauss_hermite: e[2].0,
+                },
+                diffuse: Families {
+                    paper: e[0].1,
+                    fitted: e[1].1,
+                    gauss_hermite: e[2].1,
+                },
+            })
+            .collect(),
+        h_scan_n5: scan.to_vec(),
+        fitted_h_n5: h5,
+        artificial_micronormal: Micronormal {
+            without: (!without.is_nan()).then_some(without),
+            with,
+        },
+    }
 }
 
 /// results/leadr-pareto.svg: held-out max error against the grid size, per family.
@@ -140,6 +199,9 @@ fn markdown(k: &Computed) -> String {
         without,
         with,
         paper_held,
+        ref paper_h,
+        scan_argmin,
+        ..
     } = *k;
     let mut md = String::from("# LEADR numerical integration (seed 001 §3.4–3.7)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only leadr-grids` from `fits/leadr-grids.toml`. Estimator: the paper's simplified \
@@ -160,14 +222,14 @@ the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10)
         "diffuse: fitted h",
         "diffuse: Gauss–Hermite",
     ]);
-    for (n, h, e) in rows {
+    for ((n, h, e), paper_h) in rows.iter().zip(paper_h) {
         // (RMS, max) per family: specular then diffuse
         let cell = |x: (f64, f64)| format!("{:.2e} ({:.1e})", x.1, x.0);
         t.row(
             [
                 n.to_string(),
                 (n * n).to_string(),
-                format!("{:.3}", paper_spacing(*n)),
+                format!("{paper_h:.3}"),
                 format!("{h:.3}"),
             ]
             .into_iter()
@@ -179,18 +241,10 @@ the Gaussian slope density, by nested adaptive Gauss–Kronrod (tolerance 1e-10)
     md.push_str("\nCost is the same per grid point for every family (one normal, one projected area, one shading call): ns per evaluation at each N is in results/performance.md (bench group `leadr`). ![Pareto](leadr-pareto.svg)\n\n");
     md.push_str("## Why spacing 0.9 for 5×5\n\nThe paper's weights are exactly the normalised Gaussian density at the nodes (φ(p)/Σφ at h = 0.9 reproduces 0.0725, 0.2443, 0.3663 to four digits), i.e. its grid is a uniform Riemann sum of the slope density. RMS relative error on the training set against the spacing h (N = 5):\n\n");
     let mut t = Table::new(["h", "specular", "diffuse"]);
-    for (h, a, b) in scan {
+    for &(h, a, b) in scan {
         t.row([format!("{h:.2}"), format!("{a:.2e}"), format!("{b:.2e}")]);
     }
     md.push_str(&t.to_string());
-    let argmin_col = |k: usize| {
-        scan.iter()
-            .min_by(|a, b| {
-                (if k == 0 { a.1 } else { a.2 }).total_cmp(&(if k == 0 { b.1 } else { b.2 }))
-            })
-            .map(|r| r.0)
-            .unwrap_or(f64::NAN)
-    };
     md.push_str(&format!(
         "\nMeasured optima for N = 5: h ≈ {:.2} for the specular scenes, h ≈ {:.2} for the diffuse ones; the fit over both gives h = {h5:.3}. \
 The paper's 0.9 lies between the two optima, in the region where neither error is far from its minimum — a sensible single choice for a \
@@ -199,76 +253,54 @@ renderer that uses one grid for both. Why a minimum exists: a uniform 5-point gr
 term; large h under-resolves shading that varies across the lobe (the Riemann sum aliases), which matters for the sharper specular \
 term. Gauss–Hermite is exact for polynomials in the slope, but the max(0, V·N) clamp of the projected area is not polynomial, so it \
 does not dominate at grazing views.\n\n",
-        argmin_col(0),
-        argmin_col(1)
+        scan_argmin.0,
+        scan_argmin.1
     ));
     md.push_str(&format!("## Artificial micronormal (§3.7)\n\nSilhouette configuration (mean slope 3, σ = 0.05, view at 87.4° on the far side, so every grid normal faces away): without the artificial micronormal the 5×5 estimate is {without} (0/0); with ε = 1.01 and weight 1e-5 it is {with:.6} (finite, from the artificial normal alone). Held-out error of the plain paper grid elsewhere: max {:.2e} (RMS {:.1e}) — unchanged by the 1e-5 weight wherever any grid normal is visible.\n", paper_held.1, paper_held.0));
     md
 }
 
-/// `regen --only leadr-grids`: error against N for three grid families (paper spacing 0.9,
-/// fitted spacing, Gauss–Hermite), the h-scan that explains 0.9, the artificial
-/// micronormal at silhouettes; results/leadr-grids.md, results/leadr-pareto.svg,
-/// results/fits/leadr-grids.json.
-pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, results) = (c.spec, c.results);
-    let k = compute()?;
-    let svg = pareto_svg(&k.rows)?;
-    set.put(&results.join("leadr-pareto.svg"), svg.as_bytes());
-    let md = markdown(&k);
-    let Computed {
-        ref rows,
-        ref scan,
-        h5,
-        without,
-        with,
-        ..
-    } = k;
-    set.put(&results.join("leadr-grids.md"), md.as_bytes());
-    use crate::results::leadr_grids::{Families, LeadrGrids, Micronormal, Row};
-    let result = LeadrGrids {
-        spec: spec.clone(),
-        command: crate::results::command(&spec.name),
-        rows: rows
-            .iter()
-            .map(|(n, h, e)| Row {
-                n: *n,
-                fitted_h: *h,
-                specular: Families {
-                    paper: e[0].0,
-                    fitted: e[1].0,
-                    gauss_hermite: e[2].0,
-                },
-                diffuse: Families {
-                    paper: e[0].1,
-                    fitted: e[1].1,
-                    gauss_hermite: e[2].1,
-                },
-            })
-            .collect(),
-        h_scan_n5: scan.clone(),
-        fitted_h_n5: h5,
-        artificial_micronormal: Micronormal {
-            without: (!without.is_nan()).then_some(without),
-            with,
-        },
-    };
-    crate::results::put(set, results, &result)?;
-    let best = rows
-        .iter()
-        .find(|r| r.0 == 5)
-        .map(|r| r.2[1].0 .1)
-        .unwrap_or(f64::NAN);
-    Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: best,
-        tolerance: spec.tolerance.max_rel,
-        passed: with.is_finite() && best.is_finite(),
-        summary: format!("N = 5: fitted h = {h5:.3}; held-out max rel. error (specular) paper h {:.2e}, fitted {:.2e}; artificial micronormal finite: {}", rows.iter().find(|r| r.0 == 5).map(|r| r.2[0].0 .1).unwrap_or(f64::NAN), best, with.is_finite()),
-    })
+/// results/leadr-grids.md, results/leadr-pareto.svg and results/fits/leadr-grids.json:
+/// error against N for three grid families (paper spacing 0.9, fitted spacing,
+/// Gauss–Hermite), the h-scan that explains 0.9, the artificial micronormal at silhouettes.
+impl crate::study::Computed for Computed {
+    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        set.put(results.join("leadr-pareto.svg"), pareto_svg(&self.rows)?);
+        set.put(results.join("leadr-grids.md"), markdown(self));
+        crate::results::put(&mut set, results, &self.result)?;
+        Ok(set)
+    }
+    /// The held-out max error (specular) of the fitted spacing at N = 5; passed when it
+    /// and the artificial micronormal's estimate are finite.
+    fn outcome(&self) -> FitOutcome {
+        let at5 = |k: usize| {
+            self.rows
+                .iter()
+                .find(|r| r.0 == 5)
+                .map(|r| r.2[k].0 .1)
+                .unwrap_or(f64::NAN)
+        };
+        let best = at5(1);
+        let spec = &self.result.spec;
+        FitOutcome {
+            passed: self.with.is_finite() && best.is_finite(),
+            ..FitOutcome::judged(
+                spec,
+                best,
+                format!(
+                    "N = 5: fitted h = {:.3}; held-out max rel. error (specular) paper h {:.2e}, fitted {:.2e}; artificial micronormal finite: {}",
+                    self.h5,
+                    at5(0),
+                    best,
+                    self.with.is_finite()
+                ),
+            )
+        }
+    }
 }
 
 crate::study::study! {
     /// The LEADR grid study, as the registry holds it.
-    LeadrGrids = "leadr-grids", after [], on request false, runs regen
+    LeadrGrids = "leadr-grids", after [], on request false, computes compute
 }

@@ -151,18 +151,16 @@ fn run_one(
         crate::report::stage(&format!("regen {}: started", s.name));
         // the study's own line while it runs (between its maps too)
         let _running = crate::progress::Progress::new(s.name.clone(), 0);
-        // one study = one output set, made by the study as data and published here in
+        // one study = one output set: computed, rendered as data, then published here in
         // one step (crate::io)
-        let mut set = crate::io::Outputs::new();
-        let o = study.run(
-            &Ctx {
-                spec: s,
-                specs,
-                results,
-                preset,
-            },
-            &mut set,
-        )?;
+        let computed = study.compute(&Ctx {
+            spec: s,
+            specs,
+            results,
+            preset,
+        })?;
+        let set = computed.render(results)?;
+        let o = computed.outcome();
         if commit {
             set.publish(&s.name, &crate::io::results_manifest(results, &s.name))?;
         }

@@ -70,7 +70,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 }
 
 /// results/smith-lambda.{json,md,svg} of a computed study (formats only).
-pub fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
+fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
     use crate::report::plot::{loglog_svg, Panel, Series};
     let r = &c.result;
     let printed = format!("Walter (printed, cut at {})", r.limits.walter_cut);
@@ -145,26 +145,30 @@ nothing else changes — no separate fit is needed.\n\n");
     Ok(())
 }
 
-/// `regen --only smith-lambda`: compute, then render into `set`; the outcome is read off
-/// the result.
-pub fn regen(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let computed = compute(c)?;
-    render(set, c.results, &computed)?;
-    let r = &computed.result;
-    let (h, tol) = (&r.held_out, r.spec.tolerance.max_rel);
-    Ok(crate::study::FitOutcome {
-        name: r.spec.name.clone(),
-        held_out_max_rel: h.ours.max_dg1,
-        tolerance: tol,
-        passed: r.passed,
-        summary: format!(
-            "ours max |ΔG1| {:.2e} (tol {tol:.0e}); Walter printed {:.2e}, listing {:.2e}",
-            h.ours.max_dg1, h.walter_printed.max_dg1, h.walter_listing.max_dg1
-        ),
-    })
+impl crate::study::Computed for Computed {
+    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        render(&mut set, results, self)?;
+        Ok(set)
+    }
+    fn outcome(&self) -> FitOutcome {
+        let r = &self.result;
+        let h = &r.held_out;
+        FitOutcome::judged(
+            &r.spec,
+            h.ours.max_dg1,
+            format!(
+                "ours max |ΔG1| {:.2e} (tol {:.0e}); Walter printed {:.2e}, listing {:.2e}",
+                h.ours.max_dg1,
+                r.spec.tolerance.max_rel,
+                h.walter_printed.max_dg1,
+                h.walter_listing.max_dg1
+            ),
+        )
+    }
 }
 
 crate::study::study! {
     /// The Smith Λ refit, as the registry holds it.
-    SmithLambda = "smith-lambda", after [], on request false, runs regen
+    SmithLambda = "smith-lambda", after [], on request false, computes compute
 }

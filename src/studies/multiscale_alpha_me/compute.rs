@@ -5,9 +5,9 @@ use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::multiscale::alpha_me::{
     fit_nelder_mead, fit_ours, held_out, held_out_alphas, ours_eval_pair_t, ours_eval_t,
-    paper_form, paper_method, training_alphas, HeldOut, Table, PAPER,
+    paper_form, paper_method, training_alphas, Fitted, HeldOut, OursFit, Table, PAPER,
 };
-use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper};
+use crate::multiscale::mrl::{alpha_from_one_minus, alpha_from_pair, alpha_me_paper, mrl_pair};
 use crate::results::alpha_me::WholeRange;
 
 /// Sign changes of f on a fine grid of (lo, hi), refined by bisection.
@@ -38,21 +38,90 @@ pub(super) fn roots(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Vec<f
 pub(super) struct Computed {
     pub lo: f64,
     pub hi: f64,
-    pub c: crate::multiscale::alpha_me::OursFit,
-    pub refit: crate::multiscale::alpha_me::Fitted,
+    pub c: OursFit,
+    pub refit: Fitted,
     pub h_ours: HeldOut,
     pub h_refit: HeldOut,
     pub h_paper: HeldOut,
-    pub table: Table,
     pub h_table: HeldOut,
     pub h_newton: HeldOut,
     pub whole: WholeRange,
-    pub poles: Vec<f64>,
-    pub zeros: Vec<f64>,
     pub at_one: f64,
     pub at_two_thirds: f64,
     pub sign_alpha: Vec<String>,
     pub pole_alpha: Vec<String>,
+    /// Eq 5's relative error at the fit domain's edge α = 1e-3 and at α = 0.01: (α, error).
+    pub eq5_at: [(f64, f64); 2],
+    pub curves: Curves,
+    /// The typed result, as results/fits/multiscale-alpha-me.json holds it.
+    pub result: crate::results::alpha_me::AlphaMe,
+}
+
+/// The plotted curves, beyond the fit domain on both sides: (name, (α or 1 − ‖b̄‖, value)).
+pub(super) struct Curves {
+    /// Relative error in α of each method.
+    pub rel: Vec<(String, Vec<(f64, f64)>)>,
+    /// Absolute error of Eq 5.
+    pub abs_eq5: Vec<(f64, f64)>,
+    /// α_me against 1 − ‖b̄‖ (positive values only).
+    pub mrl: Vec<(String, Vec<(f64, f64)>)>,
+}
+
+/// The curves of the plots, on 400 α log-spaced over [0.01·lo, 10·hi].
+fn curves(spec: &FitSpec, lo: f64, hi: f64, c: &OursFit, refit: &Fitted, table: &Table) -> Curves {
+    let curve: Vec<f64> = held_out_alphas(400, 0.01 * lo, 10.0 * hi);
+    let rel = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
+        curve
+            .iter()
+            .map(|&a| {
+                let (b, y) = mrl_pair(a);
+                (a, ((f(b, y) - a) / a).abs().max(1e-17))
+            })
+            .collect()
+    };
+    let abs_eq5 = curve
+        .iter()
+        .map(|&a| {
+            let (b, _) = mrl_pair(a);
+            (a, (alpha_me_paper(b) - a).abs().max(1e-17))
+        })
+        .collect();
+    let mrl_curve = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
+        curve
+            .iter()
+            .filter_map(|&a| {
+                let (b, y) = mrl_pair(a);
+                let v = f(b, y);
+                (v > 0.0).then_some((y, v))
+            })
+            .collect()
+    };
+    Curves {
+        rel: vec![
+            ("paper Eq 5".into(), rel(&paper_method)),
+            (
+                "paper form, refitted".into(),
+                rel(&|b, _y| paper_form(&refit.params, b)),
+            ),
+            (
+                format!("ours ({} + {} terms)", spec.terms, spec.terms_large),
+                rel(&|_b, y| c.eval(y)),
+            ),
+            (
+                format!("table ({} entries)", spec.table_entries),
+                rel(&|_b, y| table.eval(y)),
+            ),
+        ],
+        abs_eq5,
+        mrl: vec![
+            (
+                "exact (closed form inverse)".into(),
+                mrl_curve(&|_b, y| alpha_from_one_minus(y).unwrap_or(f64::NAN)),
+            ),
+            ("paper Eq 5".into(), mrl_curve(&paper_method)),
+            ("ours".into(), mrl_curve(&|_b, y| c.eval(y))),
+        ],
+    }
 }
 
 /// The fits, their held-out errors, the whole-range check and the audit of Eq 5.
@@ -115,7 +184,20 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
             )
         })
         .collect();
+    let eq5_at = [1e-3, 1e-2].map(|a| (a, (alpha_me_paper(mrl_pair(a).0) - a) / a));
+    let curves = curves(spec, lo, hi, &c, &refit, &table);
     pb.finish();
+    let result = result(
+        spec,
+        &c,
+        &refit,
+        [&h_ours, &h_paper, &h_refit, &h_table, &h_newton],
+        &table,
+        &whole,
+        [at_one, at_two_thirds],
+        &zeros,
+        &poles,
+    );
     Ok(Computed {
         lo,
         hi,
@@ -124,17 +206,72 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
         h_ours,
         h_refit,
         h_paper,
-        table,
         h_table,
         h_newton,
         whole,
-        poles,
-        zeros,
         at_one,
         at_two_thirds,
         sign_alpha,
         pole_alpha,
+        eq5_at,
+        curves,
+        result,
     })
+}
+
+/// The typed result of the study.
+#[allow(clippy::too_many_arguments)]
+fn result(
+    spec: &FitSpec,
+    c: &OursFit,
+    refit: &Fitted,
+    [h_ours, h_paper, h_refit, h_table, h_newton]: [&HeldOut; 5],
+    table: &Table,
+    whole: &WholeRange,
+    [at_one, at_two_thirds]: [f64; 2],
+    zeros: &[f64],
+    poles: &[f64],
+) -> crate::results::alpha_me::AlphaMe {
+    use crate::results::alpha_me::{
+        AlphaMe, Eq5Audit, Method, NewtonMethod, Ours, Refit, TableMethod,
+    };
+    AlphaMe {
+        spec: spec.clone(),
+        command: crate::results::command(&spec.name),
+        ours: Ours {
+            coefficients: c.small.clone(),
+            coefficients_large: c.large.clone(),
+            held_out: h_ours.clone(),
+            whole_range: whole.clone(),
+        },
+        paper_eq5: Method {
+            coefficients: PAPER.to_vec(),
+            held_out: h_paper.clone(),
+        },
+        paper_form_refit: Refit {
+            coefficients: refit.params.clone(),
+            objective: refit.objective,
+            iterations: refit.iterations,
+            held_out: h_refit.clone(),
+        },
+        table: TableMethod {
+            entries: spec.table_entries,
+            s0: table.s0,
+            ds: table.ds,
+            held_out: h_table.clone(),
+        },
+        newton_closed_form: NewtonMethod {
+            held_out: h_newton.clone(),
+        },
+        integration_error: "none: the targets come from the closed form ‖b̄‖(α), verified against quadrature of Eq 4 to ≤ 1e-10 (results/proofs.md, mrl-closed-form)".into(),
+        eq5_audit: Eq5Audit {
+            alpha_at_b_1: at_one,
+            alpha_at_b_2_3: at_two_thirds,
+            numerator_roots_in_0_1: zeros.to_vec(),
+            poles_in_0_1: poles.to_vec(),
+        },
+        passed: h_ours.max_rel <= spec.tolerance.max_rel,
+    }
 }
 
 /// Evaluate `Ours` against the exact inverse from y = 1e-300 to b = 1e-300.

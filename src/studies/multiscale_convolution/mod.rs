@@ -1,15 +1,17 @@
 //! `regen --only multiscale-convolution`: overall α(α_mi, α_me) under four metrics, the
 //! paper's Eq 7 and its refit, engine rules, and a model with both limits built in
-//! (seed 000 §3.4–3.5, Eq 6–7). Compute ([`compute`]) → report ([`report`]) → plots
-//! ([`plots`]) → the typed result.
+//! (seed 000 §3.4–3.5, Eq 6–7). Compute (the fits: [`compute`]; every number shown:
+//! [`judged`]), then render (report: [`report`]; plots: [`plots`]; the typed result).
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::io::Outputs;
 use crate::study::{Ctx, FitOutcome};
 use serde::Serialize;
+use std::path::Path;
 
 mod compute;
+mod judged;
 mod plots;
 mod report;
 
@@ -55,7 +57,7 @@ struct ConvolutionResult<'a> {
     command: &'static str,
     ours: Coefficients<'a>,
     eq7_refit: Eq7Refit<'a>,
-    models: Vec<report::ModelRow>,
+    models: &'a [judged::ModelRow],
     metric_grid: &'a [crate::multiscale::overall::PairFit],
     per_metric_polynomial: Vec<MetricFit<'a>>,
     per_metric_corrected: Vec<MetricFit<'a>>,
@@ -63,66 +65,78 @@ struct ConvolutionResult<'a> {
     passed: bool,
 }
 
-/// `all` is every spec of the fits directory: the α_me spec is taken from it.
+/// What the study computed: its fits and every number its reports show.
+pub struct Convolution {
+    spec: FitSpec,
+    c: Computed,
+    j: judged::Judged,
+}
 
-/// The study: compute, report and plot, into `set`.
-pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, all, results, preset) = (c.spec, c.specs, c.results, c.preset);
-    let c = compute(spec, all, preset)?;
-    let (mut md, model_json, spread_max) = report::models_section(spec, &c)?;
-    let (pm_md, passed) = report::per_metric_section(spec, &c);
-    md.push_str(&pm_md);
-    md.push_str(&plots::write(set, &c, results)?);
-    set.put(&results.join("multiscale-convolution.md"), md.as_bytes());
-    let Computed {
-        ref ci,
-        ref c7,
-        sse7,
-        sse_paper,
-        ours,
-        ref fits,
-        ref held_fits,
-        ref per_metric_ours,
-        ref per_metric_corr,
-        ..
-    } = c;
-    set.put(&results.join("multiscale-convolution.md"), md.as_bytes());
-    let json = ConvolutionResult {
-        spec,
-        command: "cargo run --release -- regen --only multiscale-convolution",
-        ours: Coefficients {
-            coefficients: ci,
-            held_out: ours,
-        },
-        eq7_refit: Eq7Refit {
-            coefficients: c7,
-            sse: sse7,
-            sse_paper_coefficients_same_grid: sse_paper,
-        },
-        models: model_json,
-        metric_grid: fits,
-        per_metric_polynomial: metric_fits(per_metric_ours),
-        per_metric_corrected: metric_fits(per_metric_corr),
-        metric_grid_held_out: held_fits,
-        passed,
-    };
-    crate::results::put_named(set, results, &spec.name, &json)?;
-    Ok(FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: ours.max_rel,
-        tolerance: spec.tolerance.max_rel,
-        passed,
-        summary: format!(
-            "ours {:.2e} max rel on the moment target (tol {:.0e}); per metric held-out {}; metric spread up to ×{:.3}",
-            ours.max_rel,
-            spec.tolerance.max_rel,
-            per_metric_corr.iter().map(|r| format!("{:.2e}", r.3.max_rel)).collect::<Vec<_>>().join("/"),
-            spread_max.0
-        ),
+/// Fit and judge (the α_me spec is read from the run's other specs).
+fn run(ctx: &Ctx) -> Result<Convolution> {
+    let c = compute(ctx.spec, ctx.specs, ctx.preset)?;
+    let j = judged::judge(ctx.spec, &c)?;
+    Ok(Convolution {
+        spec: ctx.spec.clone(),
+        c,
+        j,
     })
+}
+
+impl crate::study::Computed for Convolution {
+    fn render(&self, results: &Path) -> Result<Outputs> {
+        let (spec, c, j) = (&self.spec, &self.c, &self.j);
+        let mut set = Outputs::new();
+        let mut md = report::models_section(spec, c, j);
+        md.push_str(&report::per_metric_section(spec, c, j));
+        md.push_str(&plots::write(&mut set, j, &c.held_axis, results)?);
+        set.put(results.join("multiscale-convolution.md"), md);
+        let json = ConvolutionResult {
+            spec,
+            command: "cargo run --release -- regen --only multiscale-convolution",
+            ours: Coefficients {
+                coefficients: &c.ci,
+                held_out: c.ours,
+            },
+            eq7_refit: Eq7Refit {
+                coefficients: &c.c7,
+                sse: c.sse7,
+                sse_paper_coefficients_same_grid: c.sse_paper,
+            },
+            models: &j.models,
+            metric_grid: &c.fits,
+            per_metric_polynomial: metric_fits(&c.per_metric_ours),
+            per_metric_corrected: metric_fits(&c.per_metric_corr),
+            metric_grid_held_out: &c.held_fits,
+            passed: j.passed,
+        };
+        crate::results::put_named(&mut set, results, &spec.name, &json)?;
+        Ok(set)
+    }
+    fn outcome(&self) -> FitOutcome {
+        let (spec, c, j) = (&self.spec, &self.c, &self.j);
+        FitOutcome {
+            passed: j.passed,
+            ..FitOutcome::judged(
+                spec,
+                c.ours.max_rel,
+                format!(
+                    "ours {:.2e} max rel on the moment target (tol {:.0e}); per metric held-out {}; metric spread up to ×{:.3}",
+                    c.ours.max_rel,
+                    spec.tolerance.max_rel,
+                    c.per_metric_corr
+                        .iter()
+                        .map(|r| format!("{:.2e}", r.3.max_rel))
+                        .collect::<Vec<_>>()
+                        .join("/"),
+                    j.spread_max.0
+                ),
+            )
+        }
+    }
 }
 
 crate::study::study! {
     /// The convolution study, as the registry holds it.
-    MultiscaleConvolution = "multiscale-convolution", after [], on request false, runs run
+    MultiscaleConvolution = "multiscale-convolution", after [], on request false, computes run
 }

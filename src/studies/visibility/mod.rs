@@ -1,11 +1,13 @@
 //! `regen --only visibility`: seed 004 §4–6 and §8.1 measured ([`crate::visibility`]):
 //! horizon maps against the exact visible fractions of height-field footprints, shadow
 //! maps against percentage-closer filtering, procedural colour and normals against their
-//! exact box averages, and the cost of separating correlated maps. Compute (this file) →
-//! report ([`report`]) → results/survey-visibility.{md,svg}, results/fits/visibility.json.
+//! exact box averages, and the cost of separating correlated maps. Compute (the cases in
+//! [`compute`], their aggregates in [`summary`]), then render ([`report`]):
+//! results/visibility.{md,svg}, results/fits/visibility.json.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
+use crate::integrate::Preset;
 use crate::io::Outputs;
 use crate::study::{Ctx, FitOutcome};
 use crate::visibility::{HeightField, Relief};
@@ -13,6 +15,7 @@ use serde::Serialize;
 
 mod compute;
 mod report;
+mod summary;
 mod user_map;
 
 use compute::{
@@ -26,9 +29,17 @@ pub use compute::{
 
 pub use user_map::horizon_file;
 
-/// The study: compute and report, into `set`.
-pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, results, preset) = (c.spec, c.results, c.preset);
+/// What the study computed: the measured cases and their aggregates.
+pub struct Computed {
+    spec: FitSpec,
+    preset: Preset,
+    m: Measured,
+    summary: summary::Summary,
+}
+
+/// Measure every case of the plan the preset gives, and aggregate them.
+fn compute(c: &Ctx) -> Result<Computed> {
+    let (spec, preset) = (c.spec, c.preset);
     let plan = Plan::new(preset);
     let seed = spec.seed;
     let m = Measured {
@@ -49,51 +60,66 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
         plan,
     };
     crate::report::stage("regen visibility: measured");
-    let summary = report::summarise(&m);
-    set.put(
-        &results.join("visibility.md"),
-        report::markdown(&summary, &m, preset).as_bytes(),
-    );
-    set.put(
-        &results.join("visibility.svg"),
-        report::pareto_svg(&summary)?.as_bytes(),
-    );
-    #[derive(Serialize)]
-    struct Out<'a> {
-        spec: &'a FitSpec,
-        command: &'static str,
-        preset: &'static str,
-        summary: &'a report::Summary,
-        plan: &'a Plan,
-    }
-    crate::results::put_named(
-        set,
-        results,
-        &spec.name,
-        &Out {
-            spec,
-            command: "cargo run --release -- regen --only visibility",
-            preset: preset.name(),
-            summary: &summary,
-            plan: &m.plan,
-        },
-    )?;
-    let worst = summary.eq28_hotspot_max;
-    Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: worst,
-        tolerance: spec.tolerance.max_rel,
-        passed: worst <= spec.tolerance.max_rel,
-        summary: format!(
-            "{} horizon cases, {} shadow footprints; Eq 28 at l = v within {:.1e} of 1",
-            m.horizon.len(),
-            m.shadow.len(),
-            worst
-        ),
+    let summary = summary::summarise(&m);
+    Ok(Computed {
+        spec: spec.clone(),
+        preset,
+        m,
+        summary,
     })
+}
+
+impl crate::study::Computed for Computed {
+    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+        let (spec, preset) = (&self.spec, self.preset);
+        let mut set = Outputs::new();
+        set.put(
+            results.join("visibility.md"),
+            report::markdown(&self.summary, &self.m, preset),
+        );
+        set.put(
+            results.join("visibility.svg"),
+            report::pareto_svg(&self.summary)?,
+        );
+        #[derive(Serialize)]
+        struct Out<'a> {
+            spec: &'a FitSpec,
+            command: &'static str,
+            preset: &'static str,
+            summary: &'a summary::Summary,
+            plan: &'a Plan,
+        }
+        crate::results::put_named(
+            &mut set,
+            results,
+            &spec.name,
+            &Out {
+                spec,
+                command: "cargo run --release -- regen --only visibility",
+                preset: preset.name(),
+                summary: &self.summary,
+                plan: &self.m.plan,
+            },
+        )?;
+        Ok(set)
+    }
+    /// Judged by Eq 28's worst departure from 1 at l = v.
+    fn outcome(&self) -> FitOutcome {
+        let worst = self.summary.eq28_hotspot_max;
+        FitOutcome::judged(
+            &self.spec,
+            worst,
+            format!(
+                "{} horizon cases, {} shadow footprints; Eq 28 at l = v within {:.1e} of 1",
+                self.m.horizon.len(),
+                self.m.shadow.len(),
+                worst
+            ),
+        )
+    }
 }
 
 crate::study::study! {
     /// The visibility survey, as the registry holds it.
-    Visibility = "visibility", after [], on request false, runs run
+    Visibility = "visibility", after [], on request false, computes compute
 }

@@ -23,7 +23,7 @@ pub fn horizon_file(
     let max_level = hf.size.trailing_zeros() as usize;
     plan.levels.retain(|&l| l < max_level);
     let cases = horizon_cases(std::slice::from_ref(&hf), &plan, 19)?;
-    let h = report::horizon_summary(&cases);
+    let h = super::summary::horizon_summary(&cases);
     let md = format!(
         "# Horizon-map pre-filtering on {}\n\nWritten by `cargo run --release -- horizon --input {} --scale {scale}` (preset {}): \
 {} cases, footprints of 2^L texels, L = {:?}, {} per level; the methods and the truth of results/visibility.md.{}\n\n{}",
