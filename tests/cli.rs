@@ -308,3 +308,44 @@ fn the_cli_reference_is_current() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `prefilter --rank` writes the same bytes at any thread count (its report holds no
+/// wall-clock time and no thread count).
+#[test]
+fn prefilter_rank_is_identical_at_one_and_two_threads() {
+    let run = |threads: &str| {
+        let dir = common::scratch("cli", &format!("tensor-threads-{threads}"));
+        let out = bin()
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "prefilter",
+                "--generator",
+                "scratches",
+                "--rank",
+                "4",
+                "--preset",
+                "quick",
+                "--out",
+            ])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let files = [
+            "tensor-scratches.md",
+            "tensor-scratches.json",
+            "tensor-scratches-rank.svg",
+        ]
+        .map(|f| std::fs::read(dir.join(f)).unwrap());
+        std::fs::remove_dir_all(&dir).ok();
+        files
+    };
+    assert!(
+        run("1") == run("2"),
+        "prefilter --rank depends on the thread count"
+    );
+}

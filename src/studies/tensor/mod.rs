@@ -1,0 +1,177 @@
+//! `regen --only tensor`: P-NDF images of procedural maps over a two-level footprint
+//! pyramid, blocked and clustered (seed 002 §4.1–4.2), CP-compressed at several ranks;
+//! results/tensor.md and results/fits/tensor.json. Compute ([`compute`]), then render
+//! ([`report`]). `prefilter --rank` compresses a user's map the same way ([`prefilter_tensor`]).
+
+use crate::error::Result;
+use crate::filters::footprint::NormalMap;
+use crate::integrate::Preset;
+use crate::io::Outputs;
+use crate::report::plot::{loglog_svg, Panel, Series};
+use crate::report::table::Table;
+use crate::study::FitOutcome;
+use crate::tensor::cluster::cluster_tensors;
+use crate::tensor::cp::{cp_als, AlsOptions};
+use rayon::prelude::*;
+use std::path::Path;
+
+mod compute;
+mod report;
+
+use compute::Computed;
+
+impl crate::study::Computed for Computed {
+    fn render(&self, results: &Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        set.put(results.join("tensor-rank.svg"), report::rank_svg(self)?);
+        set.put(results.join("tensor.md"), report::markdown(self));
+        crate::results::put(
+            &mut set,
+            results,
+            &crate::results::tensor::Tensor {
+                spec: self.spec.clone(),
+                command: crate::results::command(&self.spec.name),
+                preset: self.preset.name().into(),
+                rows: self.rows.clone(),
+            },
+        )?;
+        Ok(set)
+    }
+    /// Passed when every reconstruction error is finite (the study measures; it sets no
+    /// bar on the error).
+    fn outcome(&self) -> FitOutcome {
+        FitOutcome {
+            name: self.spec.name.clone(),
+            held_out_max_rel: self.worst,
+            tolerance: 1.0,
+            passed: self.worst.is_finite(),
+            summary: format!(
+                "{} maps × ranks {:?}: worst relative reconstruction error {:.2} %",
+                self.kinds,
+                self.s.ranks,
+                100.0 * self.worst
+            ),
+        }
+    }
+}
+
+/// `prefilter --rank R`: compress one map's P-NDF blocks at rank R; writes
+/// DIR/tensor-<name>.json (per cluster: shape, weights, factors, error) and
+/// DIR/tensor-<name>.md. Every check happens before anything is written.
+pub fn prefilter_tensor(
+    set: &mut crate::io::Outputs,
+    map: &NormalMap,
+    out: &Path,
+    rank: usize,
+    preset: Preset,
+) -> Result<String> {
+    let t = 16usize;
+    if rank == 0 || rank > t * t {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "--rank {rank}: a {t}×{t} block allows ranks 1…{}",
+            t * t
+        )));
+    }
+    if map.width < 16 {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "map {} is {}×{}: tensor prefiltering needs at least 16×16 texels",
+            map.name, map.width, map.height
+        )));
+    }
+    let (res, iters) = match preset {
+        Preset::Quick => (32, 50),
+        Preset::Default => (64, 200),
+        Preset::Precise => (256, 500),
+    };
+    let stride = (map.width / 8).clamp(2, 32);
+    let tensors = cluster_tensors(map, res, stride, t, 0.02)?;
+    let fit = |r: usize| -> Result<Vec<crate::tensor::cp::Cp>> {
+        tensors
+            .par_iter()
+            .map(|tt| {
+                cp_als(
+                    tt,
+                    &AlsOptions {
+                        rank: r.min(tt.shape[2] * t),
+                        tol: 1e-4,
+                        max_iters: iters,
+                        restarts: 2,
+                        seed: 5,
+                        // exact hierarchical sampling needs a non-negative reconstruction
+                        nonnegative: true,
+                    },
+                )
+            })
+            .collect::<Result<Vec<_>>>()
+    };
+    // error against rank: R/4, R/2 and R (the plot), R stored
+    let mut sweep: Vec<usize> = vec![(rank / 4).max(1), (rank / 2).max(1), rank];
+    sweep.dedup();
+    let dense: usize = tensors.iter().map(|t| t.data.len()).sum();
+    let mut rows = Vec::new();
+    let mut fits = Vec::new();
+    for &r in &sweep {
+        let f = fit(r)?;
+        let stored: usize = f.iter().map(|c| c.storage()).sum();
+        let mean = f.iter().map(|c| c.rel_error).sum::<f64>() / f.len().max(1) as f64;
+        let max = f.iter().map(|c| c.rel_error).fold(0.0, f64::max);
+        rows.push((r, mean, max, stored as f64 / dense.max(1) as f64));
+        if r == rank {
+            fits = f;
+        }
+    }
+    let stored: usize = fits.iter().map(|c| c.storage()).sum();
+    let mean = fits.iter().map(|c| c.rel_error).sum::<f64>() / fits.len().max(1) as f64;
+    let max = fits.iter().map(|c| c.rel_error).fold(0.0, f64::max);
+    let mut md = format!(
+        "# Tensor-compressed P-NDF of {}\n\nWritten by `cargo run --release -- prefilter … --rank {rank}` (preset {}). {}×{} texels, stride {stride}, the full footprint pyramid, {res}² images, {t}² blocks, {} clusters. Non-negative CP (HALS, so the hierarchical sampler is exact), rank {rank}: relative reconstruction error mean {:.2} %, max {:.2} %; compression {:.2} % of the non-empty blocks ({stored} of {dense} numbers).\n\n",
+        map.name, preset.name(), map.width, map.height, fits.len(), 100.0 * mean, 100.0 * max, 100.0 * stored as f64 / dense.max(1) as f64
+    );
+    let mut tb = Table::new(["R", "mean rel. error", "max rel. error", "compression"]);
+    for (r, m, x, c) in &rows {
+        tb.row([
+            r.to_string(),
+            format!("{:.2} %", 100.0 * m),
+            format!("{:.2} %", 100.0 * x),
+            format!("{:.2} %", 100.0 * c),
+        ]);
+    }
+    md.push_str(&tb.to_string());
+    md.push_str(&format!(
+        "\nThe cost of the P-NDF images and of CP is measured by the criterion benches (results/performance.md), not by this run. ![error against rank](tensor-{}-rank.svg)\n",
+        map.name
+    ));
+    let svg = loglog_svg(
+        &[Panel {
+            title: format!("{}: non-negative CP error against rank", map.name),
+            x_label: "rank R".into(),
+            y_label: "mean ‖T − T̂‖/‖T‖".into(),
+            series: vec![Series {
+                name: map.name.clone(),
+                points: rows.iter().map(|r| (r.0 as f64, r.1)).collect(),
+            }],
+        }],
+        560,
+        380,
+    )?;
+    let json = serde_json::json!({"map": map.name, "rank": rank, "block": t, "image": res, "stride": stride, "clusters": fits});
+    let jp = out.join(format!("tensor-{}.json", map.name));
+    let mp = out.join(format!("tensor-{}.md", map.name));
+    let sp = out.join(format!("tensor-{}-rank.svg", map.name));
+    set.put(&jp, serde_json::to_string(&json).expect("json").as_bytes());
+    set.put(&sp, svg.as_bytes());
+    set.put(&mp, md.as_bytes());
+    Ok(format!(
+        "wrote {}, {} and {}: rank {rank}, mean error {:.2} %, compression {:.2} %",
+        jp.display(),
+        sp.display(),
+        mp.display(),
+        100.0 * mean,
+        100.0 * stored as f64 / dense.max(1) as f64
+    ))
+}
+
+crate::study::study! {
+    /// The seed 002 tensor study, as the registry holds it.
+    Tensor = "tensor", after [], on request false, computes compute::compute
+}
