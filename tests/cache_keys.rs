@@ -179,6 +179,31 @@ fn the_resolver_follows_groups_super_impls_and_includes_but_not_comments() {
     }
 }
 
+/// Two studies that each declare a type of the same name in one file and implement a
+/// trait for it in another (`compute.rs` declares `Computed`, `mod.rs` implements
+/// `study::Computed` for it) do not reach each other: a bare name belongs to the unit that
+/// declares it in any of its files.
+#[test]
+fn a_name_declared_in_another_file_of_the_same_unit_is_its_own() {
+    let files = mini(&[
+        ("src/lib.rs", "pub mod study; pub mod studies;"),
+        ("src/study.rs", "pub trait Computed { fn f(&self); }\n"),
+        ("src/studies/mod.rs", "pub mod p;\npub mod q;\n"),
+        ("src/studies/p/mod.rs", "mod compute;\nuse compute::Computed;\nimpl crate::study::Computed for Computed {\n    fn f(&self) {}\n}\n"),
+        ("src/studies/p/compute.rs", "pub struct Computed;\n"),
+        ("src/studies/q/mod.rs", "mod compute;\nuse compute::Computed;\nimpl crate::study::Computed for Computed {\n    fn f(&self) {}\n}\n"),
+        ("src/studies/q/compute.rs", "pub struct Computed;\n"),
+    ]);
+    let r = reach(&files);
+    assert!(
+        !r["studies::p"].contains("src/studies/q/compute.rs"),
+        "{:?}",
+        r["studies::p"]
+    );
+    assert!(!r["studies::q"].contains("src/studies/p/mod.rs"));
+    assert!(r["studies::p"].contains("src/studies/p/compute.rs"));
+}
+
 /// The study → study arrows the sources have, each with its reason. Any other arrow from
 /// one study to another fails: shared drawing goes beside the studies
 /// (`studies::ltc_error_map`), so a study's cache never reaches another study's files.

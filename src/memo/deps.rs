@@ -337,10 +337,19 @@ pub fn graph(files: &[(String, Vec<u8>)]) -> Graph {
         }
     }
     // an impl in A for another unit's type (or, for a type of no unit, of another unit's
-    // trait): that unit reaches A. A type named by a `crate::` path is that path's unit; a bare name A declares itself
-    // is A's own
+    // trait): that unit reaches A. A type named by a `crate::` path is that path's unit; a
+    // bare name A declares itself (in any of its files) is A's own
+    let mut declared_in: BTreeMap<&str, BTreeSet<String>> = BTreeMap::new();
     for (_, u, code) in &sources {
-        let mine = declared(code);
+        declared_in
+            .entry(u.as_str())
+            .or_default()
+            .extend(declared(code));
+    }
+    for (_, u, code) in &sources {
+        // what the unit declares in any of its files (a study's mod.rs implements a trait
+        // for the type its compute.rs declares)
+        let mine = &declared_in[u.as_str()];
         for (tr, (ty_path, ty)) in impls(code) {
             let owners = |path: &str, name: &str| -> BTreeSet<String> {
                 if let Some(p) = path.strip_prefix(CRATE) {
