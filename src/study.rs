@@ -38,6 +38,20 @@ impl FitOutcome {
     }
 }
 
+impl FitOutcome {
+    /// The outcome of a study that measures without a bar on its figure (tolerance 1):
+    /// passed when the figure `worst` is finite.
+    pub fn measured(spec: &FitSpec, worst: f64, summary: String) -> FitOutcome {
+        FitOutcome {
+            name: spec.name.clone(),
+            held_out_max_rel: worst,
+            tolerance: 1.0,
+            passed: worst.is_finite(),
+            summary,
+        }
+    }
+}
+
 /// Everything a study may read: its spec, every spec of the run (a study may read
 /// another's settings), where results go, and the preset.
 #[derive(Clone, Copy)]

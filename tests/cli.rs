@@ -165,25 +165,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
 #[test]
 fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
     let dir = common::scratch("cli", "tensor");
-    let out = bin()
-        .args([
-            "prefilter",
-            "--generator",
-            "scratches",
-            "--rank",
-            "4",
-            "--preset",
-            "quick",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    prefilter_rank_4(&dir, None);
     let md = std::fs::read_to_string(dir.join("tensor-scratches.md")).unwrap();
     assert!(md.contains("relative reconstruction error"));
     // the rank sweep R/4, R/2, R (rank 4: 1, 2, 4) and its plot
@@ -315,26 +297,7 @@ fn the_cli_reference_is_current() {
 fn prefilter_rank_is_identical_at_one_and_two_threads() {
     let run = |threads: &str| {
         let dir = common::scratch("cli", &format!("tensor-threads-{threads}"));
-        let out = bin()
-            .env("RAYON_NUM_THREADS", threads)
-            .args([
-                "prefilter",
-                "--generator",
-                "scratches",
-                "--rank",
-                "4",
-                "--preset",
-                "quick",
-                "--out",
-            ])
-            .arg(&dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        prefilter_rank_4(&dir, Some(threads));
         let files = [
             "tensor-scratches.md",
             "tensor-scratches.json",
@@ -347,5 +310,33 @@ fn prefilter_rank_is_identical_at_one_and_two_threads() {
     assert!(
         run("1") == run("2"),
         "prefilter --rank depends on the thread count"
+    );
+}
+
+/// `prefilter --generator scratches --rank 4 --preset quick --out DIR`, on `threads` rayon
+/// threads where given; asserts that it succeeds.
+fn prefilter_rank_4(dir: &std::path::Path, threads: Option<&str>) {
+    let mut cmd = bin();
+    if let Some(t) = threads {
+        cmd.env("RAYON_NUM_THREADS", t);
+    }
+    let out = cmd
+        .args([
+            "prefilter",
+            "--generator",
+            "scratches",
+            "--rank",
+            "4",
+            "--preset",
+            "quick",
+            "--out",
+        ])
+        .arg(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
     );
 }

@@ -269,19 +269,17 @@ impl crate::study::Computed for Scale {
     /// Passed when every reconstruction error is finite (the study measures; it sets no
     /// bar on the error).
     fn outcome(&self) -> FitOutcome {
-        FitOutcome {
-            name: self.spec.name.clone(),
-            held_out_max_rel: self.worst,
-            tolerance: 1.0,
-            passed: self.worst.is_finite(),
-            summary: format!(
+        FitOutcome::measured(
+            &self.spec,
+            self.worst,
+            format!(
                 "{}² maps, {} clusters each, ranks {:?}: worst relative reconstruction error {:.2} %",
                 self.size,
                 self.clusters.len(),
                 self.plan.ranks,
                 100.0 * self.worst
             ),
-        }
+        )
     }
 }
 

@@ -40,18 +40,16 @@ impl crate::study::Computed for Computed {
     /// Passed when every reconstruction error is finite (the study measures; it sets no
     /// bar on the error).
     fn outcome(&self) -> FitOutcome {
-        FitOutcome {
-            name: self.spec.name.clone(),
-            held_out_max_rel: self.worst,
-            tolerance: 1.0,
-            passed: self.worst.is_finite(),
-            summary: format!(
+        FitOutcome::measured(
+            &self.spec,
+            self.worst,
+            format!(
                 "{} maps × ranks {:?}: worst relative reconstruction error {:.2} %",
                 self.kinds,
                 self.s.ranks,
                 100.0 * self.worst
             ),
-        }
+        )
     }
 }
 
