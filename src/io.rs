@@ -77,7 +77,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// The files of one output set, as data (see the module doc): paths and bytes in the order
 /// they were added; a path added twice keeps its last bytes.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 #[must_use = "an output set is written only when published"]
 pub struct Outputs {
     files: Vec<(PathBuf, Vec<u8>)>,

@@ -64,11 +64,12 @@ pub struct Ctx<'a> {
 
 /// A study's computed result: everything its reports show, already measured.
 pub trait Computed: Send {
-    /// The study's output files under `results`, as data (formats only: no number is
-    /// computed here that the result does not hold).
-    fn render(&self, results: &Path) -> Result<Outputs>;
     /// The run's outcome, read off the result.
     fn outcome(&self) -> FitOutcome;
+    /// The study's output files under `results`, as data (formats only: no number is
+    /// computed here that the result does not hold). Takes the result: the driver reads
+    /// the outcome first.
+    fn render(self: Box<Self>, results: &Path) -> Result<Outputs>;
 }
 
 /// One study: named as its fits/*.toml, ordered after the studies whose reports it embeds.
@@ -101,11 +102,11 @@ pub struct OnePass {
 }
 
 impl Computed for OnePass {
-    fn render(&self, _results: &Path) -> Result<Outputs> {
-        Ok(self.files.clone())
-    }
     fn outcome(&self) -> FitOutcome {
         self.outcome.clone()
+    }
+    fn render(self: Box<Self>, _results: &Path) -> Result<Outputs> {
+        Ok(self.files)
     }
 }
 

@@ -1125,3 +1125,28 @@ fn a_malformed_result_is_an_error_not_an_absent_one() {
     assert!(e.contains("filters.json"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The tensor study quotes results/tensor-tensorly.json: a file there that is not a
+/// TensorLy comparison stops the study with a one-line error naming it (exit 2, nothing
+/// written), instead of reading as "not measured".
+#[test]
+fn a_foreign_tensorly_comparison_stops_the_tensor_study() {
+    let dir = common::scratch("hardening", "tensorly");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("tensor-tensorly.json"), b"{\"not\": \"a report\"}").unwrap();
+    let out = common::bin()
+        .args(["--no-cache", "--results"])
+        .arg(&dir)
+        .args(["regen", "--only", "tensor", "--preset", "quick"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = err.lines().last().unwrap_or("");
+    assert!(
+        line.contains("tensor-tensorly.json") && line.contains("not a TensorLy comparison"),
+        "{err}"
+    );
+    assert!(!dir.join("tensor.md").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

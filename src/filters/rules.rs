@@ -238,12 +238,11 @@ impl MapRule {
     /// reference; f32: the shading form). The moment rule takes ρ⁻¹(‖μ‖ρ(α)) from
     /// `moment` (Newton in f64, the fitted form in f32); LEAN is anisotropic: `None`.
     pub fn alpha<T: Float>(self, alpha: T, r: T, moment: impl FnOnce() -> T) -> Option<T> {
-        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
         Some(match self {
             MapRule::Renormalised => alpha,
             MapRule::ToksvigBp => toksvig_bp(alpha, r),
-            MapRule::Toksvig(k) => toksvig_alpha2(alpha, r, c(k)),
-            MapRule::Vmf(k) => vmf(alpha, r, c(k)),
+            MapRule::Toksvig(c) => toksvig_alpha2(alpha, r, k(c)),
+            MapRule::Vmf(c) => vmf(alpha, r, k(c)),
             MapRule::Lean => return None,
             MapRule::Seed000Paper => seed000_paper(alpha, r),
             MapRule::Moment => moment(),
@@ -295,15 +294,14 @@ impl ScreenRule {
     /// (3-vectors: the deferred kernels and the projected-space form), in T (f64: the
     /// reference; f32: the shading form); `None` for the other kernels.
     pub fn alpha_from_normals<T: Float>(self, alpha: T, du: [T; 3], dv: [T; 3]) -> Option<T> {
-        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
         Some(match self {
             ScreenRule::None => alpha,
-            ScreenRule::Deferred { s2, delta } => deferred(alpha, du, dv, c(s2), c(delta)),
+            ScreenRule::Deferred { s2, delta } => deferred(alpha, du, dv, k(s2), k(delta)),
             ScreenRule::DeferredOnAlpha { s2, delta } => {
-                deferred_on_alpha(alpha, du, dv, c(s2), c(delta))
+                deferred_on_alpha(alpha, du, dv, k(s2), k(delta))
             }
             ScreenRule::ProjectedSpace { s2, delta } => {
-                projected_space(alpha, du, dv, c(s2), c(delta))
+                projected_space(alpha, du, dv, k(s2), k(delta))
             }
             _ => return None,
         })
@@ -313,11 +311,10 @@ impl ScreenRule {
     /// the normal) and Kaplanyan's rect (slope-space derivatives in the quad average's
     /// frame); `None` for the other kernels.
     pub fn alpha_from_2d<T: Float>(self, alpha: T, du: [T; 2], dv: [T; 2]) -> Option<T> {
-        let c = |x: f64| T::from(x).unwrap_or_else(T::nan);
         Some(match self {
-            ScreenRule::Eigen { s2, delta } => eigen_eq10(alpha, du, dv, c(s2), c(delta)),
+            ScreenRule::Eigen { s2, delta } => eigen_eq10(alpha, du, dv, k(s2), k(delta)),
             ScreenRule::KaplanyanRect { s2, delta } => {
-                kaplanyan_rect(alpha, du, dv, c(s2), c(delta))
+                kaplanyan_rect(alpha, du, dv, k(s2), k(delta))
             }
             _ => return None,
         })

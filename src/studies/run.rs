@@ -159,8 +159,8 @@ fn run_one(
             results,
             preset,
         })?;
-        let set = computed.render(results)?;
         let o = computed.outcome();
+        let set = computed.render(results)?;
         if commit {
             set.publish(&s.name, &crate::io::results_manifest(results, &s.name))?;
         }

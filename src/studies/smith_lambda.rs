@@ -146,9 +146,9 @@ nothing else changes — no separate fit is needed.\n\n");
 }
 
 impl crate::study::Computed for Computed {
-    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
         let mut set = Outputs::new();
-        render(&mut set, results, self)?;
+        render(&mut set, results, &self)?;
         Ok(set)
     }
     fn outcome(&self) -> FitOutcome {

@@ -247,9 +247,9 @@ fn compute(c: &Ctx) -> Result<Scale> {
 }
 
 impl crate::study::Computed for Scale {
-    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
         let mut set = Outputs::new();
-        set.put(results.join("tensor-scale.md"), report(self));
+        set.put(results.join("tensor-scale.md"), report(&self));
         crate::results::put_named(
             &mut set,
             results,

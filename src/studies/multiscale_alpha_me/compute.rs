@@ -38,18 +38,9 @@ pub(super) fn roots(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> Vec<f
 pub(super) struct Computed {
     pub lo: f64,
     pub hi: f64,
-    pub c: OursFit,
-    pub refit: Fitted,
-    pub h_ours: HeldOut,
-    pub h_refit: HeldOut,
-    pub h_paper: HeldOut,
-    pub h_table: HeldOut,
-    pub h_newton: HeldOut,
-    pub whole: WholeRange,
-    pub at_one: f64,
-    pub at_two_thirds: f64,
-    pub sign_alpha: Vec<String>,
-    pub pole_alpha: Vec<String>,
+    /// (‖b̄‖, exact α there) where Eq 5's numerator changes sign, and at its poles in (0, 1).
+    pub sign_alpha: Vec<(f64, f64)>,
+    pub pole_alpha: Vec<(f64, f64)>,
     /// Eq 5's relative error at the fit domain's edge α = 1e-3 and at α = 0.01: (α, error).
     pub eq5_at: [(f64, f64); 2],
     pub curves: Curves,
@@ -166,24 +157,10 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
     let zeros = roots(&num, 1e-6, 1.0 - 1e-12, 100_000);
     let at_one = alpha_me_paper(1.0);
     let at_two_thirds = alpha_me_paper(2.0 / 3.0);
-    let sign_alpha: Vec<String> = zeros
-        .iter()
-        .map(|&b| {
-            format!(
-                "‖b̄‖ = {b:.9} (exact α there = {:.4e})",
-                alpha_from_one_minus(1.0 - b).unwrap_or(f64::NAN)
-            )
-        })
-        .collect();
-    let pole_alpha: Vec<String> = poles
-        .iter()
-        .map(|&b| {
-            format!(
-                "‖b̄‖ = {b:.6} (exact α there = {:.4})",
-                alpha_from_one_minus(1.0 - b).unwrap_or(f64::NAN)
-            )
-        })
-        .collect();
+    // where Eq 5's numerator and denominator vanish, with the exact α there
+    let exact_at = |b: &f64| (*b, alpha_from_one_minus(1.0 - b).unwrap_or(f64::NAN));
+    let sign_alpha = zeros.iter().map(exact_at).collect();
+    let pole_alpha = poles.iter().map(exact_at).collect();
     let eq5_at = [1e-3, 1e-2].map(|a| (a, (alpha_me_paper(mrl_pair(a).0) - a) / a));
     let curves = curves(spec, lo, hi, &c, &refit, &table);
     pb.finish();
@@ -201,16 +178,6 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
     Ok(Computed {
         lo,
         hi,
-        c,
-        refit,
-        h_ours,
-        h_refit,
-        h_paper,
-        h_table,
-        h_newton,
-        whole,
-        at_one,
-        at_two_thirds,
         sign_alpha,
         pole_alpha,
         eq5_at,

@@ -21,7 +21,7 @@ fn run(c: &Ctx) -> Result<Computed> {
 }
 
 impl crate::study::Computed for Computed {
-    fn render(&self, results: &Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
         let mut set = Outputs::new();
         let spec = &self.result.spec;
         let (svg_err, svg_mrl) = plots::render(&self.curves)?;
@@ -30,22 +30,23 @@ impl crate::study::Computed for Computed {
         set.put(results.join("multiscale-alpha-me.svg"), svg_mrl);
         set.put(
             results.join("multiscale-alpha-me.md"),
-            report::markdown(spec, self),
+            report::markdown(spec, &self),
         );
         Ok(set)
     }
     fn outcome(&self) -> FitOutcome {
-        let spec = &self.result.spec;
+        let r = &self.result;
+        let spec = &r.spec;
         FitOutcome::judged(
             spec,
-            self.h_ours.max_rel,
+            r.ours.held_out.max_rel,
             format!(
                 "ours {:.2e} max rel (tol {:.0e}); paper Eq 5 {:.2e}; paper form refit {:.2e}; table {:.2e}",
-                self.h_ours.max_rel,
+                r.ours.held_out.max_rel,
                 spec.tolerance.max_rel,
-                self.h_paper.max_rel,
-                self.h_refit.max_rel,
-                self.h_table.max_rel
+                r.paper_eq5.held_out.max_rel,
+                r.paper_form_refit.held_out.max_rel,
+                r.table.held_out.max_rel
             ),
         )
     }

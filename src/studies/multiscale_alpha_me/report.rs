@@ -9,25 +9,31 @@ use crate::results::alpha_me::WholeRange;
 
 /// The report.
 pub(super) fn markdown(spec: &FitSpec, k: &Computed) -> String {
-    let passed = k.h_ours.max_rel <= spec.tolerance.max_rel;
     let Computed {
         lo,
         hi,
-        ref c,
-        ref refit,
-        ref h_ours,
-        ref h_refit,
-        ref h_paper,
-        ref h_table,
-        ref h_newton,
-        ref whole,
-        at_one,
-        at_two_thirds,
         ref sign_alpha,
         ref pole_alpha,
         eq5_at: [(a0, e0), (a1, e1)],
+        ref result,
         ..
     } = *k;
+    let (passed, c, refit) = (result.passed, &result.ours, &result.paper_form_refit);
+    let (h_ours, h_refit, h_paper) = (&c.held_out, &refit.held_out, &result.paper_eq5.held_out);
+    let (h_table, h_newton) = (&result.table.held_out, &result.newton_closed_form.held_out);
+    let whole = &c.whole_range;
+    let (at_one, at_two_thirds) = (
+        result.eq5_audit.alpha_at_b_1,
+        result.eq5_audit.alpha_at_b_2_3,
+    );
+    let sign_alpha: Vec<String> = sign_alpha
+        .iter()
+        .map(|(b, a)| format!("‖b̄‖ = {b:.9} (exact α there = {a:.4e})"))
+        .collect();
+    let pole_alpha: Vec<String> = pole_alpha
+        .iter()
+        .map(|(b, a)| format!("‖b̄‖ = {b:.6} (exact α there = {a:.4})"))
+        .collect();
     let mut md = String::from("# Multi-scale LTC: α_me from ‖b̄‖ (seed 000 §3.3)\n\n");
     md.push_str("Written by `cargo run --release -- regen --only multiscale-alpha-me` from `fits/multiscale-alpha-me.toml`. \
 Ground truth is the closed form ‖b̄‖(α) = (1 − α² artanh(k)/k)/(1 − α²), k = √(1 − α²) (proofs/mrl-closed-form.md; \
@@ -97,7 +103,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
     ));
     md.push_str(&format!("- Poles of Eq 5 in (0, 1): {} — past it (rougher footprints, α > 1) the rational is meaningless; the paper clamps α at 1, i.e. uses only ‖b̄‖ ≳ 0.667.\n", if pole_alpha.is_empty() { "none".into() } else { pole_alpha.join(", ") }));
     md.push_str(&format!("- Max relative error of Eq 5 over α ∈ [{lo}, {hi}]: {:.3e} (at α = {:.4e}); it is only accurate where Fig. 2 of the paper shows it (α ≳ 0.05). The absolute error stays ≈ 2e-3 as α → 0 because Eq 5 has no α → 0 limit: a rational function of ‖b̄‖ cannot follow 1 − ‖b̄‖ = α²(ln(2/α) − 1).\n", h_paper.max_rel, h_paper.worst_alpha));
-    md.push_str(&format!("- Refitting the same form ({} coefficients, argmin Nelder–Mead, {} iterations, objective {:.3e}) reaches only {:.3e} max relative error: the form, not the fit, is the limit.\n\n", refit.params.len(), refit.iterations, refit.objective, h_refit.max_rel));
+    md.push_str(&format!("- Refitting the same form ({} coefficients, argmin Nelder–Mead, {} iterations, objective {:.3e}) reaches only {:.3e} max relative error: the form, not the fit, is the limit.\n\n", refit.coefficients.len(), refit.iterations, refit.objective, h_refit.max_rel));
     md.push_str("## Our form\n\nα = √(y/R(s)) with y = 1 − ‖b̄‖, s = ln(1/y) and R(s) = s/2 + (ln 2)/2 − 1 + ½ ln s + Σ c_k s^(−k). \
 The fixed terms are the exact α → 0 asymptote (1 − ‖b̄‖ = α²(ln(2/α) − 1) ⇒ R = s/2 + ½ ln R + ln 2 − 1); \
 the point ‖b̄‖ = 2/3 ↦ α = 1 is pinned. R = y/α² is known exactly at every training point, so the c_k come from one \
@@ -108,7 +114,7 @@ g(b) = 1 + Σ d_k b^k: g(0) = 1 is the exact α → ∞ asymptote ‖b̄‖ ~ π
 d_k (weights 1/g). Pass b itself where it is small, or y ≥ ½, for which b = 1 − y is exact in binary arithmetic.\n\n");
     md.push_str(&format!(
         "Coefficients c_1…c_{}: `{:?}`\n\nCoefficients d_1…d_{}: `{:?}`\n\n",
-        spec.terms, c.small, spec.terms_large, c.large
+        spec.terms, c.coefficients, spec.terms_large, c.coefficients_large
     ));
     md.push_str("![α_me against 1 − ‖b̄‖](multiscale-alpha-me.svg)\n\n![errors](multiscale-alpha-error.svg)\n\n");
     md.push_str("## Overall roughness (Eq 6–7)\n\nThe spherical convolution γ_me ∗ γ_mi, its one-LTC fits under four metrics, the \

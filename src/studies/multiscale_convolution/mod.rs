@@ -84,7 +84,7 @@ fn run(ctx: &Ctx) -> Result<Convolution> {
 }
 
 impl crate::study::Computed for Convolution {
-    fn render(&self, results: &Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
         let (spec, c, j) = (&self.spec, &self.c, &self.j);
         let mut set = Outputs::new();
         let mut md = report::models_section(spec, c, j);

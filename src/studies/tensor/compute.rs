@@ -163,9 +163,12 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
         }
         series.push((kind.name().to_string(), pts));
     }
-    let tensorly = std::fs::read_to_string(results.join("tensor-tensorly.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<crate::tensor::compare::Report>(&t).ok());
+    // absent: not measured; malformed or foreign: a typed error, not "absent"
+    let tensorly = crate::results::read_typed::<crate::tensor::compare::Report>(
+        &results.join("tensor-tensorly.json"),
+        "a TensorLy comparison",
+        "run `cargo run --release -- tensorly-compare`",
+    )?;
     let costs = crate::results::costs::read(results)?.unwrap_or_default();
     Ok(Computed {
         spec: spec.clone(),

@@ -21,10 +21,10 @@ mod report;
 use compute::Computed;
 
 impl crate::study::Computed for Computed {
-    fn render(&self, results: &Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
         let mut set = Outputs::new();
-        set.put(results.join("tensor-rank.svg"), report::rank_svg(self)?);
-        set.put(results.join("tensor.md"), report::markdown(self));
+        set.put(results.join("tensor-rank.svg"), report::rank_svg(&self)?);
+        set.put(results.join("tensor.md"), report::markdown(&self));
         crate::results::put(
             &mut set,
             results,

@@ -70,7 +70,7 @@ fn compute(c: &Ctx) -> Result<Computed> {
 }
 
 impl crate::study::Computed for Computed {
-    fn render(&self, results: &std::path::Path) -> Result<Outputs> {
+    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
         let (spec, preset) = (&self.spec, self.preset);
         let mut set = Outputs::new();
         set.put(
