@@ -154,27 +154,54 @@ fn checks_section(rows: &[check::CheckResult]) -> String {
     md
 }
 
-pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, results, preset) = (c.spec, c.results, c.preset);
-    let pictures = results.join("render");
-    let mut md = format!(
-        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
-        preset.name(),
-        report::TILE,
-    );
+/// One rendered scene and its measurements.
+pub struct Rendered {
+    pub render: Render,
+    pub measured: measure::Measured,
+}
+
+/// What the render study computed: the truth checks and, per figure set, its scenes.
+pub struct Computed {
+    pub preset: Preset,
+    pub spec: FitSpec,
+    pub checks: Vec<check::CheckResult>,
+    /// (section title, the scenes rendered for it).
+    pub sections: Vec<(&'static str, Vec<Rendered>)>,
+}
+
+impl Computed {
+    /// The smallest gap between the baseline's flicker and the truth's, over the paths.
+    fn worst_flicker_gap(&self) -> f64 {
+        self.sections
+            .iter()
+            .flat_map(|(_, v)| v)
+            .filter_map(|r| match (r.measured.flicker.first(), r.measured.truth_change) {
+                (Some(none), Some(tc)) => Some(none.2.change.value - tc.value),
+                _ => None,
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn worst_check(&self) -> f64 {
+        self.checks.iter().map(|c| c.max_rel).fold(0.0, f64::max)
+    }
+}
+
+pub fn compute(c: &Ctx) -> Result<Computed> {
+    let (results, preset) = (c.results, c.preset);
     let checks: Vec<check::CheckResult> = check::scenes()
         .iter()
         .map(|(name, text, nodes)| {
             Scene::parse(text, name).and_then(|s| check::run(&s, name, *nodes))
         })
         .collect::<Result<_>>()?;
-    let mut json = Vec::new();
     let titles = [
         "## (a) Seed 000: multi-scale LTC under a quad light, over view distances",
         "## (b) Seed 003: specular antialiasing along a dolly",
         "## (c) Seed 002: glints under a small quad light",
     ];
-    let mut worst_flicker_gap = f64::INFINITY;
+    let constants = crate::render::constants(results)?;
+    let mut sections = Vec::new();
     for (k, (name, text)) in SCENES.iter().enumerate() {
         let base = at_preset(Scene::parse(text, name)?, preset);
         let mut variants = vec![base.clone()];
@@ -188,7 +215,7 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
             );
             variants.push(s);
         }
-        md.push_str(&format!("{}\n\n", titles[k]));
+        let mut rendered = Vec::new();
         for s in variants {
             crate::report::stage(&format!(
                 "render {}: {}×{}, {} views",
@@ -197,49 +224,78 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
                 s.camera.height,
                 s.render.scales.len() * s.frames()
             ));
-            let (r, m, _) = render_one(
-                set,
+            let render = crate::render::render(
                 &s,
                 Path::new("fits/render"),
-                results,
-                preset,
-                &pictures,
+                &constants,
+                &glint_plan(preset),
             )?;
-            if let (Some(none), Some(tc)) = (m.flicker.first(), m.truth_change) {
-                worst_flicker_gap = worst_flicker_gap.min(none.2.change.value - tc.value);
-            }
-            md.push_str(&report::markdown(&r, &m, "render"));
+            let measured = measure::measure_render(&render);
+            rendered.push(Rendered { render, measured });
+        }
+        sections.push((titles[k], rendered));
+    }
+    Ok(Computed {
+        preset,
+        spec: c.spec.clone(),
+        checks,
+        sections,
+    })
+}
+
+fn render(set: &mut Outputs, results: &Path, c: &Computed) -> Result<()> {
+    let pictures = results.join("render");
+    let mut md = format!(
+        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
+        c.preset.name(),
+        report::TILE,
+    );
+    let mut json = Vec::new();
+    for (title, rendered) in &c.sections {
+        md.push_str(&format!("{title}\n\n"));
+        for Rendered { render: r, measured: m } in rendered {
+            report::put_pictures(set, &pictures, r, m, report::TILE.min(r.width))?;
+            md.push_str(&report::markdown(r, m, "render"));
             md.push('\n');
-            json.push(report::json(&r, &m));
+            json.push(report::json(r, m));
         }
     }
-    md.push_str(&checks_section(&checks));
+    md.push_str(&checks_section(&c.checks));
     set.put(&results.join("render.md"), md.as_bytes());
     crate::results::put_named(
         set,
         results,
-        &spec.name,
+        &c.spec.name,
         &RenderResult {
-            spec,
+            spec: &c.spec,
             command: "cargo run --release -- regen --only render",
-            preset: preset.name(),
-            checks: &checks,
+            preset: c.preset.name(),
+            checks: &c.checks,
             renders: &json,
         },
-    )?;
-    let worst = checks.iter().map(|c| c.max_rel).fold(0.0, f64::max);
-    Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: worst,
-        tolerance: spec.tolerance.max_rel,
-        passed: worst <= spec.tolerance.max_rel,
-        summary: format!(
-            "{} scenes rendered; truth checks: largest relative difference {:.2e}; the baseline's flicker exceeds the truth's by {:.4}",
-            SCENES.len() + 1,
+    )
+}
+
+impl crate::study::Computed for Computed {
+    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        render(&mut set, results, &self)?;
+        Ok(set)
+    }
+
+    fn outcome(&self) -> FitOutcome {
+        let worst = self.worst_check();
+        FitOutcome::judged(
+            &self.spec,
             worst,
-            worst_flicker_gap
-        ),
-    })
+            format!(
+                "{} scenes rendered; truth checks: largest relative difference {:.2e}; the baseline's flicker exceeds the truth's by {:.4}",
+                self.sections.iter().map(|(_, v)| v.len()).sum::<usize>(),
+                worst,
+                self.worst_flicker_gap()
+            ),
+        )
+    }
 }
 
 /// results/fits/render.json.
@@ -255,5 +311,5 @@ struct RenderResult<'a> {
 crate::study::study! {
     /// The rendered evidence; the renders read the footprint study's refitted constants, as the
     /// registry holds it.
-    RenderStudy = "render", after ["filters"], on request false, runs run
+    RenderStudy = "render", after ["filters"], on request false, computes compute
 }
