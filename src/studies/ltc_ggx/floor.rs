@@ -13,6 +13,7 @@ use crate::ltc::lobe_error::{judge, Bounded, Tolerance};
 use crate::ltc::target::GgxTarget;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
+use crate::report::table::Table as MdTable;
 
 /// One sampled cell.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
@@ -158,66 +159,127 @@ fn mean_se(v: &[f64]) -> (f64, f64) {
     crate::integrate::MeanSe::of(v).pair()
 }
 
-/// The markdown section: per sampled cell and the implied floors of the table's mean and
-/// of its grazing rows.
-pub(super) fn section(
-    cells: &[FloorCell],
+/// The implied floors: the table's mean over all cells and over its grazing rows, and
+/// the change of each search against the table (mean, s.e.) over the sampled cells.
+pub(super) struct Summary {
     table_mean: f64,
     grazing_mean: f64,
-    grid_n: usize,
-) -> String {
-    let graze = |c: &&FloorCell| 63 * c.j >= 56 * (grid_n - 1);
+    /// [global over all, free amplitude over all, global over grazing, free over grazing].
+    changes: [(f64, f64); 4],
+    /// The largest error bar of any figure.
+    bar: f64,
+    /// The range of A*/albedo.
+    amplitude: (f64, f64),
+}
+
+/// The implied floors of the table's mean and of its grazing rows.
+pub(super) fn summarise(cells: &[FloorCell], main: &Table) -> Summary {
+    let grid_n = main.grid.n;
+    let grazing_rows = |j: usize| 63 * j >= 56 * (grid_n - 1);
+    let grazing: Vec<f64> = main
+        .cells
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| grazing_rows(*j))
+        .flat_map(|(_, col)| col.iter().filter_map(|c| c.l2()).map(|b| b.value))
+        .collect();
     let d = |f: &dyn Fn(&FloorCell) -> f64, only_graze: bool| {
         mean_se(
             &cells
                 .iter()
-                .filter(|c| !only_graze || graze(c))
+                .filter(|c| !only_graze || grazing_rows(c.j))
                 .map(|c| f(c) - c.table.value)
                 .collect::<Vec<_>>(),
         )
     };
-    let (g_all, g_all_se) = d(&|c| c.global.value, false);
-    let (f_all, f_all_se) = d(&|c| c.free_amplitude.value, false);
-    let (g_gr, g_gr_se) = d(&|c| c.global.value, true);
-    let (f_gr, f_gr_se) = d(&|c| c.free_amplitude.value, true);
-    let bar = cells
-        .iter()
-        .flat_map(|c| [c.table.error, c.global.error, c.free_amplitude.error])
-        .fold(0.0, f64::max);
+    Summary {
+        table_mean: crate::ltc::held::held_out_stats(main).l2.mean.value,
+        grazing_mean: grazing.iter().sum::<f64>() / grazing.len().max(1) as f64,
+        changes: [
+            d(&|c| c.global.value, false),
+            d(&|c| c.free_amplitude.value, false),
+            d(&|c| c.global.value, true),
+            d(&|c| c.free_amplitude.value, true),
+        ],
+        bar: cells
+            .iter()
+            .flat_map(|c| [c.table.error, c.global.error, c.free_amplitude.error])
+            .fold(0.0, f64::max),
+        amplitude: (
+            cells
+                .iter()
+                .map(|c| c.amplitude_over_albedo)
+                .fold(f64::INFINITY, f64::min),
+            cells
+                .iter()
+                .map(|c| c.amplitude_over_albedo)
+                .fold(0.0, f64::max),
+        ),
+    }
+}
+
+/// The markdown section: per sampled cell and the implied floors of the table's mean and
+/// of its grazing rows.
+pub(super) fn section(cells: &[FloorCell], s: &Summary) -> String {
+    let (table_mean, grazing_mean, bar) = (s.table_mean, s.grazing_mean, s.bar);
+    let [(g_all, g_all_se), (f_all, f_all_se), (g_gr, g_gr_se), (f_gr, f_gr_se)] = s.changes;
     let mut md = format!(
-        "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n| | all cells | rows t ≥ 56 |\n|---|---|---|\n| the table (energy-exact: norm = albedo) | {:.2} % | {:.2} % |\n| best of 27 starts, norm = albedo | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n| that shape with the L2-optimal amplitude | {:+.2} ± {:.2} points → {:.2} % | {:+.2} ± {:.2} points → {:.2} % |\n\nA*/albedo over the sampled cells: {:.3} … {:.3} (the energy an L2-optimal norm gives away).\n\n| i | j | α | θ | table | 27 starts | + L2-optimal amplitude | A*/albedo |\n|---|---|---|---|---|---|---|---|\n",
+        "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n",
         cells.len(),
         bar,
-        100.0 * table_mean,
-        100.0 * grazing_mean,
-        100.0 * g_all,
-        100.0 * g_all_se,
-        100.0 * (table_mean + g_all),
-        100.0 * g_gr,
-        100.0 * g_gr_se,
-        100.0 * (grazing_mean + g_gr),
-        100.0 * f_all,
-        100.0 * f_all_se,
-        100.0 * (table_mean + f_all),
-        100.0 * f_gr,
-        100.0 * f_gr_se,
-        100.0 * (grazing_mean + f_gr),
-        cells.iter().map(|c| c.amplitude_over_albedo).fold(f64::INFINITY, f64::min),
-        cells.iter().map(|c| c.amplitude_over_albedo).fold(0.0, f64::max),
     );
+    let change = |d: f64, se: f64, base: f64| {
+        format!(
+            "{:+.2} ± {:.2} points → {:.2} %",
+            100.0 * d,
+            100.0 * se,
+            100.0 * (base + d)
+        )
+    };
+    let mut t = MdTable::new(["", "all cells", "rows t ≥ 56"]);
+    t.row([
+        "the table (energy-exact: norm = albedo)".to_string(),
+        format!("{:.2} %", 100.0 * table_mean),
+        format!("{:.2} %", 100.0 * grazing_mean),
+    ]);
+    t.row([
+        "best of 27 starts, norm = albedo".to_string(),
+        change(g_all, g_all_se, table_mean),
+        change(g_gr, g_gr_se, grazing_mean),
+    ]);
+    t.row([
+        "that shape with the L2-optimal amplitude".to_string(),
+        change(f_all, f_all_se, table_mean),
+        change(f_gr, f_gr_se, grazing_mean),
+    ]);
+    md.push_str(&t.to_string());
+    md.push_str(&format!(
+        "\nA*/albedo over the sampled cells: {:.3} … {:.3} (the energy an L2-optimal norm gives away).\n\n",
+        s.amplitude.0, s.amplitude.1,
+    ));
+    let mut t = MdTable::new([
+        "i",
+        "j",
+        "α",
+        "θ",
+        "table",
+        "27 starts",
+        "+ L2-optimal amplitude",
+        "A*/albedo",
+    ]);
     for c in cells {
-        md.push_str(&format!(
-            "| {} | {} | {:.2e} | {:.1}° | {} | {} | {} | {:.3} |\n",
-            c.i,
-            c.j,
-            c.alpha,
-            c.theta_deg,
+        t.row([
+            c.i.to_string(),
+            c.j.to_string(),
+            format!("{:.2e}", c.alpha),
+            format!("{:.1}°", c.theta_deg),
             c.table.pct(2),
             c.global.pct(2),
             c.free_amplitude.pct(2),
-            c.amplitude_over_albedo
-        ));
+            format!("{:.3}", c.amplitude_over_albedo),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push('\n');
     md
 }

@@ -1,6 +1,7 @@
 //! `regen --only ltc-ggx`: the GGX LTC table fit, the polygon-integration study (§3),
-//! results/ltc-ggx.md, results/ltc-error.svg and results/fits/ltc-ggx.json. Compute (the
-//! tables) → the report sections, each in its own file → the files.
+//! results/ltc-ggx.md, results/ltc-error.svg and results/fits/ltc-ggx.json. `compute`
+//! fits the tables; each section's file measures (`measure*`) and formats (`section`);
+//! `render` assembles the files.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -26,14 +27,8 @@ pub use compute::cell_ltc;
 use compute::{fit_tables, plan, Plan};
 
 /// The title, the method and the table error.
-fn intro(
-    spec: &FitSpec,
-    preset: Preset,
-    pl: &Plan,
-    main: &Table,
-    sampled: &held::Sampled,
-) -> String {
-    let st = stats(main);
+fn intro(c: &Computed) -> String {
+    let (spec, preset, pl, main, st) = (&c.spec, c.preset, &c.pl, &c.main, &c.held);
     let mut md = format!(
         "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
         preset.name(),
@@ -44,9 +39,9 @@ fn intro(
         pl.samples,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
     );
-    md.push_str(&held_out_section(&st));
+    md.push_str(&held_out_section(st));
     md.push_str(" ![error](ltc-error.svg)\n\n");
-    md.push_str(&format!("{}\n\n", sampled.sentence(st.l2.mean.value)));
+    md.push_str(&format!("{}\n\n", c.sampled.sentence(st.l2.mean.value)));
     md
 }
 
@@ -93,8 +88,29 @@ struct LtcResult<'a> {
     bilinear_pass: BilinearPass,
 }
 
-/// The study: fit and report, into `set`.
-pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
+/// What the GGX study computed: the table, its held-out figures and every section's
+/// measures.
+pub struct Computed {
+    spec: FitSpec,
+    preset: Preset,
+    pl: Plan,
+    main: Table,
+    held: Stats,
+    sampled: held::Sampled,
+    bilinear: BilinearPass,
+    structure: table_report::Structure,
+    between: table_report::Between,
+    variants: Vec<(&'static str, Stats)>,
+    compare: Option<crate::results::compare::LtcCompare>,
+    precision: precision::Precision,
+    floor: Vec<floor::FloorCell>,
+    floor_summary: floor::Summary,
+    polygons: polygons::Polygons,
+    pipeline: pipeline::Pipeline,
+}
+
+/// The study: fit the table and measure it.
+pub fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
     let pl = plan(preset);
     let (mut main, variants) = fit_tables(spec, &pl)?;
@@ -104,82 +120,118 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
     held::judge_table(&Memo, &mut main, &GgxTarget::new, Tolerance::default())?;
     let st = stats(&main);
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
-    let mut md = intro(spec, preset, &pl, &main, &sampled);
-    md.push_str(&format!(
-        "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",
-        bilinear.square_weight, bilinear.max_iters, bilinear.cells_moved, pl.n * pl.n
-    ));
-    md.push_str(&table_report::structure_section(&main));
-    md.push_str(&table_report::between_section(&main)?);
-    let var_json = table_report::variants_section(&mut md, &pl, &variants);
-    table_report::error_heatmap(set, &main, results)?;
-    md.push_str(&shipped::section(results, st.l2.mean.value)?);
-    md.push_str(&precision::section(&main));
+    let structure = table_report::measure_structure(&main);
+    let between = table_report::measure_between(&main)?;
+    let variants = table_report::measure_variants(&variants);
+    let compare = crate::results::compare::read(results)?;
+    let precision = precision::measure(&main);
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
     let floor = floor::compute(&main, pl.samples, spec.optimiser.max_iters.unwrap_or(400))?;
-    let n = main.grid.n;
-    let grazing: Vec<f64> = main
-        .cells
-        .iter()
-        .enumerate()
-        .filter(|(j, _)| 63 * j >= 56 * (n - 1))
-        .flat_map(|(_, col)| col.iter().filter_map(|c| c.l2()).map(|b| b.value))
-        .collect();
-    md.push_str(&floor::section(
-        &floor,
-        st.l2.mean.value,
-        grazing.iter().sum::<f64>() / grazing.len().max(1) as f64,
-        n,
-    ));
-    let poly = polygons::section(&mut md, &main, pl.mc)?;
+    let floor_summary = floor::summarise(&floor, &main);
+    let polygons = polygons::measure(&main, pl.mc)?;
     // the pipeline reads the table as a renderer reads the published file
-    let (table, table_f16) = crate::ltc::fit::stored(&main);
-    let stored = crate::results::ltc::table_of(
-        &spec.name,
-        &crate::results::ltc::Tables {
-            spec: spec.clone(),
-            table: table.clone(),
-            table_f16: Some(table_f16.clone()),
-        },
-    )?;
-    let pipe = pipeline::section(&stored, preset, &mut md)?;
-    set.put(&results.join("ltc-ggx.md"), md.as_bytes());
+    let stored = crate::results::ltc::table_of(&spec.name, &tables(spec, &main))?;
+    let pipeline = pipeline::measure(&stored, preset)?;
+    Ok(Computed {
+        spec: spec.clone(),
+        preset,
+        pl,
+        main,
+        held: st,
+        sampled,
+        bilinear,
+        structure,
+        between,
+        variants,
+        compare,
+        precision,
+        floor,
+        floor_summary,
+        polygons,
+        pipeline,
+    })
+}
+
+/// The table as the result file publishes it.
+fn tables(spec: &FitSpec, main: &Table) -> crate::results::ltc::Tables {
+    let (table, table_f16) = crate::ltc::fit::stored(main);
+    crate::results::ltc::Tables {
+        spec: spec.clone(),
+        table,
+        table_f16: Some(table_f16),
+    }
+}
+
+fn markdown(c: &Computed) -> String {
+    let mut md = intro(c);
+    md.push_str(&format!(
+        "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",
+        c.bilinear.square_weight, c.bilinear.max_iters, c.bilinear.cells_moved, c.pl.n * c.pl.n
+    ));
+    md.push_str(&table_report::structure_section(&c.structure));
+    md.push_str(&table_report::between_section(&c.between));
+    md.push_str(&table_report::variants_section(&c.pl, &c.variants));
+    md.push_str(&shipped::section(c.compare.as_ref(), c.held.l2.mean.value));
+    md.push_str(&precision::section(&c.precision));
+    md.push_str(&floor::section(&c.floor, &c.floor_summary));
+    md.push_str(&polygons::section(&c.polygons));
+    md.push_str(&pipeline::section(&c.pipeline));
+    md
+}
+
+fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
+    let spec = &c.spec;
+    let svg =
+        crate::studies::ltc_error_map::ltc_error_heatmap(&c.main, "LTC fit: relative L2 error")?;
+    set.put(&results.join("ltc-error.svg"), svg.as_bytes());
+    set.put(&results.join("ltc-ggx.md"), markdown(c).as_bytes());
+    let t = tables(spec, &c.main);
+    let poly = &c.polygons;
     let json = LtcResult {
         spec,
         command: crate::results::command(&spec.name),
-        preset: preset.name(),
-        grid: main.grid,
+        preset: c.preset.name(),
+        grid: c.main.grid,
         layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
-        table,
-        table_f16,
-        held_out: stats(&main),
-        variants: var_json,
-        edge_approximations: poly.edge_approximations,
-        degenerate: poly.degenerate,
-        polygons: poly.polygons,
-        pipeline: pipe,
+        table: t.table,
+        table_f16: t.table_f16.unwrap_or_default(),
+        held_out: c.held,
+        variants: table_report::variants_json(&c.variants),
+        edge_approximations: poly.edge_approximations.clone(),
+        degenerate: poly.degenerate_json(),
+        polygons: poly.polygons_json(),
+        pipeline: pipeline::json(&c.pipeline),
         sphere_horizon: poly.sphere_horizon,
-        floor,
-        bilinear_pass: bilinear,
+        floor: c.floor.clone(),
+        bilinear_pass: c.bilinear,
     };
-    crate::results::put_named(set, results, &spec.name, &json)?;
-    let passed = st.l2.max.value <= spec.tolerance.max_rel;
-    Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: st.l2.max.value,
-        tolerance: spec.tolerance.max_rel,
-        passed,
-        summary: format!(
-            "{}×{} table: held-out rel. L2 mean {}, max {}",
-            pl.n,
-            pl.n,
-            st.l2.mean.pct(2),
-            st.l2.max.pct(1)
-        ),
-    })
+    crate::results::put_named(set, results, &spec.name, &json)
+}
+
+impl crate::study::Computed for Computed {
+    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        render(&mut set, results, &self)?;
+        Ok(set)
+    }
+
+    fn outcome(&self) -> FitOutcome {
+        let st = &self.held;
+        FitOutcome::judged(
+            &self.spec,
+            st.l2.max.value,
+            format!(
+                "{}×{} table: held-out rel. L2 mean {}, max {}",
+                self.pl.n,
+                self.pl.n,
+                st.l2.mean.pct(2),
+                st.l2.max.pct(1)
+            ),
+        )
+    }
 }
 
 crate::study::study! {
     /// The GGX LTC table study, as the registry holds it.
-    LtcGgx = "ltc-ggx", after [], on request false, runs run
+    LtcGgx = "ltc-ggx", after [], on request false, computes compute
 }

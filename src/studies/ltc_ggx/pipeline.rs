@@ -1,21 +1,43 @@
-//! The multi-scale pipeline of seed 000 §3–4 against brute force, in results/ltc-ggx.md.
+//! The multi-scale pipeline of seed 000 §3–4 against brute force, in results/ltc-ggx.md:
+//! `measure` computes, `section` and `json` format.
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};
 use crate::integrate::Preset;
 use crate::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
 use crate::ltc::polygon::Light;
+use crate::report::table::Table as MdTable;
 use nalgebra::Vector3;
 use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
-/// The multi-scale pipeline against brute force (appends to `md`); returns its JSON.
-pub(super) fn section(
-    stored: &crate::ltc::table::FittedTable,
-    preset: Preset,
-    md: &mut String,
-) -> Result<serde_json::Value> {
+/// One method's figures at one level.
+#[derive(Clone, Copy, Debug)]
+struct MethodStat {
+    /// Mean |method/truth − 1| and its s.e.
+    e: f64,
+    es: f64,
+    /// Mean ratio method/truth.
+    r: f64,
+    /// Σ|method − truth|/Σ truth.
+    weighted: f64,
+}
+
+/// The multi-scale pipeline against brute force, per level.
+pub(super) struct Pipeline {
+    size: usize,
+    per: usize,
+    samples: usize,
+    alpha: f64,
+    views: [f64; 3],
+    /// (level, cases, per method).
+    levels: Vec<(usize, usize, Vec<MethodStat>)>,
+    /// Largest relative MC s.e. of a brute-force value.
+    worst_se: f64,
+}
+
+pub(super) fn measure(stored: &crate::ltc::table::FittedTable, preset: Preset) -> Result<Pipeline> {
     use crate::filters::footprint::Procedural;
     let table = LtcTable::of(stored);
     let (size, levels, per, samples): (usize, Vec<usize>, usize, usize) = match preset {
@@ -33,11 +55,6 @@ pub(super) fn section(
             &table, &map, alpha, &levels, per, &views, &light, samples, 99,
         )?);
     }
-    md.push_str(&format!(
-        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a 1×0.6 quad light centred at (−1, 0.2, 1.2) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n| level | footprint | {} |\n|---|---|{}\n",
-        METHODS.join(" | "),
-        "---|".repeat(METHODS.len())
-    ));
     let stat = |v: &[f64]| crate::integrate::MeanSe::of(v).pair();
     let mut by_level = Vec::new();
     for &lv in &levels {
@@ -45,45 +62,86 @@ pub(super) fn section(
             .iter()
             .filter(|c| c.level == lv && c.truth > 0.0)
             .collect();
-        let mut cells = Vec::new();
-        let mut js = Vec::new();
-        for k in 0..METHODS.len() {
-            let err: Vec<f64> = cs
-                .iter()
-                .map(|c| (c.methods[k] / c.truth - 1.0).abs())
-                .collect();
-            let ratio: Vec<f64> = cs.iter().map(|c| c.methods[k] / c.truth).collect();
-            let (e, es) = stat(&err);
-            let (r, _) = stat(&ratio);
-            let weighted = cs
-                .iter()
-                .map(|c| (c.methods[k] - c.truth).abs())
-                .sum::<f64>()
-                / cs.iter().map(|c| c.truth).sum::<f64>();
-            cells.push(format!(
-                "{:.1} % ± {:.1} ({:.3}; {:.1} %)",
-                100.0 * e,
-                100.0 * es,
-                r,
-                100.0 * weighted
-            ));
-            js.push(serde_json::json!({"method": METHODS[k], "mean_abs_rel": e, "se": es, "mean_ratio": r, "energy_weighted_rel": weighted}));
-        }
-        md.push_str(&format!(
-            "| {lv} | {}×{} texels | {} |\n",
-            1usize << lv,
-            1usize << lv,
-            cells.join(" | ")
-        ));
-        by_level.push(serde_json::json!({"level": lv, "cases": cs.len(), "methods": js}));
+        let methods = (0..METHODS.len())
+            .map(|k| {
+                let err: Vec<f64> = cs
+                    .iter()
+                    .map(|c| (c.methods[k] / c.truth - 1.0).abs())
+                    .collect();
+                let ratio: Vec<f64> = cs.iter().map(|c| c.methods[k] / c.truth).collect();
+                let (e, es) = stat(&err);
+                let (r, _) = stat(&ratio);
+                let weighted = cs
+                    .iter()
+                    .map(|c| (c.methods[k] - c.truth).abs())
+                    .sum::<f64>()
+                    / cs.iter().map(|c| c.truth).sum::<f64>();
+                MethodStat { e, es, r, weighted }
+            })
+            .collect();
+        by_level.push((lv, cs.len(), methods));
     }
     let worst_se = cases
         .iter()
         .filter(|c| c.truth > 0.0)
         .map(|c| c.truth_se / c.truth)
         .fold(0.0, f64::max);
-    md.push_str(&format!("\nLargest relative Monte Carlo s.e. of a brute-force value: {:.2} %. The first column shades every texel with the table and averages — an independent check of the brute force (it differs only by the LTC fit's error) and the target the single-lobe models approximate at one lookup per pixel. Level 0 measures the LTC table alone; the growth with the level is what each footprint model adds. Relative errors are largest where the light is off-specular and the truth is small (tails).\n", 100.0 * worst_se));
-    Ok(serde_json::json!({"alpha": alpha, "views_deg": views, "levels": by_level}))
+    Ok(Pipeline {
+        size,
+        per,
+        samples,
+        alpha,
+        views,
+        levels: by_level,
+        worst_se,
+    })
+}
+
+/// The JSON the result file holds.
+pub(super) fn json(p: &Pipeline) -> serde_json::Value {
+    let by_level: Vec<serde_json::Value> = p
+        .levels
+        .iter()
+        .map(|(lv, cases, ms)| {
+            let js: Vec<serde_json::Value> = ms
+                .iter()
+                .zip(METHODS)
+                .map(|(m, name)| serde_json::json!({"method": name, "mean_abs_rel": m.e, "se": m.es, "mean_ratio": m.r, "energy_weighted_rel": m.weighted}))
+                .collect();
+            serde_json::json!({"level": lv, "cases": cases, "methods": js})
+        })
+        .collect();
+    serde_json::json!({"alpha": p.alpha, "views_deg": p.views, "levels": by_level})
+}
+
+/// The section of results/ltc-ggx.md.
+pub(super) fn section(p: &Pipeline) -> String {
+    let (size, alpha, views, per, samples) = (p.size, p.alpha, p.views, p.per, p.samples);
+    let mut md = format!(
+        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a 1×0.6 quad light centred at (−1, 0.2, 1.2) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n",
+    );
+    let mut t = MdTable::new(["level", "footprint"].into_iter().chain(METHODS));
+    for (lv, _, ms) in &p.levels {
+        t.row(
+            [
+                lv.to_string(),
+                format!("{}×{} texels", 1usize << lv, 1usize << lv),
+            ]
+            .into_iter()
+            .chain(ms.iter().map(|m| {
+                format!(
+                    "{:.1} % ± {:.1} ({:.3}; {:.1} %)",
+                    100.0 * m.e,
+                    100.0 * m.es,
+                    m.r,
+                    100.0 * m.weighted
+                )
+            })),
+        );
+    }
+    md.push_str(&t.to_string());
+    md.push_str(&format!("\nLargest relative Monte Carlo s.e. of a brute-force value: {:.2} %. The first column shades every texel with the table and averages — an independent check of the brute force (it differs only by the LTC fit's error) and the target the single-lobe models approximate at one lookup per pixel. Level 0 measures the LTC table alone; the growth with the level is what each footprint model adds. Relative errors are largest where the light is off-specular and the truth is small (tails).\n", 100.0 * p.worst_se));
+    md
 }
 
 /// The methods compared.

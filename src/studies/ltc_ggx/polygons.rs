@@ -7,23 +7,51 @@ use crate::error::Result;
 use crate::ltc::fit::Table;
 use crate::ltc::polygon::{self, EdgeForm};
 use crate::ltc::target::GgxTarget;
+use crate::report::table::Table as MdTable;
 use crate::results::ltc::{EdgeApproximation, SphereHorizon};
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
 
-/// The JSON rows of the polygon study.
-pub(super) struct PolygonJson {
+/// The polygon study's measures.
+pub(super) struct Polygons {
     pub edge_approximations: Vec<EdgeApproximation>,
-    pub degenerate: Vec<serde_json::Value>,
+    /// The rectangle's Lambert form factor and the exact, rational and cubic edge forms'
+    /// relative errors against it.
+    closed_form: (f64, [f64; 3]),
+    /// Each degenerate light and its exact, rational and cubic form factors.
+    degenerate: Vec<(&'static str, Vec<f64>)>,
     pub sphere_horizon: SphereHorizon,
-    pub polygons: Vec<serde_json::Value>,
+    mc_samples: usize,
+    /// Per checked cell: (α, θ) and its polygon checks.
+    mc: Vec<(f64, f64, Vec<polygon::PolygonCheck>)>,
 }
 
-/// The edge forms, the closed-form check and the degenerate lights.
-fn edges_section(md: &mut String) -> (Vec<EdgeApproximation>, Vec<serde_json::Value>) {
-    md.push_str("## Polygonal lights\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n| form | max rel. error on [−1, 0.999999] | where | max on [−0.99, 1] |\n|---|---|---|---|\n");
-    let mut approx_json = Vec::new();
+impl Polygons {
+    /// The degenerate lights as the result file holds them.
+    pub fn degenerate_json(&self) -> Vec<serde_json::Value> {
+        self.degenerate
+            .iter()
+            .map(|(name, v)| serde_json::json!({"light": name, "values": v}))
+            .collect()
+    }
+
+    /// The MC rows as the result file holds them.
+    pub fn polygons_json(&self) -> Vec<serde_json::Value> {
+        self.mc
+            .iter()
+            .flat_map(|(alpha, theta, checks)| {
+                checks.iter().map(move |c| {
+                    serde_json::json!({"alpha": alpha, "theta": theta, "light": c.light, "mc": c.mc, "mc_se": c.mc_se, "ltc_exact": c.ltc_exact, "ltc_rational": c.ltc_rational})
+                })
+            })
+            .collect()
+    }
+}
+
+/// The edge forms' θ/sin θ against the exact one over x = cos θ.
+fn edge_approximations() -> Vec<EdgeApproximation> {
+    let mut approx = Vec::new();
     for form in [EdgeForm::Rational, EdgeForm::Cubic] {
         let (mut w, mut wx, mut w2) = (0.0f64, 0.0, 0.0f64);
         for k in 0..=200_000 {
@@ -39,17 +67,18 @@ fn edges_section(md: &mut String) -> (Vec<EdgeApproximation>, Vec<serde_json::Va
                 w2 = w2.max(r);
             }
         }
-        md.push_str(&format!(
-            "| {form:?} | {w:.2e} | x = {wx:.6} | {w2:.2e} |\n"
-        ));
-        approx_json.push(EdgeApproximation {
+        approx.push(EdgeApproximation {
             form: format!("{form:?}"),
             max_rel: w,
             at_x: wx,
             max_rel_x_ge_m099: w2,
         });
     }
-    // closed-form check: rectangle with a corner above the shading point
+    approx
+}
+
+/// A rectangle with a corner above the shading point against its closed form.
+fn closed_form() -> (f64, [f64; 3]) {
     let (a, b, c) = (1.0f64, 2.0f64, 1.5f64);
     let (x, y) = (a / c, b / c);
     let ff = (x / (1.0 + x * x).sqrt() * (y / (1.0 + x * x).sqrt()).atan()
@@ -61,11 +90,21 @@ fn edges_section(md: &mut String) -> (Vec<EdgeApproximation>, Vec<serde_json::Va
         V3::new(a, b, c),
         V3::new(0.0, b, c),
     ];
-    md.push_str(&format!("\nClosed-form check (a 1×2 rectangle 1.5 above the point, corner overhead; Lambert form factor {ff:.12}): exact edge integral {:.2e} off, rational {:.2e}, cubic {:.2e} (relative).\n\n", (polygon::form_factor(&rect, EdgeForm::Exact) / ff - 1.0).abs(), (polygon::form_factor(&rect, EdgeForm::Rational) / ff - 1.0).abs(), (polygon::form_factor(&rect, EdgeForm::Cubic) / ff - 1.0).abs()));
-    // degenerate lights
-    md.push_str("### Degenerate lights (every form returns a finite, non-negative value)\n\n| light | exact | rational | cubic |\n|---|---|---|---|\n");
+    let err = |f: EdgeForm| (polygon::form_factor(&rect, f) / ff - 1.0).abs();
+    (
+        ff,
+        [
+            err(EdgeForm::Exact),
+            err(EdgeForm::Rational),
+            err(EdgeForm::Cubic),
+        ],
+    )
+}
+
+/// Degenerate lights through every edge form.
+fn degenerate() -> Vec<(&'static str, Vec<f64>)> {
     let p = |x: f64, y: f64, z: f64| V3::new(x, y, z);
-    let degenerate: Vec<(&str, Vec<V3>)> = vec![
+    let lights: Vec<(&'static str, Vec<V3>)> = vec![
         ("zero area (repeated vertex)", vec![p(0.1, 0.0, 1.0); 4]),
         (
             "a line",
@@ -107,23 +146,20 @@ fn edges_section(md: &mut String) -> (Vec<EdgeApproximation>, Vec<serde_json::Va
             vec![p(1.0, 0.0, 1e-9), p(-1.0, 1e-9, 1e-9), p(0.0, 1.0, 0.2)],
         ),
     ];
-    let mut degen_json = Vec::new();
-    for (name, poly) in &degenerate {
-        let v: Vec<f64> = [EdgeForm::Exact, EdgeForm::Rational, EdgeForm::Cubic]
-            .iter()
-            .map(|f| polygon::form_factor(poly, *f))
-            .collect();
-        md.push_str(&format!(
-            "| {name} | {:.6e} | {:.6e} | {:.6e} |\n",
-            v[0], v[1], v[2]
-        ));
-        degen_json.push(serde_json::json!({"light": name, "values": v}));
-    }
-    (approx_json, degen_json)
+    lights
+        .iter()
+        .map(|(name, poly)| {
+            let v: Vec<f64> = [EdgeForm::Exact, EdgeForm::Rational, EdgeForm::Cubic]
+                .iter()
+                .map(|f| polygon::form_factor(poly, *f))
+                .collect();
+            (*name, v)
+        })
+        .collect()
 }
 
 /// The shipped shaders' clipped-sphere horizon against exact clipping.
-fn horizon_section(md: &mut String) -> SphereHorizon {
+fn sphere_horizon() -> SphereHorizon {
     let sphere_json = {
         let nb = 4096;
         let d = crate::kernels::bench_inputs(nb);
@@ -145,7 +181,6 @@ fn horizon_section(md: &mut String) -> SphereHorizon {
                 bad += 1;
             }
         }
-        md.push_str(&format!("\n### Horizon handling: clipped-sphere approximation vs exact clipping\n\nThe shipped shaders (and the generated `ltc_quad` of results/wgsl/ltc.wgsl) skip polygon clipping and correct the unclipped vector form factor F with max((|F|² + F_z)/(|F| + 1), 0). Over 4096 random quads and LTC matrices (the kernel benchmark inputs): energy-weighted error Σ|approx − exact|/Σ exact = {:.2} %; {} of {nb} cases off by more than 10 % (of max(value, 1e-4)).\n\n", 100.0 * num / den, bad));
         SphereHorizon {
             energy_weighted_rel: num / den,
             cases: nb,
@@ -155,11 +190,13 @@ fn horizon_section(md: &mut String) -> SphereHorizon {
     sphere_json
 }
 
-/// The fitted LTC × polygon against MC of the true BRDF.
-fn mc_section(md: &mut String, main: &Table, mc_samples: usize) -> Result<Vec<serde_json::Value>> {
+/// The fitted LTC × polygon against MC of the true BRDF, on four cells.
+fn mc_checks(
+    main: &Table,
+    mc_samples: usize,
+) -> Result<Vec<(f64, f64, Vec<polygon::PolygonCheck>)>> {
     let n = main.grid.n;
-    md.push_str(&format!("\n### Fitted LTC × polygon against Monte Carlo of the true BRDF\n\nTruth: ∫_P f dl by MIS of light-area and VNDF sampling ({} samples each, ± standard error). LTC: norm × the edge integral of M⁻¹P (production M⁻¹ of the fitted cell nearest to (α, θ); no interpolation).\n\n| α | θ | light | MC truth | LTC (exact edges) | rel. error | LTC (rational edges) | rel. error |\n|---|---|---|---|---|---|---|---|\n", mc_samples));
-    let mut poly_json = Vec::new();
+    let mut rows = Vec::new();
     for (ai, tj) in [
         (n / 2, n / 4),
         (n / 4, n / 2),
@@ -169,26 +206,85 @@ fn mc_section(md: &mut String, main: &Table, mc_samples: usize) -> Result<Vec<se
         let cell = &main.cells[tj.min(n - 1)][ai.min(n - 1)];
         let t = GgxTarget::new(cell.alpha, cell.theta)?;
         let (minv, norm) = cell_ltc(cell);
-        for c in polygon::check_cell(&t, &minv, norm, cell.theta, mc_samples)? {
-            let (mc, se, ex, ra, lname) = (c.mc, c.mc_se, c.ltc_exact, c.ltc_rational, c.light);
-            let rel = |x: f64| crate::report::rel_vs_mc(x, mc, se);
-            md.push_str(&format!("| {:.3} | {:.1}° | {lname} | {mc:.4e} ± {se:.1e} | {ex:.4e} | {} | {ra:.4e} | {} |\n", cell.alpha, cell.theta.to_degrees(), rel(ex), rel(ra)));
-            poly_json.push(serde_json::json!({"alpha": cell.alpha, "theta": cell.theta, "light": lname, "mc": mc, "mc_se": se, "ltc_exact": ex, "ltc_rational": ra}));
-        }
+        let checks = polygon::check_cell(&t, &minv, norm, cell.theta, mc_samples)?;
+        rows.push((cell.alpha, cell.theta, checks));
     }
-    md.push_str("\nThe LTC column's error is the fit's own error in the lobe restricted to the polygon (it is a lobe approximation, so small lights near the peak show it most); the rational edge form adds at most its θ/sin θ error (column above).\n");
-    Ok(poly_json)
+    Ok(rows)
 }
 
-/// The whole polygon study, appended to `md`.
-pub(super) fn section(md: &mut String, main: &Table, mc_samples: usize) -> Result<PolygonJson> {
-    let (edge_approximations, degenerate) = edges_section(md);
-    let sphere_horizon = horizon_section(md);
-    let polygons = mc_section(md, main, mc_samples)?;
-    Ok(PolygonJson {
-        edge_approximations,
-        degenerate,
-        sphere_horizon,
-        polygons,
+/// The whole polygon study.
+pub(super) fn measure(main: &Table, mc_samples: usize) -> Result<Polygons> {
+    Ok(Polygons {
+        edge_approximations: edge_approximations(),
+        closed_form: closed_form(),
+        degenerate: degenerate(),
+        sphere_horizon: sphere_horizon(),
+        mc_samples,
+        mc: mc_checks(main, mc_samples)?,
     })
+}
+
+/// The polygon study's markdown.
+pub(super) fn section(p: &Polygons) -> String {
+    let mut md = String::from("## Polygonal lights\n\n### θ/sin θ of the edge integral\n\nRelative error of the production approximations against atan2(|p₁×p₂|, p₁·p₂)/|p₁×p₂| over x = cos θ ∈ [−1, 1] (200 001 points; near x = −1 the exact value diverges like π/sin θ):\n\n");
+    let mut t = MdTable::new([
+        "form",
+        "max rel. error on [−1, 0.999999]",
+        "where",
+        "max on [−0.99, 1]",
+    ]);
+    for e in &p.edge_approximations {
+        t.row([
+            e.form.clone(),
+            format!("{:.2e}", e.max_rel),
+            format!("x = {:.6}", e.at_x),
+            format!("{:.2e}", e.max_rel_x_ge_m099),
+        ]);
+    }
+    md.push_str(&t.to_string());
+    let (ff, [ex, ra, cu]) = p.closed_form;
+    md.push_str(&format!("\nClosed-form check (a 1×2 rectangle 1.5 above the point, corner overhead; Lambert form factor {ff:.12}): exact edge integral {ex:.2e} off, rational {ra:.2e}, cubic {cu:.2e} (relative).\n\n"));
+    md.push_str("### Degenerate lights (every form returns a finite, non-negative value)\n\n");
+    let mut t = MdTable::new(["light", "exact", "rational", "cubic"]);
+    for (name, v) in &p.degenerate {
+        t.row([
+            name.to_string(),
+            format!("{:.6e}", v[0]),
+            format!("{:.6e}", v[1]),
+            format!("{:.6e}", v[2]),
+        ]);
+    }
+    md.push_str(&t.to_string());
+    let h = &p.sphere_horizon;
+    md.push_str(&format!("\n### Horizon handling: clipped-sphere approximation vs exact clipping\n\nThe shipped shaders (and the generated `ltc_quad` of results/wgsl/ltc.wgsl) skip polygon clipping and correct the unclipped vector form factor F with max((|F|² + F_z)/(|F| + 1), 0). Over {nb} random quads and LTC matrices (the kernel benchmark inputs): energy-weighted error Σ|approx − exact|/Σ exact = {:.2} %; {} of {nb} cases off by more than 10 % (of max(value, 1e-4)).\n\n", 100.0 * h.energy_weighted_rel, h.off_by_more_than_10pct, nb = h.cases));
+    md.push_str(&format!("\n### Fitted LTC × polygon against Monte Carlo of the true BRDF\n\nTruth: ∫_P f dl by MIS of light-area and VNDF sampling ({} samples each, ± standard error). LTC: norm × the edge integral of M⁻¹P (production M⁻¹ of the fitted cell nearest to (α, θ); no interpolation).\n\n", p.mc_samples));
+    let mut t = MdTable::new([
+        "α",
+        "θ",
+        "light",
+        "MC truth",
+        "LTC (exact edges)",
+        "rel. error",
+        "LTC (rational edges)",
+        "rel. error",
+    ]);
+    for (alpha, theta, checks) in &p.mc {
+        for c in checks {
+            let (mc, se, ex, ra) = (c.mc, c.mc_se, c.ltc_exact, c.ltc_rational);
+            let rel = |x: f64| crate::report::rel_vs_mc(x, mc, se);
+            t.row([
+                format!("{alpha:.3}"),
+                format!("{:.1}°", theta.to_degrees()),
+                c.light.to_string(),
+                format!("{mc:.4e} ± {se:.1e}"),
+                format!("{ex:.4e}"),
+                rel(ex),
+                format!("{ra:.4e}"),
+                rel(ra),
+            ]);
+        }
+    }
+    md.push_str(&t.to_string());
+    md.push_str("\nThe LTC column's error is the fit's own error in the lobe restricted to the polygon (it is a lobe approximation, so small lights near the peak show it most); the rational edge form adds at most its θ/sin θ error (column above).\n");
+    md
 }

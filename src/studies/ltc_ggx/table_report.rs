@@ -1,34 +1,46 @@
-//! The report on the fitted table itself: corners, collapse and sign checks, smoothness,
-//! the error between cells (bilinear interpolation, as a shader samples the table), the
-//! optimiser and metric comparison, and the heat map of the held-out error.
+//! The fitted table itself: corners, collapse and sign checks, smoothness, the error
+//! between cells (bilinear interpolation, as a shader samples the table) and the
+//! optimiser and metric comparison. `measure_*` computes, `*_section` formats.
 
 use super::compute::Plan;
 use crate::error::Result;
 use crate::ltc::fit::{Cell, Table};
-use crate::ltc::held::held_out_stats as stats;
+use crate::ltc::held::{held_out_stats as stats, Stats};
+use crate::ltc::lobe_error::Spread;
 use crate::ltc::target::GgxTarget;
-use std::path::Path;
+use crate::report::table::Table as MdTable;
 
 /// Corners, collapse/sign checks and smoothness of the main table.
-pub(super) fn structure_section(main: &Table) -> String {
-    let mut md = String::new();
+pub(super) struct Structure {
+    /// The corner cells shown.
+    corners: Vec<Cell>,
+    /// Cells whose m11 or m22 sits at the edge of the parameter box.
+    at_box: usize,
+    /// min over cells of min(m11/α, m22/(α cos θ)).
+    min_ratio: f64,
+    /// Cells with a ≤ 0 or d ≤ 0.
+    neg: usize,
+    /// Cells with θ > 0 and b > 10⁻⁶·a, their α values and the largest b/a.
+    sign_b: usize,
+    flip_alphas: Vec<String>,
+    flip_max: f64,
+    /// Largest jump of a, b, c, d between neighbours, relative to each one's range.
+    smooth: [f64; 4],
+}
+
+pub(super) fn measure_structure(main: &Table) -> Structure {
     let n = main.grid.n;
-    md.push_str("### Corners (small α and grazing)\n\n| α | θ | m11/α | m22/α | m13/α | a | b | c | d | norm | fresnel | rel. L2 (held-out) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-    for (j, i) in [
+    let corners = [
         (0usize, 0usize),
         (n - 1, 0),
         (0, n - 1),
         (n - 1, n - 1),
         (n / 2, 1),
         (n - 2, 1),
-    ] {
-        let c = &main.cells[j][i];
-        md.push_str(&format!(
-            "| {:.1e} | {:.2}° | {:.4} | {:.4} | {:+.4} | {:.4e} | {:+.4e} | {:+.4e} | {:.4e} | {:.5} | {:.5} | {} |\n",
-            c.alpha, c.theta.to_degrees(), c.m11 / c.alpha, c.m22 / c.alpha, c.m13 / c.alpha, c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel, c.l2().map(|b| b.pct(2)).unwrap_or_else(|| "—".into())
-        ));
-    }
-    // collapse / sign checks and smoothness
+    ]
+    .iter()
+    .map(|&(j, i)| main.cells[j][i])
+    .collect();
     let cells: Vec<&Cell> = main.cells.iter().flatten().collect();
     let min_ratio = cells
         .iter()
@@ -51,16 +63,12 @@ pub(super) fn structure_section(main: &Table) -> String {
         .iter()
         .filter(|c| c.theta > 0.0 && c.inv[1] > 1e-6 * c.inv[0].abs())
         .collect();
-    let sign_b = flips.len();
     let flip_max = flips
         .iter()
         .map(|c| c.inv[1] / c.inv[0].abs())
         .fold(0.0, f64::max);
-    let flip_alphas: Vec<String> = {
-        let mut a: Vec<String> = flips.iter().map(|c| format!("{:.3}", c.alpha)).collect();
-        a.dedup();
-        a
-    };
+    let mut flip_alphas: Vec<String> = flips.iter().map(|c| format!("{:.3}", c.alpha)).collect();
+    flip_alphas.dedup();
     let range: Vec<f64> = (0..4)
         .map(|k| cells.iter().map(|c| c.inv[k].abs()).fold(0.0, f64::max))
         .collect();
@@ -79,17 +87,73 @@ pub(super) fn structure_section(main: &Table) -> String {
             }
         }
     }
+    Structure {
+        corners,
+        at_box,
+        min_ratio,
+        neg,
+        sign_b: flips.len(),
+        flip_alphas,
+        flip_max,
+        smooth,
+    }
+}
+
+pub(super) fn structure_section(s: &Structure) -> String {
+    let mut md = String::from("### Corners (small α and grazing)\n\n");
+    let mut t = MdTable::new([
+        "α",
+        "θ",
+        "m11/α",
+        "m22/α",
+        "m13/α",
+        "a",
+        "b",
+        "c",
+        "d",
+        "norm",
+        "fresnel",
+        "rel. L2 (held-out)",
+    ]);
+    for c in &s.corners {
+        t.row([
+            format!("{:.1e}", c.alpha),
+            format!("{:.2}°", c.theta.to_degrees()),
+            format!("{:.4}", c.m11 / c.alpha),
+            format!("{:.4}", c.m22 / c.alpha),
+            format!("{:+.4}", c.m13 / c.alpha),
+            format!("{:.4e}", c.inv[0]),
+            format!("{:+.4e}", c.inv[1]),
+            format!("{:+.4e}", c.inv[2]),
+            format!("{:.4e}", c.inv[3]),
+            format!("{:.5}", c.norm),
+            format!("{:.5}", c.fresnel),
+            c.l2().map(|b| b.pct(2)).unwrap_or_else(|| "—".into()),
+        ]);
+    }
+    md.push_str(&t.to_string());
+    let (at_box, min_ratio, neg, sign_b, flip_max) =
+        (s.at_box, s.min_ratio, s.neg, s.sign_b, s.flip_max);
     md.push_str(&format!(
         "\nCollapse and sign checks: cells whose m11 or m22 sits at the edge of the parameter box (ln m ∈ [−30, 5]): {at_box}; min over cells of min(m11/α, m22/(α cos θ)) = {min_ratio:.3} (at grazing the reflected lobe's lateral width shrinks like α·cos θ, so m22/α → 0 there is physics, not collapse); cells with a ≤ 0 or d ≤ 0: {neg}; cells with θ > 0 and b > 10⁻⁶·a (sign flip of the skew): {sign_b}{}. Smoothness (largest jump between neighbouring cells, relative to the parameter's range over the table) of a, b, c, d: {:.3}, {:.3}, {:.3}, {:.3}.\n\n",
-        if sign_b > 0 { format!(" (at α = {}; largest b/a = {flip_max:.1e}: where the lobe is nearly symmetric the skew is ~0 and the fitted frame turn absorbs it; the shipped table has b/a up to +0.026 at α = 1)", flip_alphas.join(", ")) } else { String::new() },
-        smooth[0], smooth[1], smooth[2], smooth[3]
+        if sign_b > 0 { format!(" (at α = {}; largest b/a = {flip_max:.1e}: where the lobe is nearly symmetric the skew is ~0 and the fitted frame turn absorbs it; the shipped table has b/a up to +0.026 at α = 1)", s.flip_alphas.join(", ")) } else { String::new() },
+        s.smooth[0], s.smooth[1], s.smooth[2], s.smooth[3]
     ));
     md
 }
 
 /// Between cells: the production inverse interpolated at square centres.
-pub(super) fn between_section(main: &Table) -> Result<String> {
-    use crate::ltc::lobe_error::Spread;
+pub(super) struct Between {
+    step: usize,
+    l2: Spread,
+    l1: Spread,
+    /// (i, j) of the square with the largest relative L2.
+    worst: (usize, usize),
+    /// The cells' own relative L2 and L1 means.
+    cells: Stats,
+}
+
+pub(super) fn measure_between(main: &Table) -> Result<Between> {
     let n = main.grid.n;
     let table = crate::ltc::compare::Shipped {
         n,
@@ -110,51 +174,67 @@ pub(super) fn between_section(main: &Table) -> Result<String> {
     let l2 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l2)));
     let l1 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l1)));
     let worst = squares.get(l2.argmax).copied().unwrap_or((0, 0));
-    let st = stats(main);
-    Ok(format!(
-        "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there by the same held-out integrals with the interpolated norm: relative L2 mean {}, max {} (square at i = {}, j = {}); relative L1 mean {}. The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
-        l2.count,
-        l2.mean.pct(2),
-        l2.max.pct(1),
-        worst.0,
-        worst.1,
-        l1.mean.pct(2),
-        st.l2.mean.pct(2),
-        st.l1.mean.pct(2)
-    ))
+    Ok(Between {
+        step,
+        l2,
+        l1,
+        worst,
+        cells: stats(main),
+    })
 }
 
-/// The optimiser/metric comparison on the sub-grid; returns its JSON rows.
-pub(super) fn variants_section(
-    md: &mut String,
-    pl: &Plan,
-    variants: &[(&str, Table)],
-) -> Vec<serde_json::Value> {
-    md.push_str(&format!("## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n| fit | mean rel. L2 | max rel. L2 | mean rel. L1 | max rel. L1 | mean iterations |\n|---|---|---|---|---|---|\n", pl.sub, pl.sub));
-    let mut var_json = Vec::new();
-    for (name, t) in variants {
-        let s = stats(t);
-        md.push_str(&format!(
-            "| {name} | {} | {} | {} | {} | {:.0} |\n",
+pub(super) fn between_section(b: &Between) -> String {
+    let step = b.step;
+    format!(
+        "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there by the same held-out integrals with the interpolated norm: relative L2 mean {}, max {} (square at i = {}, j = {}); relative L1 mean {}. The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
+        b.l2.count,
+        b.l2.mean.pct(2),
+        b.l2.max.pct(1),
+        b.worst.0,
+        b.worst.1,
+        b.l1.mean.pct(2),
+        b.cells.l2.mean.pct(2),
+        b.cells.l1.mean.pct(2)
+    )
+}
+
+/// The optimiser/metric comparison on the sub-grid: each variant's name and held-out
+/// summary.
+pub(super) fn measure_variants(variants: &[(&'static str, Table)]) -> Vec<(&'static str, Stats)> {
+    variants.iter().map(|(name, t)| (*name, stats(t))).collect()
+}
+
+/// The JSON rows of the comparison.
+pub(super) fn variants_json(rows: &[(&'static str, Stats)]) -> Vec<serde_json::Value> {
+    rows.iter()
+        .map(|(name, s)| serde_json::json!({"fit": name, "stats": s}))
+        .collect()
+}
+
+pub(super) fn variants_section(pl: &Plan, rows: &[(&'static str, Stats)]) -> String {
+    let mut md = format!(
+        "## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n",
+        pl.sub, pl.sub
+    );
+    let mut t = MdTable::new([
+        "fit",
+        "mean rel. L2",
+        "max rel. L2",
+        "mean rel. L1",
+        "max rel. L1",
+        "mean iterations",
+    ]);
+    for (name, s) in rows {
+        t.row([
+            name.to_string(),
             s.l2.mean.pct(2),
             s.l2.max.pct(1),
             s.l1.mean.pct(2),
             s.l1.max.pct(1),
-            s.mean_iters
-        ));
-        var_json.push(serde_json::json!({"fit": name, "stats": s}));
+            format!("{:.0}", s.mean_iters),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; both are training metrics (Monte Carlo sums on the fit's sample set), and every fit is judged by the same held-out integrals. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous.\n\n");
-    var_json
-}
-
-/// The heat map of the held-out relative L2 error (results/ltc-error.svg).
-pub(super) fn error_heatmap(
-    set: &mut crate::io::Outputs,
-    main: &Table,
-    results: &Path,
-) -> Result<()> {
-    let svg = crate::studies::ltc_error_map::ltc_error_heatmap(main, "LTC fit: relative L2 error")?;
-    set.put(&results.join("ltc-error.svg"), svg.as_bytes());
-    Ok(())
+    md
 }

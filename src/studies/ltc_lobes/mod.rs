@@ -4,8 +4,9 @@
 //! binary16 storage as the GGX table (`ltc::{fit, smooth, storage}`), judged the same
 //! way. Each family has a main lobe (its table is shipped) and a variant (the other
 //! visibility term, the other roughness convention), fitted on the same grid and shipped
-//! too, with the error of shading one with the other's table. Compute (this file) → the
-//! report (`report`) → results/fits/<name>.json, results/<name>.md, results/<name>-error.svg.
+//! too, with the error of shading one with the other's table. The fits (`compute`) and
+//! their measures (`measures`) → the report (`report`, formatting only) →
+//! results/fits/<name>.json, results/<name>.md, results/<name>-error.svg.
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
@@ -16,10 +17,13 @@ use crate::study::{Ctx, FitOutcome};
 use serde::Serialize;
 
 mod compute;
+mod measures;
 mod report;
 
+use crate::integrate::Preset;
+use crate::ltc::held::Stats;
 pub use compute::{family, Family};
-use compute::{fit_lobe, plan};
+use compute::{fit_lobe, plan, Fitted, Plan};
 
 /// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
 #[derive(Serialize)]
@@ -64,14 +68,28 @@ struct LobeResult<'a> {
     table_f16: crate::results::ltc::Columns,
     held_out: crate::ltc::held::Stats,
     held_out_cells: HeldOutCells,
-    report: &'a report::TableReport,
-    cross: &'a report::Cross,
+    report: &'a measures::TableReport,
+    cross: &'a measures::Cross,
     bilinear_pass: &'a crate::ltc::smooth::BilinearPass,
 }
 
-/// The study: fit both tables of the family and report, into `set`.
-pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
-    let (spec, results, preset) = (c.spec, c.results, c.preset);
+/// What a family's study computed: both fitted tables, their measures and held-out
+/// summaries.
+pub struct Computed {
+    fam: Family,
+    spec: FitSpec,
+    preset: Preset,
+    pl: Plan,
+    main: Fitted,
+    variant: Fitted,
+    rep: measures::Report,
+    /// Held-out summaries of the main table and of the variant.
+    held: [Stats; 2],
+}
+
+/// The study: fit both tables of the family and measure them.
+pub fn compute(c: &Ctx) -> Result<Computed> {
+    let (spec, preset) = (c.spec, c.preset);
     let fam = family(&spec.name).ok_or_else(|| {
         Error::InvalidArgument(format!(
             "fits/{}.toml: no LTC table family of that name (ltc-sheen, ltc-diffuse)",
@@ -91,14 +109,31 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
         fam.name,
         fam.variant.short(),
     ));
-    let rep = report::compute(&fam, &main, &variant, &pl)?;
+    let rep = measures::compute(&fam, &main, &variant, &pl)?;
+    let held = [held_out_stats(&main.table), held_out_stats(&variant.table)];
+    Ok(Computed {
+        fam,
+        spec: spec.clone(),
+        preset,
+        pl,
+        main,
+        variant,
+        rep,
+        held,
+    })
+}
+
+fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
+    let (fam, spec, preset) = (&c.fam, &c.spec, c.preset);
     let command = format!("cargo run --release -- regen --only {}", fam.name);
-    let md = report::markdown(&fam, spec, preset, &pl, &main, &variant, &rep, &command);
-    let svg = report::heatmaps(&main, &variant)?;
+    let md = report::markdown(
+        fam, spec, preset, &c.pl, &c.main, &c.variant, &c.rep, &c.held, &command,
+    );
+    let svg = report::heatmaps(&c.main, &c.variant)?;
     // results/fits/<name>.json and the variant's: the one reader (`ltc::table`) reads both
-    for (name, f, r) in [
-        (fam.name, &main, &rep.main),
-        (fam.variant_name, &variant, &rep.variant),
+    for (name, f, r, held) in [
+        (fam.name, &c.main, &c.rep.main, &c.held[0]),
+        (fam.variant_name, &c.variant, &c.rep.variant, &c.held[1]),
     ] {
         let (table, table_f16) = crate::ltc::fit::stored(&f.table);
         let json = LobeResult {
@@ -111,10 +146,10 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
             layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
             table,
             table_f16,
-            held_out: held_out_stats(&f.table),
+            held_out: *held,
             held_out_cells: per_cell(&f.table),
             report: r,
-            cross: &rep.cross,
+            cross: &c.rep.cross,
             bilinear_pass: &f.bilinear,
         };
         crate::results::put_named(set, results, name, &json)?;
@@ -124,34 +159,43 @@ pub fn run(set: &mut Outputs, c: &Ctx) -> Result<FitOutcome> {
         &results.join(format!("{}-error.svg", fam.name)),
         svg.as_bytes(),
     );
-    let st = held_out_stats(&main.table);
-    let sv = held_out_stats(&variant.table);
-    let worst = st.l2.max.value.max(sv.l2.max.value);
-    Ok(crate::study::FitOutcome {
-        name: spec.name.clone(),
-        held_out_max_rel: worst,
-        tolerance: spec.tolerance.max_rel,
-        passed: worst <= spec.tolerance.max_rel,
-        summary: format!(
-            "{n}×{n} tables: {} mean {} (max {}), {} mean {} (max {}) held-out rel. L2",
-            fam.main.short(),
-            st.l2.mean.pct(2),
-            st.l2.max.pct(1),
-            fam.variant.short(),
-            sv.l2.mean.pct(2),
-            sv.l2.max.pct(1),
-            n = pl.n
-        ),
-    })
+    Ok(())
+}
+
+impl crate::study::Computed for Computed {
+    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
+        let mut set = Outputs::new();
+        render(&mut set, results, &self)?;
+        Ok(set)
+    }
+
+    fn outcome(&self) -> FitOutcome {
+        let [st, sv] = &self.held;
+        let worst = st.l2.max.value.max(sv.l2.max.value);
+        FitOutcome::judged(
+            &self.spec,
+            worst,
+            format!(
+                "{n}×{n} tables: {} mean {} (max {}), {} mean {} (max {}) held-out rel. L2",
+                self.fam.main.short(),
+                st.l2.mean.pct(2),
+                st.l2.max.pct(1),
+                self.fam.variant.short(),
+                sv.l2.mean.pct(2),
+                sv.l2.max.pct(1),
+                n = self.pl.n
+            ),
+        )
+    }
 }
 
 crate::study::study! {
     /// The diffuse LTC table study (Burley; the engines' α), as the registry holds it.
-    LtcDiffuse = "ltc-diffuse", after [], on request false, runs run
+    LtcDiffuse = "ltc-diffuse", after [], on request false, computes compute
 }
 
 crate::study::study! {
     /// The sheen LTC table study (Charlie, both visibility conventions), as the registry
     /// holds it.
-    LtcSheen = "ltc-sheen", after [], on request false, runs run
+    LtcSheen = "ltc-sheen", after [], on request false, computes compute
 }

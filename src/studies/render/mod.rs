@@ -175,10 +175,12 @@ impl Computed {
         self.sections
             .iter()
             .flat_map(|(_, v)| v)
-            .filter_map(|r| match (r.measured.flicker.first(), r.measured.truth_change) {
-                (Some(none), Some(tc)) => Some(none.2.change.value - tc.value),
-                _ => None,
-            })
+            .filter_map(
+                |r| match (r.measured.flicker.first(), r.measured.truth_change) {
+                    (Some(none), Some(tc)) => Some(none.2.change.value - tc.value),
+                    _ => None,
+                },
+            )
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -253,7 +255,11 @@ fn render(set: &mut Outputs, results: &Path, c: &Computed) -> Result<()> {
     let mut json = Vec::new();
     for (title, rendered) in &c.sections {
         md.push_str(&format!("{title}\n\n"));
-        for Rendered { render: r, measured: m } in rendered {
+        for Rendered {
+            render: r,
+            measured: m,
+        } in rendered
+        {
             report::put_pictures(set, &pictures, r, m, report::TILE.min(r.width))?;
             md.push_str(&report::markdown(r, m, "render"));
             md.push('\n');
