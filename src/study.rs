@@ -93,29 +93,11 @@ pub trait Study: Sync {
     fn compute(&self, ctx: &Ctx) -> Result<Box<dyn Computed>>;
 }
 
-/// A study that still computes and writes in one pass (`study!` with `runs`): its files
-/// made while computing, and its outcome. Studies leave it as they are split
-/// (tests/architecture.rs lists the ones left).
-pub struct OnePass {
-    pub files: Outputs,
-    pub outcome: FitOutcome,
-}
-
-impl Computed for OnePass {
-    fn outcome(&self) -> FitOutcome {
-        self.outcome.clone()
-    }
-    fn render(self: Box<Self>, _results: &Path) -> Result<Outputs> {
-        Ok(self.files)
-    }
-}
-
 /// Declare a study in the module that runs it: a unit struct implementing [`Study`],
 /// named as its spec, following `after`, main job or `on request`. Its entry point is
-/// either `computes f` with `f: fn(&Ctx) -> Result<R>`, `R: Computed` (the study computes,
-/// then renders), or `runs f` with `f: fn(&mut Outputs, &Ctx) -> Result<FitOutcome>` (one
-/// pass, see [`OnePass`]). Its cache is keyed by the code of the module the macro is
-/// invoked in (`module_path!()` there).
+/// `computes f` with `f: fn(&Ctx) -> Result<R>`, `R: Computed`: the study computes, then
+/// renders. Its cache is keyed by the code of the module the macro is invoked in
+/// (`module_path!()` there).
 ///
 /// ```ignore
 /// crate::study::study! {
@@ -129,7 +111,7 @@ macro_rules! study {
         $ty:ident = $name:literal,
         after [$($after:literal),*],
         on request $on_request:literal,
-        $how:ident $run:path
+        computes $run:path
     ) => {
         $(#[$doc])*
         pub struct $ty;
@@ -151,17 +133,9 @@ macro_rules! study {
                 &self,
                 c: &$crate::study::Ctx,
             ) -> $crate::error::Result<Box<dyn $crate::study::Computed>> {
-                $crate::study::study!(@entry $how $run, c)
+                Ok(Box::new($run(c)?))
             }
         }
     };
-    (@entry computes $run:path, $c:ident) => {
-        Ok(Box::new($run($c)?))
-    };
-    (@entry runs $run:path, $c:ident) => {{
-        let mut files = $crate::io::Outputs::new();
-        let outcome = $run(&mut files, $c)?;
-        Ok(Box::new($crate::study::OnePass { files, outcome }))
-    }};
 }
 pub(crate) use study;

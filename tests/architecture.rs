@@ -546,27 +546,39 @@ fn markdown_tables_go_through_the_one_writer() {
     );
 }
 
-/// A study computes its typed result and renders it in a separate step (`study!` with
-/// `computes`); the studies that still compute and write in one pass (`runs`) are listed
-/// here, and the list only shrinks.
+/// A study computes its typed result and renders it in a separate step: `study!` takes
+/// `computes f`, and `f` (in the study's module or a file under it) is handed no output
+/// set, so it cannot write a file; the driver renders and publishes.
 #[test]
 fn studies_compute_then_render() {
-    const ONE_PASS: [&str; 1] = ["studies::filters"];
+    let all = sources();
     let mut declared = Vec::new();
-    let (mut new, mut done) = (Vec::new(), Vec::new());
-    for (m, text) in sources() {
+    let mut writes = Vec::new();
+    for (m, text) in &all {
         let Some(at) = text.find("crate::study::study! {") else {
             continue;
         };
         if m == "study" {
             continue; // the macro's own doc example
         }
+        let body = &text[at..text[at..].find("\n}").map_or(text.len(), |e| at + e)];
+        let f = body
+            .split(" computes ")
+            .nth(1)
+            .map(|r| r.trim().trim_end_matches('}').trim().to_string())
+            .unwrap_or_else(|| panic!("{m}: study! without `computes`"));
         declared.push(m.clone());
-        let one_pass = text[at..].contains(", runs ");
-        match (one_pass, ONE_PASS.contains(&m.as_str())) {
-            (true, false) => new.push(m),
-            (false, true) => done.push(m),
-            _ => {}
+        // the compute function's signature, wherever under the module it is defined
+        let sig = all
+            .iter()
+            .filter(|(o, _)| o == m || o.starts_with(&format!("{m}::")))
+            .find_map(|(_, t)| {
+                let s = t.find(&format!("fn {f}("))?;
+                Some(t[s..s + t[s..].find('{')?].to_string())
+            })
+            .unwrap_or_else(|| panic!("{m}: `computes {f}` but no `fn {f}(` under it"));
+        if sig.contains("Outputs") {
+            writes.push(format!("{m}: {sig}"));
         }
     }
     assert!(
@@ -574,11 +586,7 @@ fn studies_compute_then_render() {
         "found only {declared:?} declaring a study"
     );
     assert!(
-        new.is_empty(),
-        "studies that compute and write in one pass (split them: `computes`): {new:?}"
-    );
-    assert!(
-        done.is_empty(),
-        "these studies compute then render now (take them off ONE_PASS): {done:?}"
+        writes.is_empty(),
+        "compute steps handed an output set (return the result; render writes): {writes:?}"
     );
 }

@@ -2,7 +2,7 @@
 
 use super::cases::map_study;
 use super::plan::Plan;
-use super::report::map_section;
+use super::report::{map_section, map_svg};
 use crate::error::Result;
 use crate::filters::footprint::{MipChain, NormalMap};
 use crate::filters::rules;
@@ -44,7 +44,12 @@ pub fn prefilter(
         plan.views_deg,
         plan.samples
     );
-    let rows = map_section(set, &mut md, 0, &map, &cases, &plan, out)?;
+    let section = super::compute::map_section(0, &map, &cases, &plan);
+    let rows = map_section(&mut md, &section, &plan);
+    set.put(
+        &out.join(format!("filters-{}.svg", section.name)),
+        map_svg(&section)?.as_bytes(),
+    );
     let mut written = Vec::new();
     for (l, lv) in chain.levels.iter().enumerate().skip(1) {
         let mut img = image::GrayImage::new(lv.width as u32, lv.height as u32);

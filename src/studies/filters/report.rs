@@ -1,19 +1,14 @@
 //! The report of the footprint study: results/filters.md section by section, and the
 //! plots. Each function renders numbers computed elsewhere; none computes a fit.
 
-use super::cases::{aggregate, MapCase, ScreenCase};
+use super::compute::{Curve, MapSection, ScreenSection, CLAMP_COLUMNS};
 use super::constants::Fitted;
 use super::plan::{kind_name, pct, Plan, KINDS};
 use crate::error::Result;
-use crate::filters::footprint::NormalMap;
-use crate::filters::registry::{screen_index, MAP, SCREEN};
 use crate::filters::study::PixelFilter;
-use crate::filters::truth::CaseResult;
 use crate::integrate::Preset;
-use crate::microfacet::NdfKind;
 use crate::report::plot::{loglog_svg, Panel, Series};
 use crate::report::table::Table;
-use std::path::Path;
 
 /// The energy, L2 and peak columns of one NDF for one filter.
 fn agg_cells(a: &super::cases::Agg) -> [String; 3] {
@@ -61,49 +56,21 @@ statistics (unnormalised mean normal; E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃�
 }
 
 /// The markdown section of one map (table, worst cases, plot); returns its JSON rows.
-pub(super) fn map_section(
-    set: &mut crate::io::Outputs,
-    md: &mut String,
-    m: usize,
-    map: &NormalMap,
-    map_cases: &[MapCase],
-    plan: &Plan,
-    svg_dir: &Path,
-) -> Result<Vec<serde_json::Value>> {
-    md.push_str(&format!("## Map: {}\n\n", map.name));
+/// A map's section of results/filters.md and its rows for results/fits/filters.json.
+pub(super) fn map_section(md: &mut String, s: &MapSection, plan: &Plan) -> Vec<serde_json::Value> {
+    md.push_str(&format!("## Map: {}\n\n", s.name));
     let mut t = Table::new(std::iter::once("filter").chain(NDF_COLUMNS));
     let mut row_json = Vec::new();
-    for (fi, name) in MAP.iter().map(|f| f.label).enumerate() {
-        let mut cells = Vec::new();
-        let mut aj = Vec::new();
-        for &kind in &KINDS {
-            let rs: Vec<&CaseResult> = map_cases
-                .iter()
-                .filter(|c| c.map == m && c.kind == kind)
-                .map(|c| &c.results[fi])
-                .collect();
-            let a = aggregate(&rs);
-            cells.extend(agg_cells(&a));
-            aj.push(serde_json::json!({"ndf": kind_name(kind), "all": a}));
-        }
-        t.row(std::iter::once(name.to_string()).chain(cells));
-        row_json.push(serde_json::json!({"filter": name, "by_ndf": aj}));
+    for r in &s.rows {
+        t.row(std::iter::once(r.label.to_string()).chain(r.by_ndf.iter().flat_map(agg_cells)));
+        let aj: Vec<serde_json::Value> = KINDS
+            .iter()
+            .zip(&r.by_ndf)
+            .map(|(&kind, a)| serde_json::json!({"ndf": kind_name(kind), "all": a}))
+            .collect();
+        row_json.push(serde_json::json!({"filter": r.label, "by_ndf": aj}));
     }
     md.push_str(&t.to_string());
-    let mc = map_cases
-        .iter()
-        .filter(|c| c.map == m)
-        .flat_map(|c| c.results.iter().map(|r| r.l2.se))
-        .filter(|x| x.is_finite())
-        .fold(0.0, f64::max);
-    // the cases with the largest energy errors, with their own Monte Carlo errors
-    let mut worst: Vec<(f64, &MapCase, usize)> = map_cases
-        .iter()
-        .filter(|c| c.map == m)
-        .flat_map(|c| (0..MAP.len()).map(move |fi| (c.results[fi].energy.value.abs(), c, fi)))
-        .filter(|w| w.0.is_finite())
-        .collect();
-    worst.sort_by(|a, b| b.0.total_cmp(&a.0));
     md.push_str("\nLargest energy errors on this map (single cases, ± Monte Carlo s.e.):\n\n");
     let mut t = Table::new([
         "filter",
@@ -115,173 +82,104 @@ pub(super) fn map_section(
         "energy",
         "L2",
     ]);
-    for (_, c, fi) in worst.iter().take(4) {
-        let r = &c.results[*fi];
+    for w in &s.worst {
         t.row([
-            MAP[*fi].label.to_string(),
-            kind_name(c.kind).to_string(),
-            c.alpha.to_string(),
-            c.level.to_string(),
-            format!("{:.4}", c.stats.mrl()),
-            format!("{:?}", plan.views_deg[c.view]),
-            pct(r.energy.value, r.energy.se),
-            format!("{:.1} % ± {:.1}", 100.0 * r.l2.value, 100.0 * r.l2.se),
+            w.filter.to_string(),
+            kind_name(w.kind).to_string(),
+            w.alpha.to_string(),
+            w.level.to_string(),
+            format!("{:.4}", w.stats.mrl()),
+            format!("{:?}", plan.views_deg[w.view]),
+            pct(w.energy.value, w.energy.se),
+            format!("{:.1} % ± {:.1}", 100.0 * w.l2.value, 100.0 * w.l2.se),
         ]);
     }
     md.push_str(&t.to_string());
-    md.push_str(&format!("\nLargest single-case Monte Carlo s.e. of an L2 error on this map: {:.2} %. L2 error against footprint size (GGX, all α and views): ![{}](filters-{}.svg)\n\n", 100.0 * mc, map.name, map.name));
-    // per-level plot
-    let series: Vec<Series> = MAP
+    md.push_str(&format!("\nLargest single-case Monte Carlo s.e. of an L2 error on this map: {:.2} %. L2 error against footprint size (GGX, all α and views): ![{}](filters-{}.svg)\n\n", 100.0 * s.mc_se_max, s.name, s.name));
+    row_json
+}
+
+fn series(curves: &[Curve]) -> Vec<Series> {
+    curves
         .iter()
-        .map(|f| f.label)
-        .enumerate()
-        .map(|(fi, name)| Series {
+        .map(|(name, points)| Series {
             name: name.to_string(),
-            points: plan
-                .levels
-                .iter()
-                .map(|&lv| {
-                    let rs: Vec<&CaseResult> = map_cases
-                        .iter()
-                        .filter(|c| c.map == m && c.kind == NdfKind::Ggx && c.level == lv)
-                        .map(|c| &c.results[fi])
-                        .collect();
-                    ((1usize << lv) as f64, aggregate(&rs).l2_mean.max(1e-6))
-                })
-                .collect(),
+            points: points.clone(),
         })
-        .collect();
-    let svg = loglog_svg(
+        .collect()
+}
+
+/// results/filters-<map>.svg.
+pub(super) fn map_svg(s: &MapSection) -> Result<String> {
+    loglog_svg(
         &[Panel {
-            title: format!("{}: lobe L2 error vs footprint (GGX)", map.name),
+            title: format!("{}: lobe L2 error vs footprint (GGX)", s.name),
             x_label: "footprint width (texels)".into(),
             y_label: "relative L2 error".into(),
-            series,
+            series: series(&s.curves),
         }],
         900,
         560,
-    )?;
-    set.put(
-        &svg_dir.join(format!("filters-{}.svg", map.name)),
-        svg.as_bytes(),
-    );
-    Ok(row_json)
+    )
 }
 
-/// The screen-space kernel section (tables per pixel filter, the L2-vs-κ plot, the
-/// clamp table); returns its JSON rows.
+/// results/filters-screen.svg.
+pub(super) fn screen_svg(s: &ScreenSection) -> Result<String> {
+    loglog_svg(
+        &[Panel {
+            title: "screen-space kernels: lobe L2 error vs curvature (GGX, Gaussian pixel)".into(),
+            x_label: "κ (rad / pixel)".into(),
+            y_label: "relative L2 error".into(),
+            series: series(&s.curves),
+        }],
+        900,
+        560,
+    )
+}
+
+/// The screen-space section of results/filters.md and its rows for the result file.
 pub(super) fn screen_section(
-    set: &mut crate::io::Outputs,
     md: &mut String,
     plan: &Plan,
-    screen_cases: &[ScreenCase],
-    results: &Path,
-) -> Result<Vec<serde_json::Value>> {
+    s: &ScreenSection,
+) -> Vec<serde_json::Value> {
     md.push_str(&format!("## Screen-space kernels on synthetic curved surfaces\n\nThe pixel sees a surface whose normal is normalize(z + R_30° diag(κ, a·κ)·p) at screen offset p (pixels): curvature × distance gives κ rad/px, anisotropy a ∈ {:?}; (α, κ) ∈ {:?}; views θ ∈ {:?}° (φ = 20°). Derivatives are quad finite differences (ddx = n(1,0) − n(0,0)) exactly as a GPU forms them. The truth averages the exact per-normal lobe over the pixel footprint: a Gaussian of variance 0.25 px² (the kernels' own σ²) or the 1×1 box, by a tensor midpoint rule fine enough that neighbouring nodes' normals differ by < α/2 (up to 64² nodes).\n\n", plan.anisotropy, plan.screen_pairs, plan.screen_views_deg));
     let mut json_screen = Vec::new();
-    for pixel in [PixelFilter::Gaussian, PixelFilter::Box] {
+    for (pixel, rows) in &s.tables {
         md.push_str(&format!(
             "### Pixel footprint: {}\n\n",
-            if pixel == PixelFilter::Gaussian {
+            if *pixel == PixelFilter::Gaussian {
                 "Gaussian σ² = 0.25 px²"
             } else {
                 "1×1 box"
             }
         ));
         let mut t = Table::new(std::iter::once("kernel").chain(NDF_COLUMNS));
-        for (fi, name) in SCREEN.iter().map(|f| f.label).enumerate() {
-            let mut cells = Vec::new();
-            for &kind in &KINDS {
-                let rs: Vec<&CaseResult> = screen_cases
-                    .iter()
-                    .filter(|c| c.kind == kind && c.pixel == pixel)
-                    .map(|c| &c.results[fi])
-                    .collect();
-                let a = aggregate(&rs);
-                cells.extend(agg_cells(&a));
-                json_screen.push(serde_json::json!({"pixel": format!("{pixel:?}"), "ndf": kind_name(kind), "kernel": name, "all": a}));
+        for r in rows {
+            for (&kind, a) in KINDS.iter().zip(&r.by_ndf) {
+                json_screen.push(serde_json::json!({"pixel": format!("{pixel:?}"), "ndf": kind_name(kind), "kernel": r.label, "all": a}));
             }
-            t.row(std::iter::once(name.to_string()).chain(cells));
+            t.row(std::iter::once(r.label.to_string()).chain(r.by_ndf.iter().flat_map(agg_cells)));
         }
         md.push_str(&t.to_string());
         md.push('\n');
     }
-    // L2 vs κ plot (GGX, Gaussian pixel)
-    let mut kappas: Vec<f64> = plan.screen_pairs.iter().map(|p| p.1).collect();
-    kappas.sort_by(f64::total_cmp);
-    kappas.dedup();
-    let kseries: Vec<Series> = SCREEN
-        .iter()
-        .map(|f| f.label)
-        .enumerate()
-        .map(|(fi, name)| Series {
-            name: name.to_string(),
-            points: kappas
-                .iter()
-                .map(|&k| {
-                    let rs: Vec<&CaseResult> = screen_cases
-                        .iter()
-                        .filter(|c| {
-                            c.kind == NdfKind::Ggx
-                                && c.pixel == PixelFilter::Gaussian
-                                && c.field.kappa_u == k
-                        })
-                        .map(|c| &c.results[fi])
-                        .collect();
-                    (k, aggregate(&rs).l2_mean.max(1e-6))
-                })
-                .collect(),
-        })
-        .collect();
-    let svg = loglog_svg(
-        &[Panel {
-            title: "screen-space kernels: lobe L2 error vs curvature (GGX, Gaussian pixel)".into(),
-            x_label: "κ (rad / pixel)".into(),
-            y_label: "relative L2 error".into(),
-            series: kseries,
-        }],
-        900,
-        560,
-    )?;
-    set.put(&results.join("filters-screen.svg"), svg.as_bytes());
     md.push_str("L2 error against curvature per kernel (GGX, Gaussian pixel): ![screen](filters-screen.svg)\n\n");
-    // by κ table for the clamp question
     md.push_str("### The clamp δ = 0.18, by curvature (GGX, Gaussian pixel; L2 error, mean ± s.e. over the α paired with that κ, both anisotropies and all views)\n\n");
-    // the kernels of the clamp question, by registry key, with their column names
-    let clamp_cols = [
-        ("none", "none"),
-        ("tokuyoshi-deferred", "Eq 13 (δ 0.18)"),
-        ("eq13-unclamped", "Eq 13 unclamped"),
-        ("eigen-eq10", "Eq 10"),
-        ("eq10-unclamped", "Eq 10 unclamped"),
-        ("godot", "Godot (on α)"),
-        ("filament", "Filament"),
-    ];
-    let mut t = Table::new(std::iter::once("κ (rad/px)").chain(clamp_cols.iter().map(|c| c.1)));
-    for &k in &kappas {
-        let cell = |fi: usize| {
-            let rs: Vec<&CaseResult> = screen_cases
-                .iter()
-                .filter(|c| {
-                    c.kind == NdfKind::Ggx
-                        && c.pixel == PixelFilter::Gaussian
-                        && c.field.kappa_u == k
-                })
-                .map(|c| &c.results[fi])
-                .collect();
-            let a = aggregate(&rs);
-            format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)
-        };
+    let mut t = Table::new(std::iter::once("κ (rad/px)").chain(CLAMP_COLUMNS.iter().map(|c| c.1)));
+    for (k, cells) in &s.clamp {
         t.row(
-            std::iter::once(k.to_string())
-                .chain(clamp_cols.iter().map(|c| cell(screen_index(c.0)))),
+            std::iter::once(k.to_string()).chain(
+                cells
+                    .iter()
+                    .map(|a| format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)),
+            ),
         );
     }
     md.push_str(&t.to_string());
-    Ok(json_screen)
+    json_screen
 }
 
-/// The fitted-constant table; returns its JSON rows.
 pub(super) fn fits_section(
     md: &mut String,
     fits: &[Fitted],
@@ -328,21 +226,17 @@ describes.\n";
 
 /// Summaries of the LEADR grid study and the Λ refit (their own reports are regenerated
 /// by the same `regen --only filters`).
-pub(super) fn embed(results: &Path) -> String {
+/// The LEADR and Λ reports, their headings one level down.
+pub(super) fn embed(reports: &[(&str, &str, String)]) -> String {
     let mut s = String::new();
-    for (file, title) in [
-        ("leadr-grids.md", "LEADR numerical integration"),
-        ("smith-lambda.md", "Smith Λ approximations"),
-    ] {
-        if let Ok(t) = std::fs::read_to_string(&results.join(file)) {
-            s.push_str(&format!("\n## {title} (from results/{file})\n"));
-            for line in t.lines().skip(1) {
-                if let Some(h) = line.strip_prefix("## ") {
-                    s.push_str(&format!("### {h}\n"));
-                } else {
-                    s.push_str(line);
-                    s.push('\n');
-                }
+    for (file, title, t) in reports {
+        s.push_str(&format!("\n## {title} (from results/{file})\n"));
+        for line in t.lines().skip(1) {
+            if let Some(h) = line.strip_prefix("## ") {
+                s.push_str(&format!("### {h}\n"));
+            } else {
+                s.push_str(line);
+                s.push('\n');
             }
         }
     }
