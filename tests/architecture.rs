@@ -546,47 +546,42 @@ fn markdown_tables_go_through_the_one_writer() {
     );
 }
 
-/// A study computes its typed result and renders it in a separate step: `study!` takes
-/// `computes f`, and `f` (in the study's module or a file under it) is handed no output
-/// set, so it cannot write a file; the driver renders and publishes.
+/// A study computes its typed result, then renders it (`study!` takes `computes f`,
+/// `f: fn(&Ctx) -> Result<R>`; `no_study_writes_files_itself` keeps the writing with the
+/// driver). This test holds the rendering side to formatting: a module under studies/
+/// named for rendering (`report`, `render`, `plots`) runs no memoised map and no rayon
+/// loop — what it shows was computed before it.
 #[test]
-fn studies_compute_then_render() {
-    let all = sources();
-    let mut declared = Vec::new();
-    let mut writes = Vec::new();
-    for (m, text) in &all {
-        let Some(at) = text.find("crate::study::study! {") else {
+fn report_code_formats_and_never_computes() {
+    const COMPUTES: [&str; 6] = [
+        "memo::",
+        "Memo,",
+        "map_items(",
+        "par_iter(",
+        "into_par_iter(",
+        "use rayon",
+    ];
+    let mut renders = 0;
+    let mut computing = Vec::new();
+    for (m, text) in sources() {
+        if !m.starts_with("studies::") {
             continue;
-        };
-        if m == "study" {
-            continue; // the macro's own doc example
         }
-        let body = &text[at..text[at..].find("\n}").map_or(text.len(), |e| at + e)];
-        let f = body
-            .split(" computes ")
-            .nth(1)
-            .map(|r| r.trim().trim_end_matches('}').trim().to_string())
-            .unwrap_or_else(|| panic!("{m}: study! without `computes`"));
-        declared.push(m.clone());
-        // the compute function's signature, wherever under the module it is defined
-        let sig = all
-            .iter()
-            .filter(|(o, _)| o == m || o.starts_with(&format!("{m}::")))
-            .find_map(|(_, t)| {
-                let s = t.find(&format!("fn {f}("))?;
-                Some(t[s..s + t[s..].find('{')?].to_string())
-            })
-            .unwrap_or_else(|| panic!("{m}: `computes {f}` but no `fn {f}(` under it"));
-        if sig.contains("Outputs") {
-            writes.push(format!("{m}: {sig}"));
+        let last = m.rsplit("::").next().unwrap_or(&m);
+        if !(last.contains("report") || last == "render" || last == "plots") {
+            continue;
+        }
+        renders += 1;
+        let code = text.split("#[cfg(test)]").next().unwrap_or("");
+        for w in COMPUTES {
+            if code.contains(w) {
+                computing.push(format!("{m}: {w}"));
+            }
         }
     }
+    assert!(renders >= 10, "found only {renders} report modules");
     assert!(
-        declared.len() >= 12,
-        "found only {declared:?} declaring a study"
-    );
-    assert!(
-        writes.is_empty(),
-        "compute steps handed an output set (return the result; render writes): {writes:?}"
+        computing.is_empty(),
+        "report code that computes (move it to the study's compute step): {computing:?}"
     );
 }

@@ -21,7 +21,7 @@ mod pipeline;
 mod polygons;
 mod precision;
 mod shipped;
-mod table_report;
+mod table;
 
 pub use compute::cell_ltc;
 use compute::{fit_tables, plan, Plan};
@@ -98,8 +98,8 @@ pub struct Computed {
     held: Stats,
     sampled: held::Sampled,
     bilinear: BilinearPass,
-    structure: table_report::Structure,
-    between: table_report::Between,
+    structure: table::Structure,
+    between: table::Between,
     variants: Vec<(&'static str, Stats)>,
     compare: Option<crate::results::compare::LtcCompare>,
     precision: precision::Precision,
@@ -120,9 +120,9 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     held::judge_table(&Memo, &mut main, &GgxTarget::new, Tolerance::default())?;
     let st = stats(&main);
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
-    let structure = table_report::measure_structure(&main);
-    let between = table_report::measure_between(&main)?;
-    let variants = table_report::measure_variants(&variants);
+    let structure = table::measure_structure(&main);
+    let between = table::measure_between(&main)?;
+    let variants = table::measure_variants(&variants);
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
@@ -168,9 +168,9 @@ fn markdown(c: &Computed) -> String {
         "Bilinear pass (what a shader sees between cells): one sweep in four colours refitted each cell's (a, b, c, d) against its own lobe and, with weight {} each, the lobes at the centres of its squares as a GPU interpolates both textures, each term as its squared error relative to the table's before the pass (so a cell that fits well is not spent on a square that cannot; Nelder–Mead, ≤ {} iterations, kept only where a validation set agrees; the norm stays the albedo): {} of {} cells moved. The errors above and below are after it; results/ltc-compare.md has the squares.\n\nFit cost: results/performance.md (criterion's time for single cells; the main job's wall clock per study, which this report leaves out so that it is the same in every run, sharded or cached).\n\n",
         c.bilinear.square_weight, c.bilinear.max_iters, c.bilinear.cells_moved, c.pl.n * c.pl.n
     ));
-    md.push_str(&table_report::structure_section(&c.structure));
-    md.push_str(&table_report::between_section(&c.between));
-    md.push_str(&table_report::variants_section(&c.pl, &c.variants));
+    md.push_str(&table::structure_section(&c.structure));
+    md.push_str(&table::between_section(&c.between));
+    md.push_str(&table::variants_section(&c.pl, &c.variants));
     md.push_str(&shipped::section(c.compare.as_ref(), c.held.l2.mean.value));
     md.push_str(&precision::section(&c.precision));
     md.push_str(&floor::section(&c.floor, &c.floor_summary));
@@ -196,7 +196,7 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
         table: t.table,
         table_f16: t.table_f16.unwrap_or_default(),
         held_out: c.held,
-        variants: table_report::variants_json(&c.variants),
+        variants: table::variants_json(&c.variants),
         edge_approximations: poly.edge_approximations.clone(),
         degenerate: poly.degenerate_json(),
         polygons: poly.polygons_json(),
