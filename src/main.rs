@@ -391,7 +391,7 @@ fn main() -> ExitCode {
             |set| ndfbench::tensor::compare::run(set, &cli.results, &python, preset),
         )
         .map(|r| {
-            print!("{}", ndfbench::tensor::compare::table(&r));
+            print!("{}", ndfbench::studies::tensor::report::tensorly_table(&r));
             true
         }),
         Some(Cmd::CliReference { out }) => write_doc(&out, &ndfbench::cli::command::reference()),

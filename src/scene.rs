@@ -293,39 +293,72 @@ fn choose(
     }
 }
 
-/// Build the scene's outputs: (file name, contents) for scene.wgsl, scene.rs, report.md.
-pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
-    let consts = codegen::constants(results)?;
-    let mut fns: Vec<&str> = Vec::new();
-    let mut report = format!(
-        "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n| aspect | choice | generated function | measured error | cost (ns/eval, f32) |\n|---|---|---|---|---|\n",
-        s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
-    );
+/// A measured cost in ns, or where to get it.
+fn fmt_cost(c: Option<f64>) -> String {
+    c.map_or("(run bench-report)".to_string(), |v| format!("{v:.2}"))
+}
+
+/// The rows and generated functions of the scene's NDF, masking and lights.
+fn shading_rows(
+    s: &Scene,
+    results: &Path,
+    measured: &Measured,
+    t: &mut crate::report::table::Table,
+    fns: &mut Vec<&'static str>,
+) -> Result<()> {
     let dg1 = crate::results::read::<crate::results::smith_lambda::SmithLambda>(results)?
         .map(|v| v.held_out.ours.max_dg1);
-    let measured_tables = Measured::load(results)?;
-    let spec_cost = measured_tables.cost("kernel-ggx-specular/per-pixel");
-    let fmt_cost =
-        |c: Option<f64>| c.map_or("(run bench-report)".to_string(), |v| format!("{v:.2}"));
+    let spec_cost = measured.cost("kernel-ggx-specular/per-pixel");
     match (s.ndf.as_str(), s.roughness.as_str()) {
         ("ggx", "isotropic") => {
             fns.push("ggx_specular");
-            report.push_str(&format!("| point-light specular | GGX, fused D·G2/(4v_z) | ggx_specular | ≤ 1e-5 relative vs f64 (tests/codegen.rs) | {} (scalar, per pixel) |\n", fmt_cost(spec_cost)));
+            t.row([
+                "point-light specular".to_string(),
+                "GGX, fused D·G2/(4v_z)".into(),
+                "ggx_specular".into(),
+                "≤ 1e-5 relative vs f64 (tests/codegen.rs)".into(),
+                format!("{} (scalar, per pixel)", fmt_cost(spec_cost)),
+            ]);
         }
         ("ggx", "anisotropic") => {
             fns.extend(["ggx_d_aniso", "ggx_g2"]);
-            report.push_str("| NDF | GGX axis-aligned anisotropic | ggx_d_aniso | ≤ 2e-6 relative vs f64 | — |\n| masking | height-correlated G2 (isotropic Λ per axis is the caller's) | ggx_g2 | ≤ 2e-6 | — |\n");
+            t.row([
+                "NDF",
+                "GGX axis-aligned anisotropic",
+                "ggx_d_aniso",
+                "≤ 2e-6 relative vs f64",
+                "—",
+            ]);
+            t.row([
+                "masking",
+                "height-correlated G2 (isotropic Λ per axis is the caller's)",
+                "ggx_g2",
+                "≤ 2e-6",
+                "—",
+            ]);
         }
         ("ggx", _) => {
             fns.extend(["ggx_d_matrix", "ggx_g2"]);
-            report.push_str("| NDF | GGX with SPD roughness matrix | ggx_d_matrix | ≤ 2e-6 + 16ε·cond(A) relative | — |\n");
+            t.row([
+                "NDF",
+                "GGX with SPD roughness matrix",
+                "ggx_d_matrix",
+                "≤ 2e-6 + 16ε·cond(A) relative",
+                "—",
+            ]);
         }
         _ => {
             fns.extend(["beckmann_d", "beckmann_g2"]);
-            report.push_str(&format!(
-                "| NDF + masking | Beckmann with the refitted Λ | beckmann_d, beckmann_g2 | D ≤ 1e-6·(4 + tan²θ/α²); max \\|ΔG1\\| {} | — |\n",
-                dg1.map_or("(run regen)".into(), |d| format!("{d:.1e}"))
-            ));
+            t.row([
+                "NDF + masking".to_string(),
+                "Beckmann with the refitted Λ".into(),
+                "beckmann_d, beckmann_g2".into(),
+                format!(
+                    "D ≤ 1e-6·(4 + tan²θ/α²); max \\|ΔG1\\| {}",
+                    dg1.map_or("(run regen)".into(), |d| format!("{d:.1e}"))
+                ),
+                "—".into(),
+            ]);
         }
     }
     if s.lights.iter().any(|l| l == "polygon") {
@@ -336,19 +369,50 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
         let sph = lt
             .as_ref()
             .and_then(|v| v.sphere_horizon.map(|s| s.energy_weighted_rel));
-        let cost = measured_tables.cost("kernel-ltc-quad/per-pixel");
-        report.push_str(&format!(
-            "| polygonal lights | LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral | ltc_lut_u, ltc_lut_v, ltc_quad | table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc-ggx.md) | {} (scalar, per pixel) |\n",
-            mean.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
-            sph.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
-            fmt_cost(cost)
-        ));
+        let cost = measured.cost("kernel-ltc-quad/per-pixel");
+        t.row([
+            "polygonal lights".to_string(),
+            "LTC table (results/fits/ltc-ggx.json as two textures) + quad edge integral".into(),
+            "ltc_lut_u, ltc_lut_v, ltc_quad".into(),
+            format!(
+                "table: mean relative L2 {}; clipped-sphere horizon: energy-weighted {} (results/ltc-ggx.md)",
+                mean.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
+                sph.map_or("(run regen)".into(), |m| format!("{:.1} %", 100.0 * m)),
+            ),
+            format!("{} (scalar, per pixel)", fmt_cost(cost)),
+        ]);
     }
     if s.lights.iter().any(|l| l == "environment") {
         fns.push("leadr5_env");
-        let cost = measured_tables.cost("kernel-leadr/per-pixel");
-        report.push_str(&format!("| environment | LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup) | leadr5_env | grid error: results/leadr-grids.md | {} (scalar, per pixel) |\n", fmt_cost(cost)));
+        let cost = measured.cost("kernel-leadr/per-pixel");
+        t.row([
+            "environment".to_string(),
+            "LEADR 5×5 slope grid, fitted spacing (shading hook: the generated test environment; replace `leadr_env` with your lookup)".into(),
+            "leadr5_env".into(),
+            "grid error: results/leadr-grids.md".into(),
+            format!("{} (scalar, per pixel)", fmt_cost(cost)),
+        ]);
     }
+    Ok(())
+}
+
+/// Build the scene's outputs: (file name, contents) for scene.wgsl, scene.rs, report.md.
+pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
+    let consts = codegen::constants(results)?;
+    let mut fns: Vec<&str> = Vec::new();
+    let mut report = format!(
+        "# Scene '{}'\n\nWritten by `cargo run --release -- scene <file> --out DIR`. Only what this scene needs: NDF {}, {} roughness, lights {:?}, normal-map filter `{}`, screen-space AA `{}`, precision {}, error budget {} (mean relative L2 lobe error per filter).\n\n",
+        s.name, s.ndf, s.roughness, s.lights, s.normal_map_filter, s.screen_space_aa, s.precision, s.error_budget
+    );
+    let mut t = crate::report::table::Table::new([
+        "aspect",
+        "choice",
+        "generated function",
+        "measured error",
+        "cost (ns/eval, f32)",
+    ]);
+    let measured_tables = Measured::load(results)?;
+    shading_rows(s, results, &measured_tables, &mut t, &mut fns)?;
     let mut choices = Vec::new();
     for (aspect, want, opts) in [
         (
@@ -379,24 +443,26 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
                     .expect("known function"),
             );
         }
-        report.push_str(&format!(
-            "| {aspect} | {}{} | {} | {} | {} |\n",
-            c.key,
-            if want == "auto" {
-                " (auto: cheapest within budget)"
-            } else {
-                ""
-            },
-            c.function.as_deref().unwrap_or("—"),
-            c.error.map_or("(no measurement)".into(), |(m, e)| format!(
-                "{:.1} % ± {:.1}",
-                100.0 * m,
-                100.0 * e
-            )),
-            fmt_cost(c.cost_ns)
-        ));
+        t.row([
+            aspect.to_string(),
+            format!(
+                "{}{}",
+                c.key,
+                if want == "auto" {
+                    " (auto: cheapest within budget)"
+                } else {
+                    ""
+                }
+            ),
+            c.function.as_deref().unwrap_or("—").to_string(),
+            c.error.map_or("(no measurement)".into(), |(m, e)| {
+                format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * e)
+            }),
+            fmt_cost(c.cost_ns),
+        ]);
         choices.push(c);
     }
+    report.push_str(&t.to_string());
     report.push_str(&format!("\nErrors are the measured means of results/filters.md for {} (normal-map filters over the four procedural maps, screen-space kernels on the Gaussian-pixel study; a fitted constant's error is its held-out error); costs are criterion means of the f32 forms (results/costs.json, results/performance.md). The vMF fitted constant and σ² are fitted for GGX; Beckmann uses the same functions.\n", s.ndf));
     let title = format!("scene '{}'", s.name);
     let cmd = "cargo run --release -- scene";

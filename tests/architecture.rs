@@ -509,21 +509,19 @@ fn no_study_writes_files_itself() {
 /// table fails, and so does a listed file that no longer has one (take it off the list).
 #[test]
 fn markdown_tables_go_through_the_one_writer() {
-    const NOT_YET: [&str; 11] = [
-        "prefilter::output",
-        "scene",
+    const NOT_YET: [&str; 5] = [
         "studies::engines::report",
         "studies::ltc_compare::render",
         "studies::performance::deliverables",
-        "studies::performance::main_job",
         "studies::performance",
         "studies::performance::tables",
-        "survey::tools",
-        "tensor::compare",
-        "verify",
     ];
-    // a separator row: "|---" or "|:---" in a string literal
-    let hand_built = |text: &str| text.contains("|---") || text.contains("|:---");
+    // a separator row: "|---" or "|:---" in code (a doc comment's table is rustdoc's)
+    let hand_built = |text: &str| {
+        text.lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .any(|l| l.contains("|---") || l.contains("|:---"))
+    };
     let mut new = Vec::new();
     let mut done = Vec::new();
     for (m, text) in sources() {

@@ -289,18 +289,18 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
             NormalMips::Raw => "the mean normal as it is (‖μ‖ < 1 where the footprint varies), (n + 1)/2 per channel",
         },
     );
-    md.push_str("## Every rule's measured error (results/filters.md)\n\n| rule | formula | mean lobe L2 | cases |\n|---|---|---|---|\n");
+    md.push_str("## Every rule's measured error (results/filters.md)\n\n");
+    let mut t = crate::report::table::Table::new(["rule", "formula", "mean lobe L2", "cases"]);
     for f in eligible() {
         let m = o.evidence.measured.iter().find(|m| m.filter == f);
-        md.push_str(&format!(
-            "| {}{} | {} | {} | {} |\n",
-            f.key(),
-            if f == o.filter { " (used)" } else { "" },
-            o.label(f),
+        t.row([
+            format!("{}{}", f.key(), if f == o.filter { " (used)" } else { "" }),
+            o.label(f).to_string(),
             m.map_or("not measured".into(), |m| pct(m.l2_mean, m.l2_se)),
-            m.map_or("—".into(), |m| m.what.clone())
-        ));
+            m.map_or("—".into(), |m| m.what.clone()),
+        ]);
     }
+    md.push_str(&t.to_string());
     md.push_str(&format!(
         "\nEach level is the equal-weight 2×2 average of the one above (O(N) for the whole chain; Filament's tool re-reads the base level for every mip, O(N log N)). Files: {}.\n",
         files.join(", ")

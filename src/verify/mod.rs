@@ -191,23 +191,31 @@ Each row checks one identity of proofs/ by independent methods; `worst error` is
 error over all cases tried, in the unit of the `kind` column.\n\n",
         preset.name()
     ));
-    s.push_str("| identity | source | ranges tried | cases | worst error | kind | worst case | tolerance | result |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|\n");
+    let mut t = crate::report::table::Table::new([
+        "identity",
+        "source",
+        "ranges tried",
+        "cases",
+        "worst error",
+        "kind",
+        "worst case",
+        "tolerance",
+        "result",
+    ]);
     for o in outcomes {
-        s.push_str(&format!(
-            "| [{}](../proofs/{}.md) | {} | {} | {} | {:.3e} | {} | {} | {:.1e} | {} |\n",
-            o.title,
-            o.id,
-            o.source,
-            o.ranges,
-            o.cases,
-            o.worst_error,
-            o.error_kind,
-            o.worst_case,
-            o.tolerance,
-            if o.passed { "pass" } else { "**FAIL**" },
-        ));
+        t.row([
+            format!("[{}](../proofs/{}.md)", o.title, o.id),
+            o.source.to_string(),
+            o.ranges.to_string(),
+            o.cases.to_string(),
+            format!("{:.3e}", o.worst_error),
+            o.error_kind.to_string(),
+            o.worst_case.to_string(),
+            format!("{:.1e}", o.tolerance),
+            (if o.passed { "pass" } else { "**FAIL**" }).to_string(),
+        ]);
     }
+    s.push_str(&t.to_string());
     s.push_str("\n## Findings\n\n");
     for o in outcomes {
         if o.notes.is_empty() {

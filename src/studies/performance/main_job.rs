@@ -4,6 +4,7 @@
 //! that section).
 
 use crate::error::Result;
+use crate::report::table::Table;
 use std::path::{Path, PathBuf};
 
 /// Where the main job leaves its wall-clock profile (build output, not results/: it
@@ -190,25 +191,22 @@ pub(super) fn main_job_table(results: &Path) -> String {
             .and_then(|p| p.2.iter().find(|(m, _)| m == n))
             .map_or("—".into(), |(_, t)| format!("{t:.1}"))
     };
-    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). With studies in parallel the stages overlap, so they add up to more than the total.\n\n| stage |");
-    for (h, _) in &cols {
-        md.push_str(&format!(" {h} (s) |"));
-    }
-    md.push_str("\n|---|---|---|---|\n| **total** |");
-    for (_, p) in &cols {
-        md.push_str(&format!(
-            " **{}** |",
-            p.as_ref()
-                .map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
-        ));
-    }
-    md.push('\n');
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). With studies in parallel the stages overlap, so they add up to more than the total.\n\n");
+    let mut t = Table::new(
+        std::iter::once("stage".to_string()).chain(cols.iter().map(|(h, _)| format!("{h} (s)"))),
+    );
+    t.row(
+        std::iter::once("**total**".to_string()).chain(cols.iter().map(|(_, p)| {
+            format!(
+                "**{}**",
+                p.as_ref()
+                    .map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
+            )
+        })),
+    );
     for (n, _) in &names {
-        md.push_str(&format!("| {n} |"));
-        for (_, p) in &cols {
-            md.push_str(&format!(" {} |", cell(p, n)));
-        }
-        md.push('\n');
+        t.row(std::iter::once(n.clone()).chain(cols.iter().map(|(_, p)| cell(p, n))));
     }
+    md.push_str(&t.to_string());
     md
 }

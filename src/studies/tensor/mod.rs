@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use std::path::Path;
 
 mod compute;
-mod report;
+pub mod report;
 
 use compute::Computed;
 
