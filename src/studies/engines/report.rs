@@ -5,6 +5,7 @@
 use super::compute::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
 use crate::error::Result;
 use crate::render::picture::Rgb;
+use crate::report::table::Table;
 
 fn cell(e: &Errors) -> String {
     format!("{} (mean {})", e.rel_rmse.pct(2), e.mean_rel.pct(1))
@@ -36,15 +37,12 @@ fn godot_section(md: &mut String, r: &EnginesResult) {
     if r.godot.is_empty() {
         return;
     }
-    md.push_str("## Godot 4 (formulas in f64; not rendered)\n\nNo Godot binary runs here, and Godot's own LTC files could not be fetched (its repository is over this machine's fetch limit), so Godot is judged by its shader's formulas transcribed in f64 (`engines::godot`, read from area_lights_inc.glsl): its bilinear lookup of our `results/textures/godot/ltc_lut{1,2}.dds` (f32, its θ-linear view axis through `acos_approx`), its matrix form, horizon clip and Hill's edge fit, at the first engine's pixel points. **Formulas**: that value against the truth; **table's share**: the same texels with the exact edge integral against the truth.\n\n| scene | formulas | table's share |\n|---|---|---|\n");
+    md.push_str("## Godot 4 (formulas in f64; not rendered)\n\nNo Godot binary runs here, and Godot's own LTC files could not be fetched (its repository is over this machine's fetch limit), so Godot is judged by its shader's formulas transcribed in f64 (`engines::godot`, read from area_lights_inc.glsl): its bilinear lookup of our `results/textures/godot/ltc_lut{1,2}.dds` (f32, its θ-linear view axis through `acos_approx`), its matrix form, horizon clip and Hill's edge fit, at the first engine's pixel points. **Formulas**: that value against the truth; **table's share**: the same texels with the exact edge integral against the truth.\n\n");
+    let mut t = Table::new(["scene", "formulas", "table's share"]);
     for s in &r.godot {
-        md.push_str(&format!(
-            "| {} | {} | {} |\n",
-            s.name,
-            cell(&s.formulas),
-            cell(&s.table_share)
-        ));
+        t.row([s.name.clone(), cell(&s.formulas), cell(&s.table_share)]);
     }
+    md.push_str(&t.to_string());
     let n = r.godot.len().max(1) as f64;
     md.push_str(&format!(
         "\nMean relative RMSE over the scenes: formulas {:.2} %, table's share {:.2} %.\n\n",
@@ -73,40 +71,53 @@ fn pick(s: &SceneResult, t: &str, p: &str) -> Option<PathResult> {
 fn engine_section(md: &mut String, e: &EngineResult) {
     let paths = &e.paths;
     md.push_str(&format!(
-        "## {} ({}, on {})\n\n### The engine against the truth\n\n| scene | pixels |",
+        "## {} ({}, on {})\n\n### The engine against the truth\n\n",
         e.engine.name(),
         e.version,
         e.adapter
     ));
-    for p in paths {
-        md.push_str(&format!(" shipped, {p} | ours, {p} |"));
-    }
-    md.push_str(&format!("\n|---|---|{}\n", "---|---|".repeat(paths.len())));
+    let mut t = Table::new(
+        ["scene".to_string(), "pixels".to_string()]
+            .into_iter()
+            .chain(
+                paths
+                    .iter()
+                    .flat_map(|p| [format!("shipped, {p}"), format!("ours, {p}")]),
+            ),
+    );
     for s in &e.scenes {
-        md.push_str(&format!("| {} | {} |", s.name, s.pixels));
-        for p in paths {
-            for t in ["shipped", "ours"] {
-                let c = pick(s, t, p).map_or("—".into(), |x| cell(&x.engine));
-                md.push_str(&format!(" {c} |"));
-            }
-        }
-        md.push('\n');
+        t.row(
+            [s.name.clone(), s.pixels.to_string()]
+                .into_iter()
+                .chain(paths.iter().flat_map(|p| {
+                    ["shipped", "ours"]
+                        .map(|tb| pick(s, tb, p).map_or("—".into(), |x| cell(&x.engine)))
+                })),
+        );
     }
+    md.push_str(&t.to_string());
     let p0 = paths[0];
-    md.push_str(&format!("\n### Where the error comes from ({p0} path)\n\n| scene | shipped: table's share | shipped: shader's share | ours: table's share | ours: shader's share |\n|---|---|---|---|---|\n"));
+    md.push_str(&format!("\n### Where the error comes from ({p0} path)\n\n"));
+    let mut t = Table::new([
+        "scene",
+        "shipped: table's share",
+        "shipped: shader's share",
+        "ours: table's share",
+        "ours: shader's share",
+    ]);
     for s in &e.scenes {
         let c = |t: &str, f: &dyn Fn(&PathResult) -> String| {
             pick(s, t, p0).map_or("—".into(), |x| f(&x))
         };
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {} |\n",
-            s.name,
+        t.row([
+            s.name.clone(),
             c("shipped", &|x| cell(&x.table_share)),
             c("shipped", &|x| cell(&x.shader_share)),
             c("ours", &|x| cell(&x.table_share)),
             c("ours", &|x| cell(&x.shader_share)),
-        ));
+        ]);
     }
+    md.push_str(&t.to_string());
     for p in paths {
         let (mut better, mut worse) = (Vec::new(), Vec::new());
         for s in &e.scenes {

@@ -6,11 +6,24 @@ use crate::error::Result;
 use crate::ltc::compare::alpha_theta;
 use crate::ltc::compare::Shipped;
 use crate::ltc::lobe_error::LobeError;
+use crate::report::table::Table;
 
 /// The markdown report.
 pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
     let mut md = header.to_string();
-    md.push_str("## Summary\n\nRelative L2 ‖f − norm·γ_M‖/‖f‖ and relative L1 ∫|f − norm·γ_M|/∫f of each table as the engine holds it, mean over the places the engine reaches, ± the mean error bar; \"better\" and \"worse\" count the places where the two tables' relative L2 differ by more than their two error bars together (the rest are tied).\n\n| engine path | where | count | ours: rel. L2 | shipped: rel. L2 | ours: rel. L1 | shipped: rel. L1 | ours better / tied / worse | rows t ≥ 56: ours L2 | rows t ≥ 56: shipped L2 |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("## Summary\n\nRelative L2 ‖f − norm·γ_M‖/‖f‖ and relative L1 ∫|f − norm·γ_M|/∫f of each table as the engine holds it, mean over the places the engine reaches, ± the mean error bar; \"better\" and \"worse\" count the places where the two tables' relative L2 differ by more than their two error bars together (the rest are tied).\n\n");
+    let mut t = Table::new([
+        "engine path",
+        "where",
+        "count",
+        "ours: rel. L2",
+        "shipped: rel. L2",
+        "ours: rel. L1",
+        "shipped: rel. L1",
+        "ours better / tied / worse",
+        "rows t ≥ 56: ours L2",
+        "rows t ≥ 56: shipped L2",
+    ]);
     for f in forms {
         for (what, v, w) in [
             ("cells", &f.cells, n),
@@ -23,38 +36,49 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
                     .filter(|(k, _)| 63 * (k / w) >= 56 * (n - 1))
                     .map(|x| x.1),
             );
-            md.push_str(&format!(
-                "| {} | {what} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} |\n",
-                f.name,
-                s.count,
+            t.row([
+                f.name.to_string(),
+                what.to_string(),
+                s.count.to_string(),
                 s.ours_l2.mean.pct(2),
                 s.shipped_l2.mean.pct(2),
                 s.ours_l1.mean.pct(2),
                 s.shipped_l1.mean.pct(2),
-                s.ours_better,
-                s.count - s.ours_better - s.ours_worse,
-                s.ours_worse,
+                format!(
+                    "{} / {} / {}",
+                    s.ours_better,
+                    s.count - s.ours_better - s.ours_worse,
+                    s.ours_worse
+                ),
                 g.ours_l2.mean.pct(2),
-                g.shipped_l2.mean.pct(2)
-            ));
+                g.shipped_l2.mean.pct(2),
+            ]);
         }
     }
-    md.push_str("\nWhat changed with exact figures: earlier versions estimated the relative L2 by a ratio of sums over 48² + 48² stratified samples per place (biased low, no error bar) and counted \"ours no worse\" within 0.1 %. The same estimate on the same places:\n\n| engine path | where | sampled: ours | sampled: shipped | sampled: ours no worse | integrals: ours better or tied |\n|---|---|---|---|---|---|\n");
+    md.push_str(&t.to_string());
+    md.push_str("\nWhat changed with exact figures: earlier versions estimated the relative L2 by a ratio of sums over 48² + 48² stratified samples per place (biased low, no error bar) and counted \"ours no worse\" within 0.1 %. The same estimate on the same places:\n\n");
+    let mut t = Table::new([
+        "engine path",
+        "where",
+        "sampled: ours",
+        "sampled: shipped",
+        "sampled: ours no worse",
+        "integrals: ours better or tied",
+    ]);
     for f in forms {
         for (what, v) in [("cells", &f.cells), ("squares", &f.squares)] {
             let s = summarise(v.iter());
-            md.push_str(&format!(
-                "| {} | {what} | {:.2} % | {:.2} % | {} of {} | {} of {} |\n",
-                f.name,
-                100.0 * s.sampled_ours_mean,
-                100.0 * s.sampled_shipped_mean,
-                s.sampled_no_worse,
-                s.count,
-                s.count - s.ours_worse,
-                s.count
-            ));
+            t.row([
+                f.name.to_string(),
+                what.to_string(),
+                format!("{:.2} %", 100.0 * s.sampled_ours_mean),
+                format!("{:.2} %", 100.0 * s.sampled_shipped_mean),
+                format!("{} of {}", s.sampled_no_worse, s.count),
+                format!("{} of {}", s.count - s.ours_worse, s.count),
+            ]);
         }
     }
+    md.push_str(&t.to_string());
     md.push_str("\nWhat each path holds:\n\n");
     for f in forms {
         md.push_str(&format!(
@@ -64,27 +88,23 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
     }
     md.push_str("\nHeat maps (three.js FloatType cells; r = √α across, t = √(1 − cos θ) down, normal incidence at the top; grey: not reached): ![compare](ltc-compare.svg) Mean relative L2 per view row: ![rows](ltc-compare-rows.svg)\n\n");
     // per row, every path's cells
-    md.push_str("## Per row j (view; t = j/63), cells, relative L2\n\n| j |");
-    for f in forms {
-        md.push_str(&format!(" {} ours | {} shipped |", f.name, f.name));
-    }
-    md.push_str("\n|---|");
-    for _ in forms {
-        md.push_str("---|---|");
-    }
-    md.push('\n');
+    md.push_str("## Per row j (view; t = j/63), cells, relative L2\n\n");
+    let mut t = Table::new(
+        std::iter::once("j".to_string()).chain(
+            forms
+                .iter()
+                .flat_map(|f| [format!("{} ours", f.name), format!("{} shipped", f.name)]),
+        ),
+    );
     for j in 0..n {
-        md.push_str(&format!("| {j} |"));
-        for f in forms {
-            let s = summarise(f.cells[n * j..n * (j + 1)].iter());
-            md.push_str(&format!(
-                " {} | {} |",
-                s.ours_l2.mean.pct(2),
-                s.shipped_l2.mean.pct(2)
-            ));
-        }
-        md.push('\n');
+        t.row(
+            std::iter::once(j.to_string()).chain(forms.iter().flat_map(|f| {
+                let s = summarise(f.cells[n * j..n * (j + 1)].iter());
+                [s.ours_l2.mean.pct(2), s.shipped_l2.mean.pct(2)]
+            })),
+        );
     }
+    md.push_str(&t.to_string());
     md.push('\n');
     for f in forms {
         for (what, v, w) in [("cells", &f.cells, n), ("squares", &f.squares, n - 1)] {
@@ -98,7 +118,8 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
                 (b.1.l2.value / b.2.l2.value.max(1e-300))
                     .total_cmp(&(a.1.l2.value / a.2.l2.value.max(1e-300)))
             });
-            md.push_str(&format!("## Worst {what} for ours, {} (ratio ours/shipped of the relative L2; {} places worse beyond the error bars)\n\n| i | j | α | θ | ours | shipped | ratio |\n|---|---|---|---|---|---|---|\n", f.name, bad.len()));
+            md.push_str(&format!("## Worst {what} for ours, {} (ratio ours/shipped of the relative L2; {} places worse beyond the error bars)\n\n", f.name, bad.len()));
+            let mut t = Table::new(["i", "j", "α", "θ", "ours", "shipped", "ratio"]);
             let off = if what == "cells" { 0.0 } else { 0.5 };
             for (k, o, s) in bad.iter().take(12) {
                 let (i, j) = (k % w, k / w);
@@ -106,14 +127,17 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
                     (i as f64 + off) / (n - 1) as f64,
                     (j as f64 + off) / (n - 1) as f64,
                 );
-                md.push_str(&format!(
-                    "| {i} | {j} | {al:.3e} | {:.2}° | {} | {} | ×{:.3} |\n",
-                    th.to_degrees(),
+                t.row([
+                    i.to_string(),
+                    j.to_string(),
+                    format!("{al:.3e}"),
+                    format!("{:.2}°", th.to_degrees()),
                     o.l2.pct(2),
                     s.l2.pct(2),
-                    o.l2.value / s.l2.value
-                ));
+                    format!("×{:.3}", o.l2.value / s.l2.value),
+                ]);
             }
+            md.push_str(&t.to_string());
             md.push('\n');
         }
     }

@@ -128,3 +128,13 @@ pub(super) fn fmt_time(ns: f64) -> String {
         format!("{ns:.1} ns")
     }
 }
+
+/// A criterion mean with its 95 % interval.
+pub(super) fn interval(t: &Timed) -> String {
+    format!(
+        "{} ({} – {})",
+        fmt_time(t.mean_ns),
+        fmt_time(t.lo_ns),
+        fmt_time(t.hi_ns)
+    )
+}

@@ -2,7 +2,8 @@
 //! generated shader through naga and the Khronos validators, and the prefilter tool on a
 //! 2048² map next to the per-mip re-read a one-pass-per-mip tool does.
 
-use super::criterion::{fmt_time, Timed};
+use super::criterion::{fmt_time, interval, Timed};
+use crate::report::table::Table;
 
 const SHADER_COLUMNS: [&str; 7] = [
     "naga parse + validate",
@@ -24,31 +25,18 @@ pub(super) fn shaders_table(timed: &[Timed]) -> String {
     if modules.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Shaders: translation and validation per module\n\nEach generated module with its compute harness (results/shaders.md): naga 30's WGSL front end with full validation, each back end on the validated module, and the external validators on the back end's output (process start and a temporary file included; most of glslangValidator's time is its start-up). Criterion mean per call with its 95 % confidence interval.\n\n| module |");
-    for c in SHADER_COLUMNS {
-        md.push_str(&format!(" {c} |"));
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(SHADER_COLUMNS.len()));
-    md.push('\n');
+    let mut md = String::from("\n## Shaders: translation and validation per module\n\nEach generated module with its compute harness (results/shaders.md): naga 30's WGSL front end with full validation, each back end on the validated module, and the external validators on the back end's output (process start and a temporary file included; most of glslangValidator's time is its start-up). Criterion mean per call with its 95 % confidence interval.\n\n");
+    let mut table = Table::new(std::iter::once("module").chain(SHADER_COLUMNS));
     for m in modules {
-        md.push_str(&format!("| {m} |"));
-        for c in SHADER_COLUMNS {
-            let cell = timed
+        let cells = SHADER_COLUMNS.iter().map(|c| {
+            timed
                 .iter()
-                .find(|t| t.group == format!("shaders/{m}") && t.function == c)
-                .map_or("—".to_string(), |t| {
-                    format!(
-                        "{} ({} – {})",
-                        fmt_time(t.mean_ns),
-                        fmt_time(t.lo_ns),
-                        fmt_time(t.hi_ns)
-                    )
-                });
-            md.push_str(&format!(" {cell} |"));
-        }
-        md.push('\n');
+                .find(|t| t.group == format!("shaders/{m}") && t.function == *c)
+                .map_or("—".to_string(), interval)
+        });
+        table.row(std::iter::once(m.to_string()).chain(cells));
     }
+    md.push_str(&table.to_string());
     md
 }
 
@@ -58,16 +46,12 @@ pub(super) fn prefilter_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## prefilter: roughness mips of a 2048² normal map\n\nThe whole tool on an 8-bit 2048² PNG with one α (12 levels; goal < 1 s on 2 cores), its parts, and, for the complexity, the same statistics computed the way a one-pass-per-mip tool (Filament's roughness-prefilter) does: every level re-reads its 2^l × 2^l base block, O(N log N) against the pyramid's O(N).\n\n| step | time (95 % CI) |\n|---|---|\n");
+    let mut md = String::from("\n## prefilter: roughness mips of a 2048² normal map\n\nThe whole tool on an 8-bit 2048² PNG with one α (12 levels; goal < 1 s on 2 cores), its parts, and, for the complexity, the same statistics computed the way a one-pass-per-mip tool (Filament's roughness-prefilter) does: every level re-reads its 2^l × 2^l base block, O(N log N) against the pyramid's O(N).\n\n");
+    let mut table = Table::new(["step", "time (95 % CI)"]);
     for t in rows {
-        md.push_str(&format!(
-            "| {} | {} ({} – {}) |\n",
-            t.function,
-            fmt_time(t.mean_ns),
-            fmt_time(t.lo_ns),
-            fmt_time(t.hi_ns)
-        ));
+        table.row([t.function.clone(), interval(t)]);
     }
+    md.push_str(&table.to_string());
     md
 }
 
@@ -78,7 +62,13 @@ pub(super) fn ltc_tables_table(
     timed: &[Timed],
     results: &std::path::Path,
 ) -> crate::error::Result<String> {
-    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n| table | study (wall clock) | held-out rel. L2 mean / max | per pixel (95 % CI) |\n|---|---|---|---|\n");
+    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n");
+    let mut table = Table::new([
+        "table",
+        "study (wall clock)",
+        "held-out rel. L2 mean / max",
+        "per pixel (95 % CI)",
+    ]);
     for kind in &crate::codegen::textures::TABLES {
         let Some(v) =
             crate::results::read_named::<crate::results::ltc::Summary>(results, kind.fit)?
@@ -102,10 +92,7 @@ pub(super) fn ltc_tables_table(
                 t.group == "ltc-tables" && t.function == format!("{}: 1024 pixels", kind.stem)
             })
             .map_or("—".to_string(), per_pixel);
-        md.push_str(&format!(
-            "| {} ({}) | {fit} | {err} | {px} |\n",
-            kind.stem, kind.fit
-        ));
+        table.row([format!("{} ({})", kind.stem, kind.fit), fit, err, px]);
     }
     if let Some(v) = crate::results::read::<crate::results::ltc::Aniso>(results)? {
         let s = &v.summary;
@@ -113,14 +100,23 @@ pub(super) fn ltc_tables_table(
             .iter()
             .find(|t| t.group == "ltc-tables" && t.function == "ltc_ggx_aniso: 1024 pixels")
             .map_or("—".to_string(), per_pixel);
-        md.push_str(&format!(
-            "| ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells) | {} for {} cells | {:.2} % / {:.1} % | {px} |\n",
-            super::main_job::cold_stage_seconds("ltc-aniso").map_or("—".into(), |t| format!("{t:.0} s")),
-            s.cells_fitted,
-            100.0 * s.between_table.mean,
-            100.0 * s.between_table.max,
-        ));
+        table.row([
+            "ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells)".to_string(),
+            format!(
+                "{} for {} cells",
+                super::main_job::cold_stage_seconds("ltc-aniso")
+                    .map_or("—".into(), |t| format!("{t:.0} s")),
+                s.cells_fitted
+            ),
+            format!(
+                "{:.2} % / {:.1} %",
+                100.0 * s.between_table.mean,
+                100.0 * s.between_table.max
+            ),
+            px,
+        ]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -165,7 +161,12 @@ pub(super) fn render_table(
         let hi = r.iter().cloned().fold(0.0, f64::max);
         format!("{:.1} % – {:.1} %", 100.0 * lo, 100.0 * hi)
     };
-    let mut md = String::from("\n## Render methods: cost per pixel beside their error\n\nCriterion's mean per pixel (95 % CI) on one core: the G-buffer over each example scene's whole 256² image, each method over its 64² centre pixels (`cargo bench --bench deliverables -- render`; the bench's CP models are built from the quick preset's P-NDF grid, 32² images, so their query cost is that of 32² images) beside the method's relative MSE against the truth over the views of results/render.md (best – worst view).\n\n| scene: method | per pixel (95 % CI) | relative MSE (results/render.md) |\n|---|---|---|\n");
+    let mut md = String::from("\n## Render methods: cost per pixel beside their error\n\nCriterion's mean per pixel (95 % CI) on one core: the G-buffer over each example scene's whole 256² image, each method over its 64² centre pixels (`cargo bench --bench deliverables -- render`; the bench's CP models are built from the quick preset's P-NDF grid, 32² images, so their query cost is that of 32² images) beside the method's relative MSE against the truth over the views of results/render.md (best – worst view).\n\n");
+    let mut table = Table::new([
+        "scene: method",
+        "per pixel (95 % CI)",
+        "relative MSE (results/render.md)",
+    ]);
     for t in rows {
         let Some((scene, rest)) = t.function.split_once(": ") else {
             continue;
@@ -185,8 +186,9 @@ pub(super) fn render_table(
         } else {
             err(scene, key)
         };
-        md.push_str(&format!("| {scene}: {key} | {px} | {e} |\n"));
+        table.row([format!("{scene}: {key}"), px, e]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -218,7 +220,13 @@ pub(super) fn survey_table(
         };
         Some((r.name.clone(), params, err))
     };
-    let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/filters-survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n| representation | params | per evaluation (95 % CI) | L2, GGX (results/filters-survey.md) |\n|---|---|---|---|\n");
+    let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/filters-survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n");
+    let mut table = Table::new([
+        "representation",
+        "params",
+        "per evaluation (95 % CI)",
+        "L2, GGX (results/filters-survey.md)",
+    ]);
     for t in rows {
         let per = |x: f64| fmt_time(x / 1024.0);
         let time = format!("{} ({} – {})", per(t.mean_ns), per(t.lo_ns), per(t.hi_ns));
@@ -228,13 +236,16 @@ pub(super) fn survey_table(
             .and_then(|s| s.split(':').next())
             .and_then(|s| s.parse::<usize>().ok());
         match idx.and_then(row) {
-            Some((name, p, e)) => md.push_str(&format!("| {name} | {p} | {time} | {e} |\n")),
-            None => md.push_str(&format!(
-                "| {} | 3 | {time} | — |\n",
-                t.function.trim_end_matches(": 1024 lobes")
-            )),
-        }
+            Some((name, p, e)) => table.row([name, p, time, e]),
+            None => table.row([
+                t.function.trim_end_matches(": 1024 lobes").to_string(),
+                "3".into(),
+                time,
+                "—".into(),
+            ]),
+        };
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -244,16 +255,15 @@ pub(super) fn visibility_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Visibility lookups: cost per lookup\n\nCriterion's mean per lookup (95 % CI, one core, f64) from the footprint's filtered parameters (`cargo bench --bench deliverables -- visibility`): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow methods from a layered-scene footprint. Their errors are in results/visibility.md.\n\n| method | per lookup (95 % CI) |\n|---|---|\n");
+    let mut md = String::from("\n## Visibility lookups: cost per lookup\n\nCriterion's mean per lookup (95 % CI, one core, f64) from the footprint's filtered parameters (`cargo bench --bench deliverables -- visibility`): the horizon forms from an 8×8 bumps footprint's stored moments, the shadow methods from a layered-scene footprint. Their errors are in results/visibility.md.\n\n");
+    let mut table = Table::new(["method", "per lookup (95 % CI)"]);
     for t in rows {
         let per = |x: f64| fmt_time(x / 1024.0);
-        md.push_str(&format!(
-            "| {} | {} ({} – {}) |\n",
-            t.function.trim_end_matches(", 1024 lookups"),
-            per(t.mean_ns),
-            per(t.lo_ns),
-            per(t.hi_ns)
-        ));
+        table.row([
+            t.function.trim_end_matches(", 1024 lookups").to_string(),
+            format!("{} ({} – {})", per(t.mean_ns), per(t.lo_ns), per(t.hi_ns)),
+        ]);
     }
+    md.push_str(&table.to_string());
     md
 }

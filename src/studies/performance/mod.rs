@@ -13,7 +13,8 @@ mod deliverables;
 mod main_job;
 mod tables;
 
-use criterion::{fmt_ratio, fmt_time};
+use crate::report::table::Table;
+use criterion::{fmt_ratio, fmt_time, interval};
 pub use criterion::{read_criterion, Timed};
 use main_job::main_job_table;
 pub use main_job::{
@@ -44,7 +45,17 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
             .map(|n| n.get())
             .unwrap_or(0)
     ));
-    md.push_str("## Engines: time and error per integral\n\n| integrand | engine | setting | evals | time per integral (95 % CI) | ns/eval | \\|error\\| | reported error |\n|---|---|---|---|---|---|---|---|\n");
+    md.push_str("## Engines: time and error per integral\n\n");
+    let mut table = Table::new([
+        "integrand",
+        "engine",
+        "setting",
+        "evals",
+        "time per integral (95 % CI)",
+        "ns/eval",
+        "\\|error\\|",
+        "reported error",
+    ]);
     let mut ns_per_eval: Vec<(String, Engine, f64)> = Vec::new();
     for t in timed.iter().filter(|t| t.group.starts_with("engines/")) {
         let key = t.group.trim_start_matches("engines/");
@@ -57,39 +68,36 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
         };
         let est = run_engine(ig, e, level, 7);
         ns_per_eval.push((ig.key.to_string(), e, t.mean_ns / est.evals as f64));
-        md.push_str(&format!(
-            "| {} | {} | {} | {} | {} ({} – {}) | {:.1} | {:.2e} | {:.2e} |\n",
-            ig.title,
-            e.name(),
-            level,
-            est.evals,
-            fmt_time(t.mean_ns),
-            fmt_time(t.lo_ns),
-            fmt_time(t.hi_ns),
-            t.mean_ns / est.evals as f64,
-            (est.value - ig.exact).abs(),
-            est.error
-        ));
+        table.row([
+            ig.title.to_string(),
+            e.name().to_string(),
+            level.to_string(),
+            est.evals.to_string(),
+            interval(t),
+            format!("{:.1}", t.mean_ns / est.evals as f64),
+            format!("{:.2e}", (est.value - ig.exact).abs()),
+            format!("{:.2e}", est.error),
+        ]);
     }
+    md.push_str(&table.to_string());
     md.push_str(&error_vs_time(set, results, &ns_per_eval)?);
     let scaling: Vec<&Timed> = timed
         .iter()
         .filter(|t| t.group.starts_with("rayon-scaling"))
         .collect();
     if !scaling.is_empty() {
-        md.push_str("\n## Rayon scaling (MC, MIS, 2^20 tuples, same result bit for bit at every thread count)\n\n| threads | time (95 % CI) | speed-up vs 1 thread |\n|---|---|---|\n");
+        md.push_str("\n## Rayon scaling (MC, MIS, 2^20 tuples, same result bit for bit at every thread count)\n\n");
+        let mut table = Table::new(["threads", "time (95 % CI)", "speed-up vs 1 thread"]);
         let base = scaling.iter().find(|t| t.param == "1").map(|t| t.mean_ns);
         for t in &scaling {
-            md.push_str(&format!(
-                "| {} | {} ({} – {}) | {} |\n",
-                t.param,
-                fmt_time(t.mean_ns),
-                fmt_time(t.lo_ns),
-                fmt_time(t.hi_ns),
+            table.row([
+                t.param.clone(),
+                interval(t),
                 base.map(|b| fmt_ratio(b / t.mean_ns))
-                    .unwrap_or_else(|| "–".into())
-            ));
+                    .unwrap_or_else(|| "–".into()),
+            ]);
         }
+        md.push_str(&table.to_string());
     }
     md.push_str(&alpha_me_table(&timed, results)?);
     md.push_str(&smith_lambda_table(&timed, results)?);
@@ -123,18 +131,17 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
         })
         .collect();
     if !other.is_empty() {
-        md.push_str("\n## Other benchmarks\n\n| group | function | parameter | time (95 % CI) |\n|---|---|---|---|\n");
+        md.push_str("\n## Other benchmarks\n\n");
+        let mut table = Table::new(["group", "function", "parameter", "time (95 % CI)"]);
         for t in other {
-            md.push_str(&format!(
-                "| {} | {} | {} | {} ({} – {}) |\n",
-                t.group,
-                t.function,
-                t.param,
-                fmt_time(t.mean_ns),
-                fmt_time(t.lo_ns),
-                fmt_time(t.hi_ns)
-            ));
+            table.row([
+                t.group.clone(),
+                t.function.clone(),
+                t.param.clone(),
+                interval(t),
+            ]);
         }
+        md.push_str(&table.to_string());
     }
     // a benchmark missing from a partial criterion directory shows as "—", never as NaN
     let md = missing_as_dash(&md);
@@ -172,8 +179,15 @@ fn error_vs_time(
     let mut md = String::from(
         "\n## Error against time\n\nTime of each convergence-study point = its evaluations × the ns/eval measured above for \
 that engine and integrand (cost is linear in evaluations for every engine here; the adaptive rule's heap work is \
-included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).\n\n| integrand | engine | est. time to \\|error\\| ≤ 1e-6 | best \\|error\\| | at est. time |\n|---|---|---|---|---|\n",
+included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).\n\n",
     );
+    let mut table = Table::new([
+        "integrand",
+        "engine",
+        "est. time to \\|error\\| ≤ 1e-6",
+        "best \\|error\\|",
+        "at est. time",
+    ]);
     let mut panels = Vec::new();
     for ig in &igs {
         let mut series = Vec::new();
@@ -197,14 +211,13 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
                 } else {
                     format!("{:.2e}", best.1)
                 };
-                md.push_str(&format!(
-                    "| {} | {} | {} | {} | {} |\n",
-                    ig.title,
-                    e.name(),
+                table.row([
+                    ig.title.to_string(),
+                    e.name().to_string(),
                     reach,
                     err,
-                    fmt_time(best.0 * 1e9)
-                ));
+                    fmt_time(best.0 * 1e9),
+                ]);
             }
             // zero errors are drawn at 1e-17 (log axis)
             series.push(Series {
@@ -219,6 +232,7 @@ included in its measured ns/eval). Plot: [error-vs-time.svg](error-vs-time.svg).
             series,
         });
     }
+    md.push_str(&table.to_string());
     let svg = loglog_svg(&panels, 1500, 480)?;
     set.put(&results.join("error-vs-time.svg"), svg.as_bytes());
     Ok(md)
