@@ -125,22 +125,22 @@ pub(super) fn per_metric_section(spec: &FitSpec, c: &Computed, j: &Judged) -> St
     for (name, cells) in &j.per_metric_in_sample {
         t.row(std::iter::once(name.to_string()).chain(cells.iter().map(|e| format!("{e:.2e}"))));
     }
-    md.push_str(&t.to_string());
     let tol = spec.tolerance.max_rel;
-    let cells = |rows: &[Row]| -> String {
+    let cells = |rows: &[Row]| -> Vec<String> {
         rows.iter()
             .map(|(_, _, s, h)| format!("{:.2e} / {:.2e}", s.max_rel, h.max_rel))
-            .collect::<Vec<_>>()
-            .join(" | ")
+            .collect()
     };
-    md.push_str(&format!(
-        "| polynomial, refitted to each metric: in-sample / held-out | {} |\n",
-        cells(&per_metric_ours)
-    ));
-    md.push_str(&format!(
-        "| **ours per metric**: α_mom·exp(Σ c_i b_i), 10 basis functions vanishing at both limits (see `overall::corrected`): in-sample / held-out | {} |\n\n",
-        cells(&per_metric_corr)
-    ));
+    t.row(
+        std::iter::once("polynomial, refitted to each metric: in-sample / held-out".to_string())
+            .chain(cells(per_metric_ours)),
+    );
+    t.row(
+        std::iter::once("**ours per metric**: α_mom·exp(Σ c_i b_i), 10 basis functions vanishing at both limits (see `overall::corrected`): in-sample / held-out".to_string())
+            .chain(cells(per_metric_corr)),
+    );
+    md.push_str(&t.to_string());
+    md.push('\n');
     let hm = m - 1;
     md.push_str(&format!(
         "Goal: ≤ {:.0} % under every metric — ours per metric on held-out points: {}.\n\nHeld-out: the {hm}×{hm} grid half a step off the metric grid (all its points, α > 1 included). Rows without a refit are \

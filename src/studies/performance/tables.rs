@@ -3,6 +3,7 @@
 
 use super::criterion::{fmt_ratio, Timed};
 use crate::error::Result;
+use crate::report::table::Table;
 use std::path::Path;
 
 /// Cost next to accuracy for the ways to get α_me from ‖b̄‖ (benches group `alpha-me`,
@@ -21,8 +22,9 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::R
             .unwrap_or_else(|| "(run regen)".into())
     };
     let mut md = String::from(
-        "\n## α_me from ‖b̄‖: cost and accuracy (seed 000 §3.3)\n\nns per evaluation (criterion mean over 1024 inputs, 95 % CI) next to the max relative error in α on the held-out points of results/multiscale-alpha-me.md (α ∈ [1e-3, 1]).\n\n| method | ns/eval (95 % CI) | max rel. error |\n|---|---|---|\n",
+        "\n## α_me from ‖b̄‖: cost and accuracy (seed 000 §3.3)\n\nns per evaluation (criterion mean over 1024 inputs, 95 % CI) next to the max relative error in α on the held-out points of results/multiscale-alpha-me.md (α ∈ [1e-3, 1]).\n\n",
     );
+    let mut table = Table::new(["method", "ns/eval (95 % CI)", "max rel. error"]);
     for t in rows {
         let key = match t.function.as_str() {
             "paper-eq5" => "paper_eq5",
@@ -31,15 +33,9 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::R
             "newton" => "newton_closed_form",
             _ => continue,
         };
-        md.push_str(&format!(
-            "| {} | {:.2} ({:.2} – {:.2}) | {} |\n",
-            t.function,
-            t.mean_ns / 1024.0,
-            t.lo_ns / 1024.0,
-            t.hi_ns / 1024.0,
-            err(key)
-        ));
+        table.row([t.function.clone(), per_1024(t), err(key)]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -69,31 +65,46 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
             held.l2.max.pct(1)
         ));
     }
-    md.push_str("| fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique) | time (95 % CI) |\n|---|---|\n");
+    let mut table = Table::new([
+        "fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique)",
+        "time (95 % CI)",
+    ]);
     for t in &fits {
-        md.push_str(&format!(
-            "| {} | {:.2} ms ({:.2}–{:.2}) |\n",
-            t.function,
-            t.mean_ns / 1e6,
-            t.lo_ns / 1e6,
-            t.hi_ns / 1e6
-        ));
+        table.row([
+            t.function.clone(),
+            format!(
+                "{:.2} ms ({:.2}–{:.2})",
+                t.mean_ns / 1e6,
+                t.lo_ns / 1e6,
+                t.hi_ns / 1e6
+            ),
+        ]);
     }
-    md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n| edge form | ns per pixel (95 % CI) | max rel. error of the edge factor |\n|---|---|---|\n");
+    md.push_str(&table.to_string());
+    md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n");
+    let mut table = Table::new([
+        "edge form",
+        "ns per pixel (95 % CI)",
+        "max rel. error of the edge factor",
+    ]);
     for t in &polys {
         let err = match t.function.as_str() {
             "rational" => edge_err("Rational").map_or("—".into(), |e| format!("{e:.2e}")),
             "cubic" => edge_err("Cubic").map_or("—".into(), |e| format!("{e:.2e}")),
             _ => "reference".into(),
         };
-        md.push_str(&format!(
-            "| {} | {:.1} ({:.1}–{:.1}) | {err} |\n",
-            t.function,
-            t.mean_ns / 256.0,
-            t.lo_ns / 256.0,
-            t.hi_ns / 256.0
-        ));
+        table.row([
+            t.function.clone(),
+            format!(
+                "{:.1} ({:.1}–{:.1})",
+                t.mean_ns / 256.0,
+                t.lo_ns / 256.0,
+                t.hi_ns / 256.0
+            ),
+            err,
+        ]);
     }
+    md.push_str(&table.to_string());
     if let Some(h) = v
         .as_ref()
         .and_then(|v| v.sphere_horizon.map(|s| s.energy_weighted_rel))
@@ -113,7 +124,8 @@ pub(super) fn tensor_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Tensor range queries\n\nRank 16, 256 × 256 block; box w × w from one texel to the whole block. The SAT query is O(R) whatever w; the naive sum of the reconstruction is O(R·w²).\n\n| box w | SAT query (ns) | naive (ns) |\n|---|---|---|\n");
+    let mut md = String::from("\n## Tensor range queries\n\nRank 16, 256 × 256 block; box w × w from one texel to the whole block. The SAT query is O(R) whatever w; the naive sum of the reconstruction is O(R·w²).\n\n");
+    let mut table = Table::new(["box w", "SAT query (ns)", "naive (ns)"]);
     let sat: Vec<&&Timed> = rows
         .iter()
         .filter(|t| t.group == "tensor-range" && t.function == "sat")
@@ -126,11 +138,11 @@ pub(super) fn tensor_table(timed: &[Timed]) -> String {
                 .find(|t| t.group == "tensor-range" && t.function == f && t.param == w.to_string())
                 .map(|t| t.mean_ns)
         };
-        md.push_str(&format!(
-            "| {w} | {} | {} |\n",
+        table.row([
+            w.to_string(),
             get("sat").map_or("—".into(), |v| format!("{v:.1}")),
-            get("naive").map_or("—".into(), |v| format!("{v:.0}"))
-        ));
+            get("naive").map_or("—".into(), |v| format!("{v:.0}")),
+        ]);
     }
     let mut times: Vec<f64> = sat.iter().map(|t| t.mean_ns).collect();
     let mut levels: Vec<&&Timed> = rows
@@ -139,12 +151,14 @@ pub(super) fn tensor_table(timed: &[Timed]) -> String {
         .collect();
     levels.sort_by(|a, b| a.param.cmp(&b.param));
     for l in &levels {
-        md.push_str(&format!(
-            "| 64 at level {} | {:.1} | — |\n",
-            l.param, l.mean_ns
-        ));
+        table.row([
+            format!("64 at level {}", l.param),
+            format!("{:.1}", l.mean_ns),
+            "—".into(),
+        ]);
         times.push(l.mean_ns);
     }
+    md.push_str(&table.to_string());
     if let (Some(lo), Some(hi)) = (
         times.iter().cloned().reduce(f64::min),
         times.iter().cloned().reduce(f64::max),
@@ -176,8 +190,19 @@ pub(super) fn kernels_table(
         return Ok(String::new());
     }
     let mut md = String::from(
-        "\n## SIMD shading kernels\n\nStructure-of-arrays f32 batches. `per-pixel` = the generated scalar twin called once per pixel (not inlined: no auto-vectorisation, the one-pixel-at-a-time baseline); `scalar` = the same twin in a plain loop, which LLVM auto-vectorises for SSE2 where it can; `avx2` = the AVX2+FMA path chosen at run time. Mpx/s = 10⁶ pixels per second (criterion mean). Ratios: avx2 over per-pixel, and avx2 over the auto-vectorised loop. Errors on 2^16 benchmark inputs: max relative error against the f64 reference (absolute for ltc-quad, whose values are form factors in [0, 1]), and max distance to the scalar twin in ulp.\n\n| kernel | batch | per-pixel Mpx/s | scalar loop Mpx/s | avx2 Mpx/s | avx2 / per-pixel | avx2 / scalar loop | max rel. error (avx2 vs f64) | max ulp (avx2 vs scalar) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "\n## SIMD shading kernels\n\nStructure-of-arrays f32 batches. `per-pixel` = the generated scalar twin called once per pixel (not inlined: no auto-vectorisation, the one-pixel-at-a-time baseline); `scalar` = the same twin in a plain loop, which LLVM auto-vectorises for SSE2 where it can; `avx2` = the AVX2+FMA path chosen at run time. Mpx/s = 10⁶ pixels per second (criterion mean). Ratios: avx2 over per-pixel, and avx2 over the auto-vectorised loop. Errors on 2^16 benchmark inputs: max relative error against the f64 reference (absolute for ltc-quad, whose values are form factors in [0, 1]), and max distance to the scalar twin in ulp.\n\n",
     );
+    let mut table = Table::new([
+        "kernel",
+        "batch",
+        "per-pixel Mpx/s",
+        "scalar loop Mpx/s",
+        "avx2 Mpx/s",
+        "avx2 / per-pixel",
+        "avx2 / scalar loop",
+        "max rel. error (avx2 vs f64)",
+        "max ulp (avx2 vs scalar)",
+    ]);
     let mut groups: Vec<&str> = rows.iter().map(|t| t.group.as_str()).collect();
     groups.dedup();
     let mut plot = Vec::new();
@@ -208,9 +233,9 @@ pub(super) fn kernels_table(
             };
             pts.push((p as f64, r(pp)));
             let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.0}"));
-            md.push_str(&format!(
-                "| {} | {p} | {} | {} | {} | {} | {} | {} | {} |\n",
-                grp.trim_start_matches("kernel-"),
+            table.row([
+                grp.trim_start_matches("kernel-").to_string(),
+                p.to_string(),
                 f(pp),
                 f(s),
                 f(a),
@@ -225,14 +250,15 @@ pub(super) fn kernels_table(
                     format!("{ulp:.0}")
                 } else {
                     "—".into()
-                }
-            ));
+                },
+            ]);
         }
         plot.push(crate::report::plot::Series {
             name: grp.trim_start_matches("kernel-").to_string(),
             points: pts,
         });
     }
+    md.push_str(&table.to_string());
     let svg = crate::report::plot::loglog_svg(
         &[crate::report::plot::Panel {
             title: "AVX2 speed-up over the per-pixel scalar baseline".into(),
@@ -257,8 +283,9 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> crate::error::Re
     }
     let fit: Option<crate::results::filters::Filters> = crate::results::read(results)?;
     let mut md = String::from(
-        "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n| filter | ns/eval (95 % CI) | mean L2 error |\n|---|---|---|\n",
+        "\n## Footprint filters: cost and accuracy\n\nns per evaluation of the f32 roughness update alone (1024 inputs; the shading that follows is the same GGX evaluation for every isotropic filter, and an anisotropic-matrix GGX for LEAN and the forward kernel) next to the mean relative L2 lobe error against the footprint-averaged BRDF (GGX; results/filters.md: maps for mean-normal/LEAN filters, the Gaussian-pixel screen study for kernels).\n\n",
     );
+    let mut table = Table::new(["filter", "ns/eval (95 % CI)", "mean L2 error"]);
     for t in rows {
         let (name, err) = fit
             .as_ref()
@@ -275,13 +302,9 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> crate::error::Re
                 )
             })
             .unwrap_or_else(|| (t.function.clone(), "(run regen)".into()));
-        md.push_str(&format!(
-            "| {name} | {:.2} ({:.2} – {:.2}) | {err} |\n",
-            t.mean_ns / 1024.0,
-            t.lo_ns / 1024.0,
-            t.hi_ns / 1024.0
-        ));
+        table.row([name, per_1024(t), err]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -306,8 +329,9 @@ pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> crate::erro
             .unwrap_or_else(|| "(run regen)".into())
     };
     let mut md = String::from(
-        "\n## Beckmann Smith Λ: cost and accuracy (seed 001 §3.2)\n\nns per evaluation of Λ(ν) (1024 log-spaced ν in [1e-3, 10]) next to the held-out max |ΔG1| of results/smith-lambda.md.\n\n| form | ns/eval (95 % CI) | max \\|ΔG1\\| |\n|---|---|---|\n",
+        "\n## Beckmann Smith Λ: cost and accuracy (seed 001 §3.2)\n\nns per evaluation of Λ(ν) (1024 log-spaced ν in [1e-3, 10]) next to the held-out max |ΔG1| of results/smith-lambda.md.\n\n",
     );
+    let mut table = Table::new(["form", "ns/eval (95 % CI)", "max \\|ΔG1\\|"]);
     for t in rows {
         let e = match t.function.as_str() {
             "exact-erfc" => "0 (reference)".to_string(),
@@ -315,15 +339,9 @@ pub(super) fn smith_lambda_table(timed: &[Timed], results: &Path) -> crate::erro
             "ours" => err("ours"),
             _ => continue,
         };
-        md.push_str(&format!(
-            "| {} | {:.2} ({:.2} – {:.2}) | {} |\n",
-            t.function,
-            t.mean_ns / 1024.0,
-            t.lo_ns / 1024.0,
-            t.hi_ns / 1024.0,
-            e
-        ));
+        table.row([t.function.clone(), per_1024(t), e]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
 }
 
@@ -355,23 +373,43 @@ pub(super) fn leadr_table(timed: &[Timed], results: &Path) -> crate::error::Resu
             .unwrap_or_else(|| "–".into())
     };
     let mut md = String::from(
-        "\n## LEADR N×N grids: cost and accuracy (seed 001 §3.4–3.5)\n\nTime of one N×N estimate (criterion mean, 95 % CI; the cost per grid point is the same for every family) next to the held-out max relative error of results/leadr-grids.md.\n\n| N | ns per estimate (95 % CI) | ns per grid point | specular: paper h / fitted h / Gauss–Hermite | diffuse: paper h / fitted h / Gauss–Hermite |\n|---|---|---|---|---|\n",
+        "\n## LEADR N×N grids: cost and accuracy (seed 001 §3.4–3.5)\n\nTime of one N×N estimate (criterion mean, 95 % CI; the cost per grid point is the same for every family) next to the held-out max relative error of results/leadr-grids.md.\n\n",
     );
+    let mut table = Table::new([
+        "N",
+        "ns per estimate (95 % CI)",
+        "ns per grid point",
+        "specular: paper h / fitted h / Gauss–Hermite",
+        "diffuse: paper h / fitted h / Gauss–Hermite",
+    ]);
     for t in rows {
         let n: usize = t.param.parse().unwrap_or(0);
-        md.push_str(&format!(
-            "| {n} | {:.1} ({:.1} – {:.1}) | {:.2} | {} / {} / {} | {} / {} / {} |\n",
-            t.mean_ns,
-            t.lo_ns,
-            t.hi_ns,
-            t.mean_ns / (n * n).max(1) as f64,
-            err(n, "paper", "specular"),
-            err(n, "fitted", "specular"),
-            err(n, "gauss_hermite", "specular"),
-            err(n, "paper", "diffuse"),
-            err(n, "fitted", "diffuse"),
-            err(n, "gauss_hermite", "diffuse")
-        ));
+        let fams = |kind: &str| {
+            format!(
+                "{} / {} / {}",
+                err(n, "paper", kind),
+                err(n, "fitted", kind),
+                err(n, "gauss_hermite", kind)
+            )
+        };
+        table.row([
+            n.to_string(),
+            format!("{:.1} ({:.1} – {:.1})", t.mean_ns, t.lo_ns, t.hi_ns),
+            format!("{:.2}", t.mean_ns / (n * n).max(1) as f64),
+            fams("specular"),
+            fams("diffuse"),
+        ]);
     }
+    md.push_str(&table.to_string());
     Ok(md)
+}
+
+/// A 1024-input bench's mean and 95 % interval per input, in ns.
+fn per_1024(t: &Timed) -> String {
+    format!(
+        "{:.2} ({:.2} – {:.2})",
+        t.mean_ns / 1024.0,
+        t.lo_ns / 1024.0,
+        t.hi_ns / 1024.0
+    )
 }
