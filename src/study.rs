@@ -66,10 +66,10 @@ pub struct Ctx<'a> {
 pub trait Computed: Send {
     /// The run's outcome, read off the result.
     fn outcome(&self) -> FitOutcome;
-    /// The study's output files under `results`, as data (formats only: no number is
-    /// computed here that the result does not hold). Takes the result: the driver reads
-    /// the outcome first.
-    fn render(self: Box<Self>, results: &Path) -> Result<Outputs>;
+    /// The study's output files under `results`, as data put into `set` (formats only:
+    /// no number is computed here that the result does not hold); the driver publishes
+    /// the set.
+    fn render(&self, set: &mut Outputs, results: &Path) -> Result<()>;
 }
 
 /// One study: named as its fits/*.toml, ordered after the studies whose reports it embeds.

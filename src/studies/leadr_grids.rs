@@ -264,12 +264,11 @@ does not dominate at grazing views.\n\n",
 /// error against N for three grid families (paper spacing 0.9, fitted spacing,
 /// Gauss–Hermite), the h-scan that explains 0.9, the artificial micronormal at silhouettes.
 impl crate::study::Computed for Computed {
-    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
-        let mut set = Outputs::new();
+    fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
         set.put(results.join("leadr-pareto.svg"), pareto_svg(&self.rows)?);
         set.put(results.join("leadr-grids.md"), markdown(&self));
-        crate::results::put(&mut set, results, &self.result)?;
-        Ok(set)
+        crate::results::put(set, results, &self.result)?;
+        Ok(())
     }
     /// The held-out max error (specular) of the fitted spacing at N = 5; passed when it
     /// and the artificial micronormal's estimate are finite.

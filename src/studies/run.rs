@@ -160,7 +160,8 @@ fn run_one(
             preset,
         })?;
         let o = computed.outcome();
-        let set = computed.render(results)?;
+        let mut set = crate::io::Outputs::new();
+        computed.render(&mut set, results)?;
         if commit {
             set.publish(&s.name, &crate::io::results_manifest(results, &s.name))?;
         }

@@ -247,11 +247,10 @@ fn compute(c: &Ctx) -> Result<Scale> {
 }
 
 impl crate::study::Computed for Scale {
-    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
-        let mut set = Outputs::new();
+    fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
         set.put(results.join("tensor-scale.md"), report(&self));
         crate::results::put_named(
-            &mut set,
+            set,
             results,
             &self.spec.name,
             &ScaleResult {
@@ -264,7 +263,7 @@ impl crate::study::Computed for Scale {
                 clusters: &self.runs,
             },
         )?;
-        Ok(set)
+        Ok(())
     }
     /// Passed when every reconstruction error is finite (the study measures; it sets no
     /// bar on the error).

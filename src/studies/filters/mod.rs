@@ -80,10 +80,8 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
 }
 
 impl crate::study::Computed for Computed {
-    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
-        let mut set = Outputs::new();
-        render(&mut set, results, &self)?;
-        Ok(set)
+    fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
+        render(set, results, self)
     }
 
     fn outcome(&self) -> FitOutcome {

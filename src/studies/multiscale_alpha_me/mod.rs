@@ -21,18 +21,17 @@ fn run(c: &Ctx) -> Result<Computed> {
 }
 
 impl crate::study::Computed for Computed {
-    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
-        let mut set = Outputs::new();
+    fn render(&self, set: &mut Outputs, results: &Path) -> Result<()> {
         let spec = &self.result.spec;
         let (svg_err, svg_mrl) = plots::render(&self.curves)?;
-        crate::results::put(&mut set, results, &self.result)?;
+        crate::results::put(set, results, &self.result)?;
         set.put(results.join("multiscale-alpha-error.svg"), svg_err);
         set.put(results.join("multiscale-alpha-me.svg"), svg_mrl);
         set.put(
             results.join("multiscale-alpha-me.md"),
             report::markdown(spec, &self),
         );
-        Ok(set)
+        Ok(())
     }
     fn outcome(&self) -> FitOutcome {
         let r = &self.result;

@@ -84,12 +84,11 @@ fn run(ctx: &Ctx) -> Result<Convolution> {
 }
 
 impl crate::study::Computed for Convolution {
-    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
+    fn render(&self, set: &mut Outputs, results: &Path) -> Result<()> {
         let (spec, c, j) = (&self.spec, &self.c, &self.j);
-        let mut set = Outputs::new();
         let mut md = report::models_section(spec, c, j);
         md.push_str(&report::per_metric_section(spec, c, j));
-        md.push_str(&plots::write(&mut set, j, &c.held_axis, results)?);
+        md.push_str(&plots::write(set, j, &c.held_axis, results)?);
         set.put(results.join("multiscale-convolution.md"), md);
         let json = ConvolutionResult {
             spec,
@@ -110,8 +109,8 @@ impl crate::study::Computed for Convolution {
             metric_grid_held_out: &c.held_fits,
             passed: j.passed,
         };
-        crate::results::put_named(&mut set, results, &spec.name, &json)?;
-        Ok(set)
+        crate::results::put_named(set, results, &spec.name, &json)?;
+        Ok(())
     }
     fn outcome(&self) -> FitOutcome {
         let (spec, c, j) = (&self.spec, &self.c, &self.j);

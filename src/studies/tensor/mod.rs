@@ -21,12 +21,11 @@ pub mod report;
 use compute::Computed;
 
 impl crate::study::Computed for Computed {
-    fn render(self: Box<Self>, results: &Path) -> Result<Outputs> {
-        let mut set = Outputs::new();
+    fn render(&self, set: &mut Outputs, results: &Path) -> Result<()> {
         set.put(results.join("tensor-rank.svg"), report::rank_svg(&self)?);
         set.put(results.join("tensor.md"), report::markdown(&self));
         crate::results::put(
-            &mut set,
+            set,
             results,
             &crate::results::tensor::Tensor {
                 spec: self.spec.clone(),
@@ -35,7 +34,7 @@ impl crate::study::Computed for Computed {
                 rows: self.rows.clone(),
             },
         )?;
-        Ok(set)
+        Ok(())
     }
     /// Passed when every reconstruction error is finite (the study measures; it sets no
     /// bar on the error).

@@ -70,9 +70,8 @@ fn compute(c: &Ctx) -> Result<Computed> {
 }
 
 impl crate::study::Computed for Computed {
-    fn render(self: Box<Self>, results: &std::path::Path) -> Result<Outputs> {
+    fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
         let (spec, preset) = (&self.spec, self.preset);
-        let mut set = Outputs::new();
         set.put(
             results.join("visibility.md"),
             report::markdown(&self.summary, &self.m, preset),
@@ -90,7 +89,7 @@ impl crate::study::Computed for Computed {
             plan: &'a Plan,
         }
         crate::results::put_named(
-            &mut set,
+            set,
             results,
             &spec.name,
             &Out {
@@ -101,7 +100,7 @@ impl crate::study::Computed for Computed {
                 plan: &self.m.plan,
             },
         )?;
-        Ok(set)
+        Ok(())
     }
     /// Judged by Eq 28's worst departure from 1 at l = v.
     fn outcome(&self) -> FitOutcome {
