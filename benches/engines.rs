@@ -445,8 +445,8 @@ fn tensor(c: &mut Criterion) {
     g.finish();
 }
 
-/// The cost of fitting one LTC cell (Nelder–Mead, four parameters, the
-/// default preset's 24×24 samples per technique) and of integrating one pixel's quad light
+/// The cost of fitting one LTC cell (Nelder–Mead, and Levenberg–Marquardt on fixed nodes;
+/// four parameters, the default preset's 24×24 samples per technique) and of integrating one pixel's quad light
 /// with each edge form (f64, clipped to the horizon), next to their errors in
 /// results/ltc-ggx.md.
 fn ltc(c: &mut Criterion) {
@@ -474,6 +474,12 @@ fn ltc(c: &mut Criterion) {
                     Method::NelderMead,
                     400,
                 )
+            })
+        });
+        // the fast route: Levenberg–Marquardt on fixed nodes, same start and sample count
+        g.bench_function(format!("levenberg-marquardt {label}"), |b| {
+            b.iter(|| {
+                ndfbench::ltc::gauss_newton::fit_cell_lm(&t, &z, norm, black_box(&p0), 24, 50)
             })
         });
     }

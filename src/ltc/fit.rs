@@ -27,6 +27,8 @@ use crate::parmap::ParMap;
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
+pub use super::params::{matrix, params_to_m, turn};
+
 type V3 = Vector3<f64>;
 
 /// Fitted parameters of one cell.
@@ -63,14 +65,6 @@ impl Cell {
     pub fn l2(&self) -> Option<crate::ltc::lobe_error::Bounded> {
         self.held.and_then(|h| h.f64).map(|e| e.l2)
     }
-}
-
-/// M from the parameters and the frame.
-pub fn matrix(m11: f64, m22: f64, m13: f64, z: &V3) -> Matrix3<f64> {
-    let y = V3::y();
-    let x = y.cross(z).normalize();
-    let b = Matrix3::from_columns(&[x, y, *z]);
-    b * Matrix3::new(m11, 0.0, m13, 0.0, m22, 0.0, 0.0, 0.0, 1.0)
 }
 
 /// (a, b, c, d) of M⁻¹ normalised by its middle element (typed error if singular).
@@ -178,19 +172,9 @@ pub enum Metric {
 pub enum Method {
     NelderMead,
     Lbfgs,
-}
-
-/// (m11, m22, m13) from the fit parameters (ln m11, ln m22, m13/m11), clamped to a finite box.
-pub fn params_to_m(p: &[f64]) -> (f64, f64, f64) {
-    let m11 = p[0].clamp(-30.0, 5.0).exp();
-    let m22 = p[1].clamp(-30.0, 5.0).exp();
-    (m11, m22, p[2].clamp(-1e3, 1e3) * m11)
-}
-
-/// The frame axis `z` (in the xz-plane) turned by φ about Y.
-pub fn turn(z: &V3, phi: f64) -> V3 {
-    let (s, c) = phi.sin_cos();
-    V3::new(z.x * c + z.z * s, 0.0, -z.x * s + z.z * c)
+    /// Levenberg–Marquardt on fixed nodes (`ltc::gauss_newton`): the relative L2 whatever
+    /// the metric asked for.
+    LevenbergMarquardt,
 }
 
 /// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,
@@ -320,6 +304,8 @@ fn optimise<T: LtcTarget + ?Sized>(
                 Err(_) => (start, 0),
             }
         }
+        // `fit_cell` hands this route to `gauss_newton` before it builds an objective
+        Method::LevenbergMarquardt => (start, 0),
     })
 }
 
@@ -339,6 +325,10 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     method: Method,
     max_iters: u64,
 ) -> Result<([f64; 4], u64)> {
+    if method == Method::LevenbergMarquardt {
+        let r = super::gauss_newton::fit_cell_lm(t, z, norm, p0, n, max_iters as usize)?;
+        return Ok((r.params, r.iters as u64));
+    }
     let obj = |z: V3, validation: bool| Objective {
         t,
         z,

@@ -53,7 +53,7 @@ pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'sta
         alpha_min: spec.domain.alpha_min,
     };
     let iters = spec.optimiser.max_iters.unwrap_or(400);
-    let pb = indicatif::ProgressBar::new((pl.n * pl.n + 3 * pl.sub * pl.sub) as u64);
+    let pb = indicatif::ProgressBar::new((pl.n * pl.n + 4 * pl.sub * pl.sub) as u64);
     pb.set_message("ltc fit");
     let tick = || pb.inc(1);
     let main = fit_table(
@@ -106,6 +106,19 @@ pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'sta
                 pl.samples,
                 Metric::Cubic,
                 Method::Lbfgs,
+                iters,
+                &tick,
+            )?,
+        ),
+        (
+            "Levenberg–Marquardt on fixed nodes, relative L2",
+            fit_table(
+                &Memo,
+                sub,
+                &GgxTarget::new,
+                pl.samples,
+                Metric::L2,
+                Method::LevenbergMarquardt,
                 iters,
                 &tick,
             )?,

@@ -235,6 +235,6 @@ pub(super) fn variants_section(pl: &Plan, rows: &[(&'static str, Stats)]) -> Str
         ]);
     }
     md.push_str(&t.to_string());
-    md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; both are training metrics (Monte Carlo sums on the fit's sample set), and every fit is judged by the same held-out integrals. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous.\n\n");
+    md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; both are training metrics (Monte Carlo sums on the fit's sample set), and every fit is judged by the same held-out integrals. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous. Levenberg–Marquardt (`ltc::gauss_newton`) minimises the relative L2 on fixed nodes — the same n×n stratified points per technique, drawn once from the target's sampler and the start LTC with fixed balance weights, then redrawn once from the fitted LTC — so its objective is smooth and it needs tens of iterations where Nelder–Mead needs hundreds; its cost per cell beside Nelder–Mead's is criterion's, in results/performance.md.\n\n");
     md
 }

@@ -66,7 +66,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
         ));
     }
     let mut table = Table::new([
-        "fit of one table cell (Nelder–Mead, 4 parameters, 24×24 samples per technique)",
+        "fit of one table cell (4 parameters, 24×24 samples per technique; Nelder–Mead unless the row names Levenberg–Marquardt)",
         "time (95 % CI)",
     ]);
     for t in &fits {
