@@ -46,6 +46,26 @@ pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
     (fit::inverse_from_production(&c.inv), c.norm)
 }
 
+/// The optimiser and metric variants fitted over the sub-grid, in this order.
+const ROUTES: [(&str, Metric, Method); 4] = [
+    (
+        "Nelder–Mead, cubic metric",
+        Metric::Cubic,
+        Method::NelderMead,
+    ),
+    ("Nelder–Mead, L2 metric", Metric::L2, Method::NelderMead),
+    (
+        "L-BFGS (central differences), cubic metric",
+        Metric::Cubic,
+        Method::Lbfgs,
+    ),
+    (
+        "Levenberg–Marquardt on fixed nodes, relative L2",
+        Metric::L2,
+        Method::LevenbergMarquardt,
+    ),
+];
+
 /// The main table and the optimiser/metric variants on the sub-grid.
 pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
     let grid = Grid {
@@ -53,7 +73,7 @@ pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'sta
         alpha_min: spec.domain.alpha_min,
     };
     let iters = spec.optimiser.max_iters.unwrap_or(400);
-    let pb = indicatif::ProgressBar::new((pl.n * pl.n + 4 * pl.sub * pl.sub) as u64);
+    let pb = indicatif::ProgressBar::new((pl.n * pl.n + ROUTES.len() * pl.sub * pl.sub) as u64);
     pb.set_message("ltc fit");
     let tick = || pb.inc(1);
     let main = fit_table(
@@ -70,62 +90,21 @@ pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'sta
         n: pl.sub,
         alpha_min: spec.domain.alpha_min,
     };
-    let variants = [
-        (
-            "Nelder–Mead, cubic metric",
-            fit_table(
-                &Memo,
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::Cubic,
-                Method::NelderMead,
-                iters,
-                &tick,
-            )?,
-        ),
-        (
-            "Nelder–Mead, L2 metric",
-            fit_table(
-                &Memo,
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::L2,
-                Method::NelderMead,
-                iters,
-                &tick,
-            )?,
-        ),
-        (
-            "L-BFGS (central differences), cubic metric",
-            fit_table(
-                &Memo,
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::Cubic,
-                Method::Lbfgs,
-                iters,
-                &tick,
-            )?,
-        ),
-        (
-            "Levenberg–Marquardt on fixed nodes, relative L2",
-            fit_table(
-                &Memo,
-                sub,
-                &GgxTarget::new,
-                pl.samples,
-                Metric::L2,
-                Method::LevenbergMarquardt,
-                iters,
-                &tick,
-            )?,
-        ),
-    ];
+    let mut variants: Vec<(&'static str, Table)> = Vec::with_capacity(ROUTES.len());
+    for (name, metric, method) in ROUTES {
+        let t = fit_table(
+            &Memo,
+            sub,
+            &GgxTarget::new,
+            pl.samples,
+            metric,
+            method,
+            iters,
+            &tick,
+        )?;
+        variants.push((name, t));
+    }
     pb.finish_and_clear();
-    let mut variants: Vec<(&'static str, Table)> = variants.into();
     for (_, t) in variants.iter_mut() {
         held::judge_table(&Memo, t, &GgxTarget::new, Tolerance::default())?;
     }
