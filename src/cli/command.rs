@@ -235,7 +235,7 @@ pub enum Cmd {
         out: PathBuf,
     },
     /// Render one scene (TOML; fits/render/ holds the examples) with the truth and every
-    /// method of its set: DIR/<name>.md (error ± s.e., ꟻLIP, flicker, ms), DIR/<name>.json
+    /// method of its set: DIR/<name>.md (error ± s.e., ꟻLIP, flicker; no wall clock), DIR/<name>.json
     /// and the PNG grid (and frame strip for a camera path).
     ///
     /// Renders one scene (examples: `fits/render/*.toml`) on the CPU: the truth (every
