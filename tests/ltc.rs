@@ -489,3 +489,19 @@ fn levenberg_marquardt_on_fixed_nodes_matches_the_nelder_mead_reference() {
         );
     }
 }
+
+/// The fast route refuses what it cannot fit — no nodes, a NaN or non-positive amplitude,
+/// a NaN start — with a typed error, never a silent start handed back as a fit.
+#[test]
+fn levenberg_marquardt_rejects_bad_input() {
+    use ndfbench::ltc::gauss_newton::fit_cell_lm;
+    let t = GgxTarget::new(0.3, 1.0).unwrap();
+    let (_, _, _, zm) = t.moments(32);
+    let (norm, _, _) = t.albedo(1e-9);
+    let p0 = [0.3f64.ln(), 0.3f64.ln(), 0.0, 0.0];
+    assert!(fit_cell_lm(&t, &zm, norm, &p0, 0, 50).is_err());
+    assert!(fit_cell_lm(&t, &zm, f64::NAN, &p0, 24, 50).is_err());
+    assert!(fit_cell_lm(&t, &zm, 0.0, &p0, 24, 50).is_err());
+    assert!(fit_cell_lm(&t, &zm, norm, &[f64::NAN, 0.0, 0.0, 0.0], 24, 50).is_err());
+    assert!(fit_cell_lm(&t, &zm, norm, &p0, 24, 50).is_ok());
+}

@@ -52,7 +52,7 @@ impl Nodes {
                 for l in [start.sample(u), t.sample(u)].into_iter().flatten() {
                     let (f, pb) = t.eval(&l);
                     let q = start.eval(&l) + pb;
-                    if q > 0.0 && f.is_finite() {
+                    if q > 0.0 && f.is_finite() && (1.0 / q).is_finite() {
                         nodes.l.push(l);
                         nodes.f.push(f);
                         nodes.w.push(1.0 / q);
@@ -201,6 +201,11 @@ pub fn fit_cell_lm<T: LtcTarget + ?Sized>(
     n: usize,
     max_iters: usize,
 ) -> Result<GnFit> {
+    if n == 0 || !(norm.is_finite() && norm > 0.0) {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "LTC fit: {n}² nodes and amplitude {norm} (need n ≥ 1 and a finite, positive albedo)"
+        )));
+    }
     let symmetric = t.view().x.abs() <= 1e-12;
     let free = if symmetric { 3 } else { 4 };
     let mut p = *p0;
@@ -216,6 +221,11 @@ pub fn fit_cell_lm<T: LtcTarget + ?Sized>(
             ));
         };
         let nodes = Nodes::draw(t, &start, n);
+        if !(nodes.f2 > 0.0 && nodes.f2.is_finite()) {
+            return Err(crate::error::Error::InvalidArgument(
+                "LTC fit: the target vanishes (or overflows) on every node".into(),
+            ));
+        }
         let (q, cq, it) = levenberg_marquardt(&nodes, z, norm, p, free, max_iters);
         total += it;
         p = q;

@@ -172,8 +172,9 @@ pub(super) struct Summary {
     amplitude: (f64, f64),
 }
 
-/// The implied floors of the table's mean and of its grazing rows.
-pub(super) fn summarise(cells: &[FloorCell], main: &Table) -> Summary {
+/// The implied floors of the table's mean (`table_mean`, its held-out relative L2) and
+/// of its grazing rows.
+pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> Summary {
     let grid_n = main.grid.n;
     let grazing_rows = |j: usize| 63 * j >= 56 * (grid_n - 1);
     let grazing: Vec<f64> = main
@@ -193,7 +194,7 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table) -> Summary {
         )
     };
     Summary {
-        table_mean: crate::ltc::held::held_out_stats(main).l2.mean.value,
+        table_mean,
         grazing_mean: grazing.iter().sum::<f64>() / grazing.len().max(1) as f64,
         changes: [
             d(&|c| c.global.value, false),

@@ -127,7 +127,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let precision = precision::measure(&main);
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
     let floor = floor::compute(&main, pl.samples, spec.optimiser.max_iters.unwrap_or(400))?;
-    let floor_summary = floor::summarise(&floor, &main);
+    let floor_summary = floor::summarise(&floor, &main, st.l2.mean.value);
     let polygons = polygons::measure(&main, pl.mc)?;
     // the pipeline reads the table as a renderer reads the published file
     let stored = crate::results::ltc::table_of(&spec.name, &tables(spec, &main))?;
@@ -169,7 +169,7 @@ fn markdown(c: &Computed) -> String {
         c.bilinear.square_weight, c.bilinear.max_iters, c.bilinear.cells_moved, c.pl.n * c.pl.n
     ));
     md.push_str(&table::structure_section(&c.structure));
-    md.push_str(&table::between_section(&c.between));
+    md.push_str(&table::between_section(&c.between, &c.held));
     md.push_str(&table::variants_section(&c.pl, &c.variants));
     md.push_str(&shipped::section(c.compare.as_ref(), c.held.l2.mean.value));
     md.push_str(&precision::section(&c.precision));

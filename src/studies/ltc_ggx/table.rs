@@ -149,8 +149,6 @@ pub(super) struct Between {
     l1: Spread,
     /// (i, j) of the square with the largest relative L2.
     worst: (usize, usize),
-    /// The cells' own relative L2 and L1 means.
-    cells: Stats,
 }
 
 pub(super) fn measure_between(main: &Table) -> Result<Between> {
@@ -179,11 +177,11 @@ pub(super) fn measure_between(main: &Table) -> Result<Between> {
         l2,
         l1,
         worst,
-        cells: stats(main),
     })
 }
 
-pub(super) fn between_section(b: &Between) -> String {
+/// `cells`: the table's own held-out summary, shown beside the squares'.
+pub(super) fn between_section(b: &Between, cells: &Stats) -> String {
     let step = b.step;
     format!(
         "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there by the same held-out integrals with the interpolated norm: relative L2 mean {}, max {} (square at i = {}, j = {}); relative L1 mean {}. The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
@@ -193,8 +191,8 @@ pub(super) fn between_section(b: &Between) -> String {
         b.worst.0,
         b.worst.1,
         b.l1.mean.pct(2),
-        b.cells.l2.mean.pct(2),
-        b.cells.l1.mean.pct(2)
+        cells.l2.mean.pct(2),
+        cells.l1.mean.pct(2)
     )
 }
 
