@@ -19,11 +19,7 @@ fn eval_prints_json_with_the_closed_form() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // GGX Λ = (√(1 + α² tan²θ) − 1)/2 with tan θ = 0.75 (seed 003 Eq 16)
     let expected = ((1.0f64 + 0.25 * 0.5625).sqrt() - 1.0) / 2.0;
@@ -91,11 +87,7 @@ fn eval_filter_vmf_matches_banerjee_by_hand() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // κ = (3r − r³)/(1 − r²) at r = 0.98, α′ = √(α² + 2/κ)
     let r = 0.98f64;
@@ -141,11 +133,7 @@ fn prefilter_runs_on_a_png_and_rejects_a_broken_one() {
         .args(["--study", "--alpha", "0.1", "--preset", "quick"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let md = std::fs::read_to_string(dir.join("prefilter-flakes16.md")).unwrap();
     assert!(md.contains("vMF α² + 2/κ") && md.contains("±"));
     assert!(dir.join("flakes16-alpha-L1.png").exists());
@@ -236,11 +224,7 @@ fn bench_report_refreshes_only_the_main_job_section() {
             .unwrap()
     };
     let out = refresh();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let new = std::fs::read_to_string(dir.join("performance.md")).unwrap();
     assert!(new.starts_with("# Performance\n\nkept above\n"));
     assert!(new.ends_with("\n## After\n\nkept below\n"));
@@ -334,9 +318,5 @@ fn prefilter_rank_4(dir: &std::path::Path, threads: Option<&str>) {
         .arg(dir)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
 }

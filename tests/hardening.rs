@@ -831,11 +831,7 @@ fn an_obstacle_in_the_last_write_leaves_no_partial_set() {
     // without the obstacle the same command publishes the set with its manifest
     std::fs::remove_dir_all(out_dir.join("tensor-flakes.json")).unwrap();
     let out = run();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     assert!(ndfbench::io::set_is_complete(
         &out_dir.join(".manifest.json")
     ));
@@ -1023,11 +1019,7 @@ fn horizon_command_rejects_bad_height_maps_and_writes_nothing() {
         .arg(&out_dir)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let md = std::fs::read_to_string(out_dir.join("horizon.md")).unwrap();
     assert!(md.contains("Tan et al.") && !md.contains("NaN"));
     assert!(!String::from_utf8_lossy(&out.stderr).contains("converted to grey"));

@@ -560,11 +560,7 @@ fn bad_input_is_a_typed_error_and_writes_nothing() {
         .arg(d.join("ok"))
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let _ = std::fs::remove_dir_all(&d);
 }
 
