@@ -87,7 +87,7 @@ fn prefilter_benches(c: &mut Criterion) {
         roughness: None,
         alpha: Some(0.09),
         channel: prefilter::input::Channel::Auto,
-        filter: prefilter::Filter::Vmf,
+        filter: prefilter::Choice::Filter(ndfbench::filters::registry::Filter::of("vmf-2")),
         store: prefilter::Store::Perceptual,
         format: prefilter::Format::R8,
         layout: prefilter::Layout::R,
@@ -279,7 +279,10 @@ fn render_benches(c: &mut Criterion) {
                         .sum::<f32>()
                 })
             });
-            let plan = ndfbench::studies::render::glint_plan(ndfbench::integrate::Preset::Quick);
+            let plan =
+                ndfbench::studies::render::builtin_params(ndfbench::integrate::Preset::Quick)
+                    .expect("fits/render.toml")
+                    .glints;
             if let Ok(imgs) = glints::pndf_grid(&tex, plan.res, plan.stride, 4.6, sr) {
                 for rank in [8usize, 32] {
                     let Ok(cp) =

@@ -121,24 +121,16 @@ fn shading_forms(c: &mut Criterion) {
 
 /// The four ways to get α_me from ‖b̄‖ (seed 000 §3.3), 1024 inputs per iteration.
 fn alpha_me(c: &mut Criterion) {
-    use ndfbench::multiscale::alpha_me::{fit_ours, training_alphas, Table};
+    use ndfbench::multiscale::alpha_me::Table;
     use ndfbench::multiscale::mrl::{alpha_from_one_minus, alpha_me_paper, mrl_pair};
-    let spec = ndfbench::fit::spec::load_dir(
+    let spec = ndfbench::studies::multiscale_alpha_me::params_in(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("fits")
             .as_path(),
     )
-    .expect("fits/ parses")
-    .into_iter()
-    .find(|s| s.name == "multiscale-alpha-me")
-    .expect("multiscale spec");
-    let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
-    let coeffs = fit_ours(
-        spec.terms,
-        spec.terms_large,
-        &training_alphas(spec.training.points, lo, hi),
-    )
-    .unwrap();
+    .expect("fits/multiscale-alpha-me.toml");
+    let (lo, hi) = (spec.alpha_min, spec.alpha_max);
+    let coeffs = spec.fit().unwrap();
     let table = Table::build(spec.table_entries, lo, hi);
     let inputs: Vec<(f64, f64)> = (0..1024)
         .map(|i| mrl_pair(lo * (hi / lo).powf((i as f64 + 0.5) / 1024.0)))

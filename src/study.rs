@@ -62,6 +62,13 @@ pub struct Ctx<'a> {
     pub preset: Preset,
 }
 
+impl Ctx<'_> {
+    /// The study's parameters at the run's preset ([`FitSpec::params`]).
+    pub fn params<P: crate::fit::spec::Params>(&self) -> Result<P> {
+        self.spec.params(self.preset)
+    }
+}
+
 /// A study's computed result: everything its reports show, already measured.
 pub trait Computed: Send {
     /// The run's outcome, read off the result.
@@ -89,12 +96,16 @@ pub trait Study: Sync {
     fn on_request(&self) -> bool {
         false
     }
+    /// Its spec's parameters parse and lie within bounds at every preset (the driver
+    /// checks every spec before anything runs).
+    fn check(&self, spec: &FitSpec) -> Result<()>;
     /// Compute the typed result (the driver renders and publishes it).
     fn compute(&self, ctx: &Ctx) -> Result<Box<dyn Computed>>;
 }
 
 /// Declare a study in the module that runs it: a unit struct implementing [`Study`],
-/// named as its spec, following `after`, main job or `on request`. Its entry point is
+/// named as its spec, following `after`, main job or `on request`, reading its spec's
+/// `[params]` as the type `params` names (a [`crate::fit::spec::Params`]). Its entry point is
 /// `computes f` with `f: fn(&Ctx) -> Result<R>`, `R: Computed`: the study computes, then
 /// renders. Its cache is keyed by the code of the module the macro is invoked in
 /// (`module_path!()` there).
@@ -102,7 +113,7 @@ pub trait Study: Sync {
 /// ```ignore
 /// crate::study::study! {
 ///     /// The Λ refit.
-///     SmithLambda = "smith-lambda", after [], on request false, computes compute
+///     SmithLambda = "smith-lambda", after [], on request false, params Params, computes compute
 /// }
 /// ```
 macro_rules! study {
@@ -111,6 +122,7 @@ macro_rules! study {
         $ty:ident = $name:literal,
         after [$($after:literal),*],
         on request $on_request:literal,
+        params $params:ty,
         computes $run:path
     ) => {
         $(#[$doc])*
@@ -128,6 +140,12 @@ macro_rules! study {
             }
             fn on_request(&self) -> bool {
                 $on_request
+            }
+            fn check(&self, spec: &$crate::fit::spec::FitSpec) -> $crate::error::Result<()> {
+                for p in $crate::integrate::Preset::ALL {
+                    spec.params::<$params>(p)?;
+                }
+                Ok(())
             }
             fn compute(
                 &self,

@@ -117,17 +117,10 @@ fn lean_adds_twice_the_covariance() {
 #[test]
 fn seed000_moment_fit_matches_newton_within_the_fit_error() {
     // held-out max relative error of the α_me fit is 1.6e-4 (results/multiscale-alpha-me.md)
-    let spec = ndfbench::fit::spec::load_dir(std::path::Path::new("fits"))
+    let c = ndfbench::studies::multiscale_alpha_me::params_in(std::path::Path::new("fits"))
         .unwrap()
-        .into_iter()
-        .find(|s| s.name == "multiscale-alpha-me")
+        .fit()
         .unwrap();
-    let train = ndfbench::multiscale::alpha_me::training_alphas(
-        spec.training.points,
-        spec.domain.alpha_min,
-        spec.domain.alpha_max,
-    );
-    let c = ndfbench::multiscale::alpha_me::fit_ours(spec.terms, spec.terms_large, &train).unwrap();
     for &alpha in &[0.01, 0.1, 0.5] {
         let rho = ndfbench::multiscale::mrl::mrl_pair(alpha).0;
         // down to |μ| = 0.05: rough footprints (α′ up to ≈ 30) use the α > 1 branch

@@ -85,20 +85,28 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
             "points 2^64 − 1",
             edit(
                 ALPHA_ME_SPEC,
-                "points = 600",
-                "points = 18446744073709551615",
+                "training_points = 600",
+                "training_points = 18446744073709551615",
             ),
-            "training.points",
+            "line",
         ),
         (
             "points 1e9",
-            edit(ALPHA_ME_SPEC, "points = 600", "points = 1000000000"),
-            "training.points",
+            edit(
+                ALPHA_ME_SPEC,
+                "training_points = 600",
+                "training_points = 1000000000",
+            ),
+            "training_points",
         ),
         (
             "points as a float",
-            edit(ALPHA_ME_SPEC, "points = 600", "points = 1e9"),
-            "line",
+            edit(
+                ALPHA_ME_SPEC,
+                "training_points = 600",
+                "training_points = 1e9",
+            ),
+            "[params]",
         ),
         (
             "terms 0",
@@ -108,7 +116,7 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         (
             "terms_large 0",
             edit(ALPHA_ME_SPEC, "terms_large = 8", "terms_large = 0"),
-            "terms",
+            "terms_large",
         ),
         (
             "table_entries 0",
@@ -123,7 +131,7 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         (
             "alpha_max ∞",
             edit(ALPHA_ME_SPEC, "alpha_max = 1e2", "alpha_max = inf"),
-            "domain",
+            "alpha_max",
         ),
         (
             "nan tolerance",
@@ -134,15 +142,25 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
             "huge iteration cap",
             edit(
                 ALPHA_ME_SPEC,
-                "max_iters = 20000",
-                "max_iters = 100000000000",
+                "refit_max_iters = 20000",
+                "refit_max_iters = 100000000000",
             ),
-            "max_iters",
+            "refit_max_iters",
         ),
         (
-            "unknown key",
-            format!("{ALPHA_ME_SPEC}\nbogus_key = 1\n"),
+            "unknown key in the header",
+            format!("bogus_key = 1\n{ALPHA_ME_SPEC}"),
             "bogus_key",
+        ),
+        (
+            "unknown key in [params]",
+            edit(ALPHA_ME_SPEC, "[params]\n", "[params]\nbogus_key = 1\n"),
+            "bogus_key",
+        ),
+        (
+            "a key missing from [params]",
+            edit(ALPHA_ME_SPEC, "table_entries = 256", ""),
+            "table_entries",
         ),
         ("malformed TOML", "name = [".to_string(), "line"),
         (
@@ -151,13 +169,13 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
             "recursion",
         ),
         (
-            "absurd text",
+            "absurd name",
             edit(
                 ALPHA_ME_SPEC,
-                "description = \"",
-                &format!("description = \"{}", "x".repeat(10_000)),
+                "name = \"multiscale-alpha-me\"",
+                &format!("name = \"{}\"", "x".repeat(10_000)),
             ),
-            "description",
+            "name",
         ),
         (
             "ltc alpha_min 1e-300",
@@ -165,14 +183,23 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
             "alpha_min",
         ),
         (
-            "ltc held-out points",
-            edit(LTC_SPEC, "points = 2304", "points = 900000"),
-            "held_out.points",
+            "ltc samples",
+            edit(LTC_SPEC, "samples = 24", "samples = 900000"),
+            "samples",
+        ),
+        (
+            "a bad value only in the precise preset's table",
+            edit(
+                LTC_SPEC,
+                "[precise]\nsamples = 32",
+                "[precise]\nsamples = 0",
+            ),
+            "[precise]",
         ),
         (
             "lambda points",
             edit(LAMBDA_SPEC, "points = 600", "points = 500000"),
-            "training.points",
+            "points",
         ),
     ];
     for (what, text, needle) in cases {

@@ -163,6 +163,8 @@ fn our_fit_meets_its_goal_with_the_right_limits() {
 }
 
 const SPEC: &str = include_str!("../fits/multiscale-alpha-me.toml");
+use ndfbench::integrate::Preset;
+use ndfbench::studies::multiscale_alpha_me::Params as AlphaMeParams;
 
 #[test]
 fn the_shipped_spec_parses() {
@@ -172,7 +174,7 @@ fn the_shipped_spec_parses() {
 
 #[test]
 fn malformed_specs_are_typed_errors_naming_the_problem() {
-    let unknown = format!("{SPEC}\nbogus_key = 1\n");
+    let unknown = format!("bogus_key = 1\n{SPEC}");
     match FitSpec::parse(&unknown, "x.toml") {
         Err(Error::InvalidArgument(m)) => {
             assert!(m.contains("bogus_key") && m.contains("x.toml"), "{m}")
@@ -183,11 +185,56 @@ fn malformed_specs_are_typed_errors_naming_the_problem() {
         FitSpec::parse("name = [", "y.toml"),
         Err(Error::InvalidArgument(_))
     ));
+    // the header parses; the study's parameters are checked where they are read
     let bad_domain = SPEC.replace("alpha_min = 1e-4", "alpha_min = 200.0");
-    match FitSpec::parse(&bad_domain, "z.toml") {
-        Err(Error::InvalidArgument(m)) => assert!(m.contains("domain"), "{m}"),
+    assert!(bad_domain != SPEC);
+    let s = FitSpec::parse(&bad_domain, "z.toml").unwrap();
+    match s.params::<AlphaMeParams>(Preset::Default) {
+        Err(Error::InvalidArgument(m)) => {
+            assert!(m.contains("alpha_min") && m.contains("z.toml"), "{m}")
+        }
         other => panic!("{other:?}"),
     }
+    // a key the study does not read, inside [params], is named
+    let unread = SPEC.replace("[params]\n", "[params]\nsamples = 4\n");
+    assert!(unread != SPEC);
+    let s = FitSpec::parse(&unread, "u.toml").unwrap();
+    match s.params::<AlphaMeParams>(Preset::Quick) {
+        Err(Error::InvalidArgument(m)) => {
+            assert!(m.contains("samples") && m.contains("u.toml"), "{m}")
+        }
+        other => panic!("{other:?}"),
+    }
+    // and so is a key a preset's table sets that the study does not read
+    let unread = format!("{SPEC}\n[quick]\nmetric_points = 3\n");
+    let s = FitSpec::parse(&unread, "q.toml").unwrap();
+    assert!(s.params::<AlphaMeParams>(Preset::Default).is_ok());
+    match s.params::<AlphaMeParams>(Preset::Quick) {
+        Err(Error::InvalidArgument(m)) => {
+            assert!(m.contains("metric_points") && m.contains("[quick]"), "{m}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// A preset's table replaces the keys it names and keeps the others: the convolution
+/// study's quick preset fits a 3² metric grid, its default the spec's 7².
+#[test]
+fn a_preset_table_replaces_only_the_keys_it_names() {
+    let text = include_str!("../fits/multiscale-convolution.toml");
+    let s = FitSpec::parse(text, "fits/multiscale-convolution.toml").unwrap();
+    type P = ndfbench::studies::multiscale_convolution::Params;
+    let (d, q, p) = (
+        s.params::<P>(Preset::Default).unwrap(),
+        s.params::<P>(Preset::Quick).unwrap(),
+        s.params::<P>(Preset::Precise).unwrap(),
+    );
+    assert_eq!(
+        (d.metric_points, q.metric_points, p.metric_points),
+        (7, 3, 7)
+    );
+    assert_eq!((d.dense_points, q.dense_points), (40, 40));
+    assert_eq!((q.alpha_min, q.alpha_max), (0.01, 1.0));
 }
 
 #[test]

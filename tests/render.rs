@@ -10,7 +10,12 @@ use ndfbench::filters::footprint::{flakes, NormalMap, Procedural};
 use ndfbench::render::coverage::{area_centroid, shares};
 use ndfbench::render::scene::Scene;
 use ndfbench::render::{check, measure, methods, GlintPlan};
-use ndfbench::studies::render::{at_preset, glint_plan, SCENES};
+use ndfbench::studies::render::{builtin_params, sized, SCENES};
+
+/// The render study's glint plan at `p`, as fits/render.toml sets it.
+fn glint_plan(p: ndfbench::integrate::Preset) -> GlintPlan {
+    builtin_params(p).unwrap().glints
+}
 use ndfbench::Error;
 use proptest::prelude::*;
 use std::path::Path;
@@ -152,7 +157,10 @@ fn the_truth_agrees_with_closed_forms_on_flat_maps() {
 }
 
 fn small(mut s: Scene) -> Scene {
-    s = at_preset(s, ndfbench::integrate::Preset::Quick);
+    s = sized(
+        s,
+        &builtin_params(ndfbench::integrate::Preset::Quick).unwrap(),
+    );
     s.camera.width = 24;
     s.camera.height = 24;
     s.render.scales.truncate(2);

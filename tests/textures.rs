@@ -8,7 +8,7 @@
 
 use half::f16;
 use ndfbench::codegen::textures;
-use ndfbench::ltc::table::{self, FittedTable};
+use ndfbench::ltc::table::FittedTable;
 use std::path::Path;
 
 fn table() -> FittedTable {

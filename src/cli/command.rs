@@ -36,7 +36,10 @@ pub enum Cmd {
     /// exit 1 if a held-out error misses its spec's tolerance.
     ///
     /// Usage: `regen [--only NAME[,NAME…]] [--preset quick|default|precise]`. Runs the fit
-    /// specifications of `fits/` (strict TOML: unknown keys are errors naming the key);
+    /// specifications of `fits/` (strict TOML: each study reads its `[params]`, with the
+    /// `[quick]` or `[precise]` table over them; a key it does not read, a missing key or
+    /// a value out of bounds is an error naming the file and the key, at every preset,
+    /// before anything runs);
     /// `--only` takes exact spec names (a study that follows others brings them along; any
     /// other text is an error listing the valid names) and writes
     /// `results/fits/<name>.json` (coefficients, held-out max/RMS error) and the fit's
@@ -199,7 +202,8 @@ pub enum Cmd {
     /// written.
     ///
     /// Usage: `prefilter --study --input MAP.png [--alpha A] [--preset …] [--out DIR]`. The
-    /// footprint-filter study of `results/filters.md` on your normal map: per-filter
+    /// footprint-filter study of `results/filters.md` on your normal map (its plan at the
+    /// preset from fits/filters.toml, as this build compiled it in): per-filter
     /// energy/L2/peak errors with error bars against the footprint-averaged BRDF, the worst
     /// cases, an L2-vs-footprint plot and per-level α′ maps (vMF 2/κ).
     ///
@@ -256,7 +260,8 @@ pub enum Cmd {
     /// point|quad|directional|environment; `[render]` methods, truth_samples, seed, scales,
     /// exposure. Unknown keys, non-finite numbers and sizes beyond the limits (≤ 2^36 truth
     /// samples in all) are errors naming the key, exit 2, nothing written. `--preset` sets
-    /// the glint set's P-NDF grid and CP iterations.
+    /// the glint set's P-NDF grid and CP iterations, as fits/render.toml gives them to the
+    /// render study (the spec this build compiled in).
     Render {
         /// scene file (TOML)
         file: PathBuf,
@@ -275,7 +280,8 @@ pub enum Cmd {
     /// power-of-two grey PNG, 8/16-bit, ≤ 4096²; heights = grey value × S texels, S ∈ (0,
     /// 1e6], default 16): Fournier's ramp, Tan et al.'s erf HDF, the Legendre series and
     /// the joint forms (product, Eq 28, Ashikhmin) against the exact visible fractions of
-    /// the map's footprints. Writes DIR/horizon.md and DIR/horizon.json; bad input (NaN or
+    /// the map's footprints, at the levels and footprint counts fits/visibility.toml sets
+    /// for the preset (as this build compiled it in). Writes DIR/horizon.md and DIR/horizon.json; bad input (NaN or
     /// out-of-range scale, non-square or broken PNG) exits 2 with one line and writes
     /// nothing.
     Horizon {

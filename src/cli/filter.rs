@@ -140,21 +140,7 @@ pub(super) fn filter_eval(
 /// The `Ours` α_me coefficients, refitted from fits/multiscale-alpha-me.toml exactly as
 /// `regen` does (deterministic linear least squares, < 1 ms).
 fn ours_coefficients(fits: &std::path::Path) -> Result<crate::multiscale::alpha_me::OursFit> {
-    let spec = crate::fit::spec::load_dir(fits)?
-        .into_iter()
-        .find(|s| s.name == "multiscale-alpha-me")
-        .ok_or_else(|| {
-            Error::InvalidArgument(format!(
-                "no multiscale-alpha-me spec in '{}'",
-                fits.display()
-            ))
-        })?;
-    let train = crate::multiscale::alpha_me::training_alphas(
-        spec.training.points,
-        spec.domain.alpha_min,
-        spec.domain.alpha_max,
-    );
-    crate::multiscale::alpha_me::fit_ours(spec.terms, spec.terms_large, &train)
+    crate::studies::multiscale_alpha_me::params_in(fits)?.fit()
 }
 
 /// The JSON of one filter evaluation: the f64 value, and the f32 shading form where every

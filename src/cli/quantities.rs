@@ -99,44 +99,27 @@ pub(super) fn alpha_me(a: &EvalArgs, fits: &std::path::Path) -> Result<(f64, ser
             None => format!("--one-minus-b must lie in (0, 1), got {y:e}"),
         }));
     }
-    let spec = || -> Result<crate::fit::spec::FitSpec> {
-        crate::fit::spec::load_dir(fits)?
-            .into_iter()
-            .find(|s| s.name == "multiscale-alpha-me")
-            .ok_or_else(|| {
-                Error::InvalidArgument(format!(
-                    "no multiscale-alpha-me spec in '{}'",
-                    fits.display()
-                ))
-            })
-    };
-    use crate::multiscale::alpha_me::{
-        fit_ours, held_out, held_out_alphas, paper_method, training_alphas, Table,
-    };
+    let spec = || crate::studies::multiscale_alpha_me::params_in(fits);
+    use crate::multiscale::alpha_me::{held_out, held_out_alphas, paper_method, Table};
     let method: Box<dyn Fn(f64, f64) -> f64> = match a.method {
         AlphaMethod::Paper => Box::new(paper_method),
         AlphaMethod::Newton => {
             Box::new(|b, y| crate::multiscale::mrl::alpha_from_pair(b, y).unwrap_or(f64::NAN))
         }
         AlphaMethod::Ours => {
-            let s = spec()?;
-            let c = fit_ours(
-                s.terms,
-                s.terms_large,
-                &training_alphas(s.training.points, s.domain.alpha_min, s.domain.alpha_max),
-            )?;
+            let c = spec()?.fit()?;
             Box::new(move |_b, y| c.eval(y))
         }
         AlphaMethod::Table => {
             let s = spec()?;
-            let t = Table::build(s.table_entries, s.domain.alpha_min, s.domain.alpha_max);
+            let t = Table::build(s.table_entries, s.alpha_min, s.alpha_max);
             Box::new(move |_b, y| t.eval(y))
         }
     };
     let v = method(b, y);
     // the method's measured error on the spec's held-out points (or the default domain)
     let (lo, hi, n) = spec()
-        .map(|s| (s.domain.alpha_min, s.domain.alpha_max, s.held_out.points))
+        .map(|s| (s.alpha_min, s.alpha_max, s.held_out_points))
         .unwrap_or((1e-3, 1.0, 2000));
     let h = held_out(&held_out_alphas(n, lo, hi), &|b, y| method(b, y));
     // inside the fit domain is a property of the input: y between y(α_min) and

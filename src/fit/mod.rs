@@ -1,5 +1,5 @@
-//! Fit specifications (fits/*.toml): model form, domain, training and held-out points,
-//! metric, optimiser and its settings, seed and tolerance, each bounded (`spec`). The
-//! studies that run them are registered in `crate::studies`.
+//! Study specifications (fits/*.toml): a shared header (name, seed, tolerance) and each
+//! study's own typed, bounded parameters per preset (`spec`). The studies that read them
+//! are registered in `crate::studies`.
 
 pub mod spec;

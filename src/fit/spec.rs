@@ -1,45 +1,30 @@
-//! Fit specification files (TOML). Unknown keys are rejected with an error naming them.
+//! Study specifications (fits/*.toml): a header every study shares and the study's own
+//! typed parameters.
+//!
+//! ```toml
+//! name = "smith-lambda"            # the study that reads it
+//! seed = 0
+//! tolerance = { max_rel = 1e-4 }   # the held-out figure the run is judged by
+//!
+//! [params]                         # the default preset: every number the study reads
+//! points = 600
+//!
+//! [quick]                          # keys of [params] set or replaced at --preset quick
+//! points = 60
+//! ```
+//!
+//! `[precise]` does the same for `--preset precise`. Each study declares its parameter
+//! struct (a [`Params`]): serde rejects a key it does not read and names it, a missing key
+//! is named too, and [`Params::check`] bounds every value. [`FitSpec::params`] merges the
+//! preset's table over `[params]`, parses and checks; the driver checks every preset of
+//! every spec before anything runs. The prose that used to sit in the spec (the model, the
+//! metric, the optimiser) lives in each study's module doc.
 
 use crate::error::{Error, Result};
+use crate::integrate::Preset;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// α domain of a fit.
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Domain {
-    pub alpha_min: f64,
-    pub alpha_max: f64,
-}
-
-/// How many points, and how they are placed.
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Points {
-    pub points: usize,
-    pub spacing: String,
-}
-
-/// Optimiser and its settings.
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Optimiser {
-    pub method: String,
-    #[serde(default)]
-    pub max_iters: Option<u64>,
-    #[serde(default)]
-    pub tolerance: Option<f64>,
-}
-
-/// Per-axis point counts of a 2D fit (log-spaced over the domain on both axes).
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Grid {
-    /// Grid on which every metric is fitted by quadrature (expensive: ~1 s per point).
-    pub metric_points: usize,
-    /// Dense grid for closed-form targets (training; held-out is offset by half a step).
-    pub dense_points: usize,
-}
 
 /// Held-out error budget.
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -48,259 +33,147 @@ pub struct Tolerance {
     pub max_rel: f64,
 }
 
-/// One fit specification.
+/// One study's specification: the shared header and its raw parameter tables (typed by
+/// the study through [`FitSpec::params`]).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FitSpec {
     pub name: String,
-    pub description: String,
-    pub model: String,
-    /// Number of fitted coefficients (model-specific; default 0).
-    #[serde(default)]
-    pub terms: usize,
-    /// Number of coefficients of a second branch (the α > 1 branch of the α_me fit;
-    /// default 0).
-    #[serde(default)]
-    pub terms_large: usize,
-    pub domain: Domain,
-    pub training: Points,
-    pub held_out: Points,
-    pub metric: String,
-    pub optimiser: Optimiser,
-    /// The baseline refit of the paper's form.
-    pub baseline_optimiser: Optimiser,
-    /// Lookup-table size, for fits that also ship a table (default 0: none).
-    #[serde(default)]
-    pub table_entries: usize,
-    /// Two-parameter grids, for fits over (α_mi, α_me) (default: none).
-    #[serde(default)]
-    pub grid: Option<Grid>,
     pub seed: u64,
     pub tolerance: Tolerance,
+    /// Every number the study reads, at the default preset.
+    #[serde(default)]
+    pub params: toml::Table,
+    /// Keys of `params` replaced at the quick preset.
+    #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
+    pub quick: toml::Table,
+    /// Keys of `params` replaced at the precise preset.
+    #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
+    pub precise: toml::Table,
+    /// Where it was read from (for messages; not part of the spec).
+    #[serde(skip)]
+    pub origin: String,
 }
 
-/// Upper bounds on what a spec may ask for (fits/README.md lists them). Generic bounds hold
-/// for every spec; a study that reads a key more expensively has tighter ones.
-#[derive(Clone, Copy, Debug)]
-pub struct Limits {
-    pub terms: usize,
-    pub points: usize,
-    pub table_entries: usize,
-    pub max_iters: u64,
-    pub alpha_min: f64,
-    pub alpha_max: f64,
-    pub grid_metric_points: usize,
-    pub grid_dense_points: usize,
+/// A study's typed parameters: what `[params]` (merged with the preset's table) holds.
+/// Deserialize with `#[serde(deny_unknown_fields)]`, so a key the study does not read is
+/// an error.
+pub trait Params: DeserializeOwned + Serialize {
+    /// Every value within its bounds; the error names the key and the bound.
+    fn check(&self) -> std::result::Result<(), String>;
 }
 
-/// Bounds for every spec.
-pub const GENERIC_LIMITS: Limits = Limits {
-    terms: 64,
-    points: 1_000_000,
-    table_entries: 1 << 20,
-    max_iters: 10_000_000,
-    alpha_min: 1e-12,
-    alpha_max: 1e12,
-    grid_metric_points: 64,
-    grid_dense_points: 4096,
-};
+/// `key`'s value `v` lies in `[lo, hi]` (both finite for floats; NaN fails).
+pub fn within<T: PartialOrd + std::fmt::Display>(
+    key: &str,
+    v: T,
+    lo: T,
+    hi: T,
+) -> std::result::Result<(), String> {
+    if v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(format!("{key} = {v} must lie in [{lo}, {hi}]"))
+    }
+}
+
+/// Every element of the list `key` lies in `[lo, hi]`, and the list holds 1…`max_len`
+/// elements.
+pub fn all_within<T: PartialOrd + std::fmt::Display + Copy>(
+    key: &str,
+    v: &[T],
+    lo: T,
+    hi: T,
+    max_len: usize,
+) -> std::result::Result<(), String> {
+    if v.is_empty() || v.len() > max_len {
+        return Err(format!(
+            "{key} holds {} values; it needs 1 … {max_len}",
+            v.len()
+        ));
+    }
+    v.iter()
+        .enumerate()
+        .try_for_each(|(i, &x)| within(&format!("{key}[{i}]"), x, lo, hi))
+}
+
+/// An α range `[lo, hi]` (keys `alpha_min`, `alpha_max`) inside `[min, max]`, with lo < hi.
+pub fn alpha_range(lo: f64, hi: f64, min: f64, max: f64) -> std::result::Result<(), String> {
+    within("alpha_min", lo, min, max)?;
+    within("alpha_max", hi, min, max)?;
+    if lo < hi {
+        Ok(())
+    } else {
+        Err(format!(
+            "alpha_min = {lo:e} must be below alpha_max = {hi:e}"
+        ))
+    }
+}
 
 /// Most spec files read from one directory.
 pub const MAX_SPEC_FILES: usize = 256;
 
-/// Largest spec file read, in bytes, and the longest text value.
+/// Largest spec file read, in bytes.
 pub const MAX_SPEC_BYTES: u64 = 1 << 20;
-pub const MAX_TEXT_CHARS: usize = 4096;
-
-/// The bounds of the study that reads spec `name` (the generic ones, tightened where a
-/// study's cost grows with a key: the α_me fit, the overall-roughness grid, the Λ refit
-/// and the LTC table).
-pub fn limits_for(name: &str) -> Limits {
-    let g = GENERIC_LIMITS;
-    match name {
-        "multiscale-alpha-me" => Limits {
-            terms: 16,
-            points: 200_000,
-            table_entries: 1 << 16,
-            max_iters: 1_000_000,
-            alpha_min: 1e-8,
-            alpha_max: 1e4,
-            ..g
-        },
-        "multiscale-convolution" => Limits {
-            terms: 16,
-            points: 2_000,
-            // the quadrature metrics' domain (multiscale::overall::QUAD_DOMAIN)
-            alpha_min: 1e-3,
-            alpha_max: 3.0,
-            grid_metric_points: 16,
-            grid_dense_points: 400,
-            ..g
-        },
-        "smith-lambda" => Limits {
-            terms: 16,
-            points: 100_000,
-            max_iters: 100_000,
-            alpha_min: 1e-6,
-            alpha_max: 1e3,
-            ..g
-        },
-        "ltc-ggx" | "ltc-sheen" | "ltc-diffuse" | "ltc-aniso" => Limits {
-            terms: 4,
-            points: 16_384,
-            max_iters: 100_000,
-            alpha_min: 1e-6,
-            alpha_max: 1.0,
-            ..g
-        },
-        _ => g,
-    }
-}
 
 impl FitSpec {
-    /// Parse and validate a spec; errors name the file and the offending key, and every
-    /// count, size, iteration cap and domain is checked against [`limits_for`] its name.
+    /// Parse and check the header; errors name the file and the offending key. The
+    /// parameters are checked by the study that reads them ([`FitSpec::params`]).
     pub fn parse(text: &str, origin: &str) -> Result<FitSpec> {
-        let s: FitSpec = toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
-        s.validate(origin)?;
+        let mut s: FitSpec = toml::from_str(text).map_err(|e| toml_error(origin, text, &e))?;
+        s.origin = origin.to_string();
+        s.validate()?;
         Ok(s)
     }
 
-    /// Check every key against its bounds.
-    pub fn validate(&self, origin: &str) -> Result<()> {
-        let s = self;
-        let lim = limits_for(&s.name);
-        let bad = |m: String| Err(Error::InvalidArgument(format!("{origin}: {m}")));
-        for (key, v) in [
-            ("name", &s.name),
-            ("description", &s.description),
-            ("model", &s.model),
-            ("metric", &s.metric),
-            ("training.spacing", &s.training.spacing),
-            ("held_out.spacing", &s.held_out.spacing),
-            ("optimiser.method", &s.optimiser.method),
-            ("baseline_optimiser.method", &s.baseline_optimiser.method),
-        ] {
-            if v.chars().count() > MAX_TEXT_CHARS {
-                return bad(format!("{key} is longer than {MAX_TEXT_CHARS} characters"));
-            }
+    fn bad(&self, m: String) -> Error {
+        let origin = if self.origin.is_empty() {
+            format!("spec '{}'", self.name)
+        } else {
+            self.origin.clone()
+        };
+        Error::InvalidArgument(format!("{origin}: {m}"))
+    }
+
+    /// The header's own checks.
+    pub fn validate(&self) -> Result<()> {
+        if self.name.is_empty() || self.name.chars().count() > 64 {
+            return Err(self.bad("name must hold 1 … 64 characters".into()));
         }
-        let (lo, hi) = (s.domain.alpha_min, s.domain.alpha_max);
-        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
-            return bad(format!(
-                "domain: need 0 < alpha_min < alpha_max, both finite, got alpha_min = {lo:e}, alpha_max = {hi:e}"
-            ));
-        }
-        if lo < lim.alpha_min {
-            return bad(format!(
-                "domain.alpha_min = {lo:e} is below the limit {:e} for '{}'",
-                lim.alpha_min, s.name
-            ));
-        }
-        if hi > lim.alpha_max {
-            return bad(format!(
-                "domain.alpha_max = {hi:e} exceeds the limit {:e} for '{}'",
-                lim.alpha_max, s.name
-            ));
-        }
-        for (key, v, cap) in [
-            ("terms", s.terms, lim.terms),
-            ("terms_large", s.terms_large, lim.terms),
-            ("training.points", s.training.points, lim.points),
-            ("held_out.points", s.held_out.points, lim.points),
-            ("table_entries", s.table_entries, lim.table_entries),
-        ] {
-            if v > cap {
-                return bad(format!(
-                    "{key} = {v} exceeds the limit {cap} for '{}'",
-                    s.name
-                ));
-            }
-        }
-        if s.training.points < s.terms + s.terms_large + 2 {
-            return bad(format!(
-                "training.points = {} must exceed terms + terms_large + 1 = {}",
-                s.training.points,
-                s.terms + s.terms_large + 1
-            ));
-        }
-        if s.held_out.points < 2 {
-            return bad(format!(
-                "held_out.points = {} must be ≥ 2",
-                s.held_out.points
-            ));
-        }
-        if !(s.tolerance.max_rel > 0.0 && s.tolerance.max_rel.is_finite()) {
-            return bad(format!(
-                "tolerance.max_rel must be finite and > 0, got {:e}",
-                s.tolerance.max_rel
-            ));
-        }
-        if s.table_entries == 1 {
-            return bad("table_entries must be 0 (no table) or ≥ 2, got 1".into());
-        }
-        for (key, o) in [
-            ("optimiser", &s.optimiser),
-            ("baseline_optimiser", &s.baseline_optimiser),
-        ] {
-            if let Some(it) = o.max_iters {
-                if it == 0 || it > lim.max_iters {
-                    return bad(format!(
-                        "{key}.max_iters = {it} must lie in [1, {}] for '{}'",
-                        lim.max_iters, s.name
-                    ));
-                }
-            }
-            if let Some(t) = o.tolerance {
-                if !(t > 0.0 && t.is_finite() && t < 1.0) {
-                    return bad(format!("{key}.tolerance must lie in (0, 1), got {t:e}"));
-                }
-            }
-        }
-        if let Some(g) = &s.grid {
-            if g.metric_points < 2 || g.metric_points > lim.grid_metric_points {
-                return bad(format!(
-                    "grid.metric_points = {} must lie in [2, {}]",
-                    g.metric_points, lim.grid_metric_points
-                ));
-            }
-            if g.dense_points < 4 || g.dense_points > lim.grid_dense_points {
-                return bad(format!(
-                    "grid.dense_points = {} must lie in [4, {}]",
-                    g.dense_points, lim.grid_dense_points
-                ));
-            }
-        }
-        // what each study itself needs
-        match s.name.as_str() {
-            "multiscale-alpha-me" => {
-                if s.terms == 0 || s.terms_large == 0 {
-                    return bad(format!(
-                        "terms and terms_large must be ≥ 1 for '{}', got {} and {}",
-                        s.name, s.terms, s.terms_large
-                    ));
-                }
-                if s.table_entries < 2 {
-                    return bad(format!(
-                        "table_entries = {} must be ≥ 2 for '{}'",
-                        s.table_entries, s.name
-                    ));
-                }
-                if !(lo < 1.0 && hi > 1.0) {
-                    return bad(format!(
-                        "domain must contain α = 1 (both branches are pinned there), got [{lo:e}, {hi:e}]"
-                    ));
-                }
-            }
-            "multiscale-convolution" if s.grid.is_none() => {
-                return bad(format!("'{}' needs a grid table", s.name));
-            }
-            "multiscale-convolution" | "smith-lambda" if s.terms == 0 => {
-                return bad(format!("terms must be ≥ 1 for '{}'", s.name));
-            }
-            _ => {}
+        let t = self.tolerance.max_rel;
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(self.bad(format!(
+                "tolerance.max_rel must be finite and > 0, got {t:e}"
+            )));
         }
         Ok(())
+    }
+
+    /// The study's parameters at `preset`: `[params]` with the preset's table over it,
+    /// parsed into `P` and checked. Errors name the file, the table and the key.
+    pub fn params<P: Params>(&self, preset: Preset) -> Result<P> {
+        let (table, over) = match preset {
+            Preset::Quick => ("[params] + [quick]", &self.quick),
+            Preset::Precise => ("[params] + [precise]", &self.precise),
+            Preset::Default => ("[params]", &toml::Table::new()),
+        };
+        let mut t = self.params.clone();
+        for (k, v) in over {
+            t.insert(k.clone(), v.clone());
+        }
+        let p: P = toml::Value::Table(t)
+            .try_into()
+            .map_err(|e: toml::de::Error| {
+                let m = e
+                    .message()
+                    .lines()
+                    .next()
+                    .unwrap_or("malformed")
+                    .to_string();
+                self.bad(format!("{table}: {m}"))
+            })?;
+        p.check().map_err(|m| self.bad(format!("{table}: {m}")))?;
+        Ok(p)
     }
 }
 
@@ -321,7 +194,6 @@ pub fn load_file(f: &Path) -> Result<FitSpec> {
     let t = std::fs::read_to_string(f).map_err(io)?;
     FitSpec::parse(&t, &f.display().to_string())
 }
-
 /// A TOML parse error as one line: toml's messages span several lines (a source
 /// excerpt), so keep the first, with the line it points at.
 pub fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> Error {

@@ -13,6 +13,8 @@ pub enum Preset {
 }
 
 impl Preset {
+    /// Every preset, fastest first.
+    pub const ALL: [Preset; 3] = [Preset::Quick, Preset::Default, Preset::Precise];
     /// Relative (and absolute) tolerance handed to adaptive quadrature.
     pub fn quad_tol(self) -> f64 {
         match self {

@@ -332,3 +332,59 @@ pub fn fit_nelder_mead(
         iterations: st.get_iter(),
     })
 }
+
+/// The α_me fit's settings, as fits/multiscale-alpha-me.toml sets them (the α_me study,
+/// the convolution study and `eval` read them).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// Coefficients of the small-α branch (c_k).
+    pub terms: usize,
+    /// Coefficients of the α > 1 branch (d_k).
+    pub terms_large: usize,
+    pub alpha_min: f64,
+    pub alpha_max: f64,
+    pub training_points: usize,
+    pub held_out_points: usize,
+    /// Entries of the lookup table in s.
+    pub table_entries: usize,
+    /// Nelder–Mead refit of Eq 5's form: iteration cap and tolerance.
+    pub refit_max_iters: u64,
+    pub refit_tolerance: f64,
+}
+
+impl crate::fit::spec::Params for Settings {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{alpha_range, within};
+        within("terms", self.terms, 1, 16)?;
+        within("terms_large", self.terms_large, 1, 16)?;
+        alpha_range(self.alpha_min, self.alpha_max, 1e-8, 1e4)?;
+        if !(self.alpha_min < 1.0 && self.alpha_max > 1.0) {
+            return Err(format!(
+                "alpha_min … alpha_max must contain α = 1 (both branches are pinned there), got [{:e}, {:e}]",
+                self.alpha_min, self.alpha_max
+            ));
+        }
+        within(
+            "training_points",
+            self.training_points,
+            self.terms + self.terms_large + 2,
+            200_000,
+        )?;
+        within("held_out_points", self.held_out_points, 2, 200_000)?;
+        within("table_entries", self.table_entries, 2, 65_536)?;
+        within("refit_max_iters", self.refit_max_iters, 1, 1_000_000)?;
+        within("refit_tolerance", self.refit_tolerance, 1e-300, 0.5)
+    }
+}
+
+impl Settings {
+    /// Our α_me fit at these settings.
+    pub fn fit(&self) -> crate::error::Result<OursFit> {
+        fit_ours(
+            self.terms,
+            self.terms_large,
+            &training_alphas(self.training_points, self.alpha_min, self.alpha_max),
+        )
+    }
+}

@@ -115,12 +115,18 @@ pub fn constants(results: &Path) -> Result<Constants> {
 }
 
 /// How the glint set's CP models are built (the preset's scale).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GlintPlan {
+    /// P-NDF image side.
     pub res: usize,
+    /// Footprint stride in texels.
     pub stride: usize,
+    /// Block side of the tensors.
     pub t: usize,
+    /// CP ranks of the three models.
     pub ranks: [usize; 3],
+    /// CP-ALS iteration cap.
     pub iters: usize,
 }
 

@@ -1,5 +1,14 @@
 //! The `leadr-grids` study (its spec in fits/): the model in `crate::leadr`, measured
 //! ([`compute`]), then reported (the `Computed` impl's `render`).
+//!
+//! - **Grid families** (seed 001 §3.4–3.7): uniform N-point grids in standardised slope
+//!   units with the paper's spacing 0.9 (no node beyond ±3), uniform grids with the spacing
+//!   h fitted per N (scan + Brent over h ∈ [0.2, 2.2]), Gauss–Hermite grids; nodes
+//!   (k − (N−1)/2) h, weights ∝ φ(node), normalised.
+//! - **Scenes:** σ × θ_o × {specular, diffuse}: training σ ∈ `train_sigma`,
+//!   θ_o ∈ `train_theta_deg`; held out σ ∈ `held_sigma`, θ_o ∈ `held_theta_deg`.
+//! - **Metric:** relative error of the shading ratio against nested adaptive quadrature
+//!   (tolerance 1e-10): RMS and max per family and N ∈ `ns`.
 
 use crate::error::Result;
 use crate::io::Outputs;
@@ -30,15 +39,44 @@ struct Computed {
     result: crate::results::leadr_grids::LeadrGrids,
 }
 
+/// What fits/leadr-grids.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Grid sizes N of the error-against-N table (must include 5: the h-scan's N).
+    pub ns: Vec<usize>,
+    /// Slope deviations σ and view angles θ_o (degrees) of the training scenes.
+    pub train_sigma: Vec<f64>,
+    pub train_theta_deg: Vec<f64>,
+    /// The same for the held-out scenes.
+    pub held_sigma: Vec<f64>,
+    pub held_theta_deg: Vec<f64>,
+}
+
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::all_within;
+        all_within("ns", &self.ns, 2, 64, 32)?;
+        if !self.ns.contains(&5) {
+            return Err("ns must include 5 (the h-scan's N and the verdict's row)".into());
+        }
+        all_within("train_sigma", &self.train_sigma, 1e-3, 2.0, 32)?;
+        all_within("held_sigma", &self.held_sigma, 1e-3, 2.0, 32)?;
+        all_within("train_theta_deg", &self.train_theta_deg, 0.0, 89.0, 32)?;
+        all_within("held_theta_deg", &self.held_theta_deg, 0.0, 89.0, 32)
+    }
+}
+
 /// Error against N for three grid families, the h-scan at N = 5 and the artificial
 /// micronormal at a silhouette.
 fn compute(c: &Ctx) -> Result<Computed> {
-    let train = configs(&[0.05, 0.15, 0.3, 0.5], &[0.0, 30.0, 60.0, 75.0])?;
-    let held = configs(&[0.1, 0.2, 0.4, 0.6], &[15.0, 45.0, 70.0, 80.0])?;
-    let ns = [3usize, 4, 5, 6, 8, 12, 16, 24, 32];
+    let pa: Params = c.params()?;
+    let train = configs(&pa.train_sigma, &pa.train_theta_deg)?;
+    let held = configs(&pa.held_sigma, &pa.held_theta_deg)?;
+    let ns = &pa.ns;
     let pb = crate::progress::Progress::new("leadr grids", ns.len() as u64);
     let mut rows = Vec::new();
-    for &n in &ns {
+    for &n in ns {
         let h = fit_spacing(n, &train);
         let fams = [
             Grid::riemann(n, paper_spacing(n)), // the paper: spacing 0.9, no node beyond ±3 (seed 001 §3.4)
@@ -301,5 +339,5 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The LEADR grid study, as the registry holds it.
-    LeadrGrids = "leadr-grids", after [], on request false, computes compute
+    LeadrGrids = "leadr-grids", after [], on request false, params Params, computes compute
 }

@@ -69,7 +69,9 @@ fn load_specs(fits_dir: &Path) -> Result<Vec<FitSpec>> {
     let specs = spec::load_dir(fits_dir)?;
     // every spec must name a study: a typo is an error, not some other fit
     for s in &specs {
-        if find(&s.name).is_none() {
+        if let Some(study) = find(&s.name) {
+            study.check(s)?;
+        } else {
             return Err(Error::InvalidArgument(format!(
                 "{}: spec '{}' names no study (known: {})",
                 fits_dir.display(),

@@ -1,5 +1,16 @@
 //! The `smith-lambda` study (its spec in fits/): the model in `crate::microfacet::lambda_fit`
 //! fitted and measured ([`compute`]), then reported ([`render`]).
+//!
+//! - **Model:** Λ(ν) = (1 − ν/ν_c)² (1 + a1 ν + a2 ν²) / (b1 ν + b2 ν² + b3 ν³) for ν < ν_c,
+//!   else 0: six numbers against Walter et al.'s five (seed 001 §3.2), fitted to the exact
+//!   Beckmann Λ(ν) = (e^(−ν²)/(√π ν) − erfc ν)/2.
+//! - **Points:** `points` log-uniform in ν over [`nu_min`, `nu_max`], both ends included;
+//!   held out: the `points` − 1 midpoints (half a step off).
+//! - **Metric:** max |G1_fit − G1_exact| with G1 = 1/(1 + Λ), optimised through its L8
+//!   norm by Nelder–Mead (argmin) with restarts, at most `max_iters` iterations each.
+//! - **Baseline:** Walter et al. 2007 as printed in seed 001 §3.2, and as its listing
+//!   clamps ν.
+//! - **Tolerance:** the spec's `max_rel` bounds the held-out max |ΔG1|.
 
 use crate::error::Result;
 use crate::io::Outputs;
@@ -16,15 +27,42 @@ pub struct Computed {
     pub curves: [Vec<(f64, f64)>; 3],
 }
 
+/// What fits/smith-lambda.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Training points (log-uniform in ν, both ends included).
+    pub points: usize,
+    pub nu_min: f64,
+    pub nu_max: f64,
+    /// Nelder–Mead iterations per start.
+    pub max_iters: u64,
+}
+
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::within;
+        within("points", self.points, 8, 100_000)?;
+        within("nu_min", self.nu_min, 1e-6, 1e3)?;
+        within("nu_max", self.nu_max, 1e-6, 1e3)?;
+        within("max_iters", self.max_iters, 1, 100_000)?;
+        if self.nu_min < self.nu_max {
+            Ok(())
+        } else {
+            Err(format!(
+                "nu_min = {:e} must be below nu_max = {:e}",
+                self.nu_min, self.nu_max
+            ))
+        }
+    }
+}
+
 /// Fit, judge on held-out ν, and measure Walter et al.'s ends (nothing is formatted).
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let spec = c.spec;
-    let (train, held) = grids(
-        spec.training.points,
-        spec.domain.alpha_min,
-        spec.domain.alpha_max,
-    );
-    let (p, iters) = fit(&train, spec.optimiser.max_iters.unwrap_or(4000))?;
+    let pa: Params = c.params()?;
+    let (train, held) = grids(pa.points, pa.nu_min, pa.nu_max);
+    let (p, iters) = fit(&train, pa.max_iters)?;
     let ours_f = |n: f64| rational(&p, n);
     let curve = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
         held.iter().map(|&n| (n, dg1(f, n).max(1e-12))).collect()
@@ -168,5 +206,5 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The Smith Λ refit, as the registry holds it.
-    SmithLambda = "smith-lambda", after [], on request false, computes compute
+    SmithLambda = "smith-lambda", after [], on request false, params Params, computes compute
 }

@@ -23,34 +23,71 @@ const TABLE2: [(&str, usize, f64, f64, f64, f64, f64); 2] = [
     ("brushed-metal", 16, 37.39, 10.01, 1430.75, 15.19, 1.06),
 ];
 
-/// Map size and the clusters run of each map: all of them (quick is a small stand-in;
-/// precise runs two ALS starts per cluster instead of one).
-fn plan(preset: Preset, spec: &FitSpec) -> (usize, usize, ScalePlan) {
-    let base = |stride, res, regions, ranks: Vec<usize>| ScalePlan {
-        stride,
-        level: 0,
-        res,
-        t: 16,
-        regions,
-        sigma_r: 0.02,
-        ranks,
-        tol: spec.tolerance.max_rel,
-        max_iters: spec.optimiser.max_iters.unwrap_or(500) as usize,
-        seed: spec.seed,
-        starts: 1,
-    };
-    match preset {
-        Preset::Quick => (128, 16, base(8, 64, 4, vec![4, 8])),
-        Preset::Default => (2048, 64, base(32, 256, 8, vec![16, 32])),
-        Preset::Precise => (
-            2048,
-            64,
-            ScalePlan {
-                starts: 2,
-                ..base(32, 256, 8, vec![16, 32])
-            },
-        ),
+/// What fits/tensor-scale.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Side of the two procedural maps (flakes, brushed metal).
+    pub size: usize,
+    /// Spatial clusters per side (the paper's 8 × 8), and how many of them run per map
+    /// (spread over rows and columns; all of them when ≥ regions²).
+    pub regions: usize,
+    pub clusters: usize,
+    /// Footprint stride at level 0 (the only level run), P-NDF image side, block side t,
+    /// intrinsic roughness σ_r.
+    pub stride: usize,
+    pub res: usize,
+    pub t: usize,
+    pub sigma_r: f64,
+    /// CP ranks; ALS iteration cap, stop tolerance and seeded starts per CP (best kept).
+    pub ranks: Vec<usize>,
+    pub max_iters: usize,
+    pub als_tolerance: f64,
+    pub starts: usize,
+}
+
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, within};
+        within("size", self.size, 16, 16_384)?;
+        within("regions", self.regions, 1, 64)?;
+        within("clusters", self.clusters, 1, 4096)?;
+        within("stride", self.stride, 1, self.size)?;
+        within("t", self.t, 2, 64)?;
+        within("res", self.res, self.t, 1024)?;
+        if self.res % self.t != 0 {
+            return Err(format!(
+                "res = {} must split into t = {} blocks",
+                self.res, self.t
+            ));
+        }
+        within("sigma_r", self.sigma_r, 1e-4, 1.0)?;
+        all_within("ranks", &self.ranks, 1, self.t * self.t, 16)?;
+        within("max_iters", self.max_iters, 1, 100_000)?;
+        within("als_tolerance", self.als_tolerance, 1e-15, 0.5)?;
+        within("starts", self.starts, 1, 16)
     }
+}
+
+/// Map size, the clusters run of each map and the CP plan.
+fn plan(p: &Params, seed: u64) -> (usize, usize, ScalePlan) {
+    (
+        p.size,
+        p.clusters,
+        ScalePlan {
+            stride: p.stride,
+            level: 0,
+            res: p.res,
+            t: p.t,
+            regions: p.regions,
+            sigma_r: p.sigma_r,
+            ranks: p.ranks.clone(),
+            tol: p.als_tolerance,
+            max_iters: p.max_iters,
+            seed,
+            starts: p.starts,
+        },
+    )
 }
 
 /// `n` of the plan's clusters, spread over rows and columns (row q·R/n, a column that
@@ -145,7 +182,7 @@ pub struct Scale {
 /// Run every cluster of the plan (one memoised map over clusters) and aggregate.
 fn compute(c: &Ctx) -> Result<Scale> {
     let (spec, preset) = (c.spec, c.preset);
-    let (size, n, plan) = plan(preset, spec);
+    let (size, n, plan) = plan(&c.params()?, spec.seed);
     let clusters = sample(&plan, n);
     let kinds = [Procedural::Flakes, Procedural::BrushedMetal];
     let maps: Vec<NormalMap> = kinds
@@ -401,5 +438,5 @@ fn report(k: &Scale) -> String {
 crate::study::study! {
     /// The seed 002 at the paper's scale: hours at its default preset, so on request only, as
     /// the registry holds it.
-    TensorScale = "tensor-scale", after [], on request true, computes compute
+    TensorScale = "tensor-scale", after [], on request true, params Params, computes compute
 }

@@ -243,7 +243,7 @@ fn embedded(results: &Path) -> Vec<(&'static str, &'static str, String)> {
 /// The study: compute the cases, the fitted constants and every aggregate.
 pub fn compute(c: &crate::study::Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
-    let plan = Plan::new(preset);
+    let plan: Plan = c.params()?;
     let seed = spec.seed;
     // the filters' four maps, then seed 002's scratches for the survey only: its cases come
     // last, so the filters' cases keep their indices (and seeds) bit for bit

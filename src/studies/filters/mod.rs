@@ -4,6 +4,18 @@
 //! ([`cases`]), fits the constants ([`constants`]) and aggregates every figure (the
 //! verdicts' in [`verdicts`], the result file's in [`summary`]); the report
 //! ([`report`], [`survey_report`]) formats them.
+//!
+//! - **Models:** one-constant refits of the vMF rule α′² = α² + c/κ (κ = (3r − r³)/(1 − r²),
+//!   r = |μ| of the mip-mapped normal), the Toksvig rule α′² = α² + c·σ² (σ² = (1 − r)/r)
+//!   and the deferred kernel σ² of seed 003 Eq 13 (α′² = α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²),
+//!   0.18)), per NDF and pixel footprint; baselines: the engines' constants (vMF 2, 1, 1/2;
+//!   Toksvig 2, 1; σ² = 0.25, 0.15, 0.1).
+//! - **Training / held out:** the even footprint indices of the map study (every map,
+//!   level, α and view of the plan) and the even views of the screen study; held out: the
+//!   odd ones.
+//! - **Metric:** mean relative L2 error of the lobe over all light directions against the
+//!   footprint-averaged per-texel BRDF (seed 004 Eq 11, Hypothesis 1), importance-sampled
+//!   Monte Carlo; each constant by a scan over a log grid and Brent (argmin).
 
 use crate::error::{Error, Result};
 use crate::io::Outputs;
@@ -106,5 +118,5 @@ impl crate::study::Computed for Computed {
 crate::study::study! {
     /// The footprint-filter study; results/filters.md embeds the LEADR and Λ reports, so they
     /// run first, as the registry holds it.
-    Filters = "filters", after ["leadr-grids", "smith-lambda"], on request false, computes compute
+    Filters = "filters", after ["leadr-grids", "smith-lambda"], on request false, params plan::Plan, computes compute
 }

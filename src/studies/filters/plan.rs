@@ -8,58 +8,64 @@ use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
-/// Sizes of the studies for a preset.
-#[derive(Clone, Debug, Serialize)]
+/// What fits/filters.toml sets: the sizes of the map and screen studies.
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Plan {
+    /// Side of the procedural normal maps (a power of two).
     pub map_size: usize,
+    /// Mip levels whose footprints are studied.
     pub levels: Vec<usize>,
     pub footprints_per_level: usize,
+    /// Base roughness of the map study.
     pub alphas: Vec<f64>,
+    /// Views (θ, φ) in degrees.
     pub views_deg: Vec<(f64, f64)>,
+    /// Light samples per case.
     pub samples: usize,
     /// (base α, κ in rad/px) pairs of the screen study (κ/α ≤ 8).
     pub screen_pairs: Vec<(f64, f64)>,
+    /// Anisotropy ratios of the screen study's curvature.
     pub anisotropy: Vec<f64>,
     pub screen_views_deg: Vec<f64>,
 }
 
-impl Plan {
-    pub fn new(p: Preset) -> Plan {
-        match p {
-            Preset::Quick => Plan {
-                map_size: 32,
-                levels: vec![1, 2, 3],
-                footprints_per_level: 2,
-                alphas: vec![0.05],
-                views_deg: vec![(0.0, 0.0), (60.0, 0.0)],
-                samples: 256,
-                screen_pairs: vec![(0.1, 0.03), (0.1, 0.3), (0.3, 0.8)],
-                anisotropy: vec![1.0],
-                screen_views_deg: vec![0.0, 60.0],
-            },
-            _ => Plan {
-                map_size: if p == Preset::Precise { 256 } else { 128 },
-                levels: vec![1, 2, 3, 4, 5],
-                footprints_per_level: if p == Preset::Precise { 12 } else { 6 },
-                alphas: vec![0.05, 0.25],
-                views_deg: vec![(0.0, 0.0), (40.0, 0.0), (70.0, 0.0), (70.0, 90.0)],
-                samples: if p == Preset::Precise { 4096 } else { 1024 },
-                screen_pairs: vec![
-                    (0.02, 0.01),
-                    (0.02, 0.03),
-                    (0.02, 0.1),
-                    (0.1, 0.03),
-                    (0.1, 0.1),
-                    (0.1, 0.3),
-                    (0.1, 0.6),
-                    (0.3, 0.1),
-                    (0.3, 0.3),
-                    (0.3, 0.8),
-                ],
-                anisotropy: vec![1.0, 0.2],
-                screen_views_deg: vec![0.0, 45.0, 75.0],
-            },
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, within};
+        within("map_size", self.map_size, 8, 4096)?;
+        if !self.map_size.is_power_of_two() {
+            return Err(format!(
+                "map_size = {} must be a power of two",
+                self.map_size
+            ));
         }
+        let top = self.map_size.trailing_zeros() as usize;
+        all_within("levels", &self.levels, 1, top, 16)?;
+        within("footprints_per_level", self.footprints_per_level, 1, 10_000)?;
+        all_within("alphas", &self.alphas, 1e-3, 1.0, 16)?;
+        let thetas: Vec<f64> = self.views_deg.iter().map(|v| v.0).collect();
+        all_within("views_deg (θ)", &thetas, 0.0, 89.0, 32)?;
+        let phis: Vec<f64> = self.views_deg.iter().map(|v| v.1).collect();
+        all_within("views_deg (φ)", &phis, -360.0, 360.0, 32)?;
+        within("samples", self.samples, 16, 1 << 20)?;
+        let a: Vec<f64> = self.screen_pairs.iter().map(|p| p.0).collect();
+        all_within("screen_pairs (α)", &a, 1e-3, 1.0, 64)?;
+        let k: Vec<f64> = self.screen_pairs.iter().map(|p| p.1).collect();
+        all_within("screen_pairs (κ)", &k, 0.0, 10.0, 64)?;
+        all_within("anisotropy", &self.anisotropy, 1e-3, 1.0, 16)?;
+        all_within("screen_views_deg", &self.screen_views_deg, 0.0, 89.0, 32)
+    }
+}
+
+/// fits/filters.toml as this build compiled it in: the plan of the commands that run the
+/// study's measurements on a user's input (`prefilter --study`).
+const SPEC: &str = include_str!("../../../fits/filters.toml");
+
+impl Plan {
+    /// The study's plan at `preset`, from the compiled-in spec.
+    pub fn builtin(p: Preset) -> crate::error::Result<Plan> {
+        crate::fit::spec::FitSpec::parse(SPEC, "fits/filters.toml (compiled in)")?.params(p)
     }
 }
 

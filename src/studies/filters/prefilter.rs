@@ -24,7 +24,7 @@ pub fn prefilter(
     }
     let map = NormalMap::from_png(input)?;
     let chain = MipChain::build(&map);
-    let mut plan = Plan::new(preset);
+    let mut plan = Plan::builtin(preset)?;
     let top = chain.levels.len() - 1;
     plan.levels.retain(|&l| l >= 1 && l <= top);
     if plan.levels.is_empty() {

@@ -2,7 +2,6 @@
 //! isotropic table's stretched start, the cases between cells and the polygon rows.
 
 use crate::error::{Error, Result};
-use crate::integrate::Preset;
 use crate::ltc::aniso::{fit_cell, mirror_y, rel_l2, AnisoGgxTarget, Inv7};
 use crate::ltc::aniso_table::{AnisoCell, AnisoGrid, AnisoTable};
 use crate::ltc::table::FittedTable;
@@ -20,38 +19,60 @@ pub(crate) struct Plan {
     pub mc: usize,
 }
 
-pub(super) fn plan(p: Preset, alpha_min: f64) -> Plan {
-    let g = |n_r, n_phi, n_t| AnisoGrid {
-        n_r,
-        n_phi,
-        n_t,
-        alpha_min,
-    };
-    match p {
-        Preset::Quick => Plan {
-            grid: g(3, 3, 3),
-            samples: 8,
-            iters: 120,
-            line: 5,
-            cases: 24,
-            mc: 1 << 12,
-        },
-        Preset::Default => Plan {
-            grid: g(8, 6, 9),
-            samples: 16,
-            iters: 800,
-            line: 21,
-            cases: 256,
-            mc: 1 << 16,
-        },
-        Preset::Precise => Plan {
-            grid: g(8, 8, 8),
-            samples: 16,
-            iters: 1000,
-            line: 41,
-            cases: 1024,
-            mc: 1 << 18,
-        },
+/// What fits/ltc-aniso.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Cells per axis: √α_x and √α_y (n_r), tangent azimuth φ ∈ [0, π/2] (n_phi),
+    /// √(1 − cos θ) (n_t).
+    pub n_r: usize,
+    pub n_phi: usize,
+    pub n_t: usize,
+    /// α = max(r², alpha_min) on both axes.
+    pub alpha_min: f64,
+    /// Stratified samples per axis and technique of each cell's fit (held out: twice as
+    /// many).
+    pub samples: usize,
+    /// Nelder–Mead iteration cap per start.
+    pub iters: u64,
+    /// Nodes of each design-study line.
+    pub line: usize,
+    /// Random cases between cells.
+    pub cases: usize,
+    /// MC samples per technique of the polygon checks.
+    pub mc: usize,
+}
+
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::within;
+        within("n_r", self.n_r, 2, 32)?;
+        within("n_phi", self.n_phi, 2, 32)?;
+        within("n_t", self.n_t, 2, 32)?;
+        within("alpha_min", self.alpha_min, 1e-6, 0.5)?;
+        within("samples", self.samples, 2, 64)?;
+        within("iters", self.iters, 1, 100_000)?;
+        within("line", self.line, 2, 1_000)?;
+        within("cases", self.cases, 1, 100_000)?;
+        within("mc", self.mc, 16, 1 << 24)
+    }
+}
+
+impl Params {
+    pub(super) fn plan(&self) -> Plan {
+        Plan {
+            grid: AnisoGrid {
+                n_r: self.n_r,
+                n_phi: self.n_phi,
+                n_t: self.n_t,
+                alpha_min: self.alpha_min,
+            },
+            samples: self.samples,
+            iters: self.iters,
+            line: self.line,
+            cases: self.cases,
+            mc: self.mc,
+        }
     }
 }
 

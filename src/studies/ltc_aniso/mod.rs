@@ -8,6 +8,15 @@
 //! at random cases between its cells, in f64 and binary16, against what engines do today
 //! (the isotropic table at √(α_x α_y) or at max(α_x, α_y)). `compute` fits, `design`
 //! runs the design study, `summary` aggregates; `report` formats only.
+//!
+//! The grid is `n_r`×`n_r`×`n_phi`×`n_t` in (√α_x, √α_y, φ ∈ [0, π/2], √(1 − cos θ)),
+//! α = max(r², `alpha_min`); φ ∈ [0, π/2] and α_x ≥ α_y by symmetry. Each cell: M⁻¹ ∝
+//! [[a, 0, c], [e, 1, g], [b, h, d]] + norm + fresnel, Nelder–Mead on 7 parameters scaled
+//! to the start (≤ `iters` iterations) on the relative L2 over `samples`² stratified
+//! samples from the LTC and from the VNDF, from three starts (the isotropic table at
+//! √(α_x α_y), the same stretched toward the tangent, the isotropic table at
+//! max(α_x, α_y)), the best on a validation set kept. Held out: a fresh (2·`samples`)²
+//! set per technique, plus `cases` random cases between cells.
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
@@ -21,7 +30,7 @@ mod design;
 mod report;
 mod summary;
 
-use compute::{between, fit_table, plan, polygons};
+use compute::{between, fit_table, polygons};
 pub use compute::{Between, Case, Fitted, PolygonRow};
 
 /// What the study computed: the table, its fitted cells, the summary (the design study
@@ -40,7 +49,7 @@ pub struct Computed {
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
     let iso = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
-    let pl = plan(preset, spec.domain.alpha_min);
+    let pl = c.params::<compute::Params>()?.plan();
     let (table, fitted) = fit_table(&iso, &pl)?;
     crate::report::stage(&format!(
         "regen ltc-aniso: {} cells fitted; design study next",
@@ -119,5 +128,5 @@ impl crate::study::Computed for Computed {
 crate::study::study! {
     /// The anisotropic LTC study; its fits start from the isotropic GGX table, as the registry
     /// holds it.
-    LtcAniso = "ltc-aniso", after ["ltc-ggx"], on request false, computes compute
+    LtcAniso = "ltc-aniso", after ["ltc-ggx"], on request false, params compute::Params, computes compute
 }

@@ -2,8 +2,6 @@
 //! variants, each cell as the LTC it stands for.
 
 use crate::error::Result;
-use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
 use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table};
 use crate::ltc::held::{self};
 use crate::ltc::lobe_error::Tolerance;
@@ -11,33 +9,50 @@ use crate::ltc::target::GgxTarget;
 use crate::memo::Memo;
 use nalgebra::Matrix3;
 
-pub(super) struct Plan {
-    pub(super) n: usize,
-    pub(super) samples: usize,
-    pub(super) sub: usize,
-    pub(super) mc: usize,
+/// What fits/ltc-ggx.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Cells per axis of the table, in (r = √α, t = √(1 − cos θ)).
+    pub n: usize,
+    /// α = max(r², alpha_min).
+    pub alpha_min: f64,
+    /// Stratified samples per axis and technique of each cell's fit (held out: twice as
+    /// many, offset by a quarter cell).
+    pub samples: usize,
+    /// Nelder–Mead iteration cap per cell (the floor's searches too).
+    pub max_iters: u64,
+    /// Cells per axis of the sub-grid the optimiser variants are fitted on.
+    pub sub: usize,
+    /// MC samples per technique of the polygon-light checks.
+    pub mc: usize,
+    /// The pipeline section: map side, mip levels, footprints per level, MC samples.
+    pub pipeline_size: usize,
+    pub pipeline_levels: Vec<usize>,
+    pub pipeline_per_level: usize,
+    pub pipeline_samples: usize,
 }
 
-pub(super) fn plan(p: Preset) -> Plan {
-    match p {
-        Preset::Quick => Plan {
-            n: 8,
-            samples: 12,
-            sub: 4,
-            mc: 1 << 12,
-        },
-        Preset::Default => Plan {
-            n: 64,
-            samples: 24,
-            sub: 12,
-            mc: 1 << 16,
-        },
-        Preset::Precise => Plan {
-            n: 64,
-            samples: 32,
-            sub: 16,
-            mc: 1 << 18,
-        },
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, within};
+        within("n", self.n, 2, 256)?;
+        within("alpha_min", self.alpha_min, 1e-6, 0.5)?;
+        within("samples", self.samples, 2, 128)?;
+        within("max_iters", self.max_iters, 1, 100_000)?;
+        within("sub", self.sub, 2, self.n)?;
+        within("mc", self.mc, 16, 1 << 24)?;
+        within("pipeline_size", self.pipeline_size, 4, 4096)?;
+        if !self.pipeline_size.is_power_of_two() {
+            return Err(format!(
+                "pipeline_size = {} must be a power of two",
+                self.pipeline_size
+            ));
+        }
+        let top = self.pipeline_size.trailing_zeros() as usize;
+        all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
+        within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;
+        within("pipeline_samples", self.pipeline_samples, 16, 1 << 20)
     }
 }
 
@@ -67,12 +82,12 @@ const ROUTES: [(&str, Metric, Method); 4] = [
 ];
 
 /// The main table and the optimiser/metric variants on the sub-grid.
-pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
+pub(super) fn fit_tables(pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
     let grid = Grid {
         n: pl.n,
-        alpha_min: spec.domain.alpha_min,
+        alpha_min: pl.alpha_min,
     };
-    let iters = spec.optimiser.max_iters.unwrap_or(400);
+    let iters = pl.max_iters;
     let pb = indicatif::ProgressBar::new((pl.n * pl.n + ROUTES.len() * pl.sub * pl.sub) as u64);
     pb.set_message("ltc fit");
     let tick = || pb.inc(1);
@@ -88,7 +103,7 @@ pub(super) fn fit_tables(spec: &FitSpec, pl: &Plan) -> Result<(Table, Vec<(&'sta
     )?;
     let sub = Grid {
         n: pl.sub,
-        alpha_min: spec.domain.alpha_min,
+        alpha_min: pl.alpha_min,
     };
     let mut variants: Vec<(&'static str, Table)> = Vec::with_capacity(ROUTES.len());
     for (name, metric, method) in ROUTES {

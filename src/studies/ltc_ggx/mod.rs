@@ -2,6 +2,23 @@
 //! results/ltc-ggx.md, results/ltc-error.svg and results/fits/ltc-ggx.json. `compute`
 //! fits the tables; each section's file measures (`measure*`) and formats (`section`);
 //! `render` assembles the files.
+//!
+//! - **Target:** the cosine-weighted GGX BRDF with height-correlated G2, F = 1, per
+//!   (roughness, view) cell of an `n`×`n` grid in (√α, √(1 − cos θ)), α = max(r²,
+//!   `alpha_min`) as in the shipped table; production M⁻¹ (a, b, c, d) + norm + fresnel.
+//! - **Model:** norm·γ_M, M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the mean
+//!   BRDF direction turned by φ about Y; parameters (ln m11, ln m22, m13/m11, φ).
+//! - **Fit:** Nelder–Mead (argmin, ≤ `max_iters` iterations) on the reference fitter's
+//!   cubic metric, mean |f − f_ltc|³/(p_ltc + p_brdf), over `samples`² stratified samples
+//!   from the LTC and as many from the GGX VNDF; warm start from the rougher neighbour (φ
+//!   carried, scaled by the α ratio); 3 parameters at the carried φ, then all 4, kept only
+//!   if training and validation metrics both drop; an L2 polish kept only if the
+//!   validation L2 drops; one bilinear pass (`ltc::smooth`); binary16 storage chosen per
+//!   cell among the f16 neighbours (`ltc::storage`).
+//! - **Held out:** a fresh (2·`samples`)² set per technique, offset by a quarter cell,
+//!   and the exact lobe error of `ltc::held`; relative L2 ‖f − f_ltc‖/‖f‖.
+//! - **Variants** on a `sub`×`sub` sub-grid: L-BFGS (central differences), Nelder–Mead on
+//!   L2, Levenberg–Marquardt on fixed nodes.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -24,17 +41,17 @@ mod shipped;
 mod table;
 
 pub use compute::cell_ltc;
-use compute::{fit_tables, plan, Plan};
+use compute::{fit_tables, Plan};
 
 /// The title, the method and the table error.
 fn intro(c: &Computed) -> String {
-    let (spec, preset, pl, main, st) = (&c.spec, c.preset, &c.pl, &c.main, &c.held);
+    let (preset, pl, main, st) = (c.preset, &c.pl, &c.main, &c.held);
     let mut md = format!(
         "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
-        spec.domain.alpha_min,
+        pl.alpha_min,
         pl.samples,
         pl.samples,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
@@ -112,8 +129,8 @@ pub struct Computed {
 /// The study: fit the table and measure it.
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
-    let pl = plan(preset);
-    let (mut main, variants) = fit_tables(spec, &pl)?;
+    let pl: Plan = c.params()?;
+    let (mut main, variants) = fit_tables(&pl)?;
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
@@ -126,12 +143,12 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
     crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
-    let floor = floor::compute(&main, pl.samples, spec.optimiser.max_iters.unwrap_or(400))?;
+    let floor = floor::compute(&main, pl.samples, pl.max_iters)?;
     let floor_summary = floor::summarise(&floor, &main, st.l2.mean.value);
     let polygons = polygons::measure(&main, pl.mc)?;
     // the pipeline reads the table as a renderer reads the published file
     let stored = crate::results::ltc::table_of(&spec.name, &tables(spec, &main))?;
-    let pipeline = pipeline::measure(&stored, preset)?;
+    let pipeline = pipeline::measure(&stored, &pl)?;
     Ok(Computed {
         spec: spec.clone(),
         preset,
@@ -231,5 +248,5 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The GGX LTC table study, as the registry holds it.
-    LtcGgx = "ltc-ggx", after [], on request false, computes compute
+    LtcGgx = "ltc-ggx", after [], on request false, params Plan, computes compute
 }

@@ -3,7 +3,6 @@
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};
-use crate::integrate::Preset;
 use crate::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
 use crate::ltc::polygon::Light;
 use crate::report::table::Table as MdTable;
@@ -37,14 +36,18 @@ pub(super) struct Pipeline {
     worst_se: f64,
 }
 
-pub(super) fn measure(stored: &crate::ltc::table::FittedTable, preset: Preset) -> Result<Pipeline> {
+pub(super) fn measure(
+    stored: &crate::ltc::table::FittedTable,
+    pl: &super::compute::Plan,
+) -> Result<Pipeline> {
     use crate::filters::footprint::Procedural;
     let table = LtcTable::of(stored);
-    let (size, levels, per, samples): (usize, Vec<usize>, usize, usize) = match preset {
-        Preset::Quick => (16, vec![0, 2, 4], 2, 512),
-        Preset::Default => (64, vec![0, 1, 2, 3, 4, 5], 4, 4096),
-        Preset::Precise => (128, vec![0, 1, 2, 3, 4, 5, 6], 8, 16384),
-    };
+    let (size, levels, per, samples) = (
+        pl.pipeline_size,
+        pl.pipeline_levels.clone(),
+        pl.pipeline_per_level,
+        pl.pipeline_samples,
+    );
     let alpha = 0.05;
     let views = [0.0, 40.0, 70.0];
     let light = Light::rect(V3::new(-1.0, 0.2, 1.2), V3::x(), V3::y(), 0.5, 0.3);

@@ -2,8 +2,6 @@
 //! lobe's fit, bilinear pass and binary16 storage.
 
 use crate::error::Result;
-use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
 use crate::ltc::fit::{fit_table, Grid, Method, Metric, Table};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::{Lobe, LobeTarget};
@@ -42,29 +40,31 @@ pub fn family(name: &str) -> Option<Family> {
     }
 }
 
-pub(crate) struct Plan {
+/// What fits/ltc-sheen.toml and fits/ltc-diffuse.toml set.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Cells per axis of each table, in (r = √α, t = √(1 − cos θ)).
     pub n: usize,
+    /// α = max(r², alpha_min).
+    pub alpha_min: f64,
+    /// Stratified samples per axis and technique of each cell's fit (held out: twice as
+    /// many, offset by a quarter cell).
     pub samples: usize,
+    /// Nelder–Mead iteration cap per cell.
+    pub max_iters: u64,
+    /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
 }
 
-pub(super) fn plan(p: Preset) -> Plan {
-    match p {
-        Preset::Quick => Plan {
-            n: 8,
-            samples: 12,
-            mc: 1 << 12,
-        },
-        Preset::Default => Plan {
-            n: 64,
-            samples: 16,
-            mc: 1 << 16,
-        },
-        Preset::Precise => Plan {
-            n: 64,
-            samples: 32,
-            mc: 1 << 18,
-        },
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::within;
+        within("n", self.n, 2, 256)?;
+        within("alpha_min", self.alpha_min, 1e-6, 0.5)?;
+        within("samples", self.samples, 2, 128)?;
+        within("max_iters", self.max_iters, 1, 100_000)?;
+        within("mc", self.mc, 16, 1 << 24)
     }
 }
 
@@ -82,12 +82,12 @@ pub(super) fn target_of(lobe: Lobe) -> impl Fn(f64, f64) -> Result<LobeTarget> +
 
 /// Fit one lobe's table: the per-cell fit (cubic metric, L2 polish), one bilinear pass,
 /// the binary16 storage.
-pub(super) fn fit_lobe(lobe: Lobe, spec: &FitSpec, pl: &Plan) -> Result<Fitted> {
+pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
     let grid = Grid {
         n: pl.n,
-        alpha_min: spec.domain.alpha_min,
+        alpha_min: pl.alpha_min,
     };
-    let iters = spec.optimiser.max_iters.unwrap_or(400);
+    let iters = pl.max_iters;
     let pb =
         crate::progress::Progress::new(format!("ltc fit: {}", lobe.short()), (pl.n * pl.n) as u64);
     let target = target_of(lobe);

@@ -7,6 +7,20 @@
 //! too, with the error of shading one with the other's table. The fits (`compute`) and
 //! their measures (`measures`) → the report (`report`, formatting only) →
 //! results/fits/<name>.json, results/<name>.md, results/<name>-error.svg.
+//!
+//! - **ltc-sheen:** the Charlie sheen BRDF (F = 1) with Estevez & Kulla's fitted-Λ
+//!   visibility (glTF KHR_materials_sheen; main) and Neubelt & Pettineo's (three.js,
+//!   Filament; variant), α the sheen α = sheenRoughness². Below sheenRoughness 0.1 the
+//!   lobe lives at grazing half-vectors with albedo < 1e-3 (hence its `alpha_min`);
+//!   Filament clamps the perceptual roughness to ≥ 0.045.
+//! - **ltc-diffuse:** Burley's 2012 diffuse BRDF with its retro-reflection term (albedo 1),
+//!   F_D90 with the paper's roughness √α (main) and with α as Filament and Bevy evaluate it
+//!   (variant).
+//! - **Fit, as the GGX table's** (src/studies/ltc_ggx/mod.rs): an `n`×`n` grid in
+//!   (√α, √(1 − cos θ)), α = max(r², `alpha_min`); Nelder–Mead (≤ `max_iters`) on the
+//!   cubic metric over `samples`² stratified samples from the LTC and from the cosine
+//!   hemisphere, warm starts, 3 then 4 parameters, L2 polish, one bilinear pass, binary16
+//!   storage. Held out: a fresh (2·`samples`)² set per technique and the exact lobe error.
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
@@ -23,7 +37,7 @@ mod report;
 use crate::integrate::Preset;
 use crate::ltc::held::Stats;
 pub use compute::{family, Family};
-use compute::{fit_lobe, plan, Fitted, Plan};
+use compute::{fit_lobe, Fitted, Plan};
 
 /// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
 #[derive(Serialize)]
@@ -96,14 +110,14 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
             spec.name
         ))
     })?;
-    let pl = plan(preset);
-    let main = fit_lobe(fam.main, spec, &pl)?;
+    let pl: Plan = c.params()?;
+    let main = fit_lobe(fam.main, &pl)?;
     crate::report::stage(&format!(
         "regen {}: {} fitted; the variant next",
         fam.name,
         fam.main.short(),
     ));
-    let variant = fit_lobe(fam.variant, spec, &pl)?;
+    let variant = fit_lobe(fam.variant, &pl)?;
     crate::report::stage(&format!(
         "regen {}: {} fitted; report next",
         fam.name,
@@ -189,11 +203,11 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The diffuse LTC table study (Burley; the engines' α), as the registry holds it.
-    LtcDiffuse = "ltc-diffuse", after [], on request false, computes compute
+    LtcDiffuse = "ltc-diffuse", after [], on request false, params Plan, computes compute
 }
 
 crate::study::study! {
     /// The sheen LTC table study (Charlie, both visibility conventions), as the registry
     /// holds it.
-    LtcSheen = "ltc-sheen", after [], on request false, computes compute
+    LtcSheen = "ltc-sheen", after [], on request false, params Plan, computes compute
 }

@@ -142,7 +142,7 @@ pub(super) fn markdown(
         fam.title,
         preset.name(),
         spec.name,
-        spec.domain.alpha_min,
+        pl.alpha_min,
         fam.name,
         n = pl.n,
         s = pl.samples

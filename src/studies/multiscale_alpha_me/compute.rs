@@ -1,8 +1,9 @@
 //! The α_me study's computation: the fits, their held-out errors, the whole-range check and
 //! the Eq 5 audit.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fit::spec::FitSpec;
+use crate::multiscale::alpha_me::Settings as Params;
 use crate::multiscale::alpha_me::{
     fit_nelder_mead, fit_ours, held_out, held_out_alphas, ours_eval_pair_t, ours_eval_t,
     paper_form, paper_method, training_alphas, Fitted, HeldOut, OursFit, Table, PAPER,
@@ -44,6 +45,8 @@ pub(super) struct Computed {
     /// Eq 5's relative error at the fit domain's edge α = 1e-3 and at α = 0.01: (α, error).
     pub eq5_at: [(f64, f64); 2],
     pub curves: Curves,
+    /// The parameters it ran with.
+    pub params: Params,
     /// The typed result, as results/fits/multiscale-alpha-me.json holds it.
     pub result: crate::results::alpha_me::AlphaMe,
 }
@@ -59,7 +62,7 @@ pub(super) struct Curves {
 }
 
 /// The curves of the plots, on 400 α log-spaced over [0.01·lo, 10·hi].
-fn curves(spec: &FitSpec, lo: f64, hi: f64, c: &OursFit, refit: &Fitted, table: &Table) -> Curves {
+fn curves(spec: &Params, lo: f64, hi: f64, c: &OursFit, refit: &Fitted, table: &Table) -> Curves {
     let curve: Vec<f64> = held_out_alphas(400, 0.01 * lo, 10.0 * hi);
     let rel = |f: &dyn Fn(f64, f64) -> f64| -> Vec<(f64, f64)> {
         curve
@@ -116,20 +119,13 @@ fn curves(spec: &FitSpec, lo: f64, hi: f64, c: &OursFit, refit: &Fitted, table: 
 }
 
 /// The fits, their held-out errors, the whole-range check and the audit of Eq 5.
-pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
-    if !spec.name.starts_with("multiscale-alpha-me") {
-        return Err(Error::InvalidArgument(format!(
-            "no fit routine for spec '{}'",
-            spec.name
-        )));
-    }
-    spec.validate(&spec.name)?;
-    let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
-    let train = training_alphas(spec.training.points, lo, hi);
-    let held = held_out_alphas(spec.held_out.points, lo, hi);
+pub(super) fn compute(spec: &FitSpec, pa: &Params) -> Result<Computed> {
+    let (lo, hi) = (pa.alpha_min, pa.alpha_max);
+    let train = training_alphas(pa.training_points, lo, hi);
+    let held = held_out_alphas(pa.held_out_points, lo, hi);
     let pb = crate::progress::Progress::new("multiscale", 4);
     // ours: weighted linear least squares
-    let c = fit_ours(spec.terms, spec.terms_large, &train)?;
+    let c = fit_ours(pa.terms, pa.terms_large, &train)?;
     let h_ours = held_out(&held, &|_b, y| c.eval(y));
     pb.inc(1);
     // the paper's form, refitted with argmin (Nelder–Mead) from the printed coefficients
@@ -138,13 +134,13 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
         &PAPER,
         0.05,
         &train,
-        spec.baseline_optimiser.max_iters.unwrap_or(20_000),
-        spec.baseline_optimiser.tolerance.unwrap_or(1e-16),
+        pa.refit_max_iters,
+        pa.refit_tolerance,
     )?;
     let h_refit = held_out(&held, &|b, _y| paper_form(&refit.params, b));
     pb.inc(1);
     let h_paper = held_out(&held, &paper_method);
-    let table = Table::build(spec.table_entries, lo, hi);
+    let table = Table::build(pa.table_entries, lo, hi);
     let h_table = held_out(&held, &|_b, y| table.eval(y));
     let h_newton = held_out(&held, &|_b, y| alpha_from_one_minus(y).unwrap_or(f64::NAN));
     let whole = whole_range(&c);
@@ -162,10 +158,11 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
     let sign_alpha = zeros.iter().map(exact_at).collect();
     let pole_alpha = poles.iter().map(exact_at).collect();
     let eq5_at = [1e-3, 1e-2].map(|a| (a, (alpha_me_paper(mrl_pair(a).0) - a) / a));
-    let curves = curves(spec, lo, hi, &c, &refit, &table);
+    let curves = curves(pa, lo, hi, &c, &refit, &table);
     pb.finish();
     let result = result(
         spec,
+        pa,
         &c,
         &refit,
         [&h_ours, &h_paper, &h_refit, &h_table, &h_newton],
@@ -182,6 +179,7 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
         pole_alpha,
         eq5_at,
         curves,
+        params: pa.clone(),
         result,
     })
 }
@@ -190,6 +188,7 @@ pub(super) fn compute(spec: &FitSpec) -> Result<Computed> {
 #[allow(clippy::too_many_arguments)]
 fn result(
     spec: &FitSpec,
+    pa: &Params,
     c: &OursFit,
     refit: &Fitted,
     [h_ours, h_paper, h_refit, h_table, h_newton]: [&HeldOut; 5],
@@ -222,7 +221,7 @@ fn result(
             held_out: h_refit.clone(),
         },
         table: TableMethod {
-            entries: spec.table_entries,
+            entries: pa.table_entries,
             s0: table.s0,
             ds: table.ds,
             held_out: h_table.clone(),

@@ -8,7 +8,11 @@ use crate::report::table::Table;
 use crate::results::alpha_me::WholeRange;
 
 /// The report.
-pub(super) fn markdown(spec: &FitSpec, k: &Computed) -> String {
+pub(super) fn markdown(
+    spec: &FitSpec,
+    pa: &crate::multiscale::alpha_me::Settings,
+    k: &Computed,
+) -> String {
     let Computed {
         lo,
         hi,
@@ -41,7 +45,7 @@ checked against quadrature of Eq 4 to ≤ 1e-10 in results/proofs.md), inverted 
 Errors are relative errors in α on held-out points (log-uniform, half a step off the training grid).\n\n");
     md.push_str(&format!(
         "## Methods on the fit domain α ∈ [{lo}, {hi}] ({} held-out points)\n\n",
-        spec.held_out.points
+        pa.held_out_points
     ));
     let mut t = Table::new([
         "method".to_string(),
@@ -65,7 +69,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
     t.row(row(
         &format!(
             "ours: √(y/R(s)) for α ≤ 1 ({} coefficients), (π/2)g(b)/b above ({})",
-            spec.terms, spec.terms_large
+            pa.terms, pa.terms_large
         ),
         &h_ours,
         "see performance.md",
@@ -73,7 +77,7 @@ Errors are relative errors in α on held-out points (log-uniform, half a step of
     t.row(row(
         &format!(
             "lookup table, {} entries, linear in (s, ln α)",
-            spec.table_entries
+            pa.table_entries
         ),
         &h_table,
         "see performance.md",
@@ -114,7 +118,7 @@ g(b) = 1 + Σ d_k b^k: g(0) = 1 is the exact α → ∞ asymptote ‖b̄‖ ~ π
 d_k (weights 1/g). Pass b itself where it is small, or y ≥ ½, for which b = 1 − y is exact in binary arithmetic.\n\n");
     md.push_str(&format!(
         "Coefficients c_1…c_{}: `{:?}`\n\nCoefficients d_1…d_{}: `{:?}`\n\n",
-        spec.terms, c.coefficients, spec.terms_large, c.coefficients_large
+        pa.terms, c.coefficients, pa.terms_large, c.coefficients_large
     ));
     md.push_str("![α_me against 1 − ‖b̄‖](multiscale-alpha-me.svg)\n\n![errors](multiscale-alpha-error.svg)\n\n");
     md.push_str("## Overall roughness (Eq 6–7)\n\nThe spherical convolution γ_me ∗ γ_mi, its one-LTC fits under four metrics, the \

@@ -57,7 +57,7 @@ pub(super) type Row = (Metric, Vec<f64>, Stats, Stats);
 
 /// Everything the study computes; the report and the plots only read it.
 pub(super) struct Computed {
-    pub g: crate::fit::spec::Grid,
+    pub g: super::params::Params,
     pub lo: f64,
     pub hi: f64,
     pub held_axis: Vec<f64>,
@@ -115,12 +115,13 @@ pub(super) fn models(c: &Computed) -> Vec<Model<'_>> {
 }
 
 /// The dense closed-form targets, the refits, and the per-point fits under every metric.
-pub(super) fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result<Computed> {
-    let g = spec
-        .grid
-        .clone()
-        .ok_or_else(|| Error::InvalidArgument(format!("{}: needs a [grid]", spec.name)))?;
-    let (lo, hi) = (spec.domain.alpha_min, spec.domain.alpha_max);
+pub(super) fn compute(
+    spec: &FitSpec,
+    g: super::params::Params,
+    all: &[FitSpec],
+    preset: Preset,
+) -> Result<Computed> {
+    let (lo, hi) = (g.alpha_min, g.alpha_max);
     // dense closed-form target (unclipped moment metric)
     let train_axis = training_alphas(g.dense_points, lo, hi);
     let held_axis = held_out_alphas(g.dense_points - 1, lo, hi);
@@ -146,15 +147,8 @@ pub(super) fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result
                 spec.name
             ))
         })?;
-    let c_me = crate::multiscale::alpha_me::fit_ours(
-        me_spec.terms,
-        me_spec.terms_large,
-        &training_alphas(
-            me_spec.training.points,
-            me_spec.domain.alpha_min,
-            me_spec.domain.alpha_max,
-        ),
-    )?;
+    let me = me_spec.params::<crate::multiscale::alpha_me::Settings>(preset)?;
+    let c_me = me.fit()?;
     let product = |x: f64, y: f64| {
         let (ym, yi) = (
             crate::multiscale::mrl::mrl_pair(y).1,
@@ -166,15 +160,11 @@ pub(super) fn compute(spec: &FitSpec, all: &[FitSpec], preset: Preset) -> Result
     let held_clamp: Vec<(f64, f64, f64)> = held
         .iter()
         .copied()
-        .filter(|p| p.2 <= me_spec.domain.alpha_max)
+        .filter(|p| p.2 <= me.alpha_max)
         .collect();
     let ours = stats(&held_clamp, &product);
     // per-point fits under every metric (expensive)
-    let m = if preset == Preset::Quick {
-        g.metric_points.min(3)
-    } else {
-        g.metric_points
-    };
+    let m = g.metric_points;
     let axis = training_alphas(m, lo, hi);
     let pairs = grid(&axis);
     let pb = crate::progress::Progress::new(

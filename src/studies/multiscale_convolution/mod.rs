@@ -2,6 +2,19 @@
 //! paper's Eq 7 and its refit, engine rules, and a model with both limits built in
 //! (seed 000 §3.4–3.5, Eq 6–7). Compute (the fits: [`compute`]; every number shown:
 //! [`judged`]), then render (report: [`report`]; plots: [`plots`]; the typed result).
+//!
+//! - **Targets:** the unclipped moment metric in closed form (ρ(α) = ρ(α_me) ρ(α_mi)) on
+//!   a dense `dense_points`² grid, log-uniform over [`alpha_min`, `alpha_max`]² (held out:
+//!   half a step off); the clipped moment, L2 and caps metrics fitted per point by
+//!   quadrature of Eq 6 and Brent (argmin) on a `metric_points`² grid.
+//! - **Ours (moment metric):** α = α_me-fit(1 − ρ(α_me) ρ(α_mi)), the product identity
+//!   through the fit of fits/multiscale-alpha-me.toml, no coefficients of its own. Other
+//!   metrics: α_mom · exp(Σ c_i b_i) over 10 basis functions of s = α_mi/(α_mi + α_me),
+//!   g = 4s(1 − s), p = α_mi α_me, l = ln hypot(α_mi, α_me) that vanish at both limits,
+//!   fitted by SVD least squares with relative weights. Also reported: α² = α_mi² + α_me² +
+//!   α_mi α_me P2(α_mi, α_me).
+//! - **Baseline:** Eq 7 as printed, and refitted by least squares on its basis
+//!   {α_mi², α_mi, α_me, α_mi α_me}.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -12,10 +25,12 @@ use std::path::Path;
 
 mod compute;
 mod judged;
+mod params;
 mod plots;
 mod report;
 
 use compute::{compute, Computed};
+pub use params::Params;
 
 /// One fit of a basis against one metric: its coefficients, in-sample and held-out.
 #[derive(Serialize)]
@@ -74,7 +89,7 @@ pub struct Convolution {
 
 /// Fit and judge (the α_me spec is read from the run's other specs).
 fn run(ctx: &Ctx) -> Result<Convolution> {
-    let c = compute(ctx.spec, ctx.specs, ctx.preset)?;
+    let c = compute(ctx.spec, ctx.params()?, ctx.specs, ctx.preset)?;
     let j = judged::judge(ctx.spec, &c)?;
     Ok(Convolution {
         spec: ctx.spec.clone(),
@@ -137,5 +152,5 @@ impl crate::study::Computed for Convolution {
 
 crate::study::study! {
     /// The convolution study, as the registry holds it.
-    MultiscaleConvolution = "multiscale-convolution", after [], on request false, computes run
+    MultiscaleConvolution = "multiscale-convolution", after [], on request false, params Params, computes run
 }

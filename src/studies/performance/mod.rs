@@ -3,7 +3,7 @@
 //! reaches (recomputed deterministically, same seed as the bench).
 
 use super::convergence::{integrands, run_engine, Engine};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::report::plot::{loglog_svg, Panel, Series};
 use serde::Deserialize;
 use std::path::Path;
@@ -167,14 +167,17 @@ fn error_vs_time(
         evals: u64,
         abs_error: f64,
     }
-    let path = results.join("convergence.json");
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        return Ok("\n(no results/convergence.json: run `cargo run --release -- convergence` for the error-vs-time table)\n".into());
+    let redo = "run `cargo run --release -- convergence`";
+    let Some(rows) = crate::results::read_typed::<Vec<Row>>(
+        &results.join("convergence.json"),
+        "the convergence study's rows",
+        redo,
+    )?
+    else {
+        return Ok(format!(
+            "\n(no results/convergence.json: {redo} for the error-vs-time table)\n"
+        ));
     };
-    let rows: Vec<Row> = serde_json::from_str(&text).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        msg: e.to_string(),
-    })?;
     let igs = integrands();
     let mut md = String::from(
         "\n## Error against time\n\nTime of each convergence-study point = its evaluations × the ns/eval measured above for \

@@ -4,6 +4,13 @@
 //! scene with the scratches map) — each against the footprint-averaged truth — and the
 //! renderer's own checks against closed forms → results/render.md, results/render/*.png,
 //! results/fits/render.json. Also `render SCENE.toml --out DIR` for one scene.
+//!
+//! Nothing is fitted: each method shades one centre sample per pixel through the shipped
+//! f32 code, the map read trilinearly from its linear mip chain, with the refitted
+//! constants of results/fits/filters.json; the truth is the supersampled footprint
+//! average. Measures: RMSE and relative MSE of linear radiance, ꟻLIP of the tone-mapped
+//! images, flicker (mean |Δ| between frames) against the truth's. The spec's tolerance
+//! bounds the renderer's checks against closed forms.
 
 pub mod report;
 
@@ -32,52 +39,81 @@ pub const SCENES: [(&str, &str); 3] = [
     ),
 ];
 
-/// The scene at the preset's size: quick renders 64² with a quarter of the samples,
-/// default as written (256²), precise 512² with twice the samples.
-pub fn at_preset(mut s: Scene, preset: Preset) -> Scene {
-    let (side, samples): (usize, f64) = match preset {
-        Preset::Quick => (64, 0.25),
-        Preset::Default => (s.camera.width, 1.0),
-        Preset::Precise => (512, 2.0),
-    };
-    let k = side as f64 / s.camera.width as f64;
-    s.camera.width = side;
-    s.camera.height = ((s.camera.height as f64 * k).round() as usize).max(8) & !1;
-    s.render.truth_samples = ((s.render.truth_samples as f64 * samples).round() as usize).max(2);
-    if preset == Preset::Quick {
-        if let Some(p) = &mut s.camera.path {
-            p.frames = p.frames.min(8);
-        }
-        s.render.scales.truncate(4);
-    }
-    s
+/// What fits/render.toml sets: the renders' sizes and the glint models' scale.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// Image width in pixels (the height keeps the scene's aspect, even, ≥ 8); absent: as
+    /// each scene is written.
+    #[serde(default)]
+    pub side: Option<usize>,
+    /// Each scene's truth samples are multiplied by this (at least 2 remain).
+    pub truth_sample_scale: f64,
+    /// At most this many frames of a camera path, and view scales (absent: all).
+    #[serde(default)]
+    pub max_frames: Option<usize>,
+    #[serde(default)]
+    pub max_scales: Option<usize>,
+    /// The glint set's CP models.
+    pub glints: GlintPlan,
 }
 
-/// The CP models' scale per preset.
-pub fn glint_plan(preset: Preset) -> GlintPlan {
-    match preset {
-        Preset::Quick => GlintPlan {
-            res: 32,
-            stride: 64,
-            t: 16,
-            ranks: [2, 4, 8],
-            iters: 10,
-        },
-        Preset::Default => GlintPlan {
-            res: 64,
-            stride: 16,
-            t: 16,
-            ranks: [8, 16, 32],
-            iters: 120,
-        },
-        Preset::Precise => GlintPlan {
-            res: 128,
-            stride: 8,
-            t: 16,
-            ranks: [8, 16, 32],
-            iters: 200,
-        },
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::within;
+        if let Some(s) = self.side {
+            within("side", s, 8, 4096)?;
+        }
+        within("truth_sample_scale", self.truth_sample_scale, 1e-3, 64.0)?;
+        if let Some(f) = self.max_frames {
+            within("max_frames", f, 1, 10_000)?;
+        }
+        if let Some(f) = self.max_scales {
+            within("max_scales", f, 1, 64)?;
+        }
+        let g = &self.glints;
+        within("glints.res", g.res, 4, 1024)?;
+        within("glints.stride", g.stride, 1, 1024)?;
+        within("glints.t", g.t, 2, g.res.max(2))?;
+        if g.res % g.t != 0 {
+            return Err(format!(
+                "glints.res = {} must split into glints.t = {} blocks",
+                g.res, g.t
+            ));
+        }
+        for (i, &r) in g.ranks.iter().enumerate() {
+            within(&format!("glints.ranks[{i}]"), r, 1, g.t * g.t)?;
+        }
+        within("glints.iters", g.iters, 1, 100_000)
     }
+}
+
+/// fits/render.toml as this build compiled it in: the glint plan of `render SCENE.toml`.
+const SPEC: &str = include_str!("../../../fits/render.toml");
+
+/// The study's parameters at `preset`, from the compiled-in spec.
+pub fn builtin_params(preset: Preset) -> Result<Params> {
+    FitSpec::parse(SPEC, "fits/render.toml (compiled in)")?.params(preset)
+}
+
+/// The scene at the study's size: the width, truth samples, frames and scales `p` sets.
+pub fn sized(mut s: Scene, p: &Params) -> Scene {
+    if let Some(side) = p.side {
+        let k = side as f64 / s.camera.width as f64;
+        s.camera.width = side;
+        s.camera.height = ((s.camera.height as f64 * k).round() as usize).max(8) & !1;
+    }
+    s.render.truth_samples =
+        ((s.render.truth_samples as f64 * p.truth_sample_scale).round() as usize).max(2);
+    if let Some(f) = p.max_frames {
+        if let Some(path) = &mut s.camera.path {
+            path.frames = path.frames.min(f);
+        }
+    }
+    if let Some(n) = p.max_scales {
+        s.render.scales.truncate(n);
+    }
+    s
 }
 
 /// Render and measure one scene; write its pictures into `pictures`.
@@ -90,7 +126,7 @@ pub fn render_one(
     pictures: &Path,
 ) -> Result<(Render, measure::Measured, Vec<std::path::PathBuf>)> {
     let c = crate::render::constants(results)?;
-    let r = crate::render::render(scene, base, &c, &glint_plan(preset))?;
+    let r = crate::render::render(scene, base, &c, &builtin_params(preset)?.glints)?;
     let m = measure::measure_render(&r);
     let files = report::put_pictures(set, pictures, &r, &m, report::TILE.min(r.width))?;
     Ok((r, m, files))
@@ -191,6 +227,7 @@ impl Computed {
 
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let (results, preset) = (c.results, c.preset);
+    let pa: Params = c.params()?;
     let checks: Vec<check::CheckResult> = check::scenes()
         .iter()
         .map(|(name, text, nodes)| {
@@ -205,7 +242,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let constants = crate::render::constants(results)?;
     let mut sections = Vec::new();
     for (k, (name, text)) in SCENES.iter().enumerate() {
-        let base = at_preset(Scene::parse(text, name)?, preset);
+        let base = sized(Scene::parse(text, name)?, &pa);
         let mut variants = vec![base.clone()];
         if base.render.methods == crate::render::scene::MethodSet::Glints {
             let mut s = base.clone();
@@ -226,12 +263,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
                 s.camera.height,
                 s.render.scales.len() * s.frames()
             ));
-            let render = crate::render::render(
-                &s,
-                Path::new("fits/render"),
-                &constants,
-                &glint_plan(preset),
-            )?;
+            let render =
+                crate::render::render(&s, Path::new("fits/render"), &constants, &pa.glints)?;
             let measured = measure::measure_render(&render);
             rendered.push(Rendered { render, measured });
         }
@@ -315,5 +348,5 @@ struct RenderResult<'a> {
 crate::study::study! {
     /// The rendered evidence; the renders read the footprint study's refitted constants, as the
     /// registry holds it.
-    RenderStudy = "render", after ["filters"], on request false, computes compute
+    RenderStudy = "render", after ["filters"], on request false, params Params, computes compute
 }

@@ -13,35 +13,51 @@ use crate::tensor::cp::{cp_als, AlsOptions, Cp, Tensor3};
 use crate::tensor::sample::ChiSquare;
 use rayon::prelude::*;
 
-/// The settings a preset gives.
-pub(super) struct Settings {
+/// What fits/tensor.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Settings {
+    /// Side of the procedural maps (2×2 spatial clusters of size/2 texels).
     pub size: usize,
+    /// P-NDF image side.
     pub res: usize,
+    /// CP ranks tried.
     pub ranks: Vec<usize>,
+    /// ALS iteration cap and stop tolerance (|Δ relative error| between sweeps).
     pub iters: usize,
+    pub als_tolerance: f64,
+    /// Footprint stride at level 0, in texels.
     pub stride: usize,
+    /// Block side t of the t × t × L tensors.
     pub t: usize,
+    /// Intrinsic roughness σ_r of the P-NDF images.
     pub sigma_r: f64,
-    pub region: usize,
+}
+
+impl crate::fit::spec::Params for Settings {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, within};
+        within("size", self.size, 16, 1024)?;
+        within("t", self.t, 2, 64)?;
+        within("res", self.res, self.t, 1024)?;
+        if self.res % self.t != 0 {
+            return Err(format!(
+                "res = {} must split into t = {} blocks",
+                self.res, self.t
+            ));
+        }
+        all_within("ranks", &self.ranks, 1, self.t * self.t, 16)?;
+        within("iters", self.iters, 1, 100_000)?;
+        within("als_tolerance", self.als_tolerance, 1e-15, 0.5)?;
+        within("stride", self.stride, 1, self.size)?;
+        within("sigma_r", self.sigma_r, 1e-4, 1.0)
+    }
 }
 
 impl Settings {
-    fn new(preset: Preset) -> Settings {
-        let (size, res, ranks, iters): (usize, usize, Vec<usize>, usize) = match preset {
-            Preset::Quick => (32, 32, vec![2, 4], 50),
-            Preset::Default => (64, 64, vec![4, 8, 16, 32], 200),
-            Preset::Precise => (128, 128, vec![4, 8, 16, 32], 500),
-        };
-        Settings {
-            size,
-            res,
-            ranks,
-            iters,
-            stride: 8,
-            t: 16,
-            sigma_r: 0.02,
-            region: size / 2, // 2×2 spatial clusters
-        }
+    /// Texels per side of a spatial cluster (2×2 clusters).
+    pub fn region(&self) -> usize {
+        self.size / 2
     }
 }
 
@@ -81,7 +97,7 @@ pub struct Computed {
 /// Compress every map kind at every rank, then run the query and sampling checks.
 pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
-    let s = Settings::new(preset);
+    let s: Settings = c.params()?;
     let (stride, t, sigma_r, iters) = (s.stride, s.t, s.sigma_r, s.iters);
     let ranks = &s.ranks;
     let mut rows = Vec::new();
@@ -108,7 +124,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
                     .map(|tt| {
                         let o = AlsOptions {
                             rank: r.min(tt.shape[2] * t),
-                            tol: spec.tolerance.max_rel,
+                            tol: s.als_tolerance,
                             max_iters: iters,
                             restarts: 2,
                             seed: spec.seed,

@@ -10,11 +10,11 @@ use crate::report::table::Table;
 pub(super) fn markdown(k: &Computed) -> String {
     let s = &k.s;
     let (size, res, sigma_r, stride, t, region, iters) =
-        (s.size, s.res, s.sigma_r, s.stride, s.t, s.region, s.iters);
+        (s.size, s.res, s.sigma_r, s.stride, s.t, s.region(), s.iters);
     let mut md = format!(
         "# Tensor-compressed P-NDF images (seed 002)\n\nWritten by `cargo run --release -- regen --only tensor` (preset {}) from `fits/tensor.toml`. P-NDF images (seed 002 Eq 2) by brute force over texels: {size}² procedural maps, image {res}² over the projected hemisphere, intrinsic roughness σ_r = {sigma_r}, footprints on a grid of stride s = {stride} with σ_P = 1.5 s/√12 at level 0, each further level 2×2 sparser and twice wider until the stride reaches the map size (§4.1). Blocks t × t = {t}², all-zero blocks dropped, clustered by {region}² texel regions into t × t × L tensors (§4.2), CP-ALS with tolerance {} (stop when the relative error changes by less than it between sweeps, the Tensor Toolbox / TensorLy rule) and ≤ {iters} iterations, 2 seeded restarts. Compression = CP storage R(2t + L + 1) over the non-empty blocks' t²L values.\n\n## Error and compression against rank (§4.2)\n\n",
         k.preset.name(),
-        k.spec.tolerance.max_rel
+        k.s.als_tolerance
     );
     let mut tb = Table::new([
         "map",

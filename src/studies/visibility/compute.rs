@@ -4,7 +4,6 @@
 
 use crate::error::Result;
 use crate::filters::truth::{compare, Candidate, Footprint, Frame, Truth};
-use crate::integrate::Preset;
 use crate::microfacet::{Microsurface, NdfKind};
 use crate::visibility::horizon::{self, Dir, HdfMoments, LegendreHorizon};
 use crate::visibility::procedural::{self, Spectral, Waves};
@@ -17,43 +16,64 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::PI;
 
-/// Sizes for a preset.
-#[derive(Clone, Debug, Serialize)]
+/// What fits/visibility.toml sets: the sizes of every measurement.
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Plan {
+    /// Side of the two procedural height fields of the horizon study (a power of two).
     pub height_size: usize,
+    /// Footprint levels (2^L texels) of the horizon study.
     pub levels: Vec<usize>,
+    /// Footprints per level.
     pub footprints: usize,
+    /// Side of the shadow study's occluder maps, its levels and footprints per level.
     pub shadow_size: usize,
     pub shadow_levels: Vec<usize>,
     pub shadow_footprints: usize,
+    /// Filter widths of the procedural-colour study.
     pub widths: usize,
+    /// Cases per procedural normal map.
     pub normal_cases: usize,
+    /// Light samples per lobe.
     pub samples: usize,
 }
 
-impl Plan {
-    pub fn new(p: Preset) -> Plan {
-        let quick = p == Preset::Quick;
-        Plan {
-            height_size: if quick { 64 } else { 128 },
-            levels: if quick {
-                vec![1, 2, 3]
-            } else {
-                vec![1, 2, 3, 4]
-            },
-            footprints: if quick { 3 } else { 10 },
-            shadow_size: if quick { 64 } else { 256 },
-            shadow_levels: if quick {
-                vec![1, 2, 3]
-            } else {
-                vec![1, 2, 3, 4, 5]
-            },
-            shadow_footprints: if quick { 8 } else { 40 },
-            widths: if quick { 40 } else { 400 },
-            normal_cases: if quick { 2 } else { 6 },
-            samples: if quick { 256 } else { 1024 },
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, within};
+        for (key, v) in [
+            ("height_size", self.height_size),
+            ("shadow_size", self.shadow_size),
+        ] {
+            within(key, v, 16, 4096)?;
+            if !v.is_power_of_two() {
+                return Err(format!("{key} = {v} must be a power of two"));
+            }
         }
+        let top = |n: usize| n.trailing_zeros() as usize - 1;
+        all_within("levels", &self.levels, 1, top(self.height_size), 16)?;
+        all_within(
+            "shadow_levels",
+            &self.shadow_levels,
+            1,
+            top(self.shadow_size),
+            16,
+        )?;
+        within("footprints", self.footprints, 1, 10_000)?;
+        within("shadow_footprints", self.shadow_footprints, 1, 10_000)?;
+        within("widths", self.widths, 2, 100_000)?;
+        within("normal_cases", self.normal_cases, 1, 1_000)?;
+        within("samples", self.samples, 16, 1 << 20)
     }
+}
+
+/// fits/visibility.toml as this build compiled it in: the plan of the commands that run
+/// the study's measurements on a user's input (`horizon`).
+const SPEC: &str = include_str!("../../../fits/visibility.toml");
+
+/// The study's plan at `preset`, from the compiled-in spec.
+pub fn builtin_plan(preset: crate::integrate::Preset) -> crate::error::Result<Plan> {
+    crate::fit::spec::FitSpec::parse(SPEC, "fits/visibility.toml (compiled in)")?.params(preset)
 }
 
 /// Legendre orders of the horizon study.

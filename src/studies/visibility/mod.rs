@@ -27,6 +27,7 @@ pub use compute::{
     LEGENDRE_K,
 };
 
+pub use compute::builtin_plan;
 pub use user_map::horizon_file;
 
 /// What the study computed: the measured cases and their aggregates.
@@ -40,7 +41,7 @@ pub struct Computed {
 /// Measure every case of the plan the preset gives, and aggregate them.
 fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, preset) = (c.spec, c.preset);
-    let plan = Plan::new(preset);
+    let plan: Plan = c.params()?;
     let seed = spec.seed;
     let m = Measured {
         horizon: horizon_cases(
@@ -120,5 +121,5 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The visibility survey, as the registry holds it.
-    Visibility = "visibility", after [], on request false, computes compute
+    Visibility = "visibility", after [], on request false, params Plan, computes compute
 }

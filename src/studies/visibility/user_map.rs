@@ -1,7 +1,7 @@
 //! `horizon --input HEIGHT.png`: the horizon-map study of results/visibility.md on
 //! a user's height map.
 
-use super::compute::{horizon_cases, Plan};
+use super::compute::horizon_cases;
 use super::report;
 use crate::error::Result;
 use crate::integrate::Preset;
@@ -19,7 +19,7 @@ pub fn horizon_file(
     preset: Preset,
 ) -> Result<Vec<String>> {
     let (hf, note) = HeightField::read_png(input, scale)?;
-    let mut plan = Plan::new(preset);
+    let mut plan = super::compute::builtin_plan(preset)?;
     let max_level = hf.size.trailing_zeros() as usize;
     plan.levels.retain(|&l| l < max_level);
     let cases = horizon_cases(std::slice::from_ref(&hf), &plan, 19)?;
