@@ -194,3 +194,59 @@ pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
         sampled_no_worse: sampled.iter().filter(|x| x.0 <= x.1 * 1.001).count(),
     }
 }
+
+/// Every aggregate the report and the plots show of one engine path, computed once.
+pub struct FormSummary {
+    pub cells: Summary,
+    pub squares: Summary,
+    /// The grazing rows (t ≥ 56/63) of the cells and of the squares.
+    pub cells_grazing: Summary,
+    pub squares_grazing: Summary,
+    /// Per view row j, its cells.
+    pub rows: Vec<Summary>,
+    /// The places where ours is worse beyond both error bars, the largest ratio ours /
+    /// shipped of the relative L2 first: (index, ours, shipped).
+    pub worse_cells: Vec<(usize, LobeError, LobeError)>,
+    pub worse_squares: Vec<(usize, LobeError, LobeError)>,
+}
+
+/// The places of `v` where ours is worse, worst ratio first.
+fn worse_places(v: &[Pair]) -> Vec<(usize, LobeError, LobeError)> {
+    let mut bad: Vec<(usize, LobeError, LobeError)> = v
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| Some((k, p.ours?, p.shipped?)))
+        .filter(|(_, o, s)| worse(&o.l2, &s.l2))
+        .collect();
+    bad.sort_by(|a, b| {
+        (b.1.l2.value / b.2.l2.value.max(1e-300))
+            .total_cmp(&(a.1.l2.value / a.2.l2.value.max(1e-300)))
+    });
+    bad
+}
+
+/// The aggregates of every form of an `n`×`n` comparison.
+pub fn summaries(n: usize, forms: &[Form]) -> Vec<FormSummary> {
+    let grazing = |v: &[Pair], w: usize| {
+        summarise(
+            v.iter()
+                .enumerate()
+                .filter(|(k, _)| 63 * (k / w) >= 56 * (n - 1))
+                .map(|x| x.1),
+        )
+    };
+    forms
+        .iter()
+        .map(|f| FormSummary {
+            cells: summarise(f.cells.iter()),
+            squares: summarise(f.squares.iter()),
+            cells_grazing: grazing(&f.cells, n),
+            squares_grazing: grazing(&f.squares, n - 1),
+            rows: (0..n)
+                .map(|j| summarise(f.cells[n * j..n * (j + 1)].iter()))
+                .collect(),
+            worse_cells: worse_places(&f.cells),
+            worse_squares: worse_places(&f.squares),
+        })
+        .collect()
+}

@@ -10,7 +10,7 @@ mod compute;
 mod render;
 
 use compute::{compare_all, Tables};
-pub use compute::{summarise, Form, Pair};
+pub use compute::{summaries, summarise, Form, FormSummary, Pair};
 
 use crate::error::{Error, Result};
 use crate::ltc::compare::{of_table, stored_half, Shipped};
@@ -111,16 +111,17 @@ pub fn run(
         bevy,
     };
     let forms = compare_all(&tables)?;
+    let n = ours.n;
+    let sums = summaries(n, &forms);
     // the same after judging: a path on which no place could be judged is no comparison
-    for f in &forms {
-        if summarise(f.cells.iter()).count == 0 {
+    for (f, fs) in forms.iter().zip(&sums) {
+        if fs.cells.count == 0 {
             return Err(Error::InvalidArgument(format!(
                 "ltc-compare: on the {} path no cell of the two tables could be judged (no finite lobe with a positive norm on both sides); nothing written",
                 f.name
             )));
         }
     }
-    let n = ours.n;
     let command = format!(
         "cargo run --release -- ltc-compare --shipped {}{}",
         inp.shipped.display(),
@@ -137,14 +138,14 @@ pub fn run(
         tol.abs,
         upload::THREE_MIN_ROUGHNESS,
     );
-    let mut md = markdown(n, &forms, &header);
+    let mut md = markdown(n, &forms, &sums, &header);
     md.push_str(&half_section(
         &shipped,
         &tables.three_f16,
         tables.bevy.as_ref(),
     ));
     md.push_str(&norms_section(&ours, &shipped, &forms[0]));
-    let (heat, rows) = heatmaps(n, &forms)?;
+    let (heat, rows) = heatmaps(n, &forms, &sums)?;
     let json = crate::results::compare::LtcCompare {
         command: command.clone(),
         source: inp.source.map(str::to_string),
@@ -160,10 +161,11 @@ pub fn run(
             .into(),
         summary: forms
             .iter()
-            .flat_map(|f| {
+            .zip(&sums)
+            .flat_map(|(f, fs)| {
                 [
-                    (format!("{} cells", f.name), summarise(f.cells.iter())),
-                    (format!("{} squares", f.name), summarise(f.squares.iter())),
+                    (format!("{} cells", f.name), fs.cells.clone()),
+                    (format!("{} squares", f.name), fs.squares.clone()),
                 ]
             })
             .collect(),
@@ -178,8 +180,7 @@ pub fn run(
             .map_err(|e| Error::InvalidArgument(format!("ltc-compare: json: {e}")))?
             .as_bytes(),
     );
-    let c = summarise(forms[0].cells.iter());
-    let s = summarise(forms[0].squares.iter());
+    let (c, s) = (&sums[0].cells, &sums[0].squares);
     Ok(format!(
         "wrote {}: three.js FloatType cells: ours better in {}, worse in {} of {}, mean rel. L2 ours {} vs shipped {}; squares: better in {}, worse in {} of {}, mean {} vs {}",
         out.join("ltc-compare.md").display(),

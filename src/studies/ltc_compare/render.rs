@@ -1,7 +1,7 @@
 //! The rendering of `ltc-compare` (`studies::ltc_compare`): the markdown report and the heat
 //! maps of a comparison already computed. Formats only.
 
-use super::compute::{summarise, worse, Form, Pair};
+use super::compute::{worse, Form, FormSummary, Pair};
 use crate::error::Result;
 use crate::ltc::compare::alpha_theta;
 use crate::ltc::compare::Shipped;
@@ -9,7 +9,7 @@ use crate::ltc::lobe_error::LobeError;
 use crate::report::table::Table;
 
 /// The markdown report.
-pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
+pub fn markdown(n: usize, forms: &[Form], sums: &[FormSummary], header: &str) -> String {
     let mut md = header.to_string();
     md.push_str("## Summary\n\nRelative L2 ‖f − norm·γ_M‖/‖f‖ and relative L1 ∫|f − norm·γ_M|/∫f of each table as the engine holds it, mean over the places the engine reaches, ± the mean error bar; \"better\" and \"worse\" count the places where the two tables' relative L2 differ by more than their two error bars together (the rest are tied).\n\n");
     let mut t = Table::new([
@@ -24,18 +24,11 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
         "rows t ≥ 56: ours L2",
         "rows t ≥ 56: shipped L2",
     ]);
-    for f in forms {
-        for (what, v, w) in [
-            ("cells", &f.cells, n),
-            ("squares (bilinear)", &f.squares, n - 1),
+    for (f, fs) in forms.iter().zip(sums) {
+        for (what, s, g) in [
+            ("cells", &fs.cells, &fs.cells_grazing),
+            ("squares (bilinear)", &fs.squares, &fs.squares_grazing),
         ] {
-            let s = summarise(v.iter());
-            let g = summarise(
-                v.iter()
-                    .enumerate()
-                    .filter(|(k, _)| 63 * (k / w) >= 56 * (n - 1))
-                    .map(|x| x.1),
-            );
             t.row([
                 f.name.to_string(),
                 what.to_string(),
@@ -65,9 +58,8 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
         "sampled: ours no worse",
         "integrals: ours better or tied",
     ]);
-    for f in forms {
-        for (what, v) in [("cells", &f.cells), ("squares", &f.squares)] {
-            let s = summarise(v.iter());
+    for (f, fs) in forms.iter().zip(sums) {
+        for (what, s) in [("cells", &fs.cells), ("squares", &fs.squares)] {
             t.row([
                 f.name.to_string(),
                 what.to_string(),
@@ -98,26 +90,19 @@ pub fn markdown(n: usize, forms: &[Form], header: &str) -> String {
     );
     for j in 0..n {
         t.row(
-            std::iter::once(j.to_string()).chain(forms.iter().flat_map(|f| {
-                let s = summarise(f.cells[n * j..n * (j + 1)].iter());
+            std::iter::once(j.to_string()).chain(sums.iter().flat_map(|fs| {
+                let s = &fs.rows[j];
                 [s.ours_l2.mean.pct(2), s.shipped_l2.mean.pct(2)]
             })),
         );
     }
     md.push_str(&t.to_string());
     md.push('\n');
-    for f in forms {
-        for (what, v, w) in [("cells", &f.cells, n), ("squares", &f.squares, n - 1)] {
-            let mut bad: Vec<(usize, &LobeError, &LobeError)> = v
-                .iter()
-                .enumerate()
-                .filter_map(|(k, p)| Some((k, p.ours.as_ref()?, p.shipped.as_ref()?)))
-                .filter(|(_, o, s)| worse(&o.l2, &s.l2))
-                .collect();
-            bad.sort_by(|a, b| {
-                (b.1.l2.value / b.2.l2.value.max(1e-300))
-                    .total_cmp(&(a.1.l2.value / a.2.l2.value.max(1e-300)))
-            });
+    for (f, fs) in forms.iter().zip(sums) {
+        for (what, bad, w) in [
+            ("cells", &fs.worse_cells, n),
+            ("squares", &fs.worse_squares, n - 1),
+        ] {
             md.push_str(&format!("## Worst {what} for ours, {} (ratio ours/shipped of the relative L2; {} places worse beyond the error bars)\n\n", f.name, bad.len()));
             let mut t = Table::new(["i", "j", "α", "θ", "ours", "shipped", "ratio"]);
             let off = if what == "cells" { 0.0 } else { 0.5 };
@@ -231,7 +216,7 @@ pub(super) fn half_section(
 
 /// ltc-compare.svg (ours, shipped, log10 ratio; three.js FloatType cells) and
 /// ltc-compare-rows.svg.
-pub fn heatmaps(n: usize, forms: &[Form]) -> Result<(String, String)> {
+pub fn heatmaps(n: usize, forms: &[Form], sums: &[FormSummary]) -> Result<(String, String)> {
     use crate::report::plot::{heatmap_svg, loglog_svg, HeatPanel, Panel, Series};
     let x: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
     let l2 = |e: &Option<LobeError>| e.map_or(f64::NAN, |e| e.l2.value);
@@ -276,11 +261,11 @@ pub fn heatmaps(n: usize, forms: &[Form]) -> Result<(String, String)> {
         1500,
         560,
     )?;
-    let row = |f: &Form, ours: bool| Series {
+    let row = |f: &Form, fs: &FormSummary, ours: bool| Series {
         name: format!("{} {}", if ours { "ours" } else { "shipped" }, f.name),
         points: (1..n)
             .filter_map(|j| {
-                let s = summarise(f.cells[n * j..n * (j + 1)].iter());
+                let s = &fs.rows[j];
                 let v = if ours { s.ours_l2 } else { s.shipped_l2 }.mean.value;
                 v.is_finite()
                     .then_some((j as f64 / (n - 1) as f64, v.max(1e-6)))
@@ -294,7 +279,8 @@ pub fn heatmaps(n: usize, forms: &[Form]) -> Result<(String, String)> {
             y_label: "mean relative L2".into(),
             series: forms
                 .iter()
-                .flat_map(|f| [row(f, true), row(f, false)])
+                .zip(sums)
+                .flat_map(|(f, fs)| [row(f, fs, true), row(f, fs, false)])
                 .collect(),
         }],
         900,
