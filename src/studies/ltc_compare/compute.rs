@@ -250,3 +250,93 @@ pub fn summaries(n: usize, forms: &[Form]) -> Vec<FormSummary> {
         })
         .collect()
 }
+
+/// Order statistics of the ratios shipped norm / our albedo over some cells.
+pub struct RatioStats {
+    pub count: usize,
+    pub min: f64,
+    pub median: f64,
+    pub max: f64,
+    /// Mean |ratio − 1|.
+    pub mean_abs_dev: f64,
+    /// How many ratios are below 1 (less energy than the BRDF).
+    pub below_one: usize,
+}
+
+impl RatioStats {
+    fn of(v: &[f64]) -> RatioStats {
+        let mut s = v.to_vec();
+        s.sort_by(f64::total_cmp);
+        RatioStats {
+            count: v.len(),
+            min: s.first().copied().unwrap_or(f64::NAN),
+            median: s.get(s.len() / 2).copied().unwrap_or(f64::NAN),
+            max: s.last().copied().unwrap_or(f64::NAN),
+            mean_abs_dev: v.iter().map(|r| (r - 1.0).abs()).sum::<f64>() / v.len().max(1) as f64,
+            below_one: v.iter().filter(|r| **r < 1.0).count(),
+        }
+    }
+}
+
+/// The shipped norms against our albedo: over every cell, and over the cells of `f32_cells`
+/// where the shipped table is better beyond both error bars.
+pub struct NormRatios {
+    pub all: RatioStats,
+    pub where_shipped_better: RatioStats,
+}
+
+pub fn norm_ratios(ours: &Shipped, shipped: &Shipped, f32_cells: &Form) -> NormRatios {
+    let ratio = |k: usize| shipped.mag[k][0] / ours.mag[k][0];
+    let all: Vec<f64> = (0..ours.mat.len())
+        .map(ratio)
+        .filter(|r| r.is_finite())
+        .collect();
+    let better: Vec<f64> = f32_cells
+        .cells
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| match (&p.ours, &p.shipped) {
+            (Some(o), Some(s)) => worse(&o.l2, &s.l2),
+            _ => false,
+        })
+        .map(|(k, _)| ratio(k))
+        .filter(|r| r.is_finite())
+        .collect();
+    NormRatios {
+        all: RatioStats::of(&all),
+        where_shipped_better: RatioStats::of(&better),
+    }
+}
+
+/// How three.js's and Bevy's binary16 tables relate to round-to-nearest of the shipped
+/// numbers.
+pub struct HalfCounts {
+    /// Matrix values of the shipped table.
+    pub values: usize,
+    /// Of them, where three.js's truncation differs from round-to-nearest.
+    pub three_below_nearest: usize,
+    /// Bevy's (values, equal to round-to-nearest, equal to three.js's truncation).
+    pub bevy: Option<(usize, usize, usize)>,
+}
+
+pub fn half_counts(shipped: &Shipped, three_f16: &Shipped, bevy: Option<&Shipped>) -> HalfCounts {
+    let values = |t: &Shipped| -> Vec<f64> { t.mat.iter().flatten().copied().collect::<Vec<_>>() };
+    let src = values(shipped);
+    let nearest: Vec<f64> = src
+        .iter()
+        .map(|x| half::f16::from_f64(*x).to_f64())
+        .collect();
+    let three = values(three_f16);
+    HalfCounts {
+        values: src.len(),
+        three_below_nearest: three.iter().zip(&nearest).filter(|(a, b)| a != b).count(),
+        bevy: bevy.map(|b| {
+            let bv = values(b);
+            (
+                bv.len(),
+                bv.iter().zip(&nearest).filter(|(a, b)| a == b).count(),
+                bv.iter().zip(&three).filter(|(a, b)| a == b).count(),
+            )
+        }),
+    }
+}

@@ -9,7 +9,7 @@
 mod compute;
 mod render;
 
-use compute::{compare_all, Tables};
+use compute::{compare_all, half_counts, norm_ratios, Tables};
 pub use compute::{summaries, summarise, Form, FormSummary, Pair};
 
 use crate::error::{Error, Result};
@@ -139,12 +139,12 @@ pub fn run(
         upload::THREE_MIN_ROUGHNESS,
     );
     let mut md = markdown(n, &forms, &sums, &header);
-    md.push_str(&half_section(
+    md.push_str(&half_section(&half_counts(
         &shipped,
         &tables.three_f16,
         tables.bevy.as_ref(),
-    ));
-    md.push_str(&norms_section(&ours, &shipped, &forms[0]));
+    )));
+    md.push_str(&norms_section(&norm_ratios(&ours, &shipped, &forms[0])));
     let (heat, rows) = heatmaps(n, &forms, &sums)?;
     let json = crate::results::compare::LtcCompare {
         command: command.clone(),

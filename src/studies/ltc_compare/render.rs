@@ -1,10 +1,9 @@
 //! The rendering of `ltc-compare` (`studies::ltc_compare`): the markdown report and the heat
 //! maps of a comparison already computed. Formats only.
 
-use super::compute::{worse, Form, FormSummary, Pair};
+use super::compute::{Form, FormSummary, HalfCounts, NormRatios, Pair};
 use crate::error::Result;
 use crate::ltc::compare::alpha_theta;
-use crate::ltc::compare::Shipped;
 use crate::ltc::lobe_error::LobeError;
 use crate::report::table::Table;
 
@@ -131,80 +130,37 @@ pub fn markdown(n: usize, forms: &[Form], sums: &[FormSummary], header: &str) ->
 
 /// The shipped norms against our albedo (by quadrature, error ≤ 1e-9): over the table,
 /// and at the cells where the shipped table is better.
-pub fn norms_section(ours: &Shipped, shipped: &Shipped, f32_cells: &Form) -> String {
-    let ratio = |k: usize| shipped.mag[k][0] / ours.mag[k][0];
-    let all: Vec<f64> = (0..ours.mat.len())
-        .map(ratio)
-        .filter(|r| r.is_finite())
-        .collect();
-    let better: Vec<usize> = f32_cells
-        .cells
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| match (&p.ours, &p.shipped) {
-            (Some(o), Some(s)) => worse(&o.l2, &s.l2),
-            _ => false,
-        })
-        .map(|(k, _)| k)
-        .collect();
-    let worse_r: Vec<f64> = better
-        .iter()
-        .map(|&k| ratio(k))
-        .filter(|r| r.is_finite())
-        .collect();
-    let stats = |v: &[f64]| {
-        let mut s = v.to_vec();
-        s.sort_by(f64::total_cmp);
-        let med = s.get(s.len() / 2).copied().unwrap_or(f64::NAN);
-        let mean_abs = v.iter().map(|r| (r - 1.0).abs()).sum::<f64>() / v.len().max(1) as f64;
-        (
-            s.first().copied().unwrap_or(f64::NAN),
-            med,
-            s.last().copied().unwrap_or(f64::NAN),
-            mean_abs,
-            v.iter().filter(|r| **r < 1.0).count(),
-        )
-    };
-    let (a0, a1, a2, a3, _) = stats(&all);
-    let (w0, w1, w2, w3, wl) = stats(&worse_r);
+pub fn norms_section(r: &NormRatios) -> String {
+    let (a, w) = (&r.all, &r.where_shipped_better);
     format!(
         "## The shipped norms against the albedo
 
-The norm channel is the lobe's energy: a light covering the whole hemisphere returns exactly it. Ours is the albedo by quadrature (error ≤ 1e-9). Shipped norm / albedo over all {} cells: min {a0:.4}, median {a1:.4}, max {a2:.4}, mean |ratio − 1| = {:.2} %. At the {} cells where the shipped table is better beyond the error bars (three.js FloatType): min {w0:.4}, median {w1:.4}, max {w2:.4}, mean |ratio − 1| = {:.2} %; {wl} of them carry less energy than the BRDF: a lower norm lowers the L2 error of a lobe shape that cannot follow the BRDF's tail (results/ltc-ggx.md, the floor with an L2-optimal amplitude), and ours keeps the energy exact.\n\n",
-        all.len(),
-        100.0 * a3,
-        worse_r.len(),
-        100.0 * w3,
+The norm channel is the lobe's energy: a light covering the whole hemisphere returns exactly it. Ours is the albedo by quadrature (error ≤ 1e-9). Shipped norm / albedo over all {} cells: min {:.4}, median {:.4}, max {:.4}, mean |ratio − 1| = {:.2} %. At the {} cells where the shipped table is better beyond the error bars (three.js FloatType): min {:.4}, median {:.4}, max {:.4}, mean |ratio − 1| = {:.2} %; {} of them carry less energy than the BRDF: a lower norm lowers the L2 error of a lobe shape that cannot follow the BRDF's tail (results/ltc-ggx.md, the floor with an L2-optimal amplitude), and ours keeps the energy exact.\n\n",
+        a.count,
+        a.min,
+        a.median,
+        a.max,
+        100.0 * a.mean_abs_dev,
+        w.count,
+        w.min,
+        w.median,
+        w.max,
+        100.0 * w.mean_abs_dev,
+        w.below_one,
     )
 }
 
 /// How three.js's and Bevy's binary16 tables relate to round-to-nearest of the shipped
 /// numbers.
-pub(super) fn half_section(
-    shipped: &Shipped,
-    three_f16: &Shipped,
-    bevy: Option<&Shipped>,
-) -> String {
-    let values = |t: &Shipped| -> Vec<f64> { t.mat.iter().flatten().copied().collect::<Vec<_>>() };
-    let src = values(shipped);
-    let nearest: Vec<f64> = src
-        .iter()
-        .map(|x| half::f16::from_f64(*x).to_f64())
-        .collect();
-    let three = values(three_f16);
-    let below = three.iter().zip(&nearest).filter(|(a, b)| a != b).count();
+pub(super) fn half_section(h: &HalfCounts) -> String {
     let mut md = format!(
-        "## Which binary16 table\n\n\"The shipped table in f16\" is two tables. three.js's `DataUtils.toHalfFloat` truncates: {below} of the {} numbers of LTC_MAT_1 sit one binary16 step below round-to-nearest (toward zero). ",
-        src.len()
+        "## Which binary16 table\n\n\"The shipped table in f16\" is two tables. three.js's `DataUtils.toHalfFloat` truncates: {} of the {} numbers of LTC_MAT_1 sit one binary16 step below round-to-nearest (toward zero). ",
+        h.three_below_nearest, h.values
     );
-    match bevy {
-        Some(b) => {
-            let bv = values(b);
-            let same_nearest = bv.iter().zip(&nearest).filter(|(a, b)| a == b).count();
-            let same_three = bv.iter().zip(&three).filter(|(a, b)| a == b).count();
+    match h.bevy {
+        Some((n, same_nearest, same_three)) => {
             md.push_str(&format!(
-                "Bevy's embedded ltc.ktx2 holds {same_nearest} of its {} matrix values equal to round-to-nearest of the same numbers and {same_three} equal to three.js's truncation.\n\n",
-                bv.len()
+                "Bevy's embedded ltc.ktx2 holds {same_nearest} of its {n} matrix values equal to round-to-nearest of the same numbers and {same_three} equal to three.js's truncation.\n\n",
             ));
         }
         None => {
