@@ -34,6 +34,18 @@ pub struct Row {
     pub tensorly_seconds: f64,
 }
 
+/// The comparison over every row of a [`Report`].
+#[derive(Clone, Copy, Debug)]
+pub struct ReportSummary {
+    /// Rows where our error exceeds TensorLy's by more than 0.1 % relative.
+    pub worse: usize,
+    /// Mean of (ours − TensorLy) relative error.
+    pub mean_error_difference: f64,
+    /// Geometric mean and smallest of TensorLy's time over ours.
+    pub geometric_mean_speedup: f64,
+    pub smallest_speedup: f64,
+}
+
 /// What `tensorly-compare` writes.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Report {
@@ -45,6 +57,34 @@ pub struct Report {
     pub max_iters: usize,
     pub repeats: usize,
     pub rows: Vec<Row>,
+}
+
+impl Report {
+    /// Every row compared at once: how often ours is worse, the mean error difference and
+    /// the speed-ups.
+    pub fn summary(&self) -> ReportSummary {
+        let n = self.rows.len().max(1) as f64;
+        let ratios: Vec<f64> = self
+            .rows
+            .iter()
+            .map(|x| x.tensorly_seconds / x.ours_seconds)
+            .collect();
+        ReportSummary {
+            worse: self
+                .rows
+                .iter()
+                .filter(|x| x.ours_error > x.tensorly_error * 1.001)
+                .count(),
+            mean_error_difference: self
+                .rows
+                .iter()
+                .map(|x| x.ours_error - x.tensorly_error)
+                .sum::<f64>()
+                / n,
+            geometric_mean_speedup: (ratios.iter().map(|x| x.ln()).sum::<f64>() / n).exp(),
+            smallest_speedup: ratios.iter().cloned().fold(f64::INFINITY, f64::min),
+        }
+    }
 }
 
 fn python_env(cmd: &mut Command) -> &mut Command {

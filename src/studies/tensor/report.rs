@@ -223,29 +223,14 @@ pub fn tensorly_table(r: &crate::tensor::compare::Report) -> String {
         ]);
     }
     md.push_str(&t.to_string());
-    let n = r.rows.len().max(1) as f64;
-    let worse = r
-        .rows
-        .iter()
-        .filter(|x| x.ours_error > x.tensorly_error * 1.001)
-        .count();
-    let ratios: Vec<f64> = r
-        .rows
-        .iter()
-        .map(|x| x.tensorly_seconds / x.ours_seconds)
-        .collect();
-    let geo = (ratios.iter().map(|x| x.ln()).sum::<f64>() / n).exp();
-    let min = ratios.iter().cloned().fold(f64::INFINITY, f64::min);
-    let mean_d = r
-        .rows
-        .iter()
-        .map(|x| x.ours_error - x.tensorly_error)
-        .sum::<f64>()
-        / n;
+    let s = r.summary();
     md.push_str(&format!(
-        "\nOurs is worse than TensorLy's error (by more than 0.1 % relative) in {worse} of {} cases; mean error difference (ours − TensorLy) {:+.2} percentage points. Speed-up over TensorLy: geometric mean {geo:.1}×, smallest {min:.1}× (goal ≥ 10×).\n",
+        "\nOurs is worse than TensorLy's error (by more than 0.1 % relative) in {} of {} cases; mean error difference (ours − TensorLy) {:+.2} percentage points. Speed-up over TensorLy: geometric mean {:.1}×, smallest {:.1}× (goal ≥ 10×).\n",
+        s.worse,
         r.rows.len(),
-        100.0 * mean_d
+        100.0 * s.mean_error_difference,
+        s.geometric_mean_speedup,
+        s.smallest_speedup
     ));
     md
 }
