@@ -77,6 +77,7 @@ fn edit(spec: &str, from: &str, to: &str) -> String {
     spec.replace(from, to)
 }
 const LAMBDA_SPEC: &str = include_str!("../fits/smith-lambda.toml");
+const TENSOR_SCALE_SPEC: &str = include_str!("../fits/tensor-scale.toml");
 
 #[test]
 fn bad_fit_specs_are_refused_before_anything_is_written() {
@@ -197,6 +198,12 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
             "[precise]",
         ),
         (
+            // 2048 / 48 is no whole region: a region size derived from the spec
+            "regions that do not divide the map",
+            edit(TENSOR_SCALE_SPEC, "regions = 8", "regions = 48"),
+            "regions",
+        ),
+        (
             "lambda points",
             edit(LAMBDA_SPEC, "points = 600", "points = 500000"),
             "points",
@@ -208,12 +215,7 @@ fn bad_fit_specs_are_refused_before_anything_is_written() {
         std::fs::create_dir_all(&fits).unwrap();
         std::fs::write(fits.join("spec.toml"), &text).unwrap();
         let results = d.join("results");
-        let out = bin()
-            .args(["regen", "--preset", "quick"])
-            .arg("--fits")
-            .arg(&fits)
-            .arg("--results")
-            .arg(&results)
+        let out = common::regen_in(&fits, &results, &["--preset", "quick"])
             .output()
             .unwrap();
         assert_typed_error(&out, what, &[needle, "spec.toml"]);
@@ -874,20 +876,13 @@ fn killed_runs_leave_complete_sets_or_none_and_no_temporaries_after_the_next_run
     let results = d.join("results");
     let manifest = ndfbench::io::results_manifest(&results, "multiscale-alpha-me");
     let run = || {
-        let mut c = bin();
-        c.args([
-            "regen",
-            "--only",
-            "multiscale-alpha-me",
-            "--preset",
-            "quick",
-        ])
-        .arg("--fits")
-        .arg(&fits)
-        .arg("--results")
-        .arg(&results)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null());
+        let mut c = common::regen_in(
+            &fits,
+            &results,
+            &["--only", "multiscale-alpha-me", "--preset", "quick"],
+        );
+        c.stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
         c
     };
     // kill at spread-out moments of a run (the delays only spread the kill points; the

@@ -35,21 +35,14 @@ fn a_number_changed_in_a_spec_changes_the_run() {
     )
     .unwrap();
     let results = d.join("results");
-    let out = common::bin()
-        .args([
-            "--no-cache",
-            "regen",
-            "--only",
-            "smith-lambda",
-            "--preset",
-            "quick",
-        ])
-        .arg("--fits")
-        .arg(&fits)
-        .arg("--results")
-        .arg(&results)
-        .output()
-        .unwrap();
+    let out = common::regen_in(
+        &fits,
+        &results,
+        &["--only", "smith-lambda", "--preset", "quick"],
+    )
+    .arg("--no-cache")
+    .output()
+    .unwrap();
     // the run may miss its tolerance with 50 iterations (exit 1); it must not fail (2)
     assert!(
         out.status.code() != Some(2),

@@ -97,6 +97,27 @@ pub fn all_within<T: PartialOrd + std::fmt::Display + Copy>(
         .try_for_each(|(i, &x)| within(&format!("{key}[{i}]"), x, lo, hi))
 }
 
+/// `key`'s value is a power of two in `[lo, hi]`.
+pub fn power_of_two(key: &str, v: usize, lo: usize, hi: usize) -> std::result::Result<(), String> {
+    within(key, v, lo, hi)?;
+    if v.is_power_of_two() {
+        Ok(())
+    } else {
+        Err(format!("{key} = {v} must be a power of two"))
+    }
+}
+
+/// `whole` (key `kw`) splits into blocks of `block` (key `kb`), at least one.
+pub fn splits(kw: &str, whole: usize, kb: &str, block: usize) -> std::result::Result<(), String> {
+    if block > 0 && whole >= block && whole % block == 0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{kw} = {whole} must split into {kb} = {block} blocks"
+        ))
+    }
+}
+
 /// An α range `[lo, hi]` (keys `alpha_min`, `alpha_max`) inside `[min, max]`, with lo < hi.
 pub fn alpha_range(lo: f64, hi: f64, min: f64, max: f64) -> std::result::Result<(), String> {
     within("alpha_min", lo, min, max)?;
@@ -147,6 +168,12 @@ impl FitSpec {
             )));
         }
         Ok(())
+    }
+
+    /// The parameters at `preset` of the spec `text` this build compiled in from `file`:
+    /// what commands that run a study's measurements on a user's input read.
+    pub fn compiled_params<P: Params>(text: &str, file: &str, preset: Preset) -> Result<P> {
+        FitSpec::parse(text, &format!("{file} (compiled in)"))?.params(preset)
     }
 
     /// The study's parameters at `preset`: `[params]` with the preset's table over it,

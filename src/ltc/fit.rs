@@ -539,6 +539,24 @@ pub fn fit_table<T: LtcTarget>(
     })
 }
 
+/// The settings of a spec that fits an LTC table through [`fit_table`]: cells per axis
+/// `n`, the α floor, stratified samples per axis and technique, the Nelder–Mead cap per
+/// cell, and the MC samples of its polygon checks. The error names the key.
+pub fn check_table_settings(
+    n: usize,
+    alpha_min: f64,
+    samples: usize,
+    max_iters: u64,
+    mc: usize,
+) -> std::result::Result<(), String> {
+    use crate::fit::spec::within;
+    within("n", n, 2, 256)?;
+    within("alpha_min", alpha_min, 1e-6, 0.5)?;
+    within("samples", samples, 2, 128)?;
+    within("max_iters", max_iters, 1, 100_000)?;
+    within("mc", mc, 16, 1 << 24)
+}
+
 /// A table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
 /// storage in the same layout.
 pub fn stored(t: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {

@@ -48,21 +48,14 @@ pub struct Params {
 
 impl crate::fit::spec::Params for Params {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::{all_within, within};
+        use crate::fit::spec::{splits, within};
         within("size", self.size, 16, 16_384)?;
         within("regions", self.regions, 1, 64)?;
+        // every region holds at least one footprint stride
+        splits("size", self.size, "regions", self.regions)?;
+        within("stride", self.stride, 1, self.size / self.regions)?;
         within("clusters", self.clusters, 1, 4096)?;
-        within("stride", self.stride, 1, self.size)?;
-        within("t", self.t, 2, 64)?;
-        within("res", self.res, self.t, 1024)?;
-        if self.res % self.t != 0 {
-            return Err(format!(
-                "res = {} must split into t = {} blocks",
-                self.res, self.t
-            ));
-        }
-        within("sigma_r", self.sigma_r, 1e-4, 1.0)?;
-        all_within("ranks", &self.ranks, 1, self.t * self.t, 16)?;
+        crate::tensor::cluster::check_blocks(self.t, self.res, &self.ranks, self.sigma_r)?;
         within("max_iters", self.max_iters, 1, 100_000)?;
         within("als_tolerance", self.als_tolerance, 1e-15, 0.5)?;
         within("starts", self.starts, 1, 16)

@@ -7,6 +7,24 @@ use crate::error::Result;
 use crate::filters::footprint::NormalMap;
 use rayon::prelude::*;
 
+/// The block settings of a spec that clusters P-NDF images ([`cluster_tensors`]) and
+/// CP-compresses them: block side `t`, image side `res` (whole blocks), CP ranks (≤ t², so
+/// a rank never exceeds a block's own size), intrinsic roughness `sigma_r`. The error names
+/// the key.
+pub fn check_blocks(
+    t: usize,
+    res: usize,
+    ranks: &[usize],
+    sigma_r: f64,
+) -> std::result::Result<(), String> {
+    use crate::fit::spec::{all_within, splits, within};
+    within("t", t, 2, 64)?;
+    within("res", res, t, 1024)?;
+    splits("res", res, "t", t)?;
+    all_within("ranks", ranks, 1, t * t, 16)?;
+    within("sigma_r", sigma_r, 1e-4, 1.0)
+}
+
 /// P-NDF images of `map` over the footprint pyramid (stride s, σ_P = 1.5 s/√12, each level
 /// 2×2 sparser and twice wider, until the stride reaches the map size), cut into t×t blocks, all-zero blocks dropped, clustered by
 /// quarter-map regions into t×t×L tensors (seed 002 §4.1–4.2).

@@ -54,3 +54,20 @@ pub fn assert_success(out: &std::process::Output) {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// `ndfbench regen ARGS…` on the specs of `fits`, writing under `results`.
+#[allow(dead_code)]
+pub fn regen_in(
+    fits: &std::path::Path,
+    results: &std::path::Path,
+    args: &[&str],
+) -> std::process::Command {
+    let mut c = bin();
+    c.arg("--fits")
+        .arg(fits)
+        .arg("--results")
+        .arg(results)
+        .arg("regen")
+        .args(args);
+    c
+}

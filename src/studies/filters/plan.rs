@@ -32,14 +32,8 @@ pub struct Plan {
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::{all_within, within};
-        within("map_size", self.map_size, 8, 4096)?;
-        if !self.map_size.is_power_of_two() {
-            return Err(format!(
-                "map_size = {} must be a power of two",
-                self.map_size
-            ));
-        }
+        use crate::fit::spec::{all_within, power_of_two, within};
+        power_of_two("map_size", self.map_size, 8, 4096)?;
         let top = self.map_size.trailing_zeros() as usize;
         all_within("levels", &self.levels, 1, top, 16)?;
         within("footprints_per_level", self.footprints_per_level, 1, 10_000)?;
@@ -65,7 +59,7 @@ const SPEC: &str = include_str!("../../../fits/filters.toml");
 impl Plan {
     /// The study's plan at `preset`, from the compiled-in spec.
     pub fn builtin(p: Preset) -> crate::error::Result<Plan> {
-        crate::fit::spec::FitSpec::parse(SPEC, "fits/filters.toml (compiled in)")?.params(p)
+        crate::fit::spec::FitSpec::compiled_params(SPEC, "fits/filters.toml", p)
     }
 }
 

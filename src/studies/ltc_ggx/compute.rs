@@ -36,19 +36,15 @@ pub struct Plan {
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
         use crate::fit::spec::{all_within, within};
-        within("n", self.n, 2, 256)?;
-        within("alpha_min", self.alpha_min, 1e-6, 0.5)?;
-        within("samples", self.samples, 2, 128)?;
-        within("max_iters", self.max_iters, 1, 100_000)?;
+        crate::ltc::fit::check_table_settings(
+            self.n,
+            self.alpha_min,
+            self.samples,
+            self.max_iters,
+            self.mc,
+        )?;
         within("sub", self.sub, 2, self.n)?;
-        within("mc", self.mc, 16, 1 << 24)?;
-        within("pipeline_size", self.pipeline_size, 4, 4096)?;
-        if !self.pipeline_size.is_power_of_two() {
-            return Err(format!(
-                "pipeline_size = {} must be a power of two",
-                self.pipeline_size
-            ));
-        }
+        crate::fit::spec::power_of_two("pipeline_size", self.pipeline_size, 4, 4096)?;
         let top = self.pipeline_size.trailing_zeros() as usize;
         all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
         within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;

@@ -59,12 +59,13 @@ pub struct Plan {
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::within;
-        within("n", self.n, 2, 256)?;
-        within("alpha_min", self.alpha_min, 1e-6, 0.5)?;
-        within("samples", self.samples, 2, 128)?;
-        within("max_iters", self.max_iters, 1, 100_000)?;
-        within("mc", self.mc, 16, 1 << 24)
+        crate::ltc::fit::check_table_settings(
+            self.n,
+            self.alpha_min,
+            self.samples,
+            self.max_iters,
+            self.mc,
+        )
     }
 }
 

@@ -74,13 +74,8 @@ impl crate::fit::spec::Params for Params {
         let g = &self.glints;
         within("glints.res", g.res, 4, 1024)?;
         within("glints.stride", g.stride, 1, 1024)?;
-        within("glints.t", g.t, 2, g.res.max(2))?;
-        if g.res % g.t != 0 {
-            return Err(format!(
-                "glints.res = {} must split into glints.t = {} blocks",
-                g.res, g.t
-            ));
-        }
+        within("glints.t", g.t, 2, 64)?;
+        crate::fit::spec::splits("glints.res", g.res, "glints.t", g.t)?;
         for (i, &r) in g.ranks.iter().enumerate() {
             within(&format!("glints.ranks[{i}]"), r, 1, g.t * g.t)?;
         }
@@ -93,7 +88,7 @@ const SPEC: &str = include_str!("../../../fits/render.toml");
 
 /// The study's parameters at `preset`, from the compiled-in spec.
 pub fn builtin_params(preset: Preset) -> Result<Params> {
-    FitSpec::parse(SPEC, "fits/render.toml (compiled in)")?.params(preset)
+    FitSpec::compiled_params(SPEC, "fits/render.toml", preset)
 }
 
 /// The scene at the study's size: the width, truth samples, frames and scales `p` sets.

@@ -36,21 +36,13 @@ pub struct Settings {
 
 impl crate::fit::spec::Params for Settings {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::{all_within, within};
+        use crate::fit::spec::within;
         within("size", self.size, 16, 1024)?;
-        within("t", self.t, 2, 64)?;
-        within("res", self.res, self.t, 1024)?;
-        if self.res % self.t != 0 {
-            return Err(format!(
-                "res = {} must split into t = {} blocks",
-                self.res, self.t
-            ));
-        }
-        all_within("ranks", &self.ranks, 1, self.t * self.t, 16)?;
+        crate::tensor::cluster::check_blocks(self.t, self.res, &self.ranks, self.sigma_r)?;
         within("iters", self.iters, 1, 100_000)?;
         within("als_tolerance", self.als_tolerance, 1e-15, 0.5)?;
-        within("stride", self.stride, 1, self.size)?;
-        within("sigma_r", self.sigma_r, 1e-4, 1.0)
+        // the footprint pyramid starts with at least two footprints per side
+        within("stride", self.stride, 1, self.size / 2)
     }
 }
 

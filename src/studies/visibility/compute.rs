@@ -40,16 +40,9 @@ pub struct Plan {
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::{all_within, within};
-        for (key, v) in [
-            ("height_size", self.height_size),
-            ("shadow_size", self.shadow_size),
-        ] {
-            within(key, v, 16, 4096)?;
-            if !v.is_power_of_two() {
-                return Err(format!("{key} = {v} must be a power of two"));
-            }
-        }
+        use crate::fit::spec::{all_within, power_of_two, within};
+        power_of_two("height_size", self.height_size, 16, 4096)?;
+        power_of_two("shadow_size", self.shadow_size, 16, 4096)?;
         let top = |n: usize| n.trailing_zeros() as usize - 1;
         all_within("levels", &self.levels, 1, top(self.height_size), 16)?;
         all_within(
@@ -73,7 +66,7 @@ const SPEC: &str = include_str!("../../../fits/visibility.toml");
 
 /// The study's plan at `preset`, from the compiled-in spec.
 pub fn builtin_plan(preset: crate::integrate::Preset) -> crate::error::Result<Plan> {
-    crate::fit::spec::FitSpec::parse(SPEC, "fits/visibility.toml (compiled in)")?.params(preset)
+    crate::fit::spec::FitSpec::compiled_params(SPEC, "fits/visibility.toml", preset)
 }
 
 /// Legendre orders of the horizon study.
