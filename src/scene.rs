@@ -182,7 +182,7 @@ pub struct Choice {
     pub aspect: String,
     pub key: String,
     pub function: Option<String>,
-    pub error: Option<(f64, f64)>,
+    pub error: Option<crate::integrate::Figure>,
     pub error_note: String,
     pub cost_ns: Option<f64>,
 }
@@ -207,7 +207,7 @@ impl Measured {
     }
 }
 
-fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<(f64, f64)>, Option<f64>) {
+fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<crate::integrate::Figure>, Option<f64>) {
     let beck = ndf == "beckmann";
     let err = m
         .filters
@@ -215,14 +215,14 @@ fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<(f64, f64)>, Option<f
         .and_then(|t| match (f.family(), f.uses().summary) {
             (Some(family), _) => t
                 .fitted(family, if beck { "Beckmann" } else { "GGX" })
-                .map(|x| (x.held_out.l2_mean, x.held_out.l2_se)),
+                .map(|x| x.held_out.l2),
             (None, Some(k)) => {
                 let key = if beck {
                     format!("beckmann:{k}")
                 } else {
                     k.to_string()
                 };
-                t.summary.get(&key).map(|s| (s.l2_mean, s.l2_se))
+                t.summary.get(&key).map(|s| s.l2)
             }
             (None, None) => None,
         });
@@ -264,15 +264,15 @@ fn choose(
     let all: Vec<Choice> = opts.iter().map(mk).collect();
     let ok: Vec<&Choice> = all
         .iter()
-        .filter(|c| c.error.is_some_and(|(m, s)| m + s <= budget))
+        .filter(|c| c.error.is_some_and(|e| e.value + e.error <= budget))
         .collect();
     let best = ok.iter().min_by(|a, b| {
         let ca = a.cost_ns.unwrap_or(f64::INFINITY);
         let cb = b.cost_ns.unwrap_or(f64::INFINITY);
         ca.total_cmp(&cb).then(
             a.error
-                .map_or(f64::INFINITY, |e| e.0)
-                .total_cmp(&b.error.map_or(f64::INFINITY, |e| e.0)),
+                .map_or(f64::INFINITY, |e| e.value)
+                .total_cmp(&b.error.map_or(f64::INFINITY, |e| e.value)),
         )
     });
     match best {
@@ -280,14 +280,14 @@ fn choose(
         None => {
             let closest = all.iter().filter(|c| c.error.is_some()).min_by(|a, b| {
                 a.error
-                    .map(|e| e.0)
+                    .map(|e| e.value)
                     .unwrap_or(f64::INFINITY)
-                    .total_cmp(&b.error.map(|e| e.0).unwrap_or(f64::INFINITY))
+                    .total_cmp(&b.error.map(|e| e.value).unwrap_or(f64::INFINITY))
             });
             Err(Error::InvalidArgument(format!(
                 "scene: no {aspect} approximation meets error_budget = {budget}: the most accurate measured is '{}' at {}",
                 closest.map_or("?", |c| c.key.as_str()),
-                closest.and_then(|c| c.error).map_or("(no measurement: run regen)".into(), |(m, s)| format!("{:.3} ± {:.3}", m, s))
+                closest.and_then(|c| c.error).map_or("(no measurement: run regen)".into(), |e| e.fixed(3))
             )))
         }
     }
@@ -455,9 +455,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
                 }
             ),
             c.function.as_deref().unwrap_or("—").to_string(),
-            c.error.map_or("(no measurement)".into(), |(m, e)| {
-                format!("{:.1} % ± {:.1}", 100.0 * m, 100.0 * e)
-            }),
+            c.error.map_or("(no measurement)".into(), |e| e.pct(1)),
             fmt_cost(c.cost_ns),
         ]);
         choices.push(c);

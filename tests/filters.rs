@@ -262,7 +262,7 @@ fn estimator_algebra_is_exact_for_a_scaled_truth() {
     let v = V3::new(0.3, 0.1, 0.9).normalize();
     let s = draw(&t, &v, &[(V3::z(), 0.2)], 512, 9).unwrap();
     let res = s.measure(&|v, l| 1.1 * t.value(v, l), &V3::z());
-    assert!((res.energy.value - 0.1).abs() < 1e-12 && res.energy.se < 1e-12);
+    assert!((res.energy.value - 0.1).abs() < 1e-12 && res.energy.error < 1e-12);
     assert!((res.l2.value - 0.1).abs() < 1e-12);
     assert!(res.peak.abs() < 0.1 + 1e-12 && res.peak > 0.1 - 1e-12);
 }
@@ -283,12 +283,12 @@ fn mc_energy_matches_quadrature() {
         );
         let s = draw(&t, &v, &[(n, alpha)], 4096, 3).unwrap();
         let e = s.truth_energy();
-        let z = (e.value - q.value) / e.se;
+        let z = (e.value - q.value) / e.error;
         assert!(
             z.abs() < 4.0,
             "α {alpha}: MC {} ± {} vs quad {} (z {z})",
             e.value,
-            e.se,
+            e.error,
             q.value
         );
     }
@@ -380,8 +380,13 @@ fn small_curvature_beckmann_is_the_gaussian_convolution() {
     let v = V3::new(0.3, 0.0, 1.0).normalize();
     let s = draw(&t, &v, &[c.proposal], 2048, 4).unwrap();
     let res = s.measure(&*c.value, &V3::z());
-    assert!(res.l2.value < 5e-3, "L2 {} ± {}", res.l2.value, res.l2.se);
-    assert!(res.energy.value.abs() < 3.0 * res.energy.se + 1e-3);
+    assert!(
+        res.l2.value < 5e-3,
+        "L2 {} ± {}",
+        res.l2.value,
+        res.l2.error
+    );
+    assert!(res.energy.value.abs() < 3.0 * res.energy.error + 1e-3);
     let _ = Frame::around(V3::z());
 }
 
@@ -464,10 +469,10 @@ fn regen_filters_quick_writes_the_report() {
         12 + ndfbench::studies::filters::survey::ROWS.len()
     );
     // the exact distribution is the floor: no stored representation beats it on average
-    let floor = rows[12].all.l2_mean;
+    let floor = rows[12].all.l2.value;
     assert!(floor.is_finite());
     assert!(
-        rows.iter().all(|r| r.all.l2_mean >= floor - 0.02),
+        rows.iter().all(|r| r.all.l2.value >= floor - 0.02),
         "a representation beats the exact q_A"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -220,28 +220,58 @@ fn mc_over_the_plane_with_heavy_and_light_tailed_proposals() {
     assert!(e.agrees_with(1.0, 4.0, 0.0), "{e}");
 }
 
-/// The one sample-mean type every report prints: mean and standard error by hand for a
-/// small sample, NaN for none, and one formatter rule (a mean over nothing is "—").
+/// The one measured-value type every report prints: mean and standard error by hand for
+/// a small sample, NaN for none, one formatter rule (a mean over nothing is "—"), and the
+/// kind of error carried by the type (a quadrature bar prints to its own digit, an s.e.
+/// at fixed decimals), stored as `{value, error}` either way.
 #[test]
 fn a_sample_mean_carries_its_standard_error_and_prints_one_way() {
-    use ndfbench::integrate::MeanSe;
+    use ndfbench::integrate::{ErrorKind, Figure, Quad};
     // 1, 2, 3, 4: mean 2.5, sample variance 5/3, s.e. √(5/12)
-    let m = MeanSe::of(&[1.0, 2.0, 3.0, 4.0]);
+    let m = Figure::mean_of(&[1.0, 2.0, 3.0, 4.0]);
     assert_eq!(m.value, 2.5);
-    assert!((m.se - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+    assert!((m.error - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+    assert_eq!(m.kind(), ErrorKind::StandardError);
     // one sample: no spread to speak of
-    assert_eq!(MeanSe::of(&[0.25]).pair(), (0.25, 0.0));
-    let none = MeanSe::of(&[]);
-    assert!(none.value.is_nan() && none.se.is_nan());
-    for s in [none.pct(1), none.pct_signed(2), none.sci(3, 1)] {
+    assert_eq!(Figure::mean_of(&[0.25]).pair(), (0.25, 0.0));
+    // non-finite samples are left out only where asked
+    assert_eq!(
+        Figure::mean_of_finite(&[1.0, f64::NAN, 3.0]).pair(),
+        (2.0, 1.0)
+    );
+    assert!(Figure::mean_of(&[1.0, f64::NAN]).value.is_nan());
+    let none = Figure::mean_of(&[]);
+    assert!(none.value.is_nan() && none.error.is_nan());
+    for s in [
+        none.pct(1),
+        none.pct_signed(2),
+        none.sci(3, 1),
+        none.fixed(2),
+        none.points_signed(1),
+    ] {
         assert_eq!(s, "—");
     }
-    let e = MeanSe {
-        value: 0.0123,
-        se: 0.00045,
-    };
+    let e = Figure::with_se(0.0123, 0.00045);
     assert_eq!(e.pct(1), "1.2 % ± 0.0");
     assert_eq!(e.pct(2), "1.23 % ± 0.04");
     assert_eq!(e.pct_signed(1), "+1.2 % ± 0.0");
     assert_eq!(e.sci(3, 1), "1.230e-2 ± 4.5e-4");
+    assert_eq!(e.sci_signed(1, 1), "+1.2e-2 ± 4.5e-4");
+    assert_eq!(e.fixed(3), "0.012 ± 0.000");
+    assert_eq!(e.points_signed(2), "+1.23 ± 0.04 points");
+    // an estimate against an MC truth: relative error ± the truth's relative s.e.
+    assert_eq!(Figure::with_se(2.0, 0.1).rel_error_of(2.2), "+10.0 % ± 5.0");
+    assert_eq!(Figure::with_se(0.0, 0.1).rel_error_of(2.2), "—");
+    // the same numbers as a quadrature bar print to the bar's first digit
+    let q = Figure::<Quad>::new(0.0123, 0.0004);
+    assert_eq!(q.kind(), ErrorKind::Quadrature);
+    assert_eq!(q.pct(1), "1.23 ± 0.04 %");
+    // stored as {value, error}; a null (serde_json's NaN) reads back as NaN
+    assert_eq!(
+        serde_json::to_string(&e).unwrap(),
+        r#"{"value":0.0123,"error":0.00045}"#
+    );
+    let back: Figure = serde_json::from_str(r#"{"value":null,"error":0.5}"#).unwrap();
+    assert!(back.value.is_nan() && back.error == 0.5);
+    assert!(serde_json::from_str::<Figure>(r#"{"value":1.0}"#).is_err());
 }

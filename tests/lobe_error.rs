@@ -284,8 +284,8 @@ fn held_out_metric_agrees_with_an_independent_product_rule() {
 /// never as "± 0.000…".
 #[test]
 fn a_figure_prints_its_bar_and_never_a_zero_one() {
-    use ndfbench::ltc::lobe_error::Bounded;
-    let b = |value: f64, error: f64| Bounded { value, error };
+    use ndfbench::integrate::{Figure, Quad};
+    let b = |value: f64, error: f64| Figure::<Quad>::new(value, error);
     assert_eq!(b(0.058137, 1e-6).pct(2), "5.8137 ± 0.0001 %");
     assert_eq!(b(0.0696844, 1e-9).pct(2), "6.96844 ± <0.00001 %");
     assert_eq!(b(0.9764483, 3e-12).pct(2), "97.6448 ± <0.0001 %");
@@ -298,4 +298,30 @@ fn a_figure_prints_its_bar_and_never_a_zero_one() {
         let shown: f64 = bar.trim_start_matches('<').parse().expect("a number");
         assert!(shown > 0.0, "{s}");
     }
+}
+
+/// How a set of held-out figures moved against a reference: by hand on three cells, one
+/// left out; the mean change carries the mean of the summed bars, the largest its own
+/// pair's, and a set where nothing moved names no place.
+#[test]
+fn a_change_of_figures_carries_both_bars_and_names_its_largest() {
+    use ndfbench::integrate::{Figure, Quad};
+    use ndfbench::ltc::lobe_error::Change;
+    let f = |v: f64, e: f64| Figure::<Quad>::new(v, e);
+    let pairs = [
+        Some((f(0.10, 0.001), f(0.12, 0.002))),
+        None,
+        Some((f(0.20, 0.001), f(0.15, 0.004))),
+        Some((f(0.30, 0.0), f(0.30, 0.0))),
+    ];
+    let c = Change::of(pairs.into_iter(), 0.03);
+    assert_eq!(c.count, 3);
+    assert!((c.mean.value - (0.02 - 0.05 + 0.0) / 3.0).abs() < 1e-15);
+    assert!((c.mean.error - (0.003 + 0.005 + 0.0) / 3.0).abs() < 1e-15);
+    assert!((c.largest.value + 0.05).abs() < 1e-15 && (c.largest.error - 0.005).abs() < 1e-15);
+    assert_eq!(c.argmax, Some(2));
+    assert_eq!(c.big, 1);
+    let still = Change::of([Some((f(0.1, 0.0), f(0.1, 0.0)))].into_iter(), 0.0);
+    assert_eq!((still.count, still.argmax, still.big), (1, None, 0));
+    assert_eq!(Change::of(std::iter::empty(), 0.0).count, 0);
 }

@@ -147,10 +147,10 @@ fn the_default_rule_is_the_measured_best() {
     ]
     .into_iter()
     .min_by(|a, b| {
-        j["summary"][*a]["l2_mean"]
+        j["summary"][*a]["l2"]["value"]
             .as_f64()
             .unwrap()
-            .total_cmp(&j["summary"][*b]["l2_mean"].as_f64().unwrap())
+            .total_cmp(&j["summary"][*b]["l2"]["value"].as_f64().unwrap())
     })
     .unwrap();
     let d = scratch("best");
@@ -168,7 +168,7 @@ fn the_default_rule_is_the_measured_best() {
         .iter()
         .find(|m| m.filter == o.filter)
         .unwrap();
-    assert!(m.l2_se > 0.0 && m.l2_mean > 0.0);
+    assert!(m.l2.error > 0.0 && m.l2.value > 0.0);
 }
 
 fn read_ktx2(path: &Path) -> Vec<u8> {

@@ -208,13 +208,14 @@ pub enum Cmd {
     /// cases, an L2-vs-footprint plot and per-level α′ maps (vMF 2/κ).
     ///
     /// Usage: `prefilter (--input MAP.png | --generator NAME) --rank R [--out DIR]`. P-NDF
-    /// images of the map (seed 002 Eq 2) over two footprint levels, 16² blocks,
-    /// non-negative CP at rank R per spatial cluster (so the hierarchical sampler is exact)
-    /// → DIR/tensor-<name>.json (factors, weights, errors), DIR/tensor-<name>.md (error,
-    /// compression and wall-clock time at R/4, R/2 and R) and DIR/tensor-<name>-rank.svg
-    /// (error against rank); generators: isotropic-noise, brushed-metal, flakes,
-    /// sharp-bumps, scratches; a rank above 256, a missing file or a bad PNG is an error
-    /// with nothing written.
+    /// images of the map (seed 002 Eq 2) over two footprint levels, with the block side t,
+    /// image size, ALS settings and σ_r of fits/tensor.toml at the preset (as this build
+    /// compiled it in), non-negative CP at rank R per spatial cluster (so the hierarchical
+    /// sampler is exact) → DIR/tensor-<name>.json (factors, weights, errors),
+    /// DIR/tensor-<name>.md (error and compression at R/4, R/2 and R) and
+    /// DIR/tensor-<name>-rank.svg (error against rank); generators: isotropic-noise,
+    /// brushed-metal, flakes, sharp-bumps, scratches; a rank above t², a missing file or a
+    /// bad PNG is an error with nothing written.
     Prefilter(super::prefilter::PrefilterArgs),
     /// Write only the WGSL and Rust a scene needs (scene TOML), with a report of each
     /// chosen approximation's measured error and cost.

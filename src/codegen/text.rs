@@ -109,7 +109,7 @@ pub fn constants(results: &Path) -> Result<Vec<Const>> {
     let fl: Filters = require(results)?;
     let find = |fam: &str, ndf: &str| -> Result<(f32, f64)> {
         fl.fitted(fam, ndf)
-            .map(|f| (f.constant as f32, f.held_out.l2_mean))
+            .map(|f| (f.constant as f32, f.held_out.l2.value))
             .ok_or_else(|| {
                 Error::InvalidArgument(format!(
                     "codegen: filters.json has no fit '{fam}' ({ndf}) (run `{COMMAND}`)"

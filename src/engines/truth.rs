@@ -3,7 +3,7 @@
 
 use super::scenes::Rect;
 use crate::integrate::cubature::{cubature, SAFETY_SMOOTH};
-use crate::ltc::lobe_error::Bounded;
+use crate::integrate::{Figure, Quad};
 use crate::ltc::polygon::{ltc_integral, EdgeForm};
 use crate::ltc::target::GgxTarget;
 use nalgebra::{Matrix3, Vector3};
@@ -18,12 +18,9 @@ pub fn lobe(roughness: f64, view_deg: f64) -> crate::error::Result<GgxTarget> {
 /// The exact radiance at surface point `x` (z = 0): ∫_P f(l) dω over the light (unit
 /// radiance), by adaptive cubature in the rectangle's (u, v) ∈ [0, 1]² with dω =
 /// |front·(p − x)|/|p − x|³ dA, to `rel` relative accuracy; ± its error bar.
-pub fn truth_value(t: &GgxTarget, light: &Rect, x: &V3, rel: f64) -> Bounded {
+pub fn truth_value(t: &GgxTarget, light: &Rect, x: &V3, rel: f64) -> Figure<Quad> {
     if !light.lights(x) {
-        return Bounded {
-            value: 0.0,
-            error: 0.0,
-        };
+        return Figure::<Quad>::new(0.0, 0.0);
     }
     let area = 4.0 * light.hw.norm() * light.hh.norm();
     let integrand = |u: f64, v: f64, out: &mut [f64]| {
@@ -78,10 +75,7 @@ pub fn truth_value(t: &GgxTarget, light: &Rect, x: &V3, rel: f64) -> Bounded {
         |v, e| e[0] <= (rel * v[0].abs()).max(1e-12),
         20_000_000,
     );
-    Bounded {
-        value: r.value[0],
-        error: r.error[0],
-    }
+    Figure::<Quad>::new(r.value[0], r.error[0])
 }
 
 /// The value an LTC table gives at `x`: norm × the exact edge integral of the light

@@ -99,15 +99,15 @@ impl<'a> Candidate<'a> {
 }
 
 /// A ratio with its standard error.
-pub use crate::integrate::MeanSe as Est;
+pub use crate::integrate::Figure;
 
 /// One candidate against the truth for one (footprint, view).
 #[derive(Clone, Debug, Serialize)]
 pub struct CaseResult {
     /// ∫f_k / ∫f_truth − 1 over light directions.
-    pub energy: Est,
+    pub energy: Figure,
     /// ‖f_k − f_truth‖₂ / ‖f_truth‖₂ over light directions.
-    pub l2: Est,
+    pub l2: Figure,
     /// max f_k / max f_truth − 1, maxima over the sampled light directions and the
     /// mirror directions of the mean normal, ≤ 64 texel normals and the lobe's own normal
     /// (a search, so no standard error; both maxima are lower bounds).
@@ -312,9 +312,9 @@ pub fn draw(
 
 impl CaseSamples {
     /// ∫ f_truth over light directions (estimate, s.e.).
-    pub fn truth_energy(&self) -> Est {
+    pub fn truth_energy(&self) -> Figure {
         let x: Vec<f64> = self.t.iter().zip(&self.q).map(|(t, q)| t / q).collect();
-        Est::of(&x)
+        Figure::mean_of(&x)
     }
 
     /// Measure one candidate lobe f(v, l) against the truth; `normal` is the lobe's own
@@ -346,18 +346,15 @@ impl CaseSamples {
             fmax = fmax.max(f(v, l));
         }
         CaseResult {
-            energy: Est {
-                value: e - 1.0,
-                se: es,
-            },
-            l2: Est {
-                value: l2r,
-                se: if l2r > 0.0 {
+            energy: Figure::with_se(e - 1.0, es),
+            l2: Figure::with_se(
+                l2r,
+                if l2r > 0.0 {
                     l2s / (2.0 * l2r)
                 } else {
                     l2s.sqrt()
                 },
-            },
+            ),
             peak: if self.t_peak > 0.0 {
                 fmax / self.t_peak - 1.0
             } else {

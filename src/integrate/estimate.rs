@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// What the `error` field of an [`Estimate`] means.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ErrorKind {
     /// One standard error of a (quasi-)Monte Carlo mean: the true value lies within
@@ -102,48 +102,99 @@ impl Welford {
     }
 }
 
-/// A sample mean (or a ratio of means) with its standard error: how every report writes a
-/// measured spread as "value ± error". The one constructor from samples is [`MeanSe::of`];
-/// the formatters below are the only ones reports use for it, and all write a value that
-/// is not finite (a mean over no sample) as "—".
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct MeanSe {
-    pub value: f64,
-    pub se: f64,
+/// What a [`Figure`]'s error means, as a type: the kind of a figure is part of its type,
+/// so an s.e. is never added to a quadrature bar by mistake, and the stored form stays
+/// `{value, error}` (the result's type says which kind it holds).
+pub trait Kind: Copy + Default + fmt::Debug + PartialEq + Send + Sync + 'static {
+    const KIND: ErrorKind;
 }
 
-impl MeanSe {
-    /// The mean of `v` and its standard error (the n − 1 sample variance over n); NaN
-    /// for an empty sample, and a zero error for a single sample.
-    pub fn of(v: &[f64]) -> MeanSe {
-        if v.is_empty() {
-            return MeanSe {
-                value: f64::NAN,
-                se: f64::NAN,
-            };
-        }
-        let n = v.len() as f64;
-        let m = v.iter().sum::<f64>() / n;
-        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-        MeanSe {
-            value: m,
-            se: (var / n).sqrt(),
+/// A standard error of a mean over independent samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StdErr;
+impl Kind for StdErr {
+    const KIND: ErrorKind = ErrorKind::StandardError;
+}
+
+/// A deterministic error estimate of a quadrature (or the half-width of the interval a
+/// quadrature's error estimates allow a ratio of integrals).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quad;
+impl Kind for Quad {
+    const KIND: ErrorKind = ErrorKind::Quadrature;
+}
+
+/// A measured value with its error and the error's kind: how every studied number is
+/// stored and reported. The constructor from samples is [`Figure::mean_of`]; the
+/// formatters below are the only ones reports use for a measurement, and all write a
+/// value that is not finite (a mean over no sample) as "—".
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "")]
+pub struct Figure<K: Kind = StdErr> {
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub value: f64,
+    #[serde(deserialize_with = "f64_or_nan")]
+    pub error: f64,
+    #[serde(skip)]
+    kind: std::marker::PhantomData<K>,
+}
+
+/// A number written as `null` (serde_json's NaN or infinity) reads back as NaN.
+fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+impl<K: Kind> Figure<K> {
+    pub const fn new(value: f64, error: f64) -> Figure<K> {
+        Figure {
+            value,
+            error,
+            kind: std::marker::PhantomData,
         }
     }
 
-    /// As a pair (value, s.e.).
+    /// No value (a mean over no sample): NaN ± NaN, written "—".
+    pub const NONE: Figure<K> = Figure::new(f64::NAN, f64::NAN);
+
+    /// What the error means.
+    pub fn kind(&self) -> ErrorKind {
+        K::KIND
+    }
+
+    /// As a pair (value, error).
     pub fn pair(self) -> (f64, f64) {
-        (self.value, self.se)
+        (self.value, self.error)
     }
 
     /// "12.3 % ± 0.4": value and error in percent, `d` decimals each.
-    pub fn pct(&self, d: usize) -> String {
+    pub fn pct_fixed(&self, d: usize) -> String {
         self.shown(|v, e| format!("{:.d$} % ± {:.d$}", 100.0 * v, 100.0 * e))
     }
 
-    /// "+12.3 % ± 0.4": [`MeanSe::pct`] with the sign always written (a bias).
+    /// "+12.3 % ± 0.4": [`Figure::pct_fixed`] with the sign always written (a bias).
     pub fn pct_signed(&self, d: usize) -> String {
         self.shown(|v, e| format!("{:+.d$} % ± {:.d$}", 100.0 * v, 100.0 * e))
+    }
+
+    /// "+1.23 ± 0.45 points": a change of a percentage, in percentage points.
+    pub fn points_signed(&self, d: usize) -> String {
+        self.shown(|v, e| format!("{:+.d$} ± {:.d$} points", 100.0 * v, 100.0 * e))
+    }
+
+    /// The figure in other units: value and error times `k` (e.g. 100 for a percentage,
+    /// or seconds to minutes over a whole run).
+    pub fn scaled(self, k: f64) -> Figure<K> {
+        Figure::new(k * self.value, k.abs() * self.error)
+    }
+
+    /// "0.1234 ± 0.0056": value and error as they are, `d` decimals each.
+    pub fn fixed(&self, d: usize) -> String {
+        self.shown(|v, e| format!("{v:.d$} ± {e:.d$}"))
+    }
+
+    /// "+1.234e-3 ± 5.6e-5": [`Figure::sci`] with the sign always written (a bias).
+    pub fn sci_signed(&self, vd: usize, ed: usize) -> String {
+        self.shown(|v, e| format!("{v:+.vd$e} ± {e:.ed$e}"))
     }
 
     /// "1.234e-3 ± 5.6e-5": the value with `vd` decimals of mantissa, the error with `ed`.
@@ -151,11 +202,95 @@ impl MeanSe {
         self.shown(|v, e| format!("{v:.vd$e} ± {e:.ed$e}"))
     }
 
+    /// As a percentage to its error bar: to the bar's first significant digit, at least
+    /// `min_decimals` decimals and at most six significant digits of the value. A bar
+    /// below the last printed digit is written as a bound: "6.96844 ± <0.00001 %", never
+    /// as "± 0.00000". A zero bar (a difference of exactly known values) prints the value
+    /// alone.
+    fn pct_to_bar(&self, min_decimals: usize) -> String {
+        if !self.value.is_finite() {
+            return "—".into();
+        }
+        let (v, e) = (100.0 * self.value, 100.0 * self.error);
+        if e == 0.0 {
+            return format!("{v:.min_decimals$} %");
+        }
+        let bar_digits = if e > 0.0 && e.is_finite() {
+            (-e.log10()).ceil().max(0.0) as usize
+        } else {
+            usize::MAX
+        };
+        let value_digits = if v != 0.0 {
+            (5.0 - v.abs().log10().floor()).clamp(0.0, 9.0) as usize
+        } else {
+            6
+        };
+        let d = bar_digits.min(value_digits).max(min_decimals);
+        if !e.is_finite() {
+            return format!("{v:.d$} ± — %");
+        }
+        let last = 10f64.powi(-(d as i32));
+        if e < 0.5 * last {
+            format!("{v:.d$} ± <{last:.d$} %")
+        } else {
+            format!("{v:.d$} ± {e:.d$} %")
+        }
+    }
+
     fn shown(&self, f: impl Fn(f64, f64) -> String) -> String {
         if self.value.is_finite() {
-            f(self.value, self.se)
+            f(self.value, self.error)
         } else {
             "—".into()
         }
+    }
+}
+
+/// How each kind is written in percent: a deterministic bar to its own first digit, a
+/// standard error (itself noisy) at a fixed number of decimals.
+impl Figure<Quad> {
+    /// "6.96844 ± <0.00001 %" (see `pct_to_bar`): at least `min_decimals` decimals.
+    pub fn pct(&self, min_decimals: usize) -> String {
+        self.pct_to_bar(min_decimals)
+    }
+}
+
+impl Figure<StdErr> {
+    /// A mean and its standard error.
+    pub const fn with_se(value: f64, se: f64) -> Figure {
+        Figure::new(value, se)
+    }
+
+    /// "12.3 % ± 0.4" with `d` decimals each ([`Figure::pct_fixed`]).
+    pub fn pct(&self, d: usize) -> String {
+        self.pct_fixed(d)
+    }
+
+    /// The mean of `v` and its standard error (the n − 1 sample variance over n); NaN
+    /// for an empty sample, and a zero error for a single sample.
+    pub fn mean_of(v: &[f64]) -> Figure {
+        if v.is_empty() {
+            return Figure::NONE;
+        }
+        let n = v.len() as f64;
+        let m = v.iter().sum::<f64>() / n;
+        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        Figure::with_se(m, (var / n).sqrt())
+    }
+
+    /// An estimate `x`'s relative error against this truth, "+1.2 % ± 0.3" (the ± is the
+    /// truth's s.e. relative to it); "—" for a truth that is not positive.
+    pub fn rel_error_of(&self, x: f64) -> String {
+        if self.value > 0.0 {
+            Figure::with_se(x / self.value - 1.0, self.error / self.value).pct_signed(1)
+        } else {
+            "—".into()
+        }
+    }
+
+    /// [`Figure::mean_of`] over the finite values of `v` only.
+    pub fn mean_of_finite(v: &[f64]) -> Figure {
+        let f: Vec<f64> = v.iter().copied().filter(|a| a.is_finite()).collect();
+        Figure::mean_of(&f)
     }
 }

@@ -18,6 +18,6 @@ pub mod qmc;
 pub mod quad;
 pub mod sphere;
 
-pub use estimate::{ErrorKind, Estimate, MeanSe};
+pub use estimate::{ErrorKind, Estimate, Figure, Kind, Quad, StdErr};
 pub use preset::Preset;
 pub use quad::Tol;

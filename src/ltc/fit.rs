@@ -62,7 +62,7 @@ pub struct Cell {
 
 impl Cell {
     /// The held-out relative L2 of the f64 cell (`None` until judged).
-    pub fn l2(&self) -> Option<crate::ltc::lobe_error::Bounded> {
+    pub fn l2(&self) -> Option<crate::integrate::Figure<crate::integrate::Quad>> {
         self.held.and_then(|h| h.f64).map(|e| e.l2)
     }
 }

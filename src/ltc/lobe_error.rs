@@ -36,20 +36,17 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 type V3 = Vector3<f64>;
 
-/// One held-out figure and the half-width of the interval its integrals' errors allow.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Bounded {
-    pub value: f64,
-    pub error: f64,
-}
+// A held-out figure is a `Figure<Quad>`: the value and the half-width of the interval its
+// integrals' errors allow.
+use crate::integrate::{Figure, Quad};
 
 /// The held-out error of one LTC against its target.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LobeError {
     /// ‖f − g‖₂ / ‖f‖₂.
-    pub l2: Bounded,
+    pub l2: Figure<Quad>,
     /// ∫|f − g| / ∫f.
-    pub l1: Bounded,
+    pub l1: Figure<Quad>,
     /// Integrand evaluations spent.
     pub evals: u64,
     /// Whether both error bars met the tolerance within the budget.
@@ -87,7 +84,7 @@ fn ratios(
     ec: f64,
     d: f64,
     ed: f64,
-) -> (Bounded, Bounded) {
+) -> (Figure<Quad>, Figure<Quad>) {
     let sq = |a: f64, b: f64| {
         if b > 0.0 {
             (a.max(0.0) / b).sqrt()
@@ -105,14 +102,8 @@ fn ratios(
     };
     let lo1 = (c - ec).max(0.0) / (d + ed);
     (
-        Bounded {
-            value: l2,
-            error: (hi2 - l2).max(l2 - lo2),
-        },
-        Bounded {
-            value: l1,
-            error: (hi1 - l1).max(l1 - lo1),
-        },
+        Figure::<Quad>::new(l2, (hi2 - l2).max(l2 - lo2)),
+        Figure::<Quad>::new(l1, (hi1 - l1).max(l1 - lo1)),
     )
 }
 
@@ -357,20 +348,63 @@ pub fn judge<T: LtcTarget + ?Sized>(
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Spread {
     pub count: usize,
-    pub mean: Bounded,
-    pub max: Bounded,
+    pub mean: Figure<Quad>,
+    pub max: Figure<Quad>,
     /// Index (in the order given) of the largest.
     pub argmax: usize,
 }
 
+/// How one set of held-out figures moved against a reference set, cell by cell: the mean
+/// change (its bar the mean of the summed bars: both figures' errors may add) and the
+/// largest change in magnitude with its own bar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Change {
+    pub count: usize,
+    pub mean: Figure<Quad>,
+    pub largest: Figure<Quad>,
+    /// Index (in the order given) of the largest; `None` when nothing changed.
+    pub argmax: Option<usize>,
+    /// Changes larger than the `big` given, in magnitude.
+    pub big: usize,
+}
+
+impl Change {
+    /// Over the (reference, changed) pairs given (`None` entries are left out).
+    pub fn of(
+        pairs: impl Iterator<Item = Option<(Figure<Quad>, Figure<Quad>)>>,
+        big: f64,
+    ) -> Change {
+        let (mut n, mut sum, mut bars, mut nbig) = (0usize, 0.0, 0.0, 0usize);
+        let (mut largest, mut argmax) = (Figure::<Quad>::new(0.0, 0.0), None);
+        for (k, p) in pairs.enumerate() {
+            let Some((a, b)) = p else { continue };
+            let (d, bar) = (b.value - a.value, a.error + b.error);
+            n += 1;
+            sum += d;
+            bars += bar;
+            if d.abs() > largest.value.abs() {
+                (largest, argmax) = (Figure::new(d, bar), Some(k));
+            }
+            if d.abs() > big {
+                nbig += 1;
+            }
+        }
+        let m = n.max(1) as f64;
+        Change {
+            count: n,
+            mean: Figure::new(sum / m, bars / m),
+            largest,
+            argmax,
+            big: nbig,
+        }
+    }
+}
+
 impl Spread {
     /// Over the figures given (`None` entries are left out).
-    pub fn of<'a>(figures: impl Iterator<Item = Option<&'a Bounded>>) -> Spread {
+    pub fn of<'a>(figures: impl Iterator<Item = Option<&'a Figure<Quad>>>) -> Spread {
         let (mut n, mut sv, mut se) = (0usize, 0.0, 0.0);
-        let mut max = Bounded {
-            value: f64::NAN,
-            error: f64::NAN,
-        };
+        let mut max = Figure::<Quad>::new(f64::NAN, f64::NAN);
         let mut argmax = 0;
         for (k, b) in figures.enumerate() {
             let Some(b) = b else { continue };
@@ -385,50 +419,12 @@ impl Spread {
         let m = n.max(1) as f64;
         Spread {
             count: n,
-            mean: Bounded {
-                value: if n > 0 { sv / m } else { f64::NAN },
-                error: if n > 0 { se / m } else { f64::NAN },
-            },
+            mean: Figure::<Quad>::new(
+                if n > 0 { sv / m } else { f64::NAN },
+                if n > 0 { se / m } else { f64::NAN },
+            ),
             max,
             argmax,
-        }
-    }
-}
-
-impl Bounded {
-    /// As a percentage with its error bar: to the bar's first significant digit, at least
-    /// `min_decimals` decimals and at most six significant digits of the value. A bar
-    /// below the last printed digit is written as a bound: "6.96844 ± <0.00001 %", never
-    /// as "± 0.00000". A zero bar (a difference of exactly known values) prints the value
-    /// alone.
-    pub fn pct(&self, min_decimals: usize) -> String {
-        if !self.value.is_finite() {
-            return "—".into();
-        }
-        let (v, e) = (100.0 * self.value, 100.0 * self.error);
-        if e == 0.0 {
-            // no bar: a difference of exactly known values
-            return format!("{v:.min_decimals$} %");
-        }
-        let bar_digits = if e > 0.0 && e.is_finite() {
-            (-e.log10()).ceil().max(0.0) as usize
-        } else {
-            usize::MAX
-        };
-        let value_digits = if v != 0.0 {
-            (5.0 - v.abs().log10().floor()).clamp(0.0, 9.0) as usize
-        } else {
-            6
-        };
-        let d = bar_digits.min(value_digits).max(min_decimals);
-        if !e.is_finite() {
-            return format!("{v:.d$} ± — %");
-        }
-        let last = 10f64.powi(-(d as i32));
-        if e < 0.5 * last {
-            format!("{v:.d$} ± <{last:.d$} %")
-        } else {
-            format!("{v:.d$} ± {e:.d$} %")
         }
     }
 }
@@ -456,14 +452,8 @@ pub fn lobe_error(
         tol,
     )[0]
     .unwrap_or(LobeError {
-        l2: Bounded {
-            value: f64::INFINITY,
-            error: f64::INFINITY,
-        },
-        l1: Bounded {
-            value: f64::INFINITY,
-            error: f64::INFINITY,
-        },
+        l2: Figure::<Quad>::new(f64::INFINITY, f64::INFINITY),
+        l1: Figure::<Quad>::new(f64::INFINITY, f64::INFINITY),
         evals: 0,
         converged: false,
     })

@@ -310,8 +310,7 @@ pub fn check_lights(theta: f64) -> Vec<(&'static str, Light)> {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PolygonCheck {
     pub light: &'static str,
-    pub mc: f64,
-    pub mc_se: f64,
+    pub mc: crate::integrate::Figure,
     pub ltc_exact: f64,
     pub ltc_rational: f64,
 }
@@ -333,8 +332,7 @@ pub fn check_cell<T: crate::ltc::target::LtcTarget + ?Sized>(
             let (m, se) = mc_polygon(&light, &|l| t.eval(l), &|u| t.sample(u), mc, 17 + k as u64)?;
             Ok(PolygonCheck {
                 light: light_name,
-                mc: m,
-                mc_se: se,
+                mc: crate::integrate::Figure::with_se(m, se),
                 ltc_exact: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Exact),
                 ltc_rational: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Rational),
             })

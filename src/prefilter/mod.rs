@@ -97,8 +97,7 @@ pub fn texel_alpha(rule: MapRule, r: f64, mean_a2: f64, mean_p: f64) -> f64 {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Measured {
     pub filter: Filter,
-    pub l2_mean: f64,
-    pub l2_se: f64,
+    pub l2: crate::integrate::Figure,
     pub what: String,
 }
 
@@ -131,15 +130,13 @@ pub fn measured(results: &Path) -> Result<Evidence> {
         if let Some(e) = f.uses().summary.and_then(|k| j.summary.get(k)) {
             out.push(Measured {
                 filter: f,
-                l2_mean: e.l2_mean,
-                l2_se: e.l2_se,
+                l2: e.l2,
                 what: "GGX, every map, level and view of the footprint study".into(),
             });
         } else if let Some(x) = f.family().and_then(|fam| j.fitted(fam, "GGX")) {
             out.push(Measured {
                 filter: f,
-                l2_mean: x.held_out.l2_mean,
-                l2_se: x.held_out.l2_se,
+                l2: x.held_out.l2,
                 what: "GGX, the held-out footprints and views only (not comparable with the all-case means)".into(),
             });
         }
@@ -303,7 +300,7 @@ pub fn run(options: Options) -> Result<Outcome> {
             .measured
             .iter()
             .filter(|m| m.filter.family().is_none())
-            .min_by(|a, b| a.l2_mean.total_cmp(&b.l2_mean))
+            .min_by(|a, b| a.l2.value.total_cmp(&b.l2.value))
             .map_or(Filter::of("vmf-2"), |m| m.filter),
         Choice::Filter(f) => f,
     };

@@ -234,16 +234,12 @@ fn normal_files(o: &Outcome, writer: &str) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(out)
 }
 
-fn pct(m: f64, s: f64) -> String {
-    crate::integrate::MeanSe { value: m, se: s }.pct(1)
-}
-
 /// The report (markdown) and its typed twin (JSON).
 fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
     let chosen = o.evidence.measured.iter().find(|m| m.filter == o.filter);
     let error = chosen.map_or(
         "not measured here: results/fits/filters.json is absent or lacks this rule (run `cargo run --release -- regen --only filters`)".to_string(),
-        |m| format!("mean lobe L2 error {} ({})", pct(m.l2_mean, m.l2_se), m.what),
+        |m| format!("mean lobe L2 error {} ({})", m.l2.pct(1), m.what),
     );
     let mut md = format!(
         "# Roughness mips of {}\n\nWritten by `{command}`.\n\n- Normal map: {}×{}, {}-bit{}; {} levels (to 1×1).\n- Base roughness: {}.\n- Rule: **{}** — {}.\n- Its measured error: {error}.{}\n- Stored: {}{}; α′ > 1 is clamped to 1 (texels clamped per level: {:?}).\n- Normal mips: {}.\n\n",
@@ -296,7 +292,7 @@ fn report(o: &Outcome, files: &[String], command: &str) -> (String, String) {
         t.row([
             format!("{}{}", f.key(), if f == o.filter { " (used)" } else { "" }),
             o.label(f).to_string(),
-            m.map_or("not measured".into(), |m| pct(m.l2_mean, m.l2_se)),
+            m.map_or("not measured".into(), |m| m.l2.pct(1)),
             m.map_or("—".into(), |m| m.what.clone()),
         ]);
     }

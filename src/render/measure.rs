@@ -16,11 +16,7 @@
 use super::truth::PixelTruth;
 use serde::Serialize;
 
-pub use crate::integrate::MeanSe as Est;
-
-fn mean_se(v: &[f64]) -> Est {
-    Est::of(v)
-}
+pub use crate::integrate::Figure;
 
 /// The displayed value in [0, 1] of a linear radiance.
 pub fn tone(x: f64, exposure: f64) -> f64 {
@@ -36,9 +32,9 @@ pub fn tone(x: f64, exposure: f64) -> f64 {
 /// An image's measures against the truth.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Measures {
-    pub rmse: Est,
-    pub rel_mse: Est,
-    pub flip: Est,
+    pub rmse: Figure,
+    pub rel_mse: Figure,
+    pub flip: Figure,
     /// The truth's noise floor √(mean s.e.²) over the same pixels.
     pub truth_noise: f64,
     pub pixels: usize,
@@ -50,7 +46,7 @@ pub fn mask(truth: &[PixelTruth]) -> Vec<bool> {
 }
 
 /// RMSE, relative MSE and the truth's noise floor of `img` against `truth`.
-pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Est, Est, f64, usize) {
+pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Figure, Figure, f64, usize) {
     let on: Vec<usize> = (0..truth.len()).filter(|&k| truth[k].covered).collect();
     let mean_t = on.iter().map(|&k| truth[k].value).sum::<f64>() / on.len().max(1) as f64;
     let _ = mean_t;
@@ -59,23 +55,20 @@ pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Est, Est, f64, usize) {
         .map(|&k| (img[k] as f64 - truth[k].value).powi(2))
         .collect();
     let t2 = on.iter().map(|&k| truth[k].value.powi(2)).sum::<f64>() / on.len().max(1) as f64;
-    let mse = mean_se(&sq);
-    let rel = Est {
-        value: mse.value / t2.max(1e-300),
-        se: mse.se / t2.max(1e-300),
-    };
+    let mse = Figure::mean_of(&sq);
+    let rel = Figure::with_se(mse.value / t2.max(1e-300), mse.error / t2.max(1e-300));
     let rmse = mse.value.sqrt();
     let noise =
         (on.iter().map(|&k| truth[k].se.powi(2)).sum::<f64>() / on.len().max(1) as f64).sqrt();
     (
-        Est {
-            value: rmse,
-            se: if rmse > 0.0 {
-                mse.se / (2.0 * rmse)
+        Figure::with_se(
+            rmse,
+            if rmse > 0.0 {
+                mse.error / (2.0 * rmse)
             } else {
                 0.0
             },
-        },
+        ),
         rel,
         noise,
         on.len(),
@@ -101,7 +94,7 @@ pub fn flip(
     h: usize,
     exposure: f64,
     on: &[bool],
-) -> (Vec<f32>, Est) {
+) -> (Vec<f32>, Figure) {
     let r = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(reference, exposure));
     let t = nv_flip::FlipImageRgb8::with_data(w as u32, h as u32, &to_rgb8(test, exposure));
     let e = nv_flip::flip(r, t, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
@@ -111,7 +104,7 @@ pub fn flip(
         .filter(|(_, m)| **m)
         .map(|(v, _)| *v as f64)
         .collect();
-    (e, mean_se(&vals))
+    (e, Figure::mean_of(&vals))
 }
 
 /// Flicker of a frame sequence against the truth's: (excess mean |Δ|, temporal RMSE),
@@ -119,10 +112,10 @@ pub fn flip(
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Flicker {
     /// Mean |frame-to-frame change| of the method.
-    pub change: Est,
+    pub change: Figure,
     /// The method's minus the truth's.
-    pub excess: Est,
-    pub temporal_rmse: Est,
+    pub excess: Figure,
+    pub temporal_rmse: Figure,
 }
 
 pub fn flicker(truth: &[&[PixelTruth]], frames: &[&[f32]], exposure: f64) -> Flicker {
@@ -149,9 +142,9 @@ pub fn flicker(truth: &[&[PixelTruth]], frames: &[&[f32]], exposure: f64) -> Fli
         trmse.push((s / n).sqrt());
     }
     Flicker {
-        change: mean_se(&change),
-        excess: mean_se(&excess),
-        temporal_rmse: mean_se(&trmse),
+        change: Figure::mean_of(&change),
+        excess: Figure::mean_of(&excess),
+        temporal_rmse: Figure::mean_of(&trmse),
     }
 }
 
@@ -170,7 +163,7 @@ pub struct Scored {
 pub struct Measured {
     pub views: Vec<Vec<Scored>>,
     pub flicker: Vec<(String, String, Flicker)>,
-    pub truth_change: Option<Est>,
+    pub truth_change: Option<Figure>,
 }
 
 pub fn measure_render(r: &super::Render) -> Measured {

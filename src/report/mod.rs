@@ -10,13 +10,3 @@ pub mod table;
 pub fn stage(msg: &str) {
     crate::progress::stamp(msg);
 }
-
-/// An estimate's relative error against an MC truth with its standard error, as
-/// "+1.2 % ± 0.3" (the ± is the truth's s.e. relative to it); "—" for a zero truth.
-pub fn rel_vs_mc(x: f64, mc: f64, se: f64) -> String {
-    if mc > 0.0 {
-        format!("{:+.1} % ± {:.1}", 100.0 * (x / mc - 1.0), 100.0 * se / mc)
-    } else {
-        "—".into()
-    }
-}

@@ -5,6 +5,7 @@
 //! reads them.
 
 use crate::fit::spec::FitSpec;
+use crate::integrate::Figure;
 use crate::survey::em::EmLog;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -39,10 +40,7 @@ impl Filters {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FilterSummary {
     pub name: String,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2_mean: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2_se: f64,
+    pub l2: Figure,
     /// Which cases: the map cases or the Gaussian-pixel screen cases.
     pub study: String,
 }
@@ -61,22 +59,16 @@ pub struct FittedConstant {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct Agg {
     pub cases: usize,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub energy_mean: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub energy_se: f64,
+    /// The energy bias (∫ filtered / ∫ truth − 1).
+    pub energy: Figure,
     #[serde(deserialize_with = "super::f64_or_nan")]
     pub energy_abs_mean: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2_mean: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2_se: f64,
+    /// The lobe's relative L2 error.
+    pub l2: Figure,
     #[serde(deserialize_with = "super::f64_or_nan")]
     pub l2_max: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub peak_mean: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub peak_se: f64,
+    /// The peak's relative error.
+    pub peak: Figure,
     /// Largest Monte Carlo standard error of any single case's L2 (sampling noise).
     #[serde(deserialize_with = "super::f64_or_nan")]
     pub l2_mc_se_max: f64,
@@ -99,25 +91,18 @@ pub struct Verdict {
     pub budget: usize,
     pub best: String,
     pub best_params: usize,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2: f64,
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub l2_se: f64,
+    pub l2: Figure,
     pub runner_up: String,
-    /// Paired difference runner-up − best over the map's cases (mean, s.e.).
-    #[serde(deserialize_with = "super::pair_or_nan")]
-    pub margin: (f64, f64),
+    /// Paired difference runner-up − best over the map's cases.
+    pub margin: Figure,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct LevelPair {
     pub level: usize,
-    #[serde(deserialize_with = "super::pair_or_nan")]
-    pub recomputed: (f64, f64),
-    #[serde(deserialize_with = "super::pair_or_nan")]
-    pub mipped: (f64, f64),
-    #[serde(deserialize_with = "super::pair_or_nan")]
-    pub cost: (f64, f64),
+    pub recomputed: Figure,
+    pub mipped: Figure,
+    pub cost: Figure,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -126,12 +111,10 @@ pub struct AlignmentRow {
     /// Per merged K: fraction of matched pairs that could not be aligned.
     pub tan_misaligned: Vec<f64>,
     pub vmf_misaligned: Vec<f64>,
-    /// Tan, 4 lobes MIP-mapped minus EM per footprint: (mean, s.e.) over footprints with a
-    /// misaligned pair and over those without.
-    #[serde(deserialize_with = "super::mean_se_n_or_nan")]
-    pub tan_cost_misaligned: (f64, f64, usize),
-    #[serde(deserialize_with = "super::mean_se_n_or_nan")]
-    pub tan_cost_aligned: (f64, f64, usize),
+    /// Tan, 4 lobes MIP-mapped minus EM per footprint, over footprints with a misaligned
+    /// pair and over those without, with the number of footprints.
+    pub tan_cost_misaligned: (Figure, usize),
+    pub tan_cost_aligned: (Figure, usize),
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -151,7 +134,7 @@ pub struct Summary {
     pub schilling: Vec<LevelPair>,
     pub alignment: Vec<AlignmentRow>,
     pub em: EmLog,
-    pub fournier_fit_l2: Vec<(usize, f64, f64)>,
+    pub fournier_fit_l2: Vec<(usize, Figure)>,
     pub fournier_iters: Vec<(usize, f64)>,
     pub olano_north_z_err_max: f64,
     pub vmf_terms_max: usize,

@@ -152,9 +152,8 @@ pub struct AnisoSummary {
 /// (mean ± s.e., max) of a set of errors.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct MeanMax {
-    pub mean: f64,
-    /// Standard error of the mean (for a random sample of cases).
-    pub se: f64,
+    /// The mean and its standard error (for a random sample of cases).
+    pub mean: crate::integrate::Figure,
     pub max: f64,
     pub count: usize,
 }

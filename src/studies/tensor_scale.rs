@@ -9,6 +9,7 @@
 use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
+use crate::integrate::Figure;
 use crate::integrate::Preset;
 use crate::io::Outputs;
 use crate::report::table::Table;
@@ -111,11 +112,6 @@ struct ScaleResult<'a> {
     clusters: &'a [ClusterRun],
 }
 
-/// Mean and standard error of the mean.
-fn mean_se(v: &[f64]) -> (f64, f64) {
-    crate::integrate::MeanSe::of(v).pair()
-}
-
 /// One (map, rank) pair, aggregated over the clusters run, and its projection beside
 /// Table 2.
 struct RankRow {
@@ -123,11 +119,11 @@ struct RankRow {
     rank: usize,
     clusters: usize,
     /// Blocks per cluster, mean ± s.e.
-    blocks: (f64, f64),
+    blocks: Figure,
     /// Non-empty share of the blocks.
     nonempty: f64,
     /// Relative reconstruction error, mean ± s.e., and its max.
-    error: (f64, f64),
+    error: Figure,
     error_max: f64,
     iterations: f64,
     at_cap: usize,
@@ -135,14 +131,14 @@ struct RankRow {
     compression_all: f64,
     compression_nonempty: f64,
     /// P-NDF and CP seconds per cluster, mean ± s.e.
-    pndf_seconds: (f64, f64),
-    cp_seconds: (f64, f64),
+    pndf_seconds: Figure,
+    cp_seconds: Figure,
     /// Table 2's row for this pair, if it has one.
     paper: Option<(&'static str, usize, f64, f64, f64, f64, f64)>,
     /// Level 0's core-minutes (mean ± s.e. scaled to every cluster) and the pyramid's.
-    level0_pndf_min: (f64, f64),
+    level0_pndf_min: Figure,
     pyramid_pndf_min: f64,
-    level0_cp_min: (f64, f64),
+    level0_cp_min: Figure,
     pyramid_cp_min: f64,
     /// Compressed storage of level 0 (MB, 4 B per value), projected from the ratio.
     level0_compressed_mb: f64,
@@ -207,11 +203,11 @@ fn compute(c: &Ctx) -> Result<Scale> {
             .skip(m * clusters.len())
             .take(clusters.len())
             .collect();
-        let blocks = mean_se(&rs.iter().map(|r| r.blocks as f64).collect::<Vec<_>>());
+        let blocks = Figure::mean_of(&rs.iter().map(|r| r.blocks as f64).collect::<Vec<_>>());
         let nonempty = rs.iter().map(|r| r.blocks).sum::<usize>() as f64
             / rs.iter().map(|r| r.blocks_all).sum::<usize>().max(1) as f64;
         let pre: Vec<f64> = rs.iter().map(|r| r.pndf_seconds).collect();
-        let (pre_m, pre_se) = mean_se(&pre);
+        let pre = Figure::mean_of(&pre);
         for (k, &rank) in plan.ranks.iter().enumerate() {
             let of: Vec<&crate::tensor::scale::RankRun> =
                 rs.iter().filter_map(|r| r.ranks.get(k)).collect();
@@ -221,9 +217,12 @@ fn compute(c: &Ctx) -> Result<Scale> {
                 rs.iter().map(|r| r.blocks_all).sum::<usize>() as f64 * (plan.t * plan.t) as f64;
             let nonempty_vals =
                 rs.iter().map(|r| r.blocks).sum::<usize>() as f64 * (plan.t * plan.t) as f64;
-            let (cp_m, cp_se) = mean_se(&of.iter().map(|x| x.seconds).collect::<Vec<_>>());
-            let level0_pre = pre_m * total as f64 / 60.0;
-            let level0_cp = cp_m * total as f64 / 60.0;
+            let cp = Figure::mean_of(&of.iter().map(|x| x.seconds).collect::<Vec<_>>());
+            // level 0's core-minutes: the per-cluster seconds scaled to every cluster
+            let minutes = |f: Figure| {
+                Figure::with_se(f.value * total as f64 / 60.0, f.error * total as f64 / 60.0)
+            };
+            let (level0_pre, level0_cp) = (minutes(pre), minutes(cp));
             let ratio = stored / all_vals.max(1.0);
             rows.push(RankRow {
                 map: kind.name(),
@@ -231,23 +230,23 @@ fn compute(c: &Ctx) -> Result<Scale> {
                 clusters: rs.len(),
                 blocks,
                 nonempty,
-                error: mean_se(&errs),
+                error: Figure::mean_of(&errs),
                 error_max: errs.iter().cloned().fold(0.0, f64::max),
                 iterations: of.iter().map(|x| x.iterations as f64).sum::<f64>()
                     / of.len().max(1) as f64,
                 at_cap: of.iter().filter(|x| x.iterations >= plan.max_iters).count(),
                 compression_all: ratio,
                 compression_nonempty: stored / nonempty_vals.max(1.0),
-                pndf_seconds: (pre_m, pre_se),
-                cp_seconds: (cp_m, cp_se),
+                pndf_seconds: pre,
+                cp_seconds: cp,
                 paper: TABLE2
                     .iter()
                     .find(|p| p.0 == kind.name() && p.1 == rank)
                     .copied(),
-                level0_pndf_min: (level0_pre, pre_se * total as f64 / 60.0),
-                pyramid_pndf_min: level0_pre * nlev as f64,
-                level0_cp_min: (level0_cp, cp_se * total as f64 / 60.0),
-                pyramid_cp_min: level0_cp * pyramid_cp,
+                level0_pndf_min: level0_pre,
+                pyramid_pndf_min: level0_pre.value * nlev as f64,
+                level0_cp_min: level0_cp,
+                pyramid_cp_min: level0_cp.value * pyramid_cp,
                 level0_compressed_mb: mb(ratio * images0 as f64 * per_image),
             });
         }
@@ -382,26 +381,26 @@ fn report(k: &Scale) -> String {
             r.map.to_string(),
             r.rank.to_string(),
             r.clusters.to_string(),
-            format!("{:.0} ± {:.0}", r.blocks.0, r.blocks.1),
+            r.blocks.fixed(0),
             format!("{:.1} %", 100.0 * r.nonempty),
-            format!("{:.2} ± {:.2} %", 100.0 * r.error.0, 100.0 * r.error.1),
+            format!("{} %", r.error.scaled(100.0).fixed(2)),
             format!("{:.2} %", 100.0 * r.error_max),
             format!("{:.0}", r.iterations),
             r.at_cap.to_string(),
             format!("{:.2} %", 100.0 * r.compression_all),
             format!("{:.2} %", 100.0 * r.compression_nonempty),
-            format!("{:.2} ± {:.2}", r.pndf_seconds.0, r.pndf_seconds.1),
-            format!("{:.2} ± {:.2}", r.cp_seconds.0, r.cp_seconds.1),
+            r.pndf_seconds.fixed(2),
+            r.cp_seconds.fixed(2),
         ]);
         let paper = r.paper;
         beside.row([
             r.map.to_string(),
             r.rank.to_string(),
             cell(paper.map(|p| p.2 * 40.0), 0),
-            format!("{:.1} ± {:.1}", r.level0_pndf_min.0, r.level0_pndf_min.1),
+            r.level0_pndf_min.fixed(1),
             format!("{:.0}", r.pyramid_pndf_min),
             cell(paper.map(|p| p.3 * 40.0), 0),
-            format!("{:.2} ± {:.2}", r.level0_cp_min.0, r.level0_cp_min.1),
+            r.level0_cp_min.fixed(2),
             format!("{:.2}", r.pyramid_cp_min),
             cell(paper.map(|p| p.4), 2),
             format!("{:.2}", k.pyramid_mb),

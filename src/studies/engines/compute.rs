@@ -6,8 +6,8 @@ use crate::engines::truth::{bevy_value, lobe, lookup, table_value, three_value, 
 use crate::engines::EngineScenes;
 use crate::engines::Rect;
 use crate::error::{Error, Result};
+use crate::integrate::{Figure, Quad};
 use crate::ltc::compare::Shipped;
-use crate::ltc::lobe_error::Bounded;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -159,11 +159,11 @@ impl Held {
 /// bars allow (zero where the reference is exact).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Errors {
-    pub rel_rmse: Bounded,
-    pub mean_rel: Bounded,
+    pub rel_rmse: Figure<Quad>,
+    pub mean_rel: Figure<Quad>,
 }
 
-pub(super) fn errors(x: &[f64], reference: &[Bounded]) -> Errors {
+pub(super) fn errors(x: &[f64], reference: &[Figure<Quad>]) -> Errors {
     let peak = reference.iter().map(|r| r.value).fold(0.0, f64::max);
     let (mut a, mut b, mut da, mut db) = (0.0, 0.0, 0.0, 0.0);
     let (mut rel, mut drel, mut cnt) = (0.0, 0.0, 0usize);
@@ -192,14 +192,8 @@ pub(super) fn errors(x: &[f64], reference: &[Bounded]) -> Errors {
     let lo = ratio(a - da, b + db);
     let m = cnt.max(1) as f64;
     Errors {
-        rel_rmse: Bounded {
-            value: v,
-            error: (hi - v).max(v - lo),
-        },
-        mean_rel: Bounded {
-            value: rel / m,
-            error: drel / m,
-        },
+        rel_rmse: Figure::<Quad>::new(v, (hi - v).max(v - lo)),
+        mean_rel: Figure::<Quad>::new(rel / m, drel / m),
     }
 }
 
@@ -239,7 +233,7 @@ pub struct SceneResult {
     /// The covered pixels' surface points and the truth there (± its bar), kept for the
     /// judging that reuses them (Godot's formulas) instead of integrating them again.
     #[serde(skip)]
-    pub truth: Vec<(Vector3<f64>, Bounded)>,
+    pub truth: Vec<(Vector3<f64>, Figure<Quad>)>,
 }
 
 /// One engine's runs judged.
@@ -269,6 +263,136 @@ impl EngineResult {
             .map(f)
             .collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
+    }
+}
+
+/// A scene where ours renders further from the truth than the shipped table, beyond both
+/// error bars, with both tables' figures: the engine's and the tables' own shares.
+#[derive(Clone, Debug)]
+pub struct Worse {
+    pub scene: String,
+    pub ours: Figure<Quad>,
+    pub shipped: Figure<Quad>,
+    pub ours_table: Figure<Quad>,
+    pub shipped_table: Figure<Quad>,
+}
+
+impl Worse {
+    /// Whether our table's own share is the larger: the table is the cause, not the
+    /// engine's shader.
+    pub fn table_is_cause(&self) -> bool {
+        self.ours_table.value > self.shipped_table.value
+    }
+}
+
+/// One path of one engine over its scenes, as the report states it.
+#[derive(Clone, Debug)]
+pub struct PathSummary {
+    pub path: &'static str,
+    pub scenes: usize,
+    /// Scenes where ours renders closer to the truth (relative RMSE, beyond both bars).
+    pub better: Vec<String>,
+    pub worse: Vec<Worse>,
+    /// Mean relative RMSE over the scenes, the engine with the shipped table and with ours…
+    pub shipped_mean: f64,
+    pub ours_mean: f64,
+    /// …and the tables' own shares.
+    pub shipped_table_mean: f64,
+    pub ours_table_mean: f64,
+    /// The largest relative RMSE of the engine against its formulas in f64 (f32 arithmetic,
+    /// filtering), over scenes and tables.
+    pub gpu_max: f64,
+}
+
+/// What the report states of a run, computed from its result.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// The truth's largest relative error bar over every engine's pixels.
+    pub truth_bar: f64,
+    /// Per engine (in the result's order), per path.
+    pub paths: Vec<Vec<PathSummary>>,
+    /// Godot's mean relative RMSE over the scenes: its formulas, its table's share.
+    pub godot_means: Option<(f64, f64)>,
+}
+
+fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let v: Vec<f64> = v.collect();
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+impl EngineResult {
+    /// One scene's figures of one (table, path).
+    pub fn find(s: &SceneResult, table: &str, path: &str) -> Option<PathResult> {
+        s.paths
+            .iter()
+            .find(|x| x.table == table && x.path == path)
+            .cloned()
+    }
+
+    /// One path over the scenes.
+    pub fn path_summary(&self, path: &'static str) -> PathSummary {
+        let (mut better, mut worse) = (Vec::new(), Vec::new());
+        for s in &self.scenes {
+            let (Some(a), Some(b)) = (
+                EngineResult::find(s, "ours", path),
+                EngineResult::find(s, "shipped", path),
+            ) else {
+                continue;
+            };
+            let (o, t) = (a.engine.rel_rmse, b.engine.rel_rmse);
+            if o.value + o.error < t.value - t.error {
+                better.push(s.name.clone());
+            } else if o.value - o.error > t.value + t.error {
+                worse.push(Worse {
+                    scene: s.name.clone(),
+                    ours: o,
+                    shipped: t,
+                    ours_table: a.table_share.rel_rmse,
+                    shipped_table: b.table_share.rel_rmse,
+                });
+            }
+        }
+        PathSummary {
+            path,
+            scenes: self.scenes.len(),
+            better,
+            worse,
+            shipped_mean: self.mean("shipped", path, |x| x.engine.rel_rmse.value),
+            ours_mean: self.mean("ours", path, |x| x.engine.rel_rmse.value),
+            shipped_table_mean: self.mean("shipped", path, |x| x.table_share.rel_rmse.value),
+            ours_table_mean: self.mean("ours", path, |x| x.table_share.rel_rmse.value),
+            gpu_max: self
+                .scenes
+                .iter()
+                .flat_map(|s| s.paths.iter().filter(|x| x.path == path))
+                .map(|x| x.gpu_share.rel_rmse.value)
+                .fold(0.0, f64::max),
+        }
+    }
+}
+
+impl EnginesResult {
+    /// Everything the report states beyond the result's own figures.
+    pub fn summary(&self) -> Summary {
+        Summary {
+            truth_bar: self
+                .engines
+                .iter()
+                .flat_map(|e| &e.scenes)
+                .map(|s| s.truth_rel_error)
+                .fold(0.0, f64::max),
+            paths: self
+                .engines
+                .iter()
+                .map(|e| e.paths.iter().map(|p| e.path_summary(p)).collect())
+                .collect(),
+            godot_means: (!self.godot.is_empty()).then(|| {
+                (
+                    mean(self.godot.iter().map(|s| s.formulas.rel_rmse.value)),
+                    mean(self.godot.iter().map(|s| s.table_share.rel_rmse.value)),
+                )
+            }),
+        }
     }
 }
 
@@ -380,7 +504,7 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
                 }
             }
         }
-        let truth: Vec<Bounded> = crate::memo::map_items(
+        let truth: Vec<Figure<Quad>> = crate::memo::map_items(
             &format!("engine truth {} {}", e.name(), sc.name),
             &pts,
             |(_, x)| Ok(truth_value(&t, &light, x, TRUTH_REL)),
@@ -408,13 +532,8 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
                 .collect();
             let rad = &run.paths[*path][k].radiance;
             let ev: Vec<f64> = pts.iter().map(|(p, _)| rad[4 * p]).collect();
-            let exact = |v: &[f64]| -> Vec<Bounded> {
-                v.iter()
-                    .map(|v| Bounded {
-                        value: *v,
-                        error: 0.0,
-                    })
-                    .collect()
+            let exact = |v: &[f64]| -> Vec<Figure<Quad>> {
+                v.iter().map(|v| Figure::<Quad>::new(*v, 0.0)).collect()
             };
             paths.push(PathResult {
                 table,

@@ -115,7 +115,8 @@ pub fn run(
         };
         r.godot = godot(&sc, first, &f32s(l1), &f32s(l2))?;
     }
-    let md = report::markdown(&r, command);
+    let sum = r.summary();
+    let md = report::markdown(&r, &sum, command);
     let picks = [
         "r0.1-view30",
         "r0.25-view60",
@@ -134,14 +135,16 @@ pub fn run(
     let summary: Vec<String> = r
         .engines
         .iter()
-        .map(|e| {
-            let p = e.engine.paths()[0];
+        .zip(&sum.paths)
+        .map(|(e, paths)| {
+            let p = &paths[0];
             format!(
-                "{} {p} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
+                "{} {} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
                 e.engine.name(),
-                e.scenes.len(),
-                100.0 * e.mean("shipped", p, |x| x.engine.rel_rmse.value),
-                100.0 * e.mean("ours", p, |x| x.engine.rel_rmse.value)
+                p.path,
+                p.scenes,
+                100.0 * p.shipped_mean,
+                100.0 * p.ours_mean
             )
         })
         .collect();

@@ -6,7 +6,7 @@ use super::compute::{errors, EngineResult, GodotScene};
 use crate::engines::EngineScenes;
 use crate::engines::Rect;
 use crate::error::{Error, Result};
-use crate::ltc::lobe_error::Bounded;
+use crate::integrate::{Figure, Quad};
 
 /// Godot 4 in f64 with our files (lut1, lut2 texels as f64) at the pixel points of an
 /// engine already judged, against the truth computed there (reused, not integrated again):
@@ -23,7 +23,7 @@ pub fn godot(
         let light = Rect::of(&sc.light).ok_or_else(|| {
             Error::InvalidArgument(format!("engines: scene {}: degenerate light", sc.name))
         })?;
-        let truth: Vec<Bounded> = done.truth.iter().map(|(_, b)| *b).collect();
+        let truth: Vec<Figure<Quad>> = done.truth.iter().map(|(_, b)| *b).collect();
         let g = godot_lookup(l1, l2, sc.roughness, sc.view_deg.to_radians().cos());
         let fv: Vec<f64> = done
             .truth

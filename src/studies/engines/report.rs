@@ -2,7 +2,9 @@
 //! and a labelled figure (truth, both tables' images, their error maps, with a colour bar)
 //! of a few scenes. Formats only.
 
-use super::compute::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
+use super::compute::{
+    EngineResult, EnginesResult, Errors, PathResult, PathSummary, SceneResult, Summary,
+};
 use crate::error::Result;
 use crate::render::picture::Rgb;
 use crate::report::table::Table;
@@ -12,63 +14,39 @@ fn cell(e: &Errors) -> String {
 }
 
 /// The markdown report.
-pub fn markdown(r: &EnginesResult, command: &str) -> String {
-    let truth_bar = r
-        .engines
-        .iter()
-        .flat_map(|e| &e.scenes)
-        .map(|s| s.truth_rel_error)
-        .fold(0.0, f64::max);
+pub fn markdown(r: &EnginesResult, sum: &Summary, command: &str) -> String {
     let mut md = format!(
         "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice: with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders with WebGLRenderer the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear), and with WebGPURenderer (WebGPU on SwiftShader, where Chromium offers an adapter; ours through `RectAreaLightNode.setLTC` and the import map's entry for the bare specifier) the `webgpu-float` or `webgpu-half` path, as three binds them.\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
         r.width,
         r.height,
-        truth_bar
+        sum.truth_bar
     );
-    for e in &r.engines {
-        engine_section(&mut md, e);
+    for (e, paths) in r.engines.iter().zip(&sum.paths) {
+        engine_section(&mut md, e, paths);
     }
-    godot_section(&mut md, r);
+    godot_section(&mut md, r, sum);
     md.push_str("![scenes](engines.svg)\n\nThe figure: for four scenes and each engine, the truth, the engine with its shipped table and with ours (its first path, the same exposure per row), and their relative errors |engine − truth|/truth on the colour bar's scale (0 to 25 %; pixels darker than 10⁻³ of the peak are black). Rows are labelled with the engine and the scene (roughness, view angle), columns with what they show.\n");
     md
 }
 
-fn godot_section(md: &mut String, r: &EnginesResult) {
-    if r.godot.is_empty() {
+fn godot_section(md: &mut String, r: &EnginesResult, sum: &Summary) {
+    let Some((formulas, share)) = sum.godot_means else {
         return;
-    }
+    };
     md.push_str("## Godot 4 (formulas in f64; not rendered)\n\nNo Godot binary runs here, and Godot's own LTC files could not be fetched (its repository is over this machine's fetch limit), so Godot is judged by its shader's formulas transcribed in f64 (`engines::godot`, read from area_lights_inc.glsl): its bilinear lookup of our `results/textures/godot/ltc_lut{1,2}.dds` (f32, its θ-linear view axis through `acos_approx`), its matrix form, horizon clip and Hill's edge fit, at the first engine's pixel points. **Formulas**: that value against the truth; **table's share**: the same texels with the exact edge integral against the truth.\n\n");
     let mut t = Table::new(["scene", "formulas", "table's share"]);
     for s in &r.godot {
         t.row([s.name.clone(), cell(&s.formulas), cell(&s.table_share)]);
     }
     md.push_str(&t.to_string());
-    let n = r.godot.len().max(1) as f64;
     md.push_str(&format!(
         "\nMean relative RMSE over the scenes: formulas {:.2} %, table's share {:.2} %.\n\n",
-        100.0
-            * r.godot
-                .iter()
-                .map(|s| s.formulas.rel_rmse.value)
-                .sum::<f64>()
-            / n,
-        100.0
-            * r.godot
-                .iter()
-                .map(|s| s.table_share.rel_rmse.value)
-                .sum::<f64>()
-            / n
+        100.0 * formulas,
+        100.0 * share
     ));
 }
 
-fn pick(s: &SceneResult, t: &str, p: &str) -> Option<PathResult> {
-    s.paths
-        .iter()
-        .find(|x| x.table == t && x.path == p)
-        .cloned()
-}
-
-fn engine_section(md: &mut String, e: &EngineResult) {
+fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
     let paths = &e.paths;
     md.push_str(&format!(
         "## {} ({}, on {})\n\n### The engine against the truth\n\n",
@@ -90,8 +68,9 @@ fn engine_section(md: &mut String, e: &EngineResult) {
             [s.name.clone(), s.pixels.to_string()]
                 .into_iter()
                 .chain(paths.iter().flat_map(|p| {
-                    ["shipped", "ours"]
-                        .map(|tb| pick(s, tb, p).map_or("—".into(), |x| cell(&x.engine)))
+                    ["shipped", "ours"].map(|tb| {
+                        EngineResult::find(s, tb, p).map_or("—".into(), |x| cell(&x.engine))
+                    })
                 })),
         );
     }
@@ -107,7 +86,7 @@ fn engine_section(md: &mut String, e: &EngineResult) {
     ]);
     for s in &e.scenes {
         let c = |t: &str, f: &dyn Fn(&PathResult) -> String| {
-            pick(s, t, p0).map_or("—".into(), |x| f(&x))
+            EngineResult::find(s, t, p0).map_or("—".into(), |x| f(&x))
         };
         t.row([
             s.name.clone(),
@@ -118,47 +97,38 @@ fn engine_section(md: &mut String, e: &EngineResult) {
         ]);
     }
     md.push_str(&t.to_string());
-    for p in paths {
-        let (mut better, mut worse) = (Vec::new(), Vec::new());
-        for s in &e.scenes {
-            if let (Some(a), Some(b)) = (pick(s, "ours", p), pick(s, "shipped", p)) {
-                let (o, t) = (a.engine.rel_rmse, b.engine.rel_rmse);
-                if o.value + o.error < t.value - t.error {
-                    better.push(s.name.clone());
-                } else if o.value - o.error > t.value + t.error {
-                    // why: the tables' own shares side by side
-                    let (ot, tt) = (a.table_share.rel_rmse, b.table_share.rel_rmse);
-                    let cause = if ot.value > tt.value {
-                        "the table: its own share is larger"
-                    } else {
-                        "the engine's shader: the table's own share is smaller"
-                    };
-                    worse.push(format!(
-                        "{} ({} against {}; tables' shares {} against {}: {cause})",
-                        s.name,
-                        o.pct(2),
-                        t.pct(2),
-                        ot.pct(2),
-                        tt.pct(2)
-                    ));
-                }
-            }
-        }
+    for p in sums {
+        let worse: Vec<String> = p
+            .worse
+            .iter()
+            .map(|w| {
+                let cause = if w.table_is_cause() {
+                    "the table: its own share is larger"
+                } else {
+                    "the engine's shader: the table's own share is smaller"
+                };
+                format!(
+                    "{} ({} against {}; tables' shares {} against {}: {cause})",
+                    w.scene,
+                    w.ours.pct(2),
+                    w.shipped.pct(2),
+                    w.ours_table.pct(2),
+                    w.shipped_table.pct(2)
+                )
+            })
+            .collect();
         md.push_str(&format!(
-            "\nOn the {p} path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}. Mean relative RMSE over the scenes: shipped {:.2} %, ours {:.2} %; the tables' own share: shipped {:.2} %, ours {:.2} %; the engine's formulas in f64 against its image (f32 arithmetic, filtering): at most {:.2e}.\n",
-            better.len(),
-            e.scenes.len(),
+            "\nOn the {} path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}. Mean relative RMSE over the scenes: shipped {:.2} %, ours {:.2} %; the tables' own share: shipped {:.2} %, ours {:.2} %; the engine's formulas in f64 against its image (f32 arithmetic, filtering): at most {:.2e}.\n",
+            p.path,
+            p.better.len(),
+            p.scenes,
             worse.len(),
             if worse.is_empty() { String::new() } else { format!(": {}", worse.join("; ")) },
-            100.0 * e.mean("shipped", p, |x| x.engine.rel_rmse.value),
-            100.0 * e.mean("ours", p, |x| x.engine.rel_rmse.value),
-            100.0 * e.mean("shipped", p, |x| x.table_share.rel_rmse.value),
-            100.0 * e.mean("ours", p, |x| x.table_share.rel_rmse.value),
-            e.scenes
-                .iter()
-                .flat_map(|s| s.paths.iter().filter(|x| x.path == *p))
-                .map(|x| x.gpu_share.rel_rmse.value)
-                .fold(0.0, f64::max)
+            100.0 * p.shipped_mean,
+            100.0 * p.ours_mean,
+            100.0 * p.shipped_table_mean,
+            100.0 * p.ours_table_mean,
+            p.gpu_max
         ));
     }
     md.push('\n');

@@ -39,39 +39,28 @@ pub(super) struct ScreenCase {
     pub results: Vec<CaseResult>,
 }
 
+use crate::integrate::Figure;
 pub use crate::results::filters::Agg;
-
-/// Mean and standard error of the finite values of `x`.
-pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
-    let v: Vec<f64> = x.iter().copied().filter(|a| a.is_finite()).collect();
-    crate::integrate::MeanSe::of(&v).pair()
-}
 
 pub fn aggregate(rs: &[&CaseResult]) -> Agg {
     let e: Vec<f64> = rs.iter().map(|r| r.energy.value).collect();
     let ea: Vec<f64> = e.iter().map(|x| x.abs()).collect();
     let l: Vec<f64> = rs.iter().map(|r| r.l2.value).collect();
     let p: Vec<f64> = rs.iter().map(|r| r.peak).collect();
-    let (em, es) = mean_se(&e);
-    let (lm, ls) = mean_se(&l);
-    let (pm, ps) = mean_se(&p);
     Agg {
         cases: rs.len(),
-        energy_mean: em,
-        energy_se: es,
-        energy_abs_mean: mean_se(&ea).0,
-        l2_mean: lm,
-        l2_se: ls,
+        energy: Figure::mean_of_finite(&e),
+        energy_abs_mean: Figure::mean_of_finite(&ea).value,
+        l2: Figure::mean_of_finite(&l),
         l2_max: l
             .iter()
             .copied()
             .filter(|x| x.is_finite())
             .fold(0.0, f64::max),
-        peak_mean: pm,
-        peak_se: ps,
+        peak: Figure::mean_of_finite(&p),
         l2_mc_se_max: rs
             .iter()
-            .map(|r| r.l2.se)
+            .map(|r| r.l2.error)
             .filter(|x| x.is_finite())
             .fold(0.0, f64::max),
     }

@@ -13,7 +13,7 @@ use crate::filters::registry::{screen_index, MAP, SCREEN};
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::fit::spec::FitSpec;
-use crate::integrate::{MeanSe, Preset};
+use crate::integrate::{Figure, Preset};
 use crate::microfacet::NdfKind;
 use crate::results::filters::FilterSummary;
 use std::collections::BTreeMap;
@@ -33,8 +33,8 @@ pub(super) struct Worst {
     pub level: usize,
     pub stats: Stats,
     pub view: usize,
-    pub energy: MeanSe,
-    pub l2: MeanSe,
+    pub energy: Figure,
+    pub l2: Figure,
 }
 
 /// A curve of a plot: the series' name and its points.
@@ -123,7 +123,7 @@ pub(super) fn map_section(
         agg(&|c| c.kind == kind, fi)
     });
     let mc_se_max = of_map()
-        .flat_map(|c| c.results.iter().map(|r| r.l2.se))
+        .flat_map(|c| c.results.iter().map(|r| r.l2.error))
         .filter(|x| x.is_finite())
         .fold(0.0, f64::max);
     let mut worst: Vec<(f64, &MapCase, usize)> = of_map()
@@ -154,7 +154,7 @@ pub(super) fn map_section(
                 .iter()
                 .map(|&lv| {
                     let a = agg(&|c| c.kind == NdfKind::Ggx && c.level == lv, fi);
-                    ((1usize << lv) as f64, a.l2_mean.max(1e-6))
+                    ((1usize << lv) as f64, a.l2.value.max(1e-6))
                 })
                 .collect();
             (f.label, points)
@@ -202,7 +202,7 @@ fn screen_section(plan: &Plan, screen: &[ScreenCase]) -> ScreenSection {
         .map(|(fi, f)| {
             let points = kappas
                 .iter()
-                .map(|&k| (k, at(k, fi).l2_mean.max(1e-6)))
+                .map(|&k| (k, at(k, fi).l2.value.max(1e-6)))
                 .collect();
             (f.label, points)
         })

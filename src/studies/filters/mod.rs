@@ -100,7 +100,7 @@ impl crate::study::Computed for Computed {
         let worst_held = self
             .fits
             .iter()
-            .map(|f| f.held_out.l2_mean)
+            .map(|f| f.held_out.l2.value)
             .fold(0.0, f64::max);
         FitOutcome::judged(
             &self.spec,

@@ -77,10 +77,6 @@ pub(super) fn kind_name(k: NdfKind) -> &'static str {
     }
 }
 
-pub(super) fn pct(m: f64, se: f64) -> String {
-    crate::integrate::MeanSe { value: m, se }.pct_signed(1)
-}
-
 pub(super) fn seed_of(base: u64, idx: usize) -> u64 {
     base ^ (idx as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
 }

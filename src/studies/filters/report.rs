@@ -3,7 +3,7 @@
 
 use super::compute::{Curve, MapSection, ScreenSection, CLAMP_COLUMNS};
 use super::constants::Fitted;
-use super::plan::{kind_name, pct, Plan, KINDS};
+use super::plan::{kind_name, Plan, KINDS};
 use crate::error::Result;
 use crate::filters::study::PixelFilter;
 use crate::integrate::Preset;
@@ -12,11 +12,7 @@ use crate::report::table::Table;
 
 /// The energy, L2 and peak columns of one NDF for one filter.
 fn agg_cells(a: &super::cases::Agg) -> [String; 3] {
-    [
-        pct(a.energy_mean, a.energy_se),
-        format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se),
-        pct(a.peak_mean, a.peak_se),
-    ]
+    [a.energy.pct_signed(1), a.l2.pct(1), a.peak.pct_signed(1)]
 }
 
 /// The per-NDF columns of the map and kernel tables.
@@ -90,8 +86,8 @@ pub(super) fn map_section(md: &mut String, s: &MapSection, plan: &Plan) -> Vec<s
             w.level.to_string(),
             format!("{:.4}", w.stats.mrl()),
             format!("{:?}", plan.views_deg[w.view]),
-            pct(w.energy.value, w.energy.se),
-            format!("{:.1} % ± {:.1}", 100.0 * w.l2.value, 100.0 * w.l2.se),
+            w.energy.pct_signed(1),
+            w.l2.pct(1),
         ]);
     }
     md.push_str(&t.to_string());
@@ -168,13 +164,7 @@ pub(super) fn screen_section(
     md.push_str("### The clamp δ = 0.18, by curvature (GGX, Gaussian pixel; L2 error, mean ± s.e. over the α paired with that κ, both anisotropies and all views)\n\n");
     let mut t = Table::new(std::iter::once("κ (rad/px)").chain(CLAMP_COLUMNS.iter().map(|c| c.1)));
     for (k, cells) in &s.clamp {
-        t.row(
-            std::iter::once(k.to_string()).chain(
-                cells
-                    .iter()
-                    .map(|a| format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)),
-            ),
-        );
+        t.row(std::iter::once(k.to_string()).chain(cells.iter().map(|a| a.l2.pct(1))));
     }
     md.push_str(&t.to_string());
     json_screen
@@ -201,8 +191,8 @@ pub(super) fn fits_section(
             kind_name(*kind).to_string(),
             format!("{c:.4}"),
             format!("{:.2} %", 100.0 * tr),
-            format!("{:.2} % ± {:.2}", 100.0 * ho.l2_mean, 100.0 * ho.l2_se),
-            pct(ho.energy_mean, ho.energy_se),
+            ho.l2.pct(2),
+            ho.energy.pct_signed(1),
         ]);
         json_fits.push(crate::results::filters::FittedConstant {
             family: fam.into(),

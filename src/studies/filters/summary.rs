@@ -29,8 +29,7 @@ fn insert(
         key,
         FilterSummary {
             name: name.into(),
-            l2_mean: a.l2_mean,
-            l2_se: a.l2_se,
+            l2: a.l2,
             study: study.into(),
         },
     );
@@ -93,7 +92,7 @@ pub(super) fn by_level(map_cases: &[MapCase], plan: &Plan, maps: usize) -> Vec<s
                             .collect();
                         {
                             let a = aggregate(&rs);
-                            serde_json::json!({"level": lv, "map": m, "ndf": kind_name(kind), "filter": fi, "l2": [a.l2_mean, a.l2_se], "energy": [a.energy_mean, a.energy_se]})
+                            serde_json::json!({"level": lv, "map": m, "ndf": kind_name(kind), "filter": fi, "l2": a.l2, "energy": a.energy})
                         }
                     })
                 })

@@ -2,13 +2,13 @@
 //! seed 004 §3.2 next to the footprint study's filters, on the same cases. [`summarise`]
 //! computes every number; [`markdown`] and [`pareto_svg`] only render them.
 
-use super::cases::{aggregate, mean_se, MapCase};
+use super::cases::{aggregate, MapCase};
 use super::plan::kind_name;
 use super::survey::{Diag, SurveyCases, FOURNIER_K, MIP_K, ROWS};
 use crate::error::Result;
 use crate::filters::registry::MAP;
 use crate::filters::truth::CaseResult;
-use crate::integrate::Preset;
+use crate::integrate::{Figure, Preset};
 use crate::microfacet::NdfKind;
 use crate::report::plot::{loglog_svg_legend, Panel, Series};
 use crate::report::table::Table;
@@ -55,12 +55,12 @@ fn row_meta(r: usize) -> (String, String, Option<usize>) {
     }
 }
 
-fn paired(cases: &[(usize, &MapCase)], sv: &SurveyCases, a: usize, b: usize) -> (f64, f64) {
+fn paired(cases: &[(usize, &MapCase)], sv: &SurveyCases, a: usize, b: usize) -> Figure {
     let d: Vec<f64> = cases
         .iter()
         .map(|(ci, c)| result(c, sv, *ci, a).l2.value - result(c, sv, *ci, b).l2.value)
         .collect();
-    mean_se(&d)
+    Figure::mean_of_finite(&d)
 }
 
 fn verdicts(
@@ -79,8 +79,9 @@ fn verdicts(
                 .collect();
             cand.sort_by(|&x, &y| {
                 rows[x].by_map[m]
-                    .l2_mean
-                    .total_cmp(&rows[y].by_map[m].l2_mean)
+                    .l2
+                    .value
+                    .total_cmp(&rows[y].by_map[m].l2.value)
             });
             if cand.len() < 2 {
                 continue;
@@ -91,8 +92,7 @@ fn verdicts(
                 budget: b,
                 best: rows[best].name.clone(),
                 best_params: rows[best].params.unwrap_or(0),
-                l2: rows[best].by_map[m].l2_mean,
-                l2_se: rows[best].by_map[m].l2_se,
+                l2: rows[best].by_map[m].l2,
                 runner_up: rows[second].name.clone(),
                 margin: paired(&mc, sv, second, best),
             });
@@ -129,8 +129,7 @@ fn alignment(maps: &[String], cases: &[(usize, &MapCase)], sv: &SurveyCases) -> 
                         result(c, sv, *ci, mip4).l2.value - result(c, sv, *ci, em4).l2.value
                     })
                     .collect();
-                let (a, b) = mean_se(&x);
-                (a, b, x.len() / sv.views.max(1))
+                (Figure::mean_of_finite(&x), x.len() / sv.views.max(1))
             };
             AlignmentRow {
                 map: name.clone(),
@@ -185,7 +184,7 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
                     .iter()
                     .map(|(ci, c)| result(c, sv, *ci, r).l2.value)
                     .collect();
-                mean_se(&v)
+                Figure::mean_of_finite(&v)
             };
             LevelPair {
                 level: l,
@@ -209,8 +208,7 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
         .enumerate()
         .map(|(i, &k)| {
             let v: Vec<f64> = sv.diags.iter().map(|d| d.fournier_fit_l2[i]).collect();
-            let (m, s) = mean_se(&v);
-            (k, m, s)
+            (k, Figure::mean_of_finite(&v))
         })
         .collect();
     let fournier_iters = FOURNIER_K
@@ -260,16 +258,12 @@ pub(super) fn summarise(maps: &[String], cases: &[&MapCase], sv: &SurveyCases) -
 }
 
 /// A mean ± s.e. over a subset, "—" when the subset is empty.
-fn pm_or_dash(x: (f64, f64, usize)) -> String {
-    if x.2 == 0 || !x.0.is_finite() {
+fn pm_or_dash(x: (Figure, usize)) -> String {
+    if x.1 == 0 {
         "—".into()
     } else {
-        pm(x.0, x.1)
+        x.0.pct(1)
     }
-}
-
-fn pm(m: f64, s: f64) -> String {
-    crate::integrate::MeanSe { value: m, se: s }.pct(1)
 }
 
 /// The Pareto plot: per family, mean relative L2 against parameters per texel (one panel
@@ -294,7 +288,7 @@ pub(super) fn pareto_svg(s: &Summary) -> Result<String> {
             .map(|f| {
                 let mut pts: Vec<(f64, f64)> = Vec::new();
                 for r in s.rows.iter().filter(|r| &r.family == f) {
-                    let (p, e) = (r.params.unwrap_or(0) as f64, pick(r).l2_mean);
+                    let (p, e) = (r.params.unwrap_or(0) as f64, pick(r).l2.value);
                     match pts.iter_mut().find(|q| q.0 == p) {
                         Some(q) => q.1 = q.1.min(e),
                         None => pts.push((p, e)),
@@ -366,18 +360,13 @@ The first twelve rows are results/filters.md's filters on the same samples.\n\n"
     for r in &s.rows {
         let p = r.params.map_or("all texels".into(), |p| p.to_string());
         t.row(
-            [
-                r.name.to_string(),
-                p,
-                pm(r.ggx.l2_mean, r.ggx.l2_se),
-                pm(r.beckmann.l2_mean, r.beckmann.l2_se),
-            ]
-            .into_iter()
-            .chain(
-                r.by_map
-                    .iter()
-                    .map(|a| format!("{:.1} %", 100.0 * a.l2_mean)),
-            ),
+            [r.name.to_string(), p, r.ggx.l2.pct(1), r.beckmann.l2.pct(1)]
+                .into_iter()
+                .chain(
+                    r.by_map
+                        .iter()
+                        .map(|a| format!("{:.1} %", 100.0 * a.l2.value)),
+                ),
         );
     }
     md.push_str(&t.to_string());
@@ -395,7 +384,7 @@ The winner is the row with the lowest mean L2 among those with at most that many
 the margin is the paired difference runner-up − winner over the map's cases (± s.e.): a margin within 2 s.e. of zero is a tie.\n\n");
     let mut t = Table::new(["map", "budget", "winner", "its L2", "runner-up", "margin"]);
     for v in &s.verdicts {
-        let tie = if v.margin.0.abs() < 2.0 * v.margin.1 {
+        let tie = if v.margin.value.abs() < 2.0 * v.margin.error {
             " (tie)"
         } else {
             ""
@@ -404,9 +393,9 @@ the margin is the paired difference runner-up − winner over the map's cases (�
             v.map.to_string(),
             format!("≤ {}", v.budget),
             format!("{} ({})", v.best, v.best_params),
-            pm(v.l2, v.l2_se),
+            v.l2.pct(1),
             v.runner_up.to_string(),
-            format!("{}{tie}", pm(v.margin.0, v.margin.1)),
+            format!("{}{tie}", v.margin.pct(1)),
         ]);
     }
     md.push_str(&t.to_string());
@@ -422,9 +411,9 @@ hold only the base lobe (one texel has no spread), which is the first row of the
     for l in &s.schilling {
         t.row([
             l.level.to_string(),
-            pm(l.recomputed.0, l.recomputed.1),
-            pm(l.mipped.0, l.mipped.1),
-            pm(l.cost.0, l.cost.1),
+            l.recomputed.pct(1),
+            l.mipped.pct(1),
+            l.cost.pct(1),
         ]);
     }
     md.push_str(&t.to_string());
@@ -457,12 +446,12 @@ table shows what that costs against the per-footprint EM fit.\n\n");
             format!(
                 "{} ({})",
                 pm_or_dash(a.tan_cost_misaligned),
-                a.tan_cost_misaligned.2
+                a.tan_cost_misaligned.1
             ),
             format!(
                 "{} ({})",
                 pm_or_dash(a.tan_cost_aligned),
-                a.tan_cost_aligned.2
+                a.tan_cost_aligned.1
             ),
         ]);
     }
@@ -501,7 +490,7 @@ directions, mean ± s.e. over footprints: {}; mean iterations {}.\n\
 - The vMF zonal series ran to at most {} terms (each lobe's series stops below 1e-9 of its first term).\n",
         s.fournier_fit_l2
             .iter()
-            .map(|(k, m, e)| format!("{k} lobe{}: {}", if *k == 1 { "" } else { "s" }, pm(*m, *e)))
+            .map(|(k, m)| format!("{k} lobe{}: {}", if *k == 1 { "" } else { "s" }, m.pct(1)))
             .collect::<Vec<_>>()
             .join(", "),
         s.fournier_iters

@@ -1,12 +1,13 @@
 //! The verdicts of the footprint study: `measure` computes every figure a verdict
 //! states (and which way it goes), `markdown` words them.
 
-use super::cases::{aggregate, mean_se, Agg, MapCase, ScreenCase};
+use super::cases::{aggregate, Agg, MapCase, ScreenCase};
 use super::constants::Fitted;
-use super::plan::{kind_name, pct, KINDS};
+use super::plan::{kind_name, KINDS};
 use crate::filters::registry::{map_index, screen_index, MapRule, MAP};
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
+use crate::integrate::Figure;
 use crate::microfacet::NdfKind;
 
 /// The vMF variants on one NDF: 2/κ, 1/κ, 1/(2κ), the closest one and the fitted c.
@@ -23,7 +24,7 @@ pub(super) struct Tool {
     tool: &'static str,
     own: Agg,
     /// Paired difference tool − vMF of the L2 error: mean, s.e.
-    paired: (f64, f64),
+    paired: Figure,
 }
 
 /// The kernel added to α or to α², shipped and with fitted σ².
@@ -37,7 +38,7 @@ pub(super) struct OnAlpha {
     fitted_alpha2: (f64, Agg),
     fitted_alpha: (f64, Agg),
     /// Paired difference (on α − on α²): mean, s.e.
-    paired: (f64, f64),
+    paired: Figure,
 }
 
 /// Every figure the verdicts state.
@@ -86,7 +87,7 @@ pub(super) fn measure(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fitt
                 .collect();
             let best = v
                 .iter()
-                .min_by(|a, b| a.1.l2_mean.total_cmp(&b.1.l2_mean))
+                .min_by(|a, b| a.1.l2.value.total_cmp(&b.1.l2.value))
                 .map(|x| x.0)
                 .unwrap_or(map_index("vmf-2"));
             let fitted = fits
@@ -107,7 +108,7 @@ pub(super) fn measure(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fitt
         .collect();
     let best = all
         .iter()
-        .min_by(|a, b| a.1.l2_mean.total_cmp(&b.1.l2_mean))
+        .min_by(|a, b| a.1.l2.value.total_cmp(&b.1.l2.value))
         .map(|x| x.0)
         .unwrap_or(0);
     let vmf2 = map_l2(NdfKind::Ggx, map_index("vmf-2"));
@@ -134,7 +135,7 @@ pub(super) fn measure(map_cases: &[MapCase], screen: &[ScreenCase], fits: &[Fitt
                     on_alpha: scr(kind, pixel, screen_index("godot"), 0.0),
                     fitted_alpha2: (f2.0, f2.1),
                     fitted_alpha: (f1.0, f1.1),
-                    paired: mean_se(&d),
+                    paired: Figure::mean_of_finite(&d),
                 });
             }
         }
@@ -199,7 +200,7 @@ fn tools(map_cases: &[MapCase]) -> Vec<Tool> {
             filter: fi,
             tool,
             own: aggregate(&rs),
-            paired: mean_se(&d),
+            paired: Figure::mean_of_finite(&d),
         }
     })
     .collect()
@@ -207,14 +208,14 @@ fn tools(map_cases: &[MapCase]) -> Vec<Tool> {
 
 /// "12.3 % ± 0.4": a mean L2 error and its s.e. in percent.
 fn l2(a: &Agg) -> String {
-    format!("{:.1} % ± {:.1}", 100.0 * a.l2_mean, 100.0 * a.l2_se)
+    a.l2.pct(1)
 }
 
 /// Which way a paired difference d (mean, s.e.) goes at 2 s.e.
-fn sign(d: (f64, f64), worse: &'static str, better: &'static str) -> &'static str {
-    if d.0 > 2.0 * d.1 {
+fn sign(d: Figure, worse: &'static str, better: &'static str) -> &'static str {
+    if d.value > 2.0 * d.error {
         worse
-    } else if -d.0 > 2.0 * d.1 {
+    } else if -d.value > 2.0 * d.error {
         better
     } else {
         "no significant difference (< 2 s.e.)"
@@ -232,9 +233,9 @@ pub(super) fn markdown(v: &Verdicts) -> String {
             l2(&a[1]),
             l2(&a[2]),
             MAP[m.best].label,
-            pct(a[0].energy_mean, a[0].energy_se),
-            pct(a[1].energy_mean, a[1].energy_se),
-            pct(a[2].energy_mean, a[2].energy_se),
+            a[0].energy.pct_signed(1),
+            a[1].energy.pct_signed(1),
+            a[2].energy.pct_signed(1),
             m.fitted,
         ));
     }
@@ -247,15 +248,14 @@ pub(super) fn markdown(v: &Verdicts) -> String {
     for t in &v.tools {
         let (e, vmf) = (&t.own, &v.vmf2);
         s.push_str(&format!(
-            "- **{} (GGX, all maps)**: {} mean L2 {}, peak {} (vMF α² + 2/κ: {}, peak {}); paired difference {:+.1} % ± {:.1} — {}.\n",
+            "- **{} (GGX, all maps)**: {} mean L2 {}, peak {} (vMF α² + 2/κ: {}, peak {}); paired difference {} — {}.\n",
             t.tool,
             MAP[t.filter].label,
             l2(e),
-            pct(e.peak_mean, e.peak_se),
+            e.peak.pct_signed(1),
             l2(vmf),
-            pct(vmf.peak_mean, vmf.peak_se),
-            100.0 * t.paired.0,
-            100.0 * t.paired.1,
+            vmf.peak.pct_signed(1),
+            t.paired.pct_signed(1),
             sign(
                 t.paired,
                 "**worse than vMF on α² (> 2 s.e.)**: the term added to α rather than α² under-filters (α′² = (α + c/κ)² ≈ α² + 2αc/κ: 2α times the variance vMF adds, too little for α < ½; the peak is too high)",
@@ -265,14 +265,14 @@ pub(super) fn markdown(v: &Verdicts) -> String {
     }
     for o in &v.on_alpha {
         s.push_str(&format!(
-            "- **Kernel added to α or α² ({}, {})**: with the shipped σ² 0.25 / δ 0.18, on α² {} vs on α (Godot) {} mean L2. Each form with its own fitted σ² (held-out): on α² (σ² = {:.3}) {:.1} % ± {:.1}, on α (σ² = {:.3}) {:.1} % ± {:.1}; paired difference (on α − on α²) {:+.1} % ± {:.1} — **{}**.\n",
+            "- **Kernel added to α or α² ({}, {})**: with the shipped σ² 0.25 / δ 0.18, on α² {} vs on α (Godot) {} mean L2. Each form with its own fitted σ² (held-out): on α² (σ² = {:.3}) {}, on α (σ² = {:.3}) {}; paired difference (on α − on α²) {} — **{}**.\n",
             o.pixel,
             kind_name(o.kind),
             l2(&o.on_alpha2),
             l2(&o.on_alpha),
-            o.fitted_alpha2.0, 100.0 * o.fitted_alpha2.1.l2_mean, 100.0 * o.fitted_alpha2.1.l2_se,
-            o.fitted_alpha.0, 100.0 * o.fitted_alpha.1.l2_mean, 100.0 * o.fitted_alpha.1.l2_se,
-            100.0 * o.paired.0, 100.0 * o.paired.1,
+            o.fitted_alpha2.0, l2(&o.fitted_alpha2.1),
+            o.fitted_alpha.0, l2(&o.fitted_alpha.1),
+            o.paired.pct_signed(1),
             sign(o.paired, "α² is right (> 2 s.e.)", "α is better here (> 2 s.e.)")
         ));
     }
@@ -283,15 +283,15 @@ pub(super) fn markdown(v: &Verdicts) -> String {
     let (fs, fp) = &v.forward;
     s.push_str(&format!(
         "- **Forward kernels** (GGX, Gaussian pixel): slope-space derivatives (Kaplanyan, Eq 2–3) L2 {}, energy {}; projected-disk derivatives (Tokuyoshi, Eq 7) L2 {}, energy {} — the slope-space projection inflates the kernel for shallow half-vectors (seed 003 §3.1–3.2), Eq 7 removes that bias and is the most accurate kernel measured here.\n",
-        l2(fs), pct(fs.energy_mean, fs.energy_se),
-        l2(fp), pct(fp.energy_mean, fp.energy_se),
+        l2(fs), fs.energy.pct_signed(1),
+        l2(fp), fp.energy.pct_signed(1),
     ));
     let [cl, un, cl10, un10] = &v.clamp;
     s.push_str(&format!(
         "- **The 0.18 clamp** at the largest curvature (κ = {} rad/px, GGX, Gaussian pixel, mean L2): Eq 13 clamped {} vs unclamped {}; Eq 10 clamped {} vs unclamped {}. {} These derivative fields are exact (no estimation noise), so this measures only what the clamp does to the filtering itself; its stated purpose, robustness to noisy ddx/ddy at grazing views (seed 003 §3.1), is not modelled here.\n",
         v.kmax,
         l2(cl), l2(un), l2(cl10), l2(un10),
-        if cl10.l2_mean < un10.l2_mean - un10.l2_se {
+        if cl10.l2.value < un10.l2.value - un10.l2.error {
             "The clamp lowers the error even for the exact eigenvalue kernel: at such curvatures the footprint's normals span a large angle and a GGX/Beckmann lobe of the summed slope variance is too wide (slopes grow like tan θ), so capping the added α² helps."
         } else {
             "For the exact eigenvalue kernel the clamp does not help; with Eq 13 it only offsets the trace over-estimate."
@@ -301,7 +301,7 @@ pub(super) fn markdown(v: &Verdicts) -> String {
     s.push_str(&format!(
         "- **Eq 13 vs Eq 10** (GGX, Gaussian pixel): {} vs {}. Eq 13 bounds λ_max by the trace, i.e. doubles the kernel for isotropic curvature (energy {} vs {}).\n",
         l2(e13), l2(e10),
-        pct(e13.energy_mean, e13.energy_se), pct(e10.energy_mean, e10.energy_se)
+        e13.energy.pct_signed(1), e10.energy.pct_signed(1)
     ));
     s
 }

@@ -118,8 +118,8 @@ impl crate::study::Computed for Computed {
                 g.n_r,
                 g.n_phi,
                 g.n_t,
-                100.0 * rep.between_table.mean,
-                100.0 * rep.between_iso_geo.mean
+                100.0 * rep.between_table.mean.value,
+                100.0 * rep.between_iso_geo.mean.value
             ),
         )
     }

@@ -9,15 +9,6 @@ use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::report::table::Table;
 
-/// A sample mean with its standard error, in percent.
-fn pct_se(m: &MeanMax) -> String {
-    crate::integrate::MeanSe {
-        value: m.mean,
-        se: m.se,
-    }
-    .pct(2)
-}
-
 fn pct(x: f64) -> String {
     format!("{:.2} %", 100.0 * x)
 }
@@ -81,12 +72,12 @@ pub(super) fn markdown(
     md.push_str(&t.to_string());
     md.push_str(&format!(
         "\nThe shipped table ({}×{}×{}×{}) measured at {} random cases between its cells (below): RMS {} (mean {}), against its prediction {} in the first row.\n\n",
-        g.n_r, g.n_r, g.n_phi, g.n_t, s.between_table.count, pct(s.between_rms), pct(s.between_table.mean), pct(s.predictions[0].predicted_mean)
+        g.n_r, g.n_r, g.n_phi, g.n_t, s.between_table.count, pct(s.between_rms), pct(s.between_table.mean.value), pct(s.predictions[0].predicted_mean)
     ));
     md.push_str(&format!(
         "## Against what engines do today\n\n![cell errors](ltc-aniso-error.svg)\n\nEvery figure below is a held-out integral of `ltc::lobe_error` (relative L2 ‖f − norm·γ_M‖/‖f‖, and relative L1 where named), converged to its tolerance: the largest error bar of any cell's or case's figure is {:.1e} (as a fraction), far below the spread across cases, so a mean's ± is the standard error of the random sample of cases.\n\nAt the table's cells (mean / max over {} fitted cells): this fit {} / {} (relative L1 {} / {}); the isotropic table at α = √(α_x α_y) {} / {}; at max(α_x, α_y) {} / {}.\n\nAt {} random cases between cells (α_x, α_y uniform in √α, φ uniform on [0, π), θ uniform in t), each with the lookup a shader does (the interpolated norm included):\n\n",
         s.bar_max,
-        s.cells.ours.count, pct(s.cells.ours.mean), pct(s.cells.ours.max), pct(s.cells_l1.mean), pct(s.cells_l1.max), pct(s.cells.iso_geo.mean), pct(s.cells.iso_geo.max), pct(s.cells.iso_max.mean), pct(s.cells.iso_max.max),
+        s.cells.ours.count, pct(s.cells.ours.mean.value), pct(s.cells.ours.max), pct(s.cells_l1.mean.value), pct(s.cells_l1.max), pct(s.cells.iso_geo.mean.value), pct(s.cells.iso_geo.max), pct(s.cells.iso_max.mean.value), pct(s.cells.iso_max.max),
         s.between_table.count,
     ));
     let mut t = Table::new(["", "mean ± s.e.", "max"]);
@@ -100,7 +91,7 @@ pub(super) fn markdown(
         ("isotropic table at √(α_x α_y)", &s.between_iso_geo),
         ("isotropic table at max(α_x, α_y)", &s.between_iso_max),
     ] {
-        t.row([name.to_string(), pct_se(m), pct(m.max)]);
+        t.row([name.to_string(), m.mean.pct(2), pct(m.max)]);
     }
     md.push_str(&t.to_string());
     md.push_str("\nBy anisotropy (mean ± s.e. / max):\n\n");
@@ -111,7 +102,7 @@ pub(super) fn markdown(
         "isotropic at √(α_x α_y)",
         "isotropic at max",
     ]);
-    let both = |m: &MeanMax| format!("{} / {}", pct_se(m), pct(m.max));
+    let both = |m: &MeanMax| format!("{} / {}", m.mean.pct(2), pct(m.max));
     for b in &s.by_anisotropy {
         t.row([
             b.label.to_string(),
@@ -174,19 +165,19 @@ pub(super) fn polygon_section(rows: &[super::compute::PolygonRow], mc: usize) ->
     ]);
     for r in rows {
         let c = &r.check;
-        let rel = |x: f64| crate::report::rel_vs_mc(x, c.mc, c.mc_se);
+        let rel = |x: f64| c.mc.rel_error_of(x);
         t.row([
             format!("{:.3}", r.case.ax),
             format!("{:.3}", r.case.ay),
             format!("{:.0}°", r.case.phi.to_degrees()),
             format!("{:.0}°", r.case.theta.to_degrees()),
             c.light.to_string(),
-            format!("{:.4e} ± {:.1e}", c.mc, c.mc_se),
+            c.mc.sci(4, 1),
             format!("{:.4e}", c.ltc_exact),
             rel(c.ltc_exact),
             format!(
                 "{:+.2} %",
-                100.0 * (c.ltc_exact - c.mc) / r.albedo.max(1e-300)
+                100.0 * (c.ltc_exact - c.mc.value) / r.albedo.max(1e-300)
             ),
             format!("{:.4e}", r.iso_geo_exact),
             rel(r.iso_geo_exact),

@@ -10,10 +10,8 @@ pub use crate::results::ltc::MeanMax;
 
 fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
     let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
-    let (mean, se) = crate::integrate::MeanSe::of(&v).pair();
     MeanMax {
-        mean,
-        se,
+        mean: crate::integrate::Figure::mean_of(&v),
         max: v.iter().cloned().fold(0.0, f64::max),
         count: v.len(),
     }

@@ -2,8 +2,9 @@
 //! square centre, and the summary of ours against the shipped.
 
 use crate::error::Result;
+use crate::integrate::{Figure, Quad};
 use crate::ltc::compare::{alpha_theta, cell_error_of, square_entries, Shipped};
-use crate::ltc::lobe_error::{Bounded, LobeError, Spread};
+use crate::ltc::lobe_error::{LobeError, Spread};
 use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::ltc::upload;
 use crate::results::compare::Summary;
@@ -163,7 +164,7 @@ pub(super) fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
     Ok(forms)
 }
 
-pub(super) fn worse(a: &Bounded, b: &Bounded) -> bool {
+pub(super) fn worse(a: &Figure<Quad>, b: &Figure<Quad>) -> bool {
     a.value - a.error > b.value + b.error
 }
 

@@ -8,8 +8,9 @@
 
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
+use crate::integrate::{Figure, Quad};
 use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Cell, Method, Metric, Table};
-use crate::ltc::lobe_error::{judge, Bounded, Tolerance};
+use crate::ltc::lobe_error::{judge, Tolerance};
 use crate::ltc::target::GgxTarget;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
@@ -23,11 +24,11 @@ pub(super) struct FloorCell {
     pub alpha: f64,
     pub theta_deg: f64,
     /// The table's held-out relative L2.
-    pub table: Bounded,
+    pub table: Figure<Quad>,
     /// The best of the multi-start search, norm = albedo.
-    pub global: Bounded,
+    pub global: Figure<Quad>,
     /// That shape with the L2-optimal amplitude.
-    pub free_amplitude: Bounded,
+    pub free_amplitude: Figure<Quad>,
     /// A*/albedo: the energy that amplitude keeps.
     pub amplitude_over_albedo: f64,
 }
@@ -120,10 +121,7 @@ fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<Fl
         &[(table_inv, c.norm), (shape_inv, c.norm), (shape_inv, amp)],
         Tolerance::default(),
     );
-    let none = Bounded {
-        value: f64::INFINITY,
-        error: f64::INFINITY,
-    };
+    let none = Figure::<Quad>::new(f64::INFINITY, f64::INFINITY);
     let l2 = |k: usize| held[k].map(|e| e.l2).unwrap_or(none);
     Ok(FloorCell {
         i,
@@ -155,17 +153,13 @@ pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<Floo
     })
 }
 
-fn mean_se(v: &[f64]) -> (f64, f64) {
-    crate::integrate::MeanSe::of(v).pair()
-}
-
 /// The implied floors: the table's mean over all cells and over its grazing rows, and
 /// the change of each search against the table (mean, s.e.) over the sampled cells.
 pub(super) struct Summary {
     table_mean: f64,
     grazing_mean: f64,
     /// [global over all, free amplitude over all, global over grazing, free over grazing].
-    changes: [(f64, f64); 4],
+    changes: [Figure; 4],
     /// The largest error bar of any figure.
     bar: f64,
     /// The range of A*/albedo.
@@ -185,7 +179,7 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> S
         .flat_map(|(_, col)| col.iter().filter_map(|c| c.l2()).map(|b| b.value))
         .collect();
     let d = |f: &dyn Fn(&FloorCell) -> f64, only_graze: bool| {
-        mean_se(
+        Figure::mean_of(
             &cells
                 .iter()
                 .filter(|c| !only_graze || grazing_rows(c.j))
@@ -223,19 +217,14 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> S
 /// of its grazing rows.
 pub(super) fn section(cells: &[FloorCell], s: &Summary) -> String {
     let (table_mean, grazing_mean, bar) = (s.table_mean, s.grazing_mean, s.bar);
-    let [(g_all, g_all_se), (f_all, f_all_se), (g_gr, g_gr_se), (f_gr, f_gr_se)] = s.changes;
+    let [g_all, f_all, g_gr, f_gr] = s.changes;
     let mut md = format!(
         "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n",
         cells.len(),
         bar,
     );
-    let change = |d: f64, se: f64, base: f64| {
-        format!(
-            "{:+.2} ± {:.2} points → {:.2} %",
-            100.0 * d,
-            100.0 * se,
-            100.0 * (base + d)
-        )
+    let change = |d: Figure, base: f64| {
+        format!("{} → {:.2} %", d.points_signed(2), 100.0 * (base + d.value))
     };
     let mut t = MdTable::new(["", "all cells", "rows t ≥ 56"]);
     t.row([
@@ -245,13 +234,13 @@ pub(super) fn section(cells: &[FloorCell], s: &Summary) -> String {
     ]);
     t.row([
         "best of 27 starts, norm = albedo".to_string(),
-        change(g_all, g_all_se, table_mean),
-        change(g_gr, g_gr_se, grazing_mean),
+        change(g_all, table_mean),
+        change(g_gr, grazing_mean),
     ]);
     t.row([
         "that shape with the L2-optimal amplitude".to_string(),
-        change(f_all, f_all_se, table_mean),
-        change(f_gr, f_gr_se, grazing_mean),
+        change(f_all, table_mean),
+        change(f_gr, grazing_mean),
     ]);
     md.push_str(&t.to_string());
     md.push_str(&format!(

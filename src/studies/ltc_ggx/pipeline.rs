@@ -9,14 +9,15 @@ use crate::report::table::Table as MdTable;
 use nalgebra::Vector3;
 use serde::Serialize;
 
+use crate::integrate::Figure;
+
 type V3 = Vector3<f64>;
 
 /// One method's figures at one level.
 #[derive(Clone, Copy, Debug)]
 struct MethodStat {
     /// Mean |method/truth − 1| and its s.e.
-    e: f64,
-    es: f64,
+    e: Figure,
     /// Mean ratio method/truth.
     r: f64,
     /// Σ|method − truth|/Σ truth.
@@ -58,7 +59,7 @@ pub(super) fn measure(
             &table, &map, alpha, &levels, per, &views, &light, samples, 99,
         )?);
     }
-    let stat = |v: &[f64]| crate::integrate::MeanSe::of(v).pair();
+
     let mut by_level = Vec::new();
     for &lv in &levels {
         let cs: Vec<&PipeCase> = cases
@@ -72,14 +73,14 @@ pub(super) fn measure(
                     .map(|c| (c.methods[k] / c.truth - 1.0).abs())
                     .collect();
                 let ratio: Vec<f64> = cs.iter().map(|c| c.methods[k] / c.truth).collect();
-                let (e, es) = stat(&err);
-                let (r, _) = stat(&ratio);
+                let e = Figure::mean_of(&err);
+                let r = Figure::mean_of(&ratio).value;
                 let weighted = cs
                     .iter()
                     .map(|c| (c.methods[k] - c.truth).abs())
                     .sum::<f64>()
                     / cs.iter().map(|c| c.truth).sum::<f64>();
-                MethodStat { e, es, r, weighted }
+                MethodStat { e, r, weighted }
             })
             .collect();
         by_level.push((lv, cs.len(), methods));
@@ -109,7 +110,7 @@ pub(super) fn json(p: &Pipeline) -> serde_json::Value {
             let js: Vec<serde_json::Value> = ms
                 .iter()
                 .zip(METHODS)
-                .map(|(m, name)| serde_json::json!({"method": name, "mean_abs_rel": m.e, "se": m.es, "mean_ratio": m.r, "energy_weighted_rel": m.weighted}))
+                .map(|(m, name)| serde_json::json!({"method": name, "mean_abs_rel": m.e, "mean_ratio": m.r, "energy_weighted_rel": m.weighted}))
                 .collect();
             serde_json::json!({"level": lv, "cases": cases, "methods": js})
         })
@@ -131,15 +132,10 @@ pub(super) fn section(p: &Pipeline) -> String {
                 format!("{}×{} texels", 1usize << lv, 1usize << lv),
             ]
             .into_iter()
-            .chain(ms.iter().map(|m| {
-                format!(
-                    "{:.1} % ± {:.1} ({:.3}; {:.1} %)",
-                    100.0 * m.e,
-                    100.0 * m.es,
-                    m.r,
-                    100.0 * m.weighted
-                )
-            })),
+            .chain(
+                ms.iter()
+                    .map(|m| format!("{} ({:.3}; {:.1} %)", m.e.pct(1), m.r, 100.0 * m.weighted)),
+            ),
         );
     }
     md.push_str(&t.to_string());

@@ -42,7 +42,7 @@ impl Polygons {
             .iter()
             .flat_map(|(alpha, theta, checks)| {
                 checks.iter().map(move |c| {
-                    serde_json::json!({"alpha": alpha, "theta": theta, "light": c.light, "mc": c.mc, "mc_se": c.mc_se, "ltc_exact": c.ltc_exact, "ltc_rational": c.ltc_rational})
+                    serde_json::json!({"alpha": alpha, "theta": theta, "light": c.light, "mc": c.mc, "ltc_exact": c.ltc_exact, "ltc_rational": c.ltc_rational})
                 })
             })
             .collect()
@@ -270,13 +270,13 @@ pub(super) fn section(p: &Polygons) -> String {
     ]);
     for (alpha, theta, checks) in &p.mc {
         for c in checks {
-            let (mc, se, ex, ra) = (c.mc, c.mc_se, c.ltc_exact, c.ltc_rational);
-            let rel = |x: f64| crate::report::rel_vs_mc(x, mc, se);
+            let (ex, ra) = (c.ltc_exact, c.ltc_rational);
+            let rel = |x: f64| c.mc.rel_error_of(x);
             t.row([
                 format!("{alpha:.3}"),
                 format!("{:.1}°", theta.to_degrees()),
                 c.light.to_string(),
-                format!("{mc:.4e} ± {se:.1e}"),
+                c.mc.sci(4, 1),
                 format!("{ex:.4e}"),
                 rel(ex),
                 format!("{ra:.4e}"),

@@ -1,18 +1,18 @@
 //! What storing the table in f32 or f16 costs, cell by cell, against the f64 table:
 //! `measure` computes, `section` formats.
 
+use crate::integrate::{Figure, Quad};
 use crate::ltc::fit::{Cell, Table};
+use crate::ltc::lobe_error::Change;
 use crate::report::table::Table as MdTable;
 
 /// What one storage precision costs over the table.
 pub(super) struct Row {
     name: &'static str,
     /// Mean change of the held-out relative L2 and the mean of its bars.
-    mean: f64,
-    mean_bar: f64,
-    /// The largest change, its bar and where (α, θ°).
-    worst: f64,
-    worst_bar: f64,
+    mean: Figure<Quad>,
+    /// The largest change with its bar, and where (α, θ°).
+    worst: Figure<Quad>,
     at: (f64, f64),
     /// Cells changed by more than one point.
     big: usize,
@@ -52,25 +52,14 @@ pub(super) fn measure(main: &Table) -> Precision {
         (2, "f16, each entry rounded to nearest"),
         (3, "f16 as stored (neighbours chosen by the training L2)"),
     ] {
-        let (mut sum, mut bars, mut cnt, mut worst, mut worst_bar, mut at, mut big) =
-            (0.0, 0.0, 0usize, 0.0f64, 0.0, (0.0, 0.0), 0usize);
-        for (c, e) in cells.iter().zip(&errs) {
-            if let (Some(a), Some(b)) = (e[0], e[k]) {
-                let d = b.l2.value - a.l2.value;
-                let bar = a.l2.error + b.l2.error;
-                sum += d;
-                bars += bar;
-                cnt += 1;
-                if d.abs() > worst.abs() {
-                    worst = d;
-                    worst_bar = bar;
-                    at = (c.alpha, c.theta.to_degrees());
-                }
-                if d.abs() > 0.01 {
-                    big += 1;
-                }
-            }
-        }
+        let change = Change::of(
+            errs.iter()
+                .map(|e| e[0].zip(e[k]).map(|(a, b)| (a.l2, b.l2))),
+            0.01,
+        );
+        let at = change.argmax.map_or((0.0, 0.0), |i| {
+            (cells[i].alpha, cells[i].theta.to_degrees())
+        });
         let mirrored = cells
             .iter()
             .filter(|c| {
@@ -78,15 +67,12 @@ pub(super) fn measure(main: &Table) -> Precision {
                 !(v[0] * v[3] - v[1] * v[2] > 0.0)
             })
             .count();
-        let m = cnt.max(1) as f64;
         rows.push(Row {
             name,
-            mean: sum / m,
-            mean_bar: bars / m,
-            worst,
-            worst_bar,
+            mean: change.mean,
+            worst: change.largest,
             at,
-            big,
+            big: change.big,
             mirrored,
         });
     }
@@ -111,8 +97,8 @@ pub(super) fn section(p: &Precision) -> String {
     for r in &p.rows {
         t.row([
             r.name.to_string(),
-            format!("{:+.2e} ± {:.1e}", r.mean, r.mean_bar),
-            format!("{:+.2e} ± {:.1e}", r.worst, r.worst_bar),
+            r.mean.sci_signed(2, 1),
+            r.worst.sci_signed(2, 1),
             format!("({:.2e}, {:.1}°)", r.at.0, r.at.1),
             r.big.to_string(),
             r.mirrored.to_string(),

@@ -7,9 +7,10 @@
 
 use super::compute::{Family, Fitted, Plan};
 use crate::error::Result;
+use crate::integrate::{Figure, Quad};
 use crate::ltc::compare::{cell_error_of, midpoint_error_of, Shipped};
 use crate::ltc::fit::{inverse_from_production, Cell, Table};
-use crate::ltc::lobe_error::{Bounded, LobeError, Spread};
+use crate::ltc::lobe_error::{Change, LobeError, Spread};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
@@ -24,8 +25,8 @@ pub struct CellRow {
     pub inv: [f64; 4],
     pub norm: f64,
     pub fresnel: f64,
-    pub l2: Bounded,
-    pub l1: Bounded,
+    pub l2: Figure<Quad>,
+    pub l1: Figure<Quad>,
 }
 
 /// Both held-out figures over a set of places, with where the largest relative L2 is.
@@ -54,10 +55,8 @@ fn located(v: &[(Option<LobeError>, (f64, f64))]) -> Located {
 /// ± the sum of the two figures' error bars.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct StorageCost {
-    pub mean_change: f64,
-    pub mean_bar: f64,
-    pub largest_change: f64,
-    pub largest_bar: f64,
+    pub mean_change: Figure<Quad>,
+    pub largest_change: Figure<Quad>,
     pub at: (f64, f64),
     /// Cells whose stored matrix has a non-positive determinant (a mirrored lobe).
     pub mirrored: usize,
@@ -221,33 +220,28 @@ fn storage_costs(t: &Table) -> [StorageCost; 3] {
     use crate::ltc::lobe_error::Held;
     let cells = flat(t);
     std::array::from_fn(|pick| {
-        let (mut sum, mut bars, mut cnt) = (0.0, 0.0, 0usize);
-        let (mut worst, mut worst_bar, mut at) = (0.0f64, 0.0, (0.0, 0.0));
-        for c in &cells {
-            // an albedo below binary16's normal range is stored as (nearly) nothing
-            if c.norm < F16_NORMAL_MIN {
-                continue;
-            }
-            let Some(Held {
-                f64: Some(a),
-                f32,
-                f16_nearest,
-                f16,
-            }) = c.held
-            else {
-                continue;
-            };
-            if let Some(b) = [f32, f16_nearest, f16][pick] {
-                let d = b.l2.value - a.l2.value;
-                let bar = a.l2.error + b.l2.error;
-                sum += d;
-                bars += bar;
-                cnt += 1;
-                if d.abs() > worst.abs() {
-                    (worst, worst_bar, at) = (d, bar, (c.alpha, c.theta.to_degrees()));
+        let change = Change::of(
+            cells.iter().map(|c| {
+                // an albedo below binary16's normal range is stored as (nearly) nothing
+                if c.norm < F16_NORMAL_MIN {
+                    return None;
                 }
-            }
-        }
+                let Held {
+                    f64: Some(a),
+                    f32,
+                    f16_nearest,
+                    f16,
+                } = c.held?
+                else {
+                    return None;
+                };
+                [f32, f16_nearest, f16][pick].map(|b| (a.l2, b.l2))
+            }),
+            f64::INFINITY,
+        );
+        let at = change.argmax.map_or((0.0, 0.0), |k| {
+            (cells[k].alpha, cells[k].theta.to_degrees())
+        });
         let entries = |c: &Cell| -> [f64; 4] {
             match pick {
                 0 => c.inv.map(|x| x as f32 as f64),
@@ -255,12 +249,9 @@ fn storage_costs(t: &Table) -> [StorageCost; 3] {
                 _ => [c.half[0], c.half[1], c.half[2], c.half[3]],
             }
         };
-        let m = cnt.max(1) as f64;
         StorageCost {
-            mean_change: sum / m,
-            mean_bar: bars / m,
-            largest_change: worst,
-            largest_bar: worst_bar,
+            mean_change: change.mean,
+            largest_change: change.largest,
             at,
             mirrored: cells
                 .iter()
@@ -279,10 +270,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     let mut cells = flat(t);
     let l2 = |c: &Cell| c.l2().map_or(f64::NAN, |b| b.value);
     cells.sort_by(|a, b| l2(b).total_cmp(&l2(a)));
-    let none = Bounded {
-        value: f64::NAN,
-        error: f64::NAN,
-    };
+    let none = Figure::<Quad>::new(f64::NAN, f64::NAN);
     let worst = cells
         .iter()
         .take(6)

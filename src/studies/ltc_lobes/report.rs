@@ -5,7 +5,7 @@ use super::compute::{Family, Fitted, Plan};
 use super::measures::{Located, Report, TableReport, VISIBLE_ALBEDO};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
-use crate::integrate::Preset;
+use crate::integrate::{Figure, Preset};
 use crate::ltc::held::Stats;
 use crate::ltc::lobes::Lobe;
 use crate::report::table::Table as MdTable;
@@ -69,8 +69,8 @@ fn table_section(md: &mut String, f: &Fitted, st: &Stats, r: &TableReport, file:
     ]) {
         t.row([
             name.to_string(),
-            format!("{:+.2e} ± {:.1e}", s.mean_change, s.mean_bar),
-            format!("{:+.2e} ± {:.1e}", s.largest_change, s.largest_bar),
+            s.mean_change.sci_signed(2, 1),
+            s.largest_change.sci_signed(2, 1),
             format!("({:.2e}, {:.1}°)", s.at.0, s.at.1),
             s.mirrored.to_string(),
         ]);
@@ -103,19 +103,15 @@ fn table_section(md: &mut String, f: &Fitted, st: &Stats, r: &TableReport, file:
         "rel. error",
     ]);
     for (a, th, norm, p) in &r.polygons {
-        let rel = |x: f64| crate::report::rel_vs_mc(x, p.mc, p.mc_se);
+        let rel = |x: f64| p.mc.rel_error_of(x);
         t.row([
             format!("{a:.3}"),
             format!("{th:.1}°"),
             p.light.to_string(),
-            format!("{:.4e} ± {:.1e}", p.mc, p.mc_se),
+            p.mc.sci(4, 1),
             format!("{:.4e}", p.ltc_exact),
             rel(p.ltc_exact),
-            format!(
-                "{:+.3} % ± {:.3}",
-                100.0 * (p.ltc_exact - p.mc) / norm,
-                100.0 * p.mc_se / norm
-            ),
+            Figure::with_se((p.ltc_exact - p.mc.value) / norm, p.mc.error / norm).pct_signed(3),
             format!("{:.4e}", p.ltc_rational),
             rel(p.ltc_rational),
         ]);

@@ -110,7 +110,7 @@ pub(super) fn ltc_tables_table(
             ),
             format!(
                 "{:.2} % / {:.1} %",
-                100.0 * s.between_table.mean,
+                100.0 * s.between_table.mean.value,
                 100.0 * s.between_table.max
             ),
             px,
@@ -209,15 +209,7 @@ pub(super) fn survey_table(
     let row = |i: usize| -> Option<(String, String, String)> {
         let r = v.as_ref()?.survey.rows.get(first + i)?;
         let params = r.params.map_or("all texels".into(), |p| p.to_string());
-        let err = if r.ggx.l2_mean.is_finite() {
-            format!(
-                "{:.1} % ± {:.1}",
-                100.0 * r.ggx.l2_mean,
-                100.0 * r.ggx.l2_se
-            )
-        } else {
-            "—".into()
-        };
+        let err = r.ggx.l2.pct(1);
         Some((r.name.clone(), params, err))
     };
     let mut md = String::from("\n## Survey representations: cost per evaluation beside their error\n\nCriterion's mean per lobe evaluation (95 % CI, one core, f64: the reconstruction q̂(h) and the shared Eq 12 shading rule, `cargo bench --bench deliverables -- survey`) on one flakes footprint (8×8 texels, GGX α 0.05), next to the representation's parameters per texel and its mean relative L2 lobe error over the GGX cases of results/filters-survey.md. The plain isotropic GGX lobe (what every mean-normal rule shades) is the scale.\n\n");

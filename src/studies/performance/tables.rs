@@ -290,17 +290,7 @@ pub(super) fn filters_table(timed: &[Timed], results: &Path) -> crate::error::Re
         let (name, err) = fit
             .as_ref()
             .and_then(|v| v.summary.get(t.function.as_str()))
-            .map(|e| {
-                (
-                    e.name.clone(),
-                    format!(
-                        "{:.1} % ± {:.1} ({})",
-                        100.0 * e.l2_mean,
-                        100.0 * e.l2_se,
-                        e.study
-                    ),
-                )
-            })
+            .map(|e| (e.name.clone(), format!("{} ({})", e.l2.pct(1), e.study)))
             .unwrap_or_else(|| (t.function.clone(), "(run regen)".into()));
         table.row([name, per_1024(t), err]);
     }

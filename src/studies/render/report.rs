@@ -13,14 +13,6 @@ use std::path::Path;
 /// Pixels of a grid tile's side (centre crop of the full image).
 pub const TILE: usize = 96;
 
-fn pct(e: &crate::render::measure::Est) -> String {
-    e.pct(1)
-}
-
-fn sci(e: &crate::render::measure::Est) -> String {
-    e.sci(3, 1)
-}
-
 /// Which views the grid shows: four frames of a path, else every other scale (the
 /// tables list every view).
 fn shown(r: &Render) -> Vec<usize> {
@@ -48,12 +40,7 @@ fn summary(r: &Render, m: &Measured) -> String {
         t.row(
             std::iter::once(mi.label.clone()).chain(views.iter().map(|&k| {
                 let s = &m.views[k][i].m;
-                format!(
-                    "{:.1} % ± {:.1} · ꟻLIP {:.3}",
-                    100.0 * s.rel_mse.value,
-                    100.0 * s.rel_mse.se,
-                    s.flip.value
-                )
+                format!("{} · ꟻLIP {:.3}", s.rel_mse.pct(1), s.flip.value)
             })),
         );
     }
@@ -137,9 +124,9 @@ pub fn strip_png(r: &Render, frames: usize, tile: usize) -> Result<Rgb> {
 fn row(s: &Scored) -> [String; 4] {
     [
         s.label.to_string(),
-        sci(&s.m.rmse),
-        pct(&s.m.rel_mse),
-        format!("{:.4} ± {:.4}", s.m.flip.value, s.m.flip.se),
+        s.m.rmse.sci(3, 1),
+        s.m.rel_mse.pct(1),
+        s.m.flip.fixed(4),
     ]
 }
 
@@ -198,11 +185,10 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     }
     if let Some(tc) = &m.truth_change {
         md.push_str(&format!(
-            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {:.3e} ± {:.1e}\n\n",
+            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {}\n\n",
             sc.name,
             r.views.len(),
-            tc.value,
-            tc.se
+            tc.sci(3, 1)
         ));
         let mut t = Table::new([
             "method",
@@ -213,9 +199,9 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
         for (_, label, f) in &m.flicker {
             t.row([
                 label.to_string(),
-                format!("{:.3e} ± {:.1e}", f.change.value, f.change.se),
-                format!("{:+.3e} ± {:.1e}", f.excess.value, f.excess.se),
-                format!("{:.3e} ± {:.1e}", f.temporal_rmse.value, f.temporal_rmse.se),
+                f.change.sci(3, 1),
+                f.excess.sci_signed(3, 1),
+                f.temporal_rmse.sci(3, 1),
             ]);
         }
         md.push_str(&t.to_string());
@@ -254,7 +240,7 @@ pub struct RenderJson {
     scene: crate::render::scene::Scene,
     views: Vec<ViewJson>,
     flicker: Vec<FlickerJson>,
-    truth_change: Option<crate::render::measure::Est>,
+    truth_change: Option<crate::render::measure::Figure>,
     notes: Vec<String>,
 }
 

@@ -61,6 +61,9 @@ impl crate::study::Computed for Computed {
     }
 }
 
+/// fits/tensor.toml as this build compiled it in: `prefilter --rank` reads its numbers.
+const SPEC: &str = include_str!("../../../fits/tensor.toml");
+
 /// `prefilter --rank R`: compress one map's P-NDF blocks at rank R; writes
 /// DIR/tensor-<name>.json (per cluster: shape, weights, factors, error) and
 /// DIR/tensor-<name>.md. Every check happens before anything is written.
@@ -71,26 +74,26 @@ pub fn prefilter_tensor(
     rank: usize,
     preset: Preset,
 ) -> Result<String> {
-    let t = 16usize;
+    // the tensor study's block side, image size, ALS settings and σ_r (fits/tensor.toml,
+    // compiled in); the stride follows the map
+    let spec = crate::fit::spec::FitSpec::parse(SPEC, "fits/tensor.toml (compiled in)")?;
+    let s: compute::Settings = spec.params(preset)?;
+    let t = s.t;
     if rank == 0 || rank > t * t {
         return Err(crate::error::Error::InvalidArgument(format!(
             "--rank {rank}: a {t}×{t} block allows ranks 1…{}",
             t * t
         )));
     }
-    if map.width < 16 {
+    if map.width < t || map.height < t {
         return Err(crate::error::Error::InvalidArgument(format!(
-            "map {} is {}×{}: tensor prefiltering needs at least 16×16 texels",
+            "map {} is {}×{}: tensor prefiltering needs at least {t}×{t} texels",
             map.name, map.width, map.height
         )));
     }
-    let (res, iters) = match preset {
-        Preset::Quick => (32, 50),
-        Preset::Default => (64, 200),
-        Preset::Precise => (256, 500),
-    };
+    let (res, iters) = (s.res, s.iters);
     let stride = (map.width / 8).clamp(2, 32);
-    let tensors = cluster_tensors(map, res, stride, t, 0.02)?;
+    let tensors = cluster_tensors(map, res, stride, t, s.sigma_r)?;
     let fit = |r: usize| -> Result<Vec<crate::tensor::cp::Cp>> {
         tensors
             .par_iter()
@@ -99,10 +102,10 @@ pub fn prefilter_tensor(
                     tt,
                     &AlsOptions {
                         rank: r.min(tt.shape[2] * t),
-                        tol: 1e-4,
+                        tol: s.als_tolerance,
                         max_iters: iters,
                         restarts: 2,
-                        seed: 5,
+                        seed: spec.seed,
                         // exact hierarchical sampling needs a non-negative reconstruction
                         nonnegative: true,
                     },

@@ -4,6 +4,7 @@
 
 use crate::error::Result;
 use crate::filters::truth::{compare, Candidate, Footprint, Frame, Truth};
+use crate::integrate::Figure;
 use crate::microfacet::{Microsurface, NdfKind};
 use crate::visibility::horizon::{self, Dir, HdfMoments, LegendreHorizon};
 use crate::visibility::procedural::{self, Spectral, Waves};
@@ -293,11 +294,7 @@ pub(super) fn shadow_cases(plan: &Plan) -> Vec<ShadowCase> {
 pub struct ColourRow {
     pub width: f64,
     /// (mean, s.e.) of |error|: point sample, faded, analytic.
-    pub pulse: Vec<(f64, f64)>,
-}
-
-pub(super) fn mean_se(x: &[f64]) -> (f64, f64) {
-    crate::integrate::MeanSe::of(x).pair()
+    pub pulse: Vec<Figure>,
 }
 
 pub(super) fn colour_rows(plan: &Plan, seed: u64) -> Vec<ColourRow> {
@@ -315,14 +312,14 @@ pub(super) fn colour_rows(plan: &Plan, seed: u64) -> Vec<ColourRow> {
             }
             ColourRow {
                 width: w,
-                pulse: e.iter().map(|v| mean_se(v)).collect(),
+                pulse: e.iter().map(|v| Figure::mean_of(v)).collect(),
             }
         })
         .collect()
 }
 
 /// The sheared 2D grid: (scale, rotation°, anisotropy, mean |separable − exact| ± s.e.).
-pub(super) fn grid_rows(plan: &Plan, seed: u64) -> Vec<(f64, f64, f64, (f64, f64))> {
+pub(super) fn grid_rows(plan: &Plan, seed: u64) -> Vec<(f64, f64, f64, Figure)> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x61);
     let mut out = Vec::new();
     for &s in &[0.5, 1.0, 2.0, 4.0] {
@@ -340,7 +337,7 @@ pub(super) fn grid_rows(plan: &Plan, seed: u64) -> Vec<(f64, f64, f64, (f64, f64
                         .abs()
                     })
                     .collect();
-                out.push((s, rot, an, mean_se(&errs)));
+                out.push((s, rot, an, Figure::mean_of(&errs)));
             }
         }
     }
@@ -349,7 +346,7 @@ pub(super) fn grid_rows(plan: &Plan, seed: u64) -> Vec<(f64, f64, f64, (f64, f64
 
 /// Frequency clamping: (clamp threshold c or 0 for no filtering, mean |error| ± s.e.) over
 /// widths 2^−8…2^−1 and seeded positions.
-pub(super) fn spectral_rows(plan: &Plan, seed: u64) -> Vec<(f64, (f64, f64))> {
+pub(super) fn spectral_rows(plan: &Plan, seed: u64) -> Vec<(f64, Figure)> {
     let f = Spectral::octaves(8, seed);
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5C);
     let pts: Vec<(f64, f64)> = (0..plan.widths)
@@ -374,7 +371,7 @@ pub(super) fn spectral_rows(plan: &Plan, seed: u64) -> Vec<(f64, (f64, f64))> {
                     (approx - f.box_average(x, w)).abs()
                 })
                 .collect();
-            (c, mean_se(&e))
+            (c, Figure::mean_of(&e))
         })
         .collect()
 }
@@ -385,7 +382,7 @@ pub(super) fn spectral_rows(plan: &Plan, seed: u64) -> Vec<(f64, (f64, f64))> {
 #[derive(Clone, Debug, Serialize)]
 pub struct NormalRow {
     pub width: f64,
-    pub l2: Vec<(f64, f64)>,
+    pub l2: Vec<Figure>,
 }
 
 pub(super) fn normal_rows(plan: &Plan, seed: u64) -> Result<Vec<NormalRow>> {
@@ -447,7 +444,7 @@ pub(super) fn normal_rows(plan: &Plan, seed: u64) -> Result<Vec<NormalRow>> {
             }
             Ok(NormalRow {
                 width: w,
-                l2: errs.iter().map(|e| mean_se(e)).collect(),
+                l2: errs.iter().map(|e| Figure::mean_of(e)).collect(),
             })
         })
         .collect()
@@ -458,7 +455,7 @@ pub(super) fn normal_rows(plan: &Plan, seed: u64) -> Result<Vec<NormalRow>> {
 pub(super) fn correlation_rows(
     plan: &Plan,
     seed: u64,
-) -> Result<Vec<(usize, f64, (f64, f64), (f64, f64))>> {
+) -> Result<Vec<(usize, f64, Figure, Figure)>> {
     let hf = HeightField::procedural(Relief::Bumps, plan.height_size.min(128), seed + 1)?;
     let mut descs = Vec::new();
     for &level in &[2usize, 3] {
@@ -487,7 +484,7 @@ pub(super) fn correlation_rows(
                     v.push(b2);
                 }
             }
-            Ok((level, e, mean_se(&c), mean_se(&v)))
+            Ok((level, e, Figure::mean_of(&c), Figure::mean_of(&v)))
         })
         .collect()
 }
@@ -499,8 +496,8 @@ pub struct Measured {
     pub horizon: Vec<HorizonCase>,
     pub shadow: Vec<ShadowCase>,
     pub colour: Vec<ColourRow>,
-    pub grid: Vec<(f64, f64, f64, (f64, f64))>,
-    pub spectral: Vec<(f64, (f64, f64))>,
+    pub grid: Vec<(f64, f64, f64, Figure)>,
+    pub spectral: Vec<(f64, Figure)>,
     pub normals: Vec<NormalRow>,
-    pub correlation: Vec<(usize, f64, (f64, f64), (f64, f64))>,
+    pub correlation: Vec<(usize, f64, Figure, Figure)>,
 }

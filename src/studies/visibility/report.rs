@@ -7,14 +7,6 @@ use crate::error::Result;
 use crate::integrate::Preset;
 use crate::report::plot::{loglog_svg_legend, Panel, Series};
 use crate::report::table::Table;
-fn pm(x: (f64, f64)) -> String {
-    crate::integrate::MeanSe {
-        value: x.0,
-        se: x.1,
-    }
-    .sci(2, 1)
-}
-
 fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
     let mut t = Table::new(
         [head, "params", "all", "max"]
@@ -26,11 +18,11 @@ fn table(md: &mut String, head: &str, groups: &[String], rows: &[MethodRow]) {
             [
                 r.name.clone(),
                 r.params.to_string(),
-                pm(r.all),
+                r.all.sci(2, 1),
                 format!("{:.2e}", r.max),
             ]
             .into_iter()
-            .chain(r.groups.iter().map(|g| pm(*g))),
+            .chain(r.groups.iter().map(|g| g.sci(2, 1))),
         );
     }
     md.push_str(&t.to_string());
@@ -101,7 +93,7 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
     md.push_str("\n### VSM light bleeding, ESM divergence, precision limits\n\n");
     let mut t = Table::new(["scene", "VSM lit fraction where PCF = 0", "footprints"]);
     for (n, b, k) in &s.bleeding {
-        t.row([n.clone(), pm(*b), k.to_string()]);
+        t.row([n.clone(), b.sci(2, 1), k.to_string()]);
     }
     md.push_str(&t.to_string());
     md.push_str("\nVSM is exact for one planar occluder parallel to the receiver (proofs/vsm-single-plane.md); with overlapping layers the bound leaks light.\n\n");
@@ -111,7 +103,7 @@ of 2^L texels, L = {:?}, {} per level and scene. Methods read the footprint's bo
         "elsewhere",
     ]);
     for (c, a, b) in &s.esm_divergence {
-        t.row([c.to_string(), pm(*a), pm(*b)]);
+        t.row([c.to_string(), a.sci(2, 1), b.sci(2, 1)]);
     }
     md.push_str(&t.to_string());
     let mut t = Table::new(["warp", "largest c, f32", "largest c, binary16"]);
@@ -138,16 +130,16 @@ analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.
     for r in &m.colour {
         t.row([
             r.width.to_string(),
-            pm(r.pulse[0]),
-            pm(r.pulse[1]),
-            pm(r.pulse[2]),
+            r.pulse[0].sci(2, 1),
+            r.pulse[1].sci(2, 1),
+            r.pulse[2].sci(2, 1),
         ]);
     }
     md.push_str(&t.to_string());
     md.push_str("\n### The 2D grid f(x)f(y) under a sheared footprint\n\nThe separable product of 1D analytic averages over the footprint's bounding box, against the exact clipped areas.\n\n");
     let mut t = Table::new(["scale", "rotation", "anisotropy", "mean absolute error"]);
     for (s, r, a, e) in &m.grid {
-        t.row([s.to_string(), format!("{r}°"), a.to_string(), pm(*e)]);
+        t.row([s.to_string(), format!("{r}°"), a.to_string(), e.sci(2, 1)]);
     }
     md.push_str(&t.to_string());
     md.push_str("\n### Frequency clamping of a spectral sum (8 octaves, amplitude 2^−i)\n\nTerms with f·w ≤ c/2 kept, faded to 0 at f·w = c; widths 2^−8…2^−1; truth: each term's exact box average (sinc).\n\n");
@@ -158,7 +150,7 @@ analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.
         } else {
             c.to_string()
         };
-        t.row([n, pm(*e)]);
+        t.row([n, e.sci(2, 1)]);
     }
     md.push_str(&t.to_string());
     md.push_str("\n### Procedural normals (§6.2): 32 height waves, slope rms 0.3, GGX α 0.1\n\nRelative L2 lobe error against the footprint-averaged BRDF \
@@ -170,7 +162,12 @@ analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.
         "box-averaged normal + vMF 2/κ",
     ]);
     for r in &m.normals {
-        t.row([r.width.to_string(), pm(r.l2[0]), pm(r.l2[1]), pm(r.l2[2])]);
+        t.row([
+            r.width.to_string(),
+            r.l2[0].sci(2, 1),
+            r.l2[1].sci(2, 1),
+            r.l2[2].sci(2, 1),
+        ]);
     }
     md.push_str(&t.to_string());
     md.push_str("\n## Correlations (§8.1): what Hypothesis 1's separation costs\n\nBumps height field, GGX α 0.3; relative L2 over the light hemisphere of the separated form against the joint footprint average (24 × 48 Gauss–Legendre light directions).\n\n");
@@ -184,8 +181,8 @@ analytic integration uses F(b) − F(a) (proofs/box-filter-analytic-integration.
         t.row([
             format!("{0}×{0}", 1usize << l),
             format!("{e}°"),
-            pm(*c),
-            pm(*v),
+            c.sci(2, 1),
+            v.sci(2, 1),
         ]);
     }
     md.push_str(&t.to_string());
@@ -196,7 +193,7 @@ pub fn pareto_svg(s: &Summary) -> Result<String> {
     let pts = |rows: &[MethodRow], f: &dyn Fn(&str) -> bool| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| f(&r.name))
-            .map(|r| (r.params as f64, r.all.0))
+            .map(|r| (r.params as f64, r.all.value))
             .collect()
     };
     let horizon = Panel {
@@ -225,8 +222,8 @@ pub fn pareto_svg(s: &Summary) -> Result<String> {
             .filter(|r| r.name.starts_with(pre))
             .collect();
         v.iter()
-            .min_by(|a, b| a.all.0.total_cmp(&b.all.0))
-            .map(|r| vec![(r.params as f64, r.all.0)])
+            .min_by(|a, b| a.all.value.total_cmp(&b.all.value))
+            .map(|r| vec![(r.params as f64, r.all.value)])
             .unwrap_or_default()
     };
     let shadow = Panel {

@@ -1,7 +1,8 @@
 //! The visibility study's aggregates: every measured case reduced to mean ± s.e. rows per
 //! method and scene group ([`summarise`]), what the report and the plots format.
 
-use super::compute::{mean_se, shadow_methods, Measured, LEGENDRE_K};
+use super::compute::{shadow_methods, Measured, LEGENDRE_K};
+use crate::integrate::Figure;
 use crate::visibility::shadow::{max_usable_c, Method, Occluders, Precision};
 use serde::Serialize;
 
@@ -10,8 +11,8 @@ pub struct MethodRow {
     pub name: String,
     pub params: usize,
     /// mean |error| ± s.e. over all cases, then per group (maps or scenes).
-    pub all: (f64, f64),
-    pub groups: Vec<(f64, f64)>,
+    pub all: Figure,
+    pub groups: Vec<Figure>,
     pub max: f64,
 }
 
@@ -21,16 +22,16 @@ pub struct Summary {
     pub horizon_single: Vec<MethodRow>,
     pub horizon_joint: Vec<MethodRow>,
     /// The joint forms at l = v (truth 1), mean ± s.e. of |error|.
-    pub hotspot: Vec<(String, (f64, f64))>,
+    pub hotspot: Vec<(String, Figure)>,
     pub eq28_hotspot_max: f64,
     pub shadow_groups: Vec<String>,
     pub shadow_f32: Vec<MethodRow>,
     pub shadow_f16: Vec<MethodRow>,
     pub eq33_cost: MethodRow,
     /// VSM's light bleeding: mean lit fraction where PCF is 0, per occluder scene.
-    pub bleeding: Vec<(String, (f64, f64), usize)>,
+    pub bleeding: Vec<(String, Figure, usize)>,
     /// Per ESM constant: mean |error| where some texel is deeper than d̄, and elsewhere.
-    pub esm_divergence: Vec<(f64, (f64, f64), (f64, f64))>,
+    pub esm_divergence: Vec<(f64, Figure, Figure)>,
     pub precision: Vec<(String, f64, f64)>,
 }
 
@@ -38,8 +39,8 @@ fn row(name: String, params: usize, errs: &[f64], groups: Vec<Vec<f64>>) -> Meth
     MethodRow {
         name,
         params,
-        all: mean_se(errs),
-        groups: groups.iter().map(|g| mean_se(g)).collect(),
+        all: Figure::mean_of(errs),
+        groups: groups.iter().map(|g| Figure::mean_of(g)).collect(),
         max: errs.iter().cloned().fold(0.0, f64::max),
     }
 }
@@ -71,7 +72,7 @@ pub type HorizonSummary = (
     Vec<String>,
     Vec<MethodRow>,
     Vec<MethodRow>,
-    Vec<(String, (f64, f64))>,
+    Vec<(String, Figure)>,
     f64,
 );
 
@@ -150,7 +151,7 @@ pub fn horizon_summary(cases: &[super::compute::HorizonCase]) -> HorizonSummary 
                 .filter(|c| c.hotspot)
                 .map(|c| (c.joint[k] - 1.0).abs())
                 .collect();
-            (joint_names[k].to_string(), mean_se(&e))
+            (joint_names[k].to_string(), Figure::mean_of(&e))
         })
         .collect();
     let eq28_hotspot_max = cases
@@ -206,8 +207,8 @@ type ShadowSummary = (
     Vec<MethodRow>,
     Vec<MethodRow>,
     MethodRow,
-    Vec<(String, (f64, f64), usize)>,
-    Vec<(f64, (f64, f64), (f64, f64))>,
+    Vec<(String, Figure, usize)>,
+    Vec<(f64, Figure, Figure)>,
     Vec<(String, f64, f64)>,
 );
 
@@ -253,7 +254,7 @@ fn shadow_summary(m: &Measured) -> ShadowSummary {
                 .filter(|c| c.scene.occluders == *o && c.pcf == 0.0)
                 .map(|c| c.f32[0])
                 .collect();
-            (occluder_name(*o).to_string(), mean_se(&v), v.len())
+            (occluder_name(*o).to_string(), Figure::mean_of(&v), v.len())
         })
         .collect();
     let esm_divergence = methods
@@ -268,7 +269,11 @@ fn shadow_summary(m: &Measured) -> ShadowSummary {
                         .map(|s| (s.f32[k] - s.pcf).abs())
                         .collect()
                 };
-                Some((*c, mean_se(&pick(true)), mean_se(&pick(false))))
+                Some((
+                    *c,
+                    Figure::mean_of(&pick(true)),
+                    Figure::mean_of(&pick(false)),
+                ))
             }
             _ => None,
         })
