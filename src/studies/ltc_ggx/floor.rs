@@ -1,9 +1,10 @@
 //! How far a single LTC per cell can go: the floor under the table's error. On a spread
 //! of cells (the corners, every ninth row and column, and the grazing rows), a global
-//! search — 27 starts around the table's solution, each fitted under the relative L2 and
-//! chosen by a validation set — gives the best energy-exact LTC (norm = the albedo), and
-//! the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape (on the training set) gives the
-//! floor when the norm may trade energy for shape. Every error is the held-out figure of
+//! search — every combination of three offsets per fit parameter (`STEPS`) around the
+//! table's solution, each fitted under the relative L2 and chosen by a validation set —
+//! gives the best energy-exact LTC (norm = the albedo), and the L2-optimal amplitude
+//! A* = ∫f·γ/∫γ² of that shape (on the training set) gives the floor when the norm may
+//! trade energy for shape. Every error is the held-out figure of
 //! `ltc::lobe_error` (converged integrals, ± their error bars).
 
 use crate::error::Result;
@@ -81,9 +82,9 @@ fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<Fl
         .unwrap_or(f64::INFINITY);
     let base = [c.m11.ln(), c.m22.ln(), c.m13 / c.m11, c.turn];
     let mut best: (f64, Option<[f64; 4]>) = (table_val, None);
-    for d0 in [-1.0, 0.0, 1.0] {
-        for d1 in [-1.5, 0.0, 1.0] {
-            for d2 in [-0.5, 0.0, 0.5] {
+    for d0 in STEPS[0] {
+        for d1 in STEPS[1] {
+            for d2 in STEPS[2] {
                 let s = [base[0] + d0, base[1] + d1, base[2] + d2, base[3]];
                 let (q, _) = fit_cell(
                     &t,
@@ -135,13 +136,26 @@ fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<Fl
     })
 }
 
-/// The sampled cells: rows and columns 0, 9, …, 63 (scaled to the grid), plus the grazing
-/// rows t ≥ 56/63.
+/// The starts around the table's fit parameters: offsets of (ln m11, ln m22, m13/m11), every
+/// combination.
+const STEPS: [[f64; 3]; 3] = [[-1.0, 0.0, 1.0], [-1.5, 0.0, 1.0], [-0.5, 0.0, 0.5]];
+
+/// The sampled columns and rows on a 64-wide grid (scaled to the table's), the rows
+/// denser where the view grazes.
+const COLS_64: [usize; 8] = [0, 9, 18, 27, 36, 45, 54, 63];
+const ROWS_64: [usize; 9] = [0, 9, 18, 27, 36, 45, 56, 60, 63];
+
+/// Whether row `j` of an `n`-row table is a grazing one: t ≥ 56/63.
+fn grazing(j: usize, n: usize) -> bool {
+    63 * j >= 56 * (n - 1)
+}
+
+/// The sampled cells: the columns and rows above, scaled to the grid.
 pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<FloorCell>> {
     let g = main.grid.n;
     let scale = |x: usize| (x * (g - 1) + 31) / 63;
-    let mut cols: Vec<usize> = [0, 9, 18, 27, 36, 45, 54, 63].map(scale).to_vec();
-    let mut rows: Vec<usize> = [0, 9, 18, 27, 36, 45, 56, 60, 63].map(scale).to_vec();
+    let mut cols: Vec<usize> = COLS_64.map(scale).to_vec();
+    let mut rows: Vec<usize> = ROWS_64.map(scale).to_vec();
     cols.dedup();
     rows.dedup();
     let picks: Vec<(usize, usize)> = rows
@@ -156,6 +170,12 @@ pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<Floo
 /// The implied floors: the table's mean over all cells and over its grazing rows, and
 /// the change of each search against the table (mean, s.e.) over the sampled cells.
 pub(super) struct Summary {
+    /// The sampled columns and rows, and the rows among them that graze.
+    cols: Vec<usize>,
+    rows: Vec<usize>,
+    grazing_rows: Vec<usize>,
+    /// Starts per cell.
+    starts: usize,
     table_mean: f64,
     grazing_mean: f64,
     /// [global over all, free amplitude over all, global over grazing, free over grazing].
@@ -170,7 +190,14 @@ pub(super) struct Summary {
 /// of its grazing rows.
 pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> Summary {
     let grid_n = main.grid.n;
-    let grazing_rows = |j: usize| 63 * j >= 56 * (grid_n - 1);
+    let grazing_rows = |j: usize| grazing(j, grid_n);
+    let unique = |f: fn(&FloorCell) -> usize| {
+        let mut v: Vec<usize> = cells.iter().map(f).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let rows = unique(|c| c.j);
     let grazing: Vec<f64> = main
         .cells
         .iter()
@@ -188,6 +215,10 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> S
         )
     };
     Summary {
+        cols: unique(|c| c.i),
+        grazing_rows: rows.iter().copied().filter(|&j| grazing_rows(j)).collect(),
+        rows,
+        starts: STEPS.iter().map(|s| s.len()).product(),
         table_mean,
         grazing_mean: grazing.iter().sum::<f64>() / grazing.len().max(1) as f64,
         changes: [
@@ -213,27 +244,43 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> S
     }
 }
 
+/// "0, 9, 18": a list of indices.
+fn list(v: &[usize]) -> String {
+    v.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The markdown section: per sampled cell and the implied floors of the table's mean and
 /// of its grazing rows.
 pub(super) fn section(cells: &[FloorCell], s: &Summary) -> String {
     let (table_mean, grazing_mean, bar) = (s.table_mean, s.grazing_mean, s.bar);
     let [g_all, f_all, g_gr, f_gr] = s.changes;
     let mut md = format!(
-        "## The floor of a single LTC per cell\n\nOn {} cells (rows and columns 0, 9, …, 63 and the grazing rows 56, 60, 63), the table's own lobe and 27 starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n",
+        "## The floor of a single LTC per cell\n\nOn {} cells (columns {}; rows {}, the grazing ones {}), the table's own lobe and {} starts around its fit parameters, each fitted under the relative L2 (Nelder–Mead), the best chosen on a validation set; then the L2-optimal amplitude A* = ∫f·γ/∫γ² of that shape. Held-out relative L2 (converged integrals; the largest error bar of any figure below is {:.1e}, as a fraction), change against the table (mean ± s.e. over the sampled cells) and the floor it implies:\n\n",
         cells.len(),
+        list(&s.cols),
+        list(&s.rows),
+        list(&s.grazing_rows),
+        s.starts,
         bar,
     );
     let change = |d: Figure, base: f64| {
         format!("{} → {:.2} %", d.points_signed(2), 100.0 * (base + d.value))
     };
-    let mut t = MdTable::new(["", "all cells", "rows t ≥ 56"]);
+    let graze = format!(
+        "rows t ≥ {}",
+        s.grazing_rows.first().map_or("—".into(), |j| j.to_string())
+    );
+    let mut t = MdTable::new(["", "all cells", graze.as_str()]);
     t.row([
         "the table (energy-exact: norm = albedo)".to_string(),
         format!("{:.2} %", 100.0 * table_mean),
         format!("{:.2} %", 100.0 * grazing_mean),
     ]);
     t.row([
-        "best of 27 starts, norm = albedo".to_string(),
+        format!("best of {} starts, norm = albedo", s.starts),
         change(g_all, table_mean),
         change(g_gr, grazing_mean),
     ]);
@@ -247,13 +294,14 @@ pub(super) fn section(cells: &[FloorCell], s: &Summary) -> String {
         "\nA*/albedo over the sampled cells: {:.3} … {:.3} (the energy an L2-optimal norm gives away).\n\n",
         s.amplitude.0, s.amplitude.1,
     ));
+    let starts = format!("{} starts", s.starts);
     let mut t = MdTable::new([
         "i",
         "j",
         "α",
         "θ",
         "table",
-        "27 starts",
+        starts.as_str(),
         "+ L2-optimal amplitude",
         "A*/albedo",
     ]);
