@@ -139,8 +139,9 @@ pub struct Figure<K: Kind = StdErr> {
     kind: std::marker::PhantomData<K>,
 }
 
-/// A number written as `null` (serde_json's NaN or infinity) reads back as NaN.
-fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+/// A number written as `null` (serde_json writes a NaN or an infinity so) reads back as
+/// NaN, the value it stood for in the statistics that may hold one.
+pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 

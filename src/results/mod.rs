@@ -99,29 +99,8 @@ pub fn require_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<
 }
 
 /// A number that may have been written as `null` (serde_json writes a NaN or an infinity
-/// so): read back as NaN, the value it stood for in the statistics that may hold one.
-pub fn f64_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
-    use serde::Deserialize;
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// A (mean, s.e.) pair that may hold `null`s (a mean over no cases): NaN for each.
-pub fn pair_or_nan<'de, D: serde::Deserializer<'de>>(
-    d: D,
-) -> std::result::Result<(f64, f64), D::Error> {
-    use serde::Deserialize;
-    let (a, b) = <(Option<f64>, Option<f64>)>::deserialize(d)?;
-    Ok((a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)))
-}
-
-/// A (mean, s.e., count) triple whose mean and s.e. may be `null` (count 0): NaN.
-pub fn mean_se_n_or_nan<'de, D: serde::Deserializer<'de>>(
-    d: D,
-) -> std::result::Result<(f64, f64, usize), D::Error> {
-    use serde::Deserialize;
-    let (a, b, n) = <(Option<f64>, Option<f64>, usize)>::deserialize(d)?;
-    Ok((a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN), n))
-}
+/// so): the one reader, shared with [`crate::integrate::Figure`].
+pub use crate::integrate::estimate::f64_or_nan;
 
 /// Read the JSON file `path` as `T`: `None` when absent, a typed error naming the file,
 /// `what` it should be and how to rewrite it (`redo`) when it does not parse as `T`.

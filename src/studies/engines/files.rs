@@ -136,16 +136,16 @@ pub fn run(
         .engines
         .iter()
         .zip(&sum.paths)
-        .map(|(e, paths)| {
-            let p = &paths[0];
-            format!(
+        .filter_map(|(e, paths)| {
+            let p = paths.first()?;
+            Some(format!(
                 "{} {} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
                 e.engine.name(),
                 p.path,
                 p.scenes,
                 100.0 * p.shipped_mean,
                 100.0 * p.ours_mean
-            )
+            ))
         })
         .collect();
     Ok(format!(
