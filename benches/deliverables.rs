@@ -182,7 +182,7 @@ fn ltc_table_benches(c: &mut Criterion) {
             })
         });
     }
-    if let Ok(t) = ndfbench::results::ltc::aniso_table(Path::new("results")) {
+    if let Ok(t) = ndfbench::results::ltc_aniso::aniso_table(Path::new("results")) {
         let h = t.to_half();
         g.bench_function("ltc_ggx_aniso: 1024 pixels", |b| {
             b.iter(|| {
@@ -207,7 +207,7 @@ fn ltc_table_benches(c: &mut Criterion) {
 /// footprints are the default render's).
 fn render_benches(c: &mut Criterion) {
     use ndfbench::render::{geometry::*, glints, light, methods, scene::*, texture::Texture};
-    let Ok(consts) = ndfbench::render::constants(Path::new("results")) else {
+    let Ok(consts) = ndfbench::results::render::constants(Path::new("results")) else {
         return;
     };
     let mut g = c.benchmark_group("render");

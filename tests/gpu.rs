@@ -467,7 +467,7 @@ fn ltc_lut_lookup_interpolates_every_table_as_its_reference() {
 /// hardware-filtered coordinates) plus f32 rounding. The observed worst is printed.
 #[test]
 fn ltc_aniso_lookup_interpolates_as_its_reference() {
-    let Ok(t) = ndfbench::results::ltc::aniso_table(std::path::Path::new("results")) else {
+    let Ok(t) = ndfbench::results::ltc_aniso::aniso_table(std::path::Path::new("results")) else {
         eprintln!("results/fits/ltc-aniso.json absent: skipped");
         return;
     };

@@ -266,6 +266,11 @@ fn a_sample_mean_carries_its_standard_error_and_prints_one_way() {
     let q = Figure::<Quad>::new(0.0123, 0.0004);
     assert_eq!(q.kind(), ErrorKind::Quadrature);
     assert_eq!(q.pct(1), "1.23 ± 0.04 %");
+    // a mean of bounded figures is bounded by the mean of the bars: true values anywhere
+    // in [1 ± 0.1] and [3 ± 0.3] average within [2 ± 0.2]
+    let m = Figure::<Quad>::mean_bounded(&[Figure::new(1.0, 0.1), Figure::new(3.0, 0.3)]);
+    assert_eq!(m.pair(), (2.0, 0.2));
+    assert!(Figure::<Quad>::mean_bounded(&[]).value.is_nan());
     // stored as {value, error}; a null (serde_json's NaN) reads back as NaN
     assert_eq!(
         serde_json::to_string(&e).unwrap(),

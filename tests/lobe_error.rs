@@ -234,7 +234,8 @@ fn held_out_metric_agrees_with_an_independent_product_rule() {
         }
     }
     // the anisotropic table at two of its nodes (one grazing)
-    let at = ndfbench::results::ltc::aniso_table(Path::new("results")).expect("committed table");
+    let at =
+        ndfbench::results::ltc_aniso::aniso_table(Path::new("results")).expect("committed table");
     let g = at.grid;
     for (ix, iy, k, j) in [
         (g.n_r - 2, 2, 1, g.n_t / 2),

@@ -219,7 +219,7 @@ fn a_malformed_table_file_is_a_typed_error() {
         r#"{"grid": {"n_r": 100000, "n_phi": 2, "n_t": 2, "alpha_min": 0.001}, "cells": []}"#,
     ] {
         std::fs::write(dir.join("fits/ltc-aniso.json"), body).unwrap();
-        let e = ndfbench::results::ltc::aniso_table(&dir)
+        let e = ndfbench::results::ltc_aniso::aniso_table(&dir)
             .unwrap_err()
             .to_string();
         assert!(e.contains("ltc-aniso.json"), "{e}");

@@ -178,7 +178,8 @@ fn plan() -> GlintPlan {
 
 #[test]
 fn renders_are_bit_identical_at_any_thread_count() {
-    let c = ndfbench::render::constants(Path::new("results")).expect("results/fits/filters.json");
+    let c = ndfbench::results::render::constants(Path::new("results"))
+        .expect("results/fits/filters.json");
     for k in 0..SCENES.len() {
         let mut s = small(example(k));
         if k == 2 {
@@ -233,7 +234,7 @@ fn renders_are_bit_identical_at_any_thread_count() {
 fn the_batched_simd_image_is_the_per_pixel_scalar_image() {
     // quad lights through kernels::ltc_quad (AVX2 ≤ 2 ulp of the scalar twin, tests/kernels.rs)
     let s = small(example(0));
-    let c = ndfbench::render::constants(Path::new("results"))
+    let c = ndfbench::results::render::constants(Path::new("results"))
         .expect("constants")
         .with_alpha(s.material.alpha);
     let tex = ndfbench::render::texture::Texture::new(
@@ -261,7 +262,7 @@ fn the_batched_simd_image_is_the_per_pixel_scalar_image() {
 
 #[test]
 fn the_measures_of_the_truth_itself_are_zero() {
-    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
+    let c = ndfbench::results::render::constants(Path::new("results")).expect("constants");
     let s = small(example(0));
     let r = ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan()).expect("renders");
     let v = &r.views[0];
@@ -411,7 +412,7 @@ fn extreme_scenes_render_finite_images() {
     // α at both ends of the scene range, a camera 0.01° above the plane (89.99° from its
     // normal), and the torus edge-on: every truth value, s.e. and method pixel finite
     // and non-negative
-    let c = ndfbench::render::constants(Path::new("results")).expect("constants");
+    let c = ndfbench::results::render::constants(Path::new("results")).expect("constants");
     let mut cases = Vec::new();
     for alpha in ["0.0001", "1.0"] {
         for k in 0..2 {

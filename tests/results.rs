@@ -24,7 +24,11 @@ fn every_committed_result_reads_as_its_type() {
     let _: results::render::Render = results::require(r).unwrap();
     let t: results::tensor::Tensor = results::require(r).unwrap();
     assert!(t.rows.iter().all(|x| x.mean_rel_error <= x.max_rel_error));
-    let _: ltc::Aniso = results::require(r).unwrap();
+    let a: results::ltc_aniso::Aniso = results::require(r).unwrap();
+    assert_eq!(a.cells.len(), a.grid.cells());
+    let g: ltc::Ggx = results::require(r).unwrap();
+    assert_eq!(g.table.len(), g.grid.n);
+    assert!(!g.polygons.is_empty() && !g.pipeline.levels.is_empty());
     for name in [
         "ltc-ggx",
         "ltc-sheen",

@@ -450,7 +450,7 @@ fn every_stored_texel_keeps_its_lobe() {
         }
     }
     // the anisotropic table: layer 0 of each (r_y, φ) node is (a, b, c, d), layer 2 (e, g, h)
-    if let Ok(at) = ndfbench::results::ltc::aniso_table(Path::new("results")) {
+    if let Ok(at) = ndfbench::results::ltc_aniso::aniso_table(Path::new("results")) {
         let g = at.grid;
         let tex = f16s(&read("ltc_ggx_aniso_f16.bin"));
         let layer = g.n_r * g.n_t * 4;

@@ -120,7 +120,7 @@ pub fn write_all(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<Str
         }
     }
     // the anisotropic table once its study has run
-    if let Ok(t) = crate::results::ltc::aniso_table(results) {
+    if let Ok(t) = crate::results::ltc_aniso::aniso_table(results) {
         for (rel, bytes) in aniso::render(&t, COMMAND) {
             let path = results.join(rel);
             set.put(&path, &bytes);

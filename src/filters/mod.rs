@@ -3,6 +3,7 @@
 //! footprint-averaged ground truth, and the study behind results/filters.md.
 
 pub mod footprint;
+pub mod plan;
 pub mod registry;
 pub mod rules;
 pub mod study;

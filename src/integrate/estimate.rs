@@ -254,6 +254,20 @@ impl Figure<Quad> {
     pub fn pct(&self, min_decimals: usize) -> String {
         self.pct_to_bar(min_decimals)
     }
+
+    /// The mean of figures each within its bar of its true value: the mean of the values,
+    /// within the mean of the bars of the mean of the true values (|Σ eᵢ|/n ≤ Σ bᵢ/n).
+    /// NaN for none.
+    pub fn mean_bounded(v: &[Figure<Quad>]) -> Figure<Quad> {
+        if v.is_empty() {
+            return Figure::NONE;
+        }
+        let n = v.len() as f64;
+        Figure::new(
+            v.iter().map(|f| f.value).sum::<f64>() / n,
+            v.iter().map(|f| f.error).sum::<f64>() / n,
+        )
+    }
 }
 
 impl Figure<StdErr> {

@@ -118,7 +118,7 @@ pub struct AnisoGgxTarget {
 impl AnisoGgxTarget {
     /// θ in radians (clamped to ≤ 89.99°), α_x, α_y > 0 (typed errors otherwise).
     pub fn new(ax: f64, ay: f64, theta: f64, phi: f64) -> Result<AnisoGgxTarget> {
-        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        let th = theta.clamp(0.0, crate::ltc::hemisphere::THETA_MAX_DEG.to_radians());
         let v = V3::new(th.sin(), 0.0, th.cos());
         let surface = Microsurface::ggx(Roughness::rotated(ax, ay, phi)?);
         Ok(AnisoGgxTarget {

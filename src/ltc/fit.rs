@@ -425,9 +425,12 @@ pub fn production_metrics<T: LtcTarget + ?Sized>(
     Some(metrics(t, &ltc, norm, n, off))
 }
 
+/// The absolute tolerance of a cell's norm and Fresnel share (the albedo integrals).
+pub const ALBEDO_TOL: f64 = 1e-9;
+
 /// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
 /// t = √(1 − cos θ), both uniform on [0, 1] with `n` points.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Grid {
     pub n: usize,
     pub alpha_min: f64,
@@ -480,7 +483,7 @@ pub fn fit_table<T: LtcTarget>(
             let alpha = grid.alpha(i);
             let t = target(alpha, theta)?;
             let (_, _, _, zm) = t.moments(32);
-            let (norm, norm_se, fresnel) = t.albedo(1e-9);
+            let (norm, norm_se, fresnel) = t.albedo(ALBEDO_TOL);
             if i == grid.n - 1 {
                 p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
             } else {

@@ -8,13 +8,17 @@ use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
 
-/// The view of a cell at θ (radians, clamped to ≤ 89.99° so that v_z > 0) for a lobe of
+/// The largest view angle of a table cell, in degrees: a cell at θ = 90° is clamped here so
+/// that v_z > 0 (as the shipped tables' fitter does).
+pub const THETA_MAX_DEG: f64 = 89.99;
+
+/// The view of a cell at θ (radians, clamped to ≤ [`THETA_MAX_DEG`] so that v_z > 0) for a lobe of
 /// roughness α ∈ (0, 1] (anything else, NaN included, is a typed error).
 pub fn checked_view(alpha: f64, theta: f64) -> crate::error::Result<V3> {
     if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
         return Err(crate::error::Error::InvalidRoughness(alpha));
     }
-    let th = theta.clamp(0.0, 89.99f64.to_radians());
+    let th = theta.clamp(0.0, THETA_MAX_DEG.to_radians());
     Ok(V3::new(th.sin(), 0.0, th.cos()))
 }
 

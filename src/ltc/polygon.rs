@@ -307,9 +307,9 @@ pub fn check_lights(theta: f64) -> Vec<(&'static str, Light)> {
 
 /// One fitted cell × one light: the MC truth of the true lobe with its standard error,
 /// and the LTC integral with the exact and the rational edge forms.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PolygonCheck {
-    pub light: &'static str,
+    pub light: String,
     pub mc: crate::integrate::Figure,
     pub ltc_exact: f64,
     pub ltc_rational: f64,
@@ -331,7 +331,7 @@ pub fn check_cell<T: crate::ltc::target::LtcTarget + ?Sized>(
         .map(|(k, (light_name, light))| {
             let (m, se) = mc_polygon(&light, &|l| t.eval(l), &|u| t.sample(u), mc, 17 + k as u64)?;
             Ok(PolygonCheck {
-                light: light_name,
+                light: light_name.to_string(),
                 mc: crate::integrate::Figure::with_se(m, se),
                 ltc_exact: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Exact),
                 ltc_rational: norm * ltc_integral(m_inv, &light.vertices, EdgeForm::Rational),

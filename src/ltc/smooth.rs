@@ -266,7 +266,7 @@ pub fn sweep<T: LtcTarget>(
 }
 
 /// What the bilinear pass did.
-#[derive(Clone, Copy, Debug, serde::Serialize)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BilinearPass {
     pub square_weight: f64,
     pub max_iters: u64,

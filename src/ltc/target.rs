@@ -79,7 +79,7 @@ pub struct GgxTarget {
 impl GgxTarget {
     /// θ in radians (clamped to ≤ 89.99° so that v_z > 0), α > 0.
     pub fn new(alpha: f64, theta: f64) -> Result<GgxTarget> {
-        let th = theta.clamp(0.0, 89.99f64.to_radians());
+        let th = theta.clamp(0.0, crate::ltc::hemisphere::THETA_MAX_DEG.to_radians());
         let v = V3::new(th.sin(), 0.0, th.cos());
         let surface = Microsurface::ggx(Roughness::iso(alpha)?);
         Ok(GgxTarget {

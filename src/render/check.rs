@@ -20,18 +20,22 @@ use rayon::prelude::*;
 type V3 = Vector3<f64>;
 
 /// The comparison of one check.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct CheckResult {
     pub name: String,
     pub pixels: usize,
     /// Largest |truth − exact| / exact over pixels with exact > 1 % of the mean.
+    #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
     pub max_rel: f64,
     /// Σ(truth − exact)² / Σ s.e.² (≈ 1 when the standard errors are honest: each pixel's
     /// s.e. has one degree of freedom, so only the pooled ratio is meaningful).
+    #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
     pub mse_over_se2: f64,
     /// Fraction of pixels with |truth − exact| > 4 × the pooled s.e. √mean(s.e.²).
+    #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
     pub frac_z4: f64,
     /// Largest |truth − exact| relative to the image's mean.
+    #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
     pub max_abs_over_mean: f64,
 }
 

@@ -30,12 +30,13 @@ pub fn tone(x: f64, exposure: f64) -> f64 {
 }
 
 /// An image's measures against the truth.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Measures {
     pub rmse: Figure,
     pub rel_mse: Figure,
     pub flip: Figure,
     /// The truth's noise floor √(mean s.e.²) over the same pixels.
+    #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
     pub truth_noise: f64,
     pub pixels: usize,
 }
@@ -109,7 +110,7 @@ pub fn flip(
 
 /// Flicker of a frame sequence against the truth's: (excess mean |Δ|, temporal RMSE),
 /// on displayed values, over pixels covered in both frames of each pair.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Flicker {
     /// Mean |frame-to-frame change| of the method.
     pub change: Figure,

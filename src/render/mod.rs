@@ -99,21 +99,6 @@ fn unscaled_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
     NormalMap::from_png(&p)
 }
 
-/// The refitted constants from results/fits/filters.json (GGX, every family; a method
-/// that needs a missing one fails when it is built).
-pub fn constants(results: &Path) -> Result<Constants> {
-    let v: crate::results::filters::Filters = crate::results::require(results)?;
-    Ok(Constants {
-        fitted: v
-            .fitted
-            .iter()
-            .filter(|f| f.ndf == "GGX")
-            .map(|f| (f.family.clone(), f.constant))
-            .collect(),
-        y_mi: f32::NAN,
-    })
-}
-
 /// How the glint set's CP models are built (the preset's scale).
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -2,14 +2,13 @@
 //! shaders sample them, written by `ltc-compare` and summarised in results/ltc-ggx.md.
 
 use crate::error::Result;
-use crate::ltc::lobe_error::Spread;
+use crate::ltc::lobe_error::{LobeError, Spread};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// The file. `F` is the per-form detail: the writer's forms (every cell and square);
-/// a reader that only wants the summaries leaves it as JSON.
+/// The file.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct LtcCompare<F = serde_json::Value> {
+pub struct LtcCompare {
     pub command: String,
     pub source: Option<String>,
     pub bevy_source: Option<String>,
@@ -21,7 +20,36 @@ pub struct LtcCompare<F = serde_json::Value> {
     pub convention: String,
     /// Per place ("three.js FloatType cells", …).
     pub summary: Vec<(String, Summary)>,
-    pub forms: F,
+    /// Every cell and square of each way an engine uploads both tables.
+    pub forms: Vec<Form>,
+}
+
+/// Both tables' held-out figures at one place (`None` where a table is singular there or
+/// leaves it out).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Pair {
+    pub ours: Option<LobeError>,
+    pub shipped: Option<LobeError>,
+    /// The relative L2 as earlier versions estimated it (48² + 48² stratified samples,
+    /// a biased ratio of sums; NaN where not judged), kept to say what changed.
+    #[serde(deserialize_with = "super::f64_or_nan")]
+    pub ours_sampled: f64,
+    #[serde(deserialize_with = "super::f64_or_nan")]
+    pub shipped_sampled: f64,
+}
+
+/// One way an engine uploads both tables, judged at its reachable places.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Form {
+    pub name: String,
+    /// What the engine's path holds: ours / the shipped table.
+    pub holds: String,
+    /// The smallest perceptual roughness its shader reads.
+    pub r_min: f64,
+    /// cells[i + n·j]
+    pub cells: Vec<Pair>,
+    /// squares[i + (n − 1)·j]: the square with corners (i, j) and (i + 1, j + 1)
+    pub squares: Vec<Pair>,
 }
 
 /// Over the places where both tables are judged: each figure's spread, and how many

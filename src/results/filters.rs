@@ -1,8 +1,6 @@
 //! results/fits/filters.json: the footprint-filter study (seed 003, seed 004 §3.2) —
 //! per filter summaries, the fitted constants the generated code carries, and the
-//! survey's numbers. The per-map, per-level and screen tables the report renders are
-//! kept as the study wrote them (`maps`, `screen`, `by_level`, `plan`): no other code
-//! reads them.
+//! survey's numbers, and the per-map, per-level and screen tables the report renders.
 
 use crate::fit::spec::FitSpec;
 use crate::integrate::Figure;
@@ -18,11 +16,11 @@ pub struct Filters {
     pub summary: BTreeMap<String, FilterSummary>,
     pub by_level_note: String,
     pub map_filters: Vec<String>,
-    pub by_level: Vec<serde_json::Value>,
+    pub by_level: Vec<LevelRow>,
     pub preset: String,
-    pub plan: serde_json::Value,
-    pub maps: Vec<serde_json::Value>,
-    pub screen: Vec<serde_json::Value>,
+    pub plan: crate::filters::plan::Plan,
+    pub maps: Vec<MapRows>,
+    pub screen: Vec<ScreenRow>,
     pub fitted: Vec<FittedConstant>,
     pub survey: Summary,
 }
@@ -34,6 +32,49 @@ impl Filters {
             .iter()
             .find(|f| f.family == family && f.ndf == ndf)
     }
+}
+
+/// One (mip level, map, NDF, map filter): the mean L2 and energy errors over the level's
+/// footprints, α and views.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LevelRow {
+    pub level: usize,
+    /// Index into [`Filters::map_filters`].
+    pub map: usize,
+    pub ndf: String,
+    pub filter: usize,
+    pub l2: Figure,
+    pub energy: Figure,
+}
+
+/// One map's table: per map filter, its aggregate per NDF.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct MapRows {
+    pub map: String,
+    pub filters: Vec<FilterRow>,
+}
+
+/// One filter's row of a map's table.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FilterRow {
+    pub filter: String,
+    pub by_ndf: Vec<NdfAgg>,
+}
+
+/// An aggregate over one NDF's cases.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct NdfAgg {
+    pub ndf: String,
+    pub all: Agg,
+}
+
+/// One screen-space kernel under one pixel footprint and NDF.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ScreenRow {
+    pub pixel: String,
+    pub ndf: String,
+    pub kernel: String,
+    pub all: Agg,
 }
 
 /// One filter's mean lobe L2 error over its cases.

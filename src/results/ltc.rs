@@ -4,8 +4,10 @@
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::ltc::aniso_table::{AnisoCell, AnisoGrid, AnisoTable};
+use crate::integrate::Figure;
+use crate::ltc::fit::Grid;
 use crate::ltc::held::Stats;
+use crate::ltc::smooth::BilinearPass;
 use crate::ltc::table::{FittedTable, MAX_SIDE};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -37,6 +39,110 @@ pub struct Summary {
     pub sphere_horizon: Option<SphereHorizon>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub edge_approximations: Vec<EdgeApproximation>,
+}
+
+/// results/fits/ltc-ggx.json: the GGX table, its held-out figures and every section's
+/// measures. The lobe-table results share its first part ([`Tables`], [`Summary`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Ggx {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub grid: Grid,
+    pub layout: String,
+    /// table[j][i] = [a, b, c, d, norm, fresnel].
+    pub table: Columns,
+    /// The binary16 storage of the table (every value a binary16 number), same layout.
+    pub table_f16: Columns,
+    pub held_out: Stats,
+    /// The optimiser and metric variants on the sub-grid.
+    pub variants: Vec<Variant>,
+    pub edge_approximations: Vec<EdgeApproximation>,
+    pub degenerate: Vec<Degenerate>,
+    pub polygons: Vec<PolygonRow>,
+    pub pipeline: Pipeline,
+    pub sphere_horizon: SphereHorizon,
+    /// The floor of a single LTC on a spread of cells.
+    pub floor: Vec<FloorCell>,
+    /// The bilinear-aware refit.
+    pub bilinear_pass: BilinearPass,
+}
+
+/// One optimiser/metric variant and its held-out summary on the sub-grid.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Variant {
+    pub fit: String,
+    pub stats: Stats,
+}
+
+/// A degenerate light and its exact, rational and cubic form factors.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Degenerate {
+    pub light: String,
+    pub values: Vec<f64>,
+}
+
+/// One polygon light at one cell: the Monte Carlo truth ± s.e. beside the LTC with the
+/// exact and the rational edge integral.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PolygonRow {
+    pub alpha: f64,
+    pub theta: f64,
+    pub light: String,
+    pub mc: Figure,
+    pub ltc_exact: f64,
+    pub ltc_rational: f64,
+}
+
+/// The multi-scale pipeline against brute force (seed 000 §3–4).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Pipeline {
+    pub alpha: f64,
+    pub views_deg: Vec<f64>,
+    pub levels: Vec<PipelineLevel>,
+}
+
+/// One mip level of the pipeline study.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PipelineLevel {
+    pub level: usize,
+    pub cases: usize,
+    pub methods: Vec<PipelineMethod>,
+}
+
+/// One method's figures at one level.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PipelineMethod {
+    pub method: String,
+    /// Mean |method/truth − 1| ± s.e.
+    pub mean_abs_rel: Figure,
+    /// Mean method/truth.
+    #[serde(deserialize_with = "super::f64_or_nan")]
+    pub mean_ratio: f64,
+    /// Σ|method − truth| / Σ truth.
+    #[serde(deserialize_with = "super::f64_or_nan")]
+    pub energy_weighted_rel: f64,
+}
+
+/// One cell of the floor study: the table's held-out error beside the best single LTC.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct FloorCell {
+    pub i: usize,
+    pub j: usize,
+    pub alpha: f64,
+    pub theta_deg: f64,
+    /// The table's held-out relative L2.
+    pub table: crate::integrate::Figure<crate::integrate::Quad>,
+    /// The best of the multi-start search, norm = albedo.
+    pub global: crate::integrate::Figure<crate::integrate::Quad>,
+    /// That shape with the L2-optimal amplitude.
+    pub free_amplitude: crate::integrate::Figure<crate::integrate::Quad>,
+    /// A*/albedo: the energy that amplitude keeps.
+    pub amplitude_over_albedo: f64,
+}
+
+impl super::ResultFile for Ggx {
+    const NAME: &'static str = super::names::LTC_GGX;
 }
 
 /// The clipped-sphere horizon correction against exact clipping over random quads.
@@ -117,72 +223,4 @@ fn cells_of(
         }
     }
     Ok((n, cells))
-}
-
-/// results/fits/ltc-aniso.json: the anisotropic GGX table, its study's summary and its
-/// polygon checks.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Aniso {
-    pub spec: FitSpec,
-    pub command: String,
-    pub preset: String,
-    pub grid: AnisoGrid,
-    pub layout: String,
-    pub cells: Vec<AnisoCell>,
-    pub summary: AnisoSummary,
-    /// The polygon-light checks, as the report renders them (no other code reads them).
-    pub polygons: serde_json::Value,
-}
-
-impl super::ResultFile for Aniso {
-    const NAME: &'static str = super::names::LTC_ANISO;
-}
-
-/// The anisotropic study's summary: the figures other reports quote, typed; the rest as
-/// the study wrote it (read only by its own report).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct AnisoSummary {
-    pub cells_fitted: usize,
-    /// The relative L2 between cells, as shaders interpolate the table.
-    pub between_table: MeanMax,
-    #[serde(flatten)]
-    pub detail: std::collections::BTreeMap<String, serde_json::Value>,
-}
-
-/// (mean ± s.e., max) of a set of errors.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-pub struct MeanMax {
-    /// The mean and its standard error (for a random sample of cases).
-    pub mean: crate::integrate::Figure,
-    pub max: f64,
-    pub count: usize,
-}
-
-/// The table part of results/fits/ltc-aniso.json.
-#[derive(Deserialize)]
-struct AnisoTables {
-    grid: AnisoGrid,
-    cells: Vec<AnisoCell>,
-}
-
-/// The shipped anisotropic table (a typed error if absent or malformed, with every size
-/// bounded).
-pub fn aniso_table(results: &Path) -> Result<AnisoTable> {
-    let name = super::names::LTC_ANISO;
-    let t: AnisoTables = super::require_named(results, name)?;
-    let bad = |m: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {m}"));
-    let grid = t.grid;
-    if [grid.n_r, grid.n_phi, grid.n_t]
-        .iter()
-        .any(|n| !(2..=64).contains(n))
-    {
-        return Err(bad("a grid side outside 2 … 64"));
-    }
-    if t.cells.len() != grid.cells() || t.cells.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(bad("cells do not match the grid"));
-    }
-    Ok(AnisoTable {
-        grid,
-        cells: t.cells,
-    })
 }

@@ -15,6 +15,7 @@ pub mod filters;
 pub mod index;
 pub mod leadr_grids;
 pub mod ltc;
+pub mod ltc_aniso;
 pub mod render;
 pub mod smith_lambda;
 pub mod tensor;

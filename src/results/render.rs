@@ -1,19 +1,24 @@
-//! results/fits/render.json: the rendered evidence (one entry per example scene, each
-//! view's methods with their measured errors). Written by the render study; the part
-//! other reports read is typed here, the rest ([`Render::detail`]) is the study's own.
+//! results/fits/render.json: the rendered evidence. One entry per example scene, each
+//! view's methods with their measures against the truth, the flicker along a camera path,
+//! and the truth's own checks against closed forms. The `render SCENE.toml` command writes
+//! one [`SceneRun`] per scene.
 
 use crate::fit::spec::FitSpec;
+use crate::integrate::Figure;
+use crate::render::check::CheckResult;
+use crate::render::measure::{Flicker, Measures};
+use crate::render::scene::Scene;
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 
-/// What other code reads of results/fits/render.json.
+/// The file.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Render {
     pub spec: FitSpec,
     pub command: String,
+    pub preset: String,
+    /// The truth against closed forms.
+    pub checks: Vec<CheckResult>,
     pub renders: Vec<SceneRun>,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
 }
 
 impl super::ResultFile for Render {
@@ -23,50 +28,54 @@ impl super::ResultFile for Render {
 /// One scene's renders.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SceneRun {
-    pub scene: Named,
+    /// The scene as its TOML gave it.
+    pub scene: Scene,
     pub views: Vec<ViewRun>,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
+    /// Per method, its flicker along the camera path (empty for a still scene).
+    pub flicker: Vec<FlickerRun>,
+    /// The truth's own frame-to-frame change, when the scene has a path.
+    pub truth_change: Option<Figure>,
+    /// Extra per-method numbers (the CP models' error and storage).
+    pub notes: Vec<String>,
 }
 
-/// Anything with a name (the scene, as its TOML gave it).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Named {
-    pub name: String,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
-}
-
-/// One view (scale or frame) and every method's measures in it.
+/// One view (a scale of the map or a frame of the path) and every method's measures.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ViewRun {
+    pub scale: f64,
+    pub frame: usize,
     pub methods: Vec<MethodRun>,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
 }
 
 /// One method in one view.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct MethodRun {
     pub key: String,
+    pub label: String,
     pub measures: Measures,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
 }
 
-/// A method's measures against the truth; the relative MSE is typed.
+/// One method's flicker along a camera path.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Measures {
-    pub rel_mse: Value,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
+pub struct FlickerRun {
+    pub key: String,
+    pub label: String,
+    pub flicker: Flicker,
 }
 
-/// A measured value (its error bar and kind stay in `detail`).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Value {
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub value: f64,
-    #[serde(flatten)]
-    pub detail: BTreeMap<String, serde_json::Value>,
+/// The refitted GGX constants of results/fits/filters.json, as the renderer's methods
+/// take them (every family; a method that needs a missing one fails when it is built).
+pub fn constants(
+    results: &std::path::Path,
+) -> crate::error::Result<crate::render::methods::Constants> {
+    let v: super::filters::Filters = super::require(results)?;
+    Ok(crate::render::methods::Constants {
+        fitted: v
+            .fitted
+            .iter()
+            .filter(|f| f.ndf == "GGX")
+            .map(|f| (f.family.clone(), f.constant))
+            .collect(),
+        y_mi: f32::NAN,
+    })
 }

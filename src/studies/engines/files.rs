@@ -128,9 +128,12 @@ pub fn run(
     set.put(&out.join("engines.svg"), svg.as_bytes());
     set.put(
         &out.join("engines.json"),
-        serde_json::to_string_pretty(&r)
-            .map_err(|e| Error::InvalidArgument(format!("engines: json: {e}")))?
-            .as_bytes(),
+        serde_json::to_string_pretty(&File {
+            result: &r,
+            summary: &sum,
+        })
+        .map_err(|e| Error::InvalidArgument(format!("engines: json: {e}")))?
+        .as_bytes(),
     );
     let summary: Vec<String> = r
         .engines
@@ -139,12 +142,12 @@ pub fn run(
         .filter_map(|(e, paths)| {
             let p = paths.first()?;
             Some(format!(
-                "{} {} path, mean relative RMSE over {} scenes: shipped {:.2} %, ours {:.2} %",
+                "{} {} path, mean relative RMSE over {} scenes: shipped {}, ours {}",
                 e.engine.name(),
                 p.path,
                 p.scenes,
-                100.0 * p.shipped_mean,
-                100.0 * p.ours_mean
+                p.shipped_mean.pct(2),
+                p.ours_mean.pct(2)
             ))
         })
         .collect();
@@ -153,4 +156,12 @@ pub fn run(
         out.join("engines.md").display(),
         summary.join("; ")
     ))
+}
+
+/// results/engines.json: the result and what the report states of it.
+#[derive(serde::Serialize)]
+struct File<'a> {
+    #[serde(flatten)]
+    result: &'a EnginesResult,
+    summary: &'a super::summary::Summary,
 }

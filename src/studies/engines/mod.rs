@@ -10,6 +10,7 @@ mod compute;
 pub mod files;
 pub mod godot;
 pub mod report;
+mod summary;
 
 pub use compute::{
     bevy_held, compute, three_held, Engine, EngineResult, EngineRun, EngineScene, EnginesResult,
@@ -18,3 +19,4 @@ pub use compute::{
 
 pub use compute::GodotScene;
 pub use files::{judge_files, run, EngineFiles, BEVY_OURS};
+pub use summary::{PathSummary, Summary, Worse};

@@ -2,9 +2,8 @@
 //! and a labelled figure (truth, both tables' images, their error maps, with a colour bar)
 //! of a few scenes. Formats only.
 
-use super::compute::{
-    EngineResult, EnginesResult, Errors, PathResult, PathSummary, SceneResult, Summary,
-};
+use super::compute::{EngineResult, EnginesResult, Errors, PathResult, SceneResult};
+use super::summary::{PathSummary, Summary};
 use crate::error::Result;
 use crate::render::picture::Rgb;
 use crate::report::table::Table;
@@ -40,9 +39,9 @@ fn godot_section(md: &mut String, r: &EnginesResult, sum: &Summary) {
     }
     md.push_str(&t.to_string());
     md.push_str(&format!(
-        "\nMean relative RMSE over the scenes: formulas {:.2} %, table's share {:.2} %.\n\n",
-        100.0 * formulas,
-        100.0 * share
+        "\nMean relative RMSE over the scenes (± the mean of their bars): formulas {}, table's share {}.\n\n",
+        formulas.pct(2),
+        share.pct(2)
     ));
 }
 
@@ -118,16 +117,16 @@ fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
             })
             .collect();
         md.push_str(&format!(
-            "\nOn the {} path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}. Mean relative RMSE over the scenes: shipped {:.2} %, ours {:.2} %; the tables' own share: shipped {:.2} %, ours {:.2} %; the engine's formulas in f64 against its image (f32 arithmetic, filtering): at most {:.2e}.\n",
+            "\nOn the {} path, ours renders closer to the truth (relative RMSE, beyond both error bars) in {} of {} scenes and further from it in {}{}. Mean relative RMSE over the scenes (± the mean of their bars): shipped {}, ours {}; the tables' own share: shipped {}, ours {}; the engine's formulas in f64 against its image (f32 arithmetic, filtering): at most {:.2e}.\n",
             p.path,
             p.better.len(),
             p.scenes,
             worse.len(),
             if worse.is_empty() { String::new() } else { format!(": {}", worse.join("; ")) },
-            100.0 * p.shipped_mean,
-            100.0 * p.ours_mean,
-            100.0 * p.shipped_table_mean,
-            100.0 * p.ours_table_mean,
+            p.shipped_mean.pct(2),
+            p.ours_mean.pct(2),
+            p.shipped_table_mean.pct(2),
+            p.ours_table_mean.pct(2),
             p.gpu_max
         ));
     }

@@ -5,7 +5,7 @@
 
 use super::cases::{self, aggregate, Agg, MapCase, ScreenCase};
 use super::constants::{self, Fitted};
-use super::plan::{Plan, KINDS};
+use super::plan::{kind_name, Plan, KINDS};
 use super::{summary, survey, survey_report, verdicts};
 use crate::error::Result;
 use crate::filters::footprint::{NormalMap, Procedural, Stats};
@@ -15,7 +15,7 @@ use crate::filters::truth::CaseResult;
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset};
 use crate::microfacet::NdfKind;
-use crate::results::filters::FilterSummary;
+use crate::results::filters::{FilterRow, FilterSummary, MapRows, NdfAgg, ScreenRow};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -83,7 +83,7 @@ pub struct Computed {
     pub(super) fits: Vec<Fitted>,
     pub(super) verdicts: verdicts::Verdicts,
     pub(super) per_filter: BTreeMap<String, FilterSummary>,
-    pub(super) by_level: Vec<serde_json::Value>,
+    pub(super) by_level: Vec<crate::results::filters::LevelRow>,
     pub(super) survey: crate::results::filters::Summary,
     /// Map cases of the filters' maps, of all maps (the survey's scratches included),
     /// and screen cases.
@@ -295,4 +295,50 @@ pub fn compute(c: &crate::study::Ctx) -> Result<Computed> {
         fits,
         plan,
     })
+}
+
+impl MapSection {
+    /// A map's table as the result file holds it.
+    pub(super) fn rows(&self) -> MapRows {
+        let s = self;
+        MapRows {
+            map: s.name.clone(),
+            filters: s
+                .rows
+                .iter()
+                .map(|r| FilterRow {
+                    filter: r.label.into(),
+                    by_ndf: KINDS
+                        .iter()
+                        .zip(&r.by_ndf)
+                        .map(|(&kind, a)| NdfAgg {
+                            ndf: kind_name(kind).into(),
+                            all: *a,
+                        })
+                        .collect(),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl ScreenSection {
+    /// The screen-space tables as the result file holds them.
+    pub(super) fn rows(&self) -> Vec<ScreenRow> {
+        let s = self;
+        let mut out = Vec::new();
+        for (pixel, rows) in &s.tables {
+            for r in rows {
+                for (&kind, a) in KINDS.iter().zip(&r.by_ndf) {
+                    out.push(ScreenRow {
+                        pixel: format!("{pixel:?}"),
+                        ndf: kind_name(kind).into(),
+                        kernel: r.label.into(),
+                        all: *a,
+                    });
+                }
+            }
+        }
+        out
+    }
 }

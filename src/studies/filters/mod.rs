@@ -17,7 +17,7 @@
 //!   footprint-averaged per-texel BRDF (seed 004 Eq 11, Hypothesis 1), importance-sampled
 //!   Monte Carlo; each constant by a scan over a log grid and Brent (argmin).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::io::Outputs;
 use crate::study::FitOutcome;
 
@@ -41,16 +41,14 @@ pub use prefilter::prefilter;
 fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<()> {
     let (spec, preset, plan) = (&c.spec, c.preset, &c.plan);
     let mut md = report::intro(preset, plan);
-    let mut json_maps = Vec::new();
     for s in &c.maps {
-        let row_json = report::map_section(&mut md, s, plan);
+        report::map_section(&mut md, s, plan);
         set.put(
             &results.join(format!("filters-{}.svg", s.name)),
             report::map_svg(s)?.as_bytes(),
         );
-        json_maps.push(serde_json::json!({"map": s.name, "filters": row_json}));
     }
-    let json_screen = report::screen_section(&mut md, plan, &c.screen);
+    report::screen_section(&mut md, plan, &c.screen);
     set.put(
         &results.join("filters-screen.svg"),
         report::screen_svg(&c.screen)?.as_bytes(),
@@ -73,7 +71,7 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
         command: crate::results::command(&spec.name),
         summary: c.per_filter.clone(),
         by_level_note:
-            "filter = index into map_filters; l2/energy = [mean, s.e.] over footprints, α and views"
+            "filter = index into map_filters; l2/energy = mean (value) ± s.e. (error) over footprints, α and views"
                 .into(),
         map_filters: crate::filters::registry::MAP
             .iter()
@@ -81,10 +79,9 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
             .collect(),
         by_level: c.by_level.clone(),
         preset: preset.name().into(),
-        plan: serde_json::to_value(plan)
-            .map_err(|e| Error::InvalidArgument(format!("filters plan: {e}")))?,
-        maps: json_maps,
-        screen: json_screen,
+        plan: plan.clone(),
+        maps: c.maps.iter().map(|m| m.rows()).collect(),
+        screen: c.screen.rows(),
         fitted: json_fits,
         survey: c.survey.clone(),
     };

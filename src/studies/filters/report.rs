@@ -3,7 +3,7 @@
 
 use super::compute::{Curve, MapSection, ScreenSection, CLAMP_COLUMNS};
 use super::constants::Fitted;
-use super::plan::{kind_name, Plan, KINDS};
+use super::plan::{kind_name, Plan};
 use crate::error::Result;
 use crate::filters::study::PixelFilter;
 use crate::integrate::Preset;
@@ -51,20 +51,12 @@ statistics (unnormalised mean normal; E[x̃], E[ỹ], E[x̃²], E[ỹ²], E[x̃�
     md
 }
 
-/// The markdown section of one map (table, worst cases, plot); returns its JSON rows.
-/// A map's section of results/filters.md and its rows for results/fits/filters.json.
-pub(super) fn map_section(md: &mut String, s: &MapSection, plan: &Plan) -> Vec<serde_json::Value> {
+/// A map's section of results/filters.md (table, worst cases, plot).
+pub(super) fn map_section(md: &mut String, s: &MapSection, plan: &Plan) {
     md.push_str(&format!("## Map: {}\n\n", s.name));
     let mut t = Table::new(std::iter::once("filter").chain(NDF_COLUMNS));
-    let mut row_json = Vec::new();
     for r in &s.rows {
         t.row(std::iter::once(r.label.to_string()).chain(r.by_ndf.iter().flat_map(agg_cells)));
-        let aj: Vec<serde_json::Value> = KINDS
-            .iter()
-            .zip(&r.by_ndf)
-            .map(|(&kind, a)| serde_json::json!({"ndf": kind_name(kind), "all": a}))
-            .collect();
-        row_json.push(serde_json::json!({"filter": r.label, "by_ndf": aj}));
     }
     md.push_str(&t.to_string());
     md.push_str("\nLargest energy errors on this map (single cases, ± Monte Carlo s.e.):\n\n");
@@ -92,7 +84,6 @@ pub(super) fn map_section(md: &mut String, s: &MapSection, plan: &Plan) -> Vec<s
     }
     md.push_str(&t.to_string());
     md.push_str(&format!("\nLargest single-case Monte Carlo s.e. of an L2 error on this map: {:.2} %. L2 error against footprint size (GGX, all α and views): ![{}](filters-{}.svg)\n\n", 100.0 * s.mc_se_max, s.name, s.name));
-    row_json
 }
 
 fn series(curves: &[Curve]) -> Vec<Series> {
@@ -133,14 +124,9 @@ pub(super) fn screen_svg(s: &ScreenSection) -> Result<String> {
     )
 }
 
-/// The screen-space section of results/filters.md and its rows for the result file.
-pub(super) fn screen_section(
-    md: &mut String,
-    plan: &Plan,
-    s: &ScreenSection,
-) -> Vec<serde_json::Value> {
+/// The screen-space section of results/filters.md.
+pub(super) fn screen_section(md: &mut String, plan: &Plan, s: &ScreenSection) {
     md.push_str(&format!("## Screen-space kernels on synthetic curved surfaces\n\nThe pixel sees a surface whose normal is normalize(z + R_30° diag(κ, a·κ)·p) at screen offset p (pixels): curvature × distance gives κ rad/px, anisotropy a ∈ {:?}; (α, κ) ∈ {:?}; views θ ∈ {:?}° (φ = 20°). Derivatives are quad finite differences (ddx = n(1,0) − n(0,0)) exactly as a GPU forms them. The truth averages the exact per-normal lobe over the pixel footprint: a Gaussian of variance 0.25 px² (the kernels' own σ²) or the 1×1 box, by a tensor midpoint rule fine enough that neighbouring nodes' normals differ by < α/2 (up to 64² nodes).\n\n", plan.anisotropy, plan.screen_pairs, plan.screen_views_deg));
-    let mut json_screen = Vec::new();
     for (pixel, rows) in &s.tables {
         md.push_str(&format!(
             "### Pixel footprint: {}\n\n",
@@ -152,9 +138,6 @@ pub(super) fn screen_section(
         ));
         let mut t = Table::new(std::iter::once("kernel").chain(NDF_COLUMNS));
         for r in rows {
-            for (&kind, a) in KINDS.iter().zip(&r.by_ndf) {
-                json_screen.push(serde_json::json!({"pixel": format!("{pixel:?}"), "ndf": kind_name(kind), "kernel": r.label, "all": a}));
-            }
             t.row(std::iter::once(r.label.to_string()).chain(r.by_ndf.iter().flat_map(agg_cells)));
         }
         md.push_str(&t.to_string());
@@ -167,7 +150,6 @@ pub(super) fn screen_section(
         t.row(std::iter::once(k.to_string()).chain(cells.iter().map(|a| a.l2.pct(1))));
     }
     md.push_str(&t.to_string());
-    json_screen
 }
 
 pub(super) fn fits_section(

@@ -7,7 +7,7 @@ use crate::filters::registry::{MAP, SCREEN};
 use crate::filters::study::PixelFilter;
 use crate::filters::truth::CaseResult;
 use crate::microfacet::NdfKind;
-use crate::results::filters::FilterSummary;
+use crate::results::filters::{FilterSummary, LevelRow};
 use std::collections::BTreeMap;
 
 /// One summary entry: mean L2 ± s.e. of `rs` under `id` (GGX) or `beckmann:id`.
@@ -75,29 +75,30 @@ pub(super) fn per_filter(
     summary
 }
 
-/// Per (level, map, NDF, map filter): L2 and energy, [mean, s.e.].
-pub(super) fn by_level(map_cases: &[MapCase], plan: &Plan, maps: usize) -> Vec<serde_json::Value> {
-    let by_level: Vec<serde_json::Value> = plan
-        .levels
-        .iter()
-        .flat_map(|&lv| {
-            let mc = map_cases;
-            (0..maps).flat_map(move |m| {
-                KINDS.iter().flat_map(move |&kind| {
-                    (0..MAP.len()).map(move |fi| {
-                        let rs: Vec<&CaseResult> = mc
-                            .iter()
-                            .filter(|c| c.map == m && c.kind == kind && c.level == lv)
-                            .map(|c| &c.results[fi])
-                            .collect();
-                        {
-                            let a = aggregate(&rs);
-                            serde_json::json!({"level": lv, "map": m, "ndf": kind_name(kind), "filter": fi, "l2": a.l2, "energy": a.energy})
-                        }
-                    })
-                })
-            })
-        })
-        .collect();
-    by_level
+/// Per (level, map, NDF, map filter): L2 and energy, mean ± s.e.
+pub(super) fn by_level(map_cases: &[MapCase], plan: &Plan, maps: usize) -> Vec<LevelRow> {
+    let mut out = Vec::new();
+    for &level in &plan.levels {
+        for map in 0..maps {
+            for &kind in &KINDS {
+                for filter in 0..MAP.len() {
+                    let rs: Vec<&CaseResult> = map_cases
+                        .iter()
+                        .filter(|c| c.map == map && c.kind == kind && c.level == level)
+                        .map(|c| &c.results[filter])
+                        .collect();
+                    let a = aggregate(&rs);
+                    out.push(LevelRow {
+                        level,
+                        map,
+                        ndf: kind_name(kind).into(),
+                        filter,
+                        l2: a.l2,
+                        energy: a.energy,
+                    });
+                }
+            }
+        }
+    }
+    out
 }

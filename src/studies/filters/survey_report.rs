@@ -349,8 +349,8 @@ scratches (which do not enter the filters' fitted constants). Every number is a 
     }
     md.push_str(&t.to_string());
     md.push_str("\n## Every row: error against storage\n\n");
-    md.push_str("Mean relative L2 error of the lobe over all light directions (± s.e. over cases), parameters per texel, by NDF and by map. \
-The first twelve rows are results/filters.md's filters on the same samples.\n\n");
+    md.push_str(&format!("Mean relative L2 error of the lobe over all light directions (± s.e. over cases), parameters per texel, by NDF and by map. \
+The first {} rows are results/filters.md's filters on the same samples.\n\n", MAP.len()));
     let mut t = Table::new(
         ["representation", "params", "GGX", "Beckmann"]
             .into_iter()
@@ -362,16 +362,11 @@ The first twelve rows are results/filters.md's filters on the same samples.\n\n"
         t.row(
             [r.name.to_string(), p, r.ggx.l2.pct(1), r.beckmann.l2.pct(1)]
                 .into_iter()
-                .chain(
-                    r.by_map
-                        .iter()
-                        .map(|a| format!("{:.1} %", 100.0 * a.l2.value)),
-                ),
+                .chain(r.by_map.iter().map(|a| a.l2.pct(1))),
         );
     }
     md.push_str(&t.to_string());
-    md.push_str("\nPer-map columns carry standard errors of the same size as the NDF columns × √(number of maps) (results/fits/filters.json \
-holds them). ![error against storage](filters-survey.svg)\n\nThe cost per evaluation of each representation (criterion, ns) is in \
+    md.push_str("\n![error against storage](filters-survey.svg)\n\nThe cost per evaluation of each representation (criterion, ns) is in \
 results/performance.md (\"Survey representations\"), beside these errors.\n\n");
     md.push_str(&verdict_section(s));
     md.push_str(&diagnostics_section(s));

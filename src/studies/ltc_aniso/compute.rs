@@ -76,14 +76,7 @@ impl Params {
     }
 }
 
-/// One case: a point of the 4D domain.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
-pub struct Case {
-    pub ax: f64,
-    pub ay: f64,
-    pub phi: f64,
-    pub theta: f64,
-}
+pub use crate::results::ltc_aniso::{Case, PolygonRow};
 
 /// What one fitted case measured (held-out relative L2).
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
@@ -300,16 +293,6 @@ pub(super) fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Resul
             bar,
         })
     })
-}
-
-/// One polygon check: a case, the table's lookup there × the quad, against MC of the true
-/// lobe, and the isotropic table at √(α_x α_y) × the same quad.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PolygonRow {
-    pub case: Case,
-    pub albedo: f64,
-    pub check: crate::ltc::polygon::PolygonCheck,
-    pub iso_geo_exact: f64,
 }
 
 /// Four anisotropic cases × the four check lights (one straddling the horizon): the

@@ -7,7 +7,8 @@ use crate::error::Result;
 use crate::ltc::aniso::{AnisoGgxTarget, Inv7};
 use crate::ltc::table::FittedTable;
 use crate::ltc::target::LtcTarget;
-use serde::Serialize;
+
+pub use crate::results::ltc_aniso::{Design, Penalty};
 
 /// The dimensions of the table.
 pub const DIMS: [&str; 4] = ["r_x = √α_x", "r_y = √α_y", "φ", "t = √(1 − cos θ)"];
@@ -16,28 +17,6 @@ pub const DIMS: [&str; 4] = ["r_x = √α_x", "r_y = √α_y", "φ", "t = √(1 
 struct Line {
     dim: usize,
     nodes: Vec<Fitted>,
-}
-
-/// The interpolation penalty of one dimension at one resolution.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Penalty {
-    pub dim: usize,
-    /// Nodes over the dimension's whole range.
-    pub n: usize,
-    /// Mean held-out relative L2 at the dropped nodes, interpolated linearly from the kept
-    /// ones (entries and norm), over every line of this dimension.
-    pub interpolated: f64,
-    /// Mean held-out relative L2 of the fits at the same nodes.
-    pub fitted: f64,
-}
-
-/// The design study's output.
-#[derive(Clone, Debug, Serialize)]
-pub struct Design {
-    pub bases: Vec<[f64; 4]>,
-    pub penalties: Vec<Penalty>,
-    /// The largest error bar of any held-out figure of the study.
-    pub bar_max: f64,
 }
 
 fn case_at(base: &[f64; 4], dim: usize, u: f64, amin: f64) -> Case {

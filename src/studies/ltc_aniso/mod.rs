@@ -18,7 +18,7 @@
 //! max(α_x, α_y)), the best on a validation set kept. Held out: a fresh (2·`samples`)²
 //! set per technique, plus `cases` random cases between cells.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::io::Outputs;
@@ -81,23 +81,18 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
     set.put(&results.join("ltc-aniso-error.svg"), heat.as_bytes());
     let svg = report::plot(&rep.design, pl)?;
     set.put(&results.join("ltc-aniso.svg"), svg.as_bytes());
-    let summary = serde_json::to_value(rep)
-        .and_then(serde_json::from_value)
-        .map_err(|e| Error::InvalidArgument(format!("ltc-aniso summary: {e}")))?;
-    let polygons = serde_json::to_value(&c.poly)
-        .map_err(|e| Error::InvalidArgument(format!("ltc-aniso polygons: {e}")))?;
     crate::results::put(
         set,
         results,
-        &crate::results::ltc::Aniso {
+        &crate::results::ltc_aniso::Aniso {
             spec: spec.clone(),
             command: command.clone(),
             preset: c.preset.name().into(),
             grid: c.table.grid,
             layout: "cells[i_x + n_r·(i_y + n_r·(k + n_phi·j))] = [a, b, c, d, e, g, h, norm, fresnel]; r_x = √α_x = i_x/(n_r − 1), r_y likewise, φ = (π/2)·k/(n_phi − 1) the α_x tangent's azimuth from T1, t = √(1 − cos θ) = j/(n_t − 1); M⁻¹ ∝ [[a, 0, c], [e, 1, g], [b, h, d]] (rows)".into(),
             cells: c.table.cells.clone(),
-            summary,
-            polygons,
+            summary: rep.clone(),
+            polygons: c.poly.clone(),
         },
     )
 }

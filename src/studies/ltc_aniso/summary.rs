@@ -4,9 +4,8 @@
 
 use super::compute::{Between, Case, Fitted, Plan};
 use super::design::{Design, Penalty};
-use serde::Serialize;
 
-pub use crate::results::ltc::MeanMax;
+pub use crate::results::ltc_aniso::{Bin, MeanMax, Prediction, Summary};
 
 fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
     let v: Vec<f64> = v.filter(|x| x.is_finite()).collect();
@@ -15,48 +14,6 @@ fn mean_max(v: impl Iterator<Item = f64>) -> MeanMax {
         max: v.iter().cloned().fold(0.0, f64::max),
         count: v.len(),
     }
-}
-
-/// A row of the per-anisotropy tables.
-#[derive(Clone, Debug, Serialize)]
-pub struct Bin {
-    pub label: &'static str,
-    pub ours: MeanMax,
-    pub iso_geo: MeanMax,
-    pub iso_max: MeanMax,
-}
-
-/// A predicted table size.
-#[derive(Clone, Debug, Serialize)]
-pub struct Prediction {
-    pub size: [usize; 4],
-    pub texels: usize,
-    pub bytes_f16: usize,
-    /// Predicted RMS relative L2 between cells.
-    pub predicted_mean: f64,
-    /// Whether a dimension's penalty was extrapolated (h² beyond the study's finest).
-    pub extrapolated: bool,
-}
-
-/// Everything the report shows.
-#[derive(Clone, Debug, Serialize)]
-pub struct Summary {
-    pub fit_rms: f64,
-    pub between_rms: f64,
-    pub cells_fitted: usize,
-    pub cells: Bin,
-    pub between_table: MeanMax,
-    pub between_table_f16: MeanMax,
-    pub between_iso_geo: MeanMax,
-    pub between_iso_max: MeanMax,
-    pub by_anisotropy: Vec<Bin>,
-    pub design: Design,
-    pub predictions: Vec<Prediction>,
-    /// The largest error bar of any held-out figure of a cell or a case.
-    pub bar_max: f64,
-    /// Relative L1 of the table: at its cells (mean / max) and between them.
-    pub cells_l1: MeanMax,
-    pub between_table_l1: MeanMax,
 }
 
 const BINS: [(&str, f64, f64); 5] = [
@@ -134,7 +91,7 @@ pub(super) fn summarise(
             .sqrt(),
         cells_fitted: fitted.len(),
         cells: Bin {
-            label: "table cells",
+            label: "table cells".into(),
             ours: mean_max(fitted.iter().map(|f| f.err)),
             iso_geo: mean_max(fitted.iter().map(|f| f.err_iso_geo)),
             iso_max: mean_max(fitted.iter().map(|f| f.err_iso_max)),
@@ -151,7 +108,7 @@ pub(super) fn summarise(
                     .filter(|c| ratio(&c.case) > lo && ratio(&c.case) <= hi)
                     .collect();
                 Bin {
-                    label,
+                    label: label.into(),
                     ours: mean_max(inb.iter().map(|c| c.err_table)),
                     iso_geo: mean_max(inb.iter().map(|c| c.err_iso_geo)),
                     iso_max: mean_max(inb.iter().map(|c| c.err_iso_max)),

@@ -8,33 +8,8 @@ use crate::ltc::lobe_error::{LobeError, Spread};
 use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::ltc::upload;
 use crate::results::compare::Summary;
-use serde::Serialize;
 
-/// Both tables' held-out figures at one place (`None` where a table is singular there or
-/// leaves it out).
-#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
-pub struct Pair {
-    pub ours: Option<LobeError>,
-    pub shipped: Option<LobeError>,
-    /// The relative L2 as earlier versions estimated it (48² + 48² stratified samples,
-    /// a biased ratio of sums; NaN where not judged), kept to say what changed.
-    pub ours_sampled: f64,
-    pub shipped_sampled: f64,
-}
-
-/// One way an engine uploads both tables, judged at its reachable places.
-#[derive(Clone, Debug, Serialize)]
-pub struct Form {
-    pub name: &'static str,
-    /// What the engine's path holds: ours / the shipped table.
-    pub holds: &'static str,
-    /// The smallest perceptual roughness its shader reads.
-    pub r_min: f64,
-    /// cells[i + n·j]
-    pub cells: Vec<Pair>,
-    /// squares[i + (n − 1)·j]: the square with corners (i, j) and (i + 1, j + 1)
-    pub squares: Vec<Pair>,
-}
+pub use crate::results::compare::{Form, Pair};
 
 /// The entries every table holds at one place (cell or square centre): the same place in
 /// every table, `None` where a table leaves it out.
@@ -99,8 +74,9 @@ pub(super) fn judge_places(tables: &Tables, square: bool) -> Result<Vec<Judged>>
         let mut sampled = [f64::NAN; 5];
         for ((q, entries), e) in places.iter().zip(e) {
             out[*q] = e;
-            sampled[*q] = crate::ltc::fit::production_metrics(&t, &entries.0, entries.1, 48, 0.25)
-                .map_or(f64::NAN, |m| m.1);
+            sampled[*q] =
+                crate::ltc::fit::production_metrics(&t, &entries.0, entries.1, SAMPLED_SIDE, 0.25)
+                    .map_or(f64::NAN, |m| m.1);
         }
         Ok((out, sampled))
     })
@@ -138,15 +114,15 @@ pub(super) fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
     };
     let mut forms = vec![
         Form {
-            name: "three.js FloatType",
-            holds: "ours: our table in f32 (ltc_ggx.js); shipped: LTC_MAT_1/2 as Float32Array",
+            name: "three.js FloatType".into(),
+            holds: "ours: our table in f32 (ltc_ggx.js); shipped: LTC_MAT_1/2 as Float32Array".into(),
             r_min: upload::THREE_MIN_ROUGHNESS,
             cells: pick(&cells, 0, 2, upload::THREE_MIN_ROUGHNESS, n, 0.0),
             squares: pick(&squares, 0, 2, upload::THREE_MIN_ROUGHNESS, n - 1, 0.5),
         },
         Form {
-            name: "three.js HalfFloatType",
-            holds: "ours: our stored binary16 table (ltc_ggx_*_f16.bin); shipped: DataUtils.toHalfFloat of LTC_MAT_1/2 (truncated)",
+            name: "three.js HalfFloatType".into(),
+            holds: "ours: our stored binary16 table (ltc_ggx_*_f16.bin); shipped: DataUtils.toHalfFloat of LTC_MAT_1/2 (truncated)".into(),
             r_min: upload::THREE_MIN_ROUGHNESS,
             cells: pick(&cells, 1, 3, upload::THREE_MIN_ROUGHNESS, n, 0.0),
             squares: pick(&squares, 1, 3, upload::THREE_MIN_ROUGHNESS, n - 1, 0.5),
@@ -154,8 +130,8 @@ pub(super) fn compare_all(tables: &Tables) -> Result<Vec<Form>> {
     ];
     if tables.bevy.is_some() {
         forms.push(Form {
-            name: "Bevy ltc.ktx2",
-            holds: "ours: our stored binary16 table (ltc_ggx.ktx2); shipped: bevy_pbr's embedded ltc.ktx2 (RGBA16F, zstd)",
+            name: "Bevy ltc.ktx2".into(),
+            holds: "ours: our stored binary16 table (ltc_ggx.ktx2); shipped: bevy_pbr's embedded ltc.ktx2 (RGBA16F, zstd)".into(),
             r_min: 0.0,
             cells: pick(&cells, 1, 4, 0.0, n, 0.0),
             squares: pick(&squares, 1, 4, 0.0, n - 1, 0.5),
@@ -200,7 +176,7 @@ pub fn summarise<'a>(v: impl Iterator<Item = &'a Pair>) -> Summary {
 pub struct FormSummary {
     pub cells: Summary,
     pub squares: Summary,
-    /// The grazing rows (t ≥ 56/63) of the cells and of the squares.
+    /// The grazing rows (t ≥ [`GRAZING`]) of the cells and of the squares.
     pub cells_grazing: Summary,
     pub squares_grazing: Summary,
     /// Per view row j, its cells.
@@ -226,13 +202,19 @@ fn worse_places(v: &[Pair]) -> Vec<(usize, LobeError, LobeError)> {
     bad
 }
 
+/// The grazing rows start at t = GRAZING.0/GRAZING.1 (of the shipped 64-row grid: the
+/// last eight rows).
+pub const GRAZING: (usize, usize) = (56, 63);
+/// The side of the stratified sample set of the earlier, sampled estimate.
+pub const SAMPLED_SIDE: usize = 48;
+
 /// The aggregates of every form of an `n`×`n` comparison.
 pub fn summaries(n: usize, forms: &[Form]) -> Vec<FormSummary> {
     let grazing = |v: &[Pair], w: usize| {
         summarise(
             v.iter()
                 .enumerate()
-                .filter(|(k, _)| 63 * (k / w) >= 56 * (n - 1))
+                .filter(|(k, _)| GRAZING.1 * (k / w) >= GRAZING.0 * (n - 1))
                 .map(|x| x.1),
         )
     };

@@ -169,7 +169,7 @@ pub fn run(
                 ]
             })
             .collect(),
-        forms: &forms,
+        forms,
     };
     set.put(&out.join("ltc-compare.md"), md.as_bytes());
     set.put(&out.join("ltc-compare.svg"), heat.as_bytes());

@@ -17,22 +17,7 @@ use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use crate::report::table::Table as MdTable;
 
-/// One sampled cell.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
-pub(super) struct FloorCell {
-    pub i: usize,
-    pub j: usize,
-    pub alpha: f64,
-    pub theta_deg: f64,
-    /// The table's held-out relative L2.
-    pub table: Figure<Quad>,
-    /// The best of the multi-start search, norm = albedo.
-    pub global: Figure<Quad>,
-    /// That shape with the L2-optimal amplitude.
-    pub free_amplitude: Figure<Quad>,
-    /// A*/albedo: the energy that amplitude keeps.
-    pub amplitude_over_albedo: f64,
-}
+pub use crate::results::ltc::FloorCell;
 
 /// The L2-optimal amplitude of an LTC shape against the target on the training set.
 fn best_amplitude(t: &GgxTarget, ltc: &LtcDist, n: usize) -> f64 {

@@ -24,7 +24,7 @@ use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::io::Outputs;
-use crate::ltc::fit::{Grid, Table};
+use crate::ltc::fit::Table;
 use crate::ltc::held::{self, held_out_stats as stats, Stats};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
@@ -47,13 +47,15 @@ use compute::{fit_tables, Plan};
 fn intro(c: &Computed) -> String {
     let (preset, pl, main, st) = (c.preset, &c.pl, &c.main, &c.held);
     let mut md = format!(
-        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to 89.99°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance 1e-9, largest error estimate {:.1e}).\n\n",
+        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to {}°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance {:e}, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
         pl.alpha_min,
+        crate::ltc::hemisphere::THETA_MAX_DEG,
         pl.samples,
         pl.samples,
+        crate::ltc::fit::ALBEDO_TOL,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
     );
     md.push_str(&held_out_section(st));
@@ -78,31 +80,6 @@ pub fn held_out_section(st: &Stats) -> String {
         st.l1.max.pct(1),
         st.mean_iters
     )
-}
-
-/// results/fits/ltc-ggx.json.
-#[derive(serde::Serialize)]
-struct LtcResult<'a> {
-    spec: &'a FitSpec,
-    command: String,
-    preset: &'static str,
-    grid: Grid,
-    layout: &'static str,
-    /// table[j][i] = [a, b, c, d, norm, fresnel].
-    table: Vec<Vec<[f64; 6]>>,
-    /// The binary16 storage of the table (every value a binary16 number), same layout.
-    table_f16: Vec<Vec<[f64; 6]>>,
-    held_out: Stats,
-    variants: Vec<serde_json::Value>,
-    edge_approximations: Vec<crate::results::ltc::EdgeApproximation>,
-    degenerate: Vec<serde_json::Value>,
-    polygons: Vec<serde_json::Value>,
-    pipeline: serde_json::Value,
-    sphere_horizon: crate::results::ltc::SphereHorizon,
-    /// The floor of a single LTC on a spread of cells.
-    floor: Vec<floor::FloorCell>,
-    /// The bilinear-aware refit.
-    bilinear_pass: BilinearPass,
 }
 
 /// What the GGX study computed: the table, its held-out figures and every section's
@@ -204,20 +181,20 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
     set.put(&results.join("ltc-ggx.md"), markdown(c).as_bytes());
     let t = tables(spec, &c.main);
     let poly = &c.polygons;
-    let json = LtcResult {
-        spec,
+    let json = crate::results::ltc::Ggx {
+        spec: spec.clone(),
         command: crate::results::command(&spec.name),
-        preset: c.preset.name(),
+        preset: c.preset.name().into(),
         grid: c.main.grid,
-        layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]",
+        layout: "table[j][i] = [a, b, c, d, norm, fresnel]; j = θ index (t = √(1 − cos θ) = j/(n−1)), i = roughness index (r = √α = i/(n−1)); M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]]".into(),
         table: t.table,
         table_f16: t.table_f16.unwrap_or_default(),
         held_out: c.held,
-        variants: table::variants_json(&c.variants),
+        variants: table::variants_rows(&c.variants),
         edge_approximations: poly.edge_approximations.clone(),
-        degenerate: poly.degenerate_json(),
-        polygons: poly.polygons_json(),
-        pipeline: pipeline::json(&c.pipeline),
+        degenerate: poly.degenerate_rows(),
+        polygons: poly.polygon_rows(),
+        pipeline: pipeline::result(&c.pipeline),
         sphere_horizon: poly.sphere_horizon,
         floor: c.floor.clone(),
         bilinear_pass: c.bilinear,

@@ -13,6 +13,14 @@ use crate::integrate::Figure;
 
 type V3 = Vector3<f64>;
 
+/// The base roughness of the maps.
+const ALPHA: f64 = 0.05;
+/// The views θ (degrees; φ = 0).
+const VIEWS: [f64; 3] = [0.0, 40.0, 70.0];
+/// The quad light: its centre and its half-widths along x and y (it faces down).
+const LIGHT_CENTRE: [f64; 3] = [-1.0, 0.2, 1.2];
+const LIGHT_HALF: [f64; 2] = [0.5, 0.3];
+
 /// One method's figures at one level.
 #[derive(Clone, Copy, Debug)]
 struct MethodStat {
@@ -49,9 +57,15 @@ pub(super) fn measure(
         pl.pipeline_per_level,
         pl.pipeline_samples,
     );
-    let alpha = 0.05;
-    let views = [0.0, 40.0, 70.0];
-    let light = Light::rect(V3::new(-1.0, 0.2, 1.2), V3::x(), V3::y(), 0.5, 0.3);
+    let (alpha, views) = (ALPHA, VIEWS);
+    let [cx, cy, cz] = LIGHT_CENTRE;
+    let light = Light::rect(
+        V3::new(cx, cy, cz),
+        V3::x(),
+        V3::y(),
+        LIGHT_HALF[0],
+        LIGHT_HALF[1],
+    );
     let mut cases = Vec::new();
     for k in Procedural::ALL {
         let map = NormalMap::procedural(k, size, 11)?;
@@ -101,28 +115,48 @@ pub(super) fn measure(
     })
 }
 
-/// The JSON the result file holds.
-pub(super) fn json(p: &Pipeline) -> serde_json::Value {
-    let by_level: Vec<serde_json::Value> = p
-        .levels
-        .iter()
-        .map(|(lv, cases, ms)| {
-            let js: Vec<serde_json::Value> = ms
-                .iter()
-                .zip(METHODS)
-                .map(|(m, name)| serde_json::json!({"method": name, "mean_abs_rel": m.e, "mean_ratio": m.r, "energy_weighted_rel": m.weighted}))
-                .collect();
-            serde_json::json!({"level": lv, "cases": cases, "methods": js})
-        })
-        .collect();
-    serde_json::json!({"alpha": p.alpha, "views_deg": p.views, "levels": by_level})
+/// The study as the result file holds it.
+pub(super) fn result(p: &Pipeline) -> crate::results::ltc::Pipeline {
+    use crate::results::ltc::{PipelineLevel, PipelineMethod};
+    crate::results::ltc::Pipeline {
+        alpha: p.alpha,
+        views_deg: p.views.to_vec(),
+        levels: p
+            .levels
+            .iter()
+            .map(|(level, cases, ms)| PipelineLevel {
+                level: *level,
+                cases: *cases,
+                methods: ms
+                    .iter()
+                    .zip(METHODS)
+                    .map(|(m, name)| PipelineMethod {
+                        method: name.to_string(),
+                        mean_abs_rel: m.e,
+                        mean_ratio: m.r,
+                        energy_weighted_rel: m.weighted,
+                    })
+                    .collect(),
+            })
+            .collect(),
+    }
+}
+
+/// A number as prose writes it (a minus sign, not a hyphen).
+fn minus(x: f64) -> String {
+    x.to_string().replace('-', "−")
 }
 
 /// The section of results/ltc-ggx.md.
 pub(super) fn section(p: &Pipeline) -> String {
     let (size, alpha, views, per, samples) = (p.size, p.alpha, p.views, p.per, p.samples);
     let mut md = format!(
-        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a 1×0.6 quad light centred at (−1, 0.2, 1.2) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n",
+        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a {}×{} quad light centred at ({}, {}, {}) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n",
+        2.0 * LIGHT_HALF[0],
+        2.0 * LIGHT_HALF[1],
+        minus(LIGHT_CENTRE[0]),
+        minus(LIGHT_CENTRE[1]),
+        minus(LIGHT_CENTRE[2]),
     );
     let mut t = MdTable::new(["level", "footprint"].into_iter().chain(METHODS));
     for (lv, _, ms) in &p.levels {

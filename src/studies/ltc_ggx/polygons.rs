@@ -8,7 +8,7 @@ use crate::ltc::fit::Table;
 use crate::ltc::polygon::{self, EdgeForm};
 use crate::ltc::target::GgxTarget;
 use crate::report::table::Table as MdTable;
-use crate::results::ltc::{EdgeApproximation, SphereHorizon};
+use crate::results::ltc::{Degenerate, EdgeApproximation, PolygonRow, SphereHorizon};
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
@@ -29,20 +29,28 @@ pub(super) struct Polygons {
 
 impl Polygons {
     /// The degenerate lights as the result file holds them.
-    pub fn degenerate_json(&self) -> Vec<serde_json::Value> {
+    pub fn degenerate_rows(&self) -> Vec<Degenerate> {
         self.degenerate
             .iter()
-            .map(|(name, v)| serde_json::json!({"light": name, "values": v}))
+            .map(|(name, v)| Degenerate {
+                light: name.to_string(),
+                values: v.clone(),
+            })
             .collect()
     }
 
-    /// The MC rows as the result file holds them.
-    pub fn polygons_json(&self) -> Vec<serde_json::Value> {
+    /// The Monte Carlo rows as the result file holds them.
+    pub fn polygon_rows(&self) -> Vec<PolygonRow> {
         self.mc
             .iter()
-            .flat_map(|(alpha, theta, checks)| {
-                checks.iter().map(move |c| {
-                    serde_json::json!({"alpha": alpha, "theta": theta, "light": c.light, "mc": c.mc, "ltc_exact": c.ltc_exact, "ltc_rational": c.ltc_rational})
+            .flat_map(|&(alpha, theta, ref checks)| {
+                checks.iter().map(move |c| PolygonRow {
+                    alpha,
+                    theta,
+                    light: c.light.to_string(),
+                    mc: c.mc,
+                    ltc_exact: c.ltc_exact,
+                    ltc_rational: c.ltc_rational,
                 })
             })
             .collect()

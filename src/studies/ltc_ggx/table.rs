@@ -202,10 +202,13 @@ pub(super) fn measure_variants(variants: &[(&'static str, Table)]) -> Vec<(&'sta
     variants.iter().map(|(name, t)| (*name, stats(t))).collect()
 }
 
-/// The JSON rows of the comparison.
-pub(super) fn variants_json(rows: &[(&'static str, Stats)]) -> Vec<serde_json::Value> {
+/// The comparison's rows as the result file holds them.
+pub(super) fn variants_rows(rows: &[(&'static str, Stats)]) -> Vec<crate::results::ltc::Variant> {
     rows.iter()
-        .map(|(name, s)| serde_json::json!({"fit": name, "stats": s}))
+        .map(|(name, s)| crate::results::ltc::Variant {
+            fit: name.to_string(),
+            stats: *s,
+        })
         .collect()
 }
 

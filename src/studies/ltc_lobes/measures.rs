@@ -17,6 +17,11 @@ use crate::ltc::target::LtcTarget;
 use crate::memo::Memo;
 use serde::Serialize;
 
+/// The side of the stratified Monte Carlo grid the norms are checked against.
+pub const NORM_MC_SIDE: usize = 256;
+/// The albedo below which a cell is left out of that check (its MC has almost no samples).
+pub const NORM_MC_MIN: f64 = 1e-6;
+
 /// One cell, as reported among the worst.
 #[derive(Clone, Debug, Serialize)]
 pub struct CellRow {
@@ -102,7 +107,7 @@ pub struct TableReport {
     /// Largest |quadrature − MC| in units of the MC standard error over the checked cells.
     pub norm_vs_mc_max_se: f64,
     pub norm_mc_cells: usize,
-    /// Cells with an albedo below 1e-6, left out of the MC check.
+    /// Cells with an albedo below [`NORM_MC_MIN`], left out of the MC check.
     pub norm_mc_left_out: usize,
     /// (α, θ°, the cell's albedo, the check).
     pub polygons: Vec<(f64, f64, f64, PolygonCheck)>,
@@ -315,7 +320,8 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
             )
         })
         .collect();
-    // the norm by quadrature against stratified MC (256² samples of the lobe's sampler)
+    // the norm by quadrature against stratified MC (NORM_MC_SIDE² samples of the lobe's
+    // sampler)
     let step = (n / 8).max(1);
     let probe: Vec<&Cell> = (0..n)
         .step_by(step)
@@ -324,10 +330,10 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         .collect();
     let zs: Vec<Option<f64>> = crate::memo::map_items("lobe norm against MC", &probe, |c| {
         let tgt = f.lobe.target(c.alpha, c.theta)?;
-        let (m, _, se, _) = tgt.moments(256);
-        // cells whose albedo is below 1e-6 (sheen seen head-on at the smallest α) are
+        let (m, _, se, _) = tgt.moments(NORM_MC_SIDE);
+        // cells whose albedo is below NORM_MC_MIN (sheen seen head-on at the smallest α) are
         // left out: their energy is invisible and their MC has almost no samples
-        Ok((c.norm >= 1e-6).then(|| (m - c.norm).abs() / se.max(1e-300)))
+        Ok((c.norm >= NORM_MC_MIN).then(|| (m - c.norm).abs() / se.max(1e-300)))
     })?;
     // polygons: four cells × four lights
     let mut polygons = Vec::new();

@@ -80,8 +80,8 @@ fn table_section(md: &mut String, f: &Fitted, st: &Stats, r: &TableReport, file:
         md.push_str(&format!("\n{} cells have an albedo below binary16's normal range (6.1e-5) and are left out above: binary16 stores their weight as a subnormal or 0, which is what they are worth on screen.\n", r.storage_left_out));
     }
     md.push_str(&format!(
-        "\nnorm (the directional albedo, stored as the weight) by nested adaptive Gauss–Kronrod (tolerance 1e-9 absolute; largest error estimate {:.1e}, which is also the tolerance to read against an albedo: a cell whose albedo is below 1e-8 holds it to about 1e-4 relative); against stratified MC of the lobe's own sampler (256² samples) on {} cells: largest difference {:.2} standard errors ({} cells with an albedo below 1e-6 left out). tests/ltc_targets.rs checks the quadrature against an independent Gauss–Legendre product rule to 1e-6 relative with an absolute floor of 1e-12.\n\n",
-        r.norm_error_max, r.norm_mc_cells, r.norm_vs_mc_max_se, r.norm_mc_left_out
+        "\nnorm (the directional albedo, stored as the weight) by nested adaptive Gauss–Kronrod (tolerance {:e} absolute; largest error estimate {:.1e}, an absolute error to read against the cell's albedo); against stratified MC of the lobe's own sampler ({}² samples) on {} cells: largest difference {:.2} standard errors ({} cells with an albedo below {:e} left out). tests/ltc_targets.rs checks the quadrature against an independent Gauss–Legendre product rule.\n\n",
+        crate::ltc::fit::ALBEDO_TOL, r.norm_error_max, super::measures::NORM_MC_SIDE, r.norm_mc_cells, r.norm_vs_mc_max_se, r.norm_mc_left_out, super::measures::NORM_MC_MIN
     ));
     let fx = &r.facts;
     md.push_str(&format!(
@@ -134,11 +134,12 @@ pub(super) fn markdown(
     command: &str,
 ) -> String {
     let mut md = format!(
-        "# {}\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Both tables go through the fitter of the GGX table (`ltc::fit`, generic over the target): grid {n}×{n} in (r = √α, t = √(1 − cos θ)), α = max(r², {}), θ clamped to 89.99°; Nelder–Mead (argmin) on the cubic metric with {s}×{s} stratified samples per technique (the LTC and the lobe's own sampler), warm-started from the rougher neighbour (rayon over θ columns), then an L2 polish, one bilinear pass (`ltc::smooth`) and the binary16 storage (`ltc::storage`). Layout and production form as the GGX table: M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]], texture 1 = (a, b, c, d), texture 2 = (norm, fresnel, 0, 0). Engine files: results/textures/ (README).\n\n![error](./{}-error.svg)\n\n",
+        "# {}\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Both tables go through the fitter of the GGX table (`ltc::fit`, generic over the target): grid {n}×{n} in (r = √α, t = √(1 − cos θ)), α = max(r², {}), θ clamped to {}°; Nelder–Mead (argmin) on the cubic metric with {s}×{s} stratified samples per technique (the LTC and the lobe's own sampler), warm-started from the rougher neighbour (rayon over θ columns), then an L2 polish, one bilinear pass (`ltc::smooth`) and the binary16 storage (`ltc::storage`). Layout and production form as the GGX table: M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]], texture 1 = (a, b, c, d), texture 2 = (norm, fresnel, 0, 0). Engine files: results/textures/ (README).\n\n![error](./{}-error.svg)\n\n",
         fam.title,
         preset.name(),
         spec.name,
         pl.alpha_min,
+        crate::ltc::hemisphere::THETA_MAX_DEG,
         fam.name,
         n = pl.n,
         s = pl.samples

@@ -94,7 +94,7 @@ pub(super) fn ltc_tables_table(
             .map_or("—".to_string(), per_pixel);
         table.row([format!("{} ({})", kind.stem, kind.fit), fit, err, px]);
     }
-    if let Some(v) = crate::results::read::<crate::results::ltc::Aniso>(results)? {
+    if let Some(v) = crate::results::read::<crate::results::ltc_aniso::Aniso>(results)? {
         let s = &v.summary;
         let px = timed
             .iter()

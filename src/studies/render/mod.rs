@@ -120,7 +120,7 @@ pub fn render_one(
     preset: Preset,
     pictures: &Path,
 ) -> Result<(Render, measure::Measured, Vec<std::path::PathBuf>)> {
-    let c = crate::render::constants(results)?;
+    let c = crate::results::render::constants(results)?;
     let r = crate::render::render(scene, base, &c, &builtin_params(preset)?.glints)?;
     let m = measure::measure_render(&r);
     let files = report::put_pictures(set, pictures, &r, &m, report::TILE.min(r.width))?;
@@ -234,7 +234,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         "## (b) Seed 003: specular antialiasing along a dolly",
         "## (c) Seed 002: glints under a small quad light",
     ];
-    let constants = crate::render::constants(results)?;
+    let constants = crate::results::render::constants(results)?;
     let mut sections = Vec::new();
     for (k, (name, text)) in SCENES.iter().enumerate() {
         let base = sized(Scene::parse(text, name)?, &pa);
@@ -300,12 +300,12 @@ fn render(set: &mut Outputs, results: &Path, c: &Computed) -> Result<()> {
         set,
         results,
         &c.spec.name,
-        &RenderResult {
-            spec: &c.spec,
-            command: "cargo run --release -- regen --only render",
-            preset: c.preset.name(),
-            checks: &c.checks,
-            renders: &json,
+        &crate::results::render::Render {
+            spec: c.spec.clone(),
+            command: crate::results::command(&c.spec.name),
+            preset: c.preset.name().into(),
+            checks: c.checks.clone(),
+            renders: json,
         },
     )
 }
@@ -328,16 +328,6 @@ impl crate::study::Computed for Computed {
             ),
         )
     }
-}
-
-/// results/fits/render.json.
-#[derive(serde::Serialize)]
-struct RenderResult<'a> {
-    spec: &'a FitSpec,
-    command: &'static str,
-    preset: &'static str,
-    checks: &'a [check::CheckResult],
-    renders: &'a [report::RenderJson],
 }
 
 crate::study::study! {

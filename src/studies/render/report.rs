@@ -8,6 +8,7 @@ use crate::render::measure::{Measured, Scored};
 use crate::render::picture::{colour_bar, labelled_grid, Rgb};
 use crate::render::Render;
 use crate::report::table::Table;
+use crate::results::render::{FlickerRun, MethodRun, SceneRun, ViewRun};
 use std::path::Path;
 
 /// Pixels of a grid tile's side (centre crop of the full image).
@@ -209,55 +210,20 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     md
 }
 
-/// One method's measures in one view.
-#[derive(serde::Serialize)]
-struct MethodJson {
-    key: String,
-    label: String,
-    measures: crate::render::measure::Measures,
-}
-
-/// One view (scale or frame) of a render.
-#[derive(serde::Serialize)]
-struct ViewJson {
-    scale: f64,
-    frame: usize,
-    methods: Vec<MethodJson>,
-}
-
-/// One method's flicker along a camera path.
-#[derive(serde::Serialize)]
-struct FlickerJson {
-    key: String,
-    label: String,
-    flicker: crate::render::measure::Flicker,
-}
-
-/// The typed JSON of one render's measures (an element of results/fits/render.json's
-/// `renders`, and the `render` command's DIR/<name>.json).
-#[derive(serde::Serialize)]
-pub struct RenderJson {
-    scene: crate::render::scene::Scene,
-    views: Vec<ViewJson>,
-    flicker: Vec<FlickerJson>,
-    truth_change: Option<crate::render::measure::Figure>,
-    notes: Vec<String>,
-}
-
-/// One render's measures as [`RenderJson`].
-pub fn json(r: &Render, m: &Measured) -> RenderJson {
-    RenderJson {
+/// One render's measures as the result file holds them.
+pub fn json(r: &Render, m: &Measured) -> SceneRun {
+    SceneRun {
         scene: r.scene.clone(),
         views: r
             .views
             .iter()
             .zip(&m.views)
-            .map(|(v, s)| ViewJson {
+            .map(|(v, s)| ViewRun {
                 scale: v.scale,
                 frame: v.frame,
                 methods: s
                     .iter()
-                    .map(|x| MethodJson {
+                    .map(|x| MethodRun {
                         key: x.key.clone(),
                         label: x.label.clone(),
                         measures: x.m,
@@ -268,7 +234,7 @@ pub fn json(r: &Render, m: &Measured) -> RenderJson {
         flicker: m
             .flicker
             .iter()
-            .map(|(k, l, f)| FlickerJson {
+            .map(|(k, l, f)| FlickerRun {
                 key: k.clone(),
                 label: l.clone(),
                 flicker: *f,
