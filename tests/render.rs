@@ -220,7 +220,7 @@ fn renders_are_bit_identical_at_any_thread_count() {
         for v in &m.views {
             for sc in v {
                 assert!(
-                    sc.m.rmse.value.is_finite() && sc.m.flip.value.is_finite(),
+                    sc.m.mse.value.is_finite() && sc.m.flip.value.is_finite(),
                     "{}: {}",
                     s.name,
                     sc.key
@@ -603,4 +603,74 @@ fn the_committed_render_grids_are_labelled() {
         seen += 1;
     }
     assert!(seen >= 4, "only {seen} render pictures");
+}
+
+/// The image MSE is unbiased against the exact image, and its bar is the truth noise's:
+/// over independent truth renders of a known image (two replicates per pixel, each with
+/// near-Gaussian noise of mean zero, as a mean of many samples is), the estimates scatter about the exact MSE with z-scores of spread ≈ 1,
+/// while the plain mean of (m − v)² sits above it by the truth's noise.
+#[test]
+fn the_image_mse_is_unbiased_and_its_bar_is_the_truth_noise() {
+    use ndfbench::render::truth::PixelTruth;
+    use rand::{Rng, SeedableRng};
+    let n = 4096;
+    let exact: Vec<f64> = (0..n)
+        .map(|i| 0.2 + 0.8 * ((i * 37) % 101) as f64 / 100.0)
+        .collect();
+    // a method off by a smooth 5 % and a constant
+    let img: Vec<f32> = exact.iter().map(|t| (1.05 * t + 0.01) as f32).collect();
+    let mse_exact = exact
+        .iter()
+        .zip(&img)
+        .map(|(t, &m)| (m as f64 - t).powi(2))
+        .sum::<f64>()
+        / n as f64;
+    let t2_exact = exact.iter().map(|t| t * t).sum::<f64>() / n as f64;
+    let (mut z, mut zr, mut naive_excess) = (Vec::new(), Vec::new(), 0.0);
+    for seed in 0..300u64 {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let truth: Vec<PixelTruth> = exact
+            .iter()
+            .map(|&t| {
+                // each replicate: t plus noise of s.d. 0.1 t (Irwin–Hall: the sum of 12
+                // uniforms less 6, near-Gaussian with mean 0 and variance 1)
+                let mut g = || (0..12).map(|_| rng.random::<f64>()).sum::<f64>() - 6.0;
+                let r1 = t * (1.0 + 0.1 * g());
+                let r2 = t * (1.0 + 0.1 * g());
+                PixelTruth {
+                    value: 0.5 * (r1 + r2),
+                    se: 0.5 * (r1 - r2).abs(),
+                    covered: true,
+                }
+            })
+            .collect();
+        let (mse, rel, _, pixels) = measure::errors(&truth, &img);
+        assert_eq!(pixels, n);
+        z.push((mse.value - mse_exact) / mse.error);
+        zr.push((rel.value - mse_exact / t2_exact) / rel.error);
+        let naive = truth
+            .iter()
+            .zip(&img)
+            .map(|(t, &m)| (m as f64 - t.value).powi(2))
+            .sum::<f64>()
+            / n as f64;
+        naive_excess += (naive - mse_exact) / mse.error / 300.0;
+    }
+    let stats = |v: &[f64]| {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
+        (m, sd)
+    };
+    let (m, sd) = stats(&z);
+    eprintln!("MSE z: mean {m:+.3}, spread {sd:.3}");
+    // unbiased: the mean z of 300 runs within 4/√300 of 0; honest bar: spread ≈ 1
+    assert!(m.abs() < 4.0 / 300f64.sqrt(), "mean z {m}");
+    assert!((0.85..1.15).contains(&sd), "z spread {sd}");
+    let (m, sd) = stats(&zr);
+    eprintln!("relative MSE z: mean {m:+.3}, spread {sd:.3}");
+    assert!(m.abs() < 4.0 / 300f64.sqrt(), "relative: mean z {m}");
+    assert!((0.85..1.15).contains(&sd), "relative: z spread {sd}");
+    eprintln!("uncorrected MSE: off by {naive_excess:.0} bars on average");
+    // the uncorrected mean is off by many bars
+    assert!(naive_excess > 10.0, "naive excess {naive_excess} bars");
 }

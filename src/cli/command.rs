@@ -250,8 +250,9 @@ pub enum Cmd {
     /// "multiscale"`: the seed 000 mip filters through the shipped LTC table;
     /// `"specular-aa"`: the seed 003 and engine kernels; `"glints"`: seed 002's brute-force
     /// P-NDF, CP range queries at three ranks and a plain mip; `"truth-only"`), each
-    /// through the shipped f32 code. Writes DIR/<name>.md (RMSE, relative MSE and ꟻLIP,
-    /// each ± s.e., the truth's noise floor, flicker along a camera path),
+    /// through the shipped f32 code. Writes DIR/<name>.md (MSE and relative MSE, unbiased
+    /// against the exact image, each ± the s.e. the truth's noise leaves; mean ꟻLIP; the
+    /// truth's noise floor; flicker along a camera path),
     /// DIR/<name>.json and DIR/<name>-grid.png (truth first, each method's ꟻLIP map under
     /// it, columns and rows named in the picture; DIR/<name>-strip.png for a path). Scene keys: `[camera]` position, look_at, up,
     /// fov_deg, width, height (even, ≤ 2048), `path = { to, frames }`; `[surface]` kind

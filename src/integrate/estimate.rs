@@ -36,6 +36,14 @@ impl Estimate {
         }
     }
 
+    /// "1.234e-3 ± 5.6e-5", as [`Figure::sci`] writes a figure of this estimate's kind.
+    pub fn sci(&self, vd: usize, ed: usize) -> String {
+        match self.kind {
+            ErrorKind::StandardError => Figure::<StdErr>::new(self.value, self.error).sci(vd, ed),
+            ErrorKind::Quadrature => Figure::<Quad>::new(self.value, self.error).sci(vd, ed),
+        }
+    }
+
     /// Whether `reference` lies within `k` errors of the estimate (plus `slack`).
     pub fn agrees_with(&self, reference: f64, k: f64, slack: f64) -> bool {
         (self.value - reference).abs() <= k * self.error + slack

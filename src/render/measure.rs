@@ -32,8 +32,14 @@ pub fn tone(x: f64, exposure: f64) -> f64 {
 /// An image's measures against the truth.
 #[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Measures {
-    pub rmse: Figure,
+    /// Mean squared error over the covered pixels, unbiased for the error against the
+    /// exact image ([`errors`]), ± the standard error the truth's noise leaves on it.
+    pub mse: Figure,
+    /// The same over the mean squared truth (a ratio: its second-order bias is added to
+    /// the bar).
     pub rel_mse: Figure,
+    /// Mean ꟻLIP against the truth image as rendered (its noise included), ± the s.e. over
+    /// pixels.
     pub flip: Figure,
     /// The truth's noise floor √(mean s.e.²) over the same pixels.
     #[serde(deserialize_with = "crate::integrate::estimate::f64_or_nan")]
@@ -46,34 +52,46 @@ pub fn mask(truth: &[PixelTruth]) -> Vec<bool> {
     truth.iter().map(|t| t.covered).collect()
 }
 
-/// RMSE, relative MSE and the truth's noise floor of `img` against `truth`.
+/// MSE, relative MSE and the truth's noise floor of `img` against `truth`, over the
+/// covered pixels.
+///
+/// Each truth pixel is the mean v of two independent replicates r₁, r₂ with s = |r₁ − r₂|/2,
+/// so (m − r₁)(m − r₂) = (m − v)² − s² is unbiased for the squared error against the
+/// exact pixel t (E[(m − r₁)(m − r₂)] = (m − t)²), and r₁r₂ = v² − s² for t²: the MSE
+/// and the mean squared truth are means of unbiased per-pixel terms. Their standard
+/// errors come from the truth's noise alone (the pixels are the measured set, not a
+/// sample of one): with σ₁² a replicate's variance, Var[(m − r₁)(m − r₂)] = 2(m − t)²σ₁² +
+/// σ₁⁴ and Var[r₁r₂] = 2t²σ₁² + σ₁⁴ per pixel, whose unbiased estimates are 4(m − v)²s²
+/// and 4v²s² when the replicates' noise is Gaussian (v and r₁ − r₂ are then independent,
+/// E[s²] = σ₁²/2): each replicate is a mean of many samples.
+/// The relative MSE is their ratio: its bar is the delta-method s.e. plus the ratio's
+/// second-order bias bound R·(s.e.(D)/D)².
 pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Figure, Figure, f64, usize) {
-    let on: Vec<usize> = (0..truth.len()).filter(|&k| truth[k].covered).collect();
-    let mean_t = on.iter().map(|&k| truth[k].value).sum::<f64>() / on.len().max(1) as f64;
-    let _ = mean_t;
-    let sq: Vec<f64> = on
-        .iter()
-        .map(|&k| (img[k] as f64 - truth[k].value).powi(2))
-        .collect();
-    let t2 = on.iter().map(|&k| truth[k].value.powi(2)).sum::<f64>() / on.len().max(1) as f64;
-    let mse = Figure::mean_of(&sq);
-    let rel = Figure::with_se(mse.value / t2.max(1e-300), mse.error / t2.max(1e-300));
-    let rmse = mse.value.sqrt();
-    let noise =
-        (on.iter().map(|&k| truth[k].se.powi(2)).sum::<f64>() / on.len().max(1) as f64).sqrt();
-    (
-        Figure::with_se(
-            rmse,
-            if rmse > 0.0 {
-                mse.error / (2.0 * rmse)
-            } else {
-                0.0
-            },
-        ),
-        rel,
-        noise,
-        on.len(),
-    )
+    let on: Vec<&PixelTruth> = truth.iter().filter(|t| t.covered).collect();
+    let n = on.len().max(1) as f64;
+    let (mut a, mut va, mut d, mut vd, mut s2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (t, &m) in truth.iter().zip(img).filter(|(t, _)| t.covered) {
+        let e = m as f64 - t.value;
+        let s = t.se * t.se;
+        a += e * e - s;
+        d += t.value * t.value - s;
+        va += 4.0 * e * e * s;
+        vd += 4.0 * t.value * t.value * s;
+        s2 += s;
+    }
+    if on.is_empty() {
+        return (Figure::NONE, Figure::NONE, f64::NAN, 0);
+    }
+    let (mse, den) = (a / n, d / n);
+    let (se_a, se_d) = (va.sqrt() / n, vd.sqrt() / n);
+    let rel = if den > 0.0 {
+        let r = mse / den;
+        let delta = (se_a * se_a + r * r * se_d * se_d).sqrt() / den;
+        Figure::with_se(r, delta + r.abs() * (se_d / den).powi(2))
+    } else {
+        Figure::NONE
+    };
+    (Figure::with_se(mse, se_a), rel, (s2 / n).sqrt(), on.len())
 }
 
 /// 8-bit sRGB (grey) of a linear image after the tone map.
@@ -178,14 +196,14 @@ pub fn measure_render(r: &super::Render) -> Measured {
             v.methods
                 .iter()
                 .map(|mi| {
-                    let (rmse, rel_mse, noise, pixels) = errors(&v.truth, &mi.pixels);
+                    let (mse, rel_mse, noise, pixels) = errors(&v.truth, &mi.pixels);
                     let test: Vec<f64> = mi.pixels.iter().map(|&x| x as f64).collect();
                     let (flip_map, flip) = flip(&t, &test, r.width, r.height, exp, &on);
                     Scored {
                         key: mi.key.clone(),
                         label: mi.label.clone(),
                         m: Measures {
-                            rmse,
+                            mse,
                             rel_mse,
                             flip,
                             truth_noise: noise,

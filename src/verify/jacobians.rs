@@ -68,8 +68,10 @@ fn run_points(
         boundary = boundary.max(mc.boundary_mass);
         z.update((mc.value - det).abs() / mc.std_error, || {
             format!(
-                "{}: MC {:.6e} ± {:.1e} vs closed {:.6e}",
-                pt.label, mc.value, mc.std_error, det
+                "{}: MC {} vs closed {:.6e}",
+                pt.label,
+                crate::integrate::Figure::with_se(mc.value, mc.std_error).sci(6, 1),
+                det
             )
         });
         mc_rel.update((mc.value - det).abs() / det, || pt.label.clone());

@@ -145,8 +145,8 @@ pub fn mrl_product(p: Preset) -> Outcome {
             });
         }
         notes.push(format!(
-            "α_me={me}, α_mi={mi}: ρ_me·ρ_mi = {expect:.10}; mass below the horizon {:.4e} ± {:.1e}; clipped (renormalised) MRL {:.8} vs unclipped {:.8}",
-            q.mass_below.value, q.mass_below.error, q.mrl_clipped, q.mrl_unclipped.value
+            "α_me={me}, α_mi={mi}: ρ_me·ρ_mi = {expect:.10}; mass below the horizon {}; clipped (renormalised) MRL {:.8} vs unclipped {:.8}",
+            q.mass_below.sci(4, 1), q.mrl_clipped, q.mrl_unclipped.value
         ));
     }
     notes.insert(0, format!("MC (b ~ γ_me, m′ ~ γ_mi, m = R_b m′; {} samples): worst |z| over MRL, lost mass and clipped MRL = {:.2} at {}", p.mc_samples(), z.err, z.case));
