@@ -87,11 +87,6 @@ fn load_specs(fits_dir: &Path) -> Result<Vec<FitSpec>> {
     Ok(specs)
 }
 
-/// The specs `only` selects, in run order: studies without `after` first, each group by
-/// name. `only` is one exact study name or several joined by commas; a study that follows
-/// others brings them along (they run first). Without `only`, every study but those run
-/// on request only (`Study::on_request`). A name that is no study is an error listing the
-/// valid ones.
 /// The names of `specs`, comma-separated (for messages that list the valid ones).
 fn spec_names(specs: &[FitSpec]) -> String {
     specs
@@ -101,6 +96,11 @@ fn spec_names(specs: &[FitSpec]) -> String {
         .join(", ")
 }
 
+/// The specs `only` selects, in run order: studies without `after` first, each group by
+/// name. `only` is one exact study name or several joined by commas; a study that follows
+/// others brings them along (they run first). Without `only`, every study but those run
+/// on request only (`Study::on_request`). A name that is no study is an error listing the
+/// valid ones.
 fn select<'a>(specs: &'a [FitSpec], only: Option<&str>) -> Result<Vec<&'a FitSpec>> {
     let wanted: Option<Vec<&str>> = match only {
         None => None,
