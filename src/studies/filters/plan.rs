@@ -13,11 +13,9 @@ pub use crate::filters::plan::Plan;
 /// study's measurements on a user's input (`prefilter --study`).
 const SPEC: &str = include_str!("../../../fits/filters.toml");
 
-impl Plan {
-    /// The study's plan at `preset`, from the compiled-in spec.
-    pub fn builtin(p: Preset) -> crate::error::Result<Plan> {
-        crate::fit::spec::FitSpec::compiled_params(SPEC, "fits/filters.toml", p)
-    }
+/// The study's plan at `preset`, from the compiled-in spec.
+pub fn builtin(p: Preset) -> crate::error::Result<Plan> {
+    crate::fit::spec::FitSpec::compiled_params(SPEC, "fits/filters.toml", p)
 }
 
 pub(super) fn dir(theta_deg: f64, phi_deg: f64) -> V3 {

@@ -1,7 +1,6 @@
 //! `prefilter --input`: the footprint map study on a user's normal map.
 
 use super::cases::map_study;
-use super::plan::Plan;
 use super::report::{map_section, map_svg};
 use crate::error::Result;
 use crate::filters::footprint::{MipChain, NormalMap};
@@ -24,7 +23,7 @@ pub fn prefilter(
     }
     let map = NormalMap::from_png(input)?;
     let chain = MipChain::build(&map);
-    let mut plan = Plan::builtin(preset)?;
+    let mut plan = super::plan::builtin(preset)?;
     let top = chain.levels.len() - 1;
     plan.levels.retain(|&l| l >= 1 && l <= top);
     if plan.levels.is_empty() {

@@ -41,7 +41,7 @@ fn summary(r: &Render, m: &Measured) -> String {
         t.row(
             std::iter::once(mi.label.clone()).chain(views.iter().map(|&k| {
                 let s = &m.views[k][i].m;
-                format!("{} · ꟻLIP {:.3}", s.rel_mse.pct(1), s.flip.value)
+                format!("{} · ꟻLIP {:.3}", s.rel_mse.pct(2), s.flip.value)
             })),
         );
     }
@@ -126,7 +126,7 @@ fn row(s: &Scored) -> [String; 4] {
     [
         s.label.to_string(),
         s.m.mse.sci(3, 1),
-        s.m.rel_mse.pct(1),
+        s.m.rel_mse.pct(2),
         s.m.flip.fixed(4),
     ]
 }
