@@ -114,11 +114,11 @@ pub struct PipelineLevel {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PipelineMethod {
     pub method: String,
-    /// Mean |method/truth − 1| ± s.e.
+    /// Mean |method/truth − 1| ± s.e. over the sampled footprints (the truth exact to its
+    /// bar).
     pub mean_abs_rel: Figure,
-    /// Mean method/truth.
-    #[serde(deserialize_with = "super::f64_or_nan")]
-    pub mean_ratio: f64,
+    /// Mean method/truth ± s.e.
+    pub mean_ratio: Figure,
     /// Σ|method − truth| / Σ truth.
     #[serde(deserialize_with = "super::f64_or_nan")]
     pub energy_weighted_rel: f64,

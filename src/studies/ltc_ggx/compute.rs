@@ -26,11 +26,12 @@ pub struct Plan {
     pub sub: usize,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
-    /// The pipeline section: map side, mip levels, footprints per level, MC samples.
+    /// The pipeline section: map side, mip levels, footprints per level, and the truth's
+    /// relative tolerance.
     pub pipeline_size: usize,
     pub pipeline_levels: Vec<usize>,
     pub pipeline_per_level: usize,
-    pub pipeline_samples: usize,
+    pub pipeline_tolerance: f64,
 }
 
 impl crate::fit::spec::Params for Plan {
@@ -48,7 +49,7 @@ impl crate::fit::spec::Params for Plan {
         let top = self.pipeline_size.trailing_zeros() as usize;
         all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
         within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;
-        within("pipeline_samples", self.pipeline_samples, 16, 1 << 20)
+        within("pipeline_tolerance", self.pipeline_tolerance, 1e-9, 0.1)
     }
 }
 

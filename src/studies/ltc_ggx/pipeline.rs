@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::{MipChain, NormalMap};
-use crate::ltc::pipeline::{brute_force, ltc_shade, LtcTable};
+use crate::ltc::pipeline::{exact_footprint, ltc_shade, LtcTable};
 use crate::ltc::polygon::Light;
 use crate::report::table::Table as MdTable;
 use nalgebra::Vector3;
@@ -26,8 +26,8 @@ const LIGHT_HALF: [f64; 2] = [0.5, 0.3];
 struct MethodStat {
     /// Mean |method/truth − 1| and its s.e.
     e: Figure,
-    /// Mean ratio method/truth.
-    r: f64,
+    /// Mean ratio method/truth and its s.e.
+    r: Figure,
     /// Σ|method − truth|/Σ truth.
     weighted: f64,
 }
@@ -36,13 +36,16 @@ struct MethodStat {
 pub(super) struct Pipeline {
     size: usize,
     per: usize,
-    samples: usize,
+    /// The truth's relative tolerance.
+    tolerance: f64,
     alpha: f64,
     views: [f64; 3],
     /// (level, cases, per method).
     levels: Vec<(usize, usize, Vec<MethodStat>)>,
-    /// Largest relative MC s.e. of a brute-force value.
-    worst_se: f64,
+    /// Largest relative error bar of a truth value.
+    worst_bar: f64,
+    /// Whether every truth met its tolerance.
+    converged: bool,
 }
 
 pub(super) fn measure(
@@ -51,11 +54,11 @@ pub(super) fn measure(
 ) -> Result<Pipeline> {
     use crate::filters::footprint::Procedural;
     let table = LtcTable::of(stored);
-    let (size, levels, per, samples) = (
+    let (size, levels, per, tolerance) = (
         pl.pipeline_size,
         pl.pipeline_levels.clone(),
         pl.pipeline_per_level,
-        pl.pipeline_samples,
+        pl.pipeline_tolerance,
     );
     let (alpha, views) = (ALPHA, VIEWS);
     let [cx, cy, cz] = LIGHT_CENTRE;
@@ -70,7 +73,7 @@ pub(super) fn measure(
     for k in Procedural::ALL {
         let map = NormalMap::procedural(k, size, 11)?;
         cases.extend(run_map(
-            &table, &map, alpha, &levels, per, &views, &light, samples, 99,
+            &table, &map, alpha, &levels, per, &views, &light, tolerance,
         )?);
     }
 
@@ -88,7 +91,7 @@ pub(super) fn measure(
                     .collect();
                 let ratio: Vec<f64> = cs.iter().map(|c| c.methods[k] / c.truth).collect();
                 let e = Figure::mean_of(&err);
-                let r = Figure::mean_of(&ratio).value;
+                let r = Figure::mean_of(&ratio);
                 let weighted = cs
                     .iter()
                     .map(|c| (c.methods[k] - c.truth).abs())
@@ -99,19 +102,21 @@ pub(super) fn measure(
             .collect();
         by_level.push((lv, cs.len(), methods));
     }
-    let worst_se = cases
+    let worst_bar = cases
         .iter()
         .filter(|c| c.truth > 0.0)
-        .map(|c| c.truth_se / c.truth)
+        .map(|c| c.truth_bar / c.truth)
         .fold(0.0, f64::max);
+    let converged = cases.iter().all(|c| c.converged);
     Ok(Pipeline {
         size,
         per,
-        samples,
+        tolerance,
         alpha,
         views,
         levels: by_level,
-        worst_se,
+        worst_bar,
+        converged,
     })
 }
 
@@ -149,14 +154,16 @@ fn minus(x: f64) -> String {
 
 /// The section of results/ltc-ggx.md.
 pub(super) fn section(p: &Pipeline) -> String {
-    let (size, alpha, views, per, samples) = (p.size, p.alpha, p.views, p.per, p.samples);
+    let (size, alpha, views, per, tolerance) = (p.size, p.alpha, p.views, p.per, p.tolerance);
     let mut md = format!(
-        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a {}×{} quad light centred at ({}, {}, {}) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Brute force: the footprint average of each texel's exact GGX shading of the polygon (Monte Carlo, {samples} MIS pairs, ± s.e.). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e.); in parentheses the mean ratio method/truth (energy preservation: 1 is exact) and the energy-weighted error Σ|method − truth|/Σ truth (dominated by the bright, near-specular cases):\n\n",
+        "\n## The multi-scale pipeline against brute force (seed 000 §3–4)\n\nProcedural {size}² maps (isotropic noise, brushed metal, flakes, sharp bumps), base α = {alpha}, a {}×{} quad light centred at ({}, {}, {}) facing down, views θ ∈ {views:?}° (φ = 0), {per} footprints per level. Truth: the footprint average of each texel's exact GGX shading of the polygon, by adaptive cubature over the light (relative tolerance {tolerance:e}; the largest relative error bar of any truth value is {:.1e}{}; tests/ltc.rs checks it against Monte Carlo of the same integral). Methods: the mip's unnormalised mean normal μ gives the shading normal μ/‖μ‖ and ‖b̄‖ = ‖μ‖; α → the fitted LTC table (bilinear lookup, as a renderer samples it) → the exact edge integral.\n\nMean |method/truth − 1| over maps, footprints and views (± s.e. over these sampled footprints); in parentheses the mean ratio method/truth (energy preservation: 1 is exact; ± s.e.) and the energy-weighted error Σ|method − truth|/Σ truth over these cases (dominated by the bright, near-specular cases):\n\n",
         2.0 * LIGHT_HALF[0],
         2.0 * LIGHT_HALF[1],
         minus(LIGHT_CENTRE[0]),
         minus(LIGHT_CENTRE[1]),
         minus(LIGHT_CENTRE[2]),
+        p.worst_bar,
+        if p.converged { "" } else { ", NOT every value converged" },
     );
     let mut t = MdTable::new(["level", "footprint"].into_iter().chain(METHODS));
     for (lv, _, ms) in &p.levels {
@@ -166,14 +173,18 @@ pub(super) fn section(p: &Pipeline) -> String {
                 format!("{}×{} texels", 1usize << lv, 1usize << lv),
             ]
             .into_iter()
-            .chain(
-                ms.iter()
-                    .map(|m| format!("{} ({:.3}; {:.1} %)", m.e.pct(1), m.r, 100.0 * m.weighted)),
-            ),
+            .chain(ms.iter().map(|m| {
+                format!(
+                    "{} ({}; {:.1} %)",
+                    m.e.pct(1),
+                    m.r.fixed(3),
+                    100.0 * m.weighted
+                )
+            })),
         );
     }
     md.push_str(&t.to_string());
-    md.push_str(&format!("\nLargest relative Monte Carlo s.e. of a brute-force value: {:.2} %. The first column shades every texel with the table and averages — an independent check of the brute force (it differs only by the LTC fit's error) and the target the single-lobe models approximate at one lookup per pixel. Level 0 measures the LTC table alone; the growth with the level is what each footprint model adds. Relative errors are largest where the light is off-specular and the truth is small (tails).\n", 100.0 * p.worst_se));
+    md.push_str("\nThe first column shades every texel with the table and averages — the target the single-lobe models approximate at one lookup per pixel (it differs from the truth only by the LTC fit's error). Level 0 measures the LTC table alone; the growth with the level is what each footprint model adds. Relative errors are largest where the light is off-specular and the truth is small (tails).\n");
     md
 }
 
@@ -193,7 +204,9 @@ pub struct PipeCase {
     pub level: usize,
     pub view_deg: f64,
     pub truth: f64,
-    pub truth_se: f64,
+    /// The truth's error bar (the cubature's).
+    pub truth_bar: f64,
+    pub converged: bool,
     pub methods: Vec<f64>,
 }
 
@@ -207,8 +220,7 @@ pub fn run_map(
     per_level: usize,
     views_deg: &[f64],
     light: &Light,
-    samples: usize,
-    seed: u64,
+    tolerance: f64,
 ) -> Result<Vec<PipeCase>> {
     let chain = MipChain::build(map);
     let rho = crate::multiscale::mrl::mrl_pair(alpha).0;
@@ -226,17 +238,10 @@ pub fn run_map(
             let r = mu.norm().min(1.0);
             let nbar = mu / mu.norm();
             let normals = map.block(lv, i, j);
-            for (vi, &vd) in views_deg.iter().enumerate() {
+            for &vd in views_deg {
                 let th = vd.to_radians();
                 let v = V3::new(th.sin(), 0.0, th.cos());
-                let (t, se) = brute_force(
-                    &normals,
-                    alpha,
-                    &v,
-                    light,
-                    samples,
-                    seed ^ ((lv * 1000 + fp * 10 + vi) as u64),
-                )?;
+                let (t, converged) = exact_footprint(&normals, alpha, &v, light, tolerance)?;
                 let a_ms =
                     crate::multiscale::mrl::alpha_from_one_minus((1.0 - r * rho).max(1e-300))?;
                 let a_eq = crate::filters::rules::seed000_paper(alpha, r).max(1e-4);
@@ -257,8 +262,9 @@ pub fn run_map(
                     map: map.name.clone(),
                     level: lv,
                     view_deg: vd,
-                    truth: t,
-                    truth_se: se,
+                    truth: t.value,
+                    truth_bar: t.error,
+                    converged,
                     methods,
                 });
             }
