@@ -640,6 +640,7 @@ fn the_image_mse_is_unbiased_and_its_bar_is_the_truth_noise() {
                 PixelTruth {
                     value: 0.5 * (r1 + r2),
                     se: 0.5 * (r1 - r2).abs(),
+                    diff: 0.5 * (r1 - r2),
                     covered: true,
                 }
             })
@@ -673,4 +674,79 @@ fn the_image_mse_is_unbiased_and_its_bar_is_the_truth_noise() {
     eprintln!("uncorrected MSE: off by {naive_excess:.0} bars on average");
     // the uncorrected mean is off by many bars
     assert!(naive_excess > 10.0, "naive excess {naive_excess} bars");
+}
+
+/// Flicker against a noisy truth: the temporal MSE and the excess come from the truth's two
+/// replicates, so over a known sequence they match the exact figures (computed from the
+/// noiseless truth) within their s.e., while the plain (Δm − Δt̂)² over the replicates'
+/// mean sits above by the noise.
+#[test]
+fn flicker_figures_are_not_biased_by_the_truths_noise() {
+    use ndfbench::render::truth::PixelTruth;
+    use rand::{Rng, SeedableRng};
+    let (n, frames, exposure) = (2048usize, 40usize, 1.0);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let exact: Vec<Vec<f64>> = (0..frames)
+        .map(|f| {
+            (0..n)
+                .map(|i| 0.3 + 0.2 * ((i as f64 * 0.37 + f as f64 * 0.9).sin()))
+                .collect()
+        })
+        .collect();
+    // the method lags the truth by a quarter frame and adds a small offset
+    let method: Vec<Vec<f32>> = (0..frames)
+        .map(|f| {
+            (0..n)
+                .map(|i| (0.31 + 0.2 * ((i as f64 * 0.37 + (f as f64 - 0.25) * 0.9).sin())) as f32)
+                .collect()
+        })
+        .collect();
+    let truth: Vec<Vec<PixelTruth>> = exact
+        .iter()
+        .map(|fr| {
+            fr.iter()
+                .map(|&t| {
+                    let mut g = || (0..12).map(|_| rng.random::<f64>()).sum::<f64>() - 6.0;
+                    let (r1, r2) = (t * (1.0 + 0.03 * g()), t * (1.0 + 0.03 * g()));
+                    PixelTruth {
+                        value: 0.5 * (r1 + r2),
+                        se: 0.5 * (r1 - r2).abs(),
+                        diff: 0.5 * (r1 - r2),
+                        covered: true,
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let tr: Vec<&[PixelTruth]> = truth.iter().map(|v| v.as_slice()).collect();
+    let mr: Vec<&[f32]> = method.iter().map(|v| v.as_slice()).collect();
+    let f = measure::flicker(&tr, &mr, exposure);
+    // exact figures from the noiseless truth
+    let tone = |x: f64| measure::tone(x, exposure);
+    let (mut mse, mut exc, mut naive) = (0.0, 0.0, 0.0);
+    for k in 1..frames {
+        let (mut s, mut e, mut q) = (0.0, 0.0, 0.0);
+        for p in 0..n {
+            let dm = tone(method[k][p] as f64) - tone(method[k - 1][p] as f64);
+            let dt = tone(exact[k][p]) - tone(exact[k - 1][p]);
+            let dh = tone(truth[k][p].value) - tone(truth[k - 1][p].value);
+            s += (dm - dt).powi(2);
+            e += dm * dm - dt * dt;
+            q += (dm - dh).powi(2);
+        }
+        mse += s / n as f64 / (frames - 1) as f64;
+        exc += e / n as f64 / (frames - 1) as f64;
+        naive += q / n as f64 / (frames - 1) as f64;
+    }
+    eprintln!(
+        "temporal MSE {} (exact {mse:.4e}, from the replicates' mean {naive:.4e}); excess {} (exact {exc:.4e})",
+        f.temporal_mse.sci(4, 1),
+        f.excess.sci(4, 1)
+    );
+    assert!((f.temporal_mse.value - mse).abs() <= 4.0 * f.temporal_mse.error);
+    assert!((f.excess.value - exc).abs() <= 4.0 * f.excess.error);
+    assert!(
+        naive - mse > 10.0 * f.temporal_mse.error,
+        "the noise is visible"
+    );
 }

@@ -2,14 +2,15 @@
 //! entirely (silhouette pixels are left out: a one-sample shader aliases there whatever
 //! its filter, and that is not what these figures judge).
 //!
-//! - RMSE of the linear radiance and the relative MSE Σ(m − t)²/Σt²; standard errors
-//!   from the pixels' spread (√(var/N), pixels taken as independent), and the truth's own
-//!   noise floor √(mean s.e.²) beside them (the measured MSE exceeds the true one by the
-//!   noise floor squared, on average).
-//! - ꟻLIP (NVIDIA, LDR, through `nv-flip`) on the tone-mapped images, its mean ± s.e.
-//! - Flicker along a camera path: the mean absolute frame-to-frame change of the
-//!   displayed value, the method's minus the truth's, and the temporal RMSE
-//!   √mean((Δm − Δt)²); s.e. over the frame pairs.
+//! - MSE of the linear radiance and the relative MSE Σ(m − t)²/Σt², each without the
+//!   truth's noise (from its two replicates, [`errors`]) ± the s.e. that noise leaves,
+//!   and the truth's noise floor √(mean s.e.²) beside them.
+//! - ꟻLIP (NVIDIA, LDR, through `nv-flip`) on the tone-mapped images against the truth
+//!   image as rendered, its mean ± s.e. over pixels.
+//! - Flicker along a camera path ([`flicker`]): the mean absolute frame-to-frame change of
+//!   the displayed value, the method's mean squared change minus the truth's and the
+//!   temporal MSE mean((Δm − Δt)²), the truth's terms from its replicates; s.e. over the
+//!   frame pairs.
 //!
 //! One tone map everywhere: exposure, then Reinhard x/(1 + x), then the sRGB curve.
 
@@ -126,21 +127,54 @@ pub fn flip(
     (e, Figure::mean_of(&vals))
 }
 
-/// Flicker of a frame sequence against the truth's: (excess mean |Δ|, temporal RMSE),
-/// on displayed values, over pixels covered in both frames of each pair.
+/// Flicker of a frame sequence against the truth's, on displayed values, over the pixels
+/// covered in both frames of each pair; each figure the mean over frame pairs ± its s.e.
+///
+/// The truth's change Δt is noisy, so nothing here is a function of |Δt| or of Δt²: with
+/// its two independent replicates a and b (`PixelTruth::diff`), Δt_a·Δt_b estimates the
+/// truth's squared change and (Δm − Δt_a)(Δm − Δt_b) the squared difference without the
+/// noise's bias (what remains is the tone map's curvature over the replicates' spread).
 #[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
 pub struct Flicker {
-    /// Mean |frame-to-frame change| of the method.
+    /// Mean |frame-to-frame change| of the method (no truth involved).
     pub change: Figure,
-    /// The method's minus the truth's.
+    /// The method's mean squared change minus the truth's.
     pub excess: Figure,
-    pub temporal_rmse: Figure,
+    /// Mean squared difference between the method's change and the truth's.
+    pub temporal_mse: Figure,
+}
+
+/// The truth's own mean squared frame-to-frame change (Δt_a·Δt_b), over frame pairs.
+pub fn truth_change(truth: &[&[PixelTruth]], exposure: f64) -> Figure {
+    let mut v = Vec::new();
+    for k in 1..truth.len() {
+        let (t0, t1) = (truth[k - 1], truth[k]);
+        let (mut s, mut n) = (0.0, 0usize);
+        for p in 0..t0.len().min(t1.len()) {
+            if t0[p].covered && t1[p].covered {
+                let (a, b) = replicate_changes(&t0[p], &t1[p], exposure);
+                s += a * b;
+                n += 1;
+            }
+        }
+        v.push(s / n.max(1) as f64);
+    }
+    Figure::mean_of(&v)
+}
+
+/// The displayed change of replicate a and of replicate b between two truth frames.
+fn replicate_changes(t0: &PixelTruth, t1: &PixelTruth, exposure: f64) -> (f64, f64) {
+    let tn = |x: f64| tone(x, exposure);
+    (
+        tn(t1.value + t1.diff) - tn(t0.value + t0.diff),
+        tn(t1.value - t1.diff) - tn(t0.value - t0.diff),
+    )
 }
 
 pub fn flicker(truth: &[&[PixelTruth]], frames: &[&[f32]], exposure: f64) -> Flicker {
     let mut change = Vec::new();
     let mut excess = Vec::new();
-    let mut trmse = Vec::new();
+    let mut tmse = Vec::new();
     for k in 1..frames.len().min(truth.len()) {
         let (t0, t1, m0, m1) = (truth[k - 1], truth[k], frames[k - 1], frames[k]);
         let (mut c, mut e, mut s, mut n) = (0.0, 0.0, 0.0, 0usize);
@@ -149,21 +183,21 @@ pub fn flicker(truth: &[&[PixelTruth]], frames: &[&[f32]], exposure: f64) -> Fli
                 continue;
             }
             let dm = tone(m1[p] as f64, exposure) - tone(m0[p] as f64, exposure);
-            let dt = tone(t1[p].value, exposure) - tone(t0[p].value, exposure);
+            let (da, db) = replicate_changes(&t0[p], &t1[p], exposure);
             c += dm.abs();
-            e += dm.abs() - dt.abs();
-            s += (dm - dt).powi(2);
+            e += dm * dm - da * db;
+            s += (dm - da) * (dm - db);
             n += 1;
         }
         let n = n.max(1) as f64;
         change.push(c / n);
         excess.push(e / n);
-        trmse.push((s / n).sqrt());
+        tmse.push(s / n);
     }
     Flicker {
         change: Figure::mean_of(&change),
         excess: Figure::mean_of(&excess),
-        temporal_rmse: Figure::mean_of(&trmse),
+        temporal_mse: Figure::mean_of(&tmse),
     }
 }
 
@@ -176,8 +210,8 @@ pub struct Scored {
     pub flip_map: Vec<f32>,
 }
 
-/// Every view's scores and, along a camera path, every method's flicker (the truth's
-/// own mean |Δ| first, as `truth`).
+/// Every view's scores and, along a camera path, every method's flicker and the truth's
+/// own mean squared change.
 #[derive(Clone, Debug)]
 pub struct Measured {
     pub views: Vec<Vec<Scored>>,
@@ -218,13 +252,7 @@ pub fn measure_render(r: &super::Render) -> Measured {
     let (mut fl, mut truth_change) = (Vec::new(), None);
     if r.scene.frames() > 1 {
         let truths: Vec<&[PixelTruth]> = r.views.iter().map(|v| v.truth.as_slice()).collect();
-        let tv: Vec<Vec<f32>> = r
-            .views
-            .iter()
-            .map(|v| v.truth.iter().map(|p| p.value as f32).collect())
-            .collect();
-        let tr: Vec<&[f32]> = tv.iter().map(|v| v.as_slice()).collect();
-        truth_change = Some(flicker(&truths, &tr, exp).change);
+        truth_change = Some(self::truth_change(&truths, exp));
         for (i, mi) in r.views[0].methods.iter().enumerate() {
             let frames: Vec<&[f32]> = r
                 .views

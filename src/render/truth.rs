@@ -34,11 +34,14 @@ pub struct Shader<'a> {
     ltc: Option<LtcDist>,
 }
 
-/// One pixel of the truth: mean radiance and its standard error.
+/// One pixel of the truth: mean radiance of two independent replicates and its standard
+/// error.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PixelTruth {
     pub value: f64,
     pub se: f64,
+    /// Half the signed difference of the replicates: they are `value ± diff` (|diff| = se).
+    pub diff: f64,
     /// Every footprint sample hit the surface.
     pub covered: bool,
 }
@@ -324,6 +327,7 @@ fn exact(
     Some(PixelTruth {
         value: 0.5 * (m1 + m2),
         se: 0.5 * (m1 - m2).abs(),
+        diff: 0.5 * (m1 - m2),
         covered: true,
     })
 }
@@ -373,6 +377,7 @@ fn sampled(
     PixelTruth {
         value: 0.5 * (reps[0] + reps[1]),
         se: 0.5 * (reps[0] - reps[1]).abs(),
+        diff: 0.5 * (reps[0] - reps[1]),
         covered,
     }
 }

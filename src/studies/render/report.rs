@@ -179,23 +179,23 @@ pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     }
     if let Some(tc) = &m.truth_change {
         md.push_str(&format!(
-            "\n### {}: flicker over {} frames — the truth's own mean |Δ| = {}\n\n",
+            "\n### {}: flicker over {} frames — the truth's own mean squared Δ = {} (Δ of the displayed value between frames; squared changes and differences from the truth's two independent replicates, Δt_a·Δt_b and (Δm − Δt_a)(Δm − Δt_b), so the truth's noise does not bias them; ± s.e. over frame pairs)\n\n",
             sc.name,
             r.views.len(),
             tc.sci(3, 1)
         ));
         let mut t = Table::new([
             "method",
-            "mean abs frame-to-frame change",
-            "excess over the truth",
-            "temporal RMSE",
+            "mean |Δ|",
+            "mean Δ², excess over the truth",
+            "temporal MSE (Δm − Δt)²",
         ]);
         for (_, label, f) in &m.flicker {
             t.row([
                 label.to_string(),
                 f.change.sci(3, 1),
                 f.excess.sci_signed(3, 1),
-                f.temporal_rmse.sci(3, 1),
+                f.temporal_mse.sci(3, 1),
             ]);
         }
         md.push_str(&t.to_string());
