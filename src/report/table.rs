@@ -66,12 +66,30 @@ impl Table {
     }
 }
 
+/// A cell's text with every `|` not already escaped written `\|`, so a cell holding
+/// |x| stays one cell.
+fn escaped(c: &str) -> std::borrow::Cow<'_, str> {
+    if !c.contains('|') {
+        return c.into();
+    }
+    let mut out = String::with_capacity(c.len() + 4);
+    let mut prev = ' ';
+    for ch in c.chars() {
+        if ch == '|' && prev != '\\' {
+            out.push('\\');
+        }
+        out.push(ch);
+        prev = ch;
+    }
+    out.into()
+}
+
 impl Display for Table {
     /// `| h1 | h2 |`, the separator row, one line per row; every line ends in a newline.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let line = |f: &mut fmt::Formatter<'_>, cells: &[String]| -> fmt::Result {
             for c in cells {
-                write!(f, "| {c} ")?;
+                write!(f, "| {} ", escaped(c))?;
             }
             writeln!(f, "|")
         };
@@ -104,5 +122,15 @@ mod tests {
             "| a | b | c |\n|---|---:|---|\n| 1 | 2 | 3 |\n| x |  |  |\n"
         );
         assert_eq!(t.len(), 2);
+    }
+
+    #[test]
+    fn a_pipe_in_a_cell_is_escaped_once() {
+        let mut t = Table::new(["mean |Δ|", r"\|e\|"]);
+        t.row(["|x| + 1", "a|b"]);
+        assert_eq!(
+            t.to_string(),
+            "| mean \\|Δ\\| | \\|e\\| |\n|---|---|\n| \\|x\\| + 1 | a\\|b |\n"
+        );
     }
 }
