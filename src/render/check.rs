@@ -113,7 +113,7 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
             let e = pixel_quad(quad_nodes, x, y, &|px, py| {
                 exact_at(&cam, &surf, &sh, m.alpha, px, py)
             });
-            Some((t.value, t.se, e))
+            Some((t.value, t.se(), e))
         })
         .collect();
     let n = rows.len().max(1) as f64;

@@ -68,21 +68,21 @@ pub fn mask(truth: &[PixelTruth]) -> Vec<bool> {
 /// The relative MSE is their ratio: its bar is the delta-method s.e. plus the ratio's
 /// second-order bias bound R·(s.e.(D)/D)².
 pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Figure, Figure, f64, usize) {
-    let on: Vec<&PixelTruth> = truth.iter().filter(|t| t.covered).collect();
-    let n = on.len().max(1) as f64;
-    let (mut a, mut va, mut d, mut vd, mut s2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut a, mut va, mut d, mut vd, mut s2, mut count) = (0.0, 0.0, 0.0, 0.0, 0.0, 0);
     for (t, &m) in truth.iter().zip(img).filter(|(t, _)| t.covered) {
+        count += 1;
         let e = m as f64 - t.value;
-        let s = t.se * t.se;
+        let s = t.diff * t.diff;
         a += e * e - s;
         d += t.value * t.value - s;
         va += 4.0 * e * e * s;
         vd += 4.0 * t.value * t.value * s;
         s2 += s;
     }
-    if on.is_empty() {
+    if count == 0 {
         return (Figure::NONE, Figure::NONE, f64::NAN, 0);
     }
+    let n = count as f64;
     let (mse, den) = (a / n, d / n);
     let (se_a, se_d) = (va.sqrt() / n, vd.sqrt() / n);
     let rel = if den > 0.0 {
@@ -92,7 +92,7 @@ pub fn errors(truth: &[PixelTruth], img: &[f32]) -> (Figure, Figure, f64, usize)
     } else {
         Figure::NONE
     };
-    (Figure::with_se(mse, se_a), rel, (s2 / n).sqrt(), on.len())
+    (Figure::with_se(mse, se_a), rel, (s2 / n).sqrt(), count)
 }
 
 /// 8-bit sRGB (grey) of a linear image after the tone map.

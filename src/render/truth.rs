@@ -34,16 +34,22 @@ pub struct Shader<'a> {
     ltc: Option<LtcDist>,
 }
 
-/// One pixel of the truth: mean radiance of two independent replicates and its standard
-/// error.
+/// One pixel of the truth: the mean radiance of two independent replicates, which are
+/// `value ± diff`.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PixelTruth {
     pub value: f64,
-    pub se: f64,
-    /// Half the signed difference of the replicates: they are `value ± diff` (|diff| = se).
+    /// Half the signed difference of the replicates.
     pub diff: f64,
     /// Every footprint sample hit the surface.
     pub covered: bool,
+}
+
+impl PixelTruth {
+    /// The standard error of `value` (one degree of freedom): |diff|.
+    pub fn se(&self) -> f64 {
+        self.diff.abs()
+    }
 }
 
 impl<'a> Shader<'a> {
@@ -326,7 +332,6 @@ fn exact(
     let (m1, m2) = (reps[0] / total, reps[1] / total);
     Some(PixelTruth {
         value: 0.5 * (m1 + m2),
-        se: 0.5 * (m1 - m2).abs(),
         diff: 0.5 * (m1 - m2),
         covered: true,
     })
@@ -376,7 +381,6 @@ fn sampled(
     }
     PixelTruth {
         value: 0.5 * (reps[0] + reps[1]),
-        se: 0.5 * (reps[0] - reps[1]).abs(),
         diff: 0.5 * (reps[0] - reps[1]),
         covered,
     }
