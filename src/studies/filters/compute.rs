@@ -300,10 +300,9 @@ pub fn compute(c: &crate::study::Ctx) -> Result<Computed> {
 impl MapSection {
     /// A map's table as the result file holds it.
     pub(super) fn rows(&self) -> MapRows {
-        let s = self;
         MapRows {
-            map: s.name.clone(),
-            filters: s
+            map: self.name.clone(),
+            filters: self
                 .rows
                 .iter()
                 .map(|r| FilterRow {
@@ -325,9 +324,8 @@ impl MapSection {
 impl ScreenSection {
     /// The screen-space tables as the result file holds them.
     pub(super) fn rows(&self) -> Vec<ScreenRow> {
-        let s = self;
         let mut out = Vec::new();
-        for (pixel, rows) in &s.tables {
+        for (pixel, rows) in &self.tables {
             for r in rows {
                 for (&kind, a) in KINDS.iter().zip(&r.by_ndf) {
                     out.push(ScreenRow {
