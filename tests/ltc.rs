@@ -207,6 +207,7 @@ fn small_table_fit_is_isotropic_at_normal_incidence_and_accurate() {
         Metric::Cubic,
         Method::NelderMead,
         300,
+        ndfbench::ltc::fit::Polish::NelderMead,
         &|| {},
     )
     .unwrap();
@@ -380,6 +381,7 @@ fn bilinear_pass_is_deterministic_at_any_thread_count_and_lowers_its_objective()
         Metric::Cubic,
         Method::NelderMead,
         100,
+        ndfbench::ltc::fit::Polish::NelderMead,
         &|| {},
     )
     .unwrap();

@@ -125,6 +125,7 @@ fn the_fit_beats_the_isotropic_substitute_on_anisotropic_cells() {
             Metric::Cubic,
             Method::NelderMead,
             300,
+            ndfbench::ltc::fit::Polish::NelderMead,
             &|| {},
         )
         .unwrap();

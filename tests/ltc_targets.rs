@@ -230,6 +230,7 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
         Metric::Cubic,
         Method::NelderMead,
         60,
+        ndfbench::ltc::fit::Polish::NelderMead,
         &|| {},
     )
     .unwrap();
@@ -241,6 +242,7 @@ fn the_lobe_dispatcher_changes_no_bit_of_a_ggx_fit() {
         Metric::Cubic,
         Method::NelderMead,
         60,
+        ndfbench::ltc::fit::Polish::NelderMead,
         &|| {},
     )
     .unwrap();

@@ -44,10 +44,10 @@ pub enum Cmd {
     /// other text is an error listing the valid names) and writes
     /// `results/fits/<name>.json` (coefficients, held-out max/RMS error) and the fit's
     /// report (a markdown file of `results/` and its SVG plots). `--only ltc-ggx` fits the
-    /// 64×64 GGX
-    /// LTC table (four parameters per cell) and measures polygon integration, the
-    /// multi-scale pipeline, what f32/f16 storage costs and the floor of a single LTC
-    /// (`results/ltc-ggx.md`; every cell's held-out figures are judged as exact integrals;
+    /// 64×64 GGX LTC table (four parameters per cell) and measures polygon integration,
+    /// the multi-scale pipeline and what f32/f16 storage costs (`results/ltc-ggx.md`; its
+    /// fit's diagnostics — optimiser variants, the floor of a single LTC, the route
+    /// against the reference route — run on request, `--only ltc-ggx-optimisers`; every cell's held-out figures are judged as exact integrals;
     /// results/performance.md has each study's wall clock), and writes the
     /// engine files (`results/textures/`); `--only tensor` CP-compresses P-NDF image blocks
     /// at several ranks (`results/tensor.md`); `--only tensor-scale` runs seed 002

@@ -28,6 +28,7 @@ use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
 pub use super::params::{matrix, params_to_m, turn};
+pub use super::polish::{Polish, POLISH_ITERS};
 
 type V3 = Vector3<f64>;
 
@@ -382,9 +383,8 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     Ok((p3, i3 + i4))
 }
 
-/// The L2 polish of a cell fitted under the cubic metric: Nelder–Mead on the relative L2
-/// (the metric the table is judged by) from that solution, kept only if the validation
-/// set's relative L2 drops too. Returns the parameters and whether the polish was kept.
+/// The L2 polish of a cell fitted under the cubic metric, by `how`, from that solution
+/// `p`. Returns the parameters and whether the polish was kept.
 #[allow(clippy::too_many_arguments)]
 fn polish_l2<T: LtcTarget + ?Sized>(
     t: &T,
@@ -392,10 +392,32 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     norm: f64,
     p: &[f64; 4],
     n: usize,
-    method: Method,
+    how: Polish,
     max_iters: u64,
 ) -> Result<([f64; 4], bool)> {
-    let (q, _) = fit_cell(t, z, norm, p, n, Metric::L2, method, max_iters)?;
+    use super::gauss_newton::fit_cell_lm_held;
+    let q = match how {
+        Polish::NelderMead => {
+            fit_cell(
+                t,
+                z,
+                norm,
+                p,
+                n,
+                Metric::L2,
+                Method::NelderMead,
+                max_iters / 2,
+            )?
+            .0
+        }
+        Polish::LevenbergMarquardt | Polish::LevenbergMarquardtTurnHeld => {
+            let held = how == Polish::LevenbergMarquardtTurnHeld;
+            let mut q = fit_cell_lm_held(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
+            // the route evaluates φ clamped as the objective does; store it so
+            q[3] = q[3].clamp(-0.5, 0.5);
+            q
+        }
+    };
     let val = Objective {
         t,
         z: *z,
@@ -453,6 +475,7 @@ pub struct Table {
     pub grid: Grid,
     pub metric: Metric,
     pub method: Method,
+    pub polish: Polish,
     pub samples_per_technique: usize,
     pub cells: Vec<Vec<Cell>>,
 }
@@ -468,6 +491,7 @@ pub fn fit_table<T: LtcTarget>(
     metric: Metric,
     method: Method,
     max_iters: u64,
+    polish: Polish,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
     // one θ column per item of the caller's map
@@ -500,7 +524,7 @@ pub fn fit_table<T: LtcTarget>(
             // the warm-start chain carries the primary metric's solution
             p = best;
             let (q, polished) = if metric == Metric::Cubic {
-                polish_l2(&t, &zm, norm, &best, n, method, max_iters / 2)?
+                polish_l2(&t, &zm, norm, &best, n, polish, max_iters)?
             } else {
                 (best, false)
             };
@@ -537,6 +561,7 @@ pub fn fit_table<T: LtcTarget>(
         grid,
         metric,
         method,
+        polish,
         samples_per_technique: n * n,
         cells: cols,
     })
@@ -558,24 +583,4 @@ pub fn check_table_settings(
     within("samples", samples, 2, 128)?;
     within("max_iters", max_iters, 1, 100_000)?;
     within("mc", mc, 16, 1 << 24)
-}
-
-/// A table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
-/// storage in the same layout.
-pub fn stored(t: &Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
-    let full = t
-        .cells
-        .iter()
-        .map(|col| {
-            col.iter()
-                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
-                .collect()
-        })
-        .collect();
-    let half = t
-        .cells
-        .iter()
-        .map(|col| col.iter().map(|c| c.half).collect())
-        .collect();
-    (full, half)
 }

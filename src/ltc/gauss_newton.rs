@@ -93,26 +93,18 @@ fn cost(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 
-/// Levenberg–Marquardt on the nodes from `p0`; `free` parameters (3: φ held, 4: all).
-/// Returns the parameters, their cost and the iterations.
-fn levenberg_marquardt(
-    nodes: &Nodes,
-    z: &V3,
-    norm: f64,
+/// Levenberg–Marquardt from `p0` on the residuals `eval` writes (returning their squared
+/// sum, ∞ where p is outside the model); the first `free` parameters move (3: φ held, 4:
+/// all). The Jacobian is by forward differences, each step scaled to its parameter.
+/// Returns the parameters, their cost and the iterations. Shared by the cell fit here
+/// and the bilinear pass (`ltc::smooth`).
+pub(crate) fn levenberg_marquardt(
+    eval: impl Fn(&[f64; 4], &mut Vec<f64>) -> f64,
     p0: [f64; 4],
     free: usize,
     max_iters: usize,
 ) -> ([f64; 4], f64, usize) {
     let mut r = Vec::new();
-    let eval = |p: &[f64; 4], r: &mut Vec<f64>| -> f64 {
-        match ltc_of(z, p) {
-            Some(ltc) => {
-                residuals(nodes, &ltc, norm, r);
-                cost(r)
-            }
-            None => f64::INFINITY,
-        }
-    };
     let mut p = p0;
     let mut c = eval(&p, &mut r);
     if !c.is_finite() {
@@ -201,13 +193,26 @@ pub fn fit_cell_lm<T: LtcTarget + ?Sized>(
     n: usize,
     max_iters: usize,
 ) -> Result<GnFit> {
+    fit_cell_lm_held(t, z, norm, p0, n, max_iters, false)
+}
+
+/// [`fit_cell_lm`], with the frame turn φ held at `p0`'s where `hold_turn`.
+pub fn fit_cell_lm_held<T: LtcTarget + ?Sized>(
+    t: &T,
+    z: &V3,
+    norm: f64,
+    p0: &[f64; 4],
+    n: usize,
+    max_iters: usize,
+    hold_turn: bool,
+) -> Result<GnFit> {
     if n == 0 || !(norm.is_finite() && norm > 0.0) {
         return Err(crate::error::Error::InvalidArgument(format!(
             "LTC fit: {n}² nodes and amplitude {norm} (need n ≥ 1 and a finite, positive albedo)"
         )));
     }
     let symmetric = t.view().x.abs() <= 1e-12;
-    let free = if symmetric { 3 } else { 4 };
+    let free = if symmetric || hold_turn { 3 } else { 4 };
     let mut p = *p0;
     if symmetric {
         p[3] = 0.0;
@@ -226,7 +231,16 @@ pub fn fit_cell_lm<T: LtcTarget + ?Sized>(
                 "LTC fit: the target vanishes (or overflows) on every node".into(),
             ));
         }
-        let (q, cq, it) = levenberg_marquardt(&nodes, z, norm, p, free, max_iters);
+        let eval = |p: &[f64; 4], r: &mut Vec<f64>| -> f64 {
+            match ltc_of(z, p) {
+                Some(ltc) => {
+                    residuals(&nodes, &ltc, norm, r);
+                    cost(r)
+                }
+                None => f64::INFINITY,
+            }
+        };
+        let (q, cq, it) = levenberg_marquardt(eval, p, free, max_iters);
         total += it;
         p = q;
         c = cq;

@@ -34,6 +34,7 @@ pub mod lobe_error;
 pub mod lobes;
 pub mod params;
 pub mod pipeline;
+pub mod polish;
 pub mod polygon;
 pub mod sheen;
 pub mod smooth;

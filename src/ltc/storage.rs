@@ -179,3 +179,23 @@ pub fn store_table<T: LtcTarget>(
     }
     Ok(())
 }
+
+/// A table as stored: [j][i] = [a, b, c, d, norm, fresnel] (f64), and its binary16
+/// storage in the same layout.
+pub fn stored(t: &crate::ltc::fit::Table) -> (Vec<Vec<[f64; 6]>>, Vec<Vec<[f64; 6]>>) {
+    let full = t
+        .cells
+        .iter()
+        .map(|col| {
+            col.iter()
+                .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm, c.fresnel])
+                .collect()
+        })
+        .collect();
+    let half = t
+        .cells
+        .iter()
+        .map(|col| col.iter().map(|c| c.half).collect())
+        .collect();
+    (full, half)
+}

@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::integrate::Figure;
+use crate::integrate::{Figure, Quad};
 use crate::ltc::fit::Grid;
 use crate::ltc::held::Stats;
 use crate::ltc::smooth::BilinearPass;
@@ -55,17 +55,92 @@ pub struct Ggx {
     /// The binary16 storage of the table (every value a binary16 number), same layout.
     pub table_f16: Columns,
     pub held_out: Stats,
-    /// The optimiser and metric variants on the sub-grid.
-    pub variants: Vec<Variant>,
+    /// Every cell's held-out figures (the f64 cell).
+    pub held_out_cells: HeldCells,
     pub edge_approximations: Vec<EdgeApproximation>,
     pub degenerate: Vec<Degenerate>,
     pub polygons: Vec<PolygonRow>,
     pub pipeline: Pipeline,
     pub sphere_horizon: SphereHorizon,
-    /// The floor of a single LTC on a spread of cells.
-    pub floor: Vec<FloorCell>,
     /// The bilinear-aware refit.
     pub bilinear_pass: BilinearPass,
+}
+
+/// The held-out relative L2 and L1 of every cell of a table (its f64 cell), each
+/// [value, error bar]: what a reader compares cell by cell.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct HeldCells {
+    pub layout: String,
+    pub l2: Vec<Vec<Option<[f64; 2]>>>,
+    pub l1: Vec<Vec<Option<[f64; 2]>>>,
+}
+
+impl HeldCells {
+    /// The figures of a judged table (`ltc::held::judge_table`); `None` where a cell has
+    /// none (a singular one, or one not judged).
+    pub fn of(t: &crate::ltc::fit::Table) -> HeldCells {
+        let grid = |l1: bool| {
+            t.cells
+                .iter()
+                .map(|col| {
+                    col.iter()
+                        .map(|c| {
+                            c.held
+                                .and_then(|h| h.f64)
+                                .map(|e| if l1 { e.l1 } else { e.l2 })
+                                .map(|b| [b.value, b.error])
+                        })
+                        .collect()
+                })
+                .collect()
+        };
+        HeldCells {
+            layout: "[j][i] = [value, error] (null where singular)".into(),
+            l2: grid(false),
+            l1: grid(true),
+        }
+    }
+}
+
+/// results/fits/ltc-ggx-optimisers.json (on request): the optimiser and metric variants
+/// on a sub-grid, the floor of a single LTC, and the table's fitting route against the
+/// reference route cell by cell.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Optimisers {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub variants: Vec<Variant>,
+    pub floor: Vec<FloorCell>,
+    pub reference: RouteComparison,
+}
+
+impl super::ResultFile for Optimisers {
+    const NAME: &'static str = super::names::LTC_GGX_OPTIMISERS;
+}
+
+/// The published table against the same pipeline (bilinear pass, storage) with the
+/// reference fitting route, cell by cell, on held-out integrals.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RouteComparison {
+    /// The reference route in words, and the table's.
+    pub reference: String,
+    pub table: String,
+    /// Mean held-out relative L2 of each, within the mean of its cells' bars.
+    pub reference_mean: Figure<Quad>,
+    pub table_mean: Figure<Quad>,
+    /// Mean of (table − reference) per cell, within the mean of the summed bars.
+    pub mean_change: Figure<Quad>,
+    /// Cells where the table is worse / better than the reference by more than the sum
+    /// of the two figures' bars (each bar bounds its figure, so such a difference is
+    /// certain); of those worse, how many by more than 0.01 and 0.1 points, and the
+    /// largest difference (as a fraction).
+    pub worse: usize,
+    pub worse_by_001pt: usize,
+    pub worse_by_01pt: usize,
+    pub largest_excess: f64,
+    pub better: usize,
+    pub cells: usize,
 }
 
 /// One optimiser/metric variant and its held-out summary on the sub-grid.

@@ -13,6 +13,7 @@ pub mod ltc_compare;
 pub mod ltc_error_map;
 pub mod ltc_ggx;
 pub mod ltc_lobes;
+pub mod ltc_optimisers;
 pub mod multiscale_alpha_me;
 pub mod multiscale_convolution;
 pub mod performance;

@@ -6,7 +6,7 @@
 use crate::study::Study;
 
 use super::{
-    filters, leadr_grids, ltc_aniso, ltc_ggx, ltc_lobes, multiscale_alpha_me,
+    filters, leadr_grids, ltc_aniso, ltc_ggx, ltc_lobes, ltc_optimisers, multiscale_alpha_me,
     multiscale_convolution, render, smith_lambda, tensor, tensor_scale, visibility,
 };
 
@@ -23,6 +23,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &tensor_scale::TensorScale,
     &visibility::Visibility,
     &ltc_aniso::LtcAniso,
+    &ltc_optimisers::LtcGgxOptimisers,
     &render::RenderStudy,
     &filters::Filters,
 ];

@@ -1,10 +1,8 @@
-//! The GGX table's computation: the plan per preset, the main table and the optimiser
-//! variants, each cell as the LTC it stands for.
+//! The GGX table's computation: the plan per preset, the main table, each cell as the
+//! LTC it stands for.
 
 use crate::error::Result;
-use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Table};
-use crate::ltc::held::{self};
-use crate::ltc::lobe_error::Tolerance;
+use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Polish, Table};
 use crate::ltc::target::GgxTarget;
 use crate::memo::Memo;
 use nalgebra::Matrix3;
@@ -20,10 +18,11 @@ pub struct Plan {
     /// Stratified samples per axis and technique of each cell's fit (held out: twice as
     /// many, offset by a quarter cell).
     pub samples: usize,
-    /// Nelder–Mead iteration cap per cell (the floor's searches too).
+    /// Nelder–Mead iteration cap per stage of each cell's cubic fit (the L2 polish is
+    /// `polish`).
     pub max_iters: u64,
-    /// Cells per axis of the sub-grid the optimiser variants are fitted on.
-    pub sub: usize,
+    /// The L2 polish after the cubic stage (`ltc::fit::Polish`).
+    pub polish: Polish,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
     /// The pipeline section: map side, mip levels, footprints per level, and the truth's
@@ -44,7 +43,6 @@ impl crate::fit::spec::Params for Plan {
             self.max_iters,
             self.mc,
         )?;
-        within("sub", self.sub, 2, self.n)?;
         crate::fit::spec::power_of_two("pipeline_size", self.pipeline_size, 4, 4096)?;
         let top = self.pipeline_size.trailing_zeros() as usize;
         all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
@@ -58,36 +56,13 @@ pub fn cell_ltc(c: &Cell) -> (Matrix3<f64>, f64) {
     (fit::inverse_from_production(&c.inv), c.norm)
 }
 
-/// The optimiser and metric variants fitted over the sub-grid, in this order.
-const ROUTES: [(&str, Metric, Method); 4] = [
-    (
-        "Nelder–Mead, cubic metric",
-        Metric::Cubic,
-        Method::NelderMead,
-    ),
-    ("Nelder–Mead, L2 metric", Metric::L2, Method::NelderMead),
-    (
-        "L-BFGS (central differences), cubic metric",
-        Metric::Cubic,
-        Method::Lbfgs,
-    ),
-    (
-        "Levenberg–Marquardt on fixed nodes, relative L2",
-        Metric::L2,
-        Method::LevenbergMarquardt,
-    ),
-];
-
-/// The main table and the optimiser/metric variants on the sub-grid.
-pub(super) fn fit_tables(pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>)> {
+/// The main table: every cell fitted (`ltc::fit::fit_table`, the spec's route).
+pub(super) fn fit_main(pl: &Plan) -> Result<Table> {
     let grid = Grid {
         n: pl.n,
         alpha_min: pl.alpha_min,
     };
-    let iters = pl.max_iters;
-    let pb = indicatif::ProgressBar::new((pl.n * pl.n + ROUTES.len() * pl.sub * pl.sub) as u64);
-    pb.set_message("ltc fit");
-    let tick = || pb.inc(1);
+    let pb = crate::progress::Progress::new("ltc fit", (pl.n * pl.n) as u64);
     let main = fit_table(
         &Memo,
         grid,
@@ -95,31 +70,11 @@ pub(super) fn fit_tables(pl: &Plan) -> Result<(Table, Vec<(&'static str, Table)>
         pl.samples,
         Metric::Cubic,
         Method::NelderMead,
-        iters,
-        &tick,
+        pl.max_iters,
+        pl.polish,
+        &|| pb.inc(1),
     )?;
-    let sub = Grid {
-        n: pl.sub,
-        alpha_min: pl.alpha_min,
-    };
-    let mut variants: Vec<(&'static str, Table)> = Vec::with_capacity(ROUTES.len());
-    for (name, metric, method) in ROUTES {
-        let t = fit_table(
-            &Memo,
-            sub,
-            &GgxTarget::new,
-            pl.samples,
-            metric,
-            method,
-            iters,
-            &tick,
-        )?;
-        variants.push((name, t));
-    }
-    pb.finish_and_clear();
-    for (_, t) in variants.iter_mut() {
-        held::judge_table(&Memo, t, &GgxTarget::new, Tolerance::default())?;
-    }
+    pb.finish();
     crate::report::stage("regen ltc-ggx: table fitted; polygon and precision studies next");
-    Ok((main, variants))
+    Ok(main)
 }

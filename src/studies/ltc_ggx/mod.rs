@@ -8,17 +8,18 @@
 //!   `alpha_min`) as in the shipped table; production M⁻¹ (a, b, c, d) + norm + fresnel.
 //! - **Model:** norm·γ_M, M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the mean
 //!   BRDF direction turned by φ about Y; parameters (ln m11, ln m22, m13/m11, φ).
-//! - **Fit:** Nelder–Mead (argmin, ≤ `max_iters` iterations) on the reference fitter's
-//!   cubic metric, mean |f − f_ltc|³/(p_ltc + p_brdf), over `samples`² stratified samples
+//! - **Fit:** Nelder–Mead (argmin, ≤ `max_iters` iterations per stage) on the reference
+//!   fitter's cubic metric, mean |f − f_ltc|³/(p_ltc + p_brdf), over `samples`² stratified samples
 //!   from the LTC and as many from the GGX VNDF; warm start from the rougher neighbour (φ
 //!   carried, scaled by the α ratio); 3 parameters at the carried φ, then all 4, kept only
-//!   if training and validation metrics both drop; an L2 polish kept only if the
-//!   validation L2 drops; one bilinear pass (`ltc::smooth`); binary16 storage chosen per
+//!   if training and validation metrics both drop; an L2 polish (`polish`: Nelder–Mead, or
+//!   Levenberg–Marquardt on (2·`samples`)² fixed nodes per technique, `ltc::gauss_newton`)
+//!   kept only if the validation L2 drops; one bilinear pass (`ltc::smooth`); binary16 storage chosen per
 //!   cell among the f16 neighbours (`ltc::storage`).
 //! - **Held out:** a fresh (2·`samples`)² set per technique, offset by a quarter cell,
 //!   and the exact lobe error of `ltc::held`; relative L2 ‖f − f_ltc‖/‖f‖.
-//! - **Variants** on a `sub`×`sub` sub-grid: L-BFGS (central differences), Nelder–Mead on
-//!   L2, Levenberg–Marquardt on fixed nodes.
+//! - **Diagnostics** (optimiser variants, the floor of a single LTC, the route against the
+//!   reference route): `studies::ltc_optimisers`, on request.
 
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
@@ -33,7 +34,6 @@ use crate::memo::Memo;
 use crate::study::{Ctx, FitOutcome};
 
 mod compute;
-mod floor;
 mod pipeline;
 mod polygons;
 mod precision;
@@ -41,20 +41,24 @@ mod shipped;
 mod table;
 
 pub use compute::cell_ltc;
-use compute::{fit_tables, Plan};
+use compute::{fit_main, Plan};
 
 /// The title, the method and the table error.
 fn intro(c: &Computed) -> String {
     let (preset, pl, main, st) = (c.preset, &c.pl, &c.main, &c.held);
     let mut md = format!(
-        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to {}°). Fit: Nelder–Mead (argmin) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. norm and fresnel by nested adaptive quadrature in half-vector space (tolerance {:e}, largest error estimate {:.1e}).\n\n",
+        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to {}°). Fit: Nelder–Mead (argmin, ≤ {} iterations per stage) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. Then an L2 polish: {}, kept only where the validation set's L2 drops too ({} of {} cells). norm and fresnel by nested adaptive quadrature in half-vector space (tolerance {:e}, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
         pl.alpha_min,
         crate::ltc::hemisphere::THETA_MAX_DEG,
+        pl.max_iters,
         pl.samples,
         pl.samples,
+        pl.polish.describe(pl.samples),
+        main.cells.iter().flatten().filter(|c| c.polished).count(),
+        pl.n * pl.n,
         crate::ltc::fit::ALBEDO_TOL,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
     );
@@ -94,11 +98,8 @@ pub struct Computed {
     bilinear: BilinearPass,
     structure: table::Structure,
     between: table::Between,
-    variants: Vec<(&'static str, Stats)>,
     compare: Option<crate::results::compare::LtcCompare>,
     precision: precision::Precision,
-    floor: Vec<floor::FloorCell>,
-    floor_summary: floor::Summary,
     polygons: polygons::Polygons,
     pipeline: pipeline::Pipeline,
 }
@@ -107,7 +108,7 @@ pub struct Computed {
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let (spec, results, preset) = (c.spec, c.results, c.preset);
     let pl: Plan = c.params()?;
-    let (mut main, variants) = fit_tables(&pl)?;
+    let mut main = fit_main(&pl)?;
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
@@ -116,12 +117,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
     let structure = table::measure_structure(&main);
     let between = table::measure_between(&main)?;
-    let variants = table::measure_variants(&variants);
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
-    crate::report::stage("regen ltc-ggx: the floor of a single LTC (multi-start search)");
-    let floor = floor::compute(&main, pl.samples, pl.max_iters)?;
-    let floor_summary = floor::summarise(&floor, &main, st.l2.mean.value);
     let polygons = polygons::measure(&main, pl.mc)?;
     // the pipeline reads the table as a renderer reads the published file
     let stored = crate::results::ltc::table_of(&spec.name, &tables(spec, &main))?;
@@ -136,11 +133,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         bilinear,
         structure,
         between,
-        variants,
         compare,
         precision,
-        floor,
-        floor_summary,
         polygons,
         pipeline,
     })
@@ -148,13 +142,16 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 
 /// The table as the result file publishes it.
 fn tables(spec: &FitSpec, main: &Table) -> crate::results::ltc::Tables {
-    let (table, table_f16) = crate::ltc::fit::stored(main);
+    let (table, table_f16) = crate::ltc::storage::stored(main);
     crate::results::ltc::Tables {
         spec: spec.clone(),
         table,
         table_f16: Some(table_f16),
     }
 }
+
+/// Where the diagnostics went: studies of their own, run on request.
+const OPTIMISERS: &str = "## Optimisers, the floor of a single LTC, and this route against the reference\n\nDiagnostics of the fit, not part of it, run on request by `cargo run --release -- regen --only ltc-ggx-optimisers` (results/ltc-ggx-optimisers.md): the optimiser and metric variants on a sub-grid, the floor of a single LTC per cell by a multi-start search, and this table's route against the reference route (Nelder–Mead to convergence and a Nelder–Mead L2 polish) through the same bilinear pass and storage, cell by cell on the held-out integrals.\n\n";
 
 fn markdown(c: &Computed) -> String {
     let mut md = intro(c);
@@ -164,10 +161,9 @@ fn markdown(c: &Computed) -> String {
     ));
     md.push_str(&table::structure_section(&c.structure));
     md.push_str(&table::between_section(&c.between, &c.held));
-    md.push_str(&table::variants_section(&c.pl, &c.variants));
     md.push_str(&shipped::section(c.compare.as_ref(), c.held.l2.mean.value));
     md.push_str(&precision::section(&c.precision));
-    md.push_str(&floor::section(&c.floor, &c.floor_summary));
+    md.push_str(OPTIMISERS);
     md.push_str(&polygons::section(&c.polygons));
     md.push_str(&pipeline::section(&c.pipeline));
     md
@@ -190,13 +186,12 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
         table: t.table,
         table_f16: t.table_f16.unwrap_or_default(),
         held_out: c.held,
-        variants: table::variants_rows(&c.variants),
+        held_out_cells: crate::results::ltc::HeldCells::of(&c.main),
         edge_approximations: poly.edge_approximations.clone(),
         degenerate: poly.degenerate_rows(),
         polygons: poly.polygon_rows(),
         pipeline: pipeline::result(&c.pipeline),
         sphere_horizon: poly.sphere_horizon,
-        floor: c.floor.clone(),
         bilinear_pass: c.bilinear,
     };
     crate::results::put_named(set, results, &spec.name, &json)

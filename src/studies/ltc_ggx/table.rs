@@ -1,11 +1,10 @@
 //! The fitted table itself: corners, collapse and sign checks, smoothness, the error
-//! between cells (bilinear interpolation, as a shader samples the table) and the
-//! optimiser and metric comparison. `measure_*` computes, `*_section` formats.
+//! between cells (bilinear interpolation, as a shader samples the table). `measure_*`
+//! computes, `*_section` formats.
 
-use super::compute::Plan;
 use crate::error::Result;
 use crate::ltc::fit::{Cell, Table};
-use crate::ltc::held::{held_out_stats as stats, Stats};
+use crate::ltc::held::Stats;
 use crate::ltc::lobe_error::Spread;
 use crate::ltc::target::GgxTarget;
 use crate::report::table::Table as MdTable;
@@ -194,48 +193,4 @@ pub(super) fn between_section(b: &Between, cells: &Stats) -> String {
         cells.l2.mean.pct(2),
         cells.l1.mean.pct(2)
     )
-}
-
-/// The optimiser/metric comparison on the sub-grid: each variant's name and held-out
-/// summary.
-pub(super) fn measure_variants(variants: &[(&'static str, Table)]) -> Vec<(&'static str, Stats)> {
-    variants.iter().map(|(name, t)| (*name, stats(t))).collect()
-}
-
-/// The comparison's rows as the result file holds them.
-pub(super) fn variants_rows(rows: &[(&'static str, Stats)]) -> Vec<crate::results::ltc::Variant> {
-    rows.iter()
-        .map(|(name, s)| crate::results::ltc::Variant {
-            fit: name.to_string(),
-            stats: *s,
-        })
-        .collect()
-}
-
-pub(super) fn variants_section(pl: &Plan, rows: &[(&'static str, Stats)]) -> String {
-    let mut md = format!(
-        "## Optimisers and metrics ({}×{} sub-grid, held-out errors)\n\n",
-        pl.sub, pl.sub
-    );
-    let mut t = MdTable::new([
-        "fit",
-        "mean rel. L2",
-        "max rel. L2",
-        "mean rel. L1",
-        "max rel. L1",
-        "mean iterations",
-    ]);
-    for (name, s) in rows {
-        t.row([
-            name.to_string(),
-            s.l2.mean.pct(2),
-            s.l2.max.pct(1),
-            s.l1.mean.pct(2),
-            s.l1.max.pct(1),
-            format!("{:.0}", s.mean_iters),
-        ]);
-    }
-    md.push_str(&t.to_string());
-    md.push_str("\nThe cubic metric weighs the peak (|f − f_ltc|³ grows like α⁻⁶ near the mirror direction), the L2 metric the whole lobe; both are training metrics (Monte Carlo sums on the fit's sample set), and every fit is judged by the same held-out integrals. A collapsed L-BFGS cell (a line-search failure or a jump into the metric's spurious basin of very wide LTCs, which the cubic metric has when the start is off by ~2× at tiny α) keeps its warm start, so the table stays continuous. Levenberg–Marquardt (`ltc::gauss_newton`) minimises the relative L2 on fixed nodes — the same n×n stratified points per technique, drawn once from the target's sampler and the start LTC with fixed balance weights, then redrawn once from the fitted LTC — so its objective is smooth and it needs tens of iterations where Nelder–Mead needs hundreds; its cost per cell beside Nelder–Mead's is criterion's, in results/performance.md.\n\n");
-    md
 }

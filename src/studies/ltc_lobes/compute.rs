@@ -2,7 +2,7 @@
 //! lobe's fit, bilinear pass and binary16 storage.
 
 use crate::error::Result;
-use crate::ltc::fit::{fit_table, Grid, Method, Metric, Table};
+use crate::ltc::fit::{fit_table, Grid, Method, Metric, Polish, Table};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
@@ -51,8 +51,11 @@ pub struct Plan {
     /// Stratified samples per axis and technique of each cell's fit (held out: twice as
     /// many, offset by a quarter cell).
     pub samples: usize,
-    /// Nelder–Mead iteration cap per cell.
+    /// Nelder–Mead iteration cap per stage of each cell's cubic fit (the L2 polish is
+    /// Levenberg–Marquardt, `ltc::fit::POLISH_ITERS`).
     pub max_iters: u64,
+    /// The L2 polish after the cubic stage (`ltc::fit::Polish`).
+    pub polish: Polish,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
 }
@@ -81,7 +84,7 @@ pub(super) fn target_of(lobe: Lobe) -> impl Fn(f64, f64) -> Result<LobeTarget> +
     move |a, t| lobe.target(a, t)
 }
 
-/// Fit one lobe's table: the per-cell fit (cubic metric, L2 polish), one bilinear pass,
+/// Fit one lobe's table: the per-cell fit (cubic metric, the spec's L2 polish), one bilinear pass,
 /// the binary16 storage.
 pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
     let grid = Grid {
@@ -100,6 +103,7 @@ pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
         Metric::Cubic,
         Method::NelderMead,
         iters,
+        pl.polish,
         &|| pb.inc(1),
     )?;
     pb.finish();

@@ -17,15 +17,14 @@
 //!   F_D90 with the paper's roughness √α (main) and with α as Filament and Bevy evaluate it
 //!   (variant).
 //! - **Fit, as the GGX table's** (src/studies/ltc_ggx/mod.rs): an `n`×`n` grid in
-//!   (√α, √(1 − cos θ)), α = max(r², `alpha_min`); Nelder–Mead (≤ `max_iters`) on the
-//!   cubic metric over `samples`² stratified samples from the LTC and from the cosine
-//!   hemisphere, warm starts, 3 then 4 parameters, L2 polish, one bilinear pass, binary16
+//!   (√α, √(1 − cos θ)), α = max(r², `alpha_min`); Nelder–Mead (≤ `max_iters` per stage)
+//!   on the cubic metric over `samples`² stratified samples from the LTC and from the
+//!   cosine hemisphere, warm starts, 3 then 4 parameters, the L2 polish of `polish`, one bilinear pass, binary16
 //!   storage. Held out: a fresh (2·`samples`)² set per technique and the exact lobe error.
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::io::Outputs;
-use crate::ltc::fit::Table;
 use crate::ltc::held::held_out_stats;
 use crate::study::{Ctx, FitOutcome};
 use serde::Serialize;
@@ -38,34 +37,6 @@ use crate::integrate::Preset;
 use crate::ltc::held::Stats;
 pub use compute::{family, Family};
 use compute::{fit_lobe, Fitted, Plan};
-
-/// Per cell [j][i]: the held-out relative L2 and L1 of the f64 cell, each [value, error].
-#[derive(Serialize)]
-struct HeldOutCells {
-    layout: &'static str,
-    l2: Vec<Vec<Option<[f64; 2]>>>,
-    l1: Vec<Vec<Option<[f64; 2]>>>,
-}
-
-fn per_cell(t: &Table) -> HeldOutCells {
-    let fig = |c: &crate::ltc::fit::Cell, l1: bool| {
-        c.held
-            .and_then(|h| h.f64)
-            .map(|e| if l1 { e.l1 } else { e.l2 })
-            .map(|b| [b.value, b.error])
-    };
-    let grid = |l1: bool| {
-        t.cells
-            .iter()
-            .map(|col| col.iter().map(|c| fig(c, l1)).collect())
-            .collect()
-    };
-    HeldOutCells {
-        layout: "[j][i] = [value, error] (null where singular)",
-        l2: grid(false),
-        l1: grid(true),
-    }
-}
 
 /// results/fits/<name>.json of a lobe table (and of its variant): the table every reader
 /// reads (`results::ltc::Tables`), its held-out figures and the study's report.
@@ -81,7 +52,7 @@ struct LobeResult<'a> {
     table: crate::results::ltc::Columns,
     table_f16: crate::results::ltc::Columns,
     held_out: crate::ltc::held::Stats,
-    held_out_cells: HeldOutCells,
+    held_out_cells: crate::results::ltc::HeldCells,
     report: &'a measures::TableReport,
     cross: &'a measures::Cross,
     bilinear_pass: &'a crate::ltc::smooth::BilinearPass,
@@ -149,7 +120,7 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
         (fam.name, &c.main, &c.rep.main, &c.held[0]),
         (fam.variant_name, &c.variant, &c.rep.variant, &c.held[1]),
     ] {
-        let (table, table_f16) = crate::ltc::fit::stored(&f.table);
+        let (table, table_f16) = crate::ltc::storage::stored(&f.table);
         let json = LobeResult {
             spec,
             command: &command,
@@ -161,7 +132,7 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
             table,
             table_f16,
             held_out: *held,
-            held_out_cells: per_cell(&f.table),
+            held_out_cells: crate::results::ltc::HeldCells::of(&f.table),
             report: r,
             cross: &c.rep.cross,
             bilinear_pass: &f.bilinear,

@@ -10,7 +10,7 @@
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::integrate::{Figure, Quad};
-use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Cell, Method, Metric, Table};
+use crate::ltc::fit::{fit_cell, matrix, metrics, params_to_m, turn, Method, Metric};
 use crate::ltc::lobe_error::{judge, Tolerance};
 use crate::ltc::target::GgxTarget;
 use crate::ltc::target::LtcTarget;
@@ -18,6 +18,15 @@ use crate::ltc::LtcDist;
 use crate::report::table::Table as MdTable;
 
 pub use crate::results::ltc::FloorCell;
+use crate::results::ltc::Ggx;
+
+/// One published cell: where it sits, its production inverse and its norm.
+struct Published {
+    alpha: f64,
+    theta: f64,
+    inv: [f64; 4],
+    norm: f64,
+}
 
 /// The L2-optimal amplitude of an LTC shape against the target on the training set.
 fn best_amplitude(t: &GgxTarget, ltc: &LtcDist, n: usize) -> f64 {
@@ -42,9 +51,13 @@ fn best_amplitude(t: &GgxTarget, ltc: &LtcDist, n: usize) -> f64 {
     }
 }
 
-fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<FloorCell> {
+fn floor_of(c: &Published, i: usize, j: usize, n: usize, max_iters: u64) -> Result<FloorCell> {
     let t = GgxTarget::new(c.alpha, c.theta)?;
     let (_, _, _, zm) = t.moments(32);
+    // the fit parameters of the published lobe (its axis turned by φ from the mean
+    // direction); a cell they cannot carry starts from the isotropic lobe of its α
+    let (m11, m22, m13, phi) = crate::ltc::fit::params_from_production(&c.inv, &zm)
+        .unwrap_or((c.alpha, c.alpha, 0.0, 0.0));
     let dist = |p: &[f64; 4]| {
         let (m11, m22, m13) = params_to_m(p);
         LtcDist::new(matrix(m11, m22, m13, &turn(&zm, p[3]))).ok()
@@ -65,7 +78,7 @@ fn floor_of(c: &Cell, i: usize, j: usize, n: usize, max_iters: u64) -> Result<Fl
         .map(|l| metrics(&t, l, c.norm, n + 7, 0.37).1)
         .filter(|x| x.is_finite())
         .unwrap_or(f64::INFINITY);
-    let base = [c.m11.ln(), c.m22.ln(), c.m13 / c.m11, c.turn];
+    let base = [m11.ln(), m22.ln(), m13 / m11, phi];
     let mut best: (f64, Option<[f64; 4]>) = (table_val, None);
     for d0 in STEPS[0] {
         for d1 in STEPS[1] {
@@ -136,8 +149,8 @@ fn grazing(j: usize, n: usize) -> bool {
 }
 
 /// The sampled cells: the columns and rows above, scaled to the grid.
-pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<FloorCell>> {
-    let g = main.grid.n;
+pub(super) fn compute(ggx: &Ggx, n: usize, max_iters: u64) -> Result<Vec<FloorCell>> {
+    let g = ggx.grid.n;
     let scale = |x: usize| (x * (g - 1) + 31) / 63;
     let mut cols: Vec<usize> = COLS_64.map(scale).to_vec();
     let mut rows: Vec<usize> = ROWS_64.map(scale).to_vec();
@@ -148,7 +161,14 @@ pub(super) fn compute(main: &Table, n: usize, max_iters: u64) -> Result<Vec<Floo
         .flat_map(|&j| cols.iter().map(move |&i| (i, j)))
         .collect();
     crate::memo::map_items("ltc floor cells", &picks, |&(i, j)| {
-        floor_of(&main.cells[j][i], i, j, n, max_iters)
+        let e = ggx.table[j][i];
+        let c = Published {
+            alpha: ggx.grid.alpha(i),
+            theta: ggx.grid.theta(j),
+            inv: [e[0], e[1], e[2], e[3]],
+            norm: e[4],
+        };
+        floor_of(&c, i, j, n, max_iters)
     })
 }
 
@@ -173,8 +193,9 @@ pub(super) struct Summary {
 
 /// The implied floors of the table's mean (`table_mean`, its held-out relative L2) and
 /// of its grazing rows.
-pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> Summary {
-    let grid_n = main.grid.n;
+pub(super) fn summarise(cells: &[FloorCell], ggx: &Ggx) -> Summary {
+    let grid_n = ggx.grid.n;
+    let table_mean = ggx.held_out.l2.mean.value;
     let grazing_rows = |j: usize| grazing(j, grid_n);
     let unique = |f: fn(&FloorCell) -> usize| {
         let mut v: Vec<usize> = cells.iter().map(f).collect();
@@ -183,12 +204,13 @@ pub(super) fn summarise(cells: &[FloorCell], main: &Table, table_mean: f64) -> S
         v
     };
     let rows = unique(|c| c.j);
-    let grazing: Vec<f64> = main
-        .cells
+    let grazing: Vec<f64> = ggx
+        .held_out_cells
+        .l2
         .iter()
         .enumerate()
         .filter(|(j, _)| grazing_rows(*j))
-        .flat_map(|(_, col)| col.iter().filter_map(|c| c.l2()).map(|b| b.value))
+        .flat_map(|(_, col)| col.iter().flatten().map(|b| b[0]))
         .collect();
     let d = |f: &dyn Fn(&FloorCell) -> f64, only_graze: bool| {
         Figure::mean_of(
