@@ -471,7 +471,15 @@ fn ltc(c: &mut Criterion) {
         // the fast route: Levenberg–Marquardt on fixed nodes, same start and sample count
         g.bench_function(format!("levenberg-marquardt {label}"), |b| {
             b.iter(|| {
-                ndfbench::ltc::gauss_newton::fit_cell_lm(&t, &z, norm, black_box(&p0), 24, 50)
+                ndfbench::ltc::gauss_newton::fit_cell_lm(
+                    &t,
+                    &z,
+                    norm,
+                    black_box(&p0),
+                    24,
+                    50,
+                    false,
+                )
             })
         });
     }

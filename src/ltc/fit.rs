@@ -327,7 +327,7 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     max_iters: u64,
 ) -> Result<([f64; 4], u64)> {
     if method == Method::LevenbergMarquardt {
-        let r = super::gauss_newton::fit_cell_lm(t, z, norm, p0, n, max_iters as usize)?;
+        let r = super::gauss_newton::fit_cell_lm(t, z, norm, p0, n, max_iters as usize, false)?;
         return Ok((r.params, r.iters as u64));
     }
     let obj = |z: V3, validation: bool| Objective {
@@ -395,7 +395,7 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     how: Polish,
     max_iters: u64,
 ) -> Result<([f64; 4], bool)> {
-    use super::gauss_newton::fit_cell_lm_held;
+    use super::gauss_newton::fit_cell_lm;
     let q = match how {
         Polish::NelderMead => {
             fit_cell(
@@ -412,7 +412,7 @@ fn polish_l2<T: LtcTarget + ?Sized>(
         }
         Polish::LevenbergMarquardt | Polish::LevenbergMarquardtTurnHeld => {
             let held = how == Polish::LevenbergMarquardtTurnHeld;
-            let mut q = fit_cell_lm_held(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
+            let mut q = fit_cell_lm(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
             // the route evaluates φ clamped as the objective does; store it so
             q[3] = q[3].clamp(-0.5, 0.5);
             q

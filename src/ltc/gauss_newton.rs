@@ -184,20 +184,9 @@ pub struct GnFit {
 
 /// Fit one cell from `p0` = (ln m11, ln m22, m13/m11, φ) about the mean direction `z`
 /// with amplitude `norm` (the albedo), on 2·n² fixed nodes per pass, two passes. At
-/// normal incidence (the lobe symmetric about z) φ stays 0.
+/// normal incidence (the lobe symmetric about z) φ stays 0, and so does it where
+/// `hold_turn` (at `p0`'s).
 pub fn fit_cell_lm<T: LtcTarget + ?Sized>(
-    t: &T,
-    z: &V3,
-    norm: f64,
-    p0: &[f64; 4],
-    n: usize,
-    max_iters: usize,
-) -> Result<GnFit> {
-    fit_cell_lm_held(t, z, norm, p0, n, max_iters, false)
-}
-
-/// [`fit_cell_lm`], with the frame turn φ held at `p0`'s where `hold_turn`.
-pub fn fit_cell_lm_held<T: LtcTarget + ?Sized>(
     t: &T,
     z: &V3,
     norm: f64,
