@@ -308,3 +308,52 @@ fn results_hold_no_wall_clock_or_thread_count_outside_the_profile() {
         );
     }
 }
+
+/// The optimisers study reads the published GGX table by index: a file whose held-out
+/// cells or table do not match its grid is a typed error naming the file, never an
+/// out-of-bounds panic or a comparison over a silently shorter zip.
+#[test]
+fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
+    use ndfbench::fit::spec::FitSpec;
+    use ndfbench::study::Ctx;
+    let committed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap())
+            .unwrap();
+    let spec = FitSpec::parse(
+        &std::fs::read_to_string("fits/ltc-ggx-optimisers.toml").unwrap(),
+        "fits/ltc-ggx-optimisers.toml",
+    )
+    .unwrap();
+    let study = ndfbench::studies::find("ltc-ggx-optimisers").unwrap();
+    let breaks: [(&str, fn(&mut serde_json::Value)); 3] = [
+        ("short held-out column", |v| {
+            v["held_out_cells"]["l2"][3].as_array_mut().unwrap().pop();
+        }),
+        ("grid side", |v| v["grid"]["n"] = 63.into()),
+        ("negative figure", |v| {
+            v["held_out_cells"]["l2"][0][0] = serde_json::json!([-1.0, 0.0])
+        }),
+    ];
+    for (what, brk) in breaks {
+        let d = common::scratch("results", &format!("optimisers-{}", what.replace(' ', "-")));
+        std::fs::create_dir_all(d.join("fits")).unwrap();
+        let mut v = committed.clone();
+        brk(&mut v);
+        std::fs::write(
+            d.join("fits/ltc-ggx.json"),
+            serde_json::to_string(&v).unwrap(),
+        )
+        .unwrap();
+        let ctx = Ctx {
+            spec: &spec,
+            specs: std::slice::from_ref(&spec),
+            results: &d,
+            preset: ndfbench::integrate::Preset::Quick,
+        };
+        match study.compute(&ctx) {
+            Err(e) => assert!(e.to_string().contains("ltc-ggx.json"), "{what}: {e}"),
+            Ok(_) => panic!("{what}: a broken published table was accepted"),
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}

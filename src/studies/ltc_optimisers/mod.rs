@@ -77,6 +77,7 @@ pub struct Computed {
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let pl: Plan = c.params()?;
     let ggx: Ggx = crate::results::require(c.results)?;
+    check_published(&ggx, c.results)?;
     let table_preset = Preset::ALL
         .into_iter()
         .find(|p| p.name() == ggx.preset)
@@ -115,6 +116,36 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         floor_summary,
         reference,
     })
+}
+
+/// The published table is read, not trusted by its shape: the table itself through the
+/// one reader of fitted tables (n × n finite cells, 2 ≤ n ≤ its bound), its grid of the
+/// same side, and every cell's held-out figure present as a finite pair — what the floor
+/// and the route comparison index by (i, j).
+fn check_published(ggx: &Ggx, results: &std::path::Path) -> Result<()> {
+    let t = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
+    let n = ggx.grid.n;
+    let bad = |what: String| {
+        Err(Error::InvalidArgument(format!(
+            "results/fits/ltc-ggx.json: {what}: run `cargo run --release -- regen --only ltc-ggx`"
+        )))
+    };
+    if t.n != n {
+        return bad(format!("a {0}×{0} table under a grid of side {n}", t.n));
+    }
+    let cells = &ggx.held_out_cells.l2;
+    if cells.len() != n || cells.iter().any(|col| col.len() != n) {
+        return bad(format!("held_out_cells is not {n}×{n}"));
+    }
+    if cells
+        .iter()
+        .flatten()
+        .flatten()
+        .any(|f| !(f[0].is_finite() && f[1].is_finite() && f[0] >= 0.0 && f[1] >= 0.0))
+    {
+        return bad("a held-out figure that is not a finite, non-negative pair".into());
+    }
+    Ok(())
 }
 
 fn reference_section(r: &RouteComparison) -> String {
