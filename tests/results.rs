@@ -357,3 +357,149 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
         let _ = std::fs::remove_dir_all(&d);
     }
 }
+
+/// The held-out judge's tolerance study, on four cells of each published table: its
+/// reference figures agree with the figures the table's own study published for the same
+/// cells (judged by `ltc::held::judge_table`, at the table spec's tolerance) within the two
+/// bars; a looser tolerance never costs more evaluations; the table's tolerance is the one
+/// its spec names.
+#[test]
+fn the_judge_tolerance_study_agrees_with_the_published_figures() {
+    use ndfbench::fit::spec::FitSpec;
+    use ndfbench::study::Ctx;
+    let spec = FitSpec::parse(
+        "name = \"ltc-judge-tolerance\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\nevery = 32\nrels = [5e-4, 2e-3, 1e-2]\n",
+        "test",
+    )
+    .unwrap();
+    let study = ndfbench::studies::find("ltc-judge-tolerance").unwrap();
+    let ctx = Ctx {
+        spec: &spec,
+        specs: std::slice::from_ref(&spec),
+        results: Path::new("results"),
+        preset: ndfbench::integrate::Preset::Default,
+    };
+    let computed = study.compute(&ctx).unwrap();
+    let mut set = ndfbench::io::Outputs::new();
+    let d = common::scratch("results", "judge-tolerance");
+    computed.render(&mut set, &d).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_slice(set.get(&d.join("fits/ltc-judge-tolerance.json")).unwrap()).unwrap();
+    for c in out["tables"].as_array().unwrap() {
+        let name = c["table"].as_str().unwrap();
+        let published: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(format!("results/fits/{name}.json")).unwrap(),
+        )
+        .unwrap();
+        let fits: toml::Value =
+            toml::from_str(&std::fs::read_to_string(format!("fits/{name}.toml")).unwrap()).unwrap();
+        assert_eq!(
+            c["chosen_rel"].as_f64(),
+            fits["params"]["held_out_rel"].as_float(),
+            "{name}"
+        );
+        assert_eq!(c["cells"], 4, "{name}");
+        // the mean of the same four cells' published relative L2 and its bar
+        let cells = &published["held_out_cells"]["l2"];
+        let (mut v, mut e) = (0.0, 0.0);
+        for j in [0, 32] {
+            for i in [0, 32] {
+                v += cells[j][i][0].as_f64().unwrap() / 4.0;
+                e += cells[j][i][1].as_f64().unwrap() / 4.0;
+            }
+        }
+        let pts = c["points"].as_array().unwrap();
+        let r = &pts[0]["l2_mean"];
+        let (rv, re) = (r["value"].as_f64().unwrap(), r["error"].as_f64().unwrap());
+        assert!(
+            (rv - v).abs() <= re + e,
+            "{name}: {rv} ± {re} against the published {v} ± {e}"
+        );
+        let evals: Vec<f64> = pts
+            .iter()
+            .map(|p| p["evals_per_cell"].as_f64().unwrap())
+            .collect();
+        assert!(evals.windows(2).all(|w| w[1] <= w[0]), "{name}: {evals:?}");
+        assert!(
+            evals[2] < evals[0],
+            "{name}: a looser tolerance saved nothing: {evals:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A tolerance out of its range in a table's spec, or a curve whose tolerances do not
+/// increase, is a typed error naming the key before any work.
+#[test]
+fn held_out_tolerances_out_of_range_are_refused() {
+    use ndfbench::fit::spec::FitSpec;
+    use ndfbench::study::Ctx;
+    let cases = [
+        (
+            "ltc-ggx",
+            "held_out_rel = 2e-3",
+            "held_out_rel = 0.0",
+            "held_out_rel",
+        ),
+        (
+            "ltc-sheen",
+            "held_out_rel = 2e-3",
+            "held_out_rel = nan",
+            "held_out_rel",
+        ),
+        (
+            "ltc-diffuse",
+            "held_out_rel = 2e-3",
+            "held_out_rel = 0.5",
+            "held_out_rel",
+        ),
+        (
+            "ltc-judge-tolerance",
+            "rels = [1e-4,",
+            "rels = [1e-3, 1e-4,",
+            "rels",
+        ),
+    ];
+    for (name, from, to, key) in cases {
+        let text = std::fs::read_to_string(format!("fits/{name}.toml")).unwrap();
+        assert!(
+            text.contains(from),
+            "{name}: the spec no longer holds '{from}'"
+        );
+        let spec = FitSpec::parse(&text.replacen(from, to, 1), name).unwrap();
+        let ctx = Ctx {
+            spec: &spec,
+            specs: std::slice::from_ref(&spec),
+            results: Path::new("results"),
+            preset: ndfbench::integrate::Preset::Default,
+        };
+        match ndfbench::studies::find(name).unwrap().compute(&ctx) {
+            Err(e) => assert!(e.to_string().contains(key), "{name}: {e}"),
+            Ok(_) => panic!("{name}: '{to}' was accepted"),
+        }
+    }
+}
+
+/// The stored comparison with the shipped table was made against the published GGX table
+/// (the same fingerprint), and the GGX report says so: a table judged to another
+/// tolerance is the same table, a refitted one is not.
+#[test]
+fn the_stored_comparison_is_of_the_published_table() {
+    let cmp: ndfbench::results::compare::LtcCompare =
+        serde_json::from_str(&std::fs::read_to_string("results/ltc-compare.json").unwrap())
+            .unwrap();
+    let t = ltc::table(Path::new("results"), "ltc-ggx").unwrap();
+    assert_eq!(
+        cmp.ours_table_fingerprint.as_deref(),
+        Some(t.fingerprint().as_str())
+    );
+    let md = std::fs::read_to_string("results/ltc-ggx.md").unwrap();
+    assert!(
+        !md.contains("STALE"),
+        "results/ltc-ggx.md calls the comparison stale"
+    );
+    // a different table has a different fingerprint
+    let mut other = t.clone();
+    other.cells[5][2] = f64::from_bits(other.cells[5][2].to_bits() ^ 1);
+    assert_ne!(other.fingerprint(), t.fingerprint());
+}

@@ -130,21 +130,22 @@ impl Shipped {
 pub fn cell_error(inv: &[f64; 4], norm: f64, alpha: f64, theta: f64) -> Result<Option<LobeError>> {
     let t = GgxTarget::new(alpha, theta)?;
     let (albedo, _, _) = t.albedo(1e-8);
-    Ok(cell_error_of(&t, albedo, &[(*inv, norm)])[0])
+    Ok(cell_error_of(&t, albedo, &[(*inv, norm)], Tolerance::default())[0])
 }
 
 /// The held-out errors of production-form entries (a, b, c, d) with amplitudes against
-/// any target whose integral is ≈ `albedo`, judged in one cubature.
+/// any target whose integral is ≈ `albedo`, judged in one cubature to `tol`.
 pub fn cell_error_of<T: LtcTarget + ?Sized>(
     t: &T,
     albedo: f64,
     entries: &[([f64; 4], f64)],
+    tol: Tolerance,
 ) -> Vec<Option<LobeError>> {
     let inv: Vec<_> = entries
         .iter()
         .map(|(p, amp)| (inverse_from_production(p), *amp))
         .collect();
-    judge(t, albedo, &inv, Tolerance::default())
+    judge(t, albedo, &inv, tol)
 }
 
 /// The entries a shader reads at the centre of the square with corners (i, j) and
@@ -177,14 +178,14 @@ pub fn square_entries(t: &Shipped, i: usize, j: usize) -> Option<([f64; 4], f64)
 /// The error a shader sees between table cells: the table interpolated at the centre of
 /// square (i, j) ([`square_entries`]), judged against `target(α, θ)` there (α =
 /// max(r², `alpha_min`) as the table's cells are) with the table's interpolated norm;
-/// with the lobe's albedo there. `None` when a corner is missing or the interpolated
-/// matrix is singular.
+/// with the lobe's albedo there, judged to `tol`. `None` when a corner is missing or the
+/// interpolated matrix is singular.
 pub fn midpoint_error_of<T: LtcTarget>(
     t: &Shipped,
-    i: usize,
-    j: usize,
+    (i, j): (usize, usize),
     alpha_min: f64,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    tol: Tolerance,
 ) -> Result<(Option<LobeError>, f64)> {
     let n = t.n;
     let r = (i as f64 + 0.5) / (n - 1) as f64;
@@ -197,7 +198,7 @@ pub fn midpoint_error_of<T: LtcTarget>(
     let Some(entries) = square_entries(t, i, j) else {
         return Ok((None, albedo));
     };
-    Ok((cell_error_of(&lobe, albedo, &[entries])[0], albedo))
+    Ok((cell_error_of(&lobe, albedo, &[entries], tol)[0], albedo))
 }
 
 /// The roughness and view of grid coordinates (r, t) in the shipped convention

@@ -30,16 +30,8 @@ pub fn judge_table<T: LtcTarget>(
             .map(|c| {
                 let t = target(c.alpha, c.theta)?;
                 let full = [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm];
-                let f32v = full.map(|x| x as f32 as f64);
-                let near = full.map(|x| half::f16::from_f64(x).to_f64());
                 let stored = [c.half[0], c.half[1], c.half[2], c.half[3], c.half[4]];
-                let e = judge(
-                    &t,
-                    c.norm,
-                    &[full, f32v, near, stored]
-                        .map(|v| (inverse_from_production(&[v[0], v[1], v[2], v[3]]), v[4])),
-                    tol,
-                );
+                let e = judge(&t, c.norm, &precisions(full, stored), tol);
                 Ok(Held {
                     f64: e[0],
                     f32: e[1],
@@ -55,6 +47,15 @@ pub fn judge_table<T: LtcTarget>(
         }
     }
     Ok(())
+}
+
+/// The four precisions a table's cell is judged in, as (M⁻¹, norm): the f64 entries
+/// `full` (a, b, c, d, norm), their f32 and round-to-nearest binary16 roundings, and the
+/// stored binary16 entries `stored`, in the order of [`Held`]'s fields.
+pub fn precisions(full: [f64; 5], stored: [f64; 5]) -> [(nalgebra::Matrix3<f64>, f64); 4] {
+    let f32v = full.map(|x| x as f32 as f64);
+    let near = full.map(|x| half::f16::from_f64(x).to_f64());
+    [full, f32v, near, stored].map(|v| (inverse_from_production(&[v[0], v[1], v[2], v[3]]), v[4]))
 }
 
 /// The held-out error of a fitted table over its cells (the f64 cells).

@@ -74,6 +74,24 @@ impl Default for Tolerance {
     }
 }
 
+impl Tolerance {
+    /// The default's absolute floor and budget with relative tolerance `rel`: what a
+    /// table's spec sets (`held_out_rel`), chosen from the accuracy-against-work curve of
+    /// the `ltc-judge-tolerance` study.
+    pub fn relative(rel: f64) -> Tolerance {
+        Tolerance {
+            rel,
+            ..Tolerance::default()
+        }
+    }
+
+    /// The bounds a spec's `held_out_rel` must lie in: 1e-6 (the cubature's panels reach
+    /// the f64 floor of the figures' integrals below it) to 0.1.
+    pub fn check_relative(rel: f64) -> std::result::Result<(), String> {
+        crate::fit::spec::within("held_out_rel", rel, 1e-6, 0.1)
+    }
+}
+
 /// √(a/b) and c/d with the half-widths of the intervals [a ± ea]/[b ∓ eb] put around them.
 fn ratios(
     a: f64,

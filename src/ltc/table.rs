@@ -18,6 +18,19 @@ pub struct FittedTable {
 pub const MAX_SIDE: usize = 1024;
 
 impl FittedTable {
+    /// A fingerprint of the f64 table (FNV-1a over its side and every entry's bits, in
+    /// file order), as hex: what identifies the table a stored comparison was made
+    /// against, whatever tolerance its held-out figures were judged to.
+    pub fn fingerprint(&self) -> String {
+        let mut bytes = (self.n as u64).to_le_bytes().to_vec();
+        for c in &self.cells {
+            for v in c {
+                bytes.extend_from_slice(&v.to_bits().to_le_bytes());
+            }
+        }
+        format!("{:016x}", crate::io::fnv1a(&bytes))
+    }
+
     /// Cell (i, j).
     pub fn cell(&self, i: usize, j: usize) -> &[f64; 6] {
         &self.cells[i + self.n * j]

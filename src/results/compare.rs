@@ -17,6 +17,10 @@ pub struct LtcCompare {
     /// The held-out mean relative L2 of our table when the comparison ran (identifies
     /// the table it was made against).
     pub ours_table_mean_l2: f64,
+    /// The fingerprint of our table when the comparison ran (`FittedTable::fingerprint`;
+    /// absent in a file written before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ours_table_fingerprint: Option<String>,
     pub convention: String,
     /// Per place ("three.js FloatType cells", …).
     pub summary: Vec<(String, Summary)>,

@@ -143,6 +143,49 @@ pub struct RouteComparison {
     pub cells: usize,
 }
 
+/// results/fits/ltc-judge-tolerance.json (on request): the held-out judge's accuracy
+/// against its work, per published table, at each relative tolerance.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct JudgeTolerance {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub tables: Vec<JudgeCurve>,
+}
+
+impl super::ResultFile for JudgeTolerance {
+    const NAME: &'static str = super::names::LTC_JUDGE_TOLERANCE;
+}
+
+/// One table's curve: the cells judged, the tolerance its spec chose, one point per
+/// tolerance (the first the reference).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct JudgeCurve {
+    pub table: String,
+    pub cells: usize,
+    pub chosen_rel: f64,
+    pub points: Vec<JudgePoint>,
+}
+
+/// The judge at one relative tolerance, over the cells of a curve (the f64 cells' figures).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct JudgePoint {
+    pub rel: f64,
+    /// Integrand evaluations per cell (all four precisions judged together).
+    pub evals_per_cell: f64,
+    /// Mean relative L2 within the mean of the cells' bars.
+    pub l2_mean: Figure<Quad>,
+    /// The largest bar of any cell's relative L2 or L1.
+    pub largest_bar: f64,
+    /// The largest |change| of a cell's relative L2 or L1 against the reference tolerance.
+    pub largest_change: f64,
+    /// Figures (relative L2 and L1 per cell) whose change against the reference exceeds the
+    /// two bars together: a bar that failed to bound its figure.
+    pub beyond_bars: usize,
+    /// Cells whose integrals missed the tolerance within the evaluation budget.
+    pub unconverged: usize,
+}
+
 /// One optimiser/metric variant and its held-out summary on the sub-grid.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Variant {

@@ -6,8 +6,9 @@
 use crate::study::Study;
 
 use super::{
-    filters, leadr_grids, ltc_aniso, ltc_ggx, ltc_lobes, ltc_optimisers, multiscale_alpha_me,
-    multiscale_convolution, render, smith_lambda, tensor, tensor_scale, visibility,
+    filters, leadr_grids, ltc_aniso, ltc_ggx, ltc_judge_tolerance, ltc_lobes, ltc_optimisers,
+    multiscale_alpha_me, multiscale_convolution, render, smith_lambda, tensor, tensor_scale,
+    visibility,
 };
 
 /// Every study, as data.
@@ -24,6 +25,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &visibility::Visibility,
     &ltc_aniso::LtcAniso,
     &ltc_optimisers::LtcGgxOptimisers,
+    &ltc_judge_tolerance::LtcJudgeTolerance,
     &render::RenderStudy,
     &filters::Filters,
 ];

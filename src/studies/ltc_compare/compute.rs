@@ -69,6 +69,7 @@ pub(super) fn judge_places(tables: &Tables, square: bool) -> Result<Vec<Judged>>
             &t,
             albedo,
             &places.iter().map(|(_, e)| *e).collect::<Vec<_>>(),
+            crate::ltc::lobe_error::Tolerance::default(),
         );
         let mut out = [None; 5];
         let mut sampled = [f64::NAN; 5];

@@ -157,6 +157,7 @@ pub fn run(
         }
         .into(),
         ours_table_mean_l2: crate::results::compare::ours_mean_l2(results)?,
+        ours_table_fingerprint: Some(table.fingerprint()),
         convention: "α = max(r², 1e-5); uv = (r, t)·63/64 + 0.5/64, bilinear; three.js: r ≥ 0.045"
             .into(),
         summary: forms

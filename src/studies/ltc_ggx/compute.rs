@@ -25,6 +25,9 @@ pub struct Plan {
     pub polish: Polish,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
+    /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
+    /// chosen from the accuracy-against-work curve of the `ltc-judge-tolerance` study.
+    pub held_out_rel: f64,
     /// The pipeline section: map side, mip levels, footprints per level, and the truth's
     /// relative tolerance.
     pub pipeline_size: usize,
@@ -47,7 +50,8 @@ impl crate::fit::spec::Params for Plan {
         let top = self.pipeline_size.trailing_zeros() as usize;
         all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
         within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;
-        within("pipeline_tolerance", self.pipeline_tolerance, 1e-9, 0.1)
+        within("pipeline_tolerance", self.pipeline_tolerance, 1e-9, 0.1)?;
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
     }
 }
 

@@ -62,18 +62,18 @@ fn intro(c: &Computed) -> String {
         crate::ltc::fit::ALBEDO_TOL,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
     );
-    md.push_str(&held_out_section(st));
+    md.push_str(&held_out_section(st, Tolerance::relative(pl.held_out_rel)));
     md.push_str(" ![error](ltc-error.svg)\n\n");
     md.push_str(&format!("{}\n\n", c.sampled.sentence(st.l2.mean.value)));
     md
 }
 
 /// The held-out paragraph of a table: both figures, mean and largest, with error bars.
-pub fn held_out_section(st: &Stats) -> String {
+pub fn held_out_section(st: &Stats, tol: Tolerance) -> String {
     format!(
         "## Table error (held-out, as integrals)\n\nEach cell's lobe error is computed as integrals over the whole sphere to a stated accuracy, not sampled: ∫(f − norm·γ_M)², ∫f², ∫|f − norm·γ_M| and ∫f by adaptive cubature on charts that follow the BRDF's lobe and the LTC's (`ltc::lobe_error`), each figure ± the half-width of the interval its integrals' errors allow (K15 ⊗ K15 panels against the G7 ⊗ G7 rule on the same panels; tolerance {:e} relative or {:e} absolute per figure, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}.",
-        Tolerance::default().rel,
-        Tolerance::default().abs,
+        tol.rel,
+        tol.abs,
         st.converged,
         st.cells,
         st.l2.mean.pct(2),
@@ -102,6 +102,8 @@ pub struct Computed {
     precision: precision::Precision,
     polygons: polygons::Polygons,
     pipeline: pipeline::Pipeline,
+    /// The published table's fingerprint (`FittedTable::fingerprint`).
+    fingerprint: String,
 }
 
 /// The study: fit the table and measure it.
@@ -112,11 +114,16 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
-    held::judge_table(&Memo, &mut main, &GgxTarget::new, Tolerance::default())?;
+    held::judge_table(
+        &Memo,
+        &mut main,
+        &GgxTarget::new,
+        Tolerance::relative(pl.held_out_rel),
+    )?;
     let st = stats(&main);
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
     let structure = table::measure_structure(&main);
-    let between = table::measure_between(&main)?;
+    let between = table::measure_between(&main, Tolerance::relative(pl.held_out_rel))?;
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
     let polygons = polygons::measure(&main, pl.mc)?;
@@ -137,6 +144,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         precision,
         polygons,
         pipeline,
+        fingerprint: stored.fingerprint(),
     })
 }
 
@@ -161,7 +169,11 @@ fn markdown(c: &Computed) -> String {
     ));
     md.push_str(&table::structure_section(&c.structure));
     md.push_str(&table::between_section(&c.between, &c.held));
-    md.push_str(&shipped::section(c.compare.as_ref(), c.held.l2.mean.value));
+    md.push_str(&shipped::section(
+        c.compare.as_ref(),
+        c.held.l2.mean,
+        &c.fingerprint,
+    ));
     md.push_str(&precision::section(&c.precision));
     md.push_str(OPTIMISERS);
     md.push_str(&polygons::section(&c.polygons));

@@ -4,13 +4,23 @@ use crate::report::table::Table;
 use crate::results::compare::LtcCompare;
 
 /// §2: the stored comparison with the shipped table (results/ltc-compare.json, written by
-/// `ltc-compare`; the shipped file itself is never committed), `None` where not run, and
-/// our table's mean held-out relative L2 to tell whether it is stale.
-pub(super) fn section(compare: Option<&LtcCompare>, our_mean_l2: f64) -> String {
+/// `ltc-compare`; the shipped file itself is never committed), `None` where not run. It is
+/// stale when it was made against another table: another fingerprint (`FittedTable::
+/// fingerprint`), or, in a file without one, a mean held-out relative L2 further from
+/// ours than our mean's bar — the same table judged to another tolerance moves its mean
+/// within that bar.
+pub(super) fn section(
+    compare: Option<&LtcCompare>,
+    our_mean_l2: crate::integrate::Figure<crate::integrate::Quad>,
+    our_fingerprint: &str,
+) -> String {
     let mut md = String::from("## Against the shipped table\n\n");
     match compare {
         Some(v) => {
-            let stale = (v.ours_table_mean_l2 - our_mean_l2).abs() > 1e-12;
+            let stale = match &v.ours_table_fingerprint {
+                Some(f) => f != our_fingerprint,
+                None => (v.ours_table_mean_l2 - our_mean_l2.value).abs() > our_mean_l2.error,
+            };
             md.push_str(&format!(
                 "From `{}` (results/ltc-compare.md, per-cell and per-square numbers in results/ltc-compare.json){}{}; norms: {}. Relative L2 of each table against the BRDF (held-out integrals, each mean ± its error bar), and the places where ours is lower or higher by more than both error bars together:\n\n",
                 v.command,

@@ -150,7 +150,10 @@ pub(super) struct Between {
     worst: (usize, usize),
 }
 
-pub(super) fn measure_between(main: &Table) -> Result<Between> {
+pub(super) fn measure_between(
+    main: &Table,
+    tol: crate::ltc::lobe_error::Tolerance,
+) -> Result<Between> {
     let n = main.grid.n;
     let table = crate::ltc::compare::Shipped {
         n,
@@ -165,8 +168,14 @@ pub(super) fn measure_between(main: &Table) -> Result<Between> {
         .flat_map(|j| (1..n - 1).step_by(step).map(move |i| (i, j)))
         .collect();
     let mids = crate::memo::map_items("ltc between cells", &squares, |&(i, j)| {
-        crate::ltc::compare::midpoint_error_of(&table, i, j, main.grid.alpha_min, &GgxTarget::new)
-            .map(|e| e.0)
+        crate::ltc::compare::midpoint_error_of(
+            &table,
+            (i, j),
+            main.grid.alpha_min,
+            &GgxTarget::new,
+            tol,
+        )
+        .map(|e| e.0)
     })?;
     let l2 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l2)));
     let l1 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l1)));

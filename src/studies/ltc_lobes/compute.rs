@@ -58,6 +58,9 @@ pub struct Plan {
     pub polish: Polish,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
+    /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
+    /// chosen from the accuracy-against-work curve of the `ltc-judge-tolerance` study.
+    pub held_out_rel: f64,
 }
 
 impl crate::fit::spec::Params for Plan {
@@ -68,7 +71,8 @@ impl crate::fit::spec::Params for Plan {
             self.samples,
             self.max_iters,
             self.mc,
-        )
+        )?;
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
     }
 }
 
@@ -109,7 +113,12 @@ pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
     pb.finish();
     let bilinear = bilinear_pass(&Memo, &mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut table, &target, pl.samples)?;
-    crate::ltc::held::judge_table(&Memo, &mut table, &target, Tolerance::default())?;
+    crate::ltc::held::judge_table(
+        &Memo,
+        &mut table,
+        &target,
+        Tolerance::relative(pl.held_out_rel),
+    )?;
     Ok(Fitted {
         lobe,
         table,

@@ -10,7 +10,7 @@ use crate::error::Result;
 use crate::integrate::{Figure, Quad};
 use crate::ltc::compare::{cell_error_of, midpoint_error_of, Shipped};
 use crate::ltc::fit::{inverse_from_production, Cell, Table};
-use crate::ltc::lobe_error::{Change, LobeError, Spread};
+use crate::ltc::lobe_error::{Change, LobeError, Spread, Tolerance};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
@@ -168,6 +168,7 @@ fn against(
     t: &Table,
     lobe: Lobe,
     entries: &(dyn Fn(usize, usize, &Cell) -> Vec<([f64; 4], f64)> + Sync),
+    tol: Tolerance,
 ) -> Result<Vec<Vec<(Option<LobeError>, (f64, f64))>>> {
     let cells = flat(t);
     let n = t.grid.n;
@@ -175,7 +176,7 @@ fn against(
         let c = cells[k];
         let tgt = lobe.target(c.alpha, c.theta)?;
         let (albedo, _, _) = tgt.albedo(1e-8);
-        Ok(cell_error_of(&tgt, albedo, &entries(k % n, k / n, c)))
+        Ok(cell_error_of(&tgt, albedo, &entries(k % n, k / n, c), tol))
     })?;
     let k = errs.first().map_or(0, |e| e.len());
     Ok((0..k)
@@ -300,7 +301,13 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         .collect();
     let mid_errs: Vec<(Option<LobeError>, f64)> =
         crate::memo::map_items("lobe table between cells", &squares, |&(i, j)| {
-            midpoint_error_of(&sh, i, j, t.grid.alpha_min, &target)
+            midpoint_error_of(
+                &sh,
+                (i, j),
+                t.grid.alpha_min,
+                &target,
+                Tolerance::relative(pl.held_out_rel),
+            )
         })?;
     // a lobe with (almost) no energy has no relative error worth a mean: between cells
     // whose albedos differ by orders of magnitude (sheen seen head-on at small α) the
@@ -386,6 +393,7 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
                 (c.inv, c.norm),
             ]
         },
+        Tolerance::relative(pl.held_out_rel),
     )?;
     let mt = &main.table;
     let on_variant = against(
@@ -393,6 +401,7 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         vt,
         fam.variant,
         &|i, j, _| vec![full(&mt.cells[j][i])],
+        Tolerance::relative(pl.held_out_rel),
     )?;
     let bounded = |k: usize| -> Located {
         let rows: Vec<(Option<LobeError>, (f64, f64))> = on_main[k]

@@ -22,8 +22,15 @@ fn both(l: &Located) -> String {
     )
 }
 
-fn table_section(md: &mut String, f: &Fitted, st: &Stats, r: &TableReport, file: &str) {
-    let tol = crate::ltc::lobe_error::Tolerance::default();
+fn table_section(
+    md: &mut String,
+    f: &Fitted,
+    st: &Stats,
+    r: &TableReport,
+    file: &str,
+    held_out_rel: f64,
+) {
+    let tol = crate::ltc::lobe_error::Tolerance::relative(held_out_rel);
     md.push_str(&format!(
         "## {} (results/fits/{file}.json)\n\nTarget: {}.\n\nHeld-out error of every cell, as integrals over the whole sphere (`ltc::lobe_error`: adaptive cubature on charts that follow the lobe and the LTC, each figure ± the half-width its integrals' errors allow; tolerance {:e} relative or {:e} absolute, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}. Bilinear pass: {} of {} cells moved. Fit cost: results/performance.md (criterion's time per cell; the main job's wall clock per study).\n\n",
         f.lobe.short(), f.lobe.describe(), tol.rel, tol.abs, st.converged, st.cells, st.l2.mean.pct(2), st.l2.max.pct(1), st.worst_cell.0, st.worst_cell.1, st.l1.mean.pct(2), st.l1.max.pct(1), st.mean_iters,
@@ -146,8 +153,15 @@ pub(super) fn markdown(
         polish = pl.polish.describe(pl.samples),
         it = pl.max_iters
     );
-    table_section(&mut md, main, &held[0], &r.main, fam.name);
-    table_section(&mut md, variant, &held[1], &r.variant, fam.variant_name);
+    table_section(&mut md, main, &held[0], &r.main, fam.name, pl.held_out_rel);
+    table_section(
+        &mut md,
+        variant,
+        &held[1],
+        &r.variant,
+        fam.variant_name,
+        pl.held_out_rel,
+    );
     let c = &r.cross;
     md.push_str(&format!(
         "## One lobe shaded with the other's table, or with none\n\nHeld-out figures per cell (the same integrals), each table with its own norm:\n\n- the {} table against the {} lobe: {};\n- the {} table against the {} lobe: {};\n",

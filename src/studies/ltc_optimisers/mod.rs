@@ -52,12 +52,20 @@ struct TableRoute {
     samples: usize,
     max_iters: u64,
     polish: Polish,
+    /// The held-out figures' tolerance; a spec from before the key judged to the default.
+    #[serde(default = "default_rel")]
+    held_out_rel: f64,
+}
+
+fn default_rel() -> f64 {
+    crate::ltc::lobe_error::Tolerance::default().rel
 }
 
 impl crate::fit::spec::Params for TableRoute {
     fn check(&self) -> std::result::Result<(), String> {
         crate::fit::spec::within("samples", self.samples, 2, 128)?;
-        crate::fit::spec::within("max_iters", self.max_iters, 1, 100_000)
+        crate::fit::spec::within("max_iters", self.max_iters, 1, 100_000)?;
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
     }
 }
 
@@ -105,7 +113,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         route.max_iters,
         route.polish.describe(route.samples)
     );
-    let reference = reference::compare(&ggx, route.samples, pl.iters, table)?;
+    let tol = crate::ltc::lobe_error::Tolerance::relative(route.held_out_rel);
+    let reference = reference::compare(&ggx, route.samples, pl.iters, tol, table)?;
     Ok(Computed {
         spec: c.spec.clone(),
         preset: c.preset,

@@ -15,12 +15,13 @@ use crate::memo::Memo;
 use crate::results::ltc::{Ggx, RouteComparison};
 
 /// Fit the reference table on the published table's grid (`samples`² per technique,
-/// ≤ `iters` Nelder–Mead iterations per stage) and compare; `table` names the published
-/// table's route.
+/// ≤ `iters` Nelder–Mead iterations per stage), judge it to the published figures'
+/// tolerance `tol` and compare; `table` names the published table's route.
 pub(super) fn compare(
     ggx: &Ggx,
     samples: usize,
     iters: u64,
+    tol: Tolerance,
     table: String,
 ) -> Result<RouteComparison> {
     let grid = ggx.grid;
@@ -38,7 +39,7 @@ pub(super) fn compare(
     )?;
     pb.finish();
     bilinear_pass(&Memo, &mut t, &GgxTarget::new, samples)?;
-    judge_table(&Memo, &mut t, &GgxTarget::new, Tolerance::default())?;
+    judge_table(&Memo, &mut t, &GgxTarget::new, tol)?;
     let pairs: Vec<Option<(Figure<Quad>, Figure<Quad>)>> = t
         .cells
         .iter()

@@ -1,0 +1,345 @@
+//! `regen --only ltc-judge-tolerance` (on request): the held-out judge's accuracy against
+//! its work, the curve each LTC table's spec chooses its `held_out_rel` from.
+//!
+//! For each table the main job fits (GGX, the Estevez–Kulla sheen, the paper's Burley
+//! diffuse; the published files), every `every`-th cell along each axis is judged by
+//! `ltc::lobe_error::judge` in the four precisions a table's judge sees (`ltc::held::
+//! precisions`) at each relative tolerance of `rels`, the first (the tightest) the
+//! reference. Per tolerance:
+//!
+//! - the work: integrand evaluations per cell (deterministic, unlike a wall clock);
+//! - the mean relative L2 of the f64 cells within the mean of their bars, and the largest
+//!   bar;
+//! - the largest change of a cell's relative L2 or L1 against the reference, and how many
+//!   changes exceed the two bars together. Each bar is the cubature's error estimate (a
+//!   multiple of the K15 ⊗ K15 − G7 ⊗ G7 difference), not a proof, so this count is the
+//!   check that the bars a tolerance reports still bound their figures.
+//!
+//! Writes results/ltc-judge-tolerance.{md,svg} and results/fits/ltc-judge-tolerance.json.
+
+use crate::error::{Error, Result};
+use crate::fit::spec::FitSpec;
+use crate::integrate::{Figure, Preset, Quad};
+use crate::io::Outputs;
+use crate::ltc::fit::Grid;
+use crate::ltc::lobe_error::{judge, LobeError, Tolerance};
+use crate::ltc::lobes::Lobe;
+use crate::ltc::target::{GgxTarget, LtcTarget};
+use crate::report::table::{Align, Table};
+use crate::results::ltc::{JudgeCurve, JudgePoint, JudgeTolerance};
+use crate::study::{Ctx, FitOutcome};
+
+/// What fits/ltc-judge-tolerance.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Judge every `every`-th cell along each axis of each table.
+    pub every: usize,
+    /// The relative tolerances, strictly increasing; the first is the reference.
+    pub rels: Vec<f64>,
+}
+
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        crate::fit::spec::within("every", self.every, 1, 64)?;
+        crate::fit::spec::within("rels (its length)", self.rels.len(), 2, 16)?;
+        for &r in &self.rels {
+            Tolerance::check_relative(r)?;
+        }
+        if self.rels.windows(2).all(|w| w[0] < w[1]) {
+            Ok(())
+        } else {
+            Err(format!(
+                "rels = {:?} must increase strictly (the first is the reference)",
+                self.rels
+            ))
+        }
+    }
+}
+
+/// The keys of a published table's spec this study reads.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+struct Chosen {
+    /// A spec from before the key judged to the default tolerance.
+    #[serde(default = "default_rel")]
+    held_out_rel: f64,
+}
+
+fn default_rel() -> f64 {
+    Tolerance::default().rel
+}
+
+impl crate::fit::spec::Params for Chosen {
+    fn check(&self) -> std::result::Result<(), String> {
+        Tolerance::check_relative(self.held_out_rel)
+    }
+}
+
+/// What a published LTC table file holds that this study needs besides its table.
+#[derive(serde::Deserialize)]
+struct Published {
+    spec: FitSpec,
+    preset: String,
+    grid: Grid,
+}
+
+/// The tables judged: file name and lobe (`None`: GGX).
+const TABLES: [(&str, Option<Lobe>); 3] = [
+    ("ltc-ggx", None),
+    ("ltc-sheen", Some(Lobe::SheenEstevezKulla)),
+    ("ltc-diffuse", Some(Lobe::BurleyPaper)),
+];
+
+/// What the study computed.
+pub struct Computed {
+    result: JudgeTolerance,
+}
+
+/// The study: every table's curve.
+pub fn compute(c: &Ctx) -> Result<Computed> {
+    let pl: Plan = c.params()?;
+    let mut tables = Vec::new();
+    for (name, lobe) in TABLES {
+        crate::report::stage(&format!("regen ltc-judge-tolerance: {name}"));
+        tables.push(match lobe {
+            None => curve(c.results, name, &GgxTarget::new, &pl)?,
+            Some(l) => curve(c.results, name, &move |a, t| l.target(a, t), &pl)?,
+        });
+    }
+    Ok(Computed {
+        result: JudgeTolerance {
+            spec: c.spec.clone(),
+            command: crate::results::command(&c.spec.name),
+            preset: c.preset.name().into(),
+            tables,
+        },
+    })
+}
+
+/// One table's curve (see the module doc).
+fn curve<T: LtcTarget>(
+    results: &std::path::Path,
+    name: &str,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    pl: &Plan,
+) -> Result<JudgeCurve> {
+    let table = crate::results::ltc::table(results, name)?;
+    let p: Published = crate::results::require_named(results, name)?;
+    let n = table.n;
+    if p.grid.n != n {
+        return Err(Error::InvalidArgument(format!(
+            "results/fits/{name}.json: a {n}×{n} table under a grid of side {}",
+            p.grid.n
+        )));
+    }
+    let preset = Preset::ALL
+        .into_iter()
+        .find(|x| x.name() == p.preset)
+        .ok_or_else(|| {
+            Error::InvalidArgument(format!(
+                "results/fits/{name}.json: unknown preset '{}'",
+                p.preset
+            ))
+        })?;
+    let chosen: Chosen = p.spec.params(preset)?;
+    let cells: Vec<(usize, usize)> = (0..n)
+        .step_by(pl.every)
+        .flat_map(|j| (0..n).step_by(pl.every).map(move |i| (i, j)))
+        .collect();
+    let judged: Vec<Vec<Option<LobeError>>> = pl
+        .rels
+        .iter()
+        .map(|&rel| {
+            let label = format!("judge tolerance {name} {rel:e}");
+            crate::memo::map_items(&label, &cells, |&(i, j)| {
+                let k = i + n * j;
+                let e = table.cells[k];
+                let full = [e[0], e[1], e[2], e[3], e[4]];
+                let stored = match &table.half {
+                    Some(h) => std::array::from_fn(|q| h[k][q].to_f64()),
+                    None => full.map(|x| half::f16::from_f64(x).to_f64()),
+                };
+                let t = target(p.grid.alpha(i), p.grid.theta(j))?;
+                let inv = crate::ltc::held::precisions(full, stored);
+                Ok(judge(&t, e[4], &inv, Tolerance::relative(rel))[0])
+            })
+        })
+        .collect::<Result<_>>()?;
+    let reference = &judged[0];
+    let points = pl
+        .rels
+        .iter()
+        .zip(&judged)
+        .map(|(&rel, v)| point(rel, v, reference))
+        .collect();
+    Ok(JudgeCurve {
+        table: name.into(),
+        cells: cells.len(),
+        chosen_rel: chosen.held_out_rel,
+        points,
+    })
+}
+
+/// One tolerance's figures against the reference's, cell by cell.
+fn point(rel: f64, v: &[Option<LobeError>], reference: &[Option<LobeError>]) -> JudgePoint {
+    let l2: Vec<Figure<Quad>> = v.iter().flatten().map(|e| e.l2).collect();
+    let both = |e: &LobeError| [e.l2, e.l1];
+    let mut largest_change: f64 = 0.0;
+    let mut beyond_bars = 0;
+    for (e, r) in v.iter().zip(reference) {
+        if let (Some(e), Some(r)) = (e, r) {
+            for (a, b) in both(e).iter().zip(both(r)) {
+                let d = (a.value - b.value).abs();
+                largest_change = largest_change.max(d);
+                beyond_bars += usize::from(d > a.error + b.error);
+            }
+        }
+    }
+    let cells = v.len().max(1) as f64;
+    JudgePoint {
+        rel,
+        evals_per_cell: v.iter().flatten().map(|e| e.evals as f64).sum::<f64>() / cells,
+        l2_mean: Figure::mean_bounded(&l2),
+        largest_bar: v
+            .iter()
+            .flatten()
+            .flat_map(|e| both(e).map(|f| f.error))
+            .fold(0.0, f64::max),
+        largest_change,
+        beyond_bars,
+        unconverged: v.iter().filter(|e| !e.is_some_and(|e| e.converged)).count(),
+    }
+}
+
+fn markdown(r: &JudgeTolerance) -> String {
+    let mut md = format!(
+        "# The held-out judge: accuracy against work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). Each LTC table's held-out figures are integrals by adaptive cubature (`ltc::lobe_error`) refined until each figure's bar is below a relative tolerance; this is the curve that tolerance is chosen from (each table spec's `held_out_rel`). Per table: the cells of the published file judged (every `every`-th along each axis), in the four precisions its judge sees together (f64, f32, binary16 nearest, the stored binary16); the figures are the f64 cells'. Work is integrand evaluations per cell (what the judge's time is proportional to, and deterministic). A change beyond both bars is a cell whose relative L2 or L1 moved from the reference tolerance's by more than the two bars together: the bars are the cubature's error estimates, and this counts where one failed to bound its figure.\n\n![accuracy against work](ltc-judge-tolerance.svg)\n\n",
+        r.command, r.preset, r.spec.name
+    );
+    for c in &r.tables {
+        let reference = c.points.first().map_or(f64::NAN, |p| p.evals_per_cell);
+        md.push_str(&format!(
+            "## {} ({} cells; the table's tolerance {:e})\n\n",
+            c.table, c.cells, c.chosen_rel
+        ));
+        let mut t = Table::new([
+            "relative tolerance",
+            "evaluations per cell",
+            "of the reference's",
+            "mean relative L2",
+            "largest bar (points)",
+            "largest change (points)",
+            "changes beyond both bars",
+            "cells not converged",
+        ]);
+        for col in 1..8 {
+            t = t.align(col, Align::Right);
+        }
+        for p in &c.points {
+            let mark = if p.rel == c.chosen_rel {
+                " (the table's)"
+            } else {
+                ""
+            };
+            t.row([
+                format!("{:e}{mark}", p.rel),
+                format!("{:.0}", p.evals_per_cell),
+                format!("{:.2}", p.evals_per_cell / reference),
+                p.l2_mean.pct_fixed(5),
+                format!("{:.5}", 100.0 * p.largest_bar),
+                format!("{:.5}", 100.0 * p.largest_change),
+                p.beyond_bars.to_string(),
+                p.unconverged.to_string(),
+            ]);
+        }
+        md.push_str(&format!("{t}\n"));
+    }
+    md
+}
+
+fn plot(r: &JudgeTolerance) -> Result<String> {
+    use crate::report::plot::{loglog_svg, Panel, Series};
+    let series = |y: &dyn Fn(&JudgePoint) -> f64| -> Vec<Series> {
+        r.tables
+            .iter()
+            .map(|c| Series {
+                name: c.table.clone(),
+                points: c
+                    .points
+                    .iter()
+                    .map(|p| (p.evals_per_cell, 100.0 * y(p)))
+                    .collect(),
+            })
+            .collect()
+    };
+    loglog_svg(
+        &[
+            Panel {
+                title: "Bar of the mean relative L2 against work".into(),
+                x_label: "integrand evaluations per cell".into(),
+                y_label: "mean bar (percentage points)".into(),
+                series: series(&|p| p.l2_mean.error),
+            },
+            Panel {
+                title: "Largest change against the reference tolerance".into(),
+                x_label: "integrand evaluations per cell".into(),
+                y_label: "largest |change| (percentage points)".into(),
+                series: series(&|p| p.largest_change),
+            },
+        ],
+        1200,
+        480,
+    )
+}
+
+impl crate::study::Computed for Computed {
+    fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
+        let name = &self.result.spec.name;
+        set.put(
+            &results.join(format!("{name}.md")),
+            markdown(&self.result).as_bytes(),
+        );
+        set.put(
+            &results.join(format!("{name}.svg")),
+            plot(&self.result)?.as_bytes(),
+        );
+        crate::results::put(set, results, &self.result)
+    }
+
+    fn outcome(&self) -> FitOutcome {
+        // at each table's own tolerance: the changes its bars failed to bound
+        let at_chosen: Vec<(String, JudgePoint)> = self
+            .result
+            .tables
+            .iter()
+            .filter_map(|c| {
+                c.points
+                    .iter()
+                    .find(|p| p.rel == c.chosen_rel)
+                    .map(|p| (c.table.clone(), *p))
+            })
+            .collect();
+        FitOutcome::measured(
+            &self.result.spec,
+            at_chosen
+                .iter()
+                .map(|p| p.1.largest_change)
+                .fold(0.0, f64::max),
+            at_chosen
+                .iter()
+                .map(|(t, p)| {
+                    format!(
+                        "{t} at {:e}: {:.0} evaluations per cell, {} changes beyond both bars",
+                        p.rel, p.evals_per_cell, p.beyond_bars
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        )
+    }
+}
+
+crate::study::study! {
+    /// The held-out judge's accuracy against its work, as the registry holds it.
+    LtcJudgeTolerance = "ltc-judge-tolerance", after ["ltc-ggx", "ltc-sheen", "ltc-diffuse"], on request true, params Plan, computes compute
+}
