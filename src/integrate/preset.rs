@@ -53,6 +53,14 @@ impl Preset {
             .into_iter()
             .find(|p| p.name() == s)
     }
+    /// The preset a published result names (its `preset` field), or a typed error naming
+    /// the file `what`.
+    pub fn named(name: &str, what: &str) -> crate::error::Result<Preset> {
+        Preset::parse(name).ok_or_else(|| {
+            crate::error::Error::InvalidArgument(format!("{what}: unknown preset '{name}'"))
+        })
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Preset::Quick => "quick",

@@ -132,15 +132,7 @@ fn curve<T: LtcTarget>(
             p.grid.n
         )));
     }
-    let preset = Preset::ALL
-        .into_iter()
-        .find(|x| x.name() == p.preset)
-        .ok_or_else(|| {
-            Error::InvalidArgument(format!(
-                "results/fits/{name}.json: unknown preset '{}'",
-                p.preset
-            ))
-        })?;
+    let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
     let chosen: Chosen = p.spec.params(preset)?;
     let cells: Vec<(usize, usize)> = (0..n)
         .step_by(pl.every)

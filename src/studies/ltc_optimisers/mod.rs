@@ -86,15 +86,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let pl: Plan = c.params()?;
     let ggx: Ggx = crate::results::require(c.results)?;
     check_published(&ggx, c.results)?;
-    let table_preset = Preset::ALL
-        .into_iter()
-        .find(|p| p.name() == ggx.preset)
-        .ok_or_else(|| {
-            Error::InvalidArgument(format!(
-                "results/fits/ltc-ggx.json: unknown preset '{}'",
-                ggx.preset
-            ))
-        })?;
+    let table_preset = Preset::named(&ggx.preset, "results/fits/ltc-ggx.json")?;
     let route: TableRoute = ggx.spec.params(table_preset)?;
     let sub = Grid {
         n: pl.sub,
