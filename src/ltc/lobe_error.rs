@@ -85,6 +85,12 @@ impl Tolerance {
         }
     }
 
+    /// The default's relative tolerance: what a spec written before `held_out_rel` judged
+    /// to (the serde default of the readers of a published spec).
+    pub fn default_relative() -> f64 {
+        Tolerance::default().rel
+    }
+
     /// The bounds a spec's `held_out_rel` must lie in: 1e-6 (the cubature's panels reach
     /// the f64 floor of the figures' integrals below it) to 0.1.
     pub fn check_relative(rel: f64) -> std::result::Result<(), String> {

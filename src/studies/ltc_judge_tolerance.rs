@@ -61,12 +61,8 @@ impl crate::fit::spec::Params for Plan {
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 struct Chosen {
     /// A spec from before the key judged to the default tolerance.
-    #[serde(default = "default_rel")]
+    #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]
     held_out_rel: f64,
-}
-
-fn default_rel() -> f64 {
-    Tolerance::default().rel
 }
 
 impl crate::fit::spec::Params for Chosen {
@@ -187,7 +183,8 @@ fn point(rel: f64, v: &[Option<LobeError>], reference: &[Option<LobeError>]) -> 
             }
         }
     }
-    let cells = v.len().max(1) as f64;
+    // over the cells judged (a singular cell has no figures and no count)
+    let cells = v.iter().flatten().count().max(1) as f64;
     JudgePoint {
         rel,
         evals_per_cell: v.iter().flatten().map(|e| e.evals as f64).sum::<f64>() / cells,

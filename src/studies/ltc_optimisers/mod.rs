@@ -53,12 +53,8 @@ struct TableRoute {
     max_iters: u64,
     polish: Polish,
     /// The held-out figures' tolerance; a spec from before the key judged to the default.
-    #[serde(default = "default_rel")]
+    #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]
     held_out_rel: f64,
-}
-
-fn default_rel() -> f64 {
-    crate::ltc::lobe_error::Tolerance::default().rel
 }
 
 impl crate::fit::spec::Params for TableRoute {
