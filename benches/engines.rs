@@ -437,6 +437,94 @@ fn tensor(c: &mut Criterion) {
     g.finish();
 }
 
+/// Seed 002 Table 3: one BRDF evaluation and one BRDF sample of the glinty BRDF (D from
+/// a point query of the compressed P-NDF; sampling by block CDF, hierarchical descent and
+/// tent, Fig 8) against a plain GGX microfacet BRDF (Walter et al. 2007; visible-normal
+/// sampling), at ranks 8, 16 and 32, over the same 1024 inputs in turn.
+fn tensor_brdf(c: &mut Criterion) {
+    use ndfbench::tensor::brdf::{table3_ndf, Glinty, Microfacet};
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2022);
+    let incident: Vec<[f64; 3]> = (0..1024)
+        .map(|_| {
+            let (ct, phi) = (
+                0.35 + 0.65 * rng.random::<f64>(),
+                std::f64::consts::TAU * rng.random::<f64>(),
+            );
+            let st = (1.0 - ct * ct).sqrt();
+            [st * phi.cos(), st * phi.sin(), ct]
+        })
+        .collect();
+    let us: Vec<[f64; 4]> = (0..1024).map(|_| rng.random()).collect();
+    let plain = Microfacet {
+        alpha: 0.1,
+        f0: 0.9,
+    };
+    let mut g = c.benchmark_group("tensor-brdf");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    let mut pairs_for = |glinty: &Glinty| -> Vec<([f64; 3], [f64; 3])> {
+        // (i, o) pairs whose half vector lies where the footprint's NDF is not zero
+        let mut pairs = Vec::new();
+        let mut k = 0usize;
+        while pairs.len() < 1024 && k < 1 << 20 {
+            let i = incident[k % 1024];
+            if let Some(s) = glinty.sample(&i, rng.random()) {
+                pairs.push((i, s.o));
+            }
+            k += 1;
+        }
+        pairs
+    };
+    let mut micro_pairs = None;
+    for rank in [8usize, 16, 32] {
+        let Ok(ndf) = table3_ndf(rank) else {
+            eprintln!("tensor-brdf: rank {rank} skipped (compression failed)");
+            continue;
+        };
+        let glinty = Glinty {
+            ndf: &ndf,
+            image: 5,
+            alpha_g: 0.1,
+            f0: 0.9,
+        };
+        let pairs = pairs_for(&glinty);
+        let mp = micro_pairs.get_or_insert_with(|| pairs.clone()).clone();
+        let mut k = 0usize;
+        g.bench_with_input(BenchmarkId::new("eval-ours", rank), &rank, |b, _| {
+            b.iter(|| {
+                k = (k + 1) & 1023;
+                let (i, o) = &pairs[k % pairs.len()];
+                glinty.eval(black_box(i), black_box(o))
+            })
+        });
+        g.bench_with_input(BenchmarkId::new("sample-ours", rank), &rank, |b, _| {
+            b.iter(|| {
+                k = (k + 1) & 1023;
+                glinty.sample(black_box(&incident[k]), black_box(us[k]))
+            })
+        });
+        if rank == 8 {
+            g.bench_function("eval-microfacet", |b| {
+                b.iter(|| {
+                    k = (k + 1) & 1023;
+                    let (i, o) = &mp[k % mp.len()];
+                    plain.eval(black_box(i), black_box(o))
+                })
+            });
+            g.bench_function("sample-microfacet", |b| {
+                b.iter(|| {
+                    k = (k + 1) & 1023;
+                    let u = us[k];
+                    plain.sample(black_box(&incident[k]), black_box([u[0], u[1]]))
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
 /// The cost of fitting one LTC cell (Nelder–Mead, and Levenberg–Marquardt on fixed nodes;
 /// four parameters, the default preset's 24×24 samples per technique) and of integrating one pixel's quad light
 /// with each edge form (f64, clipped to the horizon), next to their errors in
@@ -524,6 +612,7 @@ criterion_group!(
     benches,
     ltc,
     tensor,
+    tensor_brdf,
     kernels,
     filters,
     engines,

@@ -67,24 +67,64 @@ pub fn cluster_tensors(
     let nreg = (size / region) * (size / region);
     let mut tensors = Vec::new();
     for reg in 0..nreg {
-        let mut data = Vec::new();
-        let mut l = 0;
-        for (_, img) in images.iter().filter(|(r, _)| *r == reg) {
-            for by in 0..res / t {
-                for bx in 0..res / t {
-                    let block: Vec<f64> = (0..t * t)
-                        .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
-                        .collect();
-                    if block.iter().any(|v| *v > 0.0) {
-                        data.extend(block);
-                        l += 1;
-                    }
-                }
-            }
-        }
-        if l > 0 {
-            tensors.push(Tensor3::new([t, t, l], data)?);
+        let imgs: Vec<&[f64]> = images
+            .iter()
+            .filter(|(r, _)| *r == reg)
+            .map(|(_, img)| img.as_slice())
+            .collect();
+        if let Some(stack) = stack_blocks(&imgs, res, t)? {
+            tensors.push(stack.tensor);
         }
     }
     Ok(tensors)
+}
+
+/// Images cut into t×t blocks and stacked along the third mode, all-zero blocks dropped,
+/// with where each block went.
+#[derive(Clone, Debug)]
+pub struct BlockStack {
+    /// t × t × L.
+    pub tensor: Tensor3,
+    /// slots[image][by · (res/t) + bx]: the depth of that block, `None` for an all-zero one.
+    pub slots: Vec<Vec<Option<usize>>>,
+}
+
+/// Cut res × res images (row-major) into t×t blocks in scan order (block rows, then
+/// columns) and stack the non-zero ones (seed 002 §4.2). `None` when every block is zero;
+/// a typed error when an image has the wrong size or t does not divide res.
+pub fn stack_blocks(images: &[&[f64]], res: usize, t: usize) -> Result<Option<BlockStack>> {
+    if t == 0 || res % t != 0 || images.iter().any(|img| img.len() != res * res) {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "blocks of side {t} need res × res images with t dividing res = {res}"
+        )));
+    }
+    let nb = res / t;
+    let mut data = Vec::new();
+    let mut slots = Vec::with_capacity(images.len());
+    let mut l = 0;
+    for img in images {
+        let mut row = Vec::with_capacity(nb * nb);
+        for by in 0..nb {
+            for bx in 0..nb {
+                let block: Vec<f64> = (0..t * t)
+                    .map(|q| img[(by * t + q / t) * res + bx * t + q % t])
+                    .collect();
+                if block.iter().any(|v| *v > 0.0) {
+                    data.extend(block);
+                    row.push(Some(l));
+                    l += 1;
+                } else {
+                    row.push(None);
+                }
+            }
+        }
+        slots.push(row);
+    }
+    if l == 0 {
+        return Ok(None);
+    }
+    Ok(Some(BlockStack {
+        tensor: Tensor3::new([t, t, l], data)?,
+        slots,
+    }))
 }

@@ -20,12 +20,42 @@ fn clamp0(v: f64) -> f64 {
     v.max(0.0)
 }
 
+/// What the sampler reads of one compressed block: its side t (a power of two), the
+/// reconstruction at a pixel (Eq 6) and the box average (Eq 7). Implemented by a CP with
+/// its SATs, and by any layout of the same numbers a renderer prefers.
+pub trait Block {
+    fn side(&self) -> usize;
+    fn at(&self, i: usize, j: usize, z: usize) -> f64;
+    fn range(&self, x: (usize, usize), y: (usize, usize), z: usize) -> f64;
+}
+
+impl Block for (&Cp, &Sat) {
+    fn side(&self) -> usize {
+        if self.0.shape[1] == self.0.shape[0] {
+            self.0.shape[0]
+        } else {
+            0
+        }
+    }
+    fn at(&self, i: usize, j: usize, z: usize) -> f64 {
+        self.0.at(i, j, z)
+    }
+    fn range(&self, x: (usize, usize), y: (usize, usize), z: usize) -> f64 {
+        range(self.0, self.1, x, y, z)
+    }
+}
+
 /// Descend to a pixel: at each level split the current square into 4 and pick a child
 /// with probability ∝ max(0, its average)·area. `u` is consumed (rescaled) per level.
 /// Returns the pixel and the probability of having chosen it (= v_p/total).
-pub fn descend(cp: &Cp, sat: &Sat, z: usize, mut u: f64) -> Option<(usize, usize, f64)> {
-    let t = cp.shape[0];
-    if !t.is_power_of_two() || cp.shape[1] != t {
+pub fn descend(cp: &Cp, sat: &Sat, z: usize, u: f64) -> Option<(usize, usize, f64)> {
+    descend_in(&(cp, sat), z, u)
+}
+
+/// [`descend`] on any [`Block`].
+pub fn descend_in<B: Block>(b: &B, z: usize, mut u: f64) -> Option<(usize, usize, f64)> {
+    let t = b.side();
+    if !t.is_power_of_two() {
         return None;
     }
     let (mut x0, mut y0, mut size) = (0usize, 0usize, t);
@@ -33,10 +63,7 @@ pub fn descend(cp: &Cp, sat: &Sat, z: usize, mut u: f64) -> Option<(usize, usize
     while size > 1 {
         let h = size / 2;
         let kids = [(x0, y0), (x0 + h, y0), (x0, y0 + h), (x0 + h, y0 + h)];
-        let w: Vec<f64> = kids
-            .iter()
-            .map(|&(a, b)| clamp0(range(cp, sat, (a, a + h - 1), (b, b + h - 1), z)))
-            .collect();
+        let w = kids.map(|(a, c)| clamp0(b.range((a, a + h - 1), (c, c + h - 1), z)));
         let tot: f64 = w.iter().sum();
         if !(tot > 0.0) {
             return None;
@@ -60,27 +87,41 @@ pub fn descend(cp: &Cp, sat: &Sat, z: usize, mut u: f64) -> Option<(usize, usize
 }
 
 /// The normalised piecewise-constant reconstruction at pixel (i, j) (wrapped).
-fn pixel_p(cp: &Cp, z: usize, total: f64, i: i64, j: i64) -> f64 {
-    let t = cp.shape[0] as i64;
-    clamp0(cp.at(i.rem_euclid(t) as usize, j.rem_euclid(t) as usize, z)) / total
+fn pixel_p<B: Block>(b: &B, z: usize, total: f64, i: i64, j: i64) -> f64 {
+    let t = b.side() as i64;
+    clamp0(b.at(i.rem_euclid(t) as usize, j.rem_euclid(t) as usize, z)) / total
 }
 
 /// The sampling density at continuous (x, y): the tent-filtered (bilinear) normalised
 /// reconstruction, wrapped at the border.
 pub fn pdf(cp: &Cp, z: usize, total: f64, x: f64, y: f64) -> f64 {
+    let sat = Sat {
+        f64: Default::default(),
+        f32: Default::default(),
+    };
+    pdf_in(&(cp, &sat), z, total, x, y)
+}
+
+/// [`pdf`] on any [`Block`] (only its pixels are read).
+pub fn pdf_in<B: Block>(b: &B, z: usize, total: f64, x: f64, y: f64) -> f64 {
     // pixel centres at k + 0.5; tent of half-width 1 pixel
     let (fx, fy) = (x - 0.5, y - 0.5);
     let (i0, j0) = (fx.floor() as i64, fy.floor() as i64);
     let (ax, ay) = (fx - i0 as f64, fy - j0 as f64);
-    (1.0 - ax) * (1.0 - ay) * pixel_p(cp, z, total, i0, j0)
-        + ax * (1.0 - ay) * pixel_p(cp, z, total, i0 + 1, j0)
-        + (1.0 - ax) * ay * pixel_p(cp, z, total, i0, j0 + 1)
-        + ax * ay * pixel_p(cp, z, total, i0 + 1, j0 + 1)
+    (1.0 - ax) * (1.0 - ay) * pixel_p(b, z, total, i0, j0)
+        + ax * (1.0 - ay) * pixel_p(b, z, total, i0 + 1, j0)
+        + (1.0 - ax) * ay * pixel_p(b, z, total, i0, j0 + 1)
+        + ax * ay * pixel_p(b, z, total, i0 + 1, j0 + 1)
 }
 
 /// Draw one sample from three uniforms: descent (u0), tent offsets (u1, u2).
 pub fn sample(cp: &Cp, sat: &Sat, z: usize, total: f64, u: [f64; 3]) -> Option<Sample> {
-    let (i, j, _) = descend(cp, sat, z, u[0])?;
+    sample_in(&(cp, sat), z, total, u)
+}
+
+/// [`sample`] on any [`Block`].
+pub fn sample_in<B: Block>(b: &B, z: usize, total: f64, u: [f64; 3]) -> Option<Sample> {
+    let (i, j, _) = descend_in(b, z, u[0])?;
     let tent = |v: f64| {
         if v < 0.5 {
             (2.0 * v).sqrt() - 1.0
@@ -88,13 +129,13 @@ pub fn sample(cp: &Cp, sat: &Sat, z: usize, total: f64, u: [f64; 3]) -> Option<S
             1.0 - (2.0 - 2.0 * v).sqrt()
         }
     };
-    let t = cp.shape[0] as f64;
+    let t = b.side() as f64;
     let x = (i as f64 + 0.5 + tent(u[1])).rem_euclid(t);
     let y = (j as f64 + 0.5 + tent(u[2])).rem_euclid(t);
     Some(Sample {
         x,
         y,
-        pdf: pdf(cp, z, total, x, y),
+        pdf: pdf_in(b, z, total, x, y),
     })
 }
 

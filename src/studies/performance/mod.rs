@@ -105,6 +105,26 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&filters_table(&timed, results)?);
     md.push_str(&kernels_table(set, &timed, results)?);
     md.push_str(&tensor_table(&timed));
+    md.push_str(&crate::studies::tensor::table3::markdown(
+        &|key| {
+            timed
+                .iter()
+                .find(|t| {
+                    t.group == "tensor-brdf"
+                        && (if t.param.is_empty() {
+                            t.function.clone()
+                        } else {
+                            format!("{}/{}", t.function, t.param)
+                        }) == key
+                })
+                .map(|t| crate::studies::tensor::table3::Timing {
+                    mean: t.mean_ns,
+                    lo: t.lo_ns,
+                    hi: t.hi_ns,
+                })
+        },
+        &crate::studies::tensor::table3::cp_errors()?,
+    ));
     md.push_str(&ltc_table(&timed, results)?);
     md.push_str(&deliverables::shaders_table(&timed));
     md.push_str(&deliverables::prefilter_table(&timed));
@@ -261,6 +281,11 @@ fn write_costs(set: &mut crate::io::Outputs, timed: &[Timed], results: &Path) ->
             } else {
                 format!("{}/{}/{}", t.group, t.function, t.param)
             };
+            if t.group == "tensor-brdf" {
+                // Table 3's ratios carry the intervals of both times
+                c.ns.insert(format!("{key}/lo"), t.lo_ns);
+                c.ns.insert(format!("{key}/hi"), t.hi_ns);
+            }
             (key, t.mean_ns)
         } else if t.group.starts_with("kernel-") && t.param == "4096" {
             (format!("{}/{}", t.group, t.function), t.mean_ns / 4096.0)

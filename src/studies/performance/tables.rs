@@ -119,7 +119,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
 pub(super) fn tensor_table(timed: &[Timed]) -> String {
     let rows: Vec<&Timed> = timed
         .iter()
-        .filter(|t| t.group.starts_with("tensor-"))
+        .filter(|t| t.group == "tensor-range" || t.group == "tensor-sample")
         .collect();
     if rows.is_empty() {
         return String::new();

@@ -84,6 +84,8 @@ pub struct Computed {
     pub tensorly: Option<crate::tensor::compare::Report>,
     /// Criterion means by bench id (results/costs.json).
     pub costs: crate::results::costs::Costs,
+    /// The Table 3 bench's CP reconstruction error at each of its ranks.
+    pub table3_errors: Vec<(usize, f64)>,
 }
 
 /// Compress every map kind at every rank, then run the query and sampling checks.
@@ -189,6 +191,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
         sampling: sampling(sampled.as_ref()),
         tensorly,
         costs,
+        table3_errors: super::table3::cp_errors()?,
         s,
     })
 }

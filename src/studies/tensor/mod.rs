@@ -26,6 +26,7 @@ use std::path::Path;
 
 mod compute;
 pub mod report;
+pub mod table3;
 
 use compute::Computed;
 

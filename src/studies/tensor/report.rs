@@ -51,6 +51,17 @@ pub(super) fn markdown(k: &Computed) -> String {
     md.push_str(&query_section(k));
     md.push_str(&sampling_section(k));
     md.push_str(&cost_section(k));
+    md.push_str(&super::table3::markdown(
+        &|key| {
+            let full = format!("tensor-brdf/{key}");
+            Some(super::table3::Timing {
+                mean: k.costs.get(&full)?,
+                lo: k.costs.get(&format!("{full}/lo"))?,
+                hi: k.costs.get(&format!("{full}/hi"))?,
+            })
+        },
+        &k.table3_errors,
+    ));
     md
 }
 
