@@ -123,7 +123,7 @@ pub const OUTPUTS: &[Output] = &[
     o("ltc-aniso.md", Study("ltc-aniso"), "the anisotropic GGX LTC table against the isotropic one"),
     o("ltc-aniso*.svg", Study("ltc-aniso"), "its design study and error plots"),
     o("fits/ltc-aniso.json", Study("ltc-aniso"), "the anisotropic table"),
-    o("tensor.md", Study("tensor"), "seed 002: P-NDF images, CP compression, range queries, sampling"),
+    o("tensor.md", Study("tensor"), "seed 002: P-NDF images, CP compression, range queries, sampling, the shading cost of Table 3"),
     o("tensor-rank.svg", Study("tensor"), "error against CP rank"),
     o("fits/tensor.json", Study("tensor"), "the tensor study's figures"),
     o("tensor-scale.md", Study("tensor-scale"), "seed 002 at the paper's scale (on request only)"),

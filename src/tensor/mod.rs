@@ -12,3 +12,4 @@ pub mod pndf;
 pub mod query;
 pub mod sample;
 pub mod scale;
+pub mod wave;
