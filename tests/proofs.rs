@@ -170,3 +170,15 @@ fn vsm_single_plane() {
 fn box_filter_analytic_integration() {
     check("box-filter-analytic-integration");
 }
+#[test]
+fn wave_fft_direct() {
+    check("wave-fft-direct");
+}
+#[test]
+fn wave_parseval() {
+    check("wave-parseval");
+}
+#[test]
+fn wave_geometric_limit() {
+    check("wave-geometric-limit");
+}

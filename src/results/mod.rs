@@ -136,6 +136,7 @@ pub mod names {
     pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
     pub const SMITH_LAMBDA: &str = "smith-lambda";
     pub const TENSOR: &str = "tensor";
+    pub const TENSOR_WAVE: &str = "tensor-wave";
 }
 
 /// Where the result of the fit `name` lives under `results`.

@@ -24,6 +24,7 @@ mod run;
 pub mod smith_lambda;
 pub mod tensor;
 pub mod tensor_scale;
+pub mod tensor_wave;
 pub mod visibility;
 
 pub use registry::{find, STUDIES};

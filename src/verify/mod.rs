@@ -16,6 +16,7 @@ pub mod survey;
 pub mod tensor;
 pub mod tokuyoshi;
 pub mod visibility;
+pub mod wave;
 
 pub use outcome::{Outcome, Worst};
 
@@ -107,6 +108,18 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "tensor-rank1-box",
             run: tensor::rank1_box,
+        },
+        Check {
+            id: "wave-fft-direct",
+            run: wave::fft_direct,
+        },
+        Check {
+            id: "wave-parseval",
+            run: wave::parseval,
+        },
+        Check {
+            id: "wave-geometric-limit",
+            run: wave::geometric_limit,
         },
         Check {
             id: "gaussian-moment-matching",

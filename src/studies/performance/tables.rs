@@ -93,7 +93,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     }
     md.push_str(&table.to_string());
     md.push_str(&format!(
-        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded on this machine over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval; it warm-starts each cell from its neighbour). The cells above start cold from (ln α, ln α, 0, 0), so their ratio is an upper bound on a warm-started table cell's.\n\n"
+        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded on this machine over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval; it warm-starts each cell from its neighbour). The cells above start cold from (ln α, ln α, 0, 0), which a table cell does not: it starts from its neighbour's fit.\n"
     ));
     md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n");
     let mut table = Table::new([
