@@ -3,6 +3,7 @@
 
 pub mod plot;
 pub mod table;
+pub mod table3;
 
 /// One progress line per stage on stderr, with the time since the first stage: long jobs
 /// say where they are also when stderr is not a terminal (`| tee log`), where indicatif

@@ -550,3 +550,14 @@ pub fn table3_options(rank: usize) -> AlsOptions {
         nonnegative: true,
     }
 }
+
+/// The ranks the Table 3 bench runs.
+pub const TABLE3_RANKS: [usize; 3] = [8, 16, 32];
+
+/// The relative reconstruction error of [`table3_ndf`] at each of [`TABLE3_RANKS`].
+pub fn table3_cp_errors() -> Result<Vec<(usize, f64)>> {
+    TABLE3_RANKS
+        .iter()
+        .map(|&r| Ok((r, table3_ndf(r)?.cp().rel_error)))
+        .collect()
+}

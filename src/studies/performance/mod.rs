@@ -105,7 +105,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&filters_table(&timed, results)?);
     md.push_str(&kernels_table(set, &timed, results)?);
     md.push_str(&tensor_table(&timed));
-    md.push_str(&crate::studies::tensor::table3::markdown(
+    md.push_str(&crate::report::table3::markdown(
         &|key| {
             timed
                 .iter()
@@ -117,13 +117,13 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
                             format!("{}/{}", t.function, t.param)
                         }) == key
                 })
-                .map(|t| crate::studies::tensor::table3::Timing {
+                .map(|t| crate::report::table3::Timing {
                     mean: t.mean_ns,
                     lo: t.lo_ns,
                     hi: t.hi_ns,
                 })
         },
-        &crate::studies::tensor::table3::cp_errors()?,
+        &crate::tensor::brdf::table3_cp_errors()?,
     ));
     md.push_str(&ltc_table(&timed, results)?);
     md.push_str(&deliverables::shaders_table(&timed));

@@ -191,7 +191,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
         sampling: sampling(sampled.as_ref()),
         tensorly,
         costs,
-        table3_errors: super::table3::cp_errors()?,
+        table3_errors: crate::tensor::brdf::table3_cp_errors()?,
         s,
     })
 }

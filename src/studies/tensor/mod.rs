@@ -26,7 +26,6 @@ use std::path::Path;
 
 mod compute;
 pub mod report;
-pub mod table3;
 
 use compute::Computed;
 

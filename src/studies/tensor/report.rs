@@ -51,10 +51,10 @@ pub(super) fn markdown(k: &Computed) -> String {
     md.push_str(&query_section(k));
     md.push_str(&sampling_section(k));
     md.push_str(&cost_section(k));
-    md.push_str(&super::table3::markdown(
+    md.push_str(&crate::report::table3::markdown(
         &|key| {
             let full = format!("tensor-brdf/{key}");
-            Some(super::table3::Timing {
+            Some(crate::report::table3::Timing {
                 mean: k.costs.get(&full)?,
                 lo: k.costs.get(&format!("{full}/lo"))?,
                 hi: k.costs.get(&format!("{full}/hi"))?,

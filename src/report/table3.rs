@@ -4,11 +4,7 @@
 //! with the reconstruction error the rank buys. Rendered both into results/performance.md
 //! (from criterion's files) and into results/tensor.md (from results/costs.json).
 
-use crate::error::Result;
 use crate::report::table::Table;
-
-/// The ranks the bench runs.
-pub const RANKS: [usize; 3] = [8, 16, 32];
 
 /// Table 3's minutes: (ours, microfacet) for path tracing with evaluation only and with
 /// sampling only (Elevator scene, 1024 spp).
@@ -31,14 +27,6 @@ pub fn key(function: &str, rank: Option<usize>) -> String {
     }
 }
 
-/// The relative reconstruction error of the bench's CP at each rank (deterministic).
-pub fn cp_errors() -> Result<Vec<(usize, f64)>> {
-    RANKS
-        .iter()
-        .map(|&r| Ok((r, crate::tensor::brdf::table3_ndf(r)?.cp().rel_error)))
-        .collect()
-}
-
 /// a/b with the interval the two 95 % intervals bound it to.
 fn ratio(a: &Timing, b: &Timing) -> String {
     format!(
@@ -53,7 +41,8 @@ fn time(t: &Timing) -> String {
     format!("{:.1} ({:.1}–{:.1})", t.mean, t.lo, t.hi)
 }
 
-/// The section, or an empty string when the plain BRDF was not timed.
+/// The section, or an empty string when the plain BRDF was not timed: one row per
+/// (rank, the CP's relative reconstruction error) of `errors`.
 pub fn markdown(get: &dyn Fn(&str) -> Option<Timing>, errors: &[(usize, f64)]) -> String {
     let (Some(me), Some(ms)) = (
         get(&key("eval-microfacet", None)),
@@ -67,7 +56,7 @@ pub fn markdown(get: &dyn Fn(&str) -> Option<Timing>, errors: &[(usize, f64)]) -
          *Ours*: D(h) by the point query (Eq 6) of a footprint's P-NDF image, CP-compressed (non-negative, the 16 level-0 footprints of one region of the 64² flakes map, 64² images in 16² blocks); \
          sampling by the block CDF of range-query averages, the hierarchical descent and the tent (Fig 8), weight f·o_z/pdf. \
          *Microfacet*: GGX D, visible-normal sampling (Heitz 2018), weight F·G2/G1. Both share Schlick's F and Smith's height-correlated G2. \
-         The ratio's interval is what the two 95 % intervals bound it to.\n\n",
+         The ratio's interval is what the two 95 % intervals bound it to; those intervals are within one run, and repeated runs on this shared machine differ by more.\n\n",
     );
     let mut t = Table::new([
         "BRDF",
@@ -86,17 +75,14 @@ pub fn markdown(get: &dyn Fn(&str) -> Option<Timing>, errors: &[(usize, f64)]) -
         "1".into(),
     ]);
     let mut ratios = Vec::new();
-    for r in RANKS {
+    for &(r, cp_error) in errors {
         let (Some(e), Some(s)) = (
             get(&key("eval-ours", Some(r))),
             get(&key("sample-ours", Some(r))),
         ) else {
             continue;
         };
-        let err = errors
-            .iter()
-            .find(|(k, _)| *k == r)
-            .map_or("—".into(), |(_, v)| format!("{:.2} %", 100.0 * v));
+        let err = format!("{:.2} %", 100.0 * cp_error);
         t.row([
             format!("ours, R = {r}"),
             err,
