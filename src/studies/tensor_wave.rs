@@ -24,8 +24,8 @@ use crate::study::{Ctx, FitOutcome};
 use crate::tensor::cluster::stack_blocks;
 use crate::tensor::cp::{cp_als, AlsOptions};
 use crate::tensor::wave::{
-    bin, energy, gndf_direct, gndf_fft, slope_image, to_rgb, tv_distance, wave_image, Footprint,
-    HeightField, Waves, WAVELENGTHS,
+    bin, energy, gndf_direct, gndf_fft, patch_for, sampled_for, slope_image, to_rgb, tv_distance,
+    wave_image, Footprint, Waves, WAVELENGTHS,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -100,26 +100,14 @@ impl crate::fit::spec::Params for Params {
     }
 }
 
-/// A surface sampled finely enough for λ (dx ≤ λ/4), and the patch covering ±4σ_c.
-fn sampled(w: &Waves, lambda: f64, sigma_c: f64) -> (HeightField, usize) {
-    let n = ((w.period / (lambda / 4.0)).ceil() as usize).next_power_of_two();
-    let hf = w.sample(n);
-    let m = ((8.0 * sigma_c / hf.dx).ceil() as usize)
-        .next_power_of_two()
-        .max(8);
-    (hf, m)
-}
-
 fn checks(p: &Params, w: &Waves) -> Result<(f64, f64, f64)> {
     let (mut fft_dev, mut parseval, mut vs_one) = (0.0f64, 0.0f64, 0.0f64);
     let u = (0.3 * p.period, 0.6 * p.period);
     for &lambda in &p.lambdas {
-        let (hf, _) = sampled(w, lambda, p.sigma_c);
+        let (hf, _) = sampled_for(w, lambda, p.sigma_c);
         for f in [0.5, 1.0, 2.0] {
             let sc = f * p.sigma_c;
-            let m = ((8.0 * sc / hf.dx).ceil() as usize)
-                .next_power_of_two()
-                .max(8);
+            let m = patch_for(hf.dx, sc);
             if m > hf.n {
                 continue;
             }
@@ -160,7 +148,7 @@ fn limit(p: &Params, w: &Waves) -> Result<(Vec<LimitPoint>, f64, f64)> {
     let mut pts = Vec::new();
     for &lambda in &p.lambdas {
         crate::progress::stamp(&format!("tensor-wave: geometric limit at λ = {lambda} µm"));
-        let (hf, m) = sampled(w, lambda, p.sigma_c);
+        let (hf, m) = sampled_for(w, lambda, p.sigma_c);
         let img = wave_image(&hf, &fp, p.sigma_c, lambda, m, p.res)?;
         pts.push(LimitPoint {
             lambda,
@@ -188,7 +176,7 @@ fn limit(p: &Params, w: &Waves) -> Result<(Vec<LimitPoint>, f64, f64)> {
 fn chroma(p: &Params, w: &Waves, f: f64) -> Result<f64> {
     let wf = w.magnified(f);
     let sc = p.sigma_c * f;
-    let (hf, m) = sampled(&wf, WAVELENGTHS[0], sc);
+    let (hf, m) = sampled_for(&wf, WAVELENGTHS[0], sc);
     let u = (0.25 * wf.period, 0.25 * wf.period);
     let spectral: Vec<Vec<f64>> = WAVELENGTHS
         .iter()
@@ -230,7 +218,7 @@ fn compute(c: &Ctx) -> Result<Computed> {
         p.rms_slope,
         seed + 1,
     )?;
-    let (hf, m) = sampled(&noise, WAVELENGTHS[0], p.sigma_c);
+    let (hf, m) = sampled_for(&noise, WAVELENGTHS[0], p.sigma_c);
     let spacing = p.period / p.footprints as f64;
     let items: Vec<(usize, usize)> = (0..p.footprints * p.footprints)
         .map(|q| (q % p.footprints, q / p.footprints))

@@ -326,6 +326,33 @@ impl Footprint {
     }
 }
 
+/// The pixel-wise sum of images of `n` values.
+fn sum_images(parts: Vec<Vec<f64>>, n: usize) -> Vec<f64> {
+    let mut out = vec![0.0; n];
+    for p in parts {
+        for (o, v) in out.iter_mut().zip(p) {
+            *o += v;
+        }
+    }
+    out
+}
+
+/// The power-of-two patch (≥ 8) that covers ±4σ_c at spacing dx.
+pub fn patch_for(dx: f64, sigma_c: f64) -> usize {
+    ((8.0 * sigma_c / dx).ceil() as usize)
+        .next_power_of_two()
+        .max(8)
+}
+
+/// `w` sampled over one period finely enough for λ (dx ≤ λ/4, a power-of-two side), and
+/// the patch covering ±4σ_c at that spacing.
+pub fn sampled_for(w: &Waves, lambda: f64, sigma_c: f64) -> (HeightField, usize) {
+    let n = ((w.period / (lambda / 4.0)).ceil() as usize).next_power_of_two();
+    let hf = w.sample(n);
+    let m = patch_for(hf.dx, sigma_c);
+    (hf, m)
+}
+
 /// Eq 4: the footprint's wave-optics NDF image at one wavelength (res × res over
 /// ψ ∈ [−1, 1)²).
 pub fn wave_image(
@@ -345,13 +372,7 @@ pub fn wave_image(
             Ok(img.into_iter().map(|v| v * w).collect())
         })
         .collect::<Result<_>>()?;
-    let mut out = vec![0.0; res * res];
-    for p in parts {
-        for (o, v) in out.iter_mut().zip(p) {
-            *o += v;
-        }
-    }
-    Ok(out)
+    Ok(sum_images(parts, res * res))
 }
 
 /// The geometric limit of [`wave_image`] for a [`Waves`] surface: the distribution of
@@ -395,13 +416,7 @@ pub fn slope_image(
             img
         })
         .collect();
-    let mut out = vec![0.0; res * res];
-    for p in parts {
-        for (o, v) in out.iter_mut().zip(p) {
-            *o += v;
-        }
-    }
-    Ok(out)
+    Ok(sum_images(parts, res * res))
 }
 
 /// Half the L1 distance of two images of densities over [−1, 1)² (the total-variation

@@ -5,18 +5,12 @@
 use super::outcome::{Outcome, Worst};
 use crate::integrate::Preset;
 use crate::tensor::wave::{
-    energy, gndf_direct, gndf_fft, slope_image, tv_distance, wave_image, Footprint, Waves,
+    energy, gndf_direct, gndf_fft, patch_for as patch, sampled_for, slope_image, tv_distance,
+    wave_image, Footprint, Waves,
 };
 
 fn surface() -> Waves {
     Waves::new(16, 4, 32.0, 0.15, 9).expect("a valid surface")
-}
-
-/// The patch that covers ±4σ_c at the field's spacing.
-fn patch(dx: f64, sigma_c: f64) -> usize {
-    ((8.0 * sigma_c / dx).ceil() as usize)
-        .next_power_of_two()
-        .max(8)
 }
 
 pub fn fft_direct(p: Preset) -> Outcome {
@@ -133,9 +127,8 @@ pub fn geometric_limit(p: Preset) -> Outcome {
         let bar = tv_distance(&geo, &slope_image(&w, &fp, sigma_c, 0.04, res)?, res);
         let mut tv = Vec::new();
         for &lambda in lambdas {
-            let n = ((w.period / (lambda / 4.0)).ceil() as usize).next_power_of_two();
-            let hf = w.sample(n);
-            let img = wave_image(&hf, &fp, sigma_c, lambda, patch(hf.dx, sigma_c), res)?;
+            let (hf, m) = sampled_for(&w, lambda, sigma_c);
+            let img = wave_image(&hf, &fp, sigma_c, lambda, m, res)?;
             tv.push((lambda, tv_distance(&img, &geo, res)));
         }
         Ok((tv, bar))
