@@ -171,3 +171,54 @@ fn microfacet_visible_normal_sampling_is_an_unbiased_estimate_of_the_albedo() {
         }
     }
 }
+
+#[test]
+fn the_extremes_give_finite_consistent_weights() {
+    // α = 1e-4 and 89.99° for the plain BRDF; 89.99° and a grazing 88° for ours
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+    for (alpha, theta) in [(1e-4, 0.0), (1e-4, 89.99), (1.0, 89.99), (0.5, 60.0)] {
+        let b = Microfacet { alpha, f0: 0.04 };
+        let i = dir(theta, 0.3);
+        for _ in 0..10_000 {
+            if let Some(s) = b.sample(&i, rng.random()) {
+                assert!(s.weight.is_finite() && s.weight >= 0.0 && s.o[2] > 0.0);
+                let w = b.eval(&i, &s.o) * s.o[2] / b.pdf(&i, &s.o);
+                assert!(
+                    (w - s.weight).abs() <= 1e-6 * w.max(1e-300),
+                    "α {alpha}, θ {theta}: {w} vs {}",
+                    s.weight
+                );
+            }
+        }
+        // below the horizon: zero, never NaN
+        assert_eq!(b.eval(&dir(91.0, 0.0), &i), 0.0);
+        assert_eq!(b.eval(&i, &[0.0, 0.0, -1.0]), 0.0);
+    }
+    let ndf = table3_ndf(8).unwrap();
+    for theta in [88.0, 89.99] {
+        let g = Glinty {
+            ndf: &ndf,
+            image: 3,
+            alpha_g: 0.1,
+            f0: 0.9,
+        };
+        let i = dir(theta, 2.0);
+        for _ in 0..10_000 {
+            if let Some(s) = g.sample(&i, rng.random()) {
+                assert!(
+                    s.weight.is_finite() && s.weight >= 0.0 && s.o[2] > 0.0,
+                    "θ {theta}: {s:?}"
+                );
+            }
+        }
+    }
+    // an image index past the stack samples nothing and reads zero
+    let g = Glinty {
+        ndf: &ndf,
+        image: ndf.images(),
+        alpha_g: 0.1,
+        f0: 0.9,
+    };
+    assert!(g.sample(&dir(30.0, 0.0), [0.5; 4]).is_none());
+    assert_eq!(g.eval(&dir(30.0, 0.0), &dir(30.0, 3.14)), 0.0);
+}

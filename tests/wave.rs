@@ -94,4 +94,50 @@ fn bad_input_is_a_typed_error() {
     assert!(Waves::new(4, 4, f64::NAN, 0.1, 1).is_err());
     assert!(Waves::new(4, 4, 32.0, -0.1, 1).is_err());
     assert!(to_rgb(&vec![vec![1.0]; 7]).is_err());
+    // a centre that is not a number, a grid spacing of 0: never a silent NaN image
+    assert!(gndf_fft(&hf, (f64::NAN, 1.0), 1.0, 0.5, 32).is_err());
+    let flat = ndfbench::tensor::wave::HeightField {
+        n: 64,
+        dx: 0.0,
+        h: vec![0.0; 64 * 64],
+    };
+    assert!(gndf_fft(&flat, (1.0, 1.0), 1.0, 0.5, 32).is_err());
+    let nan_fp = Footprint {
+        x: (f64::NAN, 0.0),
+        sigma_p: 1.0,
+        step: 1.0,
+    };
+    assert!(nan_fp.centres().is_err());
+    assert!(slope_image(&surface(), &nan_fp, 1.0, 0.1, 16).is_err());
+    // a height field past 4096² is refused before it is allocated
+    use ndfbench::tensor::wave::{field_side, sampled_for};
+    assert_eq!(field_side(32.0, 0.1).unwrap(), 2048);
+    for (period, lambda) in [(512.0, 0.05), (32.0, 0.0), (32.0, f64::NAN), (1e300, 0.5)] {
+        assert!(field_side(period, lambda).is_err(), "{period}, {lambda}");
+    }
+    assert!(sampled_for(&surface().magnified(8.0), 0.05, 1.0).is_err());
+}
+
+#[test]
+fn an_absurd_spec_is_refused_before_anything_runs() {
+    let text = std::fs::read_to_string("fits/tensor-wave.toml").unwrap();
+    let study = ndfbench::studies::find("tensor-wave").unwrap();
+    let ok = ndfbench::fit::spec::FitSpec::parse(&text, "fits/tensor-wave.toml").unwrap();
+    assert!(study.check(&ok).is_ok());
+    for (from, to) in [
+        ("period = 32.0 ", "period = 512.0 "),
+        ("lambdas = [0.8, 0.4, 0.2, 0.1]", "lambdas = [0.8, 0.01]"),
+        (
+            "magnifications = [1.0, 2.0, 4.0]",
+            "magnifications = [1.0, 1e12]",
+        ),
+        ("sigma_c = 2.0 ", "sigma_c = nan "),
+        ("res = 64 ", "res = 0 "),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = text.replacen(from, to, 1);
+        let refused = ndfbench::fit::spec::FitSpec::parse(&bad, "bad.toml")
+            .map_or(true, |spec| study.check(&spec).is_err());
+        assert!(refused, "{to} was accepted");
+    }
 }

@@ -24,8 +24,8 @@ use crate::study::{Ctx, FitOutcome};
 use crate::tensor::cluster::stack_blocks;
 use crate::tensor::cp::{cp_als, AlsOptions};
 use crate::tensor::wave::{
-    bin, energy, gndf_direct, gndf_fft, patch_for, sampled_for, slope_image, to_rgb, tv_distance,
-    wave_image, Footprint, Waves, WAVELENGTHS,
+    bin, energy, field_side, gndf_direct, gndf_fft, patch_for, sampled_for, slope_image, to_rgb,
+    tv_distance, wave_image, Footprint, Waves, WAVELENGTHS,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -96,7 +96,14 @@ impl crate::fit::spec::Params for Params {
             within("magnifications", *f, 1.0, 8.0)?;
         }
         within("iters", self.iters, 1, 100_000)?;
-        within("als_tolerance", self.als_tolerance, 1e-15, 0.5)
+        within("als_tolerance", self.als_tolerance, 1e-15, 0.5)?;
+        // the height fields the sweep samples stay within tensor::wave::MAX_SIDE
+        let widest = self.magnifications.iter().cloned().fold(1.0, f64::max);
+        let shortest = self.lambdas.iter().cloned().fold(WAVELENGTHS[0], f64::min);
+        field_side(self.period * widest, WAVELENGTHS[0])
+            .and(field_side(self.period, shortest))
+            .map(|_| ())
+            .map_err(|e| format!("period, lambdas and magnifications: {e}"))
     }
 }
 
@@ -104,7 +111,7 @@ fn checks(p: &Params, w: &Waves) -> Result<(f64, f64, f64)> {
     let (mut fft_dev, mut parseval, mut vs_one) = (0.0f64, 0.0f64, 0.0f64);
     let u = (0.3 * p.period, 0.6 * p.period);
     for &lambda in &p.lambdas {
-        let (hf, _) = sampled_for(w, lambda, p.sigma_c);
+        let (hf, _) = sampled_for(w, lambda, p.sigma_c)?;
         for f in [0.5, 1.0, 2.0] {
             let sc = f * p.sigma_c;
             let m = patch_for(hf.dx, sc);
@@ -148,7 +155,7 @@ fn limit(p: &Params, w: &Waves) -> Result<(Vec<LimitPoint>, f64, f64)> {
     let mut pts = Vec::new();
     for &lambda in &p.lambdas {
         crate::progress::stamp(&format!("tensor-wave: geometric limit at λ = {lambda} µm"));
-        let (hf, m) = sampled_for(w, lambda, p.sigma_c);
+        let (hf, m) = sampled_for(w, lambda, p.sigma_c)?;
         let img = wave_image(&hf, &fp, p.sigma_c, lambda, m, p.res)?;
         pts.push(LimitPoint {
             lambda,
@@ -176,7 +183,7 @@ fn limit(p: &Params, w: &Waves) -> Result<(Vec<LimitPoint>, f64, f64)> {
 fn chroma(p: &Params, w: &Waves, f: f64) -> Result<f64> {
     let wf = w.magnified(f);
     let sc = p.sigma_c * f;
-    let (hf, m) = sampled_for(&wf, WAVELENGTHS[0], sc);
+    let (hf, m) = sampled_for(&wf, WAVELENGTHS[0], sc)?;
     let u = (0.25 * wf.period, 0.25 * wf.period);
     let spectral: Vec<Vec<f64>> = WAVELENGTHS
         .iter()
@@ -218,7 +225,7 @@ fn compute(c: &Ctx) -> Result<Computed> {
         p.rms_slope,
         seed + 1,
     )?;
-    let (hf, m) = sampled_for(&noise, WAVELENGTHS[0], p.sigma_c);
+    let (hf, m) = sampled_for(&noise, WAVELENGTHS[0], p.sigma_c)?;
     let spacing = p.period / p.footprints as f64;
     let items: Vec<(usize, usize)> = (0..p.footprints * p.footprints)
         .map(|q| (q % p.footprints, q / p.footprints))

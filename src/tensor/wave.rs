@@ -137,6 +137,12 @@ fn window(
     sigma_c: f64,
     m: usize,
 ) -> Result<((i64, i64), Vec<f64>)> {
+    if !(u.0.is_finite() && u.1.is_finite() && hf.dx > 0.0 && hf.dx.is_finite()) {
+        return Err(Error::InvalidArgument(format!(
+            "a coherence window needs a finite centre and grid spacing (got ({:e}, {:e}), dx {:e})",
+            u.0, u.1, hf.dx
+        )));
+    }
     if !(sigma_c > 0.0 && sigma_c.is_finite()) || m < 8 || !m.is_power_of_two() {
         return Err(Error::InvalidArgument(format!(
             "a coherence window needs σ_c > 0 and a power-of-two patch m ≥ 8 (got {sigma_c:e}, {m})"
@@ -305,10 +311,13 @@ pub struct Footprint {
 impl Footprint {
     /// The window centres within 3σ_P and their normalised weights G_P (Eq 4).
     pub fn centres(&self) -> Result<Vec<((f64, f64), f64)>> {
-        if !(self.sigma_p > 0.0 && self.step > 0.0) || 3.0 * self.sigma_p / self.step > 64.0 {
+        if !(self.sigma_p > 0.0 && self.step > 0.0)
+            || 3.0 * self.sigma_p / self.step > 64.0
+            || !(self.x.0.is_finite() && self.x.1.is_finite())
+        {
             return Err(Error::InvalidArgument(format!(
-                "a footprint needs σ_P > 0 and a step > 0 with at most 64 centres per radius (got {:e}, {:e})",
-                self.sigma_p, self.step
+                "a footprint needs a finite centre, σ_P > 0 and a step > 0 with at most 64 centres per radius (got ({:e}, {:e}), {:e}, {:e})",
+                self.x.0, self.x.1, self.sigma_p, self.step
             )));
         }
         let r = (3.0 * self.sigma_p / self.step).floor() as i64;
@@ -344,13 +353,27 @@ pub fn patch_for(dx: f64, sigma_c: f64) -> usize {
         .max(8)
 }
 
-/// `w` sampled over one period finely enough for λ (dx ≤ λ/4, a power-of-two side), and
-/// the patch covering ±4σ_c at that spacing.
-pub fn sampled_for(w: &Waves, lambda: f64, sigma_c: f64) -> (HeightField, usize) {
-    let n = ((w.period / (lambda / 4.0)).ceil() as usize).next_power_of_two();
-    let hf = w.sample(n);
+/// The largest height-field side [`sampled_for`] builds (4096² samples: 128 MB of f64).
+pub const MAX_SIDE: usize = 4096;
+
+/// The power-of-two side that samples a `period` finely enough for λ (dx ≤ λ/4); a typed
+/// error past [`MAX_SIDE`] or for a non-positive or non-finite input.
+pub fn field_side(period: f64, lambda: f64) -> Result<usize> {
+    let n = 4.0 * period / lambda;
+    if !(n.is_finite() && n > 0.0) || n > MAX_SIDE as f64 {
+        return Err(Error::InvalidArgument(format!(
+            "a {period:e} µm period at λ = {lambda:e} µm needs {n:.0} samples per side (at most {MAX_SIDE})"
+        )));
+    }
+    Ok((n.ceil() as usize).next_power_of_two())
+}
+
+/// `w` sampled over one period finely enough for λ ([`field_side`]), and the patch
+/// covering ±4σ_c at that spacing.
+pub fn sampled_for(w: &Waves, lambda: f64, sigma_c: f64) -> Result<(HeightField, usize)> {
+    let hf = w.sample(field_side(w.period, lambda)?);
     let m = patch_for(hf.dx, sigma_c);
-    (hf, m)
+    Ok((hf, m))
 }
 
 /// Eq 4: the footprint's wave-optics NDF image at one wavelength (res × res over

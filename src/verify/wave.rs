@@ -127,7 +127,7 @@ pub fn geometric_limit(p: Preset) -> Outcome {
         let bar = tv_distance(&geo, &slope_image(&w, &fp, sigma_c, 0.04, res)?, res);
         let mut tv = Vec::new();
         for &lambda in lambdas {
-            let (hf, m) = sampled_for(&w, lambda, sigma_c);
+            let (hf, m) = sampled_for(&w, lambda, sigma_c)?;
             let img = wave_image(&hf, &fp, sigma_c, lambda, m, res)?;
             tv.push((lambda, tv_distance(&img, &geo, res)));
         }
