@@ -19,6 +19,7 @@
 //! φ + π/2). So φ ∈ [0, π/2] covers every case, and (α_y, α_x, π/2 − φ) =
 //! S·(α_x, α_y, φ)·S.
 
+use super::fit::TargetSamples;
 use super::target::LtcTarget;
 use super::LtcDist;
 use crate::error::{Error, Result};
@@ -113,6 +114,7 @@ pub struct AnisoGgxTarget {
     pub v: V3,
     surface: Microsurface,
     vndf: VndfSampler,
+    seen: super::target::FixedView,
 }
 
 impl AnisoGgxTarget {
@@ -128,6 +130,7 @@ impl AnisoGgxTarget {
             v,
             surface,
             vndf: VndfSampler::new(surface, v)?,
+            seen: super::target::FixedView::new(surface, v),
         })
     }
 }
@@ -137,14 +140,7 @@ impl LtcTarget for AnisoGgxTarget {
         self.v
     }
     fn eval(&self, l: &V3) -> (f64, f64) {
-        if l.z <= 0.0 {
-            return (0.0, 0.0);
-        }
-        let h = (self.v + l).normalize();
-        let d = self.surface.d(&h);
-        let pdf = d * self.surface.g1_dir(&self.v) / (4.0 * self.v.z);
-        let f = d * self.surface.g2_correlated(l, &self.v, &h) / (4.0 * self.v.z);
-        (f, pdf)
+        self.seen.eval(l)
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         let m = self.vndf.sample(u)?;
@@ -178,10 +174,15 @@ impl LtcTarget for AnisoGgxTarget {
 /// The relative L2 of a production inverse with amplitude `norm` against a target on the
 /// n×n set (offset `off`), ∞ where singular.
 pub fn rel_l2<T: LtcTarget + ?Sized>(t: &T, p: &Inv7, norm: f64, n: usize, off: f64) -> f64 {
+    rel_l2_on(t, &TargetSamples::new(t, n, off), p, norm)
+}
+
+/// [`rel_l2`] on the target's samples `s` drawn beforehand.
+fn rel_l2_on<T: LtcTarget + ?Sized>(t: &T, s: &TargetSamples, p: &Inv7, norm: f64) -> f64 {
     inverse_of(p)
         .try_inverse()
         .and_then(|m| LtcDist::new(m).ok())
-        .map(|l| super::fit::metrics(t, &l, norm, n, off).1)
+        .map(|l| super::fit::metrics_on(t, s, &l, norm).1)
         .filter(|x| x.is_finite())
         .unwrap_or(f64::INFINITY)
 }
@@ -205,7 +206,8 @@ struct Objective<'a, T: ?Sized> {
     t: &'a T,
     p0: Inv7,
     norm: f64,
-    n: usize,
+    /// The target's half of the training set (n×n, offset ½).
+    train: &'a TargetSamples,
 }
 
 impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
@@ -215,7 +217,7 @@ impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
         if q.iter().any(|x| !x.is_finite()) {
             return Ok(1e30);
         }
-        let v = rel_l2(self.t, &from_q(q, &self.p0), self.norm, self.n, 0.5);
+        let v = rel_l2_on(self.t, self.train, &from_q(q, &self.p0), self.norm);
         Ok(if v.is_finite() { v } else { 1e30 })
     }
 }
@@ -253,11 +255,12 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     let solver = NelderMead::new(simplex)
         .with_sd_tolerance(1e-10)
         .map_err(err)?;
+    let sets = super::fit::Sets::new(t, n);
     let obj = Objective {
         t,
         p0: *start,
         norm,
-        n,
+        train: &sets.train,
     };
     let res = Executor::new(obj, solver)
         .configure(|s| s.max_iters(max_iters))
@@ -266,7 +269,7 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     let iters = res.state().get_iter();
     let q = res.state().get_best_param().cloned().unwrap_or(q0);
     let p = from_q(&q, start);
-    let val = |p: &Inv7| rel_l2(t, p, norm, n + 7, 0.37);
+    let val = |p: &Inv7| rel_l2_on(t, &sets.val, p, norm);
     Ok(if p.iter().all(|x| x.is_finite()) && val(&p) < val(start) {
         (p, iters)
     } else {

@@ -120,6 +120,41 @@ pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
     Matrix3::new(p[0], 0.0, p[2], 0.0, 1.0, 0.0, p[1], 0.0, p[3])
 }
 
+/// The target's half of a balance sample set: its n×n stratified samples (offset `off`
+/// ∈ [0, 1)) with the target's value and density at each. They do not depend on the LTC,
+/// so a fit draws and evaluates them once and every trial LTC reuses them
+/// ([`metrics_on`]); the sums are the same, term by term and in the same order, as
+/// drawing them afresh.
+pub struct TargetSamples {
+    n: usize,
+    off: f64,
+    /// Per (i, j): the sample with (f, density), or `None` below the horizon.
+    pts: Vec<Option<(V3, f64, f64)>>,
+}
+
+/// The stratified point (i, j) of an n×n set with offset `off`, kept inside [0, 1).
+fn stratum(i: usize, j: usize, n: usize, off: f64) -> [f64; 2] {
+    [
+        ((i as f64 + off) / n as f64).min(1.0 - 1e-12),
+        ((j as f64 + off) / n as f64).min(1.0 - 1e-12),
+    ]
+}
+
+impl TargetSamples {
+    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize, off: f64) -> TargetSamples {
+        let mut pts = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                pts.push(t.sample(stratum(i, j, n, off)).map(|l| {
+                    let (f, pb) = t.eval(&l);
+                    (l, f, pb)
+                }));
+            }
+        }
+        TargetSamples { n, off, pts }
+    }
+}
+
 /// Both metrics of an LTC (given as a distribution and amplitude) against the target on
 /// an n×n stratified set per technique with offset `off` ∈ [0, 1).
 pub fn metrics<T: LtcTarget + ?Sized>(
@@ -129,12 +164,23 @@ pub fn metrics<T: LtcTarget + ?Sized>(
     n: usize,
     off: f64,
 ) -> (f64, f64) {
+    metrics_on(t, &TargetSamples::new(t, n, off), ltc, norm)
+}
+
+/// [`metrics`] on the target's samples `s` drawn beforehand (of the same target `t`):
+/// n×n samples of the LTC, each with the matching one of `s`, in the balance estimator
+/// (Σ|f − f_ltc|³/(p_ltc + p_brdf) per sample count, and the relative L2).
+pub fn metrics_on<T: LtcTarget + ?Sized>(
+    t: &T,
+    s: &TargetSamples,
+    ltc: &LtcDist,
+    norm: f64,
+) -> (f64, f64) {
     let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
+    let n = s.n;
     let cnt = (n * n) as f64;
-    let mut add = |l: &V3| {
-        let (f, pb) = t.eval(l);
-        let fl = norm * ltc.eval(l);
-        let pl = ltc.eval(l);
+    let mut add = |f: f64, pb: f64, pl: f64| {
+        let fl = norm * pl;
         let q = pl + pb;
         if q > 0.0 {
             let e = (f - fl).abs();
@@ -145,15 +191,12 @@ pub fn metrics<T: LtcTarget + ?Sized>(
     };
     for i in 0..n {
         for j in 0..n {
-            let u = [
-                ((i as f64 + off) / n as f64).min(1.0 - 1e-12),
-                ((j as f64 + off) / n as f64).min(1.0 - 1e-12),
-            ];
-            if let Some(l) = ltc.sample(u) {
-                add(&l);
+            if let Some(l) = ltc.sample(stratum(i, j, n, s.off)) {
+                let (f, pb) = t.eval(&l);
+                add(f, pb, ltc.eval(&l));
             }
-            if let Some(l) = t.sample(u) {
-                add(&l);
+            if let Some((l, f, pb)) = &s.pts[i * n + j] {
+                add(*f, *pb, ltc.eval(l));
             }
         }
     }
@@ -185,9 +228,28 @@ struct Objective<'a, T: ?Sized> {
     t: &'a T,
     z: V3,
     norm: f64,
-    n: usize,
+    /// The target's samples of the set (training or validation).
+    set: &'a TargetSamples,
     metric: Metric,
-    validation: bool,
+}
+
+/// A cell's two sample sets, the target's half of each drawn once: training (n×n,
+/// offset 0.5) and validation ((n + 7)², offset 0.37).
+pub struct Sets {
+    pub train: TargetSamples,
+    pub val: TargetSamples,
+}
+
+impl Sets {
+    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize) -> Sets {
+        Sets {
+            train: TargetSamples::new(t, n, 0.5),
+            val: TargetSamples::new(t, n + 7, 0.37),
+        }
+    }
+    fn n(&self) -> usize {
+        self.train.n
+    }
 }
 
 impl<T: LtcTarget + ?Sized> Objective<'_, T> {
@@ -203,11 +265,7 @@ impl<T: LtcTarget + ?Sized> Objective<'_, T> {
         };
         match LtcDist::new(matrix(m11, m22, m13, &z)) {
             Ok(ltc) => {
-                let (c, l2) = if self.validation {
-                    metrics(self.t, &ltc, self.norm, self.n + 7, 0.37)
-                } else {
-                    metrics(self.t, &ltc, self.norm, self.n, 0.5)
-                };
+                let (c, l2) = metrics_on(self.t, self.set, &ltc, self.norm);
                 if self.metric == Metric::Cubic {
                     c
                 } else {
@@ -330,13 +388,27 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
         let r = super::gauss_newton::fit_cell_lm(t, z, norm, p0, n, max_iters as usize, false)?;
         return Ok((r.params, r.iters as u64));
     }
+    fit_cell_on(t, z, norm, p0, &Sets::new(t, n), metric, method, max_iters)
+}
+
+/// [`fit_cell`] (Nelder–Mead or L-BFGS) on the cell's sample sets drawn beforehand.
+#[allow(clippy::too_many_arguments)]
+fn fit_cell_on<T: LtcTarget + ?Sized>(
+    t: &T,
+    z: &V3,
+    norm: f64,
+    p0: &[f64; 4],
+    sets: &Sets,
+    metric: Metric,
+    method: Method,
+    max_iters: u64,
+) -> Result<([f64; 4], u64)> {
     let obj = |z: V3, validation: bool| Objective {
         t,
         z,
         norm,
-        n,
+        set: if validation { &sets.val } else { &sets.train },
         metric,
-        validation,
     };
     let symmetric = t.view().x.abs() <= 1e-12;
     // 1. the three matrix parameters, the frame turn held at the start's
@@ -391,19 +463,20 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     z: &V3,
     norm: f64,
     p: &[f64; 4],
-    n: usize,
+    sets: &Sets,
     how: Polish,
     max_iters: u64,
 ) -> Result<([f64; 4], bool)> {
     use super::gauss_newton::fit_cell_lm;
+    let n = sets.n();
     let q = match how {
         Polish::NelderMead => {
-            fit_cell(
+            fit_cell_on(
                 t,
                 z,
                 norm,
                 p,
-                n,
+                sets,
                 Metric::L2,
                 Method::NelderMead,
                 max_iters / 2,
@@ -422,9 +495,8 @@ fn polish_l2<T: LtcTarget + ?Sized>(
         t,
         z: *z,
         norm,
-        n,
+        set: &sets.val,
         metric: Metric::L2,
-        validation: true,
     };
     if q.iter().all(|x| x.is_finite()) && val.value(&q) < val.value(p) {
         Ok((q, true))
@@ -442,9 +514,19 @@ pub fn production_metrics<T: LtcTarget + ?Sized>(
     n: usize,
     off: f64,
 ) -> Option<(f64, f64)> {
+    production_metrics_on(t, &TargetSamples::new(t, n, off), inv, norm)
+}
+
+/// [`production_metrics`] on the target's samples `s` drawn beforehand.
+pub fn production_metrics_on<T: LtcTarget + ?Sized>(
+    t: &T,
+    s: &TargetSamples,
+    inv: &[f64; 4],
+    norm: f64,
+) -> Option<(f64, f64)> {
     let m = inverse_from_production(inv).try_inverse()?;
     let ltc = LtcDist::new(m).ok()?;
-    Some(metrics(t, &ltc, norm, n, off))
+    Some(metrics_on(t, s, &ltc, norm))
 }
 
 /// The absolute tolerance of a cell's norm and Fresnel share (the albedo integrals).
@@ -520,11 +602,16 @@ pub fn fit_table<T: LtcTarget>(
                 // the best axis approaches the mean direction as the lobe narrows
                 p[3] *= alpha / prev;
             }
-            let (best, iters) = fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?;
+            let sets = Sets::new(&t, n);
+            let (best, iters) = if method == Method::LevenbergMarquardt {
+                fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?
+            } else {
+                fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?
+            };
             // the warm-start chain carries the primary metric's solution
             p = best;
             let (q, polished) = if metric == Metric::Cubic {
-                polish_l2(&t, &zm, norm, &best, n, polish, max_iters)?
+                polish_l2(&t, &zm, norm, &best, &sets, polish, max_iters)?
             } else {
                 (best, false)
             };

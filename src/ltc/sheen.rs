@@ -34,6 +34,8 @@ pub struct CharlieTarget {
     pub alpha: f64,
     pub v: V3,
     pub visibility: SheenVisibility,
+    /// Estevez & Kulla's Λ(v_z), computed once (every value needs it).
+    lambda_v: f64,
 }
 
 /// Estevez & Kulla's L(x) of their Λ fit, with the coefficients interpolated in
@@ -68,10 +70,12 @@ pub fn charlie_d(hz: f64, alpha: f64) -> f64 {
 impl CharlieTarget {
     /// θ in radians (clamped to ≤ 89.99°), α ∈ (0, 1] finite.
     pub fn new(alpha: f64, theta: f64, visibility: SheenVisibility) -> Result<CharlieTarget> {
+        let v = hemisphere::checked_view(alpha, theta)?;
         Ok(CharlieTarget {
             alpha,
-            v: hemisphere::checked_view(alpha, theta)?,
+            v,
             visibility,
+            lambda_v: ek_lambda(v.z, alpha),
         })
     }
 
@@ -90,8 +94,13 @@ impl CharlieTarget {
             return 0.0;
         }
         let h = (self.v + l).normalize();
-        let vh = self.v.dot(&h).abs().max(1e-300);
-        0.5 * hemisphere::cosine_pdf(l) + 0.5 * charlie_d(h.z, self.alpha) * h.z / (4.0 * vh)
+        self.pdf_at(l, &h, charlie_d(h.z, self.alpha))
+    }
+
+    /// [`Self::pdf`] at l above the horizon, given its half-vector h and D(h).
+    fn pdf_at(&self, l: &V3, h: &V3, d: f64) -> f64 {
+        let vh = self.v.dot(h).abs().max(1e-300);
+        0.5 * hemisphere::cosine_pdf(l) + 0.5 * d * h.z / (4.0 * vh)
     }
 
     /// BRDF(l, v)·l_z (0 below the horizon).
@@ -100,11 +109,15 @@ impl CharlieTarget {
             return 0.0;
         }
         let h = (self.v + l).normalize();
-        let d = charlie_d(h.z, self.alpha);
+        self.value_at(l, charlie_d(h.z, self.alpha))
+    }
+
+    /// [`Self::value`] at l above the horizon, given D of its half-vector.
+    fn value_at(&self, l: &V3, d: f64) -> f64 {
         let (lz, vz) = (l.z, self.v.z);
         match self.visibility {
             SheenVisibility::EstevezKulla => {
-                let g = 1.0 / (1.0 + ek_lambda(vz, self.alpha) + ek_lambda(lz, self.alpha));
+                let g = 1.0 / (1.0 + self.lambda_v + ek_lambda(lz, self.alpha));
                 d * g / (4.0 * vz)
             }
             SheenVisibility::Neubelt => d * lz / (4.0 * (lz + vz - lz * vz)),
@@ -116,8 +129,14 @@ impl LtcTarget for CharlieTarget {
     fn view(&self) -> V3 {
         self.v
     }
+    /// (value, density) with the half-vector and D(h) computed once for both.
     fn eval(&self, l: &V3) -> (f64, f64) {
-        (self.value(l), self.pdf(l))
+        if l.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let h = (self.v + l).normalize();
+        let d = charlie_d(h.z, self.alpha);
+        (self.value_at(l, d), self.pdf_at(l, &h, d))
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         if u[0] < 0.5 {

@@ -17,7 +17,7 @@
 //! thread count.
 
 use crate::error::{Error, Result};
-use crate::ltc::fit::{inverse_from_production, metrics};
+use crate::ltc::fit::{inverse_from_production, metrics_on, TargetSamples};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use crate::parmap::ParMap;
@@ -25,10 +25,15 @@ use rayon::prelude::*;
 
 /// The relative L2 of one production-form lobe against a target (∞ where singular).
 fn rel_l2<T: LtcTarget + ?Sized>(t: &T, inv: &[f64; 4], norm: f64, n: usize, off: f64) -> f64 {
+    rel_l2_on(t, &TargetSamples::new(t, n, off), inv, norm)
+}
+
+/// [`rel_l2`] on the target's samples `s` drawn beforehand.
+fn rel_l2_on<T: LtcTarget + ?Sized>(t: &T, s: &TargetSamples, inv: &[f64; 4], norm: f64) -> f64 {
     inverse_from_production(inv)
         .try_inverse()
         .and_then(|m| LtcDist::new(m).ok())
-        .map(|l| metrics(t, &l, norm, n, off).1)
+        .map(|l| metrics_on(t, s, &l, norm).1)
         .filter(|x| x.is_finite())
         .unwrap_or(f64::INFINITY)
 }
@@ -61,9 +66,29 @@ pub struct Lattice<'a, T> {
     pub at_squares: &'a [T],
 }
 
+/// The target's samples of one set (n×n, offset `off`) at cell k's places: its own lobe,
+/// then its squares in [`places`] order. Drawn once per refit of the cell.
+struct PlaceSets {
+    cell: TargetSamples,
+    squares: Vec<TargetSamples>,
+}
+
 impl<T: LtcTarget> Lattice<'_, T> {
-    /// Σ e² over the cell's places with cell k's entries replaced by `inv`.
-    fn objective(&self, k: usize, inv: &[f64; 4], n: usize, off: f64) -> f64 {
+    fn place_sets(&self, k: usize, n: usize, off: f64) -> PlaceSets {
+        let nn = self.n;
+        let (i, j) = (k % nn, k / nn);
+        PlaceSets {
+            cell: TargetSamples::new(&self.at_cells[k], n, off),
+            squares: places(i, j, nn)
+                .into_iter()
+                .map(|(si, sj)| TargetSamples::new(&self.at_squares[si + (nn - 1) * sj], n, off))
+                .collect(),
+        }
+    }
+
+    /// Σ e² over the cell's places with cell k's entries replaced by `inv`, on the
+    /// places' sample sets `sets` (`place_sets`).
+    fn objective(&self, k: usize, inv: &[f64; 4], sets: &PlaceSets) -> f64 {
         let nn = self.n;
         let (i, j) = (k % nn, k / nn);
         let entry = |q: usize| -> [f64; 5] {
@@ -79,15 +104,14 @@ impl<T: LtcTarget> Lattice<'_, T> {
                 .unwrap_or(1.0)
         };
         let cell = entry(k);
-        let e = rel_l2(
+        let e = rel_l2_on(
             &self.at_cells[k],
+            &sets.cell,
             &[cell[0], cell[1], cell[2], cell[3]],
             cell[4],
-            n,
-            off,
         );
         let mut sum = e * e * scale(self.before.map(|b| b.0[k]));
-        for (si, sj) in places(i, j, nn) {
+        for ((si, sj), set) in places(i, j, nn).into_iter().zip(&sets.squares) {
             let corners = [
                 entry(si + nn * sj),
                 entry(si + 1 + nn * sj),
@@ -96,12 +120,11 @@ impl<T: LtcTarget> Lattice<'_, T> {
             ];
             let mid: [f64; 5] =
                 std::array::from_fn(|c| corners.iter().map(|x| x[c]).sum::<f64>() / 4.0);
-            let e = rel_l2(
+            let e = rel_l2_on(
                 &self.at_squares[si + (nn - 1) * sj],
+                set,
                 &[mid[0], mid[1], mid[2], mid[3]],
                 mid[4],
-                n,
-                off,
             );
             sum += self.square_weight * e * e * scale(self.before.map(|b| b.1[si + (nn - 1) * sj]));
         }
@@ -112,7 +135,7 @@ impl<T: LtcTarget> Lattice<'_, T> {
 struct Cost<'a, 'b, T> {
     grid: &'a Lattice<'b, T>,
     k: usize,
-    n: usize,
+    train: &'a PlaceSets,
 }
 
 fn inv_of(q: &[f64]) -> [f64; 4] {
@@ -131,7 +154,7 @@ impl<T: LtcTarget> argmin::core::CostFunction for Cost<'_, '_, T> {
         if q.iter().any(|x| !x.is_finite()) {
             return Ok(1e30);
         }
-        let v = self.grid.objective(self.k, &inv_of(q), self.n, 0.5);
+        let v = self.grid.objective(self.k, &inv_of(q), self.train);
         Ok(if v.is_finite() { v } else { 1e30 })
     }
 }
@@ -150,6 +173,7 @@ fn refit_cell<T: LtcTarget>(
     if !(c[0] > 0.0 && c[3] > 0.0) {
         return Ok(now);
     }
+    let train = grid.place_sets(k, n, 0.5);
     let q0 = vec![c[0].ln(), c[3].ln(), c[1], c[2]];
     let scale = 1e-3 * c[0].max(c[3]);
     let steps = [
@@ -168,19 +192,27 @@ fn refit_cell<T: LtcTarget>(
     let solver = NelderMead::new(simplex)
         .with_sd_tolerance(1e-10)
         .map_err(err)?;
-    let res = Executor::new(Cost { grid, k, n }, solver)
-        .configure(|s| s.max_iters(max_iters))
-        .run()
-        .map_err(err)?;
+    let res = Executor::new(
+        Cost {
+            grid,
+            k,
+            train: &train,
+        },
+        solver,
+    )
+    .configure(|s| s.max_iters(max_iters))
+    .run()
+    .map_err(err)?;
     let best = res.state().get_best_param().cloned().unwrap_or(q0);
     let cand = inv_of(&best);
+    let val = grid.place_sets(k, n + 7, 0.37);
     let (vn, vc) = (
-        grid.objective(k, &now, n + 7, 0.37),
-        grid.objective(k, &cand, n + 7, 0.37),
+        grid.objective(k, &now, &val),
+        grid.objective(k, &cand, &val),
     );
     let (tn, tc) = (
-        grid.objective(k, &now, n, 0.5),
-        grid.objective(k, &cand, n, 0.5),
+        grid.objective(k, &now, &train),
+        grid.objective(k, &cand, &train),
     );
     Ok(if tc < tn && vc < vn { cand } else { now })
 }

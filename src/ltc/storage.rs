@@ -15,7 +15,7 @@
 //! the sign of the f64 entry (or is 0). Candidates that break this are never chosen; where
 //! no neighbour keeps it, the smallest change that does is made ([`keep_lobe`]).
 
-use crate::ltc::fit::production_metrics;
+use crate::ltc::fit::{production_metrics_on, Sets, TargetSamples};
 use crate::ltc::target::LtcTarget;
 use half::f16;
 
@@ -88,8 +88,10 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
     n: usize,
 ) -> [f64; 6] {
     let normh = f16::from_f64(norm);
-    let on = |q: &[f16; 4], n: usize, off: f64| {
-        production_metrics(t, &q.map(|x| x.to_f64()), normh.to_f64(), n, off)
+    // the target's half of both sample sets, drawn once for every candidate
+    let sets = Sets::new(t, n);
+    let on = |q: &[f16; 4], s: &TargetSamples| {
+        production_metrics_on(t, s, &q.map(|x| x.to_f64()), normh.to_f64())
             .map(|m| m.1)
             .filter(|x| x.is_finite())
             .unwrap_or(f64::INFINITY)
@@ -97,7 +99,7 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
     let valid = |q: &[f16; 4]| keeps_lobe(&q.map(|x| x.to_f64()), inv);
     let score = |q: &[f16; 4]| {
         if valid(q) {
-            on(q, n, 0.5)
+            on(q, &sets.train)
         } else {
             f64::INFINITY
         }
@@ -134,7 +136,7 @@ pub fn half_storage<T: LtcTarget + ?Sized>(
     }
     // kept only if a separate validation set agrees (the training set cannot resolve the
     // narrowest lobes, where a search would fit its noise)
-    if !(valid(&best) && on(&best, n + 7, 0.37) < on(&nearest, n + 7, 0.37)) {
+    if !(valid(&best) && on(&best, &sets.val) < on(&nearest, &sets.val)) {
         best = nearest;
     }
     [

@@ -68,12 +68,57 @@ pub trait LtcTarget: Sync {
     }
 }
 
+/// A microfacet lobe seen from a fixed view v: Λ(v) and G1(v) are computed once, since
+/// every value of the lobe needs them (a fitter evaluates it millions of times).
+pub(crate) struct FixedView {
+    surface: Microsurface,
+    v: V3,
+    lambda_v: f64,
+    g1_v: f64,
+}
+
+impl FixedView {
+    pub(crate) fn new(surface: Microsurface, v: V3) -> FixedView {
+        FixedView {
+            surface,
+            v,
+            lambda_v: surface.lambda(&v),
+            g1_v: surface.g1_dir(&v),
+        }
+    }
+
+    /// (f(l), density of l under VNDF sampling + reflection) of the cosine-weighted lobe
+    /// with height-correlated G2 and F = 1: f = D(h)·G2(l, v)/(4 v_z) (seed 003 Eq 14),
+    /// density D(h)·G1(v)/(4 v_z). The same operations as `Microsurface::g1_dir` and
+    /// `g2_correlated`, with Λ(v) and G1(v) from `new`: the same bits.
+    pub(crate) fn eval(&self, l: &V3) -> (f64, f64) {
+        if l.z <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let h = (self.v + l).normalize();
+        let d = self.surface.d(&h);
+        let pdf = d * self.g1_v / (4.0 * self.v.z);
+        let g2 = if l.dot(&h) <= 0.0 || self.v.dot(&h) <= 0.0 {
+            0.0
+        } else {
+            let s = self.surface.lambda(l) + self.lambda_v;
+            if s.is_infinite() {
+                0.0
+            } else {
+                1.0 / (1.0 + s)
+            }
+        };
+        (d * g2 / (4.0 * self.v.z), pdf)
+    }
+}
+
 /// The GGX BRDF of one cell: cosine-weighted, height-correlated Smith G2, F = 1.
 pub struct GgxTarget {
     pub alpha: f64,
     pub v: V3,
     surface: Microsurface,
     vndf: VndfSampler,
+    seen: FixedView,
 }
 
 impl GgxTarget {
@@ -87,19 +132,12 @@ impl GgxTarget {
             v,
             surface,
             vndf: VndfSampler::new(surface, v)?,
+            seen: FixedView::new(surface, v),
         })
     }
     /// (f(l), density of l under VNDF sampling + reflection).
     pub fn eval(&self, l: &V3) -> (f64, f64) {
-        if l.z <= 0.0 {
-            return (0.0, 0.0);
-        }
-        let h = (self.v + l).normalize();
-        let d = self.surface.d(&h);
-        let g1 = self.surface.g1_dir(&self.v);
-        let pdf = d * g1 / (4.0 * self.v.z);
-        let f = d * self.surface.g2_correlated(l, &self.v, &h) / (4.0 * self.v.z);
-        (f, pdf)
+        self.seen.eval(l)
     }
     /// Sample l by VNDF + reflection (None if it lands below the horizon).
     pub fn sample(&self, u: [f64; 2]) -> Option<V3> {
