@@ -83,6 +83,34 @@ fn weights_1d() -> ([f64; 15], [f64; 15]) {
     (k, g)
 }
 
+/// sin and cos of the last 16 distinct arguments. A panel evaluates its integrand on a
+/// 15 × 15 tensor grid, so an integrand that needs the sine and cosine of a coordinate
+/// computes each of its 15 values once per panel instead of 15 times; the values are
+/// `f64::sin_cos`'s own, so results do not change by a bit.
+#[derive(Clone, Debug, Default)]
+pub struct SinCosMemo {
+    keys: [u64; 16],
+    vals: [(f64, f64); 16],
+    len: usize,
+    next: usize,
+}
+
+impl SinCosMemo {
+    /// `a.sin_cos()`, from the memo where `a` was asked for among the last 16.
+    pub fn get(&mut self, a: f64) -> (f64, f64) {
+        let b = a.to_bits();
+        if let Some(k) = self.keys[..self.len].iter().position(|&x| x == b) {
+            return self.vals[k];
+        }
+        let v = a.sin_cos();
+        self.keys[self.next] = b;
+        self.vals[self.next] = v;
+        self.next = (self.next + 1) % 16;
+        self.len = (self.len + 1).min(16);
+        v
+    }
+}
+
 fn panel<F: FnMut(f64, f64, &mut [f64])>(
     f: &mut F,
     safety: &[f64],

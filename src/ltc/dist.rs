@@ -43,6 +43,13 @@ impl LtcDist {
         xo.z / PI * self.map.det(x)
     }
 
+    /// The sample of this LTC that the clamped-cosine sample `c` maps to (what
+    /// [`Strategy::sample`] returns for the uniforms `c` was drawn from): a fitter draws
+    /// its cosine samples once and maps them through every trial matrix.
+    pub fn from_cosine(&self, c: &Vector3<f64>) -> Option<Vector3<f64>> {
+        self.map.inverse(c)
+    }
+
     pub fn matrix(&self) -> &Matrix3<f64> {
         &self.map.m
     }
@@ -51,7 +58,7 @@ impl LtcDist {
 impl Strategy<Vector3<f64>> for LtcDist {
     /// Cosine sample, transformed by M and renormalised.
     fn sample(&self, u: [f64; 2]) -> Option<Vector3<f64>> {
-        self.map.inverse(&CosineHemisphere.sample(u)?)
+        self.from_cosine(&CosineHemisphere.sample(u)?)
     }
     fn pdf(&self, x: &Vector3<f64>) -> f64 {
         self.eval(x)

@@ -19,7 +19,7 @@
 //! shipped ltc_1 textures (columns (a, 0, b) and (c, 0, d)).
 
 use crate::error::{Error, Result};
-use crate::integrate::mc::Strategy;
+use crate::integrate::mc::{CosineHemisphere, Strategy};
 use crate::ltc::lobe_error::Held;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
@@ -127,9 +127,11 @@ pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
 /// drawing them afresh.
 pub struct TargetSamples {
     n: usize,
-    off: f64,
     /// Per (i, j): the sample with (f, density), or `None` below the horizon.
     pts: Vec<Option<(V3, f64, f64)>>,
+    /// Per (i, j): the clamped-cosine sample of the same uniforms, which every trial LTC
+    /// maps to its own sample (`LtcDist::from_cosine`).
+    cos: Vec<Option<V3>>,
 }
 
 /// The stratified point (i, j) of an n×n set with offset `off`, kept inside [0, 1).
@@ -143,15 +145,18 @@ fn stratum(i: usize, j: usize, n: usize, off: f64) -> [f64; 2] {
 impl TargetSamples {
     pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize, off: f64) -> TargetSamples {
         let mut pts = Vec::with_capacity(n * n);
+        let mut cos = Vec::with_capacity(n * n);
         for i in 0..n {
             for j in 0..n {
-                pts.push(t.sample(stratum(i, j, n, off)).map(|l| {
+                let u = stratum(i, j, n, off);
+                pts.push(t.sample(u).map(|l| {
                     let (f, pb) = t.eval(&l);
                     (l, f, pb)
                 }));
+                cos.push(CosineHemisphere.sample(u));
             }
         }
-        TargetSamples { n, off, pts }
+        TargetSamples { n, pts, cos }
     }
 }
 
@@ -191,7 +196,7 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
     };
     for i in 0..n {
         for j in 0..n {
-            if let Some(l) = ltc.sample(stratum(i, j, n, s.off)) {
+            if let Some(l) = s.cos[i * n + j].and_then(|c| ltc.from_cosine(&c)) {
                 let (f, pb) = t.eval(&l);
                 add(f, pb, ltc.eval(&l));
             }

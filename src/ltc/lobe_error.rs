@@ -28,7 +28,7 @@
 //! (the table in f64, f32 and binary16, a shipped table…) is judged on the same panels:
 //! f is evaluated once per node for all of them.
 
-use crate::integrate::cubature::{cubature, SAFETY_KINKED, SAFETY_SMOOTH};
+use crate::integrate::cubature::{cubature, SinCosMemo, SAFETY_KINKED, SAFETY_SMOOTH};
 pub use crate::ltc::chart::Chart;
 use crate::ltc::target::LtcTarget;
 use nalgebra::{Matrix3, Vector3};
@@ -208,13 +208,14 @@ pub fn lobe_errors(
     let nc = live.len();
     // components: ∫f², ∫f, then per live candidate ∫(f − g)², ∫|f − g|
     let ncomp = 2 + 2 * nc;
+    let (mut sc_th, mut sc_phi) = (SinCosMemo::default(), SinCosMemo::default());
     let integrand = |x: f64, phi: f64, out: &mut [f64]| {
         let k = (x.floor() as usize).min(charts.len() - 1);
         let s = x - k as f64;
         let (chart, det, _) = &charts[k];
         let th = s * FRAC_PI_2;
-        let (st, ct) = th.sin_cos();
-        let (sp, cp) = phi.sin_cos();
+        let (st, ct) = sc_th.get(th);
+        let (sp, cp) = sc_phi.get(phi);
         let w = V3::new(st * cp, st * sp, ct);
         let Some((l, j)) = chart.map(&w, *det, v) else {
             return;
