@@ -178,12 +178,13 @@ fn against(
         let (albedo, _, _) = tgt.albedo(1e-8);
         Ok(cell_error_of(&tgt, albedo, &entries(k % n, k / n, c), tol))
     })?;
-    let k = errs.first().map_or(0, |e| e.len());
+    // a cell may judge fewer candidates than another: the missing ones are `None`
+    let k = errs.iter().map(|e| e.len()).max().unwrap_or(0);
     Ok((0..k)
         .map(|q| {
             errs.iter()
                 .zip(&cells)
-                .map(|(e, c)| (e[q], (c.alpha, c.theta.to_degrees())))
+                .map(|(e, c)| (e.get(q).copied().flatten(), (c.alpha, c.theta.to_degrees())))
                 .collect()
         })
         .collect())
@@ -385,13 +386,13 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         fam.main,
         &|i, j, c| {
             let v = &vt.cells[j][i];
-            vec![
-                full(v),
-                (COSINE, 1.0),
-                (COSINE, c.norm),
-                (c.inv, c.norm.min(1.0)),
-                (c.inv, c.norm),
-            ]
+            let mut e = vec![full(v), (COSINE, 1.0), (COSINE, c.norm)];
+            // the bounded table differs from the table only where the albedo exceeds 1:
+            // elsewhere both would be the table itself, judged already (`Cell::held`)
+            if c.norm > 1.0 {
+                e.extend([(c.inv, 1.0), (c.inv, c.norm)]);
+            }
+            e
         },
         Tolerance::relative(pl.held_out_rel),
     )?;
@@ -404,7 +405,11 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         Tolerance::relative(pl.held_out_rel),
     )?;
     let bounded = |k: usize| -> Located {
-        let rows: Vec<(Option<LobeError>, (f64, f64))> = on_main[k]
+        // no column at all where no cell's albedo exceeds 1
+        let none = Vec::new();
+        let rows: Vec<(Option<LobeError>, (f64, f64))> = on_main
+            .get(k)
+            .unwrap_or(&none)
             .iter()
             .zip(flat(&main.table))
             .filter(|(_, c)| c.norm > 1.0)
