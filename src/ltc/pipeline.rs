@@ -6,7 +6,7 @@
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::ltc::polygon::{self, EdgeForm, Light};
-use crate::microfacet::lobe::{lobe, Frame};
+use crate::microfacet::lobe::{Frame, ViewedLobe};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use nalgebra::{Matrix3, Vector3};
@@ -102,7 +102,10 @@ pub fn exact_footprint(
             "exact footprint: a parallelogram light and at least one texel".into(),
         ));
     }
-    let frames: Vec<Frame> = normals.iter().map(|m| Frame::around(*m)).collect();
+    let views: Vec<ViewedLobe> = normals
+        .iter()
+        .map(|m| ViewedLobe::new(&s, &Frame::around(*m), v))
+        .collect();
     let (o, e1, e2) = (q[0], q[1] - q[0], q[3] - q[0]);
     let an = e1.cross(&e2);
     let area = an.norm();
@@ -116,7 +119,7 @@ pub fn exact_footprint(
         }
         let d = p / r2.sqrt();
         let dw = ln.dot(&d).abs() / r2 * area;
-        let sum: f64 = frames.iter().map(|f| lobe(&s, f, v, &d)).sum();
+        let sum: f64 = views.iter().map(|t| t.eval(&s, &d)).sum();
         out[0] = sum * w * dw;
     };
     let grid: Vec<f64> = (0..=8).map(|k| k as f64 / 8.0).collect();
@@ -148,6 +151,7 @@ pub fn brute_force(
 ) -> Result<(f64, f64)> {
     let s = Microsurface::ggx(Roughness::iso(alpha)?);
     let frames: Vec<Frame> = normals.iter().map(|m| Frame::around(*m)).collect();
+    let views: Vec<ViewedLobe> = frames.iter().map(|f| ViewedLobe::new(&s, f, v)).collect();
     let samplers: Vec<Option<VndfSampler>> = frames
         .iter()
         .map(|f| {
@@ -184,7 +188,7 @@ pub fn brute_force(
     let (mut sum, mut sum2) = (0.0, 0.0);
     for k in 0..n {
         let ti = k % normals.len();
-        let (f, sampler) = (&frames[ti], &samplers[ti]);
+        let (f, sampler, view) = (&frames[ti], &samplers[ti], &views[ti]);
         let pdf_brdf = |d: &V3| -> f64 {
             match sampler {
                 Some(smp) => {
@@ -207,7 +211,7 @@ pub fn brute_force(
         );
         let p = sample_quad(light, [a, b, c]);
         let d = p.normalize();
-        let val = lobe(&s, f, v, &d);
+        let val = view.eval(&s, &d);
         if val > 0.0 {
             x += val / (pdf_light(&d) + pdf_brdf(&d));
         }
@@ -218,7 +222,7 @@ pub fn brute_force(
                 let d = h * (2.0 * v.dot(&h)) - v;
                 let pl = pdf_light(&d);
                 if pl > 0.0 {
-                    let val = lobe(&s, f, v, &d);
+                    let val = view.eval(&s, &d);
                     if val > 0.0 {
                         x += val / (pl + pdf_brdf(&d));
                     }

@@ -57,3 +57,57 @@ pub fn lobe(s: &Microsurface, f: &Frame, v: &V3, l: &V3) -> f64 {
     let h = h / hn;
     s.d(&h) * s.g2_correlated(&ll, &vl, &h) / (4.0 * vn)
 }
+
+/// [`lobe`] for one frame and one fixed view v: v in the frame, its projected area and
+/// Λ(v) are computed once, since an integral over l evaluates the lobe many times. The
+/// same operations in the same order as [`lobe`] with `Microsurface::g2_correlated`, so
+/// the same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewedLobe {
+    frame: Frame,
+    v_above: bool,
+    vl: V3,
+    vn: f64,
+    lambda_v: f64,
+}
+
+impl ViewedLobe {
+    pub fn new(s: &Microsurface, f: &Frame, v: &V3) -> ViewedLobe {
+        let vl = f.local(v);
+        ViewedLobe {
+            frame: *f,
+            v_above: v.z > 0.0,
+            vl,
+            vn: s.projected_area(&vl),
+            lambda_v: s.lambda(&vl),
+        }
+    }
+
+    /// `lobe(s, f, v, l)` for the `s`, `f` and `v` given to [`ViewedLobe::new`].
+    pub fn eval(&self, s: &Microsurface, l: &V3) -> f64 {
+        if !self.v_above || l.z <= 0.0 {
+            return 0.0;
+        }
+        let ll = self.frame.local(l);
+        if self.vn <= 0.0 || s.projected_area(&ll) <= 0.0 {
+            return 0.0;
+        }
+        let h = self.vl + ll;
+        let hn = h.norm();
+        if !(hn > 0.0) {
+            return 0.0;
+        }
+        let h = h / hn;
+        let g2 = if ll.dot(&h) <= 0.0 || self.vl.dot(&h) <= 0.0 {
+            0.0
+        } else {
+            let sum = s.lambda(&ll) + self.lambda_v;
+            if sum.is_infinite() {
+                0.0
+            } else {
+                1.0 / (1.0 + sum)
+            }
+        };
+        s.d(&h) * g2 / (4.0 * self.vn)
+    }
+}
