@@ -19,7 +19,6 @@
 //! shipped ltc_1 textures (columns (a, 0, b) and (c, 0, d)).
 
 use crate::error::{Error, Result};
-use crate::integrate::mc::{CosineHemisphere, Strategy};
 use crate::ltc::lobe_error::Held;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
@@ -29,6 +28,7 @@ use serde::Serialize;
 
 pub use super::params::{matrix, params_to_m, turn};
 pub use super::polish::{Polish, POLISH_ITERS};
+pub use super::samples::{metrics, metrics_on, Sets, TargetSamples};
 
 type V3 = Vector3<f64>;
 
@@ -120,95 +120,6 @@ pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
     Matrix3::new(p[0], 0.0, p[2], 0.0, 1.0, 0.0, p[1], 0.0, p[3])
 }
 
-/// The target's half of a balance sample set: its n×n stratified samples (offset `off`
-/// ∈ [0, 1)) with the target's value and density at each. They do not depend on the LTC,
-/// so a fit draws and evaluates them once and every trial LTC reuses them
-/// ([`metrics_on`]); the sums are the same, term by term and in the same order, as
-/// drawing them afresh.
-pub struct TargetSamples {
-    n: usize,
-    /// Per (i, j): the sample with (f, density), or `None` below the horizon.
-    pts: Vec<Option<(V3, f64, f64)>>,
-    /// Per (i, j): the clamped-cosine sample of the same uniforms, which every trial LTC
-    /// maps to its own sample (`LtcDist::from_cosine`).
-    cos: Vec<Option<V3>>,
-}
-
-/// The stratified point (i, j) of an n×n set with offset `off`, kept inside [0, 1).
-fn stratum(i: usize, j: usize, n: usize, off: f64) -> [f64; 2] {
-    [
-        ((i as f64 + off) / n as f64).min(1.0 - 1e-12),
-        ((j as f64 + off) / n as f64).min(1.0 - 1e-12),
-    ]
-}
-
-impl TargetSamples {
-    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize, off: f64) -> TargetSamples {
-        let mut pts = Vec::with_capacity(n * n);
-        let mut cos = Vec::with_capacity(n * n);
-        for i in 0..n {
-            for j in 0..n {
-                let u = stratum(i, j, n, off);
-                pts.push(t.sample(u).map(|l| {
-                    let (f, pb) = t.eval(&l);
-                    (l, f, pb)
-                }));
-                cos.push(CosineHemisphere.sample(u));
-            }
-        }
-        TargetSamples { n, pts, cos }
-    }
-}
-
-/// Both metrics of an LTC (given as a distribution and amplitude) against the target on
-/// an n×n stratified set per technique with offset `off` ∈ [0, 1).
-pub fn metrics<T: LtcTarget + ?Sized>(
-    t: &T,
-    ltc: &LtcDist,
-    norm: f64,
-    n: usize,
-    off: f64,
-) -> (f64, f64) {
-    metrics_on(t, &TargetSamples::new(t, n, off), ltc, norm)
-}
-
-/// [`metrics`] on the target's samples `s` drawn beforehand (of the same target `t`):
-/// n×n samples of the LTC, each with the matching one of `s`, in the balance estimator
-/// (Σ|f − f_ltc|³/(p_ltc + p_brdf) per sample count, and the relative L2).
-pub fn metrics_on<T: LtcTarget + ?Sized>(
-    t: &T,
-    s: &TargetSamples,
-    ltc: &LtcDist,
-    norm: f64,
-) -> (f64, f64) {
-    let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
-    let n = s.n;
-    let cnt = (n * n) as f64;
-    let mut add = |f: f64, pb: f64, pl: f64| {
-        let fl = norm * pl;
-        let q = pl + pb;
-        if q > 0.0 {
-            let e = (f - fl).abs();
-            cubic += e * e * e / q;
-            l2 += e * e / q;
-            f2 += f * f / q;
-        }
-    };
-    for i in 0..n {
-        for j in 0..n {
-            if let Some(l) = s.cos[i * n + j].and_then(|c| ltc.from_cosine(&c)) {
-                let (f, pb) = t.eval(&l);
-                add(f, pb, ltc.eval(&l));
-            }
-            if let Some((l, f, pb)) = &s.pts[i * n + j] {
-                add(*f, *pb, ltc.eval(l));
-            }
-        }
-    }
-    let rel = if f2 > 0.0 { (l2 / f2).sqrt() } else { f64::NAN };
-    (cubic / cnt, rel)
-}
-
 /// Which metric drives the fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum Metric {
@@ -236,25 +147,6 @@ struct Objective<'a, T: ?Sized> {
     /// The target's samples of the set (training or validation).
     set: &'a TargetSamples,
     metric: Metric,
-}
-
-/// A cell's two sample sets, the target's half of each drawn once: training (n×n,
-/// offset 0.5) and validation ((n + 7)², offset 0.37).
-pub struct Sets {
-    pub train: TargetSamples,
-    pub val: TargetSamples,
-}
-
-impl Sets {
-    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize) -> Sets {
-        Sets {
-            train: TargetSamples::new(t, n, 0.5),
-            val: TargetSamples::new(t, n + 7, 0.37),
-        }
-    }
-    fn n(&self) -> usize {
-        self.train.n
-    }
 }
 
 impl<T: LtcTarget + ?Sized> Objective<'_, T> {

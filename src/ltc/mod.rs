@@ -7,6 +7,8 @@
 //! - `target`: what a table is fitted to (the `LtcTarget` trait; the GGX lobe);
 //! - `fit`: the per-cell fit of a table, generic over the target (all four
 //!   production-form parameters);
+//! - `samples`: the balance sample sets a fit measures trial lobes on, the target's half
+//!   drawn once per cell;
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
 //! - `chart`: the linearly transformed hemispheres held-out integrals follow a lobe on;
 //! - `held`: the held-out figures of a fitted table, every cell in every precision;
@@ -36,6 +38,7 @@ pub mod params;
 pub mod pipeline;
 pub mod polish;
 pub mod polygon;
+pub mod samples;
 pub mod sheen;
 pub mod smooth;
 pub mod storage;

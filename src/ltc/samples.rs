@@ -1,0 +1,121 @@
+//! The balance sample sets an LTC fit measures a trial lobe on (the reference fitter's
+//! estimator; Heitz et al. 2016): n×n stratified samples of the LTC and n×n of the target
+//! with the same uniforms, weighted by 1/(p_ltc + p_target). The target's half and the
+//! clamped-cosine samples the LTC's half is mapped from do not depend on the trial
+//! matrix, so a fit draws them once per cell ([`TargetSamples`], [`Sets`]) and every trial
+//! reuses them: the same terms in the same order as drawing them afresh.
+
+use crate::integrate::mc::{CosineHemisphere, Strategy};
+use crate::ltc::target::LtcTarget;
+use crate::ltc::LtcDist;
+use nalgebra::Vector3;
+
+type V3 = Vector3<f64>;
+
+/// The target's half of a balance sample set: its n×n stratified samples (offset `off`
+/// ∈ [0, 1)) with the target's value and density at each. They do not depend on the LTC,
+/// so a fit draws and evaluates them once and every trial LTC reuses them
+/// ([`metrics_on`]); the sums are the same, term by term and in the same order, as
+/// drawing them afresh.
+pub struct TargetSamples {
+    n: usize,
+    /// Per (i, j): the sample with (f, density), or `None` below the horizon.
+    pts: Vec<Option<(V3, f64, f64)>>,
+    /// Per (i, j): the clamped-cosine sample of the same uniforms, which every trial LTC
+    /// maps to its own sample (`LtcDist::from_cosine`).
+    cos: Vec<Option<V3>>,
+}
+
+/// The stratified point (i, j) of an n×n set with offset `off`, kept inside [0, 1).
+fn stratum(i: usize, j: usize, n: usize, off: f64) -> [f64; 2] {
+    [
+        ((i as f64 + off) / n as f64).min(1.0 - 1e-12),
+        ((j as f64 + off) / n as f64).min(1.0 - 1e-12),
+    ]
+}
+
+impl TargetSamples {
+    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize, off: f64) -> TargetSamples {
+        let mut pts = Vec::with_capacity(n * n);
+        let mut cos = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                let u = stratum(i, j, n, off);
+                pts.push(t.sample(u).map(|l| {
+                    let (f, pb) = t.eval(&l);
+                    (l, f, pb)
+                }));
+                cos.push(CosineHemisphere.sample(u));
+            }
+        }
+        TargetSamples { n, pts, cos }
+    }
+}
+
+/// Both metrics of an LTC (given as a distribution and amplitude) against the target on
+/// an n×n stratified set per technique with offset `off` ∈ [0, 1).
+pub fn metrics<T: LtcTarget + ?Sized>(
+    t: &T,
+    ltc: &LtcDist,
+    norm: f64,
+    n: usize,
+    off: f64,
+) -> (f64, f64) {
+    metrics_on(t, &TargetSamples::new(t, n, off), ltc, norm)
+}
+
+/// [`metrics`] on the target's samples `s` drawn beforehand (of the same target `t`):
+/// n×n samples of the LTC, each with the matching one of `s`, in the balance estimator
+/// (Σ|f − f_ltc|³/(p_ltc + p_brdf) per sample count, and the relative L2).
+pub fn metrics_on<T: LtcTarget + ?Sized>(
+    t: &T,
+    s: &TargetSamples,
+    ltc: &LtcDist,
+    norm: f64,
+) -> (f64, f64) {
+    let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
+    let n = s.n;
+    let cnt = (n * n) as f64;
+    let mut add = |f: f64, pb: f64, pl: f64| {
+        let fl = norm * pl;
+        let q = pl + pb;
+        if q > 0.0 {
+            let e = (f - fl).abs();
+            cubic += e * e * e / q;
+            l2 += e * e / q;
+            f2 += f * f / q;
+        }
+    };
+    for i in 0..n {
+        for j in 0..n {
+            if let Some(l) = s.cos[i * n + j].and_then(|c| ltc.from_cosine(&c)) {
+                let (f, pb) = t.eval(&l);
+                add(f, pb, ltc.eval(&l));
+            }
+            if let Some((l, f, pb)) = &s.pts[i * n + j] {
+                add(*f, *pb, ltc.eval(l));
+            }
+        }
+    }
+    let rel = if f2 > 0.0 { (l2 / f2).sqrt() } else { f64::NAN };
+    (cubic / cnt, rel)
+}
+
+/// A cell's two sample sets, the target's half of each drawn once: training (n×n,
+/// offset 0.5) and validation ((n + 7)², offset 0.37).
+pub struct Sets {
+    pub train: TargetSamples,
+    pub val: TargetSamples,
+}
+
+impl Sets {
+    pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize) -> Sets {
+        Sets {
+            train: TargetSamples::new(t, n, 0.5),
+            val: TargetSamples::new(t, n + 7, 0.37),
+        }
+    }
+    pub(crate) fn n(&self) -> usize {
+        self.train.n
+    }
+}
