@@ -380,9 +380,8 @@ proptest! {
         let (f, p) = ta.eval(&l);
         let (a, b) = model(&sa);
         prop_assert_eq!((f.to_bits(), p.to_bits()), (a.to_bits(), b.to_bits()));
-        let alpha_c = alpha.max(1e-3);
         for vis in [SheenVisibility::EstevezKulla, SheenVisibility::Neubelt] {
-            let c = CharlieTarget::new(alpha_c, theta, vis).unwrap();
+            let c = CharlieTarget::new(alpha, theta, vis).unwrap();
             let (f, p) = c.eval(&l);
             prop_assert_eq!((f.to_bits(), p.to_bits()), (c.value(&l).to_bits(), c.pdf(&l).to_bits()));
         }

@@ -288,7 +288,8 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     fit_cell_on(t, z, norm, p0, &Sets::new(t, n), metric, method, max_iters)
 }
 
-/// [`fit_cell`] (Nelder–Mead or L-BFGS) on the cell's sample sets drawn beforehand.
+/// [`fit_cell`] on the cell's sample sets drawn beforehand (the Levenberg–Marquardt
+/// route draws its own nodes, at the sets' n).
 #[allow(clippy::too_many_arguments)]
 fn fit_cell_on<T: LtcTarget + ?Sized>(
     t: &T,
@@ -300,6 +301,9 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
     method: Method,
     max_iters: u64,
 ) -> Result<([f64; 4], u64)> {
+    if method == Method::LevenbergMarquardt {
+        return fit_cell(t, z, norm, p0, sets.n(), metric, method, max_iters);
+    }
     let obj = |z: V3, validation: bool| Objective {
         t,
         z,
@@ -500,11 +504,7 @@ pub fn fit_table<T: LtcTarget>(
                 p[3] *= alpha / prev;
             }
             let sets = Sets::new(&t, n);
-            let (best, iters) = if method == Method::LevenbergMarquardt {
-                fit_cell(&t, &zm, norm, &p, n, metric, method, max_iters)?
-            } else {
-                fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?
-            };
+            let (best, iters) = fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?;
             // the warm-start chain carries the primary metric's solution
             p = best;
             let (q, polished) = if metric == Metric::Cubic {
