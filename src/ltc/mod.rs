@@ -10,6 +10,7 @@
 //! - `samples`: the balance sample sets a fit measures trial lobes on, the target's half
 //!   drawn once per cell;
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
+//! - `compact`: a table as tensor-product Chebyshev series, rebuilt or evaluated per pixel;
 //! - `chart`: the linearly transformed hemispheres held-out integrals follow a lobe on;
 //! - `held`: the held-out figures of a fitted table, every cell in every precision;
 //! - `lobe_error`: the held-out error of an LTC against its lobe (relative L2 and L1)
@@ -25,6 +26,7 @@
 pub mod aniso;
 pub mod aniso_table;
 pub mod chart;
+pub mod compact;
 pub mod compare;
 pub mod diffuse;
 pub mod dist;

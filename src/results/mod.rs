@@ -16,6 +16,7 @@ pub mod index;
 pub mod leadr_grids;
 pub mod ltc;
 pub mod ltc_aniso;
+pub mod ltc_compact;
 pub mod render;
 pub mod smith_lambda;
 pub mod tensor;
@@ -127,6 +128,7 @@ pub fn put<T: ResultFile>(set: &mut crate::io::Outputs, results: &Path, value: &
 pub mod names {
     pub const FILTERS: &str = "filters";
     pub const LTC_ANISO: &str = "ltc-aniso";
+    pub const LTC_COMPACT: &str = "ltc-compact";
     pub const RENDER: &str = "render";
     pub const LEADR_GRIDS: &str = "leadr-grids";
     pub const LTC_GGX: &str = "ltc-ggx";

@@ -6,9 +6,9 @@
 use crate::study::Study;
 
 use super::{
-    filters, leadr_grids, ltc_aniso, ltc_ggx, ltc_judge_tolerance, ltc_lobes, ltc_optimisers,
-    multiscale_alpha_me, multiscale_convolution, render, smith_lambda, tensor, tensor_scale,
-    tensor_wave, visibility,
+    filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobes,
+    ltc_optimisers, multiscale_alpha_me, multiscale_convolution, render, smith_lambda, tensor,
+    tensor_scale, tensor_wave, visibility,
 };
 
 /// Every study, as data.
@@ -27,6 +27,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &ltc_aniso::LtcAniso,
     &ltc_optimisers::LtcGgxOptimisers,
     &ltc_judge_tolerance::LtcJudgeTolerance,
+    &ltc_compact::LtcCompactStudy,
     &render::RenderStudy,
     &filters::Filters,
 ];

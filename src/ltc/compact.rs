@@ -1,0 +1,218 @@
+//! Compact LTC tables: each channel of a fitted n×n table (a, b, c, d, norm, fresnel on
+//! the (r = √α, t = √(1 − cos θ)) grid of `ltc::table`) as a tensor-product Chebyshev
+//! series of degree < p in each of r and t — p² coefficients per channel instead of n².
+//!
+//! - A channel is fitted on its transformed values ([`Transform`]): `Raw`, or `Log` for a
+//!   positive channel whose relative error is what the lobe feels (M⁻¹'s d ∝ α at small
+//!   α, a sheen norm spanning 18 decades).
+//! - The fit is linear least squares over the table's n² entries. On a full tensor grid
+//!   with a tensor-product basis it separates: with A the n×p Chebyshev–Vandermonde matrix
+//!   at the grid's nodes x_i = 2i/(n − 1) − 1, the coefficients are C = A⁺ V (A⁺)ᵀ, A⁺
+//!   the pseudo-inverse (nalgebra's SVD). The fit is judged elsewhere by the lobe error
+//!   after rebuilding (`studies::ltc_compact`), not by the distance to the entries.
+//! - Evaluation is Clenshaw's recurrence along r for each t-degree, then along t: p² + p
+//!   multiply-adds per channel. [`Compact::eval`] is the f64 reference, [`Compact::eval_f32`]
+//!   the shading form (the same recurrence in f32, as generated shader code runs it).
+//! - [`Compact::rebuild`] evaluates the series at the texel centres, as an engine's
+//!   start-up code would fill its textures; the binary16 entries are the nearest.
+
+use crate::error::{Error, Result};
+use crate::ltc::table::FittedTable;
+use nalgebra::DMatrix;
+
+/// The largest series degree per axis (p): 64² coefficients per channel already match a
+/// 64² table entry for entry.
+pub const MAX_P: usize = 64;
+
+/// How a channel is fitted: on its values, or on their logarithm (a positive channel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Transform {
+    Raw,
+    Log,
+}
+
+impl Transform {
+    fn forward(self, v: f64) -> f64 {
+        match self {
+            Transform::Raw => v,
+            Transform::Log => v.ln(),
+        }
+    }
+    fn inverse(self, v: f64) -> f64 {
+        match self {
+            Transform::Raw => v,
+            Transform::Log => v.exp(),
+        }
+    }
+    fn inverse_f32(self, v: f32) -> f32 {
+        match self {
+            Transform::Raw => v,
+            Transform::Log => v.exp(),
+        }
+    }
+}
+
+/// One channel: `coeffs[k + p·l]` multiplies T_k(2r − 1)·T_l(2t − 1); the channel's value
+/// is the transform's inverse of the sum.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Series {
+    pub transform: Transform,
+    pub coeffs: Vec<f64>,
+}
+
+/// A compact table: the six channels of `ltc::table::FittedTable`, each a p×p series.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Compact {
+    pub p: usize,
+    pub channels: Vec<Series>,
+}
+
+/// Σ_k c_k T_k(x) by Clenshaw's recurrence (f64).
+fn clenshaw(c: &[f64], x: f64) -> f64 {
+    let (mut b1, mut b2) = (0.0, 0.0);
+    for &ck in c.iter().skip(1).rev() {
+        let b0 = ck + 2.0 * x * b1 - b2;
+        b2 = b1;
+        b1 = b0;
+    }
+    c.first().copied().unwrap_or(0.0) + x * b1 - b2
+}
+
+/// [`clenshaw`] in f32.
+fn clenshaw_f32(c: &[f32], x: f32) -> f32 {
+    let (mut b1, mut b2) = (0.0f32, 0.0f32);
+    for &ck in c.iter().skip(1).rev() {
+        let b0 = ck + 2.0 * x * b1 - b2;
+        b2 = b1;
+        b1 = b0;
+    }
+    c.first().copied().unwrap_or(0.0) + x * b1 - b2
+}
+
+/// The n×p Chebyshev–Vandermonde matrix at x_i = 2i/(n − 1) − 1 (T_k by its three-term
+/// recurrence).
+fn vandermonde(n: usize, p: usize) -> DMatrix<f64> {
+    DMatrix::from_fn(n, p, |i, k| {
+        let x = 2.0 * i as f64 / (n - 1) as f64 - 1.0;
+        let (mut t0, mut t1) = (1.0, x);
+        if k == 0 {
+            return t0;
+        }
+        for _ in 1..k {
+            (t0, t1) = (t1, 2.0 * x * t1 - t0);
+        }
+        t1
+    })
+}
+
+impl Compact {
+    /// Fit every channel of `table` as a p×p series under its transform. A typed error
+    /// when p is 0 or exceeds the table's side, when an entry is not finite, or when a
+    /// `Log` channel has an entry ≤ 0.
+    pub fn fit(table: &FittedTable, p: usize, transforms: [Transform; 6]) -> Result<Compact> {
+        let n = table.n;
+        if n < 2 || table.cells.len() != n * n {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: a table of side {n} with {} cells",
+                table.cells.len()
+            )));
+        }
+        if p == 0 || p > n.min(MAX_P) {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: degree p = {p} must lie in 1..={} (the table's side, at most {MAX_P})",
+                n.min(MAX_P)
+            )));
+        }
+        let a = vandermonde(n, p);
+        let pinv = a
+            .clone()
+            .pseudo_inverse(1e-12)
+            .map_err(|e| Error::InvalidArgument(format!("compact LTC: pseudo-inverse: {e}")))?;
+        let channels = transforms
+            .iter()
+            .enumerate()
+            .map(|(ch, &tr)| {
+                // V[i, j]: r index i, t index j
+                let mut v = DMatrix::zeros(n, n);
+                for j in 0..n {
+                    for i in 0..n {
+                        let x = table.cells[i + n * j][ch];
+                        let y = tr.forward(x);
+                        if !x.is_finite() || !y.is_finite() {
+                            return Err(Error::InvalidArgument(format!(
+                                "compact LTC: channel {ch} at cell ({i}, {j}) is {x}, which the {tr:?} transform cannot fit"
+                            )));
+                        }
+                        v[(i, j)] = y;
+                    }
+                }
+                let c = &pinv * v * pinv.transpose();
+                Ok(Series {
+                    transform: tr,
+                    coeffs: (0..p * p).map(|q| c[(q % p, q / p)]).collect(),
+                })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Compact { p, channels })
+    }
+
+    /// The number of coefficients (all channels).
+    pub fn coefficients(&self) -> usize {
+        self.channels.iter().map(|s| s.coeffs.len()).sum()
+    }
+
+    /// The six channels at (r, t) ∈ [0, 1]² (clamped), in f64: the reference.
+    pub fn eval(&self, r: f64, t: f64) -> [f64; 6] {
+        let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
+        let p = self.p;
+        std::array::from_fn(|ch| {
+            let s = &self.channels[ch];
+            let g: Vec<f64> = (0..p)
+                .map(|l| clenshaw(&s.coeffs[p * l..p * (l + 1)], x))
+                .collect();
+            s.transform.inverse(clenshaw(&g, y))
+        })
+    }
+
+    /// The coefficients rounded to f32, as a shader holds them.
+    pub fn coeffs_f32(&self) -> Vec<Vec<f32>> {
+        self.channels
+            .iter()
+            .map(|s| s.coeffs.iter().map(|&c| c as f32).collect())
+            .collect()
+    }
+
+    /// [`Compact::eval`] in f32 from f32 coefficients (`coeffs_f32`): the shading form.
+    pub fn eval_f32(&self, coeffs: &[Vec<f32>], r: f32, t: f32) -> [f32; 6] {
+        let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
+        let p = self.p;
+        std::array::from_fn(|ch| {
+            let c = &coeffs[ch];
+            let mut g = [0.0f32; MAX_P];
+            for (l, gl) in g.iter_mut().enumerate().take(p) {
+                *gl = clenshaw_f32(&c[p * l..p * (l + 1)], x);
+            }
+            self.channels[ch]
+                .transform
+                .inverse_f32(clenshaw_f32(&g[..p], y))
+        })
+    }
+
+    /// The n×n table the series give at the texel centres (r, t) = (i, j)/(n − 1), with
+    /// its binary16 storage the nearest binary16 of each entry.
+    pub fn rebuild(&self, n: usize) -> FittedTable {
+        let cells: Vec<[f64; 6]> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k % n, k / n);
+                self.eval(i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64)
+            })
+            .collect();
+        let half = cells.iter().map(|c| c.map(half::f16::from_f64)).collect();
+        FittedTable {
+            n,
+            cells,
+            half: Some(half),
+        }
+    }
+}

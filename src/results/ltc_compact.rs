@@ -1,0 +1,87 @@
+//! results/fits/ltc-compact.json (on request): LTC tables as compact Chebyshev series
+//! (`ltc::compact`), each judged by the exact held-out lobe error after rebuilding and
+//! binary16 storage (the texture an engine's start-up code would fill) and as a
+//! texture-free per-pixel form, beside the full table and the shipped one.
+
+use crate::fit::spec::FitSpec;
+use crate::ltc::compact::Compact;
+use crate::ltc::lobe_error::Spread;
+use serde::{Deserialize, Serialize};
+
+/// The file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LtcCompact {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    /// Every `every`-th cell and square along each axis was judged.
+    pub every: usize,
+    /// The held-out figures' relative tolerance.
+    pub held_out_rel: f64,
+    pub families: Vec<CompactFamily>,
+}
+
+impl super::ResultFile for LtcCompact {
+    const NAME: &'static str = super::names::LTC_COMPACT;
+}
+
+/// One table's curve.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CompactFamily {
+    /// The table's result file (results/fits/<table>.json).
+    pub table: String,
+    /// Its side n.
+    pub n: usize,
+    /// Its coefficients as stored (n² cells × 6 channels).
+    pub full_coefficients: usize,
+    /// The full table's stored binary16 entries at the judged places (bilinear at the
+    /// squares).
+    pub full: Judged,
+    /// The shipped table at the same places (results/ltc-compare.json; GGX only, when
+    /// that file exists): per engine path.
+    pub shipped: Vec<ShippedPath>,
+    pub forms: Vec<CompactForm>,
+    /// The form the goal picks (the fewest coefficients meeting it), else `None`.
+    pub chosen: Option<usize>,
+    /// The chosen form's series, else the most accurate rebuild's.
+    pub series: Compact,
+}
+
+/// Held-out relative L2 over the judged cells and squares.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Judged {
+    pub cells: Spread,
+    pub squares: Spread,
+}
+
+/// The shipped table along one engine path, at the places judged.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ShippedPath {
+    pub path: String,
+    pub r_min: f64,
+    pub shipped: Judged,
+    /// The full table over the same places (those the path reaches).
+    pub ours_full: Judged,
+}
+
+/// One compact form (a transform set and a degree).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CompactForm {
+    /// The transform set's name ("raw", "log").
+    pub transforms: String,
+    pub p: usize,
+    pub coefficients: usize,
+    /// Rebuilt at the texel centres, stored as the nearest binary16, read bilinearly.
+    pub rebuilt: Judged,
+    /// Evaluated per pixel in f32 at the place itself.
+    pub texture_free: Judged,
+    /// Places (cells + squares) where the rebuild is worse than the full table by more
+    /// than both bars.
+    pub rebuilt_worse_than_full: usize,
+    /// Per shipped path (same order as `CompactFamily::shipped`): the places where the
+    /// rebuild is better, tied, worse than the shipped table (beyond both bars).
+    pub rebuilt_vs_shipped: Vec<[usize; 3]>,
+    /// The largest |f32 form − f64 series| / max(|f64|, 1e-3) of any channel over a
+    /// 257² grid of (r, t).
+    pub f32_rel_error: f64,
+}

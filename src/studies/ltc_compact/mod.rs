@@ -1,0 +1,481 @@
+//! `regen --only ltc-compact` (on request): LTC tables as a few hundred coefficients
+//! (`ltc::compact`: a tensor-product Chebyshev series per channel), judged the way a shader
+//! uses them.
+//!
+//! For the GGX table and the Estevez–Kulla sheen table (the published files), each
+//! transform set and each degree p of the spec gives a compact form (6·p² coefficients).
+//! Each form is judged at every `every`-th cell (texel centre) and square centre along
+//! each axis, against the true lobe at that place, by the exact held-out figures of
+//! `ltc::lobe_error` (converged integrals with their bars), in two ways:
+//!
+//! - **rebuilt:** the series evaluated at the texel centres, stored as the nearest
+//!   binary16 and read bilinearly (at a square centre: the mean of its four corners), as
+//!   an engine that rebuilds its textures at start-up would sample them;
+//! - **texture-free:** the series evaluated in f32 at the place itself, as a shader with
+//!   no texture would.
+//!
+//! All forms at a place, and the full table's stored binary16 entries, are judged in one
+//! cubature (the lobe evaluated once per node for all of them). For GGX the shipped
+//! table's figures at the same places come from results/ltc-compare.json (each engine
+//! path's reachable places), and every place counts as better, tied or worse beyond both
+//! bars. It reads the published tables and does not rerun their studies (its cache is
+//! keyed by each table's fingerprint). The goal (for GGX): at most `max_coefficients`, no reachable place worse than the
+//! shipped table, and a mean within `within_points` of the full table's. Writes
+//! results/ltc-compact.{md,svg} and results/fits/ltc-compact.json.
+
+use crate::error::{Error, Result};
+use crate::ltc::compact::{Compact, Transform};
+use crate::ltc::compare::{cell_error_of, square_entries, Shipped};
+use crate::ltc::lobe_error::{LobeError, Spread, Tolerance};
+use crate::ltc::lobes::Lobe;
+use crate::ltc::table::FittedTable;
+use crate::ltc::target::{GgxTarget, LtcTarget};
+use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPath};
+use crate::study::{Ctx, FitOutcome};
+
+mod report;
+
+/// What fits/ltc-compact.toml sets.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Series degrees p (coefficients per channel p²), strictly increasing.
+    pub degrees: Vec<usize>,
+    /// Judge every `every`-th cell and square along each axis.
+    pub every: usize,
+    /// The held-out figures' relative tolerance.
+    pub held_out_rel: f64,
+    /// The goal: at most this many coefficients …
+    pub max_coefficients: usize,
+    /// … and a mean relative L2 within this many points of the full table's.
+    pub within_points: f64,
+}
+
+impl crate::fit::spec::Params for Plan {
+    fn check(&self) -> std::result::Result<(), String> {
+        crate::fit::spec::within("every", self.every, 1, 64)?;
+        crate::fit::spec::within("degrees (its length)", self.degrees.len(), 1, 16)?;
+        for &p in &self.degrees {
+            crate::fit::spec::within("degrees", p, 1, crate::ltc::compact::MAX_P)?;
+        }
+        if !self.degrees.windows(2).all(|w| w[0] < w[1]) {
+            return Err(format!(
+                "degrees = {:?} must increase strictly",
+                self.degrees
+            ));
+        }
+        crate::fit::spec::within("max_coefficients", self.max_coefficients, 1, 1 << 20)?;
+        crate::fit::spec::within("within_points", self.within_points, 0.0, 100.0)?;
+        Tolerance::check_relative(self.held_out_rel)
+    }
+}
+
+/// A table the study compresses: its result file, its lobe (`None`: GGX) and the
+/// transform sets tried (name, per channel a, b, c, d, norm, fresnel).
+struct Source {
+    table: &'static str,
+    lobe: Option<Lobe>,
+    transforms: [(&'static str, [Transform; 6]); 2],
+}
+
+use Transform::{Log, Raw};
+
+const SOURCES: [Source; 2] = [
+    Source {
+        table: crate::results::names::LTC_GGX,
+        lobe: None,
+        // d ∝ α at small α: its relative error is what the lobe feels
+        transforms: [("raw", [Raw; 6]), ("log", [Log, Raw, Raw, Log, Raw, Raw])],
+    },
+    Source {
+        table: "ltc-sheen",
+        lobe: Some(Lobe::SheenEstevezKulla),
+        // the sheen norm spans 18 decades, so a raw fit is no candidate: its absolute
+        // error swamps the lobes of albedo ≈ 0 (a quick run measured rel. L2 ≈ 1e14 there)
+        transforms: [
+            ("log", [Raw, Raw, Raw, Log, Log, Raw]),
+            ("log-a", [Log, Raw, Raw, Log, Log, Raw]),
+        ],
+    },
+];
+
+/// What the study computed.
+pub struct Computed {
+    result: crate::results::ltc_compact::LtcCompact,
+}
+
+/// The study.
+pub fn compute(c: &Ctx) -> Result<Computed> {
+    let pl: Plan = c.params()?;
+    let compare = crate::results::compare::read(c.results)?;
+    let mut families = Vec::new();
+    for s in &SOURCES {
+        crate::report::stage(&format!("regen ltc-compact: {}", s.table));
+        let shipped = if s.lobe.is_none() {
+            compare.as_ref()
+        } else {
+            None
+        };
+        families.push(match s.lobe {
+            None => family(c.results, s, &GgxTarget::new, &pl, shipped)?,
+            Some(l) => family(c.results, s, &move |a, t| l.target(a, t), &pl, None)?,
+        });
+    }
+    Ok(Computed {
+        result: crate::results::ltc_compact::LtcCompact {
+            spec: c.spec.clone(),
+            command: crate::results::command(&c.spec.name),
+            preset: c.preset.name().into(),
+            every: pl.every,
+            held_out_rel: pl.held_out_rel,
+            families,
+        },
+    })
+}
+
+/// A table in the shipped layout from its cells (`half`: the binary16 entries).
+fn layout(t: &FittedTable, half: bool) -> Shipped {
+    let cell = |k: usize| {
+        if half {
+            t.half_cell(k).map(|h| h.to_f64())
+        } else {
+            t.cells[k]
+        }
+    };
+    Shipped {
+        n: t.n,
+        mat: (0..t.n * t.n)
+            .map(|k| {
+                let c = cell(k);
+                [c[0], c[1], c[2], c[3]]
+            })
+            .collect(),
+        mag: (0..t.n * t.n)
+            .map(|k| {
+                let c = cell(k);
+                [c[4], c[5]]
+            })
+            .collect(),
+    }
+}
+
+/// A judged place: cell or square (i, j).
+#[derive(Clone, Copy)]
+struct Place {
+    square: bool,
+    i: usize,
+    j: usize,
+}
+
+impl Place {
+    fn rt(&self, n: usize) -> (f64, f64) {
+        let off = if self.square { 0.5 } else { 0.0 };
+        let d = (n - 1) as f64;
+        ((self.i as f64 + off) / d, (self.j as f64 + off) / d)
+    }
+    fn entries(&self, t: &Shipped) -> Option<([f64; 4], f64)> {
+        if self.square {
+            square_entries(t, self.i, self.j)
+        } else {
+            let k = self.i + t.n * self.j;
+            Some((t.mat[k], t.mag[k][0]))
+        }
+    }
+}
+
+/// One table's forms, judged (see the module doc).
+fn family<T: LtcTarget>(
+    results: &std::path::Path,
+    s: &Source,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    pl: &Plan,
+    compare: Option<&crate::results::compare::LtcCompare>,
+) -> Result<CompactFamily> {
+    let table = crate::results::ltc::table(results, s.table)?;
+    let grid: crate::ltc::fit::Grid = {
+        #[derive(serde::Deserialize)]
+        struct G {
+            grid: crate::ltc::fit::Grid,
+        }
+        crate::results::require_named::<G>(results, s.table)?.grid
+    };
+    let n = table.n;
+    if grid.n != n {
+        return Err(Error::InvalidArgument(format!(
+            "results/fits/{}.json: a {n}×{n} table under a grid of side {}",
+            s.table, grid.n
+        )));
+    }
+    let mut forms: Vec<(String, Compact)> = Vec::new();
+    for (name, tr) in &s.transforms {
+        for &p in &pl.degrees {
+            forms.push((name.to_string(), Compact::fit(&table, p.min(n), *tr)?));
+        }
+    }
+    let full = layout(&table, true);
+    let rebuilt: Vec<Shipped> = forms
+        .iter()
+        .map(|(_, f)| layout(&f.rebuild(n), true))
+        .collect();
+    let f32c: Vec<Vec<Vec<f32>>> = forms.iter().map(|(_, f)| f.coeffs_f32()).collect();
+    let places: Vec<Place> = [false, true]
+        .into_iter()
+        .flat_map(|square| {
+            let w = if square { n - 1 } else { n };
+            (0..w).step_by(pl.every).flat_map(move |j| {
+                (0..w)
+                    .step_by(pl.every)
+                    .map(move |i| Place { square, i, j })
+            })
+        })
+        .collect();
+    let tol = Tolerance::relative(pl.held_out_rel);
+    // keyed by the table's bits: the study reads the published file, not its study's run
+    let label = format!(
+        "ltc-compact {} {} (every {})",
+        s.table,
+        table.fingerprint(),
+        pl.every
+    );
+    // per place: [full, then per form: rebuilt, texture-free]
+    let judged: Vec<Vec<Option<LobeError>>> = crate::memo::map_items(&label, &places, |pc| {
+        let (r, t) = pc.rt(n);
+        let lobe = target(
+            (r * r).max(grid.alpha_min),
+            (1.0 - t * t).clamp(0.0, 1.0).acos(),
+        )?;
+        let (albedo, _, _) = lobe.albedo(1e-8);
+        let mut entries: Vec<([f64; 4], f64)> = Vec::with_capacity(1 + 2 * forms.len());
+        entries.push(pc.entries(&full).unwrap_or(([f64::NAN; 4], f64::NAN)));
+        for (q, (_, f)) in forms.iter().enumerate() {
+            entries.push(pc.entries(&rebuilt[q]).unwrap_or(([f64::NAN; 4], f64::NAN)));
+            let e = f.eval_f32(&f32c[q], r as f32, t as f32).map(f64::from);
+            entries.push(([e[0], e[1], e[2], e[3]], e[4]));
+        }
+        Ok(cell_error_of(&lobe, albedo, &entries, tol))
+    })?;
+    let split = |col: usize| -> Judged {
+        let of = |sq: bool| {
+            Spread::of(
+                places
+                    .iter()
+                    .zip(&judged)
+                    .filter(|(p, _)| p.square == sq)
+                    .map(|(_, v)| v[col].as_ref().map(|e| &e.l2)),
+            )
+        };
+        Judged {
+            cells: of(false),
+            squares: of(true),
+        }
+    };
+    let paths = shipped_paths(compare, n, &places);
+    let shipped: Vec<ShippedPath> = paths
+        .iter()
+        .map(|(path, r_min, figs)| ShippedPath {
+            path: path.clone(),
+            r_min: *r_min,
+            shipped: judged_of(&places, figs),
+            ours_full: judged_of(
+                &places,
+                &judged
+                    .iter()
+                    .zip(figs)
+                    .map(|(v, s)| s.and(v[0]))
+                    .collect::<Vec<_>>(),
+            ),
+        })
+        .collect();
+    let mut out_forms = Vec::new();
+    for (q, (name, f)) in forms.iter().enumerate() {
+        let col = 1 + 2 * q;
+        let worse = |a: &Option<LobeError>, b: &Option<LobeError>| match (a, b) {
+            (Some(a), Some(b)) => a.l2.value > b.l2.value + a.l2.error + b.l2.error,
+            (None, Some(_)) => true,
+            _ => false,
+        };
+        out_forms.push(CompactForm {
+            transforms: name.clone(),
+            p: f.p,
+            coefficients: f.coefficients(),
+            rebuilt: split(col),
+            texture_free: split(col + 1),
+            rebuilt_worse_than_full: judged.iter().filter(|v| worse(&v[col], &v[0])).count(),
+            rebuilt_vs_shipped: paths
+                .iter()
+                .map(|(_, _, figs)| {
+                    let mut c = [0usize; 3];
+                    for (v, s) in judged.iter().zip(figs) {
+                        let Some(s) = s else { continue };
+                        let ours = &v[col];
+                        let theirs = Some(*s);
+                        if worse(ours, &theirs) {
+                            c[2] += 1;
+                        } else if worse(&theirs, ours) {
+                            c[0] += 1;
+                        } else {
+                            c[1] += 1;
+                        }
+                    }
+                    c
+                })
+                .collect(),
+            f32_rel_error: f32_error(f, &f32c[q]),
+        });
+    }
+    let full_j = split(0);
+    let chosen = choose(&out_forms, &full_j, pl);
+    let series = match chosen {
+        Some(k) => forms[k].1.clone(),
+        None => {
+            let best = (0..forms.len())
+                .min_by(|&a, &b| {
+                    out_forms[a]
+                        .rebuilt
+                        .cells
+                        .mean
+                        .value
+                        .total_cmp(&out_forms[b].rebuilt.cells.mean.value)
+                })
+                .unwrap_or(0);
+            forms[best].1.clone()
+        }
+    };
+    Ok(CompactFamily {
+        table: s.table.into(),
+        n,
+        full_coefficients: 6 * n * n,
+        full: full_j,
+        shipped,
+        forms: out_forms,
+        chosen,
+        series,
+    })
+}
+
+/// The shipped table's figures at the judged places, per engine path of
+/// results/ltc-compare.json (`None` where the path does not reach a place).
+fn shipped_paths(
+    compare: Option<&crate::results::compare::LtcCompare>,
+    n: usize,
+    places: &[Place],
+) -> Vec<(String, f64, Vec<Option<LobeError>>)> {
+    let Some(c) = compare else { return Vec::new() };
+    c.forms
+        .iter()
+        .filter(|f| f.cells.len() == n * n && f.squares.len() == (n - 1) * (n - 1))
+        .filter(|f| f.name.contains("Half") || f.name.contains("Bevy"))
+        .map(|f| {
+            let figs = places
+                .iter()
+                .map(|p| {
+                    let pair = if p.square {
+                        &f.squares[p.i + (n - 1) * p.j]
+                    } else {
+                        &f.cells[p.i + n * p.j]
+                    };
+                    pair.shipped
+                })
+                .collect();
+            (f.name.clone(), f.r_min, figs)
+        })
+        .collect()
+}
+
+fn judged_of(places: &[Place], figs: &[Option<LobeError>]) -> Judged {
+    let of = |sq: bool| {
+        Spread::of(
+            places
+                .iter()
+                .zip(figs)
+                .filter(|(p, _)| p.square == sq)
+                .map(|(_, v)| v.as_ref().map(|e| &e.l2)),
+        )
+    };
+    Judged {
+        cells: of(false),
+        squares: of(true),
+    }
+}
+
+/// The largest |f32 − f64| / max(|f64|, 1e-3) of any channel over a 257² grid.
+fn f32_error(f: &Compact, c32: &[Vec<f32>]) -> f64 {
+    let m = 256;
+    let mut worst: f64 = 0.0;
+    for j in 0..=m {
+        for i in 0..=m {
+            let (r, t) = (i as f64 / m as f64, j as f64 / m as f64);
+            let a = f.eval(r, t);
+            let b = f.eval_f32(c32, r as f32, t as f32);
+            for ch in 0..6 {
+                let e = (f64::from(b[ch]) - a[ch]).abs() / a[ch].abs().max(1e-3);
+                worst = worst.max(e);
+            }
+        }
+    }
+    worst
+}
+
+/// The form with the fewest coefficients meeting the goal: within `max_coefficients`, no
+/// place worse than the shipped table on any path (when a path was judged), and a mean
+/// (cells and squares) within `within_points` of the full table's.
+fn choose(forms: &[CompactForm], full: &Judged, pl: &Plan) -> Option<usize> {
+    let near = |a: &Spread, b: &Spread| a.mean.value - b.mean.value <= pl.within_points / 100.0;
+    (0..forms.len())
+        .filter(|&k| {
+            let f = &forms[k];
+            f.coefficients <= pl.max_coefficients
+                && f.rebuilt_vs_shipped.iter().all(|c| c[2] == 0)
+                && near(&f.rebuilt.cells, &full.cells)
+                && near(&f.rebuilt.squares, &full.squares)
+        })
+        .min_by_key(|&k| forms[k].coefficients)
+}
+
+impl crate::study::Computed for Computed {
+    fn render(&self, set: &mut crate::io::Outputs, results: &std::path::Path) -> Result<()> {
+        let name = &self.result.spec.name;
+        set.put(
+            &results.join(format!("{name}.md")),
+            report::markdown(&self.result).as_bytes(),
+        );
+        set.put(
+            &results.join(format!("{name}.svg")),
+            report::plot(&self.result)?.as_bytes(),
+        );
+        crate::results::put(set, results, &self.result)
+    }
+
+    fn outcome(&self) -> FitOutcome {
+        let f = &self.result.families;
+        let best = f
+            .iter()
+            .flat_map(|f| f.forms.iter().map(|x| x.rebuilt.cells.mean.value))
+            .fold(f64::INFINITY, f64::min);
+        FitOutcome::measured(
+            &self.result.spec,
+            best,
+            f.iter()
+                .map(|f| {
+                    format!(
+                        "{}: {}",
+                        f.table,
+                        match f.chosen {
+                            Some(k) => format!(
+                                "{} coefficients meet the goal ({} p = {})",
+                                f.forms[k].coefficients, f.forms[k].transforms, f.forms[k].p
+                            ),
+                            None => "no form meets the goal".into(),
+                        }
+                    )
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        )
+    }
+}
+
+crate::study::study! {
+    /// Compact LTC tables, as the registry holds it.
+    LtcCompactStudy = "ltc-compact", after [], on request true, params Plan, computes compute
+}

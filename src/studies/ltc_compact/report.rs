@@ -1,0 +1,166 @@
+//! The compact tables' report (formatting only): results/ltc-compact.md and its plot.
+
+use crate::error::Result;
+use crate::report::table::{Align, Table};
+use crate::results::ltc_compact::{CompactFamily, LtcCompact};
+
+/// three.js PR #34611's coefficient count (its figure as stated; no error is published
+/// for it, and it reproduces the shipped table).
+const PR_34611_COEFFICIENTS: usize = 3078;
+
+pub(super) fn markdown(r: &LtcCompact) -> String {
+    let mut md = format!(
+        "# Compact LTC tables: coefficients against the exact lobe error\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). Each channel of a published table (a, b, c, d, norm, fresnel over r = √α, t = √(1 − cos θ)) is a tensor-product Chebyshev series of degree < p in r and in t (`ltc::compact`; 6·p² coefficients), fitted by least squares to the table's entries, on the values (`raw`) or on the logarithm of the positive channels that span decades (`log`: GGX d; sheen d and norm). Each form is judged at every {}-th cell (texel centre) and square centre along each axis against the true lobe there, by the exact held-out relative L2 (`ltc::lobe_error`, tolerance {:e} relative; mean ± the mean of the bars):\n\n- **rebuilt**: evaluated at the texel centres, stored as the nearest binary16, read bilinearly (a square centre reads the mean of its four corners): the texture an engine's start-up code would fill from the coefficients;\n- **texture-free**: evaluated per pixel in f32 at the place itself.\n\nThe full table is our stored binary16 table read the same way; the shipped table's figures at the same places come from results/ltc-compare.json (its own tolerance, 5e-4), per engine path, and a place counts as better or worse only beyond both bars. three.js PR #34611 rebuilds the shipped table from {} Chebyshev coefficients; it reproduces that table, so its error is the shipped table's (its count as stated, no figure of ours).\n\n![coefficients against error]({}.svg)\n\n",
+        r.command,
+        r.preset,
+        r.spec.name,
+        r.every,
+        r.held_out_rel,
+        PR_34611_COEFFICIENTS,
+        r.spec.name
+    );
+    for f in &r.families {
+        md.push_str(&family(f));
+    }
+    md
+}
+
+fn family(f: &CompactFamily) -> String {
+    let mut md = format!(
+        "## {} ({}×{} table, {} coefficients; {} cells and {} squares judged)\n\n",
+        f.table, f.n, f.n, f.full_coefficients, f.full.cells.count, f.full.squares.count
+    );
+    let mut head = vec![
+        "form".to_string(),
+        "coefficients".into(),
+        "rebuilt: cells".into(),
+        "rebuilt: squares".into(),
+        "texture-free: cells".into(),
+        "texture-free: squares".into(),
+        "rebuilt worse than the full table".into(),
+    ];
+    for s in &f.shipped {
+        head.push(format!(
+            "rebuilt vs shipped, {} (better / tied / worse)",
+            s.path
+        ));
+    }
+    head.push("f32 form: largest rel. error".into());
+    let mut t = Table::new(head);
+    for c in 1..7 {
+        t = t.align(c, Align::Right);
+    }
+    let mut row = vec![
+        "full table (binary16)".to_string(),
+        f.full_coefficients.to_string(),
+        f.full.cells.mean.pct(3),
+        f.full.squares.mean.pct(3),
+        "—".into(),
+        "—".into(),
+        "—".into(),
+    ];
+    row.extend(f.shipped.iter().map(|_| "—".to_string()));
+    row.push("—".into());
+    t.row(row);
+    for s in &f.shipped {
+        let mut row = vec![
+            format!("shipped, {} (r ≥ {}; its places)", s.path, s.r_min),
+            f.full_coefficients.to_string(),
+            s.shipped.cells.mean.pct(3),
+            s.shipped.squares.mean.pct(3),
+            "—".into(),
+            "—".into(),
+            format!(
+                "full table at its places: {} / {}",
+                s.ours_full.cells.mean.pct(3),
+                s.ours_full.squares.mean.pct(3)
+            ),
+        ];
+        row.extend(f.shipped.iter().map(|_| "—".to_string()));
+        row.push("—".into());
+        t.row(row);
+    }
+    for (k, c) in f.forms.iter().enumerate() {
+        let mark = if f.chosen == Some(k) { " (chosen)" } else { "" };
+        let mut row = vec![
+            format!("{} p = {}{mark}", c.transforms, c.p),
+            c.coefficients.to_string(),
+            c.rebuilt.cells.mean.pct(3),
+            c.rebuilt.squares.mean.pct(3),
+            c.texture_free.cells.mean.pct(3),
+            c.texture_free.squares.mean.pct(3),
+            c.rebuilt_worse_than_full.to_string(),
+        ];
+        row.extend(
+            c.rebuilt_vs_shipped
+                .iter()
+                .map(|v| format!("{} / {} / {}", v[0], v[1], v[2])),
+        );
+        row.push(format!("{:.1e}", c.f32_rel_error));
+        t.row(row);
+    }
+    md.push_str(&format!("{t}\n"));
+    md.push_str(&match f.chosen {
+        Some(k) => format!(
+            "Chosen: {} p = {} ({} coefficients), the fewest that meet the goal.\n\n",
+            f.forms[k].transforms, f.forms[k].p, f.forms[k].coefficients
+        ),
+        None => "No form meets the goal (at most the spec's coefficients, no reachable place worse than the shipped table, a mean within the spec's points of the full table's).\n\n".into(),
+    });
+    let worst = |s: &crate::ltc::lobe_error::Spread| s.max.pct(2);
+    md.push_str(&format!(
+        "Largest relative L2 of the full table: {} (cells), {} (squares).\n\n",
+        worst(&f.full.cells),
+        worst(&f.full.squares)
+    ));
+    md
+}
+
+pub(super) fn plot(r: &LtcCompact) -> Result<String> {
+    use crate::report::plot::{loglog_svg, Panel, Series};
+    let panels: Vec<Panel> = r
+        .families
+        .iter()
+        .map(|f| {
+            let mut series = Vec::new();
+            let mut trs: Vec<&str> = f.forms.iter().map(|c| c.transforms.as_str()).collect();
+            trs.dedup();
+            for tr in trs {
+                for (what, free) in [("rebuilt", false), ("texture-free", true)] {
+                    series.push(Series {
+                        name: format!("{tr}, {what}"),
+                        points: f
+                            .forms
+                            .iter()
+                            .filter(|c| c.transforms == tr)
+                            .map(|c| {
+                                let j = if free { &c.texture_free } else { &c.rebuilt };
+                                (c.coefficients as f64, 100.0 * j.cells.mean.value)
+                            })
+                            .collect(),
+                    });
+                }
+            }
+            series.push(Series {
+                name: "full table (binary16)".into(),
+                points: vec![(f.full_coefficients as f64, 100.0 * f.full.cells.mean.value)],
+            });
+            for s in &f.shipped {
+                series.push(Series {
+                    name: format!("shipped, {}", s.path),
+                    points: vec![(
+                        f.full_coefficients as f64,
+                        100.0 * s.shipped.cells.mean.value,
+                    )],
+                });
+            }
+            Panel {
+                title: format!("{}: mean held-out error at the cells", f.table),
+                x_label: "coefficients".into(),
+                y_label: "mean relative L2 (%)".into(),
+                series,
+            }
+        })
+        .collect();
+    loglog_svg(&panels, 1200, 480)
+}

@@ -1,0 +1,280 @@
+//! Compact LTC tables (`ltc::compact`): the Chebyshev series against independent
+//! references — T_k(x) = cos(k·acos x), a polynomial of lower degree than the series
+//! reproduced by the least-squares fit, the f32 shading form within its stated bound of
+//! the f64 reference over the whole input range, bad input as typed errors.
+
+use ndfbench::ltc::compact::{Compact, Series, Transform};
+use ndfbench::ltc::table::FittedTable;
+use proptest::prelude::*;
+
+/// A 64² table whose channel `ch` is `f(ch, r, t)` at the texel centres.
+fn table_of(n: usize, f: impl Fn(usize, f64, f64) -> f64) -> FittedTable {
+    let cells = (0..n * n)
+        .map(|k| {
+            let (r, t) = (
+                (k % n) as f64 / (n - 1) as f64,
+                (k / n) as f64 / (n - 1) as f64,
+            );
+            std::array::from_fn(|ch| f(ch, r, t))
+        })
+        .collect();
+    FittedTable {
+        n,
+        cells,
+        half: None,
+    }
+}
+
+/// Polynomials of degree ≤ 5 in r and in t, one per channel (the last three positive,
+/// for the log transform: their logarithms are the polynomials).
+fn poly(ch: usize, r: f64, t: f64) -> f64 {
+    let c = ch as f64;
+    0.3 + 0.1 * c + r.powi(3) - 2.0 * r * t * t + (0.5 - c / 7.0) * t.powi(5) + 0.25 * r.powi(5) * t
+}
+
+const MIXED: [Transform; 6] = [
+    Transform::Raw,
+    Transform::Raw,
+    Transform::Raw,
+    Transform::Log,
+    Transform::Log,
+    Transform::Log,
+];
+
+/// The channel the mixed transforms' fit should reproduce.
+fn mixed(ch: usize, r: f64, t: f64) -> f64 {
+    if ch < 3 {
+        poly(ch, r, t)
+    } else {
+        poly(ch, r, t).exp()
+    }
+}
+
+/// A single Chebyshev product T_k(2r − 1)·T_l(2t − 1) as a p×p series.
+fn unit(p: usize, k: usize, l: usize) -> Compact {
+    let mut coeffs = vec![0.0; p * p];
+    coeffs[k + p * l] = 1.0;
+    Compact {
+        p,
+        channels: (0..6)
+            .map(|_| Series {
+                transform: Transform::Raw,
+                coeffs: coeffs.clone(),
+            })
+            .collect(),
+    }
+}
+
+/// (r, t) over the whole input range: the ends of [0, 1] often, values outside (clamped
+/// by the form) sometimes.
+fn place() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        2 => Just(0.0),
+        2 => Just(1.0),
+        1 => Just(1e-12),
+        1 => Just(1.0 - 1e-12),
+        1 => -10.0f64..0.0,
+        1 => 1.0f64..10.0,
+        12 => 0.0f64..=1.0,
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(10_000))]
+
+    /// The recurrence sums T_k(x)·T_l(y) with T_k(x) = cos(k·acos x) (x = 2r − 1 and
+    /// y = 2t − 1, r and t clamped to [0, 1]).
+    #[test]
+    fn series_sum_the_trigonometric_chebyshev_products(
+        k in 0usize..24, l in 0usize..24, r in place(), t in place()
+    ) {
+        let c = unit(24, k, l);
+        let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
+        let want = (k as f64 * x.acos()).cos() * (l as f64 * y.acos()).cos();
+        let got = c.eval(r, t)[0];
+        prop_assert!((got - want).abs() <= 1e-12, "T_{k}·T_{l} at ({r}, {t}): {got} vs {want}");
+    }
+
+    /// The f32 shading form is within its bound of the f64 reference over the whole
+    /// input range: |f32 − f64| ≤ 8·p·ε₃₂·Σ|c| for a raw channel (Clenshaw's recurrence
+    /// in each direction; the coefficients' own f32 rounding included), for the series
+    /// fitted to polynomial channels at p = 6, 12 and 24.
+    #[test]
+    fn f32_form_is_within_its_bound(pi in 0usize..3, r in place(), t in place()) {
+        let p = [6, 12, 24][pi];
+        let c = Compact::fit(&table_of(64, poly), p, [Transform::Raw; 6]).unwrap();
+        let c32 = c.coeffs_f32();
+        let a = c.eval(r, t);
+        let b = c.eval_f32(&c32, r as f32, t as f32);
+        for ch in 0..6 {
+            let sum: f64 = c.channels[ch].coeffs.iter().map(|v| v.abs()).sum();
+            let bound = 8.0 * p as f64 * f64::from(f32::EPSILON) * sum;
+            let err = (f64::from(b[ch]) - a[ch]).abs();
+            prop_assert!(err <= bound, "p = {p}, channel {ch} at ({r}, {t}): {err:e} > {bound:e}");
+        }
+    }
+}
+
+/// A table of polynomials of degree ≤ 5 in each variable is reproduced by the fit at any
+/// p ≥ 6, raw and through the log transform (whose channels are exponentials of them),
+/// at points between the texel centres too.
+#[test]
+fn the_fit_reproduces_polynomials_within_its_degree() {
+    for p in [6, 9, 16] {
+        let c = Compact::fit(&table_of(64, mixed), p, MIXED).unwrap();
+        assert_eq!(c.coefficients(), 6 * p * p);
+        for q in 0..=40 {
+            for s in 0..=40 {
+                let (r, t) = (q as f64 / 40.0, s as f64 / 40.0);
+                let v = c.eval(r, t);
+                for (ch, got) in v.iter().enumerate() {
+                    let want = mixed(ch, r, t);
+                    assert!(
+                        (got - want).abs() <= 1e-11 * want.abs().max(1.0),
+                        "p = {p}, channel {ch} at ({r}, {t}): {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+    // below the polynomials' degree the fit cannot reproduce them
+    let c = Compact::fit(&table_of(64, poly), 4, [Transform::Raw; 6]).unwrap();
+    let worst = (0..=40)
+        .map(|q| {
+            let r = q as f64 / 40.0;
+            (c.eval(r, 0.9)[0] - poly(0, r, 0.9)).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(
+        worst > 1e-4,
+        "a degree-5 polynomial fitted at p = 4: {worst:e}"
+    );
+}
+
+/// The rebuilt table holds the series at the texel centres, and its binary16 entries
+/// are the nearest binary16 of each.
+#[test]
+fn the_rebuild_is_the_series_at_the_texel_centres() {
+    let c = Compact::fit(&table_of(64, mixed), 8, MIXED).unwrap();
+    let t = c.rebuild(32);
+    assert_eq!(t.n, 32);
+    let half = t.half.as_ref().unwrap();
+    for k in 0..32 * 32 {
+        let (r, s) = ((k % 32) as f64 / 31.0, (k / 32) as f64 / 31.0);
+        assert_eq!(t.cells[k], c.eval(r, s));
+        for ch in 0..6 {
+            let v = t.cells[k][ch];
+            let h = half[k][ch].to_f64();
+            // no binary16 lies nearer: the neighbours one ulp either side are farther
+            let up = half::f16::from_bits(half[k][ch].to_bits() + 1).to_f64();
+            let down = half::f16::from_bits(half[k][ch].to_bits().wrapping_sub(1)).to_f64();
+            assert!((h - v).abs() <= (up - v).abs() && (h - v).abs() <= (down - v).abs());
+        }
+    }
+}
+
+/// Degrees out of range, entries that are not finite and a log channel with an entry
+/// ≤ 0 are typed errors.
+#[test]
+fn bad_input_is_a_typed_error() {
+    let good = table_of(16, mixed);
+    assert!(Compact::fit(&good, 0, MIXED).is_err());
+    assert!(Compact::fit(&good, 17, MIXED).is_err());
+    assert!(Compact::fit(&good, 16, MIXED).is_ok());
+    let mut nan = good.clone();
+    nan.cells[37][1] = f64::NAN;
+    assert!(Compact::fit(&nan, 4, MIXED).is_err());
+    let mut neg = good.clone();
+    neg.cells[5][4] = 0.0;
+    let e = Compact::fit(&neg, 4, MIXED).unwrap_err().to_string();
+    assert!(e.contains("channel 4"), "{e}");
+    // the same entry is fine for a raw channel
+    assert!(Compact::fit(&neg, 4, [Transform::Raw; 6]).is_ok());
+    let broken = FittedTable {
+        n: 16,
+        cells: vec![[1.0; 6]; 10],
+        half: None,
+    };
+    assert!(Compact::fit(&broken, 4, MIXED).is_err());
+}
+
+/// The study judges the full table's stored binary16 entries as results/ltc-compare.json
+/// judged them on Bevy's path (our ltc_ggx.ktx2, every place reached): at the places both
+/// judged, the figures agree within their two bars, and the shipped figures it quotes are
+/// that file's.
+#[test]
+fn the_study_agrees_with_the_stored_comparison() {
+    use ndfbench::fit::spec::FitSpec;
+    use ndfbench::study::Ctx;
+    use std::path::Path;
+    let spec = FitSpec::parse(
+        "name = \"ltc-compact\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\ndegrees = [4]\nevery = 32\nheld_out_rel = 2e-3\nmax_coefficients = 1000\nwithin_points = 1.0\n",
+        "test",
+    )
+    .unwrap();
+    let study = ndfbench::studies::find("ltc-compact").unwrap();
+    let ctx = Ctx {
+        spec: &spec,
+        specs: std::slice::from_ref(&spec),
+        results: Path::new("results"),
+        preset: ndfbench::integrate::Preset::Default,
+    };
+    let computed = study.compute(&ctx).unwrap();
+    let mut set = ndfbench::io::Outputs::new();
+    let d = std::env::temp_dir().join(format!("ndfbench-compact-{}", std::process::id()));
+    computed.render(&mut set, &d).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_slice(set.get(&d.join("fits/ltc-compact.json")).unwrap()).unwrap();
+    let cmp: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("results/ltc-compare.json").unwrap())
+            .unwrap();
+    let bevy = cmp["forms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"].as_str().unwrap().contains("Bevy"))
+        .unwrap();
+    // places: cells (0, 32)² and squares (0, 32)²
+    let mean = |key: &str, who: &str, n: usize| {
+        let (mut v, mut e) = (0.0, 0.0);
+        for j in [0, 32] {
+            for i in [0, 32] {
+                let x = &bevy[key][i + n * j][who]["l2"];
+                v += x["value"].as_f64().unwrap() / 4.0;
+                e += x["error"].as_f64().unwrap() / 4.0;
+            }
+        }
+        (v, e)
+    };
+    let ggx = &out["families"][0];
+    assert_eq!(ggx["table"], "ltc-ggx");
+    for (key, n) in [("cells", 64), ("squares", 63)] {
+        let got = &ggx["full"][key]["mean"];
+        let (gv, ge) = (
+            got["value"].as_f64().unwrap(),
+            got["error"].as_f64().unwrap(),
+        );
+        let (v, e) = mean(key, "ours", n);
+        assert!(
+            (gv - v).abs() <= ge + e,
+            "{key}: {gv} ± {ge} against the comparison's {v} ± {e}"
+        );
+        let path = ggx["shipped"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["path"].as_str().unwrap().contains("Bevy"))
+            .unwrap();
+        let (sv, _) = mean(key, "shipped", n);
+        let quoted = path["shipped"][key]["mean"]["value"].as_f64().unwrap();
+        assert!(
+            (quoted - sv).abs() <= 1e-15 * sv,
+            "{key}: {quoted} against {sv}"
+        );
+    }
+    // one form per transform set at p = 4, each with 6·16 coefficients
+    for f in ggx["forms"].as_array().unwrap() {
+        assert_eq!(f["coefficients"], 96);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
