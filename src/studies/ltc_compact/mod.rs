@@ -254,20 +254,9 @@ fn family<T: LtcTarget>(
         }
         Ok(cell_error_of(&lobe, albedo, &entries, tol))
     })?;
-    let split = |col: usize| -> Judged {
-        let of = |sq: bool| {
-            Spread::of(
-                places
-                    .iter()
-                    .zip(&judged)
-                    .filter(|(p, _)| p.square == sq)
-                    .map(|(_, v)| v[col].as_ref().map(|e| &e.l2)),
-            )
-        };
-        Judged {
-            cells: of(false),
-            squares: of(true),
-        }
+    let split = |col: usize| {
+        let figs: Vec<Option<LobeError>> = judged.iter().map(|v| v[col]).collect();
+        judged_of(&places, &figs)
     };
     let paths = shipped_paths(compare, n, &places);
     let shipped: Vec<ShippedPath> = paths
@@ -286,43 +275,26 @@ fn family<T: LtcTarget>(
             ),
         })
         .collect();
-    let mut out_forms = Vec::new();
-    for (q, (name, f)) in forms.iter().enumerate() {
-        let col = 1 + 2 * q;
-        let worse = |a: &Option<LobeError>, b: &Option<LobeError>| match (a, b) {
-            (Some(a), Some(b)) => a.l2.value > b.l2.value + a.l2.error + b.l2.error,
-            (None, Some(_)) => true,
-            _ => false,
-        };
-        out_forms.push(CompactForm {
-            transforms: name.clone(),
-            p: f.p,
-            coefficients: f.coefficients(),
-            rebuilt: split(col),
-            texture_free: split(col + 1),
-            rebuilt_worse_than_full: judged.iter().filter(|v| worse(&v[col], &v[0])).count(),
-            rebuilt_vs_shipped: paths
-                .iter()
-                .map(|(_, _, figs)| {
-                    let mut c = [0usize; 3];
-                    for (v, s) in judged.iter().zip(figs) {
-                        let Some(s) = s else { continue };
-                        let ours = &v[col];
-                        let theirs = Some(*s);
-                        if worse(ours, &theirs) {
-                            c[2] += 1;
-                        } else if worse(&theirs, ours) {
-                            c[0] += 1;
-                        } else {
-                            c[1] += 1;
-                        }
-                    }
-                    c
-                })
-                .collect(),
-            f32_rel_error: f32_error(f, &f32c[q]),
-        });
-    }
+    let out_forms: Vec<CompactForm> = forms
+        .iter()
+        .enumerate()
+        .map(|(q, (name, f))| {
+            let col = 1 + 2 * q;
+            CompactForm {
+                transforms: name.clone(),
+                p: f.p,
+                coefficients: f.coefficients(),
+                rebuilt: split(col),
+                texture_free: split(col + 1),
+                rebuilt_worse_than_full: judged.iter().filter(|v| worse(&v[col], &v[0])).count(),
+                rebuilt_vs_shipped: paths
+                    .iter()
+                    .map(|(_, _, figs)| against(&judged, col, figs))
+                    .collect(),
+                f32_rel_error: f32_error(f, &f32c[q]),
+            }
+        })
+        .collect();
     let full_j = split(0);
     let chosen = choose(&out_forms, &full_j, pl);
     let series = match chosen {
@@ -351,6 +323,40 @@ fn family<T: LtcTarget>(
         chosen,
         series,
     })
+}
+
+/// Whether figure `a` is worse (higher relative L2) than `b` by more than both bars; a
+/// missing `a` against a present `b` is worse.
+fn worse(a: &Option<LobeError>, b: &Option<LobeError>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => a.l2.value > b.l2.value + a.l2.error + b.l2.error,
+        (None, Some(_)) => true,
+        _ => false,
+    }
+}
+
+/// Column `col` of the judged places against other figures at the same places: how many
+/// are better, tied, worse (beyond both bars); places without a figure in `figs` are left
+/// out.
+fn against(
+    judged: &[Vec<Option<LobeError>>],
+    col: usize,
+    figs: &[Option<LobeError>],
+) -> [usize; 3] {
+    let mut c = [0usize; 3];
+    for (v, s) in judged.iter().zip(figs) {
+        if s.is_none() {
+            continue;
+        }
+        if worse(&v[col], s) {
+            c[2] += 1;
+        } else if worse(s, &v[col]) {
+            c[0] += 1;
+        } else {
+            c[1] += 1;
+        }
+    }
+    c
 }
 
 /// The shipped table's figures at the judged places, per engine path of
