@@ -1,6 +1,8 @@
 //! Integration engines against closed forms (expected values are analytic, not produced
 //! by the engines).
 
+mod common;
+
 use nalgebra::Vector3;
 use ndfbench::integrate::mc::{mis, CosineHemisphere, Strategy, UniformHemisphere, UniformSphere};
 use ndfbench::integrate::qmc::{qmc_mis, MAX_POINTS};
@@ -282,7 +284,7 @@ fn a_sample_mean_carries_its_standard_error_and_prints_one_way() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(10_000))]
+    #![proptest_config(common::config(10_000))]
 
     /// The cubature's sin/cos memo returns f64::sin_cos's bits for every argument, whether
     /// it was asked for before, evicted (more than 16 distinct since), or new: sequences

@@ -3,6 +3,8 @@
 //! reproduced by the least-squares fit, the f32 shading form within its stated bound of
 //! the f64 reference over the whole input range, bad input as typed errors.
 
+mod common;
+
 use ndfbench::ltc::compact::{Compact, Series, Transform};
 use ndfbench::ltc::table::FittedTable;
 use proptest::prelude::*;
@@ -80,7 +82,7 @@ fn place() -> impl Strategy<Value = f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(10_000))]
+    #![proptest_config(common::config(10_000))]
 
     /// The recurrence sums T_k(x)·T_l(y) with T_k(x) = cos(k·acos x) (x = 2r − 1 and
     /// y = 2t − 1, r and t clamped to [0, 1]).
@@ -156,7 +158,8 @@ fn the_fit_reproduces_polynomials_within_its_degree() {
 #[test]
 fn the_rebuild_is_the_series_at_the_texel_centres() {
     let c = Compact::fit(&table_of(64, mixed), 8, MIXED).unwrap();
-    let t = c.rebuild(32);
+    let t = c.rebuild(32).unwrap();
+    assert!(c.rebuild(1).is_err() && c.rebuild(0).is_err());
     assert_eq!(t.n, 32);
     let half = t.half.as_ref().unwrap();
     for k in 0..32 * 32 {
@@ -205,21 +208,18 @@ fn bad_input_is_a_typed_error() {
 #[test]
 fn the_study_agrees_with_the_stored_comparison() {
     use ndfbench::fit::spec::FitSpec;
-    use ndfbench::study::Ctx;
     use std::path::Path;
     let spec = FitSpec::parse(
         "name = \"ltc-compact\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\ndegrees = [4]\nevery = 32\nheld_out_rel = 2e-3\nmax_coefficients = 1000\nwithin_points = 1.0\n",
         "test",
     )
     .unwrap();
-    let study = ndfbench::studies::find("ltc-compact").unwrap();
-    let ctx = Ctx {
-        spec: &spec,
-        specs: std::slice::from_ref(&spec),
-        results: Path::new("results"),
-        preset: ndfbench::integrate::Preset::Default,
-    };
-    let computed = study.compute(&ctx).unwrap();
+    let computed = common::compute_study(
+        &spec,
+        Path::new("results"),
+        ndfbench::integrate::Preset::Default,
+    )
+    .unwrap();
     let mut set = ndfbench::io::Outputs::new();
     let d = std::env::temp_dir().join(format!("ndfbench-compact-{}", std::process::id()));
     computed.render(&mut set, &d).unwrap();
@@ -277,4 +277,38 @@ fn the_study_agrees_with_the_stored_comparison() {
         assert_eq!(f["coefficients"], 96);
     }
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A series read back from a file is checked by its shape and values, not trusted: a
+/// wrong channel count, a coefficient count other than p², p out of range or a
+/// coefficient that is not finite is an error naming it; the committed file reads back.
+#[test]
+fn a_series_read_back_is_checked() {
+    let good = Compact::fit(&table_of(16, mixed), 3, MIXED).unwrap();
+    let json = serde_json::to_value(&good).unwrap();
+    let back: Compact = serde_json::from_value(json.clone()).unwrap();
+    assert_eq!(back, good);
+    let broken = |f: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = json.clone();
+        f(&mut v);
+        serde_json::from_value::<Compact>(v)
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(broken(&|v| v["channels"].as_array_mut().unwrap().truncate(5)).contains("5 channels"));
+    assert!(broken(&|v| v["p"] = 4.into()).contains("needs 16"));
+    assert!(broken(&|v| v["p"] = 0.into()).contains("p = 0"));
+    assert!(broken(&|v| v["p"] = 65.into()).contains("p = 65"));
+    // JSON holds no NaN or infinity (serde_json writes them as null, which is no f64)
+    assert!(broken(&|v| v["channels"][2]["coeffs"][1] = serde_json::Value::Null).contains("null"));
+    // made in code, a coefficient that is not finite fails the same check
+    let mut nan = good.clone();
+    nan.channels[4].coeffs[0] = f64::NAN;
+    assert!(nan.check().unwrap_err().to_string().contains("channel 4"));
+    let text = std::fs::read_to_string("results/fits/ltc-compact.json").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for f in v["families"].as_array().unwrap() {
+        let c: Compact = serde_json::from_value(f["series"].clone()).unwrap();
+        assert!(c.check().is_ok() && c.coefficients() == 6 * c.p * c.p);
+    }
 }

@@ -341,7 +341,7 @@ fn sphere_dir(u: f64, phi: f64, horizon: bool) -> V3 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(10_000))]
+    #![proptest_config(common::config(10_000))]
 
     /// The targets' values, with Λ(v) and G1(v) computed once per target, are bit for bit
     /// those of the microfacet model's own D, G1 and height-correlated G2 (and of the

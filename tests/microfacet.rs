@@ -295,7 +295,7 @@ mod sggx {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(10_000))]
+    #![proptest_config(common::config(10_000))]
 
     /// The lobe with its view prepared once (`ViewedLobe`) is `lobe` bit for bit: GGX and
     /// Beckmann from α = 1e-4, shading normals tilted to 89.99°, v and l over the whole

@@ -315,7 +315,6 @@ fn results_hold_no_wall_clock_or_thread_count_outside_the_profile() {
 #[test]
 fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
     use ndfbench::fit::spec::FitSpec;
-    use ndfbench::study::Ctx;
     let committed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap())
             .unwrap();
@@ -324,7 +323,6 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
         "fits/ltc-ggx-optimisers.toml",
     )
     .unwrap();
-    let study = ndfbench::studies::find("ltc-ggx-optimisers").unwrap();
     let breaks: [(&str, fn(&mut serde_json::Value)); 3] = [
         ("short held-out column", |v| {
             v["held_out_cells"]["l2"][3].as_array_mut().unwrap().pop();
@@ -344,13 +342,7 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
             serde_json::to_string(&v).unwrap(),
         )
         .unwrap();
-        let ctx = Ctx {
-            spec: &spec,
-            specs: std::slice::from_ref(&spec),
-            results: &d,
-            preset: ndfbench::integrate::Preset::Quick,
-        };
-        match study.compute(&ctx) {
+        match common::compute_study(&spec, &d, ndfbench::integrate::Preset::Quick) {
             Err(e) => assert!(e.to_string().contains("ltc-ggx.json"), "{what}: {e}"),
             Ok(_) => panic!("{what}: a broken published table was accepted"),
         }
@@ -366,20 +358,17 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
 #[test]
 fn the_judge_tolerance_study_agrees_with_the_published_figures() {
     use ndfbench::fit::spec::FitSpec;
-    use ndfbench::study::Ctx;
     let spec = FitSpec::parse(
         "name = \"ltc-judge-tolerance\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\nevery = 32\nrels = [5e-4, 2e-3, 1e-2]\n",
         "test",
     )
     .unwrap();
-    let study = ndfbench::studies::find("ltc-judge-tolerance").unwrap();
-    let ctx = Ctx {
-        spec: &spec,
-        specs: std::slice::from_ref(&spec),
-        results: Path::new("results"),
-        preset: ndfbench::integrate::Preset::Default,
-    };
-    let computed = study.compute(&ctx).unwrap();
+    let computed = common::compute_study(
+        &spec,
+        Path::new("results"),
+        ndfbench::integrate::Preset::Default,
+    )
+    .unwrap();
     let mut set = ndfbench::io::Outputs::new();
     let d = common::scratch("results", "judge-tolerance");
     computed.render(&mut set, &d).unwrap();
@@ -433,7 +422,6 @@ fn the_judge_tolerance_study_agrees_with_the_published_figures() {
 #[test]
 fn held_out_tolerances_out_of_range_are_refused() {
     use ndfbench::fit::spec::FitSpec;
-    use ndfbench::study::Ctx;
     let cases = [
         (
             "ltc-ggx",
@@ -467,13 +455,11 @@ fn held_out_tolerances_out_of_range_are_refused() {
             "{name}: the spec no longer holds '{from}'"
         );
         let spec = FitSpec::parse(&text.replacen(from, to, 1), name).unwrap();
-        let ctx = Ctx {
-            spec: &spec,
-            specs: std::slice::from_ref(&spec),
-            results: Path::new("results"),
-            preset: ndfbench::integrate::Preset::Default,
-        };
-        match ndfbench::studies::find(name).unwrap().compute(&ctx) {
+        match common::compute_study(
+            &spec,
+            Path::new("results"),
+            ndfbench::integrate::Preset::Default,
+        ) {
             Err(e) => assert!(e.to_string().contains(key), "{name}: {e}"),
             Ok(_) => panic!("{name}: '{to}' was accepted"),
         }

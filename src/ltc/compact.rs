@@ -18,7 +18,7 @@
 
 use crate::error::{Error, Result};
 use crate::ltc::table::FittedTable;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, RealField};
 
 /// The largest series degree per axis (p): 64² coefficients per channel already match a
 /// 64² table entry for entry.
@@ -39,13 +39,8 @@ impl Transform {
             Transform::Log => v.ln(),
         }
     }
-    fn inverse(self, v: f64) -> f64 {
-        match self {
-            Transform::Raw => v,
-            Transform::Log => v.exp(),
-        }
-    }
-    fn inverse_f32(self, v: f32) -> f32 {
+    /// The inverse, in the precision of the caller's evaluation.
+    fn inverse<T: RealField + Copy>(self, v: T) -> T {
         match self {
             Transform::Raw => v,
             Transform::Log => v.exp(),
@@ -62,32 +57,51 @@ pub struct Series {
 }
 
 /// A compact table: the six channels of `ltc::table::FittedTable`, each a p×p series.
+/// Read back (results/fits/ltc-compact.json), it is checked as [`Compact::check`] does.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "Unchecked")]
 pub struct Compact {
     pub p: usize,
     pub channels: Vec<Series>,
 }
 
-/// Σ_k c_k T_k(x) by Clenshaw's recurrence (f64).
-fn clenshaw(c: &[f64], x: f64) -> f64 {
-    let (mut b1, mut b2) = (0.0, 0.0);
-    for &ck in c.iter().skip(1).rev() {
-        let b0 = ck + 2.0 * x * b1 - b2;
-        b2 = b1;
-        b1 = b0;
-    }
-    c.first().copied().unwrap_or(0.0) + x * b1 - b2
+/// A [`Compact`] as a file holds it, before its shape is checked.
+#[derive(serde::Deserialize)]
+struct Unchecked {
+    p: usize,
+    channels: Vec<Series>,
 }
 
-/// [`clenshaw`] in f32.
-fn clenshaw_f32(c: &[f32], x: f32) -> f32 {
-    let (mut b1, mut b2) = (0.0f32, 0.0f32);
+impl TryFrom<Unchecked> for Compact {
+    type Error = Error;
+    fn try_from(u: Unchecked) -> Result<Compact> {
+        let c = Compact {
+            p: u.p,
+            channels: u.channels,
+        };
+        c.check()?;
+        Ok(c)
+    }
+}
+
+/// Σ_k c_k T_k(x) by Clenshaw's recurrence, in the coefficients' precision.
+fn clenshaw<T: RealField + Copy>(c: &[T], x: T) -> T {
+    let (mut b1, mut b2) = (T::zero(), T::zero());
     for &ck in c.iter().skip(1).rev() {
-        let b0 = ck + 2.0 * x * b1 - b2;
+        let b0 = ck + (x + x) * b1 - b2;
         b2 = b1;
         b1 = b0;
     }
-    c.first().copied().unwrap_or(0.0) + x * b1 - b2
+    c.first().copied().unwrap_or_else(T::zero) + x * b1 - b2
+}
+
+/// Σ_kl c[k + p·l]·T_k(x)·T_l(y): Clenshaw along x for each l, then along y.
+fn series_at<T: RealField + Copy>(c: &[T], p: usize, x: T, y: T) -> T {
+    let mut g = [T::zero(); MAX_P];
+    for (l, gl) in g.iter_mut().enumerate().take(p) {
+        *gl = clenshaw(&c[p * l..p * (l + 1)], x);
+    }
+    clenshaw(&g[..p], y)
 }
 
 /// The n×p Chebyshev–Vandermonde matrix at x_i = 2i/(n − 1) − 1 (T_k by its three-term
@@ -157,6 +171,33 @@ impl Compact {
         Ok(Compact { p, channels })
     }
 
+    /// Six channels of p² finite coefficients each, 1 ≤ p ≤ [`MAX_P`]: what evaluation
+    /// indexes. A typed error naming what is wrong otherwise.
+    pub fn check(&self) -> Result<()> {
+        let p = self.p;
+        if p == 0 || p > MAX_P || self.channels.len() != 6 {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: p = {p} (1..={MAX_P}) with {} channels (6)",
+                self.channels.len()
+            )));
+        }
+        match self
+            .channels
+            .iter()
+            .position(|s| s.coeffs.len() != p * p || s.coeffs.iter().any(|c| !c.is_finite()))
+        {
+            Some(ch) => {
+                Err(Error::InvalidArgument(format!(
+                "compact LTC: channel {ch} needs {} finite coefficients; it has {} ({} not finite)",
+                p * p,
+                self.channels[ch].coeffs.len(),
+                self.channels[ch].coeffs.iter().filter(|c| !c.is_finite()).count()
+            )))
+            }
+            None => Ok(()),
+        }
+    }
+
     /// The number of coefficients (all channels).
     pub fn coefficients(&self) -> usize {
         self.channels.iter().map(|s| s.coeffs.len()).sum()
@@ -168,10 +209,7 @@ impl Compact {
         let p = self.p;
         std::array::from_fn(|ch| {
             let s = &self.channels[ch];
-            let g: Vec<f64> = (0..p)
-                .map(|l| clenshaw(&s.coeffs[p * l..p * (l + 1)], x))
-                .collect();
-            s.transform.inverse(clenshaw(&g, y))
+            s.transform.inverse(series_at(&s.coeffs, p, x, y))
         })
     }
 
@@ -188,20 +226,22 @@ impl Compact {
         let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
         let p = self.p;
         std::array::from_fn(|ch| {
-            let c = &coeffs[ch];
-            let mut g = [0.0f32; MAX_P];
-            for (l, gl) in g.iter_mut().enumerate().take(p) {
-                *gl = clenshaw_f32(&c[p * l..p * (l + 1)], x);
-            }
             self.channels[ch]
                 .transform
-                .inverse_f32(clenshaw_f32(&g[..p], y))
+                .inverse(series_at(&coeffs[ch], p, x, y))
         })
     }
 
     /// The n×n table the series give at the texel centres (r, t) = (i, j)/(n − 1), with
-    /// its binary16 storage the nearest binary16 of each entry.
-    pub fn rebuild(&self, n: usize) -> FittedTable {
+    /// its binary16 storage the nearest binary16 of each entry. A typed error for a side
+    /// below 2 (no grid spacing).
+    pub fn rebuild(&self, n: usize) -> Result<FittedTable> {
+        if !(2..=crate::ltc::table::MAX_SIDE).contains(&n) {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: a rebuilt table of side {n} (2..={})",
+                crate::ltc::table::MAX_SIDE
+            )));
+        }
         let cells: Vec<[f64; 6]> = (0..n * n)
             .map(|k| {
                 let (i, j) = (k % n, k / n);
@@ -209,10 +249,10 @@ impl Compact {
             })
             .collect();
         let half = cells.iter().map(|c| c.map(half::f16::from_f64)).collect();
-        FittedTable {
+        Ok(FittedTable {
             n,
             cells,
             half: Some(half),
-        }
+        })
     }
 }

@@ -71,3 +71,22 @@ pub fn regen_in(
         .args(args);
     c
 }
+
+/// The study of `spec` computed on the results under `results` at `preset`, with `spec`
+/// as the run's only spec.
+#[allow(dead_code)]
+pub fn compute_study(
+    spec: &ndfbench::fit::spec::FitSpec,
+    results: &std::path::Path,
+    preset: ndfbench::integrate::Preset,
+) -> ndfbench::error::Result<Box<dyn ndfbench::study::Computed>> {
+    let ctx = ndfbench::study::Ctx {
+        spec,
+        specs: std::slice::from_ref(spec),
+        results,
+        preset,
+    };
+    ndfbench::studies::find(&spec.name)
+        .expect("a registered study")
+        .compute(&ctx)
+}

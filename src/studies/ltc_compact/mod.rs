@@ -25,10 +25,9 @@
 
 use crate::error::{Error, Result};
 use crate::ltc::compact::{Compact, Transform};
-use crate::ltc::compare::{cell_error_of, square_entries, Shipped};
+use crate::ltc::compare::{cell_error_of, square_entries, stored_half, Shipped};
 use crate::ltc::lobe_error::{LobeError, Spread, Tolerance};
 use crate::ltc::lobes::Lobe;
-use crate::ltc::table::FittedTable;
 use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPath};
 use crate::study::{Ctx, FitOutcome};
@@ -133,32 +132,6 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     })
 }
 
-/// A table in the shipped layout from its cells (`half`: the binary16 entries).
-fn layout(t: &FittedTable, half: bool) -> Shipped {
-    let cell = |k: usize| {
-        if half {
-            t.half_cell(k).map(|h| h.to_f64())
-        } else {
-            t.cells[k]
-        }
-    };
-    Shipped {
-        n: t.n,
-        mat: (0..t.n * t.n)
-            .map(|k| {
-                let c = cell(k);
-                [c[0], c[1], c[2], c[3]]
-            })
-            .collect(),
-        mag: (0..t.n * t.n)
-            .map(|k| {
-                let c = cell(k);
-                [c[4], c[5]]
-            })
-            .collect(),
-    }
-}
-
 /// A judged place: cell or square (i, j).
 #[derive(Clone, Copy)]
 struct Place {
@@ -209,14 +182,14 @@ fn family<T: LtcTarget>(
     let mut forms: Vec<(String, Compact)> = Vec::new();
     for (name, tr) in &s.transforms {
         for &p in &pl.degrees {
-            forms.push((name.to_string(), Compact::fit(&table, p.min(n), *tr)?));
+            forms.push((name.to_string(), Compact::fit(&table, p, *tr)?));
         }
     }
-    let full = layout(&table, true);
+    let full = stored_half(&table);
     let rebuilt: Vec<Shipped> = forms
         .iter()
-        .map(|(_, f)| layout(&f.rebuild(n), true))
-        .collect();
+        .map(|(_, f)| Ok(stored_half(&f.rebuild(n)?)))
+        .collect::<Result<_>>()?;
     let f32c: Vec<Vec<Vec<f32>>> = forms.iter().map(|(_, f)| f.coeffs_f32()).collect();
     let places: Vec<Place> = [false, true]
         .into_iter()
