@@ -57,6 +57,7 @@ fn unit(p: usize, k: usize, l: usize) -> Compact {
     let mut coeffs = vec![0.0; p * p];
     coeffs[k + p * l] = 1.0;
     Compact {
+        alpha_min: 0.0,
         p,
         channels: (0..6)
             .map(|_| Series {
@@ -210,7 +211,7 @@ fn the_study_agrees_with_the_stored_comparison() {
     use ndfbench::fit::spec::FitSpec;
     use std::path::Path;
     let spec = FitSpec::parse(
-        "name = \"ltc-compact\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\ndegrees = [4]\nevery = 32\nheld_out_rel = 2e-3\nmax_coefficients = 1000\nwithin_points = 1.0\n",
+        "name = \"ltc-compact\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\ndegrees = [4]\nevery = 32\nheld_out_rel = 2e-3\nmax_coefficients = 1000\nwithin_points = 1.0\nlobe_degrees = []\nlobe_nodes = 2\nlobe_iterations = 1\nlobe_passes = 1\n",
         "test",
     )
     .unwrap();

@@ -24,26 +24,41 @@ use nalgebra::{DMatrix, RealField};
 /// 64² table entry for entry.
 pub const MAX_P: usize = 64;
 
-/// How a channel is fitted: on its values, or on their logarithm (a positive channel).
+/// How a channel is fitted: on its values, on their logarithm (a positive channel), or
+/// on the values over α(r) = max(r², α_min) (a channel that vanishes like α as α → 0,
+/// GGX M⁻¹'s b and d: the series then stays O(1) down to the smallest α, and its absolute
+/// error shrinks with the lobe).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Transform {
     Raw,
     Log,
+    OverAlpha,
 }
 
 impl Transform {
-    fn forward(self, v: f64) -> f64 {
+    /// The series value of channel value `v` where the roughness is `alpha`.
+    pub(crate) fn forward(self, v: f64, alpha: f64) -> f64 {
         match self {
             Transform::Raw => v,
             Transform::Log => v.ln(),
+            Transform::OverAlpha => v / alpha,
         }
     }
     /// The inverse, in the precision of the caller's evaluation.
-    fn inverse<T: RealField + Copy>(self, v: T) -> T {
+    pub(crate) fn inverse<T: RealField + Copy>(self, v: T, alpha: T) -> T {
         match self {
             Transform::Raw => v,
             Transform::Log => v.exp(),
+            Transform::OverAlpha => v * alpha,
+        }
+    }
+    /// d(inverse)/d(series value) at series value `v`.
+    pub(crate) fn slope(self, v: f64, alpha: f64) -> f64 {
+        match self {
+            Transform::Raw => 1.0,
+            Transform::Log => v.exp(),
+            Transform::OverAlpha => alpha,
         }
     }
 }
@@ -62,6 +77,10 @@ pub struct Series {
 #[serde(try_from = "Unchecked")]
 pub struct Compact {
     pub p: usize,
+    /// The α floor of α(r) = max(r², α_min) that `OverAlpha` channels divide by (the
+    /// table's grid's; 0 when no channel uses it).
+    #[serde(default)]
+    pub alpha_min: f64,
     pub channels: Vec<Series>,
 }
 
@@ -69,6 +88,8 @@ pub struct Compact {
 #[derive(serde::Deserialize)]
 struct Unchecked {
     p: usize,
+    #[serde(default)]
+    alpha_min: f64,
     channels: Vec<Series>,
 }
 
@@ -77,6 +98,7 @@ impl TryFrom<Unchecked> for Compact {
     fn try_from(u: Unchecked) -> Result<Compact> {
         let c = Compact {
             p: u.p,
+            alpha_min: u.alpha_min,
             channels: u.channels,
         };
         c.check()?;
@@ -106,7 +128,7 @@ fn series_at<T: RealField + Copy>(c: &[T], p: usize, x: T, y: T) -> T {
 
 /// The n×p Chebyshev–Vandermonde matrix at x_i = 2i/(n − 1) − 1 (T_k by its three-term
 /// recurrence).
-fn vandermonde(n: usize, p: usize) -> DMatrix<f64> {
+pub(crate) fn vandermonde(n: usize, p: usize) -> DMatrix<f64> {
     DMatrix::from_fn(n, p, |i, k| {
         let x = 2.0 * i as f64 / (n - 1) as f64 - 1.0;
         let (mut t0, mut t1) = (1.0, x);
@@ -121,11 +143,27 @@ fn vandermonde(n: usize, p: usize) -> DMatrix<f64> {
 }
 
 impl Compact {
-    /// Fit every channel of `table` as a p×p series under its transform. A typed error
-    /// when p is 0 or exceeds the table's side, when an entry is not finite, or when a
-    /// `Log` channel has an entry ≤ 0.
+    /// Fit every channel of `table` as a p×p series under its transform (no `OverAlpha`
+    /// channel: see [`Compact::fit_scaled`]). A typed error when p is 0 or exceeds the
+    /// table's side, when an entry is not finite, or when a `Log` channel has an entry ≤ 0.
     pub fn fit(table: &FittedTable, p: usize, transforms: [Transform; 6]) -> Result<Compact> {
+        Compact::fit_scaled(table, p, transforms, 0.0)
+    }
+
+    /// [`Compact::fit`] with the table grid's α floor, which `OverAlpha` channels need
+    /// (a typed error when one is asked for with `alpha_min` not in (0, 1)).
+    pub fn fit_scaled(
+        table: &FittedTable,
+        p: usize,
+        transforms: [Transform; 6],
+        alpha_min: f64,
+    ) -> Result<Compact> {
         let n = table.n;
+        if transforms.contains(&Transform::OverAlpha) && !(alpha_min > 0.0 && alpha_min < 1.0) {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: an over-alpha channel needs the grid's α floor in (0, 1); it is {alpha_min}"
+            )));
+        }
         if n < 2 || table.cells.len() != n * n {
             return Err(Error::InvalidArgument(format!(
                 "compact LTC: a table of side {n} with {} cells",
@@ -152,7 +190,8 @@ impl Compact {
                 for j in 0..n {
                     for i in 0..n {
                         let x = table.cells[i + n * j][ch];
-                        let y = tr.forward(x);
+                        let r = i as f64 / (n - 1) as f64;
+                        let y = tr.forward(x, (r * r).max(alpha_min));
                         if !x.is_finite() || !y.is_finite() {
                             return Err(Error::InvalidArgument(format!(
                                 "compact LTC: channel {ch} at cell ({i}, {j}) is {x}, which the {tr:?} transform cannot fit"
@@ -168,13 +207,27 @@ impl Compact {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        Ok(Compact { p, channels })
+        Ok(Compact {
+            p,
+            alpha_min,
+            channels,
+        })
     }
 
     /// Six channels of p² finite coefficients each, 1 ≤ p ≤ [`MAX_P`]: what evaluation
     /// indexes. A typed error naming what is wrong otherwise.
     pub fn check(&self) -> Result<()> {
         let p = self.p;
+        let scaled = self
+            .channels
+            .iter()
+            .any(|s| s.transform == Transform::OverAlpha);
+        if scaled && !(self.alpha_min > 0.0 && self.alpha_min < 1.0) {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: an over-alpha channel with α floor {} (need one in (0, 1))",
+                self.alpha_min
+            )));
+        }
         if p == 0 || p > MAX_P || self.channels.len() != 6 {
             return Err(Error::InvalidArgument(format!(
                 "compact LTC: p = {p} (1..={MAX_P}) with {} channels (6)",
@@ -205,11 +258,13 @@ impl Compact {
 
     /// The six channels at (r, t) ∈ [0, 1]² (clamped), in f64: the reference.
     pub fn eval(&self, r: f64, t: f64) -> [f64; 6] {
-        let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
+        let (r, t) = (r.clamp(0.0, 1.0), t.clamp(0.0, 1.0));
+        let (x, y) = (2.0 * r - 1.0, 2.0 * t - 1.0);
+        let alpha = (r * r).max(self.alpha_min);
         let p = self.p;
         std::array::from_fn(|ch| {
             let s = &self.channels[ch];
-            s.transform.inverse(series_at(&s.coeffs, p, x, y))
+            s.transform.inverse(series_at(&s.coeffs, p, x, y), alpha)
         })
     }
 
@@ -223,12 +278,14 @@ impl Compact {
 
     /// [`Compact::eval`] in f32 from f32 coefficients (`coeffs_f32`): the shading form.
     pub fn eval_f32(&self, coeffs: &[Vec<f32>], r: f32, t: f32) -> [f32; 6] {
-        let (x, y) = (2.0 * r.clamp(0.0, 1.0) - 1.0, 2.0 * t.clamp(0.0, 1.0) - 1.0);
+        let (r, t) = (r.clamp(0.0, 1.0), t.clamp(0.0, 1.0));
+        let (x, y) = (2.0 * r - 1.0, 2.0 * t - 1.0);
+        let alpha = (r * r).max(self.alpha_min as f32);
         let p = self.p;
         std::array::from_fn(|ch| {
             self.channels[ch]
                 .transform
-                .inverse(series_at(&coeffs[ch], p, x, y))
+                .inverse(series_at(&coeffs[ch], p, x, y), alpha)
         })
     }
 

@@ -28,18 +28,19 @@ use nalgebra::{Matrix4, Vector3, Vector4};
 
 type V3 = Vector3<f64>;
 
-/// The fixed nodes of one pass: direction, target value and balance weight.
-struct Nodes {
-    l: Vec<V3>,
-    f: Vec<f64>,
-    w: Vec<f64>,
+/// The fixed nodes of one pass: direction, target value and balance weight (also the
+/// nodes of a compact table's lobe fit, `ltc::compact_fit`).
+pub(crate) struct Nodes {
+    pub(crate) l: Vec<V3>,
+    pub(crate) f: Vec<f64>,
+    pub(crate) w: Vec<f64>,
     /// Σ w f²: the normaliser of the relative L2.
-    f2: f64,
+    pub(crate) f2: f64,
 }
 
 impl Nodes {
     /// n×n stratified points (offset ½) from the start LTC and from the target.
-    fn draw<T: LtcTarget + ?Sized>(t: &T, start: &LtcDist, n: usize) -> Nodes {
+    pub(crate) fn draw<T: LtcTarget + ?Sized>(t: &T, start: &LtcDist, n: usize) -> Nodes {
         let mut nodes = Nodes {
             l: Vec::with_capacity(2 * n * n),
             f: Vec::with_capacity(2 * n * n),

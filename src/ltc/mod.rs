@@ -11,6 +11,7 @@
 //!   drawn once per cell;
 //! - `compare`: our table against a shipped one (per cell, per row, between cells);
 //! - `compact`: a table as tensor-product Chebyshev series, rebuilt or evaluated per pixel;
+//! - `compact_fit`: such a series fitted by the lobe error after bilinear reading;
 //! - `chart`: the linearly transformed hemispheres held-out integrals follow a lobe on;
 //! - `held`: the held-out figures of a fitted table, every cell in every precision;
 //! - `lobe_error`: the held-out error of an LTC against its lobe (relative L2 and L1)
@@ -27,6 +28,7 @@ pub mod aniso;
 pub mod aniso_table;
 pub mod chart;
 pub mod compact;
+pub mod compact_fit;
 pub mod compare;
 pub mod diffuse;
 pub mod dist;

@@ -62,6 +62,10 @@ pub struct ShippedPath {
     pub shipped: Judged,
     /// The full table over the same places (those the path reaches).
     pub ours_full: Judged,
+    /// The full table against the shipped one there: places better, tied, worse (beyond
+    /// both bars).
+    #[serde(default)]
+    pub full_vs_shipped: [usize; 3],
 }
 
 /// One compact form (a transform set and a degree).
@@ -84,4 +88,7 @@ pub struct CompactForm {
     /// The largest |f32 form − f64 series| / max(|f64|, 1e-3) of any channel over a
     /// 257² grid of (r, t).
     pub f32_rel_error: f64,
+    /// For a form refined by the lobe error (`ltc::compact_fit`): what that fit did.
+    #[serde(default)]
+    pub lobe_fit: Option<crate::ltc::compact_fit::Trace>,
 }

@@ -25,6 +25,7 @@
 
 use crate::error::{Error, Result};
 use crate::ltc::compact::{Compact, Transform};
+use crate::ltc::compact_fit::{refine, LobeFit, Trace};
 use crate::ltc::compare::{cell_error_of, square_entries, stored_half, Shipped};
 use crate::ltc::lobe_error::{LobeError, Spread, Tolerance};
 use crate::ltc::lobes::Lobe;
@@ -48,6 +49,13 @@ pub struct Plan {
     pub max_coefficients: usize,
     /// … and a mean relative L2 within this many points of the full table's.
     pub within_points: f64,
+    /// Degrees whose form (of each table's lobe-fit transform set) is then refined by the
+    /// lobe error after bilinear reading (`ltc::compact_fit`), each judged as a form of its own.
+    pub lobe_degrees: Vec<usize>,
+    /// The lobe fit: 3·n² nodes per training place, iterations per pass, passes.
+    pub lobe_nodes: usize,
+    pub lobe_iterations: usize,
+    pub lobe_passes: usize,
 }
 
 impl crate::fit::spec::Params for Plan {
@@ -63,6 +71,13 @@ impl crate::fit::spec::Params for Plan {
                 self.degrees
             ));
         }
+        crate::fit::spec::within("lobe_degrees (its length)", self.lobe_degrees.len(), 0, 8)?;
+        for &p in &self.lobe_degrees {
+            crate::fit::spec::within("lobe_degrees", p, 1, 24)?;
+        }
+        crate::fit::spec::within("lobe_nodes", self.lobe_nodes, 2, 64)?;
+        crate::fit::spec::within("lobe_iterations", self.lobe_iterations, 1, 200)?;
+        crate::fit::spec::within("lobe_passes", self.lobe_passes, 1, 8)?;
         crate::fit::spec::within("max_coefficients", self.max_coefficients, 1, 1 << 20)?;
         crate::fit::spec::within("within_points", self.within_points, 0.0, 100.0)?;
         Tolerance::check_relative(self.held_out_rel)
@@ -75,16 +90,23 @@ struct Source {
     table: &'static str,
     lobe: Option<Lobe>,
     transforms: [(&'static str, [Transform; 6]); 2],
+    /// The transform set (index into `transforms`) the lobe fit starts from.
+    lobe_fit: usize,
 }
 
-use Transform::{Log, Raw};
+use Transform::{Log, OverAlpha, Raw};
 
 const SOURCES: [Source; 2] = [
     Source {
         table: crate::results::names::LTC_GGX,
         lobe: None,
-        // d ∝ α at small α: its relative error is what the lobe feels
-        transforms: [("raw", [Raw; 6]), ("log", [Log, Raw, Raw, Log, Raw, Raw])],
+        // b and d vanish like α as α → 0 (the lobe's width): over α(r) their series stay
+        // O(1) and their absolute error shrinks with the lobe
+        transforms: [
+            ("raw", [Raw; 6]),
+            ("over-α", [Raw, OverAlpha, Raw, OverAlpha, Raw, Raw]),
+        ],
+        lobe_fit: 1,
     },
     Source {
         table: "ltc-sheen",
@@ -95,6 +117,7 @@ const SOURCES: [Source; 2] = [
             ("log", [Raw, Raw, Raw, Log, Log, Raw]),
             ("log-a", [Log, Raw, Raw, Log, Log, Raw]),
         ],
+        lobe_fit: 0,
     },
 ];
 
@@ -179,12 +202,7 @@ fn family<T: LtcTarget>(
             s.table, grid.n
         )));
     }
-    let mut forms: Vec<(String, Compact)> = Vec::new();
-    for (name, tr) in &s.transforms {
-        for &p in &pl.degrees {
-            forms.push((name.to_string(), Compact::fit(&table, p, *tr)?));
-        }
-    }
+    let (forms, traces) = forms_of(&table, grid.alpha_min, s, target, pl)?;
     let full = stored_half(&table);
     let rebuilt: Vec<Shipped> = forms
         .iter()
@@ -237,6 +255,7 @@ fn family<T: LtcTarget>(
         .map(|(path, r_min, figs)| ShippedPath {
             path: path.clone(),
             r_min: *r_min,
+            full_vs_shipped: against(&judged, 0, figs),
             shipped: judged_of(&places, figs),
             ours_full: judged_of(
                 &places,
@@ -265,6 +284,7 @@ fn family<T: LtcTarget>(
                     .map(|(_, _, figs)| against(&judged, col, figs))
                     .collect(),
                 f32_rel_error: f32_error(f, &f32c[q]),
+                lobe_fit: traces[q].clone(),
             }
         })
         .collect();
@@ -296,6 +316,59 @@ fn family<T: LtcTarget>(
         chosen,
         series,
     })
+}
+
+/// A table's compact forms: every transform set at every degree by least squares, then
+/// the lobe fits (`ltc::compact_fit`, each memoised) of the source's lobe-fit set; with
+/// each form's lobe-fit trace (`None` for least squares).
+#[allow(clippy::type_complexity)]
+fn forms_of<T: LtcTarget>(
+    table: &crate::ltc::table::FittedTable,
+    alpha_min: f64,
+    s: &Source,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    pl: &Plan,
+) -> Result<(Vec<(String, Compact)>, Vec<Option<Trace>>)> {
+    let n = table.n;
+    let mut forms: Vec<(String, Compact)> = Vec::new();
+    for (name, tr) in &s.transforms {
+        for &p in &pl.degrees {
+            forms.push((
+                name.to_string(),
+                Compact::fit_scaled(&table, p, *tr, alpha_min)?,
+            ));
+        }
+    }
+    let mut traces: Vec<Option<Trace>> = vec![None; forms.len()];
+    let plan = LobeFit {
+        nodes: pl.lobe_nodes,
+        iterations: pl.lobe_iterations,
+        passes: pl.lobe_passes,
+    };
+    {
+        let (name, tr) = &s.transforms[s.lobe_fit];
+        for &p in &pl.lobe_degrees {
+            if p > n {
+                return Err(Error::InvalidArgument(format!(
+                    "fits/ltc-compact.toml: lobe degree {p} exceeds the {} table's side {n}",
+                    s.table
+                )));
+            }
+            let start = Compact::fit_scaled(&table, p, *tr, alpha_min)?;
+            let label = format!(
+                "ltc-compact lobe fit {} {} {name} p {p}",
+                s.table,
+                table.fingerprint()
+            );
+            let (fitted, trace) = crate::memo::map(&label, 1, |_| {
+                refine(&start, n, alpha_min, target, plan, s.table)
+            })?
+            .remove(0);
+            forms.push((format!("{name}, lobe-fit"), fitted));
+            traces.push(Some(trace));
+        }
+    }
+    Ok((forms, traces))
 }
 
 /// Whether figure `a` is worse (higher relative L2) than `b` by more than both bars; a
