@@ -19,9 +19,13 @@ fn committed_generated_files_are_fresh() {
     // the function modules, the two LTC table modules and the two LTC lookups (any
     // table; anisotropic), each in three forms (plain, naga_oil, WESL), and the two Rust
     // files
-    assert_eq!(files.len(), 3 * (codegen::MODULES.len() + 4) + 2);
+    // … and the compact GGX table's WGSL, ES module, three.js drop-in and Rust
+    assert_eq!(files.len(), 3 * (codegen::MODULES.len() + 4) + 2 + 4);
     for (rel, text) in files {
-        let path = if rel.starts_with("wgsl/") || rel.starts_with("shaders/") {
+        let path = if rel.starts_with("wgsl/")
+            || rel.starts_with("shaders/")
+            || rel.starts_with("textures/")
+        {
             Path::new("results").join(&rel)
         } else {
             Path::new(&rel).to_path_buf()

@@ -8,7 +8,8 @@
 //! in both. Floats are printed as the shortest decimal that round-trips to the f32, so
 //! generation is byte-for-byte deterministic.
 //!
-//! Sources: results/fits/{multiscale-alpha-me, smith-lambda, filters, leadr-grids, ltc-ggx}.json.
+//! Sources: results/fits/{multiscale-alpha-me, smith-lambda, filters, leadr-grids, ltc-ggx}.json,
+//! and results/fits/ltc-compact.json where the on-request study has written it (`compact`).
 //! tests/codegen.rs re-renders from those files and fails when a committed generated file
 //! differs (stale), validates every WGSL module with naga, and compares each Rust twin
 //! with its f64 reference.
@@ -16,6 +17,7 @@
 pub mod aniso;
 pub mod audit;
 pub mod backends;
+pub mod compact;
 pub mod desc;
 pub mod forms;
 pub mod lut;
@@ -73,6 +75,7 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
         ));
     }
     out.push((forms::Form::Plain.path("ltc_aniso"), an));
+    out.extend(compact::render_all(results, rust, COMMAND)?);
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
@@ -94,7 +97,10 @@ pub fn write_all(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<Str
     let canonical = results == Path::new("results");
     let mut written = Vec::new();
     for (rel, text) in render_all(results, canonical)? {
-        let path = if rel.starts_with("wgsl/") || rel.starts_with("shaders/") {
+        let path = if rel.starts_with("wgsl/")
+            || rel.starts_with("shaders/")
+            || rel.starts_with("textures/")
+        {
             // a module that naga rejects is never written
             if rel.starts_with("wgsl/") {
                 validate::validate_wgsl(&text, &rel)?;

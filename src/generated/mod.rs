@@ -5,3 +5,6 @@ pub mod shading;
 
 #[rustfmt::skip]
 pub mod ltc_table;
+
+#[rustfmt::skip]
+pub mod ltc_compact;

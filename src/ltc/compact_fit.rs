@@ -373,6 +373,48 @@ fn draw<T: LtcTarget + ?Sized>(t: &T, start: &LtcDist, n: usize) -> Nodes {
     nodes
 }
 
+/// The training places at grid positions `pos` ((x, y) ∈ [0, n − 1]²), each with its
+/// nodes drawn from its target and from the lobe `tex` gives there.
+fn places_at<T: LtcTarget>(
+    pos: &[(f64, f64)],
+    tex: &[([f64; LOBE], [f64; LOBE])],
+    n: usize,
+    alpha_min: f64,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    nodes: usize,
+) -> Result<Vec<Place>> {
+    pos.par_iter()
+        .map(|&(x, y)| {
+            let (r, t) = (x / (n - 1) as f64, y / (n - 1) as f64);
+            // the square read there (the last texel row reads its square at weight 1)
+            let (i, j) = ((x as usize).min(n - 2), (y as usize).min(n - 2));
+            let (u, v) = (x - i as f64, y - j as f64);
+            let lobe = target((r * r).max(alpha_min), (1.0 - t * t).clamp(0.0, 1.0).acos())?;
+            let corner = [
+                i + n * j,
+                i + 1 + n * j,
+                i + n * (j + 1),
+                i + 1 + n * (j + 1),
+            ];
+            let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v];
+            let mut pl = Place {
+                corner,
+                w,
+                nodes: Nodes {
+                    l: Vec::new(),
+                    f: Vec::new(),
+                    w: Vec::new(),
+                    f2: 1.0,
+                },
+                weight: 1.0,
+            };
+            let e = entries_at(&pl, tex);
+            pl.nodes = draw(&lobe, &start_lobe(&e), nodes);
+            Ok(pl)
+        })
+        .collect()
+}
+
 /// Refine `start` (a compact form of an n×n table) by the lobe error after bilinear
 /// reading of its rebuilt texels, against `target(α, θ)` at α = max(r², `alpha_min`),
 /// θ = acos(1 − t²). Returns the refined form (the fresnel channel as `start`'s) and what
@@ -435,37 +477,7 @@ pub fn refine<T: LtcTarget>(
     };
     for _pass in 0..plan.passes {
         let tex = texels(start, &theta, &a);
-        let places: Vec<Place> = squares
-            .par_iter()
-            .map(|&(x, y)| {
-                let (r, t) = (x / (n - 1) as f64, y / (n - 1) as f64);
-                // the square read there (the last texel row reads its square at weight 1)
-                let (i, j) = ((x as usize).min(n - 2), (y as usize).min(n - 2));
-                let (u, v) = (x - i as f64, y - j as f64);
-                let lobe = target((r * r).max(alpha_min), (1.0 - t * t).clamp(0.0, 1.0).acos())?;
-                let corner = [
-                    i + n * j,
-                    i + 1 + n * j,
-                    i + n * (j + 1),
-                    i + 1 + n * (j + 1),
-                ];
-                let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), (1.0 - u) * v, u * v];
-                let mut pl = Place {
-                    corner,
-                    w,
-                    nodes: Nodes {
-                        l: Vec::new(),
-                        f: Vec::new(),
-                        w: Vec::new(),
-                        f2: 1.0,
-                    },
-                    weight: 1.0,
-                };
-                let e = entries_at(&pl, &tex);
-                pl.nodes = draw(&lobe, &start_lobe(&e), plan.nodes);
-                Ok(pl)
-            })
-            .collect::<Result<_>>()?;
+        let places = places_at(&squares, &tex, n, alpha_min, target, plan.nodes)?;
         // places whose target vanishes on every node carry no error to fit
         let places: Vec<Place> = places
             .into_iter()

@@ -1,0 +1,266 @@
+//! The compact GGX table's generated code (`codegen::compact`) against the series it was
+//! generated from (results/fits/ltc-compact.json, `ltc::compact::Compact`):
+//!
+//! - Rust (src/generated/ltc_compact.rs) equals `Compact::eval_f32` bit for bit over the
+//!   whole input range, out-of-range inputs included;
+//! - its rebuilt binary16 table is within one binary16 step plus the f32 form's bound of
+//!   `Compact::rebuild` (the f64 series rounded once), entry by entry;
+//! - the ES module (results/textures/three/ltc_compact.js), run by node, gives the Rust
+//!   form's f32 bits at every texel and at 10 000 other points, its rebuild's binary16
+//!   bits, and a nearest-binary16 conversion equal to the `half` crate's on 200 000 f32
+//!   numbers across every exponent (skips with one line without node);
+//! - the WGSL module parses and validates with naga.
+//!
+//! The committed files are stale-checked by tests/codegen.rs with the other generated code.
+
+mod common;
+
+use ndfbench::codegen::compact;
+use ndfbench::generated::ltc_compact::{ltc_compact, LTC_COMPACT_N};
+use ndfbench::ltc::compact::Compact;
+use proptest::prelude::*;
+use std::path::Path;
+
+fn series() -> Compact {
+    compact::read(Path::new("results"))
+        .unwrap()
+        .expect("results/fits/ltc-compact.json is committed")
+        .0
+}
+
+proptest! {
+    #![proptest_config(common::config(10_000))]
+
+    /// The generated Rust evaluation is `Compact::eval_f32`, bit for bit, at any (r, t)
+    /// an engine can pass (clamped outside [0, 1]; the ends and tiny values included).
+    #[test]
+    fn generated_rust_is_the_f32_form_bit_for_bit(
+        r in prop_oneof![Just(0.0f32), Just(1.0f32), Just(1e-30f32), -0.5f32..1.5, 0.0f32..1e-3],
+        t in prop_oneof![Just(0.0f32), Just(1.0f32), Just(1e-30f32), -0.5f32..1.5, 0.999f32..1.0],
+    ) {
+        let c = series();
+        let want = c.eval_f32(&c.coeffs_f32(), r, t);
+        let got = ltc_compact(r, t);
+        for ch in 0..6 {
+            prop_assert_eq!(got[ch].to_bits(), want[ch].to_bits(), "channel {} at ({}, {})", ch, r, t);
+        }
+    }
+}
+
+/// The texels of the generated rebuild: f32 values at (i, j)/(n − 1).
+fn rebuilt_f32(n: usize) -> Vec<[f32; 6]> {
+    (0..n * n)
+        .map(|k| {
+            ltc_compact(
+                (k % n) as f32 / (n - 1) as f32,
+                (k / n) as f32 / (n - 1) as f32,
+            )
+        })
+        .collect()
+}
+
+/// Rounding the f32 evaluation to binary16 stays within one binary16 step of rounding the
+/// f64 series once (`Compact::rebuild`, what results/ltc-compact.md judged) plus the f32
+/// form's own bound, 8·p·ε₃₂·Σ|c| (times α(r) for an over-α channel; tests/ltc_compact.rs
+/// proves it): entry by entry, near a channel's zeros too, where one f32 rounding of O(1)
+/// coefficients is many binary16 steps of a tiny entry.
+#[test]
+fn the_generated_rebuild_is_within_its_bound_of_the_judged_one() {
+    let c = series();
+    let n = LTC_COMPACT_N;
+    let judged = c.rebuild(n).unwrap();
+    let ours = rebuilt_f32(n);
+    let sums: Vec<f64> = c
+        .channels
+        .iter()
+        .map(|s| s.coeffs.iter().map(|v| v.abs()).sum())
+        .collect();
+    let (mut differ, mut beyond_a_step) = (0, 0);
+    for (k, v) in ours.iter().enumerate() {
+        let r = (k % n) as f64 / (n - 1) as f64;
+        let h = judged.half.as_ref().unwrap()[k];
+        for ch in 0..6 {
+            let a = half::f16::from_f32(v[ch]);
+            let step = (half::f16::from_bits(h[ch].to_bits() + 1).to_f64() - h[ch].to_f64()).abs();
+            let scale = match c.channels[ch].transform {
+                ndfbench::ltc::compact::Transform::OverAlpha => (r * r).max(c.alpha_min),
+                _ => 1.0,
+            };
+            let bound = step + 8.0 * c.p as f64 * f64::from(f32::EPSILON) * sums[ch] * scale;
+            let d = (a.to_f64() - h[ch].to_f64()).abs();
+            assert!(
+                d <= bound,
+                "texel {k} channel {ch}: {a} vs {} (bound {bound:e})",
+                h[ch]
+            );
+            differ += usize::from(a != h[ch]);
+            beyond_a_step += usize::from(d > step);
+        }
+    }
+    eprintln!(
+        "generated binary16 rebuild: {differ} of {} entries differ from the judged one, {beyond_a_step} by more than one step",
+        6 * n * n
+    );
+}
+
+/// The WGSL module parses and validates with naga.
+#[test]
+fn the_wgsl_module_validates() {
+    let text = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
+    ndfbench::codegen::validate::validate_wgsl(&text, "ltc_compact.wgsl").unwrap();
+    assert!(text.contains("@compute") && text.contains("fn ltc_compact_rebuild"));
+}
+
+/// Points the JS run evaluates: every texel, then 10 000 from a fixed sequence over
+/// [−0.25, 1.25]² (outside the range too).
+fn points() -> Vec<(f32, f32)> {
+    let n = LTC_COMPACT_N;
+    let mut p: Vec<(f32, f32)> = (0..n * n)
+        .map(|k| {
+            (
+                (k % n) as f32 / (n - 1) as f32,
+                (k / n) as f32 / (n - 1) as f32,
+            )
+        })
+        .collect();
+    let mut s: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for _ in 0..10_000 {
+        p.push((1.5 * next() - 0.25, 1.5 * next() - 0.25));
+    }
+    p
+}
+
+/// f32 numbers across every exponent (and both signs, zeros, subnormals, infinities) for
+/// the binary16 conversion.
+fn sweep() -> Vec<f32> {
+    let mut v: Vec<f32> = (0..200_000u64)
+        .map(|k| f32::from_bits((k * 21_474u64 + (k % 7) * 3) as u32))
+        .filter(|x| !x.is_nan())
+        .collect();
+    v.extend([
+        0.0,
+        -0.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        65504.0,
+        65520.0,
+        6.0e-8,
+        2.98e-8,
+    ]);
+    v
+}
+
+/// The ES module under node gives the Rust form's bits: at every texel and the other
+/// points, its rebuild's f32 and binary16 arrays, and its binary16 conversion on the sweep.
+#[test]
+fn the_es_module_gives_the_rust_bits() {
+    if std::process::Command::new("node")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: node is not installed");
+        return;
+    }
+    let d = common::scratch("codegen-compact", "js");
+    std::fs::copy(
+        "results/textures/three/ltc_compact.js",
+        d.join("ltc_compact.mjs"),
+    )
+    .unwrap();
+    let pts = points();
+    let sw = sweep();
+    let input = serde_json::json!({
+        "points": pts.iter().map(|(r, t)| [r.to_bits(), t.to_bits()]).collect::<Vec<_>>(),
+        "sweep": sw.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+    });
+    std::fs::write(d.join("in.json"), input.to_string()).unwrap();
+    std::fs::write(
+        d.join("run.mjs"),
+        r#"import { ltcCompact, rebuild, toHalf } from './ltc_compact.mjs';
+import { readFileSync, writeFileSync } from 'node:fs';
+const input = JSON.parse(readFileSync(new URL('./in.json', import.meta.url)));
+const b = new Float32Array(1), u = new Uint32Array(b.buffer);
+const bits = (x) => { b[0] = x; return u[0]; };
+const fromBits = (x) => { u[0] = x; return b[0]; };
+const values = input.points.map(([r, t]) => Array.from(ltcCompact(fromBits(r), fromBits(t)), bits));
+const rb = rebuild();
+writeFileSync(new URL('./out.json', import.meta.url), JSON.stringify({
+  values,
+  mat: Array.from(rb.mat, bits), mag: Array.from(rb.mag, bits),
+  matHalf: Array.from(rb.matHalf), magHalf: Array.from(rb.magHalf),
+  sweep: input.sweep.map((x) => toHalf(fromBits(x))),
+}));
+"#,
+    )
+    .unwrap();
+    let out = std::process::Command::new("node")
+        .arg(d.join("run.mjs"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let o: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("out.json")).unwrap()).unwrap();
+    let u32s = |k: &str| -> Vec<u32> {
+        o[k].as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_u64().unwrap() as u32)
+            .collect()
+    };
+    for (q, (r, t)) in pts.iter().enumerate() {
+        let want = ltc_compact(*r, *t);
+        let got: Vec<u32> = o["values"][q]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_u64().unwrap() as u32)
+            .collect();
+        for ch in 0..6 {
+            assert_eq!(got[ch], want[ch].to_bits(), "channel {ch} at ({r}, {t})");
+        }
+    }
+    let n = LTC_COMPACT_N;
+    let texels = rebuilt_f32(n);
+    let (mat, mag, mat_h, mag_h) = (u32s("mat"), u32s("mag"), u32s("matHalf"), u32s("magHalf"));
+    for (k, v) in texels.iter().enumerate() {
+        for c in 0..4 {
+            assert_eq!(mat[4 * k + c], v[c].to_bits(), "LTC_MAT_1 texel {k}.{c}");
+            assert_eq!(
+                mat_h[4 * k + c],
+                u32::from(half::f16::from_f32(v[c]).to_bits())
+            );
+        }
+        for c in 0..2 {
+            assert_eq!(
+                mag[4 * k + c],
+                v[4 + c].to_bits(),
+                "LTC_MAT_2 texel {k}.{c}"
+            );
+            assert_eq!(
+                mag_h[4 * k + c],
+                u32::from(half::f16::from_f32(v[4 + c]).to_bits())
+            );
+        }
+        assert_eq!([mag[4 * k + 2], mag[4 * k + 3]], [0, 0]);
+    }
+    for (x, h) in sw.iter().zip(u32s("sweep")) {
+        assert_eq!(
+            h,
+            u32::from(half::f16::from_f32(*x).to_bits()),
+            "binary16 of {x:e} ({:#010x})",
+            x.to_bits()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
