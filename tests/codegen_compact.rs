@@ -264,3 +264,62 @@ writeFileSync(new URL('./out.json', import.meta.url), JSON.stringify({
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The WGSL compute rebuild (`ltc_compact_rebuild`) run on the adapter present (llvmpipe
+/// or lavapipe in CI; skips with one line without one): every texel of both rgba16float
+/// textures within two binary16 steps plus twice the f32 form's bound of the Rust form's
+/// nearest binary16 — a GPU may fuse multiply-adds and round a store to binary16 either
+/// way — and the two unused channels zero.
+#[test]
+fn the_wgsl_rebuild_runs_within_its_bound() {
+    let gpu = match ndfbench::gpu::Gpu::new() {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("skipped: {e}");
+            return;
+        }
+    };
+    let c = series();
+    let n = LTC_COMPACT_N;
+    let text = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
+    let [m1, m2] = gpu
+        .fill_two_rgba16f(&text, "ltc_compact_rebuild", n)
+        .unwrap();
+    let sums: Vec<f64> = c
+        .channels
+        .iter()
+        .map(|s| s.coeffs.iter().map(|v| v.abs()).sum())
+        .collect();
+    let ours = rebuilt_f32(n);
+    let mut same = 0;
+    for (k, v) in ours.iter().enumerate() {
+        let r = (k % n) as f64 / (n - 1) as f64;
+        let got: [u16; 6] = [m1[k][0], m1[k][1], m1[k][2], m1[k][3], m2[k][0], m2[k][1]];
+        assert_eq!(
+            [m2[k][2], m2[k][3]],
+            [0, 0],
+            "texel {k}: LTC_2's unused channels"
+        );
+        for ch in 0..6 {
+            let want = half::f16::from_f32(v[ch]);
+            let g = half::f16::from_bits(got[ch]);
+            let step = (half::f16::from_bits(want.to_bits() + 1).to_f64() - want.to_f64()).abs();
+            let scale = match c.channels[ch].transform {
+                ndfbench::ltc::compact::Transform::OverAlpha => (r * r).max(c.alpha_min),
+                _ => 1.0,
+            };
+            let bound = 2.0 * step + 16.0 * c.p as f64 * f64::from(f32::EPSILON) * sums[ch] * scale;
+            assert!(
+                (g.to_f64() - want.to_f64()).abs() <= bound,
+                "texel {k} channel {ch} on {}: {g} vs {want} (bound {bound:e})",
+                gpu.info.name
+            );
+            same += usize::from(g == want);
+        }
+    }
+    eprintln!(
+        "WGSL rebuild on {}: {same} of {} binary16 entries equal the Rust form's",
+        gpu.info.name,
+        6 * n * n
+    );
+}

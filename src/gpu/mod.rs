@@ -261,6 +261,123 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Run a compute entry `entry` of `wgsl` that writes two `rgba16float` storage
+    /// textures of side `n` (bindings 0 and 1 of group 0; workgroups of 8×8, as the
+    /// generated compact LTC rebuild, results/wgsl/ltc_compact.wgsl) and read both back:
+    /// per texel the four binary16 bit patterns of each.
+    pub fn fill_two_rgba16f(
+        &self,
+        wgsl: &str,
+        entry: &str,
+        n: usize,
+    ) -> Result<[Vec<[u16; 4]>; 2]> {
+        if !(2..=4096).contains(&n) {
+            return Err(Error::InvalidArgument(format!(
+                "GPU texture fill: side {n} (2..=4096)"
+            )));
+        }
+        let d = &self.device;
+        let size = wgpu::Extent3d {
+            width: n as u32,
+            height: n as u32,
+            depth_or_array_layers: 1,
+        };
+        let tex = || {
+            d.create_texture(&wgpu::TextureDescriptor {
+                label: None,
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba16Float,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let (t1, t2) = (tex(), tex());
+        let (v1, v2) = (
+            t1.create_view(&wgpu::TextureViewDescriptor::default()),
+            t2.create_view(&wgpu::TextureViewDescriptor::default()),
+        );
+        let pipeline = self.pipeline(wgsl, entry);
+        let bg = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&v1),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&v2),
+                },
+            ],
+        });
+        let row = (n * 8).div_ceil(256) * 256;
+        let read = |_: usize| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: None,
+                size: (row * n) as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let (r1, r2) = (read(0), read(1));
+        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bg, &[]);
+            let g = n.div_ceil(8) as u32;
+            pass.dispatch_workgroups(g, g, 1);
+        }
+        for (t, b) in [(&t1, &r1), (&t2, &r2)] {
+            enc.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: t,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: b,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row as u32),
+                        rows_per_image: Some(n as u32),
+                    },
+                },
+                size,
+            );
+        }
+        self.queue.submit([enc.finish()]);
+        let lost = |e: String| {
+            Error::InvalidArgument(format!("GPU texture fill on {}: {e}", self.info.name))
+        };
+        let mut out = [Vec::new(), Vec::new()];
+        for (o, b) in out.iter_mut().zip([&r1, &r2]) {
+            let slice = b.slice(..);
+            slice.map_async(wgpu::MapMode::Read, |_| {});
+            d.poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| lost(e.to_string()))?;
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| lost(format!("{e:?}")))?;
+            for j in 0..n {
+                for i in 0..n {
+                    let k = j * row + i * 8;
+                    o.push(std::array::from_fn(|c| {
+                        u16::from_le_bytes([data[k + 2 * c], data[k + 2 * c + 1]])
+                    }));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
 /// Little-endian bytes of f32 pairs.
 fn bytemuck_pairs(v: &[[f32; 2]]) -> Vec<u8> {
     v.iter()
