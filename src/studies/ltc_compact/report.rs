@@ -159,7 +159,7 @@ fn lobe_fits(f: &CompactFamily) -> String {
 }
 
 pub(super) fn plot(r: &LtcCompact) -> Result<String> {
-    use crate::report::plot::{loglog_svg, Panel, Series};
+    use crate::report::plot::{loglog_svg_legend, Panel, Series};
     let panels: Vec<Panel> = r
         .families
         .iter()
@@ -204,5 +204,11 @@ pub(super) fn plot(r: &LtcCompact) -> Result<String> {
             }
         })
         .collect();
-    loglog_svg(&panels, 1200, 480)
+    // upper right: the small forms' curves fall to the lower left, where a legend hid them
+    loglog_svg_legend(
+        &panels,
+        1200,
+        480,
+        plotters::prelude::SeriesLabelPosition::UpperRight,
+    )
 }
