@@ -8,7 +8,8 @@
 //! - the ES module (results/textures/three/ltc_compact.js), run by node, gives the Rust
 //!   form's f32 bits at every texel and at 10 000 other points, its rebuild's binary16
 //!   bits, and a nearest-binary16 conversion equal to the `half` crate's on 200 000 f32
-//!   numbers across every exponent (skips with one line without node);
+//!   numbers across every exponent, and a RangeError for a side below 2 (skips with one
+//!   line without node);
 //! - the WGSL module parses and validates with naga.
 //!
 //! The committed files are stale-checked by tests/codegen.rs with the other generated code.
@@ -196,6 +197,7 @@ writeFileSync(new URL('./out.json', import.meta.url), JSON.stringify({
   mat: Array.from(rb.mat, bits), mag: Array.from(rb.mag, bits),
   matHalf: Array.from(rb.matHalf), magHalf: Array.from(rb.magHalf),
   sweep: input.sweep.map((x) => toHalf(fromBits(x))),
+  refused: [1, 0, 2.5, NaN].map((n) => { try { rebuild(n); return false; } catch (e) { return e instanceof RangeError; } }),
 }));
 "#,
     )
@@ -262,6 +264,8 @@ writeFileSync(new URL('./out.json', import.meta.url), JSON.stringify({
             x.to_bits()
         );
     }
+    // a side that leaves no grid spacing (or no integer side) is a RangeError, not NaN texels
+    assert_eq!(o["refused"], serde_json::json!([true, true, true, true]));
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -272,8 +272,8 @@ fn the_lobe_fit_is_thread_count_independent() {
     assert_ne!(one.0, start, "the fit moved nothing");
 }
 
-/// Bad input is a typed error: no nodes, no passes, a side below 2, a target that
-/// cannot be built; an over-α series without an α floor.
+/// Bad input is a typed error: no nodes, no passes, a side below 2, an α floor outside
+/// (0, 1) or NaN, a target that cannot be built; an over-α series without an α floor.
 #[test]
 fn bad_lobe_fit_input_is_a_typed_error() {
     let (table, alpha_min) = published();
@@ -287,6 +287,12 @@ fn bad_lobe_fit_input_is_a_typed_error() {
         assert!(refine(&start, 64, alpha_min, &ggx, plan, "t").is_err());
     }
     assert!(refine(&start, 1, alpha_min, &ggx, ok, "t").is_err());
+    for floor in [0.0, -1.0, 1.0, f64::NAN] {
+        assert!(
+            refine(&start, 8, floor, &ggx, ok, "t").is_err(),
+            "α floor {floor}"
+        );
+    }
     let bad = |_: f64, _: f64| GgxTarget::new(f64::NAN, 0.0);
     assert!(refine(&start, 8, alpha_min, &bad, ok, "t").is_err());
     let e = Compact::fit(&table, 3, OVER_ALPHA).unwrap_err().to_string();

@@ -40,6 +40,14 @@ pub fn read(results: &Path) -> Result<Option<(Compact, usize)>> {
         .find(|f| f.table == crate::results::names::LTC_GGX)
         .ok_or_else(|| Error::InvalidArgument(format!("{}: no GGX family", path.display())))?;
     f.series.check()?;
+    if !(2..=crate::ltc::table::MAX_SIDE).contains(&f.n) {
+        return Err(Error::InvalidArgument(format!(
+            "{}: a GGX table of side {} (2..={})",
+            path.display(),
+            f.n,
+            crate::ltc::table::MAX_SIDE
+        )));
+    }
     Ok(Some((f.series, f.n)))
 }
 
@@ -49,6 +57,15 @@ fn code(t: Transform) -> u32 {
         Transform::Log => 1,
         Transform::OverAlpha => 2,
     }
+}
+
+/// The channels' transform codes, each followed by `suffix` ("u" in WGSL), comma-joined.
+fn codes(c: &Compact, suffix: &str) -> String {
+    c.channels
+        .iter()
+        .map(|s| format!("{}{suffix}", code(s.transform)))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn lit(x: f64) -> String {
@@ -83,11 +100,7 @@ pub fn render_rust(c: &Compact, n: usize, command: &str) -> String {
         super::text::header("//", command, SOURCE),
         describe(c, n),
         lit(c.alpha_min),
-        c.channels
-            .iter()
-            .map(|s| code(s.transform).to_string())
-            .collect::<Vec<_>>()
-            .join(", "),
+        codes(c, ""),
         p * p
     );
     for ch in &c.channels {
@@ -110,11 +123,7 @@ pub fn render_wgsl(c: &Compact, n: usize, command: &str) -> String {
         super::text::header("//", command, SOURCE),
         describe(c, n),
         lit(c.alpha_min),
-        c.channels
-            .iter()
-            .map(|s| format!("{}u", code(s.transform)))
-            .collect::<Vec<_>>()
-            .join(", "),
+        codes(c, "u"),
         6 * p * p,
         6 * p * p
     );
@@ -146,16 +155,12 @@ pub fn render_js(c: &Compact, n: usize, command: &str) -> String {
         super::text::header("//", command, SOURCE),
         describe(c, n),
         (c.alpha_min as f32).to_bits(),
-        c.channels
-            .iter()
-            .map(|s| code(s.transform).to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
+        codes(c, "")
     );
     for row in bits.chunks(12) {
         s.push_str(&format!("\t{},\n", row.join(", ")));
     }
-    s.push_str("] ).buffer );\n\n// Σ c[off + k] T_k(x) by Clenshaw's recurrence, rounded to f32 after every operation.\nfunction clenshaw( c, off, x ) {\n\n\tlet b1 = 0, b2 = 0;\n\tfor ( let k = P - 1; k >= 1; k -- ) {\n\n\t\tconst b0 = f( f( c[ off + k ] + f( f( x + x ) * b1 ) ) - b2 );\n\t\tb2 = b1;\n\t\tb1 = b0;\n\n\t}\n\n\treturn f( f( c[ off ] + f( x * b1 ) ) - b2 );\n\n}\n\nconst g = new Float32Array( P );\n\n// The six channels at (r, t), both clamped to [0, 1].\nexport function ltcCompact( r, t ) {\n\n\tr = Math.min( Math.max( f( r ), 0 ), 1 );\n\tt = Math.min( Math.max( f( t ), 0 ), 1 );\n\tconst x = f( f( 2 * r ) - 1 ), y = f( f( 2 * t ) - 1 );\n\tconst alpha = Math.max( f( r * r ), ALPHA_MIN );\n\tconst out = new Float32Array( 6 );\n\tfor ( let ch = 0; ch < 6; ch ++ ) {\n\n\t\tfor ( let l = 0; l < P; l ++ ) g[ l ] = clenshaw( COEFFS, ( ch * P + l ) * P, x );\n\t\tconst v = clenshaw( g, 0, y );\n\t\tout[ ch ] = TRANSFORM[ ch ] === 1 ? f( Math.exp( v ) ) : TRANSFORM[ ch ] === 2 ? f( v * alpha ) : v;\n\n\t}\n\n\treturn out;\n\n}\n\nconst F32 = new Float32Array( 1 ), U32 = new Uint32Array( F32.buffer );\n\n// The nearest binary16 (ties to even) of a number, as its bits.\nexport function toHalf( v ) {\n\n\tF32[ 0 ] = v;\n\tconst x = U32[ 0 ];\n\tconst sign = ( x >>> 16 ) & 0x8000;\n\tconst exp = ( x >>> 23 ) & 0xff;\n\tlet mant = x & 0x7fffff;\n\tif ( exp === 0xff ) return sign | 0x7c00 | ( mant ? 0x200 : 0 );\n\tconst e = exp - 112;\n\tif ( e >= 0x1f ) return sign | 0x7c00;\n\tif ( e <= 0 ) {\n\n\t\tif ( e < - 10 ) return sign;\n\t\tmant |= 0x800000;\n\t\tconst shift = 14 - e;\n\t\tlet h = mant >>> shift;\n\t\tconst rem = mant & ( ( 1 << shift ) - 1 ), half = 1 << ( shift - 1 );\n\t\tif ( rem > half || ( rem === half && ( h & 1 ) ) ) h ++;\n\t\treturn sign | h;\n\n\t}\n\n\tlet h = ( e << 10 ) | ( mant >>> 13 );\n\tconst rem = mant & 0x1fff;\n\tif ( rem > 0x1000 || ( rem === 0x1000 && ( h & 1 ) ) ) h ++;\n\treturn sign | h;\n\n}\n\n// The rebuilt n×n textures: f32 (mat, mag) and binary16 bits (matHalf, magHalf).\nexport function rebuild( n = N ) {\n\n\tconst mat = new Float32Array( 4 * n * n ), mag = new Float32Array( 4 * n * n );\n\tfor ( let j = 0; j < n; j ++ ) {\n\n\t\tfor ( let i = 0; i < n; i ++ ) {\n\n\t\t\tconst v = ltcCompact( f( i / ( n - 1 ) ), f( j / ( n - 1 ) ) );\n\t\t\tconst k = 4 * ( i + n * j );\n\t\t\tmat.set( v.subarray( 0, 4 ), k );\n\t\t\tmag[ k ] = v[ 4 ];\n\t\t\tmag[ k + 1 ] = v[ 5 ];\n\n\t\t}\n\n\t}\n\n\treturn { mat, mag, matHalf: Uint16Array.from( mat, toHalf ), magHalf: Uint16Array.from( mag, toHalf ) };\n\n}\n");
+    s.push_str("] ).buffer );\n\n// Σ c[off + k] T_k(x) by Clenshaw's recurrence, rounded to f32 after every operation.\nfunction clenshaw( c, off, x ) {\n\n\tlet b1 = 0, b2 = 0;\n\tfor ( let k = P - 1; k >= 1; k -- ) {\n\n\t\tconst b0 = f( f( c[ off + k ] + f( f( x + x ) * b1 ) ) - b2 );\n\t\tb2 = b1;\n\t\tb1 = b0;\n\n\t}\n\n\treturn f( f( c[ off ] + f( x * b1 ) ) - b2 );\n\n}\n\nconst g = new Float32Array( P );\n\n// The six channels at (r, t), both clamped to [0, 1].\nexport function ltcCompact( r, t ) {\n\n\tr = Math.min( Math.max( f( r ), 0 ), 1 );\n\tt = Math.min( Math.max( f( t ), 0 ), 1 );\n\tconst x = f( f( 2 * r ) - 1 ), y = f( f( 2 * t ) - 1 );\n\tconst alpha = Math.max( f( r * r ), ALPHA_MIN );\n\tconst out = new Float32Array( 6 );\n\tfor ( let ch = 0; ch < 6; ch ++ ) {\n\n\t\tfor ( let l = 0; l < P; l ++ ) g[ l ] = clenshaw( COEFFS, ( ch * P + l ) * P, x );\n\t\tconst v = clenshaw( g, 0, y );\n\t\tout[ ch ] = TRANSFORM[ ch ] === 1 ? f( Math.exp( v ) ) : TRANSFORM[ ch ] === 2 ? f( v * alpha ) : v;\n\n\t}\n\n\treturn out;\n\n}\n\nconst F32 = new Float32Array( 1 ), U32 = new Uint32Array( F32.buffer );\n\n// The nearest binary16 (ties to even) of a number, as its bits.\nexport function toHalf( v ) {\n\n\tF32[ 0 ] = v;\n\tconst x = U32[ 0 ];\n\tconst sign = ( x >>> 16 ) & 0x8000;\n\tconst exp = ( x >>> 23 ) & 0xff;\n\tlet mant = x & 0x7fffff;\n\tif ( exp === 0xff ) return sign | 0x7c00 | ( mant ? 0x200 : 0 );\n\tconst e = exp - 112;\n\tif ( e >= 0x1f ) return sign | 0x7c00;\n\tif ( e <= 0 ) {\n\n\t\tif ( e < - 10 ) return sign;\n\t\tmant |= 0x800000;\n\t\tconst shift = 14 - e;\n\t\tlet h = mant >>> shift;\n\t\tconst rem = mant & ( ( 1 << shift ) - 1 ), half = 1 << ( shift - 1 );\n\t\tif ( rem > half || ( rem === half && ( h & 1 ) ) ) h ++;\n\t\treturn sign | h;\n\n\t}\n\n\tlet h = ( e << 10 ) | ( mant >>> 13 );\n\tconst rem = mant & 0x1fff;\n\tif ( rem > 0x1000 || ( rem === 0x1000 && ( h & 1 ) ) ) h ++;\n\treturn sign | h;\n\n}\n\n// The rebuilt n×n textures: f32 (mat, mag) and binary16 bits (matHalf, magHalf).\nexport function rebuild( n = N ) {\n\n\tif ( ! ( Number.isInteger( n ) && n >= 2 ) ) throw new RangeError( `ltc_compact rebuild: side ${ n } (an integer of at least 2)` );\n\tconst mat = new Float32Array( 4 * n * n ), mag = new Float32Array( 4 * n * n );\n\tfor ( let j = 0; j < n; j ++ ) {\n\n\t\tfor ( let i = 0; i < n; i ++ ) {\n\n\t\t\tconst v = ltcCompact( f( i / ( n - 1 ) ), f( j / ( n - 1 ) ) );\n\t\t\tconst k = 4 * ( i + n * j );\n\t\t\tmat.set( v.subarray( 0, 4 ), k );\n\t\t\tmag[ k ] = v[ 4 ];\n\t\t\tmag[ k + 1 ] = v[ 5 ];\n\n\t\t}\n\n\t}\n\n\treturn { mat, mag, matHalf: Uint16Array.from( mat, toHalf ), magHalf: Uint16Array.from( mag, toHalf ) };\n\n}\n");
     s
 }
 

@@ -345,32 +345,7 @@ fn start_lobe(e: &[f64; LOBE]) -> LtcDist {
 /// cosine third is defensive: a trial lobe that moves mass where neither the target nor
 /// the start puts any is still seen there, so the fit cannot hide error between nodes.
 fn draw<T: LtcTarget + ?Sized>(t: &T, start: &LtcDist, n: usize) -> Nodes {
-    let mut nodes = Nodes {
-        l: Vec::with_capacity(3 * n * n),
-        f: Vec::with_capacity(3 * n * n),
-        w: Vec::with_capacity(3 * n * n),
-        f2: 0.0,
-    };
-    for i in 0..n {
-        for j in 0..n {
-            let u = [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
-            for l in [start.sample(u), t.sample(u), CosineHemisphere.sample(u)]
-                .into_iter()
-                .flatten()
-            {
-                let (f, pt) = t.eval(&l);
-                // the balance estimator of ∫h is Σ h/(n²·Σ_j p_j) over all 3n² nodes
-                let q = (start.eval(&l) + pt + CosineHemisphere.pdf(&l)) * (n * n) as f64;
-                if q > 0.0 && f.is_finite() && (1.0 / q).is_finite() {
-                    nodes.l.push(l);
-                    nodes.f.push(f);
-                    nodes.w.push(1.0 / q);
-                    nodes.f2 += f * f / q;
-                }
-            }
-        }
-    }
-    nodes
+    Nodes::balance(t, start, &[&CosineHemisphere], n, (n * n) as f64)
 }
 
 /// The training places at grid positions `pos` ((x, y) ∈ [0, n − 1]²), each with its
@@ -429,6 +404,11 @@ pub fn refine<T: LtcTarget>(
     label: &str,
 ) -> Result<(Compact, Trace)> {
     start.check()?;
+    if !(alpha_min > 0.0 && alpha_min < 1.0) {
+        return Err(Error::InvalidArgument(format!(
+            "compact LTC lobe fit: the grid's α floor {alpha_min} is not in (0, 1)"
+        )));
+    }
     if !(2..=crate::ltc::table::MAX_SIDE).contains(&n) || plan.nodes == 0 || plan.passes == 0 {
         return Err(Error::InvalidArgument(format!(
             "compact LTC lobe fit: side {n} (2..={}), {} nodes, {} passes (both ≥ 1)",
@@ -476,7 +456,7 @@ pub fn refine<T: LtcTarget>(
         iterations: 0,
     };
     for _pass in 0..plan.passes {
-        let tex = texels(start, &theta, &a);
+        let mut tex = texels(start, &theta, &a);
         let places = places_at(&squares, &tex, n, alpha_min, target, plan.nodes)?;
         // places whose target vanishes on every node carry no error to fit
         let places: Vec<Place> = places
@@ -502,7 +482,6 @@ pub fn refine<T: LtcTarget>(
         for _ in 0..plan.iterations {
             trace.iterations += 1;
             bar.inc(1);
-            let tex = texels(start, &theta, &a);
             let (h, g) = assemble(&places, &tex, &xs, &a, p);
             let mut improved = false;
             while lambda < 1e12 {
@@ -516,10 +495,12 @@ pub fn refine<T: LtcTarget>(
                     continue;
                 };
                 let trial = &theta - ch.solve(&g);
-                let ct = cost(&places, &texels(start, &trial, &a), &xs, true);
+                let trial_tex = texels(start, &trial, &a);
+                let ct = cost(&places, &trial_tex, &xs, true);
                 if ct < c {
                     let gain = (c - ct) / c.max(1e-300);
                     theta = trial;
+                    tex = trial_tex;
                     c = ct;
                     lambda = (lambda / 3.0).max(1e-9);
                     improved = gain > 1e-7;
@@ -531,9 +512,7 @@ pub fn refine<T: LtcTarget>(
                 break;
             }
         }
-        trace
-            .passes
-            .push([c0, cost(&places, &texels(start, &theta, &a), &xs, false)]);
+        trace.passes.push([c0, cost(&places, &tex, &xs, false)]);
     }
     bar.finish();
     let mut out = start.clone();

@@ -41,18 +41,36 @@ pub(crate) struct Nodes {
 impl Nodes {
     /// n×n stratified points (offset ½) from the start LTC and from the target.
     pub(crate) fn draw<T: LtcTarget + ?Sized>(t: &T, start: &LtcDist, n: usize) -> Nodes {
+        Nodes::balance(t, start, &[], n, 1.0)
+    }
+
+    /// n×n stratified points (offset ½, the same uniforms) from the start LTC, the target
+    /// and each technique of `extra`, in that order, weighted 1/(scale·Σ p) with the sum
+    /// of every technique's density (start, target, extra) at the point: with scale = n²
+    /// the weighted sum over the nodes is the balance estimator of an integral.
+    pub(crate) fn balance<T: LtcTarget + ?Sized>(
+        t: &T,
+        start: &LtcDist,
+        extra: &[&dyn Strategy<V3>],
+        n: usize,
+        scale: f64,
+    ) -> Nodes {
+        let k = (2 + extra.len()) * n * n;
         let mut nodes = Nodes {
-            l: Vec::with_capacity(2 * n * n),
-            f: Vec::with_capacity(2 * n * n),
-            w: Vec::with_capacity(2 * n * n),
+            l: Vec::with_capacity(k),
+            f: Vec::with_capacity(k),
+            w: Vec::with_capacity(k),
             f2: 0.0,
         };
         for i in 0..n {
             for j in 0..n {
                 let u = [(i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64];
-                for l in [start.sample(u), t.sample(u)].into_iter().flatten() {
+                let drawn = [start.sample(u), t.sample(u)]
+                    .into_iter()
+                    .chain(extra.iter().map(|s| s.sample(u)));
+                for l in drawn.flatten() {
                     let (f, pb) = t.eval(&l);
-                    let q = start.eval(&l) + pb;
+                    let q = extra.iter().fold(start.eval(&l) + pb, |q, s| q + s.pdf(&l)) * scale;
                     if q > 0.0 && f.is_finite() && (1.0 / q).is_finite() {
                         nodes.l.push(l);
                         nodes.f.push(f);

@@ -154,6 +154,7 @@ export function toHalf( v ) {
 // The rebuilt n×n textures: f32 (mat, mag) and binary16 bits (matHalf, magHalf).
 export function rebuild( n = N ) {
 
+	if ( ! ( Number.isInteger( n ) && n >= 2 ) ) throw new RangeError( `ltc_compact rebuild: side ${ n } (an integer of at least 2)` );
 	const mat = new Float32Array( 4 * n * n ), mag = new Float32Array( 4 * n * n );
 	for ( let j = 0; j < n; j ++ ) {
 
