@@ -177,6 +177,7 @@ fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     let Cmd::Engines {
         three_shipped,
         three_ours,
+        three_compact,
         shipped,
         bevy_shipped,
         bevy_ours,
@@ -190,9 +191,23 @@ fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     use ndfbench::studies::engines::{Engine, EngineFiles};
     let mut files = Vec::new();
     let mut command = String::from("cargo run --release -- engines");
-    for (engine, a, b, table, flag) in [
-        (Engine::Three, three_shipped, three_ours, shipped, "three"),
-        (Engine::Bevy, bevy_shipped, bevy_ours, bevy_table, "bevy"),
+    for (engine, a, b, c, table, flag) in [
+        (
+            Engine::Three,
+            three_shipped,
+            three_ours,
+            three_compact,
+            shipped,
+            "three",
+        ),
+        (
+            Engine::Bevy,
+            bevy_shipped,
+            bevy_ours,
+            &None,
+            bevy_table,
+            "bevy",
+        ),
     ] {
         if let (Some(a), Some(b)) = (a, b) {
             command.push_str(&format!(
@@ -200,11 +215,15 @@ fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
                 a.display(),
                 b.display()
             ));
+            if let Some(c) = c {
+                command.push_str(&format!(" --{flag}-compact {}", c.display()));
+            }
             files.push(EngineFiles {
                 engine,
                 shipped_run: a,
                 ours_run: b,
                 shipped_table: table,
+                compact_run: c.as_deref(),
             });
         }
     }

@@ -1,4 +1,4 @@
-// node render.mjs --table shipped|ours --out FILE.json [--chromium PATH]
+// node render.mjs --table shipped|ours|compact --out FILE.json [--chromium PATH]
 // Serves this folder, three's package and our drop-in on 127.0.0.1 (an ephemeral port),
 // loads page.html in headless Chromium (WebGL2 on SwiftShader), renders every scene of
 // scenes.json on the float path and on the half-float path, then page_webgpu.html with
@@ -6,7 +6,9 @@
 // pixels.
 // With --table ours the page's import map sends three's
 // examples/jsm/lights/RectAreaLightTexturesLib.js to results/textures/three/ — the one
-// import a user changes.
+// import a user changes. With --table compact it goes to the compact drop-in
+// (RectAreaLightTexturesLib.compact.js), whose init() rebuilds the textures from the
+// compact series of ltc_compact.js.
 import { createServer } from 'node:http';
 import { readFile, writeFile } from 'node:fs/promises';
 import { extname, join, normalize, dirname } from 'node:path';
@@ -24,9 +26,9 @@ const table = arg( 'table', 'shipped' );
 const out = arg( 'out' );
 const exe = arg( 'chromium', '/usr/bin/chromium' );
 const ours = normalize( join( here, '..', '..', arg( 'results', 'results' ), 'textures', 'three' ) );
-if ( ! out || ! [ 'shipped', 'ours' ].includes( table ) ) {
+if ( ! out || ! [ 'shipped', 'ours', 'compact' ].includes( table ) ) {
 
-	console.error( 'usage: node render.mjs --table shipped|ours --out FILE.json [--results DIR] [--chromium PATH]' );
+	console.error( 'usage: node render.mjs --table shipped|ours|compact --out FILE.json [--results DIR] [--chromium PATH]' );
 	process.exit( 2 );
 
 }
@@ -53,13 +55,14 @@ const server = createServer( async ( req, res ) => {
 			const imports = url === '/page.html'
 				? { 'three': '/three/build/three.module.js', 'three/addons/': '/three/examples/jsm/' }
 				: { 'three': '/three/build/three.webgpu.js', 'three/webgpu': '/three/build/three.webgpu.js', 'three/tsl': '/three/build/three.tsl.js', 'three/addons/': '/three/examples/jsm/' };
-			if ( table === 'ours' ) {
+			if ( table !== 'shipped' ) {
 
 				// the recipe: three's module sent to ours, by its URL (how three's own
 				// RectAreaLightUniformsLib reaches it) and by its bare specifier (how an
 				// application importing it for RectAreaLightNode.setLTC names it)
-				imports[ '/three/examples/jsm/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
-				imports[ 'three/addons/lights/RectAreaLightTexturesLib.js' ] = '/ours/RectAreaLightTexturesLib.js';
+				const lib = table === 'ours' ? '/ours/RectAreaLightTexturesLib.js' : '/ours/RectAreaLightTexturesLib.compact.js';
+				imports[ '/three/examples/jsm/lights/RectAreaLightTexturesLib.js' ] = lib;
+				imports[ 'three/addons/lights/RectAreaLightTexturesLib.js' ] = lib;
 
 			}
 			body = body.toString().replace( '__IMPORTMAP__', JSON.stringify( { imports } ) );

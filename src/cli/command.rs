@@ -302,8 +302,9 @@ pub enum Cmd {
     },
     /// Judge the engines' renders of the engine-check scenes against the truth, the table's
     /// and the shader's shares apart: three.js (engines/three: `node render.mjs --table
-    /// shipped|ours --out FILE`) and Bevy (engines/bevy-check: `cargo run -- --table
-    /// bevy|ours …`); each engine given as both runs or not at all; writes
+    /// shipped|ours|compact --out FILE`) and Bevy (engines/bevy-check: `cargo run -- --table
+    /// bevy|ours …`); each engine given as both runs or not at all (three.js's compact
+    /// drop-in run optional, judged with results/fits/ltc-compact.json); writes
     /// DIR/engines.{md,json,svg}
     Engines {
         /// three.js's run with its own table
@@ -312,6 +313,9 @@ pub enum Cmd {
         /// three.js's run with ours
         #[arg(long, requires = "three_shipped")]
         three_ours: Option<PathBuf>,
+        /// three.js's run with the compact drop-in (RectAreaLightTexturesLib.compact.js)
+        #[arg(long, requires = "three_shipped")]
+        three_compact: Option<PathBuf>,
         /// three.js's RectAreaLightTexturesLib.js (the shipped table's numbers)
         #[arg(long, default_value = "target/shipped/RectAreaLightTexturesLib.js")]
         shipped: PathBuf,

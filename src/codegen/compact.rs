@@ -18,7 +18,7 @@
 //! channels (no `exp`) the two give the same bits; tests/codegen_compact.rs checks that and
 //! the WGSL module through naga.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::ltc::compact::{Compact, Transform};
 use std::path::Path;
 
@@ -28,27 +28,7 @@ pub const SOURCE: &str = "results/fits/ltc-compact.json";
 /// The GGX family's series of results/fits/ltc-compact.json, or `None` when the on-request
 /// study has not written that file (then no compact code is generated).
 pub fn read(results: &Path) -> Result<Option<(Compact, usize)>> {
-    let path = results.join("fits/ltc-compact.json");
-    if !path.is_file() {
-        return Ok(None);
-    }
-    let r: crate::results::ltc_compact::LtcCompact = crate::results::require(results)
-        .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
-    let f = r
-        .families
-        .into_iter()
-        .find(|f| f.table == crate::results::names::LTC_GGX)
-        .ok_or_else(|| Error::InvalidArgument(format!("{}: no GGX family", path.display())))?;
-    f.series.check()?;
-    if !(2..=crate::ltc::table::MAX_SIDE).contains(&f.n) {
-        return Err(Error::InvalidArgument(format!(
-            "{}: a GGX table of side {} (2..={})",
-            path.display(),
-            f.n,
-            crate::ltc::table::MAX_SIDE
-        )));
-    }
-    Ok(Some((f.series, f.n)))
+    crate::results::ltc_compact::ggx_series(results)
 }
 
 fn code(t: Transform) -> u32 {

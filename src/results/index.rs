@@ -55,7 +55,7 @@ const fn o(path: &'static str, by: Writer, what: &'static str) -> Output {
 use Writer::{AfterStudies, Command, Study};
 
 const ENGINES: Writer = Command(
-    "cargo run --release -- engines --three-shipped target/engines/three-shipped.json --three-ours target/engines/three-ours.json --bevy-shipped target/engines/bevy-shipped.json --bevy-ours target/engines/bevy-ours.json",
+    "cargo run --release -- engines --three-shipped target/engines/three-shipped.json --three-ours target/engines/three-ours.json --three-compact target/engines/three-compact.json --bevy-shipped target/engines/bevy-shipped.json --bevy-ours target/engines/bevy-ours.json",
     "the engines' renders (engines/three, engines/bevy-check)",
 );
 const LTC_COMPARE: Writer = Command(
@@ -156,7 +156,7 @@ pub const OUTPUTS: &[Output] = &[
     o("error-vs-time.svg", BENCH, "error against time per integration engine"),
     o("kernels-speedup.svg", BENCH, "AVX2 against scalar per kernel"),
     o("main-job-before.json", KEPT, "the main job's stages before parallel studies and the cache"),
-    o("engines.*", ENGINES, "LTC tables rendered in three.js and Bevy against the truth"),
+    o("engines.*", ENGINES, "LTC tables rendered in three.js and Bevy against the truth (three.js also with the compact drop-in)"),
     o("ltc-compare*", LTC_COMPARE, "our GGX table against the shipped ones, as engines sample them"),
     o(
         "tensor-tensorly.json",

@@ -3,10 +3,12 @@
 //! binary16 storage (the texture an engine's start-up code would fill) and as a
 //! texture-free per-pixel form, beside the full table and the shipped one.
 
+use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::ltc::compact::Compact;
 use crate::ltc::lobe_error::Spread;
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// The file.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -91,4 +93,32 @@ pub struct CompactForm {
     /// For a form refined by the lobe error (`ltc::compact_fit`): what that fit did.
     #[serde(default)]
     pub lobe_fit: Option<crate::ltc::compact_fit::Trace>,
+}
+
+/// The GGX family's series of results/fits/ltc-compact.json and its table side, or `None`
+/// when the on-request study has not written that file (then there is no compact table to
+/// generate code from or to judge). A series that fails its check, or a side outside
+/// 2..=`MAX_SIDE`, is a typed error.
+pub fn ggx_series(results: &Path) -> Result<Option<(Compact, usize)>> {
+    let path = results.join("fits/ltc-compact.json");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let r: LtcCompact = super::require(results)
+        .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
+    let f = r
+        .families
+        .into_iter()
+        .find(|f| f.table == super::names::LTC_GGX)
+        .ok_or_else(|| Error::InvalidArgument(format!("{}: no GGX family", path.display())))?;
+    f.series.check()?;
+    if !(2..=crate::ltc::table::MAX_SIDE).contains(&f.n) {
+        return Err(Error::InvalidArgument(format!(
+            "{}: a GGX table of side {} (2..={})",
+            path.display(),
+            f.n,
+            crate::ltc::table::MAX_SIDE
+        )));
+    }
+    Ok(Some((f.series, f.n)))
 }

@@ -7,6 +7,7 @@ use crate::engines::EngineScenes;
 use crate::engines::Rect;
 use crate::error::{Error, Result};
 use crate::integrate::{Figure, Quad};
+use crate::ltc::compact::Compact;
 use crate::ltc::compare::Shipped;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -240,8 +241,11 @@ pub struct SceneResult {
 #[derive(Clone, Debug, Serialize)]
 pub struct EngineResult {
     pub engine: Engine,
-    /// The paths judged: every required one, and the optional ones both runs hold.
+    /// The paths judged: every required one, and the optional ones every run holds.
     pub paths: Vec<&'static str>,
+    /// The tables rendered, the shipped one first, then ours, then any other (three.js:
+    /// [`COMPACT`]).
+    pub tables: Vec<&'static str>,
     /// The engine and version as its harness reports them.
     pub version: String,
     /// The adapter the harness ran on (WebGL's version string, wgpu's adapter).
@@ -259,20 +263,53 @@ pub struct EnginesResult {
     pub godot: Vec<GodotScene>,
 }
 
-/// One engine's inputs: both harness runs and what each (table, path) holds.
+/// One engine's inputs: its harness runs, one per table, and what each (table, path)
+/// holds.
 pub struct Inputs<'a> {
     pub engine: Engine,
-    pub shipped_run: &'a EngineRun,
-    pub ours_run: &'a EngineRun,
+    /// (table, its run): the shipped table's first, then ours, then any other table the
+    /// harness rendered (three.js: [`COMPACT`], the compact drop-in).
+    pub runs: Vec<(&'static str, &'a EngineRun)>,
     /// (table, path, the table that path holds), for every path of the engine.
     pub held: Vec<(&'static str, &'static str, Held)>,
 }
 
+/// The compact drop-in's table name in the runs and the report.
+pub const COMPACT: &str = "compact";
+
+/// What the compact drop-in's textures hold (results/textures/three/
+/// RectAreaLightTexturesLib.compact.js): texel (i, j) is the series' f32 evaluation at
+/// (i, j)/(n − 1), the same f32 operations as its ES module's `rebuild` (tests/
+/// codegen_compact.rs holds them equal bit for bit), for the float path, and its nearest
+/// binary16 for the half path.
+pub fn compact_held(c: &Compact, n: usize) -> (Held, Held) {
+    let k = c.coeffs_f32();
+    let at = |q: usize| {
+        let v = c.eval_f32(
+            &k,
+            (q % n) as f32 / (n - 1) as f32,
+            (q / n) as f32 / (n - 1) as f32,
+        );
+        [v[0], v[1], v[2], v[3], v[4]]
+    };
+    let f32s: Vec<[f32; 5]> = (0..n * n).map(at).collect();
+    let held = |g: &dyn Fn(f32) -> f64| Held {
+        n,
+        cells: f32s.iter().map(|e| e.map(g)).collect(),
+    };
+    (
+        held(&|x| x as f64),
+        held(&|x| half::f16::from_f32(x).to_f64()),
+    )
+}
+
 /// What three.js's paths hold: its f32 numbers and its truncated halves for the shipped
-/// table; our f32 table and our stored binary16 one.
+/// table; our f32 table and our stored binary16 one; and, given the compact series and its
+/// side, what the compact drop-in rebuilds ([`compact_held`]).
 pub fn three_held(
     shipped: &Shipped,
     ours: &crate::ltc::table::FittedTable,
+    compact: Option<(&Compact, usize)>,
 ) -> Vec<(&'static str, &'static str, Held)> {
     use crate::ltc::upload::{f32_table, three_half_table};
     let o = crate::ltc::compare::of_table(ours);
@@ -285,7 +322,7 @@ pub fn three_held(
         Held::of(&crate::ltc::compare::stored_half(ours)),
     );
     // WebGPURenderer binds the same four textures as WebGL (RectAreaLightNode)
-    vec![
+    let mut v = vec![
         ("shipped", "float", sf.clone()),
         ("shipped", "half", sh.clone()),
         ("ours", "float", of.clone()),
@@ -294,7 +331,17 @@ pub fn three_held(
         ("shipped", "webgpu-half", sh),
         ("ours", "webgpu-float", of),
         ("ours", "webgpu-half", oh),
-    ]
+    ];
+    if let Some((c, n)) = compact {
+        let (cf, ch) = compact_held(c, n);
+        v.extend([
+            (COMPACT, "float", cf.clone()),
+            (COMPACT, "half", ch.clone()),
+            (COMPACT, "webgpu-float", cf),
+            (COMPACT, "webgpu-half", ch),
+        ]);
+    }
+    v
 }
 
 /// What Bevy's path holds: the binary16 texels of the KTX2 it was given (its embedded
@@ -312,13 +359,19 @@ pub const TRUTH_REL: f64 = 1e-5;
 /// Judge every pixel of every scene of one engine.
 pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
     let e = inp.engine;
-    // the paths both runs hold
+    let Some(&(_, first_run)) = inp.runs.first() else {
+        return Err(Error::InvalidArgument(format!(
+            "engines: {}: no run given",
+            e.name()
+        )));
+    };
+    // the paths every run holds
     let judged: Vec<&'static str> = e
         .paths()
         .iter()
         .chain(e.optional_paths())
         .copied()
-        .filter(|p| inp.shipped_run.paths.contains_key(*p) && inp.ours_run.paths.contains_key(*p))
+        .filter(|p| inp.runs.iter().all(|(_, r)| r.paths.contains_key(*p)))
         .collect();
     let mut out = Vec::new();
     for (k, sc) in s.scenes.iter().enumerate() {
@@ -334,14 +387,14 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
         })?;
         let t = lobe(sc.roughness, sc.view_deg)?;
         let first = e.paths()[0];
-        let pos = &inp.shipped_run.paths[first][k].positions;
+        let pos = &first_run.paths[first][k].positions;
         // the covered pixels and their surface points
         let pts: Vec<(usize, Vector3<f64>)> = (0..s.width * s.height)
             .filter(|&p| pos[4 * p + 3] > 0.5)
             .map(|p| (p, Vector3::new(pos[4 * p], pos[4 * p + 1], pos[4 * p + 2])))
             .collect();
-        // both runs must have rendered the same pixels at the same points
-        for run in [inp.shipped_run, inp.ours_run] {
+        // every run must have rendered the same pixels at the same points
+        for (_, run) in &inp.runs {
             for path in &judged {
                 let q = &run.paths[*path][k].positions;
                 if pts
@@ -369,10 +422,8 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
             image(s, &pts, &truth.iter().map(|b| b.value).collect::<Vec<_>>()),
         )];
         for (table, path, h) in inp.held.iter().filter(|h| judged.contains(&h.1)) {
-            let run = if *table == "shipped" {
-                inp.shipped_run
-            } else {
-                inp.ours_run
+            let Some(&(_, run)) = inp.runs.iter().find(|r| r.0 == *table) else {
+                continue;
             };
             let ent = lookup(&h.cells, h.n, sc.roughness, ndotv);
             let tv: Vec<f64> = pts
@@ -418,14 +469,15 @@ pub fn compute(s: &EngineScenes, inp: &Inputs) -> Result<EngineResult> {
                 .collect(),
         });
     }
-    let adapter = match inp.shipped_run.webgpu_adapter.as_str() {
-        "" => inp.shipped_run.adapter.clone(),
-        w => format!("{}; {w}", inp.shipped_run.adapter),
+    let adapter = match first_run.webgpu_adapter.as_str() {
+        "" => first_run.adapter.clone(),
+        w => format!("{}; {w}", first_run.adapter),
     };
     Ok(EngineResult {
         engine: e,
         paths: judged,
-        version: inp.shipped_run.engine.clone(),
+        tables: inp.runs.iter().map(|r| r.0).collect(),
+        version: first_run.engine.clone(),
         adapter,
         scenes: out,
     })

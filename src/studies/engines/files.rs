@@ -2,7 +2,7 @@
 //! ship them and ours from results/, judged and published as results/engines.{md,json,svg}.
 
 use super::compute::{
-    bevy_held, compute, three_held, Engine, EngineResult, EngineRun, EnginesResult, Inputs,
+    bevy_held, compute, three_held, Engine, EngineResult, EngineRun, EnginesResult, Inputs, COMPACT,
 };
 use super::godot::godot;
 use super::report;
@@ -11,12 +11,15 @@ use crate::error::{Error, Result};
 use crate::ltc::compare::Shipped;
 
 /// The files one engine's judging reads: both harness runs, and the shipped table as the
-/// engine ships it (three.js's RectAreaLightTexturesLib.js; Bevy's ltc.ktx2).
+/// engine ships it (three.js's RectAreaLightTexturesLib.js; Bevy's ltc.ktx2); for
+/// three.js, optionally the run with the compact drop-in, judged with the series of
+/// results/fits/ltc-compact.json.
 pub struct EngineFiles<'a> {
     pub engine: Engine,
     pub shipped_run: &'a std::path::Path,
     pub ours_run: &'a std::path::Path,
     pub shipped_table: &'a std::path::Path,
+    pub compact_run: Option<&'a std::path::Path>,
 }
 
 fn read_capped(p: &std::path::Path) -> Result<Vec<u8>> {
@@ -54,12 +57,43 @@ pub fn judge_files(
     let what = |t: &str| format!("{} {t}-table run", f.engine.name());
     let shipped_run = EngineRun::parse(&read_text(f.shipped_run)?, sc, f.engine, &what("shipped"))?;
     let ours_run = EngineRun::parse(&read_text(f.ours_run)?, sc, f.engine, &what("our"))?;
+    let compact_run = match (f.compact_run, f.engine) {
+        (None, _) => None,
+        (Some(p), Engine::Three) => {
+            let r = EngineRun::parse(&read_text(p)?, sc, f.engine, &what(COMPACT))?;
+            if r.table != COMPACT {
+                return Err(Error::InvalidArgument(format!(
+                    "engines: {}: a run of the {} table given as the compact drop-in's",
+                    crate::error::quoted(&p.display().to_string()),
+                    crate::error::quoted(&r.table)
+                )));
+            }
+            Some(r)
+        }
+        (Some(_), e) => {
+            return Err(Error::InvalidArgument(format!(
+                "engines: {} has no compact drop-in run (three.js only)",
+                e.name()
+            )))
+        }
+    };
     let held = match f.engine {
         Engine::Three => {
             let shipped = Shipped::parse(&read_text(f.shipped_table)?, "LTC_MAT_1", "LTC_MAT_2")?;
             shipped.check_comparable("three.js's table")?;
             let ours = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
-            three_held(&shipped, &ours)
+            let compact = match compact_run {
+                Some(_) => Some(
+                    crate::results::ltc_compact::ggx_series(results)?.ok_or_else(|| {
+                        Error::InvalidArgument(format!(
+                            "engines: a compact drop-in run, but no {} to judge it with (regen --only ltc-compact)",
+                            results.join("fits/ltc-compact.json").display()
+                        ))
+                    })?,
+                ),
+                None => None,
+            };
+            three_held(&shipped, &ours, compact.as_ref().map(|(c, n)| (c, *n)))
         }
         Engine::Bevy => {
             let shipped = crate::ltc::upload::bevy_ktx2(&read_capped(f.shipped_table)?)?;
@@ -68,12 +102,15 @@ pub fn judge_files(
             bevy_held(&shipped, &ours)
         }
     };
+    let mut runs = vec![("shipped", &shipped_run), ("ours", &ours_run)];
+    if let Some(r) = &compact_run {
+        runs.push((COMPACT, r));
+    }
     compute(
         sc,
         &Inputs {
             engine: f.engine,
-            shipped_run: &shipped_run,
-            ours_run: &ours_run,
+            runs,
             held,
         },
     )

@@ -13,8 +13,8 @@ pub mod report;
 mod summary;
 
 pub use compute::{
-    bevy_held, compute, three_held, Engine, EngineResult, EngineRun, EngineScene, EnginesResult,
-    Errors, Held, Inputs, PathResult, SceneResult, TRUTH_REL,
+    bevy_held, compact_held, compute, three_held, Engine, EngineResult, EngineRun, EngineScene,
+    EnginesResult, Errors, Held, Inputs, PathResult, SceneResult, COMPACT, TRUTH_REL,
 };
 
 pub use compute::GodotScene;

@@ -15,7 +15,7 @@ fn cell(e: &Errors) -> String {
 /// The markdown report.
 pub fn markdown(r: &EnginesResult, sum: &Summary, command: &str) -> String {
     let mut md = format!(
-        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice: with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js). Each run renders with WebGLRenderer the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear), and with WebGPURenderer (WebGPU on SwiftShader, where Chromium offers an adapter; ours through `RectAreaLightNode.setLTC` and the import map's entry for the bare specifier) the `webgpu-float` or `webgpu-half` path, as three binds them.\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
+        "# LTC tables in the engines, against the truth\n\nWritten by `{command}`. Each engine rendered the scenes of engines/three/scenes.json ({}×{} pixels each: a metallic white GGX plane, F0 = 1, under one rectangular light of unit radiance, an orthographic camera, a linear float render target, no tone mapping) twice (three.js a third time where the compact drop-in's run is given): with the LTC table it ships, and with ours put in the way a user would.\n\n- **three.js** (engines/three, headless Chromium with SwiftShader, WebGL2): the page's import map sends `RectAreaLightTexturesLib.js` to ours (results/textures/three/RectAreaLightTexturesLib.js); where a third run is given, the **compact** table, to the compact drop-in (results/textures/three/RectAreaLightTexturesLib.compact.js), whose `init()` rebuilds the four textures from the series of results/fits/ltc-compact.json (results/ltc-compact.md) in f32 and as their nearest binary16. Each run renders with WebGLRenderer the float path (LTC_FLOAT textures) and the half-float path (LTC_HALF textures, as on a device without OES_texture_float_linear), and with WebGPURenderer (WebGPU on SwiftShader, where Chromium offers an adapter; ours through `RectAreaLightNode.setLTC` and the import map's entry for the bare specifier) the `webgpu-float` or `webgpu-half` path, as three binds them.\n- **Bevy** (engines/bevy-check, headless wgpu): its embedded `ltc.ktx2`, and ours (results/textures/ltc_ggx_zstd.ktx2) through the `AreaLightLuts` resource; one path, its RGBA16F texture array.\n\nEvery covered pixel is judged against the truth: the exact GGX BRDF (height-correlated Smith G2) integrated over the light by adaptive cubature, each pixel's value ± its error bar (largest relative bar over all pixels: {:.1e}).\n\nEach cell: relative RMSE √(Σ(x − truth)²/Σ truth²) (and in parentheses the mean relative error (x − truth)/truth over the pixels brighter than 1 % of the scene's peak), each ± what the truth's error bars allow. The engine's error splits into the **table's share** (the table's lookup with the exact edge integral, clipped in the LTC's space, against the truth) and the **shader's share** (the engine's image against that value: the engine's rational fit of θ/sin θ, its horizon handling, f16 filtering, f32 arithmetic).\n\n",
         r.width,
         r.height,
         sum.truth_bar
@@ -59,7 +59,7 @@ fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
             .chain(
                 paths
                     .iter()
-                    .flat_map(|p| [format!("shipped, {p}"), format!("ours, {p}")]),
+                    .flat_map(|p| e.tables.iter().map(move |tb| format!("{tb}, {p}"))),
             ),
     );
     for s in &e.scenes {
@@ -67,7 +67,7 @@ fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
             [s.name.clone(), s.pixels.to_string()]
                 .into_iter()
                 .chain(paths.iter().flat_map(|p| {
-                    ["shipped", "ours"].map(|tb| {
+                    e.tables.iter().map(move |tb| {
                         EngineResult::find(s, tb, p).map_or("—".into(), |x| cell(&x.engine))
                     })
                 })),
@@ -76,24 +76,26 @@ fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
     md.push_str(&t.to_string());
     let p0 = paths[0];
     md.push_str(&format!("\n### Where the error comes from ({p0} path)\n\n"));
-    let mut t = Table::new([
-        "scene",
-        "shipped: table's share",
-        "shipped: shader's share",
-        "ours: table's share",
-        "ours: shader's share",
-    ]);
+    let mut t = Table::new(
+        std::iter::once("scene".to_string()).chain(e.tables.iter().flat_map(|tb| {
+            [
+                format!("{tb}: table's share"),
+                format!("{tb}: shader's share"),
+            ]
+        })),
+    );
     for s in &e.scenes {
         let c = |t: &str, f: &dyn Fn(&PathResult) -> String| {
             EngineResult::find(s, t, p0).map_or("—".into(), |x| f(&x))
         };
-        t.row([
-            s.name.clone(),
-            c("shipped", &|x| cell(&x.table_share)),
-            c("shipped", &|x| cell(&x.shader_share)),
-            c("ours", &|x| cell(&x.table_share)),
-            c("ours", &|x| cell(&x.shader_share)),
-        ]);
+        t.row(
+            std::iter::once(s.name.clone()).chain(e.tables.iter().flat_map(|tb| {
+                [
+                    c(tb, &|x| cell(&x.table_share)),
+                    c(tb, &|x| cell(&x.shader_share)),
+                ]
+            })),
+        );
     }
     md.push_str(&t.to_string());
     for p in sums {
@@ -129,6 +131,23 @@ fn engine_section(md: &mut String, e: &EngineResult, sums: &[PathSummary]) {
             p.ours_table_mean.pct(2),
             p.gpu_max
         ));
+        for o in &p.others {
+            md.push_str(&format!(
+                "The {} table on the {} path: mean relative RMSE {}, its own share {}; closer to the truth than the shipped table in {} of {} scenes, further in {}{}.\n",
+                o.table,
+                p.path,
+                o.mean.pct(2),
+                o.table_mean.pct(2),
+                o.better_than_shipped.len(),
+                p.scenes,
+                o.worse_than_shipped.len(),
+                if o.worse_than_shipped.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", o.worse_than_shipped.join(", "))
+                }
+            ));
+        }
     }
     md.push('\n');
 }

@@ -65,6 +65,20 @@ pub struct PathSummary {
     /// The largest relative RMSE of the engine against its formulas in f64 (f32 arithmetic,
     /// filtering), over scenes and tables.
     pub gpu_max: f64,
+    /// Every other table rendered (three.js: the compact drop-in), against the shipped one.
+    pub others: Vec<OtherTable>,
+}
+
+/// A table beyond the shipped one and ours on one path: its means over the scenes and the
+/// scenes where it renders closer to the truth than the shipped table, or further from it
+/// (relative RMSE, beyond both error bars).
+#[derive(Clone, Debug, Serialize)]
+pub struct OtherTable {
+    pub table: &'static str,
+    pub mean: Figure<Quad>,
+    pub table_mean: Figure<Quad>,
+    pub better_than_shipped: Vec<String>,
+    pub worse_than_shipped: Vec<String>,
 }
 
 /// What the report states of a run, computed from its result (results/engines.json holds
@@ -93,12 +107,13 @@ impl EngineResult {
             .cloned()
     }
 
-    /// One path over the scenes.
-    pub fn path_summary(&self, path: &'static str) -> PathSummary {
+    /// The scenes where `table` renders closer to the truth than the shipped table on
+    /// `path`, and those where it renders further (relative RMSE, beyond both bars).
+    fn against_shipped(&self, table: &str, path: &str) -> (Vec<String>, Vec<String>) {
         let (mut better, mut worse) = (Vec::new(), Vec::new());
         for s in &self.scenes {
             let (Some(a), Some(b)) = (
-                EngineResult::find(s, "ours", path),
+                EngineResult::find(s, table, path),
                 EngineResult::find(s, "shipped", path),
             ) else {
                 continue;
@@ -107,15 +122,33 @@ impl EngineResult {
             if o.value + o.error < t.value - t.error {
                 better.push(s.name.clone());
             } else if o.value - o.error > t.value + t.error {
-                worse.push(Worse {
-                    scene: s.name.clone(),
-                    ours: o,
-                    shipped: t,
-                    ours_table: a.table_share.rel_rmse,
-                    shipped_table: b.table_share.rel_rmse,
-                });
+                worse.push(s.name.clone());
             }
         }
+        (better, worse)
+    }
+
+    /// One path over the scenes.
+    pub fn path_summary(&self, path: &'static str) -> PathSummary {
+        let (better, worse) = self.against_shipped("ours", path);
+        let worse = self
+            .scenes
+            .iter()
+            .filter(|s| worse.contains(&s.name))
+            .filter_map(|s| {
+                let (a, b) = (
+                    EngineResult::find(s, "ours", path)?,
+                    EngineResult::find(s, "shipped", path)?,
+                );
+                Some(Worse {
+                    scene: s.name.clone(),
+                    ours: a.engine.rel_rmse,
+                    shipped: b.engine.rel_rmse,
+                    ours_table: a.table_share.rel_rmse,
+                    shipped_table: b.table_share.rel_rmse,
+                })
+            })
+            .collect();
         PathSummary {
             path,
             scenes: self.scenes.len(),
@@ -131,6 +164,22 @@ impl EngineResult {
                 .flat_map(|s| s.paths.iter().filter(|x| x.path == path))
                 .map(|x| x.gpu_share.rel_rmse.value)
                 .fold(0.0, f64::max),
+            others: self
+                .tables
+                .iter()
+                .filter(|t| !["shipped", "ours"].contains(t))
+                .map(|&table| {
+                    let (better_than_shipped, worse_than_shipped) =
+                        self.against_shipped(table, path);
+                    OtherTable {
+                        table,
+                        mean: self.mean(table, path, |x| x.engine.rel_rmse),
+                        table_mean: self.mean(table, path, |x| x.table_share.rel_rmse),
+                        better_than_shipped,
+                        worse_than_shipped,
+                    }
+                })
+                .collect(),
         }
     }
 }
