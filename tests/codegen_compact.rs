@@ -17,7 +17,9 @@
 mod common;
 
 use ndfbench::codegen::compact;
-use ndfbench::generated::ltc_compact::{ltc_compact, LTC_COMPACT_N};
+use ndfbench::generated::ltc_compact::{
+    ltc_compact, LTC_COMPACT_ALPHA_MIN, LTC_COMPACT_N, LTC_COMPACT_TRANSFORM,
+};
 use ndfbench::ltc::compact::Compact;
 use proptest::prelude::*;
 use std::path::Path;
@@ -104,12 +106,93 @@ fn the_generated_rebuild_is_within_its_bound_of_the_judged_one() {
     );
 }
 
-/// The WGSL module parses and validates with naga.
+/// The WGSL library (no entry point, no bindings) and the compute rebuild parse and
+/// validate with naga; the rebuild holds the library's text.
 #[test]
-fn the_wgsl_module_validates() {
-    let text = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
-    ndfbench::codegen::validate::validate_wgsl(&text, "ltc_compact.wgsl").unwrap();
-    assert!(text.contains("@compute") && text.contains("fn ltc_compact_rebuild"));
+fn the_wgsl_modules_validate() {
+    let lib = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
+    ndfbench::codegen::validate::validate_wgsl(&lib, "ltc_compact.wgsl").unwrap();
+    assert!(!lib.contains("@compute") && !lib.contains("@group"));
+    let rebuild = std::fs::read_to_string("results/wgsl/ltc_compact_rebuild.wgsl").unwrap();
+    ndfbench::codegen::validate::validate_wgsl(&rebuild, "ltc_compact_rebuild.wgsl").unwrap();
+    assert!(rebuild.contains("@compute") && rebuild.contains("fn ltc_compact_rebuild"));
+    assert!(rebuild.starts_with(&lib));
+}
+
+/// The straight-line WGSL channels, run by a small interpreter of their `let` lines in f32
+/// (each line `a`, `a + b`, `a + b * c` or `a + b * c - d`, evaluated as WGSL does:
+/// (a + (b·c)) − d), then through each channel's transform as `ltc_compact_mat`/`_mag`
+/// apply it: the Rust form's bits at every texel and 10 000 other points. So the text a
+/// GPU compiles holds the Rust form's coefficients in its order of operations.
+#[test]
+fn the_wgsl_text_is_the_rust_form() {
+    let lib = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
+    let mut bodies: Vec<Vec<(String, Vec<String>)>> = Vec::new();
+    let mut returns = Vec::new();
+    for line in lib.lines().map(str::trim) {
+        let open = returns.len() < bodies.len();
+        if line.starts_with("fn ltc_compact_ch") {
+            bodies.push(Vec::new());
+        } else if let (Some(rest), true) = (line.strip_prefix("let "), open) {
+            let (name, expr) = rest.trim_end_matches(';').split_once(" = ").unwrap();
+            let e = expr.split_whitespace().map(String::from).collect();
+            bodies.last_mut().unwrap().push((name.to_string(), e));
+        } else if let (Some(r), true) = (line.strip_prefix("return "), open) {
+            returns.push(r.trim_end_matches(';').to_string());
+        }
+    }
+    assert_eq!(bodies.len(), 6, "six channel functions");
+    let eval = |ch: usize, x: f32, y: f32| -> f32 {
+        let mut env = std::collections::HashMap::from([("x".to_string(), x), ("y".to_string(), y)]);
+        let val = |env: &std::collections::HashMap<String, f32>, t: &str| -> f32 {
+            env.get(t)
+                .copied()
+                .unwrap_or_else(|| t.parse::<f32>().unwrap_or_else(|_| panic!("token {t}")))
+        };
+        for (name, e) in &bodies[ch] {
+            let v = match e.len() {
+                1 => val(&env, &e[0]),
+                3 => {
+                    assert_eq!(e[1], "+");
+                    val(&env, &e[0]) + val(&env, &e[2])
+                }
+                5 => {
+                    assert_eq!((e[1].as_str(), e[3].as_str()), ("+", "*"));
+                    val(&env, &e[0]) + val(&env, &e[2]) * val(&env, &e[4])
+                }
+                7 => {
+                    assert_eq!(
+                        (e[1].as_str(), e[3].as_str(), e[5].as_str()),
+                        ("+", "*", "-")
+                    );
+                    val(&env, &e[0]) + val(&env, &e[2]) * val(&env, &e[4]) - val(&env, &e[6])
+                }
+                _ => panic!("line {name} = {e:?}"),
+            };
+            env.insert(name.clone(), v);
+        }
+        val(&env, &returns[ch])
+    };
+    for (r, t) in points() {
+        let want = ltc_compact(r, t);
+        let (rc, tc) = (r.clamp(0.0, 1.0), t.clamp(0.0, 1.0));
+        let (x, y) = (2.0 * rc - 1.0, 2.0 * tc - 1.0);
+        let alpha = (rc * rc).max(LTC_COMPACT_ALPHA_MIN);
+        for ch in 0..6 {
+            let v = eval(ch, x, y);
+            let got = match LTC_COMPACT_TRANSFORM[ch] {
+                1 => v.exp(),
+                2 => v * alpha,
+                _ => v,
+            };
+            assert_eq!(
+                got.to_bits(),
+                want[ch].to_bits(),
+                "channel {ch} at ({r}, {t}): {got} vs {}",
+                want[ch]
+            );
+        }
+    }
 }
 
 /// Points the JS run evaluates: every texel, then 10 000 from a fixed sequence over
@@ -285,7 +368,7 @@ fn the_wgsl_rebuild_runs_within_its_bound() {
     };
     let c = series();
     let n = LTC_COMPACT_N;
-    let text = std::fs::read_to_string("results/wgsl/ltc_compact.wgsl").unwrap();
+    let text = std::fs::read_to_string("results/wgsl/ltc_compact_rebuild.wgsl").unwrap();
     let [m1, m2] = match gpu.fill_two_rgba16f(&text, "ltc_compact_rebuild", n) {
         Ok(m) => m,
         // an adapter without rgba16float storage textures (naga validated the module above)

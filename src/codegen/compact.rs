@@ -5,8 +5,10 @@
 //! t-degree, then along t; the channel's transform last):
 //!
 //! - Rust, src/generated/ltc_compact.rs: the coefficients and `ltc_compact(r, t)`;
-//! - WGSL, results/wgsl/ltc_compact.wgsl: the same functions and a compute entry,
-//!   `ltc_compact_rebuild`, that fills the two rgba16float textures of the shipped layout;
+//! - WGSL, results/wgsl/ltc_compact.wgsl: a library module, the same evaluation written
+//!   out as straight-line code (`ltc_compact_mat`, `ltc_compact_mag`), and
+//!   results/wgsl/ltc_compact_rebuild.wgsl: it with a compute entry, `ltc_compact_rebuild`,
+//!   that fills the two rgba16float textures of the shipped layout;
 //! - an ES module, results/textures/three/ltc_compact.js: `ltcCompact(r, t)` and
 //!   `rebuild(n)`, the f32 and binary16 (nearest) texel arrays; with
 //!   results/textures/three/RectAreaLightTexturesLib.compact.js, a drop-in for three.js
@@ -95,30 +97,92 @@ pub fn render_rust(c: &Compact, n: usize, command: &str) -> String {
     s
 }
 
-/// WGSL: the functions and the compute entry that fills the textures.
+/// Clenshaw's recurrence Σ c_k T_k(v) written out as WGSL `let`s named `{name}_{k}`, with
+/// `v2` = v + v; the operations of [`Compact::eval_f32`]'s recurrence in its order (the
+/// first steps, whose b1 and b2 are still 0, keep only what is not a zero term). Returns
+/// the lines and the name of the result.
+fn clenshaw_wgsl(c: &[String], v: &str, name: &str) -> (String, String) {
+    let p = c.len();
+    let b = |k: usize| format!("{name}_{k}");
+    let mut s = String::new();
+    if p == 1 {
+        return (s, c[0].clone());
+    }
+    // b_k = (c_k + v2·b_{k+1}) − b_{k+2}, k = p − 1 … 1, b_p = b_{p+1} = 0
+    for k in (1..p).rev() {
+        let e = match (k + 1 < p, k + 2 < p) {
+            (false, _) => c[k].clone(),
+            (true, false) => format!("{} + {v}2 * {}", c[k], b(k + 1)),
+            (true, true) => format!("{} + {v}2 * {} - {}", c[k], b(k + 1), b(k + 2)),
+        };
+        s.push_str(&format!("    let {} = {e};\n", b(k)));
+    }
+    let last = if p > 2 {
+        format!("{} + {v} * {} - {}", c[0], b(1), b(2))
+    } else {
+        format!("{} + {v} * {}", c[0], b(1))
+    };
+    s.push_str(&format!("    let {name} = {last};\n"));
+    (s, name.to_string())
+}
+
+/// WGSL library (no bindings, no entry point): per channel `ltc_compact_ch<k>(x, y)`, the
+/// series at (x, y) = (2r − 1, 2t − 1) as straight-line code with the coefficients as
+/// literals (no array: naga would copy a dynamically indexed `const` array into every
+/// invocation's memory), and `ltc_compact_mat(r, t)`, `ltc_compact_mag(r, t)`.
 pub fn render_wgsl(c: &Compact, n: usize, command: &str) -> String {
     let p = c.p;
     let mut s = format!(
-        "{}// Compact GGX LTC table: {}. ltc_compact_mat(r, t) = M⁻¹'s (a, b, c, d), ltc_compact_mag(r, t) = (norm, fresnel) at r = √α, t = √(1 − cos θ). The compute entry ltc_compact_rebuild writes texel (i, j) at (i, j)/(n − 1) of two rgba16float storage textures (the shipped layout; LTC_2 = (norm, fresnel, 0, 0)); dispatch ceil(n/8)² workgroups. Error against the BRDF: results/ltc-compact.md.\n\nconst LTC_COMPACT_P: i32 = {p};\nconst LTC_COMPACT_ALPHA_MIN: f32 = {};\nconst LTC_COMPACT_TRANSFORM: array<u32, 6> = array<u32, 6>({});\nconst LTC_COMPACT_COEFFS: array<f32, {}> = array<f32, {}>(\n",
+        "{}// Compact GGX LTC table: {}. ltc_compact_mat(r, t) = M⁻¹'s (a, b, c, d), ltc_compact_mag(r, t) = (norm, fresnel) at r = √α, t = √(1 − cos θ). Each channel is Clenshaw's recurrence written out, the coefficients as literals, in the operation order of the Rust form (src/generated/ltc_compact.rs). Error against the BRDF: results/ltc-compact.md; the compute rebuild of the textures: ltc_compact_rebuild.wgsl.\n",
         super::text::header("//", command, SOURCE),
         describe(c, n),
-        lit(c.alpha_min),
-        codes(c, "u"),
-        6 * p * p,
-        6 * p * p
     );
-    let all: Vec<String> = c
-        .channels
-        .iter()
-        .flat_map(|ch| ch.coeffs.iter().map(|&v| lit(v)))
-        .collect();
-    for row in all.chunks(8) {
-        s.push_str(&format!("    {},\n", row.join(", ")));
+    for (k, ch) in c.channels.iter().enumerate() {
+        let lits: Vec<String> = ch.coeffs.iter().map(|&v| lit(v)).collect();
+        s.push_str(&format!(
+            "\n// Channel {k}'s series at (x, y) = (2r − 1, 2t − 1): along x for each t-degree l, then along y.\nfn ltc_compact_ch{k}(x: f32, y: f32) -> f32 {{\n    let x2 = x + x;\n    let y2 = y + y;\n"
+        ));
+        let mut g = Vec::new();
+        for l in 0..p {
+            let (body, out) = clenshaw_wgsl(&lits[p * l..p * (l + 1)], "x", &format!("g{l}"));
+            s.push_str(&body);
+            g.push(out);
+        }
+        let (body, out) = clenshaw_wgsl(&g, "y", "v");
+        s.push_str(&body);
+        s.push_str(&format!("    return {out};\n}}\n"));
     }
+    let ch = |k: usize| {
+        let call = format!("ltc_compact_ch{k}(x, y)");
+        match c.channels[k].transform {
+            Transform::Raw => call,
+            Transform::Log => format!("exp({call})"),
+            Transform::OverAlpha => format!("{call} * alpha"),
+        }
+    };
+    let pre = format!(
+        "    let r = clamp(r_in, 0.0, 1.0);\n    let t = clamp(t_in, 0.0, 1.0);\n    let x = 2.0 * r - 1.0;\n    let y = 2.0 * t - 1.0;\n    let alpha = max(r * r, {});\n",
+        lit(c.alpha_min)
+    );
     s.push_str(&format!(
-        ");\n\n// Channel ch of the series at (x, y) = (2r − 1, 2t − 1): Clenshaw along x per t-degree, then along y.\nfn ltc_compact_series(ch: i32, x: f32, y: f32) -> f32 {{\n    var g: array<f32, {p}>;\n    for (var l: i32 = 0; l < LTC_COMPACT_P; l = l + 1) {{\n        let off = (ch * LTC_COMPACT_P + l) * LTC_COMPACT_P;\n        var b1: f32 = 0.0;\n        var b2: f32 = 0.0;\n        for (var k: i32 = LTC_COMPACT_P - 1; k >= 1; k = k - 1) {{\n            let b0 = LTC_COMPACT_COEFFS[off + k] + (x + x) * b1 - b2;\n            b2 = b1;\n            b1 = b0;\n        }}\n        g[l] = LTC_COMPACT_COEFFS[off] + x * b1 - b2;\n    }}\n    var b1: f32 = 0.0;\n    var b2: f32 = 0.0;\n    for (var k: i32 = LTC_COMPACT_P - 1; k >= 1; k = k - 1) {{\n        let b0 = g[k] + (y + y) * b1 - b2;\n        b2 = b1;\n        b1 = b0;\n    }}\n    return g[0] + y * b1 - b2;\n}}\n\n// Channel ch at (r, t), clamped to [0, 1], through its transform.\nfn ltc_compact_channel(ch: i32, r_in: f32, t_in: f32) -> f32 {{\n    let r = clamp(r_in, 0.0, 1.0);\n    let t = clamp(t_in, 0.0, 1.0);\n    let v = ltc_compact_series(ch, 2.0 * r - 1.0, 2.0 * t - 1.0);\n    let tr = LTC_COMPACT_TRANSFORM[ch];\n    if (tr == 1u) {{\n        return exp(v);\n    }}\n    if (tr == 2u) {{\n        return v * max(r * r, LTC_COMPACT_ALPHA_MIN);\n    }}\n    return v;\n}}\n\n// M⁻¹'s (a, b, c, d) at (r, t).\nfn ltc_compact_mat(r: f32, t: f32) -> vec4<f32> {{\n    return vec4<f32>(ltc_compact_channel(0, r, t), ltc_compact_channel(1, r, t), ltc_compact_channel(2, r, t), ltc_compact_channel(3, r, t));\n}}\n\n// (norm, fresnel) at (r, t).\nfn ltc_compact_mag(r: f32, t: f32) -> vec2<f32> {{\n    return vec2<f32>(ltc_compact_channel(4, r, t), ltc_compact_channel(5, r, t));\n}}\n\n@group(0) @binding(0) var ltc_compact_1: texture_storage_2d<rgba16float, write>;\n@group(0) @binding(1) var ltc_compact_2: texture_storage_2d<rgba16float, write>;\n\n@compute @workgroup_size(8, 8)\nfn ltc_compact_rebuild(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let n = textureDimensions(ltc_compact_1);\n    if (id.x >= n.x || id.y >= n.y) {{\n        return;\n    }}\n    let r = f32(id.x) / f32(n.x - 1u);\n    let t = f32(id.y) / f32(n.y - 1u);\n    textureStore(ltc_compact_1, vec2<i32>(id.xy), ltc_compact_mat(r, t));\n    textureStore(ltc_compact_2, vec2<i32>(id.xy), vec4<f32>(ltc_compact_mag(r, t), 0.0, 0.0));\n}}\n"
+        "\n// M⁻¹'s (a, b, c, d) at (r, t), both clamped to [0, 1].\nfn ltc_compact_mat(r_in: f32, t_in: f32) -> vec4<f32> {{\n{pre}    return vec4<f32>({}, {}, {}, {});\n}}\n\n// (norm, fresnel) at (r, t), both clamped to [0, 1].\nfn ltc_compact_mag(r_in: f32, t_in: f32) -> vec2<f32> {{\n{pre}    return vec2<f32>({}, {});\n}}\n",
+        ch(0),
+        ch(1),
+        ch(2),
+        ch(3),
+        ch(4),
+        ch(5)
     ));
     s
+}
+
+/// WGSL compute shader: the library and an entry, `ltc_compact_rebuild`, that writes
+/// texel (i, j) at (i, j)/(n − 1) of two rgba16float storage textures.
+pub fn render_wgsl_rebuild(c: &Compact, n: usize, command: &str) -> String {
+    format!(
+        "{}\n// The compute rebuild: texel (i, j) at (i, j)/(n − 1) of two rgba16float storage textures (the shipped layout; LTC_2 = (norm, fresnel, 0, 0)); dispatch ceil(n/8)² workgroups.\n@group(0) @binding(0) var ltc_compact_1: texture_storage_2d<rgba16float, write>;\n@group(0) @binding(1) var ltc_compact_2: texture_storage_2d<rgba16float, write>;\n\n@compute @workgroup_size(8, 8)\nfn ltc_compact_rebuild(@builtin(global_invocation_id) id: vec3<u32>) {{\n    let n = textureDimensions(ltc_compact_1);\n    if (id.x >= n.x || id.y >= n.y) {{\n        return;\n    }}\n    let r = f32(id.x) / f32(n.x - 1u);\n    let t = f32(id.y) / f32(n.y - 1u);\n    textureStore(ltc_compact_1, vec2<i32>(id.xy), ltc_compact_mat(r, t));\n    textureStore(ltc_compact_2, vec2<i32>(id.xy), vec4<f32>(ltc_compact_mag(r, t), 0.0, 0.0));\n}}\n",
+        render_wgsl(c, n, command)
+    )
 }
 
 /// The ES module: coefficients as f32 bit patterns, the evaluation with `Math.fround`
@@ -164,6 +228,10 @@ pub fn render_all(results: &Path, rust: bool, command: &str) -> Result<Vec<(Stri
         (
             "wgsl/ltc_compact.wgsl".to_string(),
             render_wgsl(&c, n, command),
+        ),
+        (
+            "wgsl/ltc_compact_rebuild.wgsl".to_string(),
+            render_wgsl_rebuild(&c, n, command),
         ),
         (
             "textures/three/ltc_compact.js".to_string(),

@@ -21,13 +21,16 @@ pub struct Entry {
     pub outputs: Vec<(backends::Output, Verdict)>,
 }
 
-/// The shaders to translate: (name, path relative to `results`), modules first, then
-/// the scenes present under `results`/scenes, in name order.
+/// The shaders to translate: (name, path relative to `results`), modules first (the
+/// compact table's once its on-request study has written it), then the scenes present
+/// under `results`/scenes, in name order.
 pub fn sources(results: &Path) -> Vec<(String, String)> {
+    let compact = results.join("wgsl/ltc_compact.wgsl").is_file();
     let mut out: Vec<(String, String)> = super::text::MODULES
         .iter()
         .map(|(f, _, _)| super::forms::stem(f).to_string())
         .chain(["ltc_table", "ltc_table_f16", "ltc_lut", "ltc_aniso"].map(String::from))
+        .chain(compact.then(|| "ltc_compact".to_string()))
         .map(|s| (s.clone(), format!("wgsl/{s}.wgsl")))
         .collect();
     let mut scenes: Vec<String> = std::fs::read_dir(results.join("scenes"))

@@ -270,7 +270,7 @@ pub(super) unsafe fn ltc_quad(inp: &LtcQuadIn, out: &mut [f32]) -> usize {
 /// e^x for x ≤ 88 (clamped below at −87): Cody–Waite reduction x = n ln 2 + r, |r| ≤ ½ ln 2,
 /// degree-7 Taylor polynomial (truncation < 2e-9 relative), 2^n by exponent bits.
 #[inline(always)]
-unsafe fn exp(x: __m256) -> __m256 {
+pub(super) unsafe fn exp(x: __m256) -> __m256 {
     let x = _mm256_min_ps(
         _mm256_max_ps(x, _mm256_set1_ps(-87.0)),
         _mm256_set1_ps(88.0),

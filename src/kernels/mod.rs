@@ -15,12 +15,14 @@ mod accuracy;
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 mod batch;
+mod compact;
 mod dispatch;
 mod inputs;
 
 pub use dispatch::{deferred_roughness, ggx_specular, leadr5, ltc_quad, multiscale_alpha, Backend};
 
 pub use batch::{DeferredIn, LeadrIn, LtcQuadIn, SpecularIn, ALPHA_ME_C, ALPHA_ME_D};
+pub use compact::{ltc_compact_lookup, ltc_compact_series, CompactF32, TableF32};
 
 pub use accuracy::{accuracy, ltc_quad_conditioning, ltc_quad_f64};
 pub use inputs::{bench_inputs, BenchInputs};
