@@ -3,7 +3,8 @@
 //! are installed; the prefilter tool on a 2048² normal map (the whole chain, and the
 //! per-mip re-read of the base level that a one-pass-per-mip tool such as Filament's
 //! roughness-prefilter does); every shipped LTC table's per-pixel cost (the bilinear
-//! lookup of its binary16 entries and the quad integral); every render method's shading
+//! lookup of its binary16 entries and the quad integral); the compact LTC tables'
+//! texture-free series against the lookup of their rebuilt table; every render method's shading
 //! pass per pixel on one core (the G-buffer, each approximation of the example scenes,
 //! seed 002's brute force and CP query); every representation of the survey study
 //! (results/filters-survey.md) evaluated as the lobe it shades. `cargo run --release -- bench-report`
@@ -198,6 +199,63 @@ fn ltc_table_benches(c: &mut Criterion) {
                 sum
             })
         });
+    }
+    g.finish();
+}
+
+/// The compact LTC tables (results/fits/ltc-compact.json) per pixel, 4096 pixels of
+/// (r, t) on an R2 sequence: the texture-free series at each degree the study tried (the
+/// stored series resized: the cost depends on the degree alone) against the bilinear
+/// lookup of the rebuilt binary16 table, on each kernel backend.
+fn ltc_compact_benches(c: &mut Criterion) {
+    use ndfbench::kernels::{
+        ltc_compact_lookup, ltc_compact_series, Backend, CompactF32, TableF32,
+    };
+    let Ok(text) = std::fs::read_to_string("results/fits/ltc-compact.json") else {
+        return;
+    };
+    let Ok(file) = serde_json::from_str::<ndfbench::results::ltc_compact::LtcCompact>(&text) else {
+        return;
+    };
+    let n = 4096;
+    let g2 = 1.324_717_957_244_746_f64;
+    let r: Vec<f32> = (0..n)
+        .map(|k| (0.5 + k as f64 / g2).fract() as f32)
+        .collect();
+    let t: Vec<f32> = (0..n)
+        .map(|k| (0.5 + k as f64 / (g2 * g2)).fract() as f32)
+        .collect();
+    let mut out = vec![0.0f32; 6 * n];
+    let mut g = c.benchmark_group("ltc-compact");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    for f in &file.families {
+        let name = f.table.trim_start_matches("ltc-");
+        let tab = TableF32::of(&f.series.rebuild(f.n).unwrap()).unwrap();
+        let mut degrees: Vec<usize> = f.forms.iter().map(|x| x.p).collect();
+        degrees.sort();
+        degrees.dedup();
+        for b in [Backend::PerPixel, Backend::Scalar, Backend::Avx2] {
+            if !b.available() {
+                continue;
+            }
+            g.bench_function(
+                criterion::BenchmarkId::new(format!("{name} lookup"), b.name()),
+                |bch| {
+                    bch.iter(|| ltc_compact_lookup(b, &tab, black_box(&r), &t, &mut out).unwrap())
+                },
+            );
+            for &p in &degrees {
+                let s = CompactF32::of(&f.series.resized(p).unwrap()).unwrap();
+                g.bench_function(
+                    criterion::BenchmarkId::new(format!("{name} series p{p}"), b.name()),
+                    |bch| {
+                        bch.iter(|| ltc_compact_series(b, &s, black_box(&r), &t, &mut out).unwrap())
+                    },
+                );
+            }
+        }
     }
     g.finish();
 }
@@ -512,6 +570,7 @@ criterion_group!(
     prefilter_benches,
     shader_benches,
     ltc_table_benches,
+    ltc_compact_benches,
     render_benches,
     survey_benches,
     visibility_benches

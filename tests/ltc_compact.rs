@@ -313,3 +313,35 @@ fn a_series_read_back_is_checked() {
         assert!(c.check().is_ok() && c.coefficients() == 6 * c.p * c.p);
     }
 }
+
+/// `Compact::resized` keeps coefficient (k, l) where both are below the new degree and adds
+/// zeros elsewhere: up then down gives the series back; up evaluates the same in f64 (the
+/// added terms are zero); p = 0 and p above the cap are typed errors.
+#[test]
+fn resizing_a_series_keeps_its_coefficients_in_place() {
+    let text = std::fs::read_to_string("results/fits/ltc-compact.json").unwrap();
+    let v: ndfbench::results::ltc_compact::LtcCompact = serde_json::from_str(&text).unwrap();
+    let c = &v.families[0].series;
+    let up = c.resized(c.p + 5).unwrap();
+    assert_eq!(&up.resized(c.p).unwrap(), c);
+    for k in 0..200 {
+        let (r, t) = (
+            (k as f64 * 0.618_034).fract(),
+            (k as f64 * 0.754_878).fract(),
+        );
+        let (a, b) = (c.eval(r, t), up.eval(r, t));
+        for ch in 0..6 {
+            assert!(
+                (a[ch] - b[ch]).abs() <= 1e-12 * a[ch].abs().max(1.0),
+                "ch {ch} at ({r}, {t})"
+            );
+        }
+    }
+    let down = c.resized(4).unwrap();
+    assert_eq!(
+        down.channels[2].coeffs[1 + 4 * 3],
+        c.channels[2].coeffs[1 + c.p * 3]
+    );
+    assert!(c.resized(0).is_err());
+    assert!(c.resized(ndfbench::ltc::compact::MAX_P + 1).is_err());
+}

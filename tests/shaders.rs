@@ -378,3 +378,21 @@ fn the_const_array_tables_are_copied_into_function_memory_and_the_modules_are_no
         assert_eq!(dis, copies(&name).len(), "{name}");
     }
 }
+
+/// The executed-instruction counter of results/performance.md's compact-LTC section: a
+/// function's own instructions, each call adding its callee's; loops and unknown names
+/// are typed errors. What spirv-dis shows naga 30 emitting for these two functions: g is
+/// OpBranch (into its body block), OpFMul, OpReturnValue; f is OpBranch, OpFunctionCall,
+/// OpFAdd (x + 1), OpFunctionCall, OpFAdd, OpReturnValue.
+#[test]
+fn executed_instructions_count_calls_and_refuse_loops() {
+    let src = "fn g(x: f32) -> f32 {\n    return x * 2.0;\n}\n\nfn f(x: f32) -> f32 {\n    return g(x) + g(x + 1.0);\n}\n";
+    let v = backends::executed_instructions(src, "t", &["g", "f"]).unwrap();
+    assert_eq!(v[0], 3, "g");
+    assert_eq!(v[1], 6 + 2 * 3, "f: its own six, and g twice");
+    let looped = "fn h(x: f32) -> f32 {\n    var s = 0.0;\n    for (var i = 0; i < 4; i++) {\n        s += x;\n    }\n    return s;\n}\n";
+    let e = backends::executed_instructions(looped, "t", &["h"]).unwrap_err();
+    assert!(e.to_string().contains("loops"), "{e}");
+    let e = backends::executed_instructions(src, "t", &["nope"]).unwrap_err();
+    assert!(e.to_string().contains("no function nope"), "{e}");
+}

@@ -338,3 +338,103 @@ pub fn function_array_copies(spirv: &[u8]) -> Vec<u64> {
     }
     out
 }
+
+/// The SPIR-V instructions one call of each function in `roots` executes, from a library
+/// module compiled with its harness by naga (debug names on, so functions are found by
+/// name): the function's own instructions between `OpFunction` and `OpFunctionEnd`
+/// (less the structural ones: `OpFunctionParameter`, `OpLabel`), plus, at each
+/// `OpFunctionCall`, its callee's count. Exact for loop-free code, which every
+/// generated function the count is asked of is; a function with a loop (`OpLoopMerge`)
+/// is a typed error, as is a root the module does not have.
+pub fn executed_instructions(src: &str, what: &str, roots: &[&str]) -> Result<Vec<usize>> {
+    use naga::back::spv;
+    use std::collections::HashMap;
+    let module = parse(&harnessed(src, what)?, what)?;
+    let info = validate(&module, what)?;
+    let options = spv::Options {
+        flags: spv::WriterFlags::DEBUG,
+        ..Default::default()
+    };
+    let pipeline = spv::PipelineOptions {
+        shader_stage: naga::ShaderStage::Compute,
+        entry_point: ENTRY.into(),
+    };
+    let words = spv::write_vec(&module, &info, &options, Some(&pipeline))
+        .map_err(|e| Error::InvalidArgument(format!("{what}: SPIR-V: {e}")))?;
+    let (mut names, mut own, mut calls, mut looped) = (
+        HashMap::new(),
+        HashMap::new(),
+        HashMap::<u32, Vec<u32>>::new(),
+        Vec::new(),
+    );
+    let mut current: Option<u32> = None;
+    let mut i = 5;
+    while i < words.len() {
+        let (count, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+        if count == 0 || i + count > words.len() {
+            return Err(Error::InvalidArgument(format!(
+                "{what}: SPIR-V ends mid-instruction"
+            )));
+        }
+        let w = &words[i..i + count];
+        match (op, current) {
+            // OpName: target id, literal string
+            (5, _) if count >= 3 => {
+                let bytes: Vec<u8> = w[2..].iter().flat_map(|x| x.to_le_bytes()).collect();
+                let name = String::from_utf8_lossy(&bytes)
+                    .trim_end_matches('\0')
+                    .to_string();
+                names.insert(name, w[1]);
+            }
+            // OpFunction: result type, result id
+            (54, _) if count >= 3 => {
+                current = Some(w[2]);
+                own.insert(w[2], 0usize);
+            }
+            // OpFunctionEnd
+            (56, _) => current = None,
+            // OpFunctionParameter, OpLabel: structure, not work
+            (55 | 248, Some(_)) => {}
+            (_, Some(f)) => {
+                *own.get_mut(&f).expect("current function") += 1;
+                match op {
+                    // OpFunctionCall: result type, result id, callee
+                    57 if count >= 4 => calls.entry(f).or_default().push(w[3]),
+                    // OpLoopMerge
+                    246 => looped.push(f),
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+        i += count;
+    }
+    fn total(
+        f: u32,
+        own: &HashMap<u32, usize>,
+        calls: &HashMap<u32, Vec<u32>>,
+        looped: &[u32],
+        depth: usize,
+    ) -> Option<usize> {
+        if depth > 64 || looped.contains(&f) {
+            return None;
+        }
+        let callees = calls.get(&f).map_or(&[][..], |v| &v[..]);
+        callees.iter().try_fold(*own.get(&f)?, |s, &c| {
+            Some(s + total(c, own, calls, looped, depth + 1)?)
+        })
+    }
+    roots
+        .iter()
+        .map(|r| {
+            let id = names.get(*r).ok_or_else(|| {
+                Error::InvalidArgument(format!("{what}: no function {r} in the SPIR-V"))
+            })?;
+            total(*id, &own, &calls, &looped, 0).ok_or_else(|| {
+                Error::InvalidArgument(format!(
+                    "{what}: {r} loops (or recurses): its executed instructions are not its count"
+                ))
+            })
+        })
+        .collect()
+}

@@ -13,9 +13,11 @@
 //! bit equal to them, except where a channel is stored as a logarithm (the lane-wise e^x
 //! of `avx2::exp` against the scalar `f32::exp`; tests/kernels.rs states the bound).
 
+#[cfg(target_arch = "x86_64")]
+use super::avx2;
 use super::dispatch::{check, Backend};
 use crate::error::{Error, Result};
-use crate::ltc::compact::{Compact, Transform};
+use crate::ltc::compact::Compact;
 use crate::ltc::table::FittedTable;
 
 /// A compact series as a shader holds it: f32 coefficients (p² per channel, Chebyshev
@@ -176,7 +178,8 @@ pub fn ltc_compact_lookup(
 
 #[cfg(target_arch = "x86_64")]
 mod simd {
-    use super::{CompactF32, TableF32, Transform};
+    use crate::kernels::compact::{CompactF32, TableF32};
+    use crate::ltc::compact::Transform;
     use std::arch::x86_64::*;
 
     /// Σ c_k T_k(x) by Clenshaw, the scalar form's operations: b0 = (c_k + (x + x)·b1) − b2,
@@ -222,7 +225,7 @@ mod simd {
                 let v = clenshaw(p, |k| g[k], y);
                 let v = match s.series.channels[ch].transform {
                     Transform::Raw => v,
-                    Transform::Log => super::super::avx2::exp(v),
+                    Transform::Log => super::avx2::exp(v),
                     Transform::OverAlpha => _mm256_mul_ps(v, alpha),
                 };
                 _mm256_storeu_ps(out.as_mut_ptr().add(ch * len + i), v);

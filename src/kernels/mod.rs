@@ -1,6 +1,9 @@
 //! Batched f32 shading kernels over structure-of-arrays inputs, with an
 //! AVX2+FMA backend chosen at run time and the scalar generated twins as fallback.
 //!
+//! The compact LTC table's two per-pixel forms, the texture-free series and the bilinear
+//! lookup of its rebuilt table, are `compact` (their own inputs and layout).
+//!
 //! Kernels: (a) GGX point-light specular with height-correlated Smith G2
 //! ([`ggx_specular`]), (b) the deferred specular-AA roughness update of seed 003 Eq 13
 //! ([`deferred_roughness`]), (c) the multi-scale α, y_me, y_mi → α through the α_me fit

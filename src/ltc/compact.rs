@@ -251,6 +251,41 @@ impl Compact {
         }
     }
 
+    /// The same transforms at degree `q`: coefficient (k, l) kept where both are below q,
+    /// zero where the series had none. The cost of evaluating a series depends on q alone,
+    /// so this times (and counts the instructions of) a degree no fit stored. A typed error
+    /// for q outside 1..=`MAX_P`.
+    pub fn resized(&self, q: usize) -> Result<Compact> {
+        if !(1..=MAX_P).contains(&q) {
+            return Err(Error::InvalidArgument(format!(
+                "compact LTC: p = {q} (1..={MAX_P})"
+            )));
+        }
+        let p = self.p;
+        let channels = self
+            .channels
+            .iter()
+            .map(|s| Series {
+                transform: s.transform,
+                coeffs: (0..q * q)
+                    .map(|i| {
+                        let (k, l) = (i % q, i / q);
+                        if k < p && l < p {
+                            s.coeffs[k + p * l]
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
+        Ok(Compact {
+            p: q,
+            alpha_min: self.alpha_min,
+            channels,
+        })
+    }
+
     /// The number of coefficients (all channels).
     pub fn coefficients(&self) -> usize {
         self.channels.iter().map(|s| s.coeffs.len()).sum()

@@ -155,6 +155,7 @@ pub const OUTPUTS: &[Output] = &[
     o("costs.json", BENCH, "ns per evaluation, read by scene selection"),
     o("error-vs-time.svg", BENCH, "error against time per integration engine"),
     o("kernels-speedup.svg", BENCH, "AVX2 against scalar per kernel"),
+    o("ltc-compact-cost.svg", BENCH, "the compact LTC tables: held-out error against SPIR-V instructions per pixel, texture-free series and texture lookup"),
     o("main-job-before.json", KEPT, "the main job's stages before parallel studies and the cache"),
     o("engines.*", ENGINES, "LTC tables rendered in three.js and Bevy against the truth (three.js also with the compact drop-in)"),
     o("ltc-compare*", LTC_COMPARE, "our GGX table against the shipped ones, as engines sample them"),

@@ -8,6 +8,7 @@ use crate::report::plot::{loglog_svg, Panel, Series};
 use serde::Deserialize;
 use std::path::Path;
 
+mod compact;
 mod criterion;
 mod deliverables;
 mod main_job;
@@ -129,6 +130,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&deliverables::shaders_table(&timed));
     md.push_str(&deliverables::prefilter_table(&timed));
     md.push_str(&deliverables::ltc_tables_table(&timed, results)?);
+    md.push_str(&compact::ltc_compact_table(set, &timed, results)?);
     md.push_str(&deliverables::render_table(&timed, results)?);
     md.push_str(&deliverables::survey_table(&timed, results)?);
     md.push_str(&deliverables::visibility_table(&timed));
