@@ -210,11 +210,17 @@ pub fn render_js(c: &Compact, n: usize, command: &str) -> String {
 
 /// The three.js drop-in: RectAreaLightTexturesLib with `init()` rebuilding its textures.
 pub fn render_three(c: &Compact, n: usize, command: &str) -> String {
-    format!(
-        "{}// A drop-in for three.js r187's examples/jsm/lights/RectAreaLightTexturesLib.js that\n// rebuilds the LTC textures at init() from the compact GGX table of ./ltc_compact.js\n// ({}): map that module to this file (an import map entry, or a\n// bundler alias) and RectAreaLightUniformsLib.init() (WebGLRenderer) or\n// RectAreaLightNode.setLTC( RectAreaLightTexturesLib.init() ) (WebGPURenderer) use it.\n// The FloatType textures hold the f32 evaluation, the HalfFloatType ones its nearest\n// binary16.\nimport {{\n\tClampToEdgeWrapping,\n\tDataTexture,\n\tFloatType,\n\tHalfFloatType,\n\tLinearFilter,\n\tNearestFilter,\n\tRGBAFormat,\n\tUVMapping\n}} from 'three';\nimport {{ N, rebuild }} from './ltc_compact.js';\n\nclass RectAreaLightTexturesLib {{\n\n\tstatic init() {{\n\n\t\tconst t = rebuild( N );\n\t\tconst texture = ( data, type ) => {{\n\n\t\t\tconst tex = new DataTexture( data, N, N, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );\n\t\t\ttex.needsUpdate = true;\n\t\t\treturn tex;\n\n\t\t}};\n\n\t\tthis.LTC_FLOAT_1 = texture( t.mat, FloatType );\n\t\tthis.LTC_FLOAT_2 = texture( t.mag, FloatType );\n\t\tthis.LTC_HALF_1 = texture( t.matHalf, HalfFloatType );\n\t\tthis.LTC_HALF_2 = texture( t.magHalf, HalfFloatType );\n\n\t\treturn this;\n\n\t}}\n\n}}\n\nRectAreaLightTexturesLib.LTC_HALF_1 = null;\nRectAreaLightTexturesLib.LTC_HALF_2 = null;\nRectAreaLightTexturesLib.LTC_FLOAT_1 = null;\nRectAreaLightTexturesLib.LTC_FLOAT_2 = null;\n\nexport {{ RectAreaLightTexturesLib }};\n",
-        super::text::header("//", command, SOURCE),
-        describe(c, n)
-    )
+    super::textures::three_module(&super::textures::ThreeModule {
+        comment: &format!(
+            "{}// A drop-in for three.js r187's examples/jsm/lights/RectAreaLightTexturesLib.js that\n// rebuilds the LTC textures at init() from the compact GGX table of ./ltc_compact.js\n// ({}): map that module to this file (an import map entry, or a\n// bundler alias) and RectAreaLightUniformsLib.init() (WebGLRenderer) or\n// RectAreaLightNode.setLTC( RectAreaLightTexturesLib.init() ) (WebGPURenderer) use it.\n// The FloatType textures hold the f32 evaluation, the HalfFloatType ones its nearest\n// binary16.\n",
+            super::text::header("//", command, SOURCE),
+            describe(c, n)
+        ),
+        imports: "import { N, rebuild } from './ltc_compact.js';\n",
+        prelude: "\t\tconst rebuilt = rebuild( N );\n",
+        side: "N",
+        data: ["rebuilt.mat", "rebuilt.mag", "rebuilt.matHalf", "rebuilt.magHalf"],
+    })
 }
 
 /// Every compact file: (path: `wgsl/` and `textures/` relative to results/, `src/` to

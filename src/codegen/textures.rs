@@ -262,15 +262,57 @@ pub fn three_drop_in(t: &FittedTable, header: &str) -> String {
             .join(", ")
     };
     let n = t.n;
-    format!(
-        "{header}// A drop-in for three.js r187's examples/jsm/lights/RectAreaLightTexturesLib.js with the
+    three_module(&ThreeModule {
+        comment: &format!(
+            "{header}// A drop-in for three.js r187's examples/jsm/lights/RectAreaLightTexturesLib.js with the
 // ndfbench GGX LTC table: map that module to this file (an import map entry, or a bundler
 // alias) and RectAreaLightUniformsLib.init() (WebGLRenderer) or
 // RectAreaLightNode.setLTC( RectAreaLightTexturesLib.init() ) (WebGPURenderer) use it.
 // Texel (i, j) at (i + {n}·j)·4 + c: LTC_MAT_1 = (a, b, c, d) of M⁻¹ ∝ [[a, 0, c], [0, 1, 0],
 // [b, 0, d]], LTC_MAT_2 = (norm, fresnel, 0, 0). The FloatType textures hold the table in
 // f32; the HalfFloatType ones hold its stored binary16 table bit for bit.
-import {{
+"
+        ),
+        imports: "",
+        prelude: &format!(
+            "\t\tconst LTC_MAT_1 = [ {} ];\n\t\tconst LTC_MAT_2 = [ {} ];\n\t\tconst LTC_HALF_BITS_1 = [ {} ];\n\t\tconst LTC_HALF_BITS_2 = [ {} ];\n\n",
+            f32s(0),
+            f32s(1),
+            bits(0),
+            bits(1)
+        ),
+        side: &n.to_string(),
+        data: [
+            "new Float32Array( LTC_MAT_1 )",
+            "new Float32Array( LTC_MAT_2 )",
+            "new Uint16Array( LTC_HALF_BITS_1 )",
+            "new Uint16Array( LTC_HALF_BITS_2 )",
+        ],
+    })
+}
+
+/// What differs between the three.js drop-ins (the full table's, the compact rebuild's).
+pub struct ThreeModule<'a> {
+    /// The file's opening comment, header included, each line ending in a newline.
+    pub comment: &'a str,
+    /// Import lines after three's own.
+    pub imports: &'a str,
+    /// `init()`'s first lines (tab-indented, ending in a blank line).
+    pub prelude: &'a str,
+    /// The textures' side as a JS expression.
+    pub side: &'a str,
+    /// The data of LTC_FLOAT_1, LTC_FLOAT_2, LTC_HALF_1, LTC_HALF_2 as JS expressions.
+    pub data: [&'a str; 4],
+}
+
+/// An ES module with three.js r187's `RectAreaLightTexturesLib` export, whose `init()`
+/// builds the four DataTextures exactly as three builds them (RGBA, UVMapping, clamp to
+/// edge, linear magnification, nearest minification, no mips) from `m.data` and returns
+/// the class.
+pub fn three_module(m: &ThreeModule) -> String {
+    let (side, [f1, f2, h1, h2]) = (m.side, m.data);
+    format!(
+        "{}import {{
 	ClampToEdgeWrapping,
 	DataTexture,
 	FloatType,
@@ -280,28 +322,23 @@ import {{
 	RGBAFormat,
 	UVMapping
 }} from 'three';
-
+{}
 class RectAreaLightTexturesLib {{
 
 	static init() {{
 
-		const LTC_MAT_1 = [ {m1} ];
-		const LTC_MAT_2 = [ {m2} ];
-		const LTC_HALF_BITS_1 = [ {h1} ];
-		const LTC_HALF_BITS_2 = [ {h2} ];
+{}		const texture = ( data, type ) => {{
 
-		const texture = ( data, type ) => {{
-
-			const t = new DataTexture( data, {n}, {n}, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );
+			const t = new DataTexture( data, {side}, {side}, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );
 			t.needsUpdate = true;
 			return t;
 
 		}};
 
-		this.LTC_FLOAT_1 = texture( new Float32Array( LTC_MAT_1 ), FloatType );
-		this.LTC_FLOAT_2 = texture( new Float32Array( LTC_MAT_2 ), FloatType );
-		this.LTC_HALF_1 = texture( new Uint16Array( LTC_HALF_BITS_1 ), HalfFloatType );
-		this.LTC_HALF_2 = texture( new Uint16Array( LTC_HALF_BITS_2 ), HalfFloatType );
+		this.LTC_FLOAT_1 = texture( {f1}, FloatType );
+		this.LTC_FLOAT_2 = texture( {f2}, FloatType );
+		this.LTC_HALF_1 = texture( {h1}, HalfFloatType );
+		this.LTC_HALF_2 = texture( {h2}, HalfFloatType );
 
 		return this;
 
@@ -316,10 +353,7 @@ RectAreaLightTexturesLib.LTC_FLOAT_2 = null;
 
 export {{ RectAreaLightTexturesLib }};
 ",
-        m1 = f32s(0),
-        m2 = f32s(1),
-        h1 = bits(0),
-        h2 = bits(1),
+        m.comment, m.imports, m.prelude
     )
 }
 

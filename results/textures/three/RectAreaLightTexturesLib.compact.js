@@ -22,19 +22,19 @@ class RectAreaLightTexturesLib {
 
 	static init() {
 
-		const t = rebuild( N );
+		const rebuilt = rebuild( N );
 		const texture = ( data, type ) => {
 
-			const tex = new DataTexture( data, N, N, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );
-			tex.needsUpdate = true;
-			return tex;
+			const t = new DataTexture( data, N, N, RGBAFormat, type, UVMapping, ClampToEdgeWrapping, ClampToEdgeWrapping, LinearFilter, NearestFilter, 1 );
+			t.needsUpdate = true;
+			return t;
 
 		};
 
-		this.LTC_FLOAT_1 = texture( t.mat, FloatType );
-		this.LTC_FLOAT_2 = texture( t.mag, FloatType );
-		this.LTC_HALF_1 = texture( t.matHalf, HalfFloatType );
-		this.LTC_HALF_2 = texture( t.magHalf, HalfFloatType );
+		this.LTC_FLOAT_1 = texture( rebuilt.mat, FloatType );
+		this.LTC_FLOAT_2 = texture( rebuilt.mag, FloatType );
+		this.LTC_HALF_1 = texture( rebuilt.matHalf, HalfFloatType );
+		this.LTC_HALF_2 = texture( rebuilt.magHalf, HalfFloatType );
 
 		return this;
 
