@@ -345,3 +345,61 @@ fn resizing_a_series_keeps_its_coefficients_in_place() {
     assert!(c.resized(0).is_err());
     assert!(c.resized(ndfbench::ltc::compact::MAX_P + 1).is_err());
 }
+
+/// The compact study's polygon lights (results/fits/ltc-compact.json) are the GGX study's
+/// own rows (results/fits/ltc-ggx.json: the same cells, lights and Monte Carlo truths, in
+/// its order), and the full table shaded through them gives that study's LTC values
+/// (computed there from the f64 cell by `ltc::polygon::check_cell`) to within the binary16
+/// storage the compact study reads: so the cell, the frame and the light are the ones the
+/// truth was drawn for. Each error figure is the stated estimator of its values: the mean
+/// of (value − MC)² − s.e.².
+#[test]
+fn the_polygon_lights_are_the_ggx_studys_own() {
+    let text = std::fs::read_to_string("results/fits/ltc-compact.json").unwrap();
+    let v: ndfbench::results::ltc_compact::LtcCompact = serde_json::from_str(&text).unwrap();
+    let f = v.families.iter().find(|f| f.table == "ltc-ggx").unwrap();
+    let p = f
+        .polygons
+        .as_ref()
+        .expect("the GGX family's polygon lights");
+    let text = std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap();
+    let g: ndfbench::results::ltc::Ggx = serde_json::from_str(&text).unwrap();
+    assert_eq!(p.truth.len(), g.polygons.len());
+    for (k, ((a, th, light, mc), row)) in p.truth.iter().zip(&g.polygons).enumerate() {
+        assert_eq!(
+            (*a, *th, light.as_str()),
+            (row.alpha, row.theta, row.light.as_str())
+        );
+        assert_eq!((mc.value, mc.error), (row.mc.value, row.mc.error));
+        let full = p.full.values[k];
+        assert!(
+            (full - row.ltc_exact).abs() <= 2e-3 * row.ltc_exact.abs() + 1e-9,
+            "row {k} ({light}, α {a}, θ {th}): the full table gives {full}, the GGX study {}",
+            row.ltc_exact
+        );
+    }
+    let mse = |x: &ndfbench::results::ltc_compact::PolygonFigures| {
+        assert_eq!(x.values.len(), p.truth.len());
+        let s: f64 = x
+            .values
+            .iter()
+            .zip(&p.truth)
+            .map(|(v, (_, _, _, t))| (v - t.value).powi(2) - t.error * t.error)
+            .sum();
+        s / x.values.len() as f64
+    };
+    for x in std::iter::once(&p.full)
+        .chain(&p.rebuilt)
+        .chain(&p.texture_free)
+    {
+        let want = mse(x);
+        assert!(
+            (x.mse.value - want).abs() <= 1e-12 * want.abs().max(1e-12),
+            "{} vs {want}",
+            x.mse.value
+        );
+        assert!(x.mse.error > 0.0 && x.values.iter().all(|v| v.is_finite()));
+    }
+    assert_eq!(p.rebuilt.len(), f.forms.len());
+    assert_eq!(p.texture_free.len(), f.forms.len());
+}

@@ -47,6 +47,34 @@ pub struct CompactFamily {
     pub chosen: Option<usize>,
     /// The chosen form's series, else the most accurate rebuild's.
     pub series: Compact,
+    /// The polygon lights of the table's own study (its Monte Carlo truth), where that
+    /// study has them (GGX).
+    #[serde(default)]
+    pub polygons: Option<PolygonSet>,
+}
+
+/// The polygon lights of results/fits/ltc-ggx.json (four cells × the quads of
+/// `ltc::polygon::check_lights`, Monte Carlo truth ± s.e.) shaded through each form: the
+/// form's (a, b, c, d, norm) at the cell's (α, θ), norm × the exact LTC integral.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PolygonSet {
+    /// Per row: α, θ, the light, the truth.
+    pub truth: Vec<(f64, f64, String, crate::integrate::Figure)>,
+    /// The full table's stored binary16 entries, read bilinearly.
+    pub full: PolygonFigures,
+    /// Per form (in `forms`' order): rebuilt (binary16, bilinear) and texture-free (f32).
+    pub rebuilt: Vec<PolygonFigures>,
+    pub texture_free: Vec<PolygonFigures>,
+}
+
+/// One form over the polygon rows.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PolygonFigures {
+    /// The shaded value per row.
+    pub values: Vec<f64>,
+    /// The mean over rows of (value − truth)², estimated without bias as the mean of
+    /// (value − MC)² − s.e.², ± its standard error.
+    pub mse: crate::integrate::Figure,
 }
 
 /// Held-out relative L2 over the judged cells and squares.

@@ -33,6 +33,7 @@ use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPath};
 use crate::study::{Ctx, FitOutcome};
 
+mod polygons;
 mod report;
 
 /// What fits/ltc-compact.toml sets.
@@ -315,6 +316,7 @@ fn family<T: LtcTarget>(
         forms: out_forms,
         chosen,
         series,
+        polygons: polygons::measure(results, s.table, &table, &forms)?,
     })
 }
 
