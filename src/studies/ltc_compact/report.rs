@@ -164,6 +164,25 @@ The {} quad lights the table's own study checks it with (results/{}.md: {} cells
         }
     }
     md.push_str(&format!("{t}\n"));
+    // the forms whose rebuild is further from the truth than the full table, beyond both
+    // bars
+    let full = p.full.mse;
+    let worse: Vec<String> = f
+        .forms
+        .iter()
+        .zip(&p.rebuilt)
+        .filter(|(_, r)| r.mse.value - r.mse.error > full.value + full.error)
+        .map(|(form, _)| format!("{} p = {}", form.transforms, form.p))
+        .collect();
+    md.push_str(&if worse.is_empty() {
+        "No rebuilt form is further from the truth than the full table beyond both bars.\n\n"
+            .to_string()
+    } else {
+        format!(
+            "Rebuilt forms further from the truth than the full table, beyond both bars: {}.\n\n",
+            worse.join("; ")
+        )
+    });
     md
 }
 
