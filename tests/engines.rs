@@ -422,39 +422,32 @@ fn a_compact_run_that_is_not_the_compact_drop_in_is_refused() {
         write("shipped.json", "shipped", Engine::Three),
         write("ours.json", "ours", Engine::Three),
     );
+    // judge the runs (shipped, ours, compact) of an engine against a results folder: the
+    // error's text
+    let judge = |engine: Engine, runs: [&Path; 3], table: &str, results: &Path| {
+        ndfbench::studies::engines::judge_files(
+            &scenes,
+            &EngineFiles {
+                engine,
+                shipped_run: runs[0],
+                ours_run: runs[1],
+                shipped_table: Path::new(table),
+                compact_run: Some(runs[2]),
+            },
+            results,
+        )
+        .unwrap_err()
+        .to_string()
+    };
     // our full table's run handed over as the compact drop-in's
-    let e = ndfbench::studies::engines::judge_files(
-        &scenes,
-        &EngineFiles {
-            engine: Engine::Three,
-            shipped_run: &a,
-            ours_run: &b,
-            shipped_table: Path::new(SHIPPED),
-            compact_run: Some(&b),
-        },
-        Path::new("results"),
-    )
-    .unwrap_err()
-    .to_string();
+    let e = judge(Engine::Three, [&a, &b, &b], SHIPPED, Path::new("results"));
     assert!(e.contains("compact drop-in") && e.contains("ours"), "{e}");
     // Bevy has no compact drop-in
     let (c, d) = (
         write("bevy.json", "bevy", Engine::Bevy),
         write("bevy-ours.json", "ours", Engine::Bevy),
     );
-    let e = ndfbench::studies::engines::judge_files(
-        &scenes,
-        &EngineFiles {
-            engine: Engine::Bevy,
-            shipped_run: &c,
-            ours_run: &d,
-            shipped_table: Path::new(BEVY_TABLE),
-            compact_run: Some(&d),
-        },
-        Path::new("results"),
-    )
-    .unwrap_err()
-    .to_string();
+    let e = judge(Engine::Bevy, [&c, &d, &d], BEVY_TABLE, Path::new("results"));
     assert!(e.contains("three.js only"), "{e}");
     // a compact run, but no compact series in the results folder given (our full table
     // is there)
@@ -463,19 +456,7 @@ fn a_compact_run_that_is_not_the_compact_drop_in_is_refused() {
     std::fs::copy("results/fits/ltc-ggx.json", empty.join("fits/ltc-ggx.json")).unwrap();
     let cr = write("compact.json", "compact", Engine::Three);
     if Path::new(SHIPPED).exists() {
-        let e = ndfbench::studies::engines::judge_files(
-            &scenes,
-            &EngineFiles {
-                engine: Engine::Three,
-                shipped_run: &a,
-                ours_run: &b,
-                shipped_table: Path::new(SHIPPED),
-                compact_run: Some(&cr),
-            },
-            &empty,
-        )
-        .unwrap_err()
-        .to_string();
+        let e = judge(Engine::Three, [&a, &b, &cr], SHIPPED, &empty);
         assert!(e.contains("ltc-compact"), "{e}");
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -210,6 +210,19 @@ fn bad_input_is_a_typed_error() {
         assert!(ltc_compact_series(b, &s, &[0.5, 0.5], &[0.5], &mut out).is_err());
         assert!(ltc_compact_lookup(b, &tab, &[0.5, 0.5], &[0.5, 0.5], &mut out[..11]).is_err());
     }
+    // a table whose planes are shorter than n² (its AVX2 form gathers by index)
+    let mut short = tab.clone();
+    short.planes[3].truncate(10);
+    for b in [Backend::Scalar, Backend::PerPixel, Backend::Avx2] {
+        if b.available() {
+            let e = ltc_compact_lookup(b, &short, &[0.5, 0.9], &[0.5, 0.9], &mut out).unwrap_err();
+            assert!(e.to_string().contains("planes"), "{e}");
+        }
+    }
+    // a binary16 table of another length than its cells
+    let mut odd = c.rebuild(8).unwrap();
+    odd.half = Some(vec![[half::f16::ZERO; 6]; 3]);
+    assert!(TableF32::of(&odd).is_err());
     // a table of side 1 has no spacing
     let mut one = c.rebuild(2).unwrap();
     one.n = 1;

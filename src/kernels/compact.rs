@@ -51,22 +51,41 @@ pub struct TableF32 {
 }
 
 impl TableF32 {
+    /// Side 2..=`MAX_SIDE` and every plane n² texels: what the lookup reads (its AVX2
+    /// form gathers by computed index, so a short plane must never reach it).
+    pub fn check(&self) -> Result<()> {
+        let n = self.n;
+        if !(2..=crate::ltc::table::MAX_SIDE).contains(&n)
+            || self.planes.iter().any(|p| p.len() != n * n)
+        {
+            return Err(Error::InvalidArgument(format!(
+                "lookup kernel: a table of side {n} with planes of {:?} texels (side 2..={}, n² each)",
+                self.planes.iter().map(Vec::len).collect::<Vec<_>>(),
+                crate::ltc::table::MAX_SIDE
+            )));
+        }
+        Ok(())
+    }
+
     /// The binary16 entries a table stores (every f16 file's texels), decoded to f32, as a
     /// sampler returns them. A typed error for a side below 2.
     pub fn of(t: &FittedTable) -> Result<TableF32> {
         let n = t.n;
-        if n < 2 || t.cells.len() != n * n {
+        let half = t.half.as_ref().map_or(n * n, Vec::len);
+        if n < 2 || t.cells.len() != n * n || half != n * n {
             return Err(Error::InvalidArgument(format!(
-                "lookup kernel: a table of side {n} with {} cells (side ≥ 2, n² cells)",
+                "lookup kernel: a table of side {n} with {} cells and {half} binary16 cells (side ≥ 2, n² each)",
                 t.cells.len()
             )));
         }
-        Ok(TableF32 {
+        let tab = TableF32 {
             n,
             planes: std::array::from_fn(|ch| {
                 (0..n * n).map(|k| t.half_cell(k)[ch].to_f32()).collect()
             }),
-        })
+        };
+        tab.check()?;
+        Ok(tab)
     }
 }
 
@@ -89,6 +108,30 @@ fn check_inputs(backend: Backend, r: &[f32], t: &[f32], out: &[f32]) -> Result<(
     Ok(())
 }
 
+/// The pixels from `start` on (those the AVX2 form left): `at`, or for the per-pixel
+/// backend its non-inlined twin `one`, written channel-major.
+fn finish(
+    backend: Backend,
+    r: &[f32],
+    t: &[f32],
+    out: &mut [f32],
+    start: usize,
+    at: impl Fn(f32, f32) -> [f32; 6],
+    one: impl Fn(f32, f32) -> [f32; 6],
+) {
+    let len = r.len();
+    for i in start..len {
+        let v = if backend == Backend::PerPixel {
+            one(r[i], t[i])
+        } else {
+            at(r[i], t[i])
+        };
+        for (ch, x) in v.into_iter().enumerate() {
+            out[ch * len + i] = x;
+        }
+    }
+}
+
 #[inline(never)]
 fn one_series(s: &CompactF32, r: f32, t: f32) -> [f32; 6] {
     s.series.eval_f32(&s.coeffs, r, t)
@@ -103,23 +146,21 @@ pub fn ltc_compact_series(
     out: &mut [f32],
 ) -> Result<()> {
     check_inputs(backend, r, t, out)?;
-    let len = r.len();
     let mut start = 0;
     #[cfg(target_arch = "x86_64")]
     if backend == Backend::Avx2 {
         // SAFETY: avx2 and fma were detected at run time in `check`.
         start = unsafe { simd::series(s, r, t, out) };
     }
-    for i in start..len {
-        let v = if backend == Backend::PerPixel {
-            one_series(s, r[i], t[i])
-        } else {
-            s.series.eval_f32(&s.coeffs, r[i], t[i])
-        };
-        for (ch, x) in v.into_iter().enumerate() {
-            out[ch * len + i] = x;
-        }
-    }
+    finish(
+        backend,
+        r,
+        t,
+        out,
+        start,
+        |a, b| s.series.eval_f32(&s.coeffs, a, b),
+        |a, b| one_series(s, a, b),
+    );
     Ok(())
 }
 
@@ -156,23 +197,23 @@ pub fn ltc_compact_lookup(
     out: &mut [f32],
 ) -> Result<()> {
     check_inputs(backend, r, t, out)?;
-    let len = r.len();
+    tab.check()?;
     let mut start = 0;
     #[cfg(target_arch = "x86_64")]
     if backend == Backend::Avx2 {
-        // SAFETY: avx2 and fma were detected at run time in `check`.
+        // SAFETY: avx2 and fma were detected at run time in `check`; `tab.check` holds
+        // every plane to n² texels, so every gathered index (< n² − 1) is in bounds.
         start = unsafe { simd::lookup(tab, r, t, out) };
     }
-    for i in start..len {
-        let v = if backend == Backend::PerPixel {
-            one_lookup(tab, r[i], t[i])
-        } else {
-            lookup_at(tab, r[i], t[i])
-        };
-        for (ch, x) in v.into_iter().enumerate() {
-            out[ch * len + i] = x;
-        }
-    }
+    finish(
+        backend,
+        r,
+        t,
+        out,
+        start,
+        |a, b| lookup_at(tab, a, b),
+        |a, b| one_lookup(tab, a, b),
+    );
     Ok(())
 }
 

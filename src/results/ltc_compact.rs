@@ -123,6 +123,21 @@ pub struct CompactForm {
     pub lobe_fit: Option<crate::ltc::compact_fit::Trace>,
 }
 
+/// The form a family's `series` holds: the chosen one, else the lowest rebuilt mean at
+/// the cells (ties to the first).
+pub fn series_form(forms: &[CompactForm], chosen: Option<usize>) -> Option<usize> {
+    chosen.or_else(|| {
+        (0..forms.len()).min_by(|&a, &b| {
+            forms[a]
+                .rebuilt
+                .cells
+                .mean
+                .value
+                .total_cmp(&forms[b].rebuilt.cells.mean.value)
+        })
+    })
+}
+
 /// The GGX family's series of results/fits/ltc-compact.json and its table side, or `None`
 /// when the on-request study has not written that file (then there is no compact table to
 /// generate code from or to judge). A series that fails its check, or a side outside

@@ -281,8 +281,13 @@ pub const COMPACT: &str = "compact";
 /// RectAreaLightTexturesLib.compact.js): texel (i, j) is the series' f32 evaluation at
 /// (i, j)/(n − 1), the same f32 operations as its ES module's `rebuild` (tests/
 /// codegen_compact.rs holds them equal bit for bit), for the float path, and its nearest
-/// binary16 for the half path.
-pub fn compact_held(c: &Compact, n: usize) -> (Held, Held) {
+/// binary16 for the half path. A side below 2 (no texel spacing) is a typed error.
+pub fn compact_held(c: &Compact, n: usize) -> Result<(Held, Held)> {
+    if n < 2 {
+        return Err(Error::InvalidArgument(format!(
+            "engines: a compact table of side {n} (at least 2)"
+        )));
+    }
     let k = c.coeffs_f32();
     let at = |q: usize| {
         let v = c.eval_f32(
@@ -297,10 +302,10 @@ pub fn compact_held(c: &Compact, n: usize) -> (Held, Held) {
         n,
         cells: f32s.iter().map(|e| e.map(g)).collect(),
     };
-    (
+    Ok((
         held(&|x| x as f64),
         held(&|x| half::f16::from_f32(x).to_f64()),
-    )
+    ))
 }
 
 /// What three.js's paths hold: its f32 numbers and its truncated halves for the shipped
@@ -310,7 +315,7 @@ pub fn three_held(
     shipped: &Shipped,
     ours: &crate::ltc::table::FittedTable,
     compact: Option<(&Compact, usize)>,
-) -> Vec<(&'static str, &'static str, Held)> {
+) -> Result<Vec<(&'static str, &'static str, Held)>> {
     use crate::ltc::upload::{f32_table, three_half_table};
     let o = crate::ltc::compare::of_table(ours);
     let (sf, sh) = (
@@ -333,7 +338,7 @@ pub fn three_held(
         ("ours", "webgpu-half", oh),
     ];
     if let Some((c, n)) = compact {
-        let (cf, ch) = compact_held(c, n);
+        let (cf, ch) = compact_held(c, n)?;
         v.extend([
             (COMPACT, "float", cf.clone()),
             (COMPACT, "half", ch.clone()),
@@ -341,7 +346,7 @@ pub fn three_held(
             (COMPACT, "webgpu-half", ch),
         ]);
     }
-    v
+    Ok(v)
 }
 
 /// What Bevy's path holds: the binary16 texels of the KTX2 it was given (its embedded

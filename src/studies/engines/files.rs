@@ -93,7 +93,7 @@ pub fn judge_files(
                 ),
                 None => None,
             };
-            three_held(&shipped, &ours, compact.as_ref().map(|(c, n)| (c, *n)))
+            three_held(&shipped, &ours, compact.as_ref().map(|(c, n)| (c, *n)))?
         }
         Engine::Bevy => {
             let shipped = crate::ltc::upload::bevy_ktx2(&read_capped(f.shipped_table)?)?;

@@ -291,22 +291,9 @@ fn family<T: LtcTarget>(
         .collect();
     let full_j = split(0);
     let chosen = choose(&out_forms, &full_j, pl);
-    let series = match chosen {
-        Some(k) => forms[k].1.clone(),
-        None => {
-            let best = (0..forms.len())
-                .min_by(|&a, &b| {
-                    out_forms[a]
-                        .rebuilt
-                        .cells
-                        .mean
-                        .value
-                        .total_cmp(&out_forms[b].rebuilt.cells.mean.value)
-                })
-                .unwrap_or(0);
-            forms[best].1.clone()
-        }
-    };
+    let series = forms[crate::results::ltc_compact::series_form(&out_forms, chosen).unwrap_or(0)]
+        .1
+        .clone();
     Ok(CompactFamily {
         table: s.table.into(),
         n,

@@ -22,7 +22,12 @@ fn rows(results: &std::path::Path, table: &str) -> Result<Option<Rows>> {
     if table != crate::results::names::LTC_GGX {
         return Ok(None);
     }
-    let g: crate::results::ltc::Ggx = crate::results::require_named(results, table)?;
+    // the polygon rows alone (the file's tables are read by `family` already)
+    #[derive(serde::Deserialize)]
+    struct P {
+        polygons: Vec<crate::results::ltc::PolygonRow>,
+    }
+    let g: P = crate::results::require_named(results, table)?;
     let mut out = Vec::new();
     for r in g.polygons {
         let Some((_, light)) = check_lights(r.theta)

@@ -7,7 +7,7 @@
 use super::criterion::{fmt_time, Timed};
 use crate::error::Result;
 use crate::report::table::Table;
-use crate::results::ltc_compact::{CompactFamily, Judged, LtcCompact};
+use crate::results::ltc_compact::{Judged, LtcCompact};
 use std::path::Path;
 
 /// Instructions one pixel's lookup executes: `ndfb_ltc_lut_matrix` and
@@ -49,21 +49,6 @@ fn per_pixel(timed: &[Timed], function: &str, backend: &str) -> Option<f64> {
 
 fn pct(j: &Judged) -> String {
     format!("{} / {}", j.cells.mean.pct(2), j.squares.mean.pct(2))
-}
-
-/// The form results/fits/ltc-compact.json's `series` holds: the chosen one, else the
-/// lowest rebuilt mean at the cells (as the study picks it).
-fn stored(f: &CompactFamily) -> Option<usize> {
-    f.chosen.or_else(|| {
-        (0..f.forms.len()).min_by(|&a, &b| {
-            f.forms[a]
-                .rebuilt
-                .cells
-                .mean
-                .value
-                .total_cmp(&f.forms[b].rebuilt.cells.mean.value)
-        })
-    })
 }
 
 /// The section of results/performance.md and its plot (results/ltc-compact-cost.svg), or
@@ -111,7 +96,7 @@ pub(super) fn ltc_compact_table(
             pct(&f.full),
         ]);
         let mut lookup_pts = vec![(lookup as f64, 100.0 * f.full.cells.mean.value)];
-        if let Some(k) = stored(f) {
+        if let Some(k) = crate::results::ltc_compact::series_form(&f.forms, f.chosen) {
             let s = &f.forms[k];
             table.row([
                 f.table.clone(),
