@@ -608,11 +608,101 @@ fn ltc(c: &mut Criterion) {
     g.finish();
 }
 
+/// Seed 002 §5.5: one NDF value at one h of a footprint on the Wang-tiled map (the
+/// tensor-wang study's default tiles, level 0, per-tile CPs at rank 8): the colour hash
+/// and one point query per covered tile, for footprints inside 1, across 2 and across 4
+/// tiles; against Eq 2 summed over the window's texels of the explicit map.
+fn tensor_wang(c: &mut Criterion) {
+    use ndfbench::filters::footprint::{NormalMap, Procedural};
+    use ndfbench::tensor::cp::AlsOptions;
+    use ndfbench::tensor::pndf::sigma_p;
+    use ndfbench::tensor::wang::{
+        explicit, Colouring, CompressedTiles, Level, TileImages, TileSet,
+    };
+    let (side, res, sr) = (32usize, 32usize, 0.02);
+    let level = Level {
+        stride: 4,
+        sigma_p: sigma_p(4, 0),
+    };
+    let built = NormalMap::procedural(Procedural::IsotropicNoise, 128, 13).and_then(|ex| {
+        let set = TileSet::build(&ex, side, 8, 13)?;
+        let images = TileImages::build(&set, &[level], res, sr)?;
+        let opts = AlsOptions {
+            rank: 8,
+            tol: 1e-4,
+            max_iters: 200,
+            restarts: 2,
+            seed: 13,
+            nonnegative: false,
+        };
+        let tiles = CompressedTiles::compress(&images, side.min(16), &opts)?;
+        Ok((set, images, tiles))
+    });
+    let Ok((set, images, tiles)) = built else {
+        eprintln!("tensor-wang: skipped (the tiles failed to build)");
+        return;
+    };
+    let colouring = Colouring { seed: 13 };
+    let hs: Vec<(f64, f64)> = (0..64)
+        .map(|k| {
+            (
+                -0.3 + 0.6 * (k % 8) as f64 / 7.0,
+                -0.3 + 0.6 * (k / 8) as f64 / 7.0,
+            )
+        })
+        .collect();
+    let mut g = c.benchmark_group("tensor-wang");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    for (covered, centre) in [(1usize, (14i64, 14i64)), (2, (30, 14)), (4, (30, 30))] {
+        let mut k = 0usize;
+        g.bench_with_input(
+            BenchmarkId::new("tiles-rank8", covered),
+            &covered,
+            |b, _| {
+                b.iter(|| {
+                    k = (k + 1) & 63;
+                    let cells = images.cover(0, black_box(centre)).unwrap_or_default();
+                    tiles.d(&colouring, 0, &cells, hs[k].0, hs[k].1)
+                })
+            },
+        );
+    }
+    // Eq 2 at one h over the window's texels of the explicit map (same footprint, 4 tiles)
+    let Ok(map) = explicit(&set, &colouring, (0, 0), (2, 2)) else {
+        return;
+    };
+    let (sp, reach) = (level.sigma_p, (4.0 * level.sigma_p).ceil() as i64);
+    let mut k = 0usize;
+    g.bench_with_input(BenchmarkId::new("explicit-brute-force", 4), &4, |b, _| {
+        b.iter(|| {
+            k = (k + 1) & 63;
+            let (hx, hy) = hs[k];
+            let (cx, cy) = black_box((30i64, 30i64));
+            let (mut num, mut wsum) = (0.0, 0.0);
+            for y in cy - reach..=cy + reach {
+                for x in cx - reach..=cx + reach {
+                    let (ux, uy) = (x as f64 + 0.5 - cx as f64, y as f64 + 0.5 - cy as f64);
+                    let gp = (-(ux * ux + uy * uy) / (2.0 * sp * sp)).exp();
+                    let n = map.normals[y as usize * map.width + x as usize];
+                    let e = ((n.x - hx).powi(2) + (n.y - hy).powi(2)) / (2.0 * sr * sr);
+                    num += gp * (-e).exp();
+                    wsum += gp;
+                }
+            }
+            num / (wsum * 2.0 * std::f64::consts::PI * sr * sr)
+        })
+    });
+    g.finish();
+}
+
 criterion_group!(
     benches,
     ltc,
     tensor,
     tensor_brdf,
+    tensor_wang,
     kernels,
     filters,
     engines,

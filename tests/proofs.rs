@@ -179,6 +179,15 @@ fn wave_parseval() {
     check("wave-parseval");
 }
 #[test]
+fn wang_implicit_explicit() {
+    check("wang-implicit-explicit");
+}
+#[test]
+fn wang_constant_storage() {
+    let o = check("wang-constant-storage");
+    assert!(o.notes.iter().any(|n| n.contains("χ²")));
+}
+#[test]
 fn wave_geometric_limit() {
     check("wave-geometric-limit");
 }

@@ -27,7 +27,7 @@ pub struct NormalMap {
 }
 
 /// The procedural generators.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Procedural {
     /// Sum of random cosine waves, isotropic spectrum (slope rms ≈ 0.25).

@@ -20,6 +20,7 @@ pub mod ltc_compact;
 pub mod render;
 pub mod smith_lambda;
 pub mod tensor;
+pub mod wang;
 
 /// The type of one results/fits file. `NAME` is its spec's name (the file's stem);
 /// the spec it embeds must carry that name, so another study's file is refused.
@@ -138,6 +139,7 @@ pub mod names {
     pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
     pub const SMITH_LAMBDA: &str = "smith-lambda";
     pub const TENSOR: &str = "tensor";
+    pub const TENSOR_WANG: &str = "tensor-wang";
     pub const TENSOR_WAVE: &str = "tensor-wave";
 }
 

@@ -25,6 +25,7 @@ mod run;
 pub mod smith_lambda;
 pub mod tensor;
 pub mod tensor_scale;
+pub mod tensor_wang;
 pub mod tensor_wave;
 pub mod visibility;
 

@@ -12,4 +12,5 @@ pub mod pndf;
 pub mod query;
 pub mod sample;
 pub mod scale;
+pub mod wang;
 pub mod wave;

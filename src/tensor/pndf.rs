@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::filters::footprint::NormalMap;
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 /// The footprint's texels within 4σ_P of (cx, cy) (periodic map) as (n_x, n_y, weight)
@@ -18,13 +19,38 @@ fn footprint_texels(
     sigma_r: f64,
     res: usize,
 ) -> Result<(Vec<(f64, f64, f64)>, f64)> {
-    if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2) {
+    let (w, h) = (map.width as i64, map.height as i64);
+    window_texels(
+        &|px, py| Some(map.normals[(py.rem_euclid(h) * w + px.rem_euclid(w)) as usize]),
+        cx,
+        cy,
+        sigma_p,
+        sigma_r,
+        res,
+    )
+}
+
+/// A normal per texel (x, y) of the plane, or `None` for a texel the sum leaves out (it
+/// still counts in the footprint's weight).
+pub type Lookup<'a> = &'a dyn Fn(i64, i64) -> Option<Vector3<f64>>;
+
+/// [`footprint_texels`] over any texel lookup: the window, the cut-off and the scan order
+/// are the same, so a map split into pieces ([`pndf_partial_separable`]) gives the whole
+/// map's weight sum bit for bit and its texels piece by piece.
+fn window_texels(
+    lookup: Lookup,
+    cx: f64,
+    cy: f64,
+    sigma_p: f64,
+    sigma_r: f64,
+    res: usize,
+) -> Result<(Vec<(f64, f64, f64)>, f64)> {
+    if !(sigma_p > 0.0 && sigma_r > 0.0 && res >= 2 && cx.is_finite() && cy.is_finite()) {
         return Err(Error::InvalidArgument(format!(
-            "P-NDF needs σ_P > 0, σ_r > 0 and res ≥ 2 (got {sigma_p:e}, {sigma_r:e}, {res})"
+            "P-NDF needs σ_P > 0, σ_r > 0, res ≥ 2 and a finite centre (got {sigma_p:e}, {sigma_r:e}, {res}, ({cx:e}, {cy:e}))"
         )));
     }
     let rad = (4.0 * sigma_p).ceil() as i64;
-    let (w, h) = (map.width as i64, map.height as i64);
     let mut texels = Vec::new();
     let mut wsum = 0.0;
     for dy in -rad..=rad {
@@ -35,12 +61,19 @@ fn footprint_texels(
             if g < 1e-12 {
                 continue;
             }
-            let n = map.normals[(py.rem_euclid(h) * w + px.rem_euclid(w)) as usize];
-            texels.push((n.x, n.y, g));
             wsum += g;
+            if let Some(n) = lookup(px, py) {
+                texels.push((n.x, n.y, g));
+            }
         }
     }
     Ok((texels, wsum))
+}
+
+/// The window's reach in texels: a footprint of σ_P centred at c reads the texels
+/// ⌊c⌋ − reach ..= ⌊c⌋ + reach on each axis.
+pub fn window_reach(sigma_p: f64) -> i64 {
+    (4.0 * sigma_p).ceil() as i64
 }
 
 /// One footprint's NDF image, row-major, values per unit projected area.
@@ -94,7 +127,10 @@ struct Splat {
 
 impl Splat {
     fn new(map: &NormalMap, cx: f64, cy: f64, sp: f64, sr: f64, res: usize) -> Result<Splat> {
-        let (texels, wsum) = footprint_texels(map, cx, cy, sp, sr, res)?;
+        Splat::of(footprint_texels(map, cx, cy, sp, sr, res)?, sr, res)
+    }
+
+    fn of((texels, wsum): (Vec<(f64, f64, f64)>, f64), sr: f64, res: usize) -> Result<Splat> {
         let cell = 2.0 / res as f64;
         Ok(Splat {
             texels,
@@ -160,13 +196,41 @@ pub fn pndf_image_separable(
     sigma_r: f64,
     res: usize,
 ) -> Result<Vec<f64>> {
+    Ok(separable(
+        Splat::new(map, cx, cy, sigma_p, sigma_r, res)?,
+        sigma_r,
+        res,
+    ))
+}
+
+/// The separable splat of one piece of the plane: the texels `lookup` returns, weighted
+/// by the whole footprint's weight sum (texels it leaves out count in that sum). Pieces
+/// that partition the plane add up to [`pndf_image`] of the whole up to rounding (seed
+/// 002 §5.5: a footprint that crosses Wang tiles is the sum of the tiles' images).
+pub fn pndf_partial_separable(
+    lookup: Lookup,
+    cx: f64,
+    cy: f64,
+    sigma_p: f64,
+    sigma_r: f64,
+    res: usize,
+) -> Result<Vec<f64>> {
+    let s = Splat::of(
+        window_texels(lookup, cx, cy, sigma_p, sigma_r, res)?,
+        sigma_r,
+        res,
+    )?;
+    Ok(separable(s, sigma_r, res))
+}
+
+fn separable(s: Splat, sigma_r: f64, res: usize) -> Vec<f64> {
     let Splat {
         texels,
         wsum,
         cell,
         reach,
         norm_r,
-    } = Splat::new(map, cx, cy, sigma_p, sigma_r, res)?;
+    } = s;
     let inv = 1.0 / (2.0 * sigma_r * sigma_r);
     let mut img = vec![0.0; res * res];
     let span = (2 * reach + 1) as usize;
@@ -202,5 +266,5 @@ pub fn pndf_image_separable(
     }
     let k = norm_r / wsum;
     img.iter_mut().for_each(|v| *v *= k);
-    Ok(img)
+    img
 }

@@ -16,6 +16,7 @@ pub mod survey;
 pub mod tensor;
 pub mod tokuyoshi;
 pub mod visibility;
+pub mod wang;
 pub mod wave;
 
 pub use outcome::{Outcome, Worst};
@@ -120,6 +121,14 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "wave-geometric-limit",
             run: wave::geometric_limit,
+        },
+        Check {
+            id: "wang-implicit-explicit",
+            run: wang::implicit_explicit,
+        },
+        Check {
+            id: "wang-constant-storage",
+            run: wang::constant_storage,
         },
         Check {
             id: "gaussian-moment-matching",

@@ -24,7 +24,7 @@ pub use main_job::{
 };
 use tables::{
     alpha_me_table, filters_table, kernels_table, leadr_table, ltc_table, smith_lambda_table,
-    tensor_table,
+    tensor_table, wang_table,
 };
 
 /// results/performance.md (and costs.json, the plots) into `set`.
@@ -106,6 +106,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&filters_table(&timed, results)?);
     md.push_str(&kernels_table(set, &timed, results)?);
     md.push_str(&tensor_table(&timed));
+    md.push_str(&wang_table(&timed));
     md.push_str(&crate::report::table3::markdown(
         &|key| {
             timed

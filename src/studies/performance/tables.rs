@@ -1,7 +1,7 @@
 //! The per-topic tables of results/performance.md: each study's cost (criterion) next to
 //! the error it buys (its results/fits JSON).
 
-use super::criterion::{fmt_ratio, Timed};
+use super::criterion::{fmt_ratio, interval, Timed};
 use crate::error::Result;
 use crate::report::table::Table;
 use std::path::Path;
@@ -185,6 +185,22 @@ pub(super) fn tensor_table(timed: &[Timed]) -> String {
     if let Some(s) = rows.iter().find(|t| t.group == "tensor-sample") {
         md.push_str(&format!("One hierarchical importance sample (16 × 16 block, R = 16: 4 levels × 4 range queries + tent): {:.0} ns.\n", s.mean_ns));
     }
+    md
+}
+
+/// Seed 002 §5.5: one NDF value of a footprint on the Wang-tiled map against Eq 2 over the
+/// explicit map's window (bench `tensor-wang`).
+pub(super) fn wang_table(timed: &[Timed]) -> String {
+    let rows: Vec<&Timed> = timed.iter().filter(|t| t.group == "tensor-wang").collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from("\n## Wang tiles: one NDF value per footprint\n\nThe tensor-wang study's tiles (32², level 0: stride 4, σ_P = 1.73 texels, 32² images), one value at one h: the colour hash and one rank-8 point query (Eq 6) per covered tile, against Eq 2 summed over the window's 15² texels of the explicit map (results/tensor-wang.md has the errors).\n\n");
+    let mut table = Table::new(["query", "tiles covered", "time (95 % CI)"]);
+    for t in rows {
+        table.row([t.function.clone(), t.param.clone(), interval(t)]);
+    }
+    md.push_str(&table.to_string());
     md
 }
 
