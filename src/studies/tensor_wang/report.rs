@@ -1,6 +1,6 @@
 //! results/tensor-wang.md: formats what [`super::compute`] measured.
 
-use super::Computed;
+use super::compute::Computed;
 use crate::report::table::Table;
 use crate::tensor::wang::seams::PairMean;
 use crate::tensor::wang::TILES;
