@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 pub mod alpha_me;
 pub mod compare;
 pub mod costs;
+pub mod envsg;
 pub mod filters;
 pub mod index;
 pub mod leadr_grids;
@@ -139,6 +140,7 @@ pub mod names {
     pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
     pub const SMITH_LAMBDA: &str = "smith-lambda";
     pub const TENSOR: &str = "tensor";
+    pub const TENSOR_ENVSG: &str = "tensor-envsg";
     pub const TENSOR_WANG: &str = "tensor-wang";
     pub const TENSOR_WAVE: &str = "tensor-wave";
 }

@@ -24,6 +24,7 @@ pub mod render;
 mod run;
 pub mod smith_lambda;
 pub mod tensor;
+pub mod tensor_envsg;
 pub mod tensor_scale;
 pub mod tensor_wang;
 pub mod tensor_wave;

@@ -8,7 +8,7 @@ use crate::study::Study;
 use super::{
     filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobes,
     ltc_optimisers, multiscale_alpha_me, multiscale_convolution, render, smith_lambda, tensor,
-    tensor_scale, tensor_wang, tensor_wave, visibility,
+    tensor_envsg, tensor_scale, tensor_wang, tensor_wave, visibility,
 };
 
 /// Every study, as data.
@@ -21,6 +21,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &multiscale_convolution::MultiscaleConvolution,
     &smith_lambda::SmithLambda,
     &tensor::Tensor,
+    &tensor_envsg::TensorEnvSg,
     &tensor_scale::TensorScale,
     &tensor_wang::TensorWang,
     &tensor_wave::TensorWave,

@@ -355,6 +355,34 @@ impl CompressedNdf {
         }
     }
 
+    /// The mean of `image`'s reconstruction over the pixel box [x0, x1] × [y0, y1]
+    /// (inclusive, clipped to the image): one range query (Eq 7) per block it overlaps,
+    /// all-zero blocks adding 0 — the box average of seed 002 §5.4's prefiltered query.
+    /// `None` for an image out of range or a box that misses the image.
+    pub fn box_mean(&self, image: usize, x: (i64, i64), y: (i64, i64)) -> Option<f64> {
+        let n = self.res as i64 - 1;
+        let (x0, x1, y0, y1) = (x.0.max(0), x.1.min(n), y.0.max(0), y.1.min(n));
+        let slots = self.slots.get(image)?;
+        if x0 > x1 || y0 > y1 {
+            return None;
+        }
+        let t = self.t as i64;
+        let mut sum = 0.0;
+        for by in y0 / t..=y1 / t {
+            for bx in x0 / t..=x1 / t {
+                let Some(z) = slots[(by * self.nb as i64 + bx) as usize] else {
+                    continue;
+                };
+                let (a0, a1) = ((x0 - bx * t).max(0), (x1 - bx * t).min(t - 1));
+                let (b0, b1) = ((y0 - by * t).max(0), (y1 - by * t).min(t - 1));
+                let count = ((a1 - a0 + 1) * (b1 - b0 + 1)) as f64;
+                let r = (a0 as usize, a1 as usize);
+                sum += count * self.rows.range(r, (b0 as usize, b1 as usize), z);
+            }
+        }
+        Some((sum / ((x1 - x0 + 1) * (y1 - y0 + 1)) as f64).max(0.0))
+    }
+
     /// Σ of the reconstruction over each block of `image` (0 for an all-zero one), one
     /// whole-block range query each (Eq 7), written into `out` (one per block); `false`
     /// for an image index out of range.

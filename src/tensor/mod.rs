@@ -7,6 +7,7 @@ pub mod brdf;
 pub mod cluster;
 pub mod compare;
 pub mod cp;
+pub mod envsg;
 mod mttkrp;
 pub mod pndf;
 pub mod query;

@@ -1,0 +1,72 @@
+//! results/fits/tensor-envsg.json: seed 002 §5.4's environment lighting by spherical
+//! Gaussians — the SG fit of an environment, and the prefiltered NDF query (Eq 8–9)
+//! against point sampling and the quadrature truth.
+
+use crate::fit::spec::FitSpec;
+use crate::integrate::{Figure, Quad};
+use crate::tensor::envsg::Sg;
+use serde::{Deserialize, Serialize};
+
+/// The SG fit of the procedural environment: its lobes and ‖env − SGs‖/‖env‖ with the
+/// environment sampled at two resolutions (w × h and 2w × 2h).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SgFit {
+    pub lobes: Vec<Sg>,
+    pub rel_error: [f64; 2],
+    pub resolutions: [(usize, usize); 2],
+}
+
+/// One (ε, scale) of the prefiltered estimator on one case. Relative figures are over
+/// the case's reference I.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Row {
+    pub eps: f64,
+    pub scale: f64,
+    /// Smallest and largest query side over the lighting's lobes (pixels).
+    pub q: (usize, usize),
+    /// (mean − I)/I ± s.e. (the reference's quadrature bar is far below it).
+    pub bias: Figure,
+    /// Var(point) / Var(prefiltered), ± its delta-method error (independent samples).
+    pub var_ratio: Figure,
+    /// Unbiased relative MSE of a 16-sample pixel: ((mean − I)² − s.e.² + Var/16)/I².
+    pub mse16: Figure,
+}
+
+/// One footprint under one lighting.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Case {
+    pub footprint: String,
+    pub lighting: String,
+    /// I by the midpoint rule at 16² points per pixel, ± its distance to 8² points.
+    pub reference: Figure<Quad>,
+    /// The point-query estimator: (mean − I)/I ± s.e. and its relative MSE at 16 samples.
+    pub point_bias: Figure,
+    pub point_mse16: Figure,
+    pub rows: Vec<Row>,
+}
+
+/// The mean over every case of one (ε, scale)'s relative MSE at 16 samples.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Trade {
+    pub eps: f64,
+    pub scale: f64,
+    pub mse16: Figure,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct EnvSg {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub fit: SgFit,
+    /// The CP's relative error on the footprints' images (what every estimator reads).
+    pub cp_rel_error: f64,
+    pub samples: usize,
+    pub cases: Vec<Case>,
+    pub point_mse16: Figure,
+    pub trade: Vec<Trade>,
+}
+
+impl super::ResultFile for EnvSg {
+    const NAME: &'static str = super::names::TENSOR_ENVSG;
+}

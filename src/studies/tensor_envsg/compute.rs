@@ -1,0 +1,279 @@
+//! The tensor-envsg study's computation: the SG fit of a procedural environment, two
+//! footprints' compressed NDF images, and per (footprint, lighting) the quadrature truth,
+//! the point-query estimator and the prefiltered one over the (ε, scale) grid.
+
+use crate::error::{Error, Result};
+use crate::filters::footprint::{NormalMap, Procedural};
+use crate::fit::spec::FitSpec;
+use crate::integrate::{Figure, Preset, Quad};
+use crate::results::envsg::{Case, EnvSg, Row, SgFit, Trade};
+use crate::study::Ctx;
+use crate::tensor::brdf::CompressedNdf;
+use crate::tensor::cluster::stack_blocks;
+use crate::tensor::cp::AlsOptions;
+use crate::tensor::envsg::{fit, query_side, Env, Read, Sg, SgEnv, Shading};
+use crate::tensor::pndf::{pndf_image, sigma_p};
+use nalgebra::Vector3;
+use rand::{Rng, SeedableRng};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// What fits/tensor-envsg.toml sets.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Params {
+    /// The glinty map, its side, the footprint stride and the levels shown (σ_P =
+    /// 1.5·stride·2^level/√12), the images' side and σ_r, the CP's block and rank.
+    pub map: Procedural,
+    pub map_size: usize,
+    pub stride: usize,
+    pub levels: Vec<usize>,
+    pub res: usize,
+    pub sigma_r: f64,
+    pub t: usize,
+    pub rank: usize,
+    /// The view's angle from the normal (degrees).
+    pub view_deg: f64,
+    /// Single-SG lightings (amplitude 1, on the mirror direction): their bandwidths.
+    pub lambdas: Vec<f64>,
+    /// The environment (equirectangular, w × h, a sun of this radiance) and its fit.
+    pub env_size: (usize, usize),
+    pub sun: f64,
+    pub lobes: usize,
+    pub axes: usize,
+    pub fit_lambdas: Vec<f64>,
+    /// The prefilter grid: ε of Eq 8 and the scale of Eq 9's side.
+    pub eps: Vec<f64>,
+    pub scales: Vec<f64>,
+    /// Samples per estimator per case.
+    pub samples: usize,
+}
+
+impl crate::fit::spec::Params for Params {
+    fn check(&self) -> std::result::Result<(), String> {
+        use crate::fit::spec::{all_within, power_of_two, within};
+        power_of_two("map_size", self.map_size, 16, 1024)?;
+        within("stride", self.stride, 1, self.map_size / 2)?;
+        all_within("levels", &self.levels, 0, 8, 4)?;
+        crate::tensor::cluster::check_blocks(self.t, self.res, &[self.rank], self.sigma_r)?;
+        power_of_two("t", self.t, 2, 64)?;
+        within("view_deg", self.view_deg, 0.0, 89.0)?;
+        all_within("lambdas", &self.lambdas, 0.1, 1e5, 8)?;
+        within("env_size.0", self.env_size.0, 8, 1024)?;
+        within("env_size.1", self.env_size.1, 4, 512)?;
+        within("sun", self.sun, 0.0, 1e6)?;
+        within("lobes", self.lobes, 1, 16)?;
+        within("axes", self.axes, 4, 512)?;
+        all_within("fit_lambdas", &self.fit_lambdas, 0.1, 1e5, 8)?;
+        all_within("eps", &self.eps, 1e-6, 0.99, 8)?;
+        all_within("scales", &self.scales, 0.01, 8.0, 8)?;
+        within("samples", self.samples, 64, 1 << 22)
+    }
+}
+
+/// Everything the study computed; the report formats it.
+pub struct Computed {
+    pub spec: FitSpec,
+    pub preset: Preset,
+    pub p: Params,
+    pub result: EnvSg,
+}
+
+/// Mean, unbiased variance and their standard errors of `f` over `n` draws of `rng`.
+fn moments(
+    n: usize,
+    seed: u64,
+    mut f: impl FnMut([f64; 3]) -> Result<f64>,
+) -> Result<(Figure, Figure)> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let v: Vec<f64> = (0..n).map(|_| f(rng.random())).collect::<Result<_>>()?;
+    let nf = n as f64;
+    let m = v.iter().sum::<f64>() / nf;
+    let m2 = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / nf;
+    let m4 = v.iter().map(|x| (x - m).powi(4)).sum::<f64>() / nf;
+    let var = m2 * nf / (nf - 1.0);
+    // the sample variance's standard error (its fourth-moment form)
+    let se_var = ((m4 - m2 * m2 * (nf - 3.0) / (nf - 1.0)).max(0.0) / nf).sqrt();
+    Ok((Figure::new(m, (var / nf).sqrt()), Figure::new(var, se_var)))
+}
+
+/// The relative bias and the unbiased relative MSE of a 16-sample pixel, from a mean and
+/// variance against the truth `i`.
+fn judged(mean: Figure, var: Figure, i: f64) -> (Figure, Figure) {
+    let b = mean.value - i;
+    let mse = (b * b - mean.error * mean.error + var.value / 16.0) / (i * i);
+    let err = ((2.0 * b * mean.error).powi(2) + (var.error / 16.0).powi(2)).sqrt() / (i * i);
+    (Figure::new(b / i, mean.error / i), Figure::new(mse, err))
+}
+
+fn case(
+    p: &Params,
+    ndf: &CompressedNdf,
+    image: usize,
+    env: &SgEnv,
+    names: (String, String),
+    seed: u64,
+) -> Result<Case> {
+    let v = p.view_deg.to_radians();
+    let sh = Shading {
+        ndf,
+        image,
+        o: Vector3::new(v.sin(), 0.0, v.cos()),
+    };
+    let (r4, r8) = (sh.reference(env, 8), sh.reference(env, 16));
+    if !(r8 > 0.0) {
+        return Err(Error::InvalidArgument(format!(
+            "tensor-envsg: {} under {} reflects no light",
+            names.0, names.1
+        )));
+    }
+    let reference = Figure::<Quad>::new(r8, (r8 - r4).abs());
+    let (pm, pv) = moments(p.samples, seed, |u| sh.sample(env, Read::Point, u))?;
+    let (point_bias, point_mse16) = judged(pm, pv, r8);
+    let mut rows = Vec::new();
+    for (a, &eps) in p.eps.iter().enumerate() {
+        for (b, &scale) in p.scales.iter().enumerate() {
+            let s = seed + 1 + (a * p.scales.len() + b) as u64;
+            let (m, var) = moments(p.samples, s, |u| {
+                sh.sample(env, Read::Prefiltered { eps, scale }, u)
+            })?;
+            let (bias, mse16) = judged(m, var, r8);
+            let r = pv.value / var.value;
+            let sides: Vec<usize> = env
+                .lobes
+                .iter()
+                .map(|g| query_side(g.support(eps), p.res, scale))
+                .collect();
+            rows.push(Row {
+                eps,
+                scale,
+                q: (
+                    sides.iter().copied().min().unwrap_or(1),
+                    sides.iter().copied().max().unwrap_or(1),
+                ),
+                bias,
+                var_ratio: Figure::new(
+                    r,
+                    r * ((pv.error / pv.value).powi(2) + (var.error / var.value).powi(2)).sqrt(),
+                ),
+                mse16,
+            });
+        }
+    }
+    Ok(Case {
+        footprint: names.0,
+        lighting: names.1,
+        reference,
+        point_bias,
+        point_mse16,
+        rows,
+    })
+}
+
+pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
+    let p: Params = c.params()?;
+    let seed = c.spec.seed;
+    // the environment and its SG fit, its error at two samplings of the environment
+    let (w, h) = p.env_size;
+    let env = Env::procedural(w, h, p.sun)?;
+    let sgs = fit(&env, p.lobes, p.axes, &p.fit_lambdas)?;
+    let fine = Env::procedural(2 * w, 2 * h, p.sun)?;
+    let fitted = SgFit {
+        lobes: sgs.lobes.clone(),
+        rel_error: [env.rel_error(&sgs), fine.rel_error(&sgs)],
+        resolutions: [(w, h), (2 * w, 2 * h)],
+    };
+    crate::progress::stamp("tensor-envsg: environment fitted; footprints next");
+    // the footprints' images, compressed together
+    let map = NormalMap::procedural(p.map, p.map_size, seed)?;
+    let centre = (p.map_size / 2) as f64;
+    let images: Vec<Vec<f64>> = p
+        .levels
+        .iter()
+        .map(|&l| pndf_image(&map, centre, centre, sigma_p(p.stride, l), p.sigma_r, p.res))
+        .collect::<Result<_>>()?;
+    let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
+    let stack = stack_blocks(&refs, p.res, p.t)?.ok_or_else(|| {
+        Error::InvalidArgument("tensor-envsg: every footprint image is zero".into())
+    })?;
+    let ndf = CompressedNdf::compress(
+        &stack,
+        p.res,
+        &AlsOptions {
+            rank: p.rank,
+            tol: 1e-6,
+            max_iters: 500,
+            restarts: 2,
+            seed,
+            nonnegative: false,
+        },
+    )?;
+    // the lightings: single SGs on the mirror direction, then the fitted environment
+    let v = p.view_deg.to_radians();
+    let mirror = Vector3::new(-v.sin(), 0.0, v.cos());
+    let mut lightings: Vec<(String, SgEnv)> = p
+        .lambdas
+        .iter()
+        .map(|&l| {
+            Ok((
+                format!("one SG, λ = {l}"),
+                SgEnv {
+                    lobes: vec![Sg::new(mirror, l, 1.0)?],
+                },
+            ))
+        })
+        .collect::<Result<_>>()?;
+    lightings.push((format!("the fitted sky ({} SGs)", sgs.lobes.len()), sgs));
+    let jobs: Vec<(usize, usize)> = (0..p.levels.len())
+        .flat_map(|f| (0..lightings.len()).map(move |l| (f, l)))
+        .collect();
+    let cases: Vec<Case> = jobs
+        .par_iter()
+        .map(|&(f, l)| {
+            let name = format!(
+                "level {} (σ_P = {:.1} texels)",
+                p.levels[f],
+                sigma_p(p.stride, p.levels[f])
+            );
+            let s = seed.wrapping_mul(1000) + 100 * (f * lightings.len() + l) as u64;
+            case(
+                &p,
+                &ndf,
+                f,
+                &lightings[l].1,
+                (name, lightings[l].0.clone()),
+                s,
+            )
+        })
+        .collect::<Result<_>>()?;
+    let mean = |v: Vec<Figure>| {
+        let n = v.len() as f64;
+        Figure::new(
+            v.iter().map(|x| x.value).sum::<f64>() / n,
+            v.iter().map(|x| x.error * x.error).sum::<f64>().sqrt() / n,
+        )
+    };
+    let trade = (0..p.eps.len() * p.scales.len())
+        .map(|k| Trade {
+            eps: cases[0].rows[k].eps,
+            scale: cases[0].rows[k].scale,
+            mse16: mean(cases.iter().map(|c| c.rows[k].mse16).collect()),
+        })
+        .collect();
+    Ok(Computed {
+        spec: c.spec.clone(),
+        preset: c.preset,
+        result: EnvSg {
+            spec: c.spec.clone(),
+            command: crate::results::command(&c.spec.name),
+            preset: c.preset.name().into(),
+            fit: fitted,
+            cp_rel_error: ndf.cp().rel_error,
+            samples: p.samples,
+            point_mse16: mean(cases.iter().map(|c| c.point_mse16).collect()),
+            cases,
+            trade,
+        },
+        p,
+    })
+}
