@@ -179,6 +179,10 @@ fn wave_parseval() {
     check("wave-parseval");
 }
 #[test]
+fn sg_compact_support() {
+    check("sg-compact-support");
+}
+#[test]
 fn wang_implicit_explicit() {
     check("wang-implicit-explicit");
 }

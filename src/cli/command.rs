@@ -55,7 +55,9 @@ pub enum Cmd {
     /// at the paper's scale (`results/tensor-scale.md`; on request only,
     /// never part of the main job or of a selection of other studies); `--only tensor-wave`
     /// checks and compresses seed 002's wave-optics NDF images (`results/tensor-wave.md`;
-    /// on request only); `--only tensor-wang` builds and checks seed 002's Wang tiles
+    /// on request only); `--only tensor-envsg` measures seed 002's SG environment
+    /// prefiltering (`results/tensor-envsg.md`; on request only); `--only tensor-wang`
+    /// builds and checks seed 002's Wang tiles
     /// (`results/tensor-wang.md`; on request only); `--only visibility`
     /// measures the horizon, shadow and procedural methods
     /// (`results/visibility.md`); `--only filters` runs the footprint-filter group

@@ -6,6 +6,7 @@
 //! non-zero if any fails. tests/proofs.rs runs the same checks at the quick preset.
 
 pub mod cases;
+pub mod envsg;
 pub mod furnace;
 pub mod jacobians;
 pub mod multiscale;
@@ -121,6 +122,10 @@ pub fn all() -> Vec<Check> {
         Check {
             id: "wave-geometric-limit",
             run: wave::geometric_limit,
+        },
+        Check {
+            id: "sg-compact-support",
+            run: envsg::compact_support,
         },
         Check {
             id: "wang-implicit-explicit",
