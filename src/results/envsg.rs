@@ -53,6 +53,27 @@ pub struct Trade {
     pub mse16: Figure,
 }
 
+/// Seed 002 Fig 11's comparison on a flat patch: one pixel per footprint of a grid over the
+/// map, lit by the fitted sky, at `spp` samples per pixel.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Picture {
+    /// Pixels per side (footprints every `stride` texels), samples per pixel, and the
+    /// prefilter's (ε, scale).
+    pub side: usize,
+    pub stride: usize,
+    pub spp: usize,
+    pub eps: f64,
+    pub scale: f64,
+    /// Row-major images: the quadrature truth, the point query and the prefiltered query.
+    pub reference: Vec<f64>,
+    pub point: Vec<f64>,
+    pub prefiltered: Vec<f64>,
+    /// Σ (image − truth)² / Σ truth² over the pixels of these images (one realisation,
+    /// exact for it).
+    pub rel_mse_point: f64,
+    pub rel_mse_prefiltered: f64,
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EnvSg {
     pub spec: FitSpec,
@@ -65,6 +86,7 @@ pub struct EnvSg {
     pub cases: Vec<Case>,
     pub point_mse16: Figure,
     pub trade: Vec<Trade>,
+    pub picture: Picture,
 }
 
 impl super::ResultFile for EnvSg {

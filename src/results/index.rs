@@ -133,6 +133,7 @@ pub const OUTPUTS: &[Output] = &[
     o("fits/tensor-scale.json", Study("tensor-scale"), "its figures"),
     o("tensor-envsg.md", Study("tensor-envsg"), "seed 002 §5.4: environment lighting as spherical Gaussians — the SG fit of a procedural sky, and the prefiltered NDF query (Eq 8–9) against point queries and the quadrature truth over ε and scale (on request only)"),
     o("tensor-envsg.svg", Study("tensor-envsg"), "the relative MSE of a 16-sample pixel against the query square's scale, per ε"),
+    o("tensor-envsg-picture.svg", Study("tensor-envsg"), "seed 002 Fig 11 on a flat patch: truth, point query and prefiltered query, one pixel per footprint"),
     o("fits/tensor-envsg.json", Study("tensor-envsg"), "its figures"),
     o("tensor-wang.md", Study("tensor-wang"), "seed 002 §5.5: Wang tiles for constant storage — seams, the tiles' images against the explicit map's (Fig 14), per-tile CP, storage and query cost (on request only)"),
     o("fits/tensor-wang.json", Study("tensor-wang"), "its figures"),

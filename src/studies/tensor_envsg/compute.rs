@@ -6,13 +6,13 @@ use crate::error::{Error, Result};
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset, Quad};
-use crate::results::envsg::{Case, EnvSg, Row, SgFit, Trade};
+use crate::results::envsg::{Case, EnvSg, Picture, Row, SgFit, Trade};
 use crate::study::Ctx;
 use crate::tensor::brdf::CompressedNdf;
 use crate::tensor::cluster::stack_blocks;
 use crate::tensor::cp::AlsOptions;
 use crate::tensor::envsg::{fit, query_side, Env, Read, Sg, SgEnv, Shading};
-use crate::tensor::pndf::{pndf_image, sigma_p};
+use crate::tensor::pndf::{pndf_image, pndf_image_separable, sigma_p};
 use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
@@ -47,6 +47,10 @@ pub struct Params {
     pub scales: Vec<f64>,
     /// Samples per estimator per case.
     pub samples: usize,
+    /// The picture: footprints every `picture_stride` texels over the map, `spp` samples
+    /// per pixel, under the fitted sky.
+    pub picture_stride: usize,
+    pub spp: usize,
 }
 
 impl crate::fit::spec::Params for Params {
@@ -67,7 +71,9 @@ impl crate::fit::spec::Params for Params {
         all_within("fit_lambdas", &self.fit_lambdas, 0.1, 1e5, 8)?;
         all_within("eps", &self.eps, 1e-6, 0.99, 8)?;
         all_within("scales", &self.scales, 0.01, 8.0, 8)?;
-        within("samples", self.samples, 64, 1 << 22)
+        within("samples", self.samples, 64, 1 << 22)?;
+        within("picture_stride", self.picture_stride, 2, self.map_size / 4)?;
+        within("spp", self.spp, 1, 1024)
     }
 }
 
@@ -170,6 +176,77 @@ fn case(
     })
 }
 
+/// Seed 002 Fig 11 on a flat patch: one pixel per footprint of a grid over `map` (the
+/// images compressed together as the cases' are), the truth by quadrature and both
+/// estimators at `spp` samples, under `sky`, with the paper's (ε, scale).
+fn picture(p: &Params, map: &NormalMap, sky: &SgEnv, seed: u64) -> Result<Picture> {
+    let s = p.picture_stride;
+    let side = p.map_size / s;
+    let sp = sigma_p(s, 0);
+    let images: Vec<Vec<f64>> = (0..side * side)
+        .into_par_iter()
+        .map(|k| {
+            let (x, y) = (
+                (s / 2 + (k % side) * s) as f64,
+                (s / 2 + (k / side) * s) as f64,
+            );
+            pndf_image_separable(map, x, y, sp, p.sigma_r, p.res)
+        })
+        .collect::<Result<_>>()?;
+    let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
+    let stack = stack_blocks(&refs, p.res, p.t)?.ok_or_else(|| {
+        Error::InvalidArgument("tensor-envsg: every picture footprint is zero".into())
+    })?;
+    let ndf = CompressedNdf::compress(
+        &stack,
+        p.res,
+        &AlsOptions {
+            rank: p.rank,
+            tol: 1e-6,
+            max_iters: 500,
+            restarts: 2,
+            seed,
+            nonnegative: false,
+        },
+    )?;
+    let v = p.view_deg.to_radians();
+    let o = Vector3::new(v.sin(), 0.0, v.cos());
+    let (eps, scale) = (0.3, 0.5);
+    let pixels: Vec<(f64, f64, f64)> = (0..side * side)
+        .into_par_iter()
+        .map(|k| {
+            let sh = Shading {
+                ndf: &ndf,
+                image: k,
+                o,
+            };
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed.wrapping_add(k as u64));
+            let (mut a, mut b) = (0.0, 0.0);
+            for _ in 0..p.spp {
+                a += sh.sample(sky, Read::Point, rng.random())?;
+                b += sh.sample(sky, Read::Prefiltered { eps, scale }, rng.random())?;
+            }
+            Ok((sh.reference(sky, 8), a / p.spp as f64, b / p.spp as f64))
+        })
+        .collect::<Result<_>>()?;
+    let rel = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        let d2: f64 = pixels.iter().map(|q| (f(q) - q.0).powi(2)).sum();
+        d2 / pixels.iter().map(|q| q.0 * q.0).sum::<f64>()
+    };
+    Ok(Picture {
+        side,
+        stride: s,
+        spp: p.spp,
+        eps,
+        scale,
+        rel_mse_point: rel(&|q| q.1),
+        rel_mse_prefiltered: rel(&|q| q.2),
+        reference: pixels.iter().map(|q| q.0).collect(),
+        point: pixels.iter().map(|q| q.1).collect(),
+        prefiltered: pixels.iter().map(|q| q.2).collect(),
+    })
+}
+
 pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
     let p: Params = c.params()?;
     let seed = c.spec.seed;
@@ -223,6 +300,9 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             ))
         })
         .collect::<Result<_>>()?;
+    crate::progress::stamp("tensor-envsg: footprints compressed; the picture next");
+    let picture = picture(&p, &map, &sgs, seed)?;
+    crate::progress::stamp("tensor-envsg: picture drawn; the cases next");
     lightings.push((format!("the fitted sky ({} SGs)", sgs.lobes.len()), sgs));
     let jobs: Vec<(usize, usize)> = (0..p.levels.len())
         .flat_map(|f| (0..lightings.len()).map(move |l| (f, l)))
@@ -273,6 +353,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             point_mse16: mean(cases.iter().map(|c| c.point_mse16).collect()),
             cases,
             trade,
+            picture,
         },
         p,
     })

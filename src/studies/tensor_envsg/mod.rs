@@ -46,6 +46,10 @@ impl crate::study::Computed for Computed {
 
     fn render(&self, set: &mut Outputs, results: &Path) -> Result<()> {
         set.put(results.join("tensor-envsg.svg"), report::svg(self)?);
+        set.put(
+            results.join("tensor-envsg-picture.svg"),
+            report::picture_svg(self)?,
+        );
         set.put(results.join("tensor-envsg.md"), report::markdown(self));
         crate::results::put(set, results, &self.result)
     }
