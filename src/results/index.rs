@@ -136,6 +136,7 @@ pub const OUTPUTS: &[Output] = &[
     o("tensor-envsg-picture.svg", Study("tensor-envsg"), "seed 002 Fig 11 on a flat patch: truth, point query and prefiltered query, one pixel per footprint"),
     o("fits/tensor-envsg.json", Study("tensor-envsg"), "its figures"),
     o("tensor-wang.md", Study("tensor-wang"), "seed 002 §5.5: Wang tiles for constant storage — seams, the tiles' images against the explicit map's (Fig 14), per-tile CP, storage and query cost (on request only)"),
+    o("tensor-wang.svg", Study("tensor-wang"), "seed 002 Fig 14: one footprint's NDF image from the explicit map and from its tiles, and their difference"),
     o("fits/tensor-wang.json", Study("tensor-wang"), "its figures"),
     o("tensor-wave.md", Study("tensor-wave"), "seed 002 §3.1: wave-optics NDF images checked against the FFT, Parseval and the geometric limit, in colour, CP-compressed (on request only)"),
     o("tensor-wave.svg", Study("tensor-wave"), "the distance to the geometric limit against the wavelength"),

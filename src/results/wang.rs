@@ -42,6 +42,17 @@ pub struct AreaStorage {
     pub explicit: f64,
 }
 
+/// Fig 14's comparison for one footprint across the most tiles: its image from the
+/// explicit map (brute force) and summed from the tiles, row-major res².
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Fig14 {
+    pub level: usize,
+    pub tiles_covered: usize,
+    pub res: usize,
+    pub explicit: Vec<f64>,
+    pub tiles: Vec<f64>,
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Wang {
     pub spec: FitSpec,
@@ -62,6 +73,7 @@ pub struct Wang {
     pub tile_texels: usize,
     pub ranks: Vec<RankCheck>,
     pub areas: Vec<AreaStorage>,
+    pub fig14: Fig14,
 }
 
 impl super::ResultFile for Wang {

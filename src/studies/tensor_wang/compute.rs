@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use crate::filters::footprint::{NormalMap, Procedural};
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
-use crate::results::wang::{AreaStorage, LevelCheck, RankCheck, Wang};
+use crate::results::wang::{AreaStorage, Fig14, LevelCheck, RankCheck, Wang};
 use crate::study::Ctx;
 use crate::tensor::cluster::stack_blocks;
 use crate::tensor::cp::{cp_als, AlsOptions};
@@ -240,6 +240,30 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
     let images = TileImages::build(&set, &levels, p.res, p.sigma_r)?;
     crate::progress::stamp("tensor-wang: tile images built; explicit maps next");
     let (checks, compared, groups) = compare_levels(&p, &set, &images, &colouring, &levels)?;
+    // Fig 14: the footprint across the most tiles (the first such)
+    let fig14 = {
+        let most = compared.iter().map(|c| c.1.len()).max().unwrap_or(0);
+        let (l, cells, brute) = compared
+            .iter()
+            .find(|c| c.1.len() == most)
+            .ok_or_else(|| Error::InvalidArgument("tensor-wang: no footprint compared".into()))?;
+        let mut tiles = vec![0.0; p.res * p.res];
+        for &((i, j), k) in cells {
+            for (v, t) in tiles
+                .iter_mut()
+                .zip(&images.levels[*l].images[colouring.tile(i, j)][k])
+            {
+                *v += t;
+            }
+        }
+        Fig14 {
+            level: *l,
+            tiles_covered: most,
+            res: p.res,
+            explicit: brute.clone(),
+            tiles,
+        }
+    };
     crate::progress::stamp(&format!(
         "tensor-wang: {} footprints compared; compression next",
         compared.len()
@@ -318,6 +342,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             tile_texels: set.texels(),
             ranks,
             areas,
+            fig14,
         },
         p,
     })

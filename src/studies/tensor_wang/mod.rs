@@ -45,6 +45,7 @@ impl crate::study::Computed for Computed {
     }
 
     fn render(&self, set: &mut Outputs, results: &Path) -> Result<()> {
+        set.put(results.join("tensor-wang.svg"), report::svg(self)?);
         set.put(results.join("tensor-wang.md"), report::markdown(self));
         crate::results::put(set, results, &self.result)
     }
