@@ -74,6 +74,18 @@ pub struct Picture {
     pub rel_mse_prefiltered: f64,
 }
 
+/// Fig 11's claim ("much lower noise", no visible bias) at the paper's (ε 0.3, scale 0.5):
+/// over the cases where the square exceeds one pixel for some lobe, the smallest and
+/// largest variance ratio, and the bias range over every case; the verdict.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Fig11 {
+    pub var_ratio: (f64, f64),
+    pub bias: (f64, f64),
+    /// Cases whose bias lies beyond 2 % and 3 s.e.
+    pub visible_bias: usize,
+    pub verdict: String,
+}
+
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EnvSg {
     pub spec: FitSpec,
@@ -87,6 +99,7 @@ pub struct EnvSg {
     pub point_mse16: Figure,
     pub trade: Vec<Trade>,
     pub picture: Picture,
+    pub fig11: Fig11,
 }
 
 impl super::ResultFile for EnvSg {

@@ -74,6 +74,8 @@ pub struct Wang {
     pub ranks: Vec<RankCheck>,
     pub areas: Vec<AreaStorage>,
     pub fig14: Fig14,
+    /// Fig 14's claim (implicit and explicit synthesis give identical NDFs), judged.
+    pub verdict: String,
 }
 
 impl super::ResultFile for Wang {

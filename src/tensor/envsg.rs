@@ -336,10 +336,6 @@ pub enum Read {
 }
 
 impl Shading<'_> {
-    fn pixel(&self, h: f64) -> i64 {
-        ((h + 1.0) * 0.5 * self.ndf.res() as f64).floor() as i64
-    }
-
     /// I by the midpoint rule, `sub`² points per pixel of the image (D constant on a
     /// pixel, as the point query reads it; points outside the unit disk dropped).
     pub fn reference(&self, env: &SgEnv, sub: usize) -> f64 {
@@ -384,8 +380,12 @@ impl Shading<'_> {
             Read::Point => self.ndf.d(self.image, h.x, h.y),
             Read::Prefiltered { eps, scale } => {
                 let q = query_side(env.lobes[k].support(eps), self.ndf.res(), scale) as i64;
-                let (px, py) = (self.pixel(h.x), self.pixel(h.y));
-                let (x0, y0) = (px - (q - 1) / 2, py - (q - 1) / 2);
+                // the square whose centre lies nearest h_xy (pixel p spans [p, p + 1) in
+                // pixel units): one pixel for q = 1, never half a pixel off for even q
+                let start = |h: f64| {
+                    ((h + 1.0) * 0.5 * self.ndf.res() as f64 - 0.5 * q as f64).round() as i64
+                };
+                let (x0, y0) = (start(h.x), start(h.y));
                 self.ndf
                     .box_mean(self.image, (x0, x0 + q - 1), (y0, y0 + q - 1))
                     .unwrap_or(0.0)

@@ -324,6 +324,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             "tensor-wang: a level has no footprint inside its regions".into(),
         ));
     }
+    let worst = checks.iter().map(|c| c.worst).fold(0.0, f64::max);
     Ok(Computed {
         spec: c.spec.clone(),
         preset: c.preset,
@@ -343,6 +344,13 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             ranks,
             areas,
             fig14,
+            verdict: {
+                if worst <= c.spec.tolerance.max_rel {
+                    format!("holds: every footprint's tiled image equals the explicit one to {worst:.1e} of its peak (rounding)")
+                } else {
+                    format!("refuted here: a tiled image differs from the explicit one by {worst:.1e} of its peak")
+                }
+            },
         },
         p,
     })
