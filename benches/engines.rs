@@ -609,24 +609,23 @@ fn ltc(c: &mut Criterion) {
 }
 
 /// Seed 002 §5.5: one NDF value at one h of a footprint on the Wang-tiled map (the
-/// tensor-wang study's default tiles, level 0, per-tile CPs at rank 8): the colour hash
-/// and one point query per covered tile, for footprints inside 1, across 2 and across 4
-/// tiles; against Eq 2 summed over the window's texels of the explicit map.
+/// tensor-wang study's default tiles, per-tile CPs at rank 8): the colour hash and one
+/// point query per covered tile, for level-0 footprints inside 1, across 2 and across 4
+/// tiles and a level-1 one across 4; against Eq 2 summed over the window's texels of the
+/// explicit map at both levels.
 fn tensor_wang(c: &mut Criterion) {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
     use ndfbench::tensor::cp::AlsOptions;
     use ndfbench::tensor::pndf::sigma_p;
-    use ndfbench::tensor::wang::{
-        explicit, Colouring, CompressedTiles, Level, TileImages, TileSet,
-    };
+    use ndfbench::tensor::wang::{explicit, Colouring, CompressedTiles, Level, TileImages, TileSet};
     let (side, res, sr) = (32usize, 32usize, 0.02);
-    let level = Level {
-        stride: 4,
-        sigma_p: sigma_p(4, 0),
-    };
+    let levels = [4usize, 8].map(|s| Level {
+        stride: s,
+        sigma_p: sigma_p(s, 0),
+    });
     let built = NormalMap::procedural(Procedural::IsotropicNoise, 128, 13).and_then(|ex| {
         let set = TileSet::build(&ex, side, 8, 13)?;
-        let images = TileImages::build(&set, &[level], res, sr)?;
+        let images = TileImages::build(&set, &levels, res, sr)?;
         let opts = AlsOptions {
             rank: 8,
             tol: 1e-4,
@@ -644,56 +643,62 @@ fn tensor_wang(c: &mut Criterion) {
     };
     let colouring = Colouring { seed: 13 };
     let hs: Vec<(f64, f64)> = (0..64)
-        .map(|k| {
-            (
-                -0.3 + 0.6 * (k % 8) as f64 / 7.0,
-                -0.3 + 0.6 * (k / 8) as f64 / 7.0,
-            )
-        })
+        .map(|k| (-0.3 + 0.6 * (k % 8) as f64 / 7.0, -0.3 + 0.6 * (k / 8) as f64 / 7.0))
         .collect();
+    let Ok(map) = explicit(&set, &colouring, (0, 0), (2, 2)) else {
+        return;
+    };
     let mut g = c.benchmark_group("tensor-wang");
     g.sample_size(20)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
+    // level 0 (stride 4, a 15² window): inside 1 tile, across 2 and across 4
     for (covered, centre) in [(1usize, (14i64, 14i64)), (2, (30, 14)), (4, (30, 30))] {
         let mut k = 0usize;
-        g.bench_with_input(
-            BenchmarkId::new("tiles-rank8", covered),
-            &covered,
-            |b, _| {
-                b.iter(|| {
-                    k = (k + 1) & 63;
-                    let cells = images.cover(0, black_box(centre)).unwrap_or_default();
-                    tiles.d(&colouring, 0, &cells, hs[k].0, hs[k].1)
-                })
-            },
-        );
+        g.bench_with_input(BenchmarkId::new("tiles-rank8", covered), &covered, |b, _| {
+            b.iter(|| {
+                k = (k + 1) & 63;
+                let cells = images.cover(0, black_box(centre)).unwrap_or_default();
+                tiles.d(&colouring, 0, &cells, hs[k].0, hs[k].1)
+            })
+        });
     }
-    // Eq 2 at one h over the window's texels of the explicit map (same footprint, 4 tiles)
-    let Ok(map) = explicit(&set, &colouring, (0, 0), (2, 2)) else {
-        return;
-    };
-    let (sp, reach) = (level.sigma_p, (4.0 * level.sigma_p).ceil() as i64);
+    // level 1 (stride 8, a 29² window), across 4 tiles
     let mut k = 0usize;
-    g.bench_with_input(BenchmarkId::new("explicit-brute-force", 4), &4, |b, _| {
+    g.bench_with_input(BenchmarkId::new("tiles-rank8-stride8", 4), &4, |b, _| {
         b.iter(|| {
             k = (k + 1) & 63;
-            let (hx, hy) = hs[k];
-            let (cx, cy) = black_box((30i64, 30i64));
-            let (mut num, mut wsum) = (0.0, 0.0);
-            for y in cy - reach..=cy + reach {
-                for x in cx - reach..=cx + reach {
-                    let (ux, uy) = (x as f64 + 0.5 - cx as f64, y as f64 + 0.5 - cy as f64);
-                    let gp = (-(ux * ux + uy * uy) / (2.0 * sp * sp)).exp();
-                    let n = map.normals[y as usize * map.width + x as usize];
-                    let e = ((n.x - hx).powi(2) + (n.y - hy).powi(2)) / (2.0 * sr * sr);
-                    num += gp * (-e).exp();
-                    wsum += gp;
-                }
-            }
-            num / (wsum * 2.0 * std::f64::consts::PI * sr * sr)
+            let cells = images.cover(1, black_box((28, 28))).unwrap_or_default();
+            tiles.d(&colouring, 1, &cells, hs[k].0, hs[k].1)
         })
     });
+    // Eq 2 at one h over the window's texels of the explicit map, same footprints
+    for (name, level, centre) in [
+        ("explicit-brute-force", 0usize, (30i64, 30i64)),
+        ("explicit-brute-force-stride8", 1, (28, 28)),
+    ] {
+        let (sp, reach) = (levels[level].sigma_p, (4.0 * levels[level].sigma_p).ceil() as i64);
+        let mut k = 0usize;
+        g.bench_with_input(BenchmarkId::new(name, 4), &4, |b, _| {
+            b.iter(|| {
+                k = (k + 1) & 63;
+                let (hx, hy) = hs[k];
+                let (cx, cy) = black_box(centre);
+                let (mut num, mut wsum) = (0.0, 0.0);
+                for y in cy - reach..=cy + reach {
+                    for x in cx - reach..=cx + reach {
+                        let (ux, uy) = (x as f64 + 0.5 - cx as f64, y as f64 + 0.5 - cy as f64);
+                        let gp = (-(ux * ux + uy * uy) / (2.0 * sp * sp)).exp();
+                        let n = map.normals[y as usize * map.width + x as usize];
+                        let e = ((n.x - hx).powi(2) + (n.y - hy).powi(2)) / (2.0 * sr * sr);
+                        num += gp * (-e).exp();
+                        wsum += gp;
+                    }
+                }
+                num / (wsum * 2.0 * std::f64::consts::PI * sr * sr)
+            })
+        });
+    }
     g.finish();
 }
 

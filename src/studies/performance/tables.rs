@@ -195,7 +195,7 @@ pub(super) fn wang_table(timed: &[Timed]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut md = String::from("\n## Wang tiles: one NDF value per footprint\n\nThe tensor-wang study's tiles (32², level 0: stride 4, σ_P = 1.73 texels, 32² images), one value at one h: the colour hash and one rank-8 point query (Eq 6) per covered tile, against Eq 2 summed over the window's 15² texels of the explicit map (results/tensor-wang.md has the errors).\n\n");
+    let mut md = String::from("\n## Wang tiles: one NDF value per footprint\n\nThe tensor-wang study's tiles (32², 32² images; stride 4: σ_P = 1.73 texels, a 15² window; stride 8: σ_P = 3.46, a 29² window), one value at one h: the colour hash and one rank-8 point query (Eq 6) per covered tile, against Eq 2 summed over the window's texels of the explicit map (results/tensor-wang.md has the errors).\n\n");
     let mut table = Table::new(["query", "tiles covered", "time (95 % CI)"]);
     for t in rows {
         table.row([t.function.clone(), t.param.clone(), interval(t)]);

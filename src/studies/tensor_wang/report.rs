@@ -8,23 +8,13 @@ use crate::tensor::wang::seams::PairMean;
 use crate::tensor::wang::TILES;
 
 /// The bench ids of the query costs (benches/engines.rs, group `tensor-wang`).
-pub const BENCHES: [(&str, &str); 4] = [
-    (
-        "tensor-wang/tiles-rank8/1",
-        "tiles, rank 8, footprint inside one tile",
-    ),
-    (
-        "tensor-wang/tiles-rank8/2",
-        "tiles, rank 8, footprint across 2 tiles",
-    ),
-    (
-        "tensor-wang/tiles-rank8/4",
-        "tiles, rank 8, footprint across 4 tiles",
-    ),
-    (
-        "tensor-wang/explicit-brute-force/4",
-        "explicit map, Eq 2 over the window's texels, footprint across 4 tiles",
-    ),
+pub const BENCHES: [(&str, &str); 6] = [
+    ("tensor-wang/tiles-rank8/1", "tiles, rank 8, stride 4, footprint inside one tile"),
+    ("tensor-wang/tiles-rank8/2", "tiles, rank 8, stride 4, footprint across 2 tiles"),
+    ("tensor-wang/tiles-rank8/4", "tiles, rank 8, stride 4, footprint across 4 tiles"),
+    ("tensor-wang/explicit-brute-force/4", "explicit map, Eq 2 over the window's 15² texels (stride 4)"),
+    ("tensor-wang/tiles-rank8-stride8/4", "tiles, rank 8, stride 8, footprint across 4 tiles"),
+    ("tensor-wang/explicit-brute-force-stride8/4", "explicit map, Eq 2 over the window's 29² texels (stride 8)"),
 ];
 
 /// Fig 14: one footprint's image from the explicit map and summed from its tiles, and
@@ -225,13 +215,13 @@ The last two columns compress the compared footprints' explicit images themselve
     if rows.is_empty() {
         md.push_str("No criterion figures in results/costs.json yet (`cargo bench --bench engines -- tensor-wang`, then `ndfbench bench-report`).\n");
     } else {
-        md.push_str(&format!("One NDF value at one h per footprint (criterion means from results/costs.json; intervals in results/performance.md), level 0 (stride {}), tiles compressed at rank 8, the tile colours hashed per query:\n\n", p.strides[0]));
+        md.push_str(&format!("One NDF value at one h per footprint (criterion means from results/costs.json; intervals in results/performance.md), tiles compressed at rank 8, the tile colours hashed per query:\n\n"));
         let mut t = Table::new(["query", "time"]);
         for (what, ns) in rows {
             t.row([what.to_string(), format!("{ns:.1} ns")]);
         }
         md.push_str(&t.to_string());
-        md.push_str(&format!("\nThe tiled query costs one colour hash (three ChaCha8 blocks, one per vertex it reads) and one point query per covered tile, whatever the footprint's width; Eq 2 over the explicit map costs one term per texel of the window, {}² here, and grows with σ_P². At this small footprint the two are close; only the tiles keep the storage constant.\n", 2 * crate::tensor::pndf::window_reach(crate::tensor::pndf::sigma_p(p.strides[0], 0)) + 1));
+        md.push_str("\nThe tiled query costs one colour hash (three ChaCha8 blocks, one per vertex it reads) and one point query per covered tile, whatever the footprint's width; Eq 2 over the explicit map costs one term per texel of its window and grows with σ_P². Only the tiles keep the storage constant.\n");
     }
     md
 }
