@@ -617,7 +617,9 @@ fn tensor_wang(c: &mut Criterion) {
     use ndfbench::filters::footprint::{NormalMap, Procedural};
     use ndfbench::tensor::cp::AlsOptions;
     use ndfbench::tensor::pndf::sigma_p;
-    use ndfbench::tensor::wang::{explicit, Colouring, CompressedTiles, Level, TileImages, TileSet};
+    use ndfbench::tensor::wang::{
+        explicit, Colouring, CompressedTiles, Level, TileImages, TileSet,
+    };
     let (side, res, sr) = (32usize, 32usize, 0.02);
     let levels = [4usize, 8].map(|s| Level {
         stride: s,
@@ -643,7 +645,12 @@ fn tensor_wang(c: &mut Criterion) {
     };
     let colouring = Colouring { seed: 13 };
     let hs: Vec<(f64, f64)> = (0..64)
-        .map(|k| (-0.3 + 0.6 * (k % 8) as f64 / 7.0, -0.3 + 0.6 * (k / 8) as f64 / 7.0))
+        .map(|k| {
+            (
+                -0.3 + 0.6 * (k % 8) as f64 / 7.0,
+                -0.3 + 0.6 * (k / 8) as f64 / 7.0,
+            )
+        })
         .collect();
     let Ok(map) = explicit(&set, &colouring, (0, 0), (2, 2)) else {
         return;
@@ -655,13 +662,17 @@ fn tensor_wang(c: &mut Criterion) {
     // level 0 (stride 4, a 15² window): inside 1 tile, across 2 and across 4
     for (covered, centre) in [(1usize, (14i64, 14i64)), (2, (30, 14)), (4, (30, 30))] {
         let mut k = 0usize;
-        g.bench_with_input(BenchmarkId::new("tiles-rank8", covered), &covered, |b, _| {
-            b.iter(|| {
-                k = (k + 1) & 63;
-                let cells = images.cover(0, black_box(centre)).unwrap_or_default();
-                tiles.d(&colouring, 0, &cells, hs[k].0, hs[k].1)
-            })
-        });
+        g.bench_with_input(
+            BenchmarkId::new("tiles-rank8", covered),
+            &covered,
+            |b, _| {
+                b.iter(|| {
+                    k = (k + 1) & 63;
+                    let cells = images.cover(0, black_box(centre)).unwrap_or_default();
+                    tiles.d(&colouring, 0, &cells, hs[k].0, hs[k].1)
+                })
+            },
+        );
     }
     // level 1 (stride 8, a 29² window), across 4 tiles
     let mut k = 0usize;
@@ -677,7 +688,10 @@ fn tensor_wang(c: &mut Criterion) {
         ("explicit-brute-force", 0usize, (30i64, 30i64)),
         ("explicit-brute-force-stride8", 1, (28, 28)),
     ] {
-        let (sp, reach) = (levels[level].sigma_p, (4.0 * levels[level].sigma_p).ceil() as i64);
+        let (sp, reach) = (
+            levels[level].sigma_p,
+            (4.0 * levels[level].sigma_p).ceil() as i64,
+        );
         let mut k = 0usize;
         g.bench_with_input(BenchmarkId::new(name, 4), &4, |b, _| {
             b.iter(|| {

@@ -9,12 +9,30 @@ use crate::tensor::wang::TILES;
 
 /// The bench ids of the query costs (benches/engines.rs, group `tensor-wang`).
 pub const BENCHES: [(&str, &str); 6] = [
-    ("tensor-wang/tiles-rank8/1", "tiles, rank 8, stride 4, footprint inside one tile"),
-    ("tensor-wang/tiles-rank8/2", "tiles, rank 8, stride 4, footprint across 2 tiles"),
-    ("tensor-wang/tiles-rank8/4", "tiles, rank 8, stride 4, footprint across 4 tiles"),
-    ("tensor-wang/explicit-brute-force/4", "explicit map, Eq 2 over the window's 15² texels (stride 4)"),
-    ("tensor-wang/tiles-rank8-stride8/4", "tiles, rank 8, stride 8, footprint across 4 tiles"),
-    ("tensor-wang/explicit-brute-force-stride8/4", "explicit map, Eq 2 over the window's 29² texels (stride 8)"),
+    (
+        "tensor-wang/tiles-rank8/1",
+        "tiles, rank 8, stride 4, footprint inside one tile",
+    ),
+    (
+        "tensor-wang/tiles-rank8/2",
+        "tiles, rank 8, stride 4, footprint across 2 tiles",
+    ),
+    (
+        "tensor-wang/tiles-rank8/4",
+        "tiles, rank 8, stride 4, footprint across 4 tiles",
+    ),
+    (
+        "tensor-wang/explicit-brute-force/4",
+        "explicit map, Eq 2 over the window's 15² texels (stride 4)",
+    ),
+    (
+        "tensor-wang/tiles-rank8-stride8/4",
+        "tiles, rank 8, stride 8, footprint across 4 tiles",
+    ),
+    (
+        "tensor-wang/explicit-brute-force-stride8/4",
+        "explicit map, Eq 2 over the window's 29² texels (stride 8)",
+    ),
 ];
 
 /// Fig 14: one footprint's image from the explicit map and summed from its tiles, and
