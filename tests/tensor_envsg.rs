@@ -68,7 +68,6 @@ proptest! {
         } else {
             prop_assert!(g.eval(&(-mu)) >= eps * (1.0 - 1e-9));
         }
-        prop_assert!(query_side(th, 256, 0.5) >= 1);
     }
 
     /// The box mean by range queries equals the mean of the point queries over the same
@@ -233,4 +232,8 @@ fn the_fit_finds_the_sun_and_bad_input_is_an_error() {
     assert!(fit(&dark.unwrap(), 2, 16, &[1.0]).is_err());
     assert!(SgEnv { lobes: vec![] }.sample([0.1, 0.2, 0.3]).is_err());
     assert!(ndf().box_mean(5, (0, 3), (0, 3)).is_none());
+    // Eq 9's side: at least one pixel, at most 2·res, whatever θ and scale
+    assert_eq!(query_side(f64::NAN, 32, 0.5), 1);
+    assert_eq!(query_side(std::f64::consts::PI, 32, 1e300), 64);
+    assert_eq!(query_side(std::f64::consts::FRAC_PI_4, 32, 0.5), 8);
 }

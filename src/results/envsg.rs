@@ -68,10 +68,10 @@ pub struct Picture {
     pub reference: Vec<f64>,
     pub point: Vec<f64>,
     pub prefiltered: Vec<f64>,
-    /// Σ (image − truth)² / Σ truth² over the pixels of these images (one realisation,
-    /// exact for it).
-    pub rel_mse_point: f64,
-    pub rel_mse_prefiltered: f64,
+    /// Σ (image − truth)² / Σ truth² over the pixels of these images, as the mean over
+    /// pixels of (image − truth)²/mean(truth²) ± its s.e. (independent pixels).
+    pub rel_mse_point: Figure,
+    pub rel_mse_prefiltered: Figure,
 }
 
 /// Fig 11's claim ("much lower noise", no visible bias) at the paper's (ε 0.3, scale 0.5):

@@ -96,9 +96,10 @@ impl Sg {
 }
 
 /// The side of Eq 9's query square in pixels of a res² image: scale · 2·res·θ/π,
-/// rounded, at least one pixel.
+/// rounded, at least one pixel and at most 2·res (a square that wide covers the image
+/// wherever it is centred, so a larger one reads the same pixels).
 pub fn query_side(theta: f64, res: usize, scale: f64) -> usize {
-    ((scale * 2.0 * res as f64 * theta / PI).round() as usize).max(1)
+    ((scale * 2.0 * res as f64 * theta / PI).round() as usize).clamp(1, 2 * res.max(1))
 }
 
 /// A sum of SGs; lobes are picked in proportion to their integrals.
@@ -170,7 +171,8 @@ impl Env {
     /// azimuth), a sky brightening towards the zenith (0.6 + 0.4 z) and a ground of 0.2.
     /// Every pixel is point-sampled at its centre.
     pub fn procedural(width: usize, height: usize, sun: f64) -> Result<Env> {
-        if width < 4 || height < 2 || width * height > 1 << 22 || !(sun >= 0.0 && sun.is_finite()) {
+        let pixels = width.checked_mul(height).unwrap_or(usize::MAX);
+        if width < 4 || height < 2 || pixels > 1 << 22 || !(sun >= 0.0 && sun.is_finite()) {
             return Err(Error::InvalidArgument(format!(
                 "an environment needs 4..=2^22 pixels, at least 4×2, and a finite sun ≥ 0 (got {width}×{height}, sun {sun:e})"
             )));
@@ -391,6 +393,12 @@ impl Shading<'_> {
                     .unwrap_or(0.0)
             }
         };
-        Ok(env.eval(&i) * d * h.z / (4.0 * self.o.dot(&h)) / env.pdf(&i))
+        // a draw where the mixture density underflows (the far side of a lobe with
+        // λ ≳ 350) carries no weight: its radiance underflows with it
+        let q = env.pdf(&i);
+        if !(q > 0.0) {
+            return Ok(0.0);
+        }
+        Ok(env.eval(&i) * d * h.z / (4.0 * self.o.dot(&h)) / q)
     }
 }

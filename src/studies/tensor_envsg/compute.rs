@@ -176,6 +176,23 @@ fn case(
     })
 }
 
+/// The images stacked in t × t blocks and CP-compressed together at the spec's rank.
+fn compress(p: &Params, images: &[Vec<f64>], seed: u64, what: &str) -> Result<CompressedNdf> {
+    let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
+    let stack = stack_blocks(&refs, p.res, p.t)?.ok_or_else(|| {
+        Error::InvalidArgument(format!("tensor-envsg: every {what} image is zero"))
+    })?;
+    let opts = AlsOptions {
+        rank: p.rank,
+        tol: 1e-6,
+        max_iters: 500,
+        restarts: 2,
+        seed,
+        nonnegative: false,
+    };
+    CompressedNdf::compress(&stack, p.res, &opts)
+}
+
 /// Seed 002 Fig 11 on a flat patch: one pixel per footprint of a grid over `map` (the
 /// images compressed together as the cases' are), the truth by quadrature and both
 /// estimators at `spp` samples, under `sky`, with the paper's (ε, scale).
@@ -193,22 +210,7 @@ fn picture(p: &Params, map: &NormalMap, sky: &SgEnv, seed: u64) -> Result<Pictur
             pndf_image_separable(map, x, y, sp, p.sigma_r, p.res)
         })
         .collect::<Result<_>>()?;
-    let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
-    let stack = stack_blocks(&refs, p.res, p.t)?.ok_or_else(|| {
-        Error::InvalidArgument("tensor-envsg: every picture footprint is zero".into())
-    })?;
-    let ndf = CompressedNdf::compress(
-        &stack,
-        p.res,
-        &AlsOptions {
-            rank: p.rank,
-            tol: 1e-6,
-            max_iters: 500,
-            restarts: 2,
-            seed,
-            nonnegative: false,
-        },
-    )?;
+    let ndf = compress(p, &images, seed, "picture footprint")?;
     let v = p.view_deg.to_radians();
     let o = Vector3::new(v.sin(), 0.0, v.cos());
     let (eps, scale) = (0.3, 0.5);
@@ -229,9 +231,12 @@ fn picture(p: &Params, map: &NormalMap, sky: &SgEnv, seed: u64) -> Result<Pictur
             Ok((sh.reference(sky, 8), a / p.spp as f64, b / p.spp as f64))
         })
         .collect::<Result<_>>()?;
+    // the mean over pixels of (image − truth)² over the truth's mean square, ± the s.e.
+    // of that mean (the pixels' samples are independent; the denominator is the truth's)
+    let t2 = pixels.iter().map(|q| q.0 * q.0).sum::<f64>() / pixels.len() as f64;
     let rel = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
-        let d2: f64 = pixels.iter().map(|q| (f(q) - q.0).powi(2)).sum();
-        d2 / pixels.iter().map(|q| q.0 * q.0).sum::<f64>()
+        let v: Vec<f64> = pixels.iter().map(|q| (f(q) - q.0).powi(2) / t2).collect();
+        Figure::mean_of(&v)
     };
     Ok(Picture {
         side,
@@ -313,22 +318,7 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
         .iter()
         .map(|&l| pndf_image(&map, centre, centre, sigma_p(p.stride, l), p.sigma_r, p.res))
         .collect::<Result<_>>()?;
-    let refs: Vec<&[f64]> = images.iter().map(|v| v.as_slice()).collect();
-    let stack = stack_blocks(&refs, p.res, p.t)?.ok_or_else(|| {
-        Error::InvalidArgument("tensor-envsg: every footprint image is zero".into())
-    })?;
-    let ndf = CompressedNdf::compress(
-        &stack,
-        p.res,
-        &AlsOptions {
-            rank: p.rank,
-            tol: 1e-6,
-            max_iters: 500,
-            restarts: 2,
-            seed,
-            nonnegative: false,
-        },
-    )?;
+    let ndf = compress(&p, &images, seed, "footprint")?;
     // the lightings: single SGs on the mirror direction, then the fitted environment
     let v = p.view_deg.to_radians();
     let mirror = Vector3::new(-v.sin(), 0.0, v.cos());

@@ -84,15 +84,19 @@ pub(super) fn picture_svg(c: &Computed) -> Result<String> {
             panel("truth (quadrature)".into(), &pic.reference),
             panel(
                 format!(
-                    "point query, {} spp (rel. MSE {:.3})",
-                    pic.spp, pic.rel_mse_point
+                    "point query, {} spp (rel. MSE {})",
+                    pic.spp,
+                    pic.rel_mse_point.fixed(2)
                 ),
                 &pic.point,
             ),
             panel(
                 format!(
-                    "prefiltered ε {} × {}, {} spp (rel. MSE {:.3})",
-                    pic.eps, pic.scale, pic.spp, pic.rel_mse_prefiltered
+                    "prefiltered ε {} × {}, {} spp (rel. MSE {})",
+                    pic.eps,
+                    pic.scale,
+                    pic.spp,
+                    pic.rel_mse_prefiltered.fixed(2)
                 ),
                 &pic.prefiltered,
             ),
@@ -206,8 +210,8 @@ pub(super) fn markdown(c: &Computed) -> String {
     ));
     let pic = &r.picture;
     md.push_str(&format!(
-        "\n## Fig 11 on a flat patch\n\nOne pixel per footprint (σ_P = 1.5·{}/√12 texels, centres every {} texels: {}² pixels over the map), its image CP-compressed with the others at rank {}, lit by the fitted sky, seen from {}°: the truth by quadrature, and {} samples per pixel of the point query and of the prefiltered query at the paper's ε = {}, scale {}. Relative MSE of each image, Σ (image − truth)²/Σ truth² over its pixels (this realisation): point {:.4}, prefiltered {:.4}.\n\n![truth, point query and prefiltered query, one pixel per footprint](tensor-envsg-picture.svg)\n",
-        pic.stride, pic.stride, pic.side, p.rank, p.view_deg, pic.spp, pic.eps, pic.scale, pic.rel_mse_point, pic.rel_mse_prefiltered
+        "\n## Fig 11 on a flat patch\n\nOne pixel per footprint (σ_P = 1.5·{}/√12 texels, centres every {} texels: {}² pixels over the map), its image CP-compressed with the others at rank {}, lit by the fitted sky, seen from {}°: the truth by quadrature, and {} samples per pixel of the point query and of the prefiltered query at the paper's ε = {}, scale {}. Relative MSE of each image, Σ (image − truth)²/Σ truth² over its pixels, ± the s.e. of that mean over independent pixels: point {}, prefiltered {}.\n\n![truth, point query and prefiltered query, one pixel per footprint](tensor-envsg-picture.svg)\n",
+        pic.stride, pic.stride, pic.side, p.rank, p.view_deg, pic.spp, pic.eps, pic.scale, pic.rel_mse_point.fixed(3), pic.rel_mse_prefiltered.fixed(3)
     ));
     md.push_str("\nEq 8's ε is an absolute radiance: a lobe whose amplitude is at most ε gets θ = 0 (one pixel, no prefiltering), and the same lobe in other units gets another square. The single-SG cases have A = 1, so there ε is relative.\n\n![relative MSE at 16 samples against the scale](tensor-envsg.svg)\n");
     md

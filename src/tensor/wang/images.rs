@@ -226,7 +226,8 @@ impl CompressedTiles {
     }
 
     /// The P-NDF at h_xy of a footprint, per unit projected area: one point query (Eq 6)
-    /// per covered tile, summed. `cells` from [`TileImages::cover`].
+    /// per covered tile, summed. `cells` from [`TileImages::cover`]; 0 for a level out of
+    /// range (as [`CompressedNdf::d`] reads an image out of range).
     pub fn d(
         &self,
         c: &Colouring,
@@ -235,7 +236,9 @@ impl CompressedTiles {
         hx: f64,
         hy: f64,
     ) -> f64 {
-        let tiles = &self.tiles[level];
+        let Some(tiles) = self.tiles.get(level) else {
+            return 0.0;
+        };
         cells
             .iter()
             .map(|&((i, j), k)| tiles[c.tile(i, j)].as_ref().map_or(0.0, |n| n.d(k, hx, hy)))

@@ -63,13 +63,6 @@ pub fn explicit(
     (i0, j0): (i64, i64),
     (nx, ny): (usize, usize),
 ) -> Result<NormalMap> {
-    let s = set.side;
-    let texels = (nx * s).checked_mul(ny * s);
-    if nx == 0 || ny == 0 || texels.is_none_or(|t| t > MAX_EXPLICIT) {
-        return Err(Error::InvalidArgument(format!(
-            "an explicit Wang map of {nx}×{ny} tiles of {s}² texels is empty or over {MAX_EXPLICIT} texels"
-        )));
-    }
     if i0.checked_add(nx as i64 + 1).is_none() || j0.checked_add(ny as i64 + 1).is_none() {
         return Err(Error::InvalidArgument(format!(
             "Wang cells from ({i0}, {j0}) overflow the grid's indices"
@@ -83,8 +76,8 @@ pub fn explicit(
     )
 }
 
-/// The map of nx × ny cells holding the tiles `tile_of(ci, cj)` picks (sizes checked by
-/// the caller).
+/// The map of nx × ny cells holding the tiles `tile_of(ci, cj)` picks. A typed error for
+/// an empty map, one over [`MAX_EXPLICIT`] texels or a pick that is no tile.
 pub fn layout(
     set: &TileSet,
     (nx, ny): (usize, usize),
@@ -92,6 +85,15 @@ pub fn layout(
     tile_of: &dyn Fn(usize, usize) -> usize,
 ) -> Result<NormalMap> {
     let s = set.side;
+    let texels = nx
+        .checked_mul(s)
+        .zip(ny.checked_mul(s))
+        .and_then(|(w, h)| w.checked_mul(h));
+    if nx == 0 || ny == 0 || texels.is_none_or(|t| t > MAX_EXPLICIT) {
+        return Err(Error::InvalidArgument(format!(
+            "a Wang map of {nx}×{ny} tiles of {s}² texels is empty or over {MAX_EXPLICIT} texels"
+        )));
+    }
     let (w, h) = (nx * s, ny * s);
     let mut normals = vec![nalgebra::Vector3::zeros(); w * h];
     for cj in 0..ny {
