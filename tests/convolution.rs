@@ -5,7 +5,9 @@
 use ndfbench::integrate::quad::Tol;
 use ndfbench::multiscale::convolution::{ltc_cap_integral, Convolution};
 use ndfbench::multiscale::mrl::mrl;
-use ndfbench::multiscale::overall::{alpha_moment, conv_cap, eq7, sum_of_squares, vmf};
+use ndfbench::multiscale::overall::{
+    alpha_moment, conv_cap, eq7, sum_of_squares, table_cap, vmf, CAPS,
+};
 use std::f64::consts::PI;
 
 const TOL: Tol = Tol {
@@ -118,5 +120,37 @@ fn tabulated_convolution_interpolates_to_the_direct_quadrature() {
             (interp - direct).abs() <= tol * direct.abs().max(1e-12),
             "θ={t}: {interp} vs {direct}"
         );
+    }
+}
+
+#[test]
+fn caps_read_from_the_table_agree_with_caps_by_nested_quadrature() {
+    use ndfbench::multiscale::convolution::density_table;
+    // the fit's caps read the tabulated density; the reference integrates a fresh sphere
+    // quadrature of c(θ) at every θ node. Both bars together must cover the difference,
+    // and the table's bar must be tight enough for the fit (1e-5 relative)
+    for (mi, me) in [(0.01, 0.01), (0.3, 0.05), (0.02, 1.0), (1.0, 1.0)] {
+        let c = Convolution::new(me, mi).unwrap();
+        let tt = Tol::new(1e-10, 1e-9, 2_000_000);
+        let (fine, coarse) = (density_table(&c, 16, tt), density_table(&c, 12, tt));
+        for &(t, r) in &CAPS {
+            let a = table_cap(
+                &fine,
+                &coarse,
+                mi.max(me).min(1.0),
+                t,
+                r,
+                Tol::new(1e-11, 1e-9, 5_000_000),
+            );
+            let b = conv_cap(&c, t, r, Tol::new(1e-9, 1e-7, 5_000_000));
+            assert!(
+                (a.value - b.value).abs() <= a.error + b.error,
+                "({mi}, {me}) cap ({t}, {r}): table {a} vs nested {b}"
+            );
+            assert!(
+                a.error <= 1e-5 * a.value.abs(),
+                "({mi}, {me}) cap ({t}, {r}): {a}"
+            );
+        }
     }
 }

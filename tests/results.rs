@@ -359,7 +359,7 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
 fn the_judge_tolerance_study_agrees_with_the_published_figures() {
     use ndfbench::fit::spec::FitSpec;
     let spec = FitSpec::parse(
-        "name = \"ltc-judge-tolerance\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\nevery = 32\nrels = [5e-4, 2e-3, 1e-2]\n",
+        "name = \"ltc-judge-tolerance\"\nseed = 0\ntolerance = { max_rel = 1.0 }\n[params]\nevery = 32\nrels = [5e-4, 2e-3, 1e-2]\nl1_rels = [2e-3, 1e-2, 5e-2]\n",
         "test",
     )
     .unwrap();
@@ -387,6 +387,11 @@ fn the_judge_tolerance_study_agrees_with_the_published_figures() {
             fits["params"]["held_out_rel"].as_float(),
             "{name}"
         );
+        assert_eq!(
+            c["chosen_l1_rel"].as_f64(),
+            fits["params"]["held_out_l1_rel"].as_float(),
+            "{name}"
+        );
         assert_eq!(c["cells"], 4, "{name}");
         // the mean of the same four cells' published relative L2 and its bar
         let cells = &published["held_out_cells"]["l2"];
@@ -412,6 +417,34 @@ fn the_judge_tolerance_study_agrees_with_the_published_figures() {
         assert!(
             evals[2] < evals[0],
             "{name}: a looser tolerance saved nothing: {evals:?}"
+        );
+        // the L1 curve: the published relative L1 of the same cells within both bars, at
+        // each L1 tolerance, and less work as the L1's tolerance loosens
+        let l1 = &published["held_out_cells"]["l1"];
+        let (mut v1, mut e1) = (0.0, 0.0);
+        for j in [0, 32] {
+            for i in [0, 32] {
+                v1 += l1[j][i][0].as_f64().unwrap() / 4.0;
+                e1 += l1[j][i][1].as_f64().unwrap() / 4.0;
+            }
+        }
+        let l1_pts = c["l1_points"].as_array().unwrap();
+        assert_eq!(l1_pts.len(), 3, "{name}");
+        for p in l1_pts {
+            let m = &p["l1_mean"];
+            let (mv, me) = (m["value"].as_f64().unwrap(), m["error"].as_f64().unwrap());
+            assert!(
+                (mv - v1).abs() <= me + e1,
+                "{name}: L1 {mv} ± {me} against the published {v1} ± {e1}"
+            );
+        }
+        let l1_evals: Vec<f64> = l1_pts
+            .iter()
+            .map(|p| p["evals_per_cell"].as_f64().unwrap())
+            .collect();
+        assert!(
+            l1_evals.windows(2).all(|w| w[1] <= w[0]) && l1_evals[2] < l1_evals[0],
+            "{name}: {l1_evals:?}"
         );
     }
     let _ = std::fs::remove_dir_all(&d);
@@ -442,10 +475,28 @@ fn held_out_tolerances_out_of_range_are_refused() {
             "held_out_rel",
         ),
         (
+            "ltc-ggx",
+            "held_out_l1_rel = 1e-2",
+            "held_out_l1_rel = -1e-2",
+            "held_out_l1_rel",
+        ),
+        (
+            "ltc-sheen",
+            "held_out_l1_rel = 1e-2",
+            "held_out_l1_rel = 1.0",
+            "held_out_l1_rel",
+        ),
+        (
             "ltc-judge-tolerance",
             "rels = [1e-4,",
             "rels = [1e-3, 1e-4,",
             "rels",
+        ),
+        (
+            "ltc-judge-tolerance",
+            "l1_rels = [2e-3,",
+            "l1_rels = [2e-2, 2e-3,",
+            "l1_rels",
         ),
     ];
     for (name, from, to, key) in cases {

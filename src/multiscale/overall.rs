@@ -2,7 +2,9 @@
 //! §3.4–3.5) under selectable metrics, the paper's Eq 7, its refit, the rules engines
 //! ship, and a model with both limits built in.
 
-use super::convolution::{density_table, l2_distance2, ltc_cap_integral, Convolution, Polygon};
+use super::convolution::{
+    density_table, l2_distance2, ltc_cap_integral, Convolution, Polygon, ZonalTable,
+};
 use super::mrl::{alpha_from_one_minus, mrl_pair};
 use crate::error::{Error, Result};
 use crate::integrate::quad::{adaptive_batched, Tol};
@@ -41,6 +43,9 @@ impl Metric {
         }
     }
 }
+
+/// Nodes per panel of the coarser density table whose caps bound the fine table's error.
+const CAP_CHECK_NODES: usize = 12;
 
 /// Cap lights of the rendering metric: (polar angle of the axis, half-angle), radians.
 pub const CAPS: [(f64, f64); 9] = [
@@ -163,37 +168,47 @@ fn lights_of_ltc(alpha: f64, polys: &[Polygon]) -> Vec<f64> {
     v
 }
 
-/// ∫_cap c for the convolution as a 1D integral over θ: c depends on θ only, and the
-/// circle at θ meets the cap (axis at θ_c, half-angle r) in an arc of azimuthal length
-/// Φ(θ) = 2 acos((cos r − cos θ cos θ_c)/(sin θ sin θ_c)) (2π when the circle is inside).
-pub fn conv_cap(conv: &Convolution, theta_c: f64, r: f64, tol: Tol) -> crate::integrate::Estimate {
+/// The azimuthal length Φ(θ) of the circle at polar angle θ inside the cap with axis at
+/// θ_c and half-angle r: 2 acos((cos r − cos θ cos θ_c)/(sin θ sin θ_c)), 2π when the
+/// circle is inside.
+fn cap_arc(t: f64, theta_c: f64, r: f64) -> f64 {
+    let (st, ct) = t.sin_cos();
+    let (sc, cc) = theta_c.sin_cos();
+    if st * sc == 0.0 {
+        return if (t - theta_c).abs() <= r {
+            2.0 * PI
+        } else {
+            0.0
+        };
+    }
+    let x = (r.cos() - ct * cc) / (st * sc);
+    if x <= -1.0 {
+        2.0 * PI
+    } else if x >= 1.0 {
+        0.0
+    } else {
+        2.0 * x.acos()
+    }
+}
+
+/// ∫_cap of a zonal density `c` (`c(θs)` gives its values at up to 15 θ, with their errors
+/// and the evaluations spent) as a 1D integral over θ: the circle at θ meets the cap in an
+/// arc of length [`cap_arc`]. Panels break at the cap's edges, its axis, and geometrically
+/// from a quarter of the lobe `width` (as the radial moments do).
+fn zonal_cap(
+    c: &dyn Fn(&[f64; 15]) -> ([f64; 15], [f64; 15], u64),
+    width: f64,
+    theta_c: f64,
+    r: f64,
+    tol: Tol,
+) -> crate::integrate::Estimate {
     let lo = (theta_c - r).max(0.0);
     let hi = (theta_c + r).min(PI);
-    let arc = |t: f64| -> f64 {
-        let (st, ct) = t.sin_cos();
-        let (sc, cc) = theta_c.sin_cos();
-        if st * sc == 0.0 {
-            return if (t - theta_c).abs() <= r {
-                2.0 * PI
-            } else {
-                0.0
-            };
-        }
-        let x = (r.cos() - ct * cc) / (st * sc);
-        if x <= -1.0 {
-            2.0 * PI
-        } else if x >= 1.0 {
-            0.0
-        } else {
-            2.0 * x.acos()
-        }
-    };
     let mut breaks = vec![lo, hi];
     if theta_c > r && theta_c + r < PI {
         breaks.push(theta_c);
     }
-    // geometric panels following the lobe (as in the radial moments)
-    let mut th = 0.25 * conv.alpha_me.max(conv.alpha_mi).min(1.0);
+    let mut th = 0.25 * width;
     while th < hi {
         if th > lo {
             breaks.push(th);
@@ -202,23 +217,68 @@ pub fn conv_cap(conv: &Convolution, theta_c: f64, r: f64, tol: Tol) -> crate::in
     }
     breaks.sort_by(|a, b| a.total_cmp(b));
     breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
-    let inner = Tol::new(tol.abs * 0.1, tol.rel * 0.1, 2_000_000);
     let eval = |xs: &[f64; 15]| {
+        let (cv, ce, n) = c(xs);
+        let mut v = [0.0; 15];
+        let mut e = [0.0; 15];
+        for (i, &t) in xs.iter().enumerate() {
+            let k = cap_arc(t, theta_c, r) * t.sin();
+            v[i] = k * cv[i];
+            e[i] = (k * ce[i]).abs();
+        }
+        (v, e, n)
+    };
+    adaptive_batched(&eval, &breaks, tol)
+}
+
+/// The lobe width the convolution's θ panels follow.
+fn conv_width(conv: &Convolution) -> f64 {
+    conv.alpha_me.max(conv.alpha_mi).min(1.0)
+}
+
+/// ∫_cap c for the convolution, every c(θ) by its own adaptive sphere quadrature
+/// (`Convolution::density`, a tenth of `tol`): the reference of [`table_cap`].
+pub fn conv_cap(conv: &Convolution, theta_c: f64, r: f64, tol: Tol) -> crate::integrate::Estimate {
+    let inner = Tol::new(tol.abs * 0.1, tol.rel * 0.1, 2_000_000);
+    let c = |xs: &[f64; 15]| {
         use rayon::prelude::*;
         let r: Vec<crate::integrate::Estimate> =
             xs.par_iter().map(|&t| conv.density(t, inner)).collect();
         let mut v = [0.0; 15];
         let mut e = [0.0; 15];
         let mut n = 0;
-        for (i, (est, &t)) in r.iter().zip(xs).enumerate() {
-            let k = arc(t) * t.sin();
-            v[i] = k * est.value;
-            e[i] = (k * est.error).abs();
+        for (i, est) in r.iter().enumerate() {
+            v[i] = est.value;
+            e[i] = est.error;
             n += est.evals;
         }
         (v, e, n)
     };
-    adaptive_batched(&eval, &breaks, tol)
+    zonal_cap(&c, conv_width(conv), theta_c, r, tol)
+}
+
+/// ∫_cap c for the convolution read from its tabulated density (`density_table`): the same
+/// θ integral as [`conv_cap`] over the interpolant, so each cap costs no sphere quadrature.
+/// The error is the θ quadrature's plus the table's: |∫_cap fine − ∫_cap coarse|, the
+/// same cap over `coarse`, a table of the same convolution on fewer nodes per panel (an
+/// estimate of the coarse table's interpolation error, and so, the interpolant converging
+/// spectrally, an overestimate of the fine one's).
+pub fn table_cap(
+    fine: &ZonalTable,
+    coarse: &ZonalTable,
+    width: f64,
+    theta_c: f64,
+    r: f64,
+    tol: Tol,
+) -> crate::integrate::Estimate {
+    fn read(t: &ZonalTable) -> impl Fn(&[f64; 15]) -> ([f64; 15], [f64; 15], u64) + '_ {
+        move |xs| (xs.map(|x| t.eval(x)), [0.0; 15], 15)
+    }
+    let mut e = zonal_cap(&read(fine), width, theta_c, r, tol);
+    let c = zonal_cap(&read(coarse), width, theta_c, r, tol);
+    e.error += c.error + (e.value - c.value).abs();
+    e.evals += c.evals;
+    e
 }
 
 /// The best α for one (α_mi, α_me) pair under each metric (Brent via argmin for L2 and caps).
@@ -263,13 +323,23 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
     let tol = Tol::new(1e-8, 1e-8, 5_000_000);
     let m = conv.moments_quad(tol);
     let moment_clipped = alpha_from_one_minus(1.0 - m.mrl_clipped)?;
-    let table = density_table(&conv, 16, Tol::new(1e-10, 1e-9, 2_000_000));
+    let table_tol = Tol::new(1e-10, 1e-9, 2_000_000);
+    let table = density_table(&conv, 16, table_tol);
+    // the cap integrals' table error: the same caps over a table on fewer nodes
+    let coarse = density_table(&conv, CAP_CHECK_NODES, table_tol);
     let l2 = brent_min(&|a| l2_distance2(&table, a), 1e-3, 3.0);
     let mut cap_err = 0.0f64;
     let mut target: Vec<f64> = CAPS
         .iter()
         .map(|&(t, r)| {
-            let e = conv_cap(&conv, t, r, Tol::new(1e-9, 1e-7, 5_000_000));
+            let e = table_cap(
+                &table,
+                &coarse,
+                conv_width(&conv),
+                t,
+                r,
+                Tol::new(1e-11, 1e-9, 5_000_000),
+            );
             cap_err = cap_err.max(e.error / e.value.abs().max(1e-300));
             e.value
         })
@@ -277,11 +347,16 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
     // polygons: c is zonal, so integrate the interpolated table over each polygon
     let polys = polygons();
     for p in &polys {
-        let e = p.integral(
-            &|m| table.eval(m.z.clamp(-1.0, 1.0).acos()),
-            Tol::new(1e-11, 1e-8, 5_000_000),
-        );
-        cap_err = cap_err.max(e.error / e.value.abs().max(1e-300));
+        let over = |t: &ZonalTable| {
+            p.integral(
+                &|m| t.eval(m.z.clamp(-1.0, 1.0).acos()),
+                Tol::new(1e-11, 1e-8, 5_000_000),
+            )
+        };
+        let (e, c) = (over(&table), over(&coarse));
+        // the quadratures' errors and the table's (as for the caps)
+        let err = e.error + c.error + (e.value - c.value).abs();
+        cap_err = cap_err.max(err / e.value.abs().max(1e-300));
         target.push(e.value);
     }
     let caps = brent_min(

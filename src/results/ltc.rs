@@ -164,7 +164,12 @@ pub struct JudgeCurve {
     pub table: String,
     pub cells: usize,
     pub chosen_rel: f64,
+    /// The relative L1's tolerance its spec chose (`held_out_l1_rel`).
+    pub chosen_l1_rel: f64,
     pub points: Vec<JudgePoint>,
+    /// The relative L2 at `chosen_rel`, the relative L1's tolerance swept (`rel` is the
+    /// L1's); against the same reference as `points`.
+    pub l1_points: Vec<JudgePoint>,
 }
 
 /// The judge at one relative tolerance, over the cells of a curve (the f64 cells' figures).
@@ -175,6 +180,8 @@ pub struct JudgePoint {
     pub evals_per_cell: f64,
     /// Mean relative L2 within the mean of the cells' bars.
     pub l2_mean: Figure<Quad>,
+    /// Mean relative L1 within the mean of the cells' bars.
+    pub l1_mean: Figure<Quad>,
     /// The largest bar of any cell's relative L2 or L1.
     pub largest_bar: f64,
     /// The largest |change| of a cell's relative L2 or L1 against the reference tolerance.

@@ -15,6 +15,10 @@
 //!   multiple of the K15 ⊗ K15 − G7 ⊗ G7 difference), not a proof, so this count is the
 //!   check that the bars a tolerance reports still bound their figures.
 //!
+//! A second curve holds the relative L2's tolerance at the table's own (`held_out_rel`)
+//! and sweeps the relative L1's alone (`l1_rels`, the table's `held_out_l1_rel`): |f − g|
+//! has kinks where f = g, so at equal tolerances the L1 figure sets most of the work.
+//!
 //! Writes results/ltc-judge-tolerance.{md,svg} and results/fits/ltc-judge-tolerance.json.
 
 use crate::error::{Error, Result};
@@ -37,23 +41,30 @@ pub struct Plan {
     pub every: usize,
     /// The relative tolerances, strictly increasing; the first is the reference.
     pub rels: Vec<f64>,
+    /// The relative L1's tolerances of the second curve, strictly increasing (the relative
+    /// L2 at the table's `held_out_rel`); judged against the same reference.
+    pub l1_rels: Vec<f64>,
 }
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
         crate::fit::spec::within("every", self.every, 1, 64)?;
         crate::fit::spec::within("rels (its length)", self.rels.len(), 2, 16)?;
+        crate::fit::spec::within("l1_rels (its length)", self.l1_rels.len(), 1, 16)?;
         for &r in &self.rels {
             Tolerance::check_relative(r)?;
         }
-        if self.rels.windows(2).all(|w| w[0] < w[1]) {
-            Ok(())
-        } else {
-            Err(format!(
-                "rels = {:?} must increase strictly (the first is the reference)",
-                self.rels
-            ))
+        for &r in &self.l1_rels {
+            Tolerance::check_relative_l1(r)?;
         }
+        for (key, v) in [("rels", &self.rels), ("l1_rels", &self.l1_rels)] {
+            if !v.windows(2).all(|w| w[0] < w[1]) {
+                return Err(format!(
+                    "{key} = {v:?} must increase strictly (the first of rels is the reference)"
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -63,11 +74,16 @@ struct Chosen {
     /// A spec from before the key judged to the default tolerance.
     #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]
     held_out_rel: f64,
+    /// A spec from before the key judged the relative L1 to `held_out_rel`.
+    #[serde(default)]
+    held_out_l1_rel: Option<f64>,
 }
 
 impl crate::fit::spec::Params for Chosen {
     fn check(&self) -> std::result::Result<(), String> {
-        Tolerance::check_relative(self.held_out_rel)
+        Tolerance::check_relative(self.held_out_rel)?;
+        self.held_out_l1_rel
+            .map_or(Ok(()), Tolerance::check_relative_l1)
     }
 }
 
@@ -134,11 +150,22 @@ fn curve<T: LtcTarget>(
         .step_by(pl.every)
         .flat_map(|j| (0..n).step_by(pl.every).map(move |i| (i, j)))
         .collect();
-    let judged: Vec<Vec<Option<LobeError>>> = pl
+    let chosen_l1 = chosen.held_out_l1_rel.unwrap_or(chosen.held_out_rel);
+    let tolerances: Vec<(String, Tolerance)> = pl
         .rels
         .iter()
-        .map(|&rel| {
-            let label = format!("judge tolerance {name} {rel:e}");
+        .map(|&r| (format!("{r:e}"), Tolerance::relative(r)))
+        .chain(pl.l1_rels.iter().map(|&r| {
+            (
+                format!("{:e} L1 {r:e}", chosen.held_out_rel),
+                Tolerance::figures(chosen.held_out_rel, r),
+            )
+        }))
+        .collect();
+    let judged: Vec<Vec<Option<LobeError>>> = tolerances
+        .iter()
+        .map(|(tag, tol)| {
+            let label = format!("judge tolerance {name} {tag}");
             crate::memo::map_items(&label, &cells, |&(i, j)| {
                 let k = i + n * j;
                 let e = table.cells[k];
@@ -149,28 +176,38 @@ fn curve<T: LtcTarget>(
                 };
                 let t = target(p.grid.alpha(i), p.grid.theta(j))?;
                 let inv = crate::ltc::held::precisions(full, stored);
-                Ok(judge(&t, e[4], &inv, Tolerance::relative(rel))[0])
+                Ok(judge(&t, e[4], &inv, *tol)[0])
             })
         })
         .collect::<Result<_>>()?;
     let reference = &judged[0];
+    let (overall, l1) = judged.split_at(pl.rels.len());
     let points = pl
         .rels
         .iter()
-        .zip(&judged)
+        .zip(overall)
+        .map(|(&rel, v)| point(rel, v, reference))
+        .collect();
+    let l1_points = pl
+        .l1_rels
+        .iter()
+        .zip(l1)
         .map(|(&rel, v)| point(rel, v, reference))
         .collect();
     Ok(JudgeCurve {
         table: name.into(),
         cells: cells.len(),
         chosen_rel: chosen.held_out_rel,
+        chosen_l1_rel: chosen_l1,
         points,
+        l1_points,
     })
 }
 
 /// One tolerance's figures against the reference's, cell by cell.
 fn point(rel: f64, v: &[Option<LobeError>], reference: &[Option<LobeError>]) -> JudgePoint {
     let l2: Vec<Figure<Quad>> = v.iter().flatten().map(|e| e.l2).collect();
+    let l1: Vec<Figure<Quad>> = v.iter().flatten().map(|e| e.l1).collect();
     let both = |e: &LobeError| [e.l2, e.l1];
     let mut largest_change: f64 = 0.0;
     let mut beyond_bars = 0;
@@ -189,6 +226,7 @@ fn point(rel: f64, v: &[Option<LobeError>], reference: &[Option<LobeError>]) -> 
         rel,
         evals_per_cell: v.iter().flatten().map(|e| e.evals as f64).sum::<f64>() / cells,
         l2_mean: Figure::mean_bounded(&l2),
+        l1_mean: Figure::mean_bounded(&l1),
         largest_bar: v
             .iter()
             .flatten()
@@ -242,7 +280,50 @@ fn markdown(r: &JudgeTolerance) -> String {
             ]);
         }
         md.push_str(&format!("{t}\n"));
+        md.push_str(&l1_section(c, reference));
     }
+    md
+}
+
+/// The second curve of a table: the relative L2 at its tolerance, the relative L1's swept.
+fn l1_section(c: &JudgeCurve, reference: f64) -> String {
+    let mut md = format!(
+        "The relative L1's own tolerance, the relative L2's held at {:e} (the table's `held_out_l1_rel` is {:e}); changes against the same reference:\n\n",
+        c.chosen_rel, c.chosen_l1_rel
+    );
+    let mut t = Table::new([
+        "L1 tolerance",
+        "evaluations per cell",
+        "of the reference's",
+        "mean relative L1",
+        "mean relative L2",
+        "largest bar (points)",
+        "largest change (points)",
+        "changes beyond both bars",
+        "cells not converged",
+    ]);
+    for col in 1..9 {
+        t = t.align(col, Align::Right);
+    }
+    for p in &c.l1_points {
+        let mark = if p.rel == c.chosen_l1_rel {
+            " (the table's)"
+        } else {
+            ""
+        };
+        t.row([
+            format!("{:e}{mark}", p.rel),
+            format!("{:.0}", p.evals_per_cell),
+            format!("{:.2}", p.evals_per_cell / reference),
+            p.l1_mean.pct_fixed(5),
+            p.l2_mean.pct_fixed(5),
+            format!("{:.5}", 100.0 * p.largest_bar),
+            format!("{:.5}", 100.0 * p.largest_change),
+            p.beyond_bars.to_string(),
+            p.unconverged.to_string(),
+        ]);
+    }
+    md.push_str(&format!("{t}\n"));
     md
 }
 
@@ -270,13 +351,31 @@ fn plot(r: &JudgeTolerance) -> Result<String> {
                 series: series(&|p| p.l2_mean.error),
             },
             Panel {
+                title: "Bar of the mean relative L1 against work (L2 at the table's tolerance)"
+                    .into(),
+                x_label: "integrand evaluations per cell".into(),
+                y_label: "mean L1 bar (percentage points)".into(),
+                series: r
+                    .tables
+                    .iter()
+                    .map(|c| Series {
+                        name: c.table.clone(),
+                        points: c
+                            .l1_points
+                            .iter()
+                            .map(|p| (p.evals_per_cell, 100.0 * p.l1_mean.error))
+                            .collect(),
+                    })
+                    .collect(),
+            },
+            Panel {
                 title: "Largest change against the reference tolerance".into(),
                 x_label: "integrand evaluations per cell".into(),
                 y_label: "largest |change| (percentage points)".into(),
                 series: series(&|p| p.largest_change),
             },
         ],
-        1200,
+        1800,
         480,
     )
 }

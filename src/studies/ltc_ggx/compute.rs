@@ -28,12 +28,23 @@ pub struct Plan {
     /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
     /// chosen from the accuracy-against-work curve of the `ltc-judge-tolerance` study.
     pub held_out_rel: f64,
+    /// The relative L1's own relative tolerance (`ltc::lobe_error::Tolerance::figures`),
+    /// chosen from the same study's L1 curve.
+    pub held_out_l1_rel: f64,
     /// The pipeline section: map side, mip levels, footprints per level, and the truth's
     /// relative tolerance.
     pub pipeline_size: usize,
     pub pipeline_levels: Vec<usize>,
     pub pipeline_per_level: usize,
     pub pipeline_tolerance: f64,
+}
+
+impl Plan {
+    /// The held-out judge's tolerance: `held_out_rel` for the relative L2,
+    /// `held_out_l1_rel` for the relative L1.
+    pub fn tolerance(&self) -> crate::ltc::lobe_error::Tolerance {
+        crate::ltc::lobe_error::Tolerance::figures(self.held_out_rel, self.held_out_l1_rel)
+    }
 }
 
 impl crate::fit::spec::Params for Plan {
@@ -51,7 +62,8 @@ impl crate::fit::spec::Params for Plan {
         all_within("pipeline_levels", &self.pipeline_levels, 0, top, 16)?;
         within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;
         within("pipeline_tolerance", self.pipeline_tolerance, 1e-9, 0.1)?;
-        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
+        crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)
     }
 }
 

@@ -62,7 +62,7 @@ fn intro(c: &Computed) -> String {
         crate::ltc::fit::ALBEDO_TOL,
         main.cells.iter().flatten().map(|c| c.norm_se).fold(0.0, f64::max)
     );
-    md.push_str(&held_out_section(st, Tolerance::relative(pl.held_out_rel)));
+    md.push_str(&held_out_section(st, pl.tolerance()));
     md.push_str(" ![error](ltc-error.svg)\n\n");
     md.push_str(&format!("{}\n\n", c.sampled.sentence(st.l2.mean.value)));
     md
@@ -71,9 +71,8 @@ fn intro(c: &Computed) -> String {
 /// The held-out paragraph of a table: both figures, mean and largest, with error bars.
 pub fn held_out_section(st: &Stats, tol: Tolerance) -> String {
     format!(
-        "## Table error (held-out, as integrals)\n\nEach cell's lobe error is computed as integrals over the whole sphere to a stated accuracy, not sampled: ∫(f − norm·γ_M)², ∫f², ∫|f − norm·γ_M| and ∫f by adaptive cubature on charts that follow the BRDF's lobe and the LTC's (`ltc::lobe_error`), each figure ± the half-width of the interval its integrals' errors allow (K15 ⊗ K15 panels against the G7 ⊗ G7 rule on the same panels; tolerance {:e} relative or {:e} absolute per figure, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}.",
-        tol.rel,
-        tol.abs,
+        "## Table error (held-out, as integrals)\n\nEach cell's lobe error is computed as integrals over the whole sphere to a stated accuracy, not sampled: ∫(f − norm·γ_M)², ∫f², ∫|f − norm·γ_M| and ∫f by adaptive cubature on charts that follow the BRDF's lobe and the LTC's (`ltc::lobe_error`), each figure ± the half-width of the interval its integrals' errors allow (K15 ⊗ K15 panels against the G7 ⊗ G7 rule on the same panels; {} per figure, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}.",
+        tol.describe(),
         st.converged,
         st.cells,
         st.l2.mean.pct(2),
@@ -114,16 +113,11 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let bilinear = bilinear_pass(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut main, &GgxTarget::new, pl.samples)?;
     crate::report::stage("regen ltc-ggx: held-out figures of every cell (f64, f32, binary16)");
-    held::judge_table(
-        &Memo,
-        &mut main,
-        &GgxTarget::new,
-        Tolerance::relative(pl.held_out_rel),
-    )?;
+    held::judge_table(&Memo, &mut main, &GgxTarget::new, pl.tolerance())?;
     let st = stats(&main);
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
     let structure = table::measure_structure(&main);
-    let between = table::measure_between(&main, Tolerance::relative(pl.held_out_rel))?;
+    let between = table::measure_between(&main, pl.tolerance())?;
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
     let polygons = polygons::measure(&main, pl.mc)?;

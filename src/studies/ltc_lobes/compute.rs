@@ -3,7 +3,6 @@
 
 use crate::error::Result;
 use crate::ltc::fit::{fit_table, Grid, Method, Metric, Polish, Table};
-use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::memo::Memo;
@@ -61,6 +60,17 @@ pub struct Plan {
     /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
     /// chosen from the accuracy-against-work curve of the `ltc-judge-tolerance` study.
     pub held_out_rel: f64,
+    /// The relative L1's own relative tolerance (`ltc::lobe_error::Tolerance::figures`),
+    /// chosen from the same study's L1 curve.
+    pub held_out_l1_rel: f64,
+}
+
+impl Plan {
+    /// The held-out judge's tolerance: `held_out_rel` for the relative L2,
+    /// `held_out_l1_rel` for the relative L1.
+    pub fn tolerance(&self) -> crate::ltc::lobe_error::Tolerance {
+        crate::ltc::lobe_error::Tolerance::figures(self.held_out_rel, self.held_out_l1_rel)
+    }
 }
 
 impl crate::fit::spec::Params for Plan {
@@ -72,7 +82,8 @@ impl crate::fit::spec::Params for Plan {
             self.max_iters,
             self.mc,
         )?;
-        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
+        crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)
     }
 }
 
@@ -113,12 +124,7 @@ pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
     pb.finish();
     let bilinear = bilinear_pass(&Memo, &mut table, &target, pl.samples)?;
     crate::ltc::storage::store_table(&Memo, &mut table, &target, pl.samples)?;
-    crate::ltc::held::judge_table(
-        &Memo,
-        &mut table,
-        &target,
-        Tolerance::relative(pl.held_out_rel),
-    )?;
+    crate::ltc::held::judge_table(&Memo, &mut table, &target, pl.tolerance())?;
     Ok(Fitted {
         lobe,
         table,

@@ -302,13 +302,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
         .collect();
     let mid_errs: Vec<(Option<LobeError>, f64)> =
         crate::memo::map_items("lobe table between cells", &squares, |&(i, j)| {
-            midpoint_error_of(
-                &sh,
-                (i, j),
-                t.grid.alpha_min,
-                &target,
-                Tolerance::relative(pl.held_out_rel),
-            )
+            midpoint_error_of(&sh, (i, j), t.grid.alpha_min, &target, pl.tolerance())
         })?;
     // a lobe with (almost) no energy has no relative error worth a mean: between cells
     // whose albedos differ by orders of magnitude (sheen seen head-on at small α) the
@@ -394,7 +388,7 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
             }
             e
         },
-        Tolerance::relative(pl.held_out_rel),
+        pl.tolerance(),
     )?;
     let mt = &main.table;
     let on_variant = against(
@@ -402,7 +396,7 @@ pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) 
         vt,
         fam.variant,
         &|i, j, _| vec![full(&mt.cells[j][i])],
-        Tolerance::relative(pl.held_out_rel),
+        pl.tolerance(),
     )?;
     let bounded = |k: usize| -> Located {
         // no column at all where no cell's albedo exceeds 1

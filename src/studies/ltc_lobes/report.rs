@@ -28,12 +28,11 @@ fn table_section(
     st: &Stats,
     r: &TableReport,
     file: &str,
-    held_out_rel: f64,
+    tol: crate::ltc::lobe_error::Tolerance,
 ) {
-    let tol = crate::ltc::lobe_error::Tolerance::relative(held_out_rel);
     md.push_str(&format!(
-        "## {} (results/fits/{file}.json)\n\nTarget: {}.\n\nHeld-out error of every cell, as integrals over the whole sphere (`ltc::lobe_error`: adaptive cubature on charts that follow the lobe and the LTC, each figure ± the half-width its integrals' errors allow; tolerance {:e} relative or {:e} absolute, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}. Bilinear pass: {} of {} cells moved. Fit cost: results/performance.md (criterion's time per cell; the main job's wall clock per study).\n\n",
-        f.lobe.short(), f.lobe.describe(), tol.rel, tol.abs, st.converged, st.cells, st.l2.mean.pct(2), st.l2.max.pct(1), st.worst_cell.0, st.worst_cell.1, st.l1.mean.pct(2), st.l1.max.pct(1), st.mean_iters,
+        "## {} (results/fits/{file}.json)\n\nTarget: {}.\n\nHeld-out error of every cell, as integrals over the whole sphere (`ltc::lobe_error`: adaptive cubature on charts that follow the lobe and the LTC, each figure ± the half-width its integrals' errors allow; {}, met in {} of {} cells). Relative L2 ‖f − norm·γ_M‖/‖f‖: mean {}, max {} at α = {:.3}, θ = {:.1}°. Relative L1 ∫|f − norm·γ_M|/∫f: mean {}, max {}. Mean Nelder–Mead iterations {:.0}. Bilinear pass: {} of {} cells moved. Fit cost: results/performance.md (criterion's time per cell; the main job's wall clock per study).\n\n",
+        f.lobe.short(), f.lobe.describe(), tol.describe(), st.converged, st.cells, st.l2.mean.pct(2), st.l2.max.pct(1), st.worst_cell.0, st.worst_cell.1, st.l1.mean.pct(2), st.l1.max.pct(1), st.mean_iters,
         f.bilinear.cells_moved, f.table.grid.n * f.table.grid.n
     ));
     md.push_str(&format!("{}\n\n", r.sampled.sentence(st.l2.mean.value)));
@@ -153,14 +152,14 @@ pub(super) fn markdown(
         polish = pl.polish.describe(pl.samples),
         it = pl.max_iters
     );
-    table_section(&mut md, main, &held[0], &r.main, fam.name, pl.held_out_rel);
+    table_section(&mut md, main, &held[0], &r.main, fam.name, pl.tolerance());
     table_section(
         &mut md,
         variant,
         &held[1],
         &r.variant,
         fam.variant_name,
-        pl.held_out_rel,
+        pl.tolerance(),
     );
     let c = &r.cross;
     md.push_str(&format!(
