@@ -50,7 +50,7 @@ the mip chain's ‖b̄‖ times the micro lobe's ρ, through the same inverse as
             .collect::<Vec<_>>()
             .join("; "),
     );
-    md.push_str(". The cap energy of c is a 1D integral over θ of c(θ) times the arc of the cap at θ; polygon energies integrate c (Gauss–Legendre table with barycentric interpolation) and γ_α over the polygon by adaptive sphere quadrature with the edges' great circles as kink circles. The last column of the next table is the worst relative quadrature error estimate of the convolution's light energies.\n\n");
+    md.push_str(". c(θ) is tabulated once per pair (16-node Gauss–Legendre panels following the lobe, each node an adaptive sphere quadrature, barycentric interpolation between nodes). The cap energy of c is a 1D integral over θ of the table times the arc of the cap at θ; polygon energies integrate the table and γ_α over the polygon by adaptive sphere quadrature with the edges' great circles as kink circles. The last column of the next table is the worst relative error estimate of the convolution's light energies: the quadratures' estimates plus the table's, the difference against the same energy over a 12-node table (tests/convolution.rs checks the caps against a fresh sphere quadrature at every θ node).\n\n");
     md.push_str(&format!("## How much the best α depends on the metric ({m}×{m} grid, log-spaced in [{lo}, {hi}]²)\n\n"));
     let mut t = Table::new([
         "α_mi",
