@@ -237,3 +237,114 @@ fn the_fit_finds_the_sun_and_bad_input_is_an_error() {
     assert_eq!(query_side(std::f64::consts::PI, 32, 1e300), 64);
     assert_eq!(query_side(std::f64::consts::FRAC_PI_4, 32, 0.5), 8);
 }
+
+/// A user's equirectangular PNG: 8-bit values decode through the sRGB curve of IEC
+/// 61966-2-1 (128 → 0.2158605…, by hand from the standard's formula) weighted by Rec. 709's
+/// luminance, row 0 at the zenith; a 16-bit encoding of the procedural sky reads back to
+/// its radiance within the quantisation; the 2×2 average is the mean of its blocks.
+#[test]
+fn an_equirectangular_png_reads_as_radiance() {
+    let d = common::scratch("tensor_envsg", "png-env");
+    // 8-bit: a red top row, grey 128 elsewhere
+    let img = image::RgbImage::from_fn(16, 8, |_, y| {
+        if y == 0 {
+            image::Rgb([255, 0, 0])
+        } else {
+            image::Rgb([128, 128, 128])
+        }
+    });
+    let p8 = d.join("grey.png");
+    img.save(&p8).unwrap();
+    let env = Env::from_png(&p8, 3.0).unwrap();
+    assert_eq!((env.width, env.height), (16, 8));
+    let grey = 0.215_860_500_113_899_26;
+    assert!((env.radiance[16 * 5 + 3] - 3.0 * grey).abs() < 1e-12);
+    assert!((env.radiance[7] - 3.0 * 0.2126).abs() < 1e-12);
+    let (top, _) = env.texel(7, 0);
+    assert!(top.z > 0.9, "row 0 is at the zenith: {top:?}");
+    let half = env.halved().unwrap();
+    assert_eq!((half.width, half.height), (8, 4));
+    assert!((half.radiance[2] - 3.0 * (0.2126 + grey) / 2.0).abs() < 1e-12);
+    assert!((half.radiance[8 + 2] - 3.0 * grey).abs() < 1e-12);
+    // 16-bit: the procedural sky over its peak, sRGB-encoded here
+    let sky = Env::procedural(64, 32, 20.0).unwrap();
+    let peak = sky.radiance.iter().cloned().fold(0.0, f64::max);
+    let encode = |l: f64| {
+        let c = if l <= 0.0031308 {
+            12.92 * l
+        } else {
+            1.055 * l.powf(1.0 / 2.4) - 0.055
+        };
+        (c * 65535.0).round() as u16
+    };
+    let img16 = image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(64, 32, |x, y| {
+        let v = encode(sky.radiance[(y * 64 + x) as usize] / peak);
+        image::Rgb([v, v, v])
+    });
+    let p16 = d.join("sky.png");
+    img16.save(&p16).unwrap();
+    let back = Env::from_png(&p16, peak).unwrap();
+    for (a, b) in back.radiance.iter().zip(&sky.radiance) {
+        assert!((a - b).abs() <= 2e-4 * b.max(0.05 * peak), "{a} vs {b}");
+    }
+    // typed errors: a missing file, a broken one, a bad scale, a map too small to halve
+    std::fs::write(d.join("broken.png"), b"\x89PNG\r\n\x1a\nnothing").unwrap();
+    for (p, s) in [
+        (d.join("missing.png"), 1.0),
+        (d.join("broken.png"), 1.0),
+        (p8.clone(), 0.0),
+        (p8.clone(), f64::NAN),
+        (p8.clone(), f64::INFINITY),
+    ] {
+        assert!(Env::from_png(&p, s).is_err(), "{} at {s}", p.display());
+    }
+    let tiny = image::RgbImage::from_pixel(4, 2, image::Rgb([9, 9, 9]));
+    tiny.save(d.join("tiny.png")).unwrap();
+    let t = Env::from_png(&d.join("tiny.png"), 1.0).unwrap();
+    assert!(t.halved().is_err());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The study fits a user's PNG instead of the procedural sky when `environment` names one,
+/// and says so; a name that is neither is a typed error naming the key.
+#[test]
+fn the_study_fits_a_png_environment() {
+    use ndfbench::fit::spec::FitSpec;
+    use std::path::Path;
+    let d = common::scratch("tensor_envsg", "png-study");
+    let sky = Env::procedural(64, 32, 20.0).unwrap();
+    let img = image::ImageBuffer::<image::Luma<u16>, _>::from_fn(64, 32, |x, y| {
+        let l = sky.radiance[(y * 64 + x) as usize] / 20.6;
+        image::Luma([((1.055 * l.powf(1.0 / 2.4) - 0.055).clamp(0.0, 1.0) * 65535.0) as u16])
+    });
+    let png = d.join("sky.png");
+    img.save(&png).unwrap();
+    let text = std::fs::read_to_string("fits/tensor-envsg.toml").unwrap();
+    let from = "environment = \"procedural\"";
+    assert!(text.contains(from));
+    let with = |e: &str| {
+        FitSpec::parse(
+            &text.replacen(from, &format!("environment = {e:?}"), 1),
+            "tensor-envsg",
+        )
+        .unwrap()
+    };
+    let quick = ndfbench::integrate::Preset::Quick;
+    let c =
+        common::compute_study(&with(png.to_str().unwrap()), Path::new("results"), quick).unwrap();
+    let mut set = ndfbench::io::Outputs::new();
+    c.render(&mut set, &d).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_slice(set.get(&d.join("fits/tensor-envsg.json")).unwrap()).unwrap();
+    let fit = &out["fit"];
+    assert!(fit["environment"].as_str().unwrap().contains("sky.png"));
+    assert_eq!(fit["resolutions"][0][0], 64);
+    assert_eq!(fit["resolutions"][1][0], 32);
+    let e = fit["rel_error"][0].as_f64().unwrap();
+    assert!(e > 0.0 && e < 1.0, "{e}");
+    match common::compute_study(&with("no-such-sky.png"), Path::new("results"), quick) {
+        Err(e) => assert!(e.to_string().contains("environment"), "{e}"),
+        Ok(_) => panic!("a missing environment was accepted"),
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -211,3 +211,68 @@ fn bad_input_is_a_typed_error() {
     assert!(explicit(set, &c, (0, 0), (1 << 20, 1 << 20)).is_err());
     assert!(explicit(set, &c, (i64::MAX - 1, 0), (2, 2)).is_err());
 }
+
+/// A user's normal-map PNG as the example: the study cuts its tiles from the file's texels
+/// (16-bit, read back by `NormalMap::from_png`), and implicit = explicit still holds to
+/// rounding; a missing file or a broken PNG is a typed error naming the cause.
+#[test]
+fn a_png_example_is_cut_into_tiles() {
+    use ndfbench::fit::spec::FitSpec;
+    use std::path::Path;
+    let d = common::scratch("tensor_wang", "png-example");
+    let map = NormalMap::procedural(Procedural::IsotropicNoise, 64, 5).unwrap();
+    let enc = |c: f64| ((0.5 * (c + 1.0)).clamp(0.0, 1.0) * 65535.0).round() as u16;
+    let img = image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(64, 64, |x, y| {
+        let n = map.normals[(y * 64 + x) as usize];
+        image::Rgb([enc(n.x), enc(n.y), enc(n.z)])
+    });
+    let png = d.join("example.png");
+    img.save(&png).unwrap();
+    let text = std::fs::read_to_string("fits/tensor-wang.toml").unwrap();
+    assert!(text.contains("example = \"isotropic-noise\""));
+    let with = |example: &str| {
+        FitSpec::parse(
+            &text.replacen(
+                "example = \"isotropic-noise\"",
+                &format!("example = {example:?}"),
+                1,
+            ),
+            "tensor-wang",
+        )
+        .unwrap()
+    };
+    let quick = ndfbench::integrate::Preset::Quick;
+    let spec = with(png.to_str().unwrap());
+    let computed = common::compute_study(&spec, Path::new("results"), quick).unwrap();
+    let outcome = computed.outcome();
+    assert!(outcome.passed, "{}", outcome.summary);
+    let mut set = ndfbench::io::Outputs::new();
+    computed.render(&mut set, &d).unwrap();
+    let out: serde_json::Value =
+        serde_json::from_slice(set.get(&d.join("fits/tensor-wang.json")).unwrap()).unwrap();
+    let named = out["example_map"].as_str().unwrap();
+    assert!(
+        named.contains("example.png") && named.contains("64×64"),
+        "{named}"
+    );
+    // the file's texels, not the generator's: its own neighbour pairs differ from the
+    // generated map's by the 16-bit rounding only
+    let generated =
+        common::compute_study(&with("isotropic-noise"), Path::new("results"), quick).unwrap();
+    let mut gset = ndfbench::io::Outputs::new();
+    generated.render(&mut gset, &d).unwrap();
+    let g: serde_json::Value =
+        serde_json::from_slice(gset.get(&d.join("fits/tensor-wang.json")).unwrap()).unwrap();
+    assert!(g["example_map"].as_str().unwrap().contains("procedural"));
+    // a missing file and a file that is not a PNG
+    for bad in [d.join("missing.png"), d.join("broken.png")] {
+        if bad.ends_with("broken.png") {
+            std::fs::write(&bad, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+        }
+        let e = common::compute_study(&with(bad.to_str().unwrap()), Path::new("results"), quick)
+            .err()
+            .unwrap_or_else(|| panic!("{} was accepted", bad.display()));
+        assert!(e.to_string().contains("png"), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -7,10 +7,13 @@ use crate::integrate::{Figure, Quad};
 use crate::tensor::envsg::Sg;
 use serde::{Deserialize, Serialize};
 
-/// The SG fit of the procedural environment: its lobes and ‖env − SGs‖/‖env‖ with the
-/// environment sampled at two resolutions (w × h and 2w × 2h).
+/// The SG fit of the environment: its lobes and ‖env − SGs‖/‖env‖ with the environment
+/// sampled at two resolutions (the procedural sky at w × h and 2w × 2h; a user's map at
+/// its own and averaged 2×2).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SgFit {
+    /// The environment fitted, in words.
+    pub environment: String,
     pub lobes: Vec<Sg>,
     pub rel_error: [f64; 2],
     pub resolutions: [(usize, usize); 2],

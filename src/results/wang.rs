@@ -58,6 +58,8 @@ pub struct Wang {
     pub spec: FitSpec,
     pub command: String,
     pub preset: String,
+    /// What the tiles were cut from, in words (generator or file, and size).
+    pub example_map: String,
     /// The example's own neighbour pairs (every pair of the example).
     pub example: PairMean,
     /// Seams with the minimum-error cut, and with straight diagonals.

@@ -195,6 +195,74 @@ impl Env {
         Ok(env)
     }
 
+    /// A user's equirectangular PNG (8- or 16-bit; z up: row 0 at the zenith, column x at
+    /// azimuth 2π(x + ½)/w, as [`Env::texel`]): each pixel's sRGB-encoded channels decoded
+    /// to linear (IEC 61966-2-1), its luminance 0.2126 R + 0.7152 G + 0.0722 B (Rec. 709)
+    /// times `scale` as the radiance. A missing or broken file, a size outside 4×2 ..
+    /// 2^22 pixels, or a scale that is not finite and positive is a typed error.
+    pub fn from_png(path: &std::path::Path, scale: f64) -> Result<Env> {
+        if !(scale > 0.0 && scale.is_finite()) {
+            return Err(Error::InvalidArgument(format!(
+                "environment {}: the radiance scale must be finite and > 0 (got {scale:e})",
+                path.display()
+            )));
+        }
+        let img = crate::filters::footprint::open_image(path, "equirectangular environment map")?
+            .to_rgb16();
+        let (width, height) = (img.width() as usize, img.height() as usize);
+        if width < 4 || height < 2 || width * height > 1 << 22 {
+            return Err(Error::InvalidArgument(format!(
+                "environment {}: {width}×{height} pixels (an environment needs 4..=2^22 pixels, at least 4×2)",
+                path.display()
+            )));
+        }
+        // 8-bit values widen to 16 bits exactly (v·257), so v/65535 is v8/255 in f64
+        let linear = |v: u16| {
+            let c = f64::from(v) / 65535.0;
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let radiance = img
+            .pixels()
+            .map(|p| {
+                let [r, g, b] = p.0.map(linear);
+                scale * (0.2126 * r + 0.7152 * g + 0.0722 * b)
+            })
+            .collect();
+        Ok(Env {
+            width,
+            height,
+            radiance,
+        })
+    }
+
+    /// The map averaged over 2×2 pixel blocks (a last odd row or column left out): the
+    /// second sampling a fit to a user's map is judged on. At least 8×4 pixels.
+    pub fn halved(&self) -> Result<Env> {
+        let (w, h) = (self.width / 2, self.height / 2);
+        if w < 4 || h < 2 {
+            return Err(Error::InvalidArgument(format!(
+                "an environment of {}×{} pixels has no 2×2-averaged map of at least 4×2",
+                self.width, self.height
+            )));
+        }
+        let at = |x: usize, y: usize| self.radiance[y * self.width + x];
+        let radiance = (0..w * h)
+            .map(|k| {
+                let (x, y) = (2 * (k % w), 2 * (k / w));
+                0.25 * (at(x, y) + at(x + 1, y) + at(x, y + 1) + at(x + 1, y + 1))
+            })
+            .collect();
+        Ok(Env {
+            width: w,
+            height: h,
+            radiance,
+        })
+    }
+
     /// ‖env − sgs‖ / ‖env‖ over the sphere, by the pixels' solid angles.
     pub fn rel_error(&self, sgs: &SgEnv) -> f64 {
         let (mut d2, mut l2) = (0.0, 0.0);

@@ -36,9 +36,13 @@ pub struct Params {
     pub view_deg: f64,
     /// Single-SG lightings (amplitude 1, on the mirror direction): their bandwidths.
     pub lambdas: Vec<f64>,
-    /// The environment (equirectangular, w × h, a sun of this radiance) and its fit.
+    /// The environment: "procedural" (equirectangular, w × h, a sun of this radiance), or
+    /// a user's equirectangular PNG (a path; its radiance is the decoded linear luminance
+    /// times `env_scale`).
+    pub environment: String,
     pub env_size: (usize, usize),
     pub sun: f64,
+    pub env_scale: f64,
     pub lobes: usize,
     pub axes: usize,
     pub fit_lambdas: Vec<f64>,
@@ -66,6 +70,13 @@ impl crate::fit::spec::Params for Params {
         within("env_size.0", self.env_size.0, 8, 1024)?;
         within("env_size.1", self.env_size.1, 4, 512)?;
         within("sun", self.sun, 0.0, 1e6)?;
+        within("env_scale", self.env_scale, 1e-9, 1e9)?;
+        if self.environment != PROCEDURAL && !std::path::Path::new(&self.environment).is_file() {
+            return Err(format!(
+                "environment = {:?} is neither \"{PROCEDURAL}\" nor a PNG file",
+                self.environment
+            ));
+        }
         within("lobes", self.lobes, 1, 16)?;
         within("axes", self.axes, 4, 512)?;
         all_within("fit_lambdas", &self.fit_lambdas, 0.1, 1e5, 8)?;
@@ -296,18 +307,33 @@ fn fig11(cases: &[Case]) -> Fig11 {
     }
 }
 
+/// The `environment` that names the generated sky.
+const PROCEDURAL: &str = "procedural";
+
 pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
     let p: Params = c.params()?;
     let seed = c.spec.seed;
     // the environment and its SG fit, its error at two samplings of the environment
-    let (w, h) = p.env_size;
-    let env = Env::procedural(w, h, p.sun)?;
+    // the procedural sky's second sampling is twice as fine; a user's map's is its 2×2 average
+    let (env, second, environment) = if p.environment == PROCEDURAL {
+        let (w, h) = p.env_size;
+        (
+            Env::procedural(w, h, p.sun)?,
+            Env::procedural(2 * w, 2 * h, p.sun)?,
+            format!("A procedural sky ({w}×{h} equirectangular, z up: a sun of radiance {} within 3° of 40° from the zenith, sky 0.6 + 0.4 z, ground 0.2)", p.sun),
+        )
+    } else {
+        let env = Env::from_png(std::path::Path::new(&p.environment), p.env_scale)?;
+        let second = env.halved()?;
+        let text = format!("The environment map {} ({}×{} equirectangular, z up, row 0 at the zenith; sRGB decoded to linear luminance × {})", p.environment, env.width, env.height, p.env_scale);
+        (env, second, text)
+    };
     let sgs = fit(&env, p.lobes, p.axes, &p.fit_lambdas)?;
-    let fine = Env::procedural(2 * w, 2 * h, p.sun)?;
     let fitted = SgFit {
+        environment,
         lobes: sgs.lobes.clone(),
-        rel_error: [env.rel_error(&sgs), fine.rel_error(&sgs)],
-        resolutions: [(w, h), (2 * w, 2 * h)],
+        rel_error: [env.rel_error(&sgs), second.rel_error(&sgs)],
+        resolutions: [(env.width, env.height), (second.width, second.height)],
     };
     crate::progress::stamp("tensor-envsg: environment fitted; footprints next");
     // the footprints' images, compressed together

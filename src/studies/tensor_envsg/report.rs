@@ -114,8 +114,9 @@ pub(super) fn markdown(c: &Computed) -> String {
         c.preset.name()
     );
     md.push_str(&format!(
-        "## The environment as SGs\n\nA procedural sky ({}×{} equirectangular, z up: a sun of radiance {} within 3° of 40° from the zenith, sky 0.6 + 0.4 z, ground 0.2) fitted by {} SGs chosen greedily from {} Fibonacci axes (and the centre of the pixels above half the peak radiance) × bandwidths {:?}, amplitudes by non-negative least squares over the pixels' solid angles. ‖sky − SGs‖ / ‖sky‖: {:.2} % on the fitting grid, {:.2} % on the sky sampled at {}×{} (the sun's hard rim is what the Gaussians miss).\n\n",
-        p.env_size.0, p.env_size.1, p.sun, p.lobes, p.axes, p.fit_lambdas, 100.0 * r.fit.rel_error[0], 100.0 * r.fit.rel_error[1], r.fit.resolutions[1].0, r.fit.resolutions[1].1
+        "## The environment as SGs\n\n{} fitted by {} SGs chosen greedily from {} Fibonacci axes (and the centre of the pixels above half the peak radiance) × bandwidths {:?}, amplitudes by non-negative least squares over the pixels' solid angles. ‖L − SGs‖ / ‖L‖: {:.2} % on the fitting grid, {:.2} % on the environment sampled at {}×{}{}.\n\n",
+        r.fit.environment, p.lobes, p.axes, p.fit_lambdas, 100.0 * r.fit.rel_error[0], 100.0 * r.fit.rel_error[1], r.fit.resolutions[1].0, r.fit.resolutions[1].1,
+        if p.environment == "procedural" { " (the sun's hard rim is what the Gaussians miss)" } else { "" }
     ));
     let mut t = Table::new(["lobe", "axis θ (°)", "axis φ (°)", "λ", "A"]);
     for (k, g) in r.fit.lobes.iter().enumerate() {

@@ -21,8 +21,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Params {
-    /// The procedural example map and its side.
-    pub example: Procedural,
+    /// The example map: a generator's name (`filters::footprint::Procedural`, made
+    /// `example_size`² texels), or a normal-map PNG (a path; its own size is used, at least
+    /// `side` texels each way).
+    pub example: String,
     pub example_size: usize,
     /// Tile side, and the cut's band about each diagonal (0: straight).
     pub side: usize,
@@ -46,12 +48,43 @@ pub struct Params {
     pub areas: Vec<u64>,
 }
 
+/// The generators an example may name.
+fn generators() -> impl Iterator<Item = Procedural> {
+    Procedural::ALL.into_iter().chain([Procedural::Scratches])
+}
+
+/// The generator `name` names, if any.
+fn generator(name: &str) -> Option<Procedural> {
+    generators().find(|k| k.name() == name)
+}
+
+impl Params {
+    /// The example map: generated, or read from the PNG (`NormalMap::from_png`: a broken
+    /// file, or texels that are not unit upper-hemisphere normals, are typed errors).
+    pub fn example_map(&self, seed: u64) -> Result<NormalMap> {
+        match generator(&self.example) {
+            Some(k) => NormalMap::procedural(k, self.example_size, seed),
+            None => NormalMap::from_png(std::path::Path::new(&self.example)),
+        }
+    }
+}
+
 /// Cells from the origin a region may start at (its texels' coordinates stay exact in f64).
 const FAR: i64 = 1 << 40;
 
 impl crate::fit::spec::Params for Params {
     fn check(&self) -> std::result::Result<(), String> {
         use crate::fit::spec::{all_within, power_of_two, within};
+        if generator(&self.example).is_none() && !std::path::Path::new(&self.example).is_file() {
+            return Err(format!(
+                "example = {:?} is neither a generator ({}) nor a PNG file",
+                self.example,
+                generators()
+                    .map(|k| k.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
         power_of_two("example_size", self.example_size, 16, 1024)?;
         within("side", self.side, 8, self.example_size)?;
         if self.side % 2 != 0 {
@@ -218,7 +251,7 @@ fn compare_levels(
 pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
     let p: Params = c.params()?;
     let seed = c.spec.seed;
-    let example = NormalMap::procedural(p.example, p.example_size, seed)?;
+    let example = p.example_map(seed)?;
     let set = TileSet::build(&example, p.side, p.band, seed)?;
     let straight = TileSet::build(&example, p.side, 0, seed)?;
     let colouring = Colouring { seed };
@@ -333,6 +366,13 @@ pub(crate) fn compute(c: &Ctx) -> Result<Computed> {
             spec: c.spec.clone(),
             command: crate::results::command(&c.spec.name),
             preset: c.preset.name().into(),
+            example_map: match generator(&p.example) {
+                Some(k) => format!("the procedural {} map, {}² texels", k.name(), example.width),
+                None => format!(
+                    "the normal map {}, {}×{} texels",
+                    p.example, example.width, example.height
+                ),
+            },
             example: edge_mean(&example, 1),
             cut,
             straight: straight_stats,

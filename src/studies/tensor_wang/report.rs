@@ -108,11 +108,10 @@ fn pair_row(t: &mut Table, what: &str, m: &PairMean) {
 pub(super) fn markdown(c: &Computed) -> String {
     let (r, p) = (&c.result, &c.p);
     let mut md = format!(
-        "# Seed 002 §5.5: constant storage by Wang tiles\n\nWritten by `{}` (preset {}) from `fits/tensor-wang.toml`, on request (the main job leaves it out). Model: `tensor::wang`. Example: the procedural {} map, {}² texels; {TILES} tiles of {}² texels (the paper: 16 of 512² from a 2K² example), two colours per edge direction, every colouring a tile.\n\n",
+        "# Seed 002 §5.5: constant storage by Wang tiles\n\nWritten by `{}` (preset {}) from `fits/tensor-wang.toml`, on request (the main job leaves it out). Model: `tensor::wang`. Example: {}; {TILES} tiles of {}² texels (the paper: 16 of 512² from a 2K² example), two colours per edge direction, every colouring a tile.\n\n",
         r.command,
         c.preset.name(),
-        p.example.name(),
-        p.example_size,
+        r.example_map,
         p.side
     );
     md.push_str(&format!(
