@@ -38,8 +38,10 @@ pub fn stamp(msg: &str) {
 }
 
 /// The plain line of a stage: label, done/total, percent and ETA from the mean rate so
-/// far; with total 0, "running" and the elapsed time.
-pub fn line(label: &str, done: u64, total: u64, elapsed: Duration) -> String {
+/// far; with total 0, "running" and the elapsed time. A stage whose items are all done
+/// but which has not `ended` (its map still joining, or the work after its last item)
+/// says so instead of "done".
+pub fn line(label: &str, done: u64, total: u64, elapsed: Duration, ended: bool) -> String {
     let t = elapsed.as_secs_f64();
     if total == 0 {
         return format!("{label}: running, {t:.0} s");
@@ -49,8 +51,10 @@ pub fn line(label: &str, done: u64, total: u64, elapsed: Duration) -> String {
         ", ETA —".to_string()
     } else if done < total {
         format!(", ETA {:.0} s", t * (total - done) as f64 / done as f64)
-    } else {
+    } else if ended {
         format!(", done in {t:.1} s")
+    } else {
+        format!(", every item done, still running at {t:.0} s")
     };
     format!("{label}: {done}/{total} ({pct:.0} %){eta}")
 }
@@ -110,7 +114,7 @@ fn tick(now: Instant, period: Duration, sink: &dyn Fn(&str)) {
         }
         if due(e.last, now, period) {
             let done = e.done.load(Ordering::Relaxed);
-            sink(&line(&e.label, done, e.total, now - e.start));
+            sink(&line(&e.label, done, e.total, now - e.start, false));
             e.last = now;
             e.printed = true;
         }
@@ -201,7 +205,7 @@ impl Drop for Progress {
                 if let Some(e) = p.running.remove(&id) {
                     if e.printed {
                         let done = e.done.load(Ordering::Relaxed);
-                        stamp(&line(&e.label, done, e.total, e.start.elapsed()));
+                        stamp(&line(&e.label, done, e.total, e.start.elapsed(), true));
                     }
                 }
             }
@@ -216,16 +220,21 @@ mod tests {
     #[test]
     fn lines_say_done_total_and_eta() {
         let s = Duration::from_secs;
-        assert_eq!(line("fit", 0, 4096, s(3)), "fit: 0/4096 (0 %), ETA —");
+        assert_eq!(line("fit", 0, 4096, s(3), false), "fit: 0/4096 (0 %), ETA —");
         assert_eq!(
-            line("fit", 1024, 4096, s(10)),
+            line("fit", 1024, 4096, s(10), false),
             "fit: 1024/4096 (25 %), ETA 30 s"
         );
         assert_eq!(
-            line("fit", 4096, 4096, s(40)),
+            line("fit", 4096, 4096, s(40), true),
             "fit: 4096/4096 (100 %), done in 40.0 s"
         );
-        assert_eq!(line("ltc-ggx", 0, 0, s(61)), "ltc-ggx: running, 61 s");
+        assert_eq!(line("ltc-ggx", 0, 0, s(61), false), "ltc-ggx: running, 61 s");
+        // every item done, the stage not ended: not "done"
+        assert_eq!(
+            line("fit", 4096, 4096, s(100), false),
+            "fit: 4096/4096 (100 %), every item done, still running at 100 s"
+        );
     }
 
     #[test]
