@@ -220,7 +220,10 @@ mod tests {
     #[test]
     fn lines_say_done_total_and_eta() {
         let s = Duration::from_secs;
-        assert_eq!(line("fit", 0, 4096, s(3), false), "fit: 0/4096 (0 %), ETA —");
+        assert_eq!(
+            line("fit", 0, 4096, s(3), false),
+            "fit: 0/4096 (0 %), ETA —"
+        );
         assert_eq!(
             line("fit", 1024, 4096, s(10), false),
             "fit: 1024/4096 (25 %), ETA 30 s"
@@ -229,7 +232,10 @@ mod tests {
             line("fit", 4096, 4096, s(40), true),
             "fit: 4096/4096 (100 %), done in 40.0 s"
         );
-        assert_eq!(line("ltc-ggx", 0, 0, s(61), false), "ltc-ggx: running, 61 s");
+        assert_eq!(
+            line("ltc-ggx", 0, 0, s(61), false),
+            "ltc-ggx: running, 61 s"
+        );
         // every item done, the stage not ended: not "done"
         assert_eq!(
             line("fit", 4096, 4096, s(100), false),

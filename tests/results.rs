@@ -487,6 +487,12 @@ fn held_out_tolerances_out_of_range_are_refused() {
             "held_out_l1_rel",
         ),
         (
+            "ltc-aniso",
+            "held_out_l1_rel = 1e-2",
+            "held_out_l1_rel = 0.0",
+            "held_out_l1_rel",
+        ),
+        (
             "ltc-judge-tolerance",
             "rels = [1e-4,",
             "rels = [1e-3, 1e-4,",

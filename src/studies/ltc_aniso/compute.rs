@@ -17,6 +17,8 @@ pub(crate) struct Plan {
     pub cases: usize,
     /// MC samples per technique of the polygon checks.
     pub mc: usize,
+    /// The held-out judge's tolerance (`held_out_rel`, `held_out_l1_rel`).
+    pub tol: crate::ltc::lobe_error::Tolerance,
 }
 
 /// What fits/ltc-aniso.toml sets.
@@ -41,6 +43,10 @@ pub struct Params {
     pub cases: usize,
     /// MC samples per technique of the polygon checks.
     pub mc: usize,
+    /// The held-out figures' relative tolerances: the relative L2's and the relative L1's
+    /// (`ltc::lobe_error::Tolerance::figures`).
+    pub held_out_rel: f64,
+    pub held_out_l1_rel: f64,
 }
 
 impl crate::fit::spec::Params for Params {
@@ -54,7 +60,9 @@ impl crate::fit::spec::Params for Params {
         within("iters", self.iters, 1, 100_000)?;
         within("line", self.line, 2, 1_000)?;
         within("cases", self.cases, 1, 100_000)?;
-        within("mc", self.mc, 16, 1 << 24)
+        within("mc", self.mc, 16, 1 << 24)?;
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
+        crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)
     }
 }
 
@@ -72,6 +80,10 @@ impl Params {
             line: self.line,
             cases: self.cases,
             mc: self.mc,
+            tol: crate::ltc::lobe_error::Tolerance::figures(
+                self.held_out_rel,
+                self.held_out_l1_rel,
+            ),
         }
     }
 }
@@ -105,13 +117,14 @@ pub(super) fn held_out(
     t: &AnisoGgxTarget,
     albedo: f64,
     cands: &[(Inv7, f64)],
+    tol: crate::ltc::lobe_error::Tolerance,
 ) -> (Vec<f64>, Vec<f64>, f64) {
-    use crate::ltc::lobe_error::{judge, Tolerance};
+    use crate::ltc::lobe_error::judge;
     let inv: Vec<_> = cands
         .iter()
         .map(|(p, n)| (crate::ltc::aniso::inverse_of(p), *n))
         .collect();
-    let e = judge(t, albedo, &inv, Tolerance::default());
+    let e = judge(t, albedo, &inv, tol);
     let l2 = e
         .iter()
         .map(|e| e.map_or(f64::INFINITY, |e| e.l2.value))
@@ -174,6 +187,7 @@ pub(crate) fn fit_case(iso: &FittedTable, c: Case, pl: &Plan) -> Result<Fitted> 
         &t,
         norm,
         &[(inv, norm), (start, geo_norm), (max_inv, max_norm)],
+        pl.tol,
     );
     Ok(Fitted {
         case: c,
@@ -282,7 +296,12 @@ pub(super) fn between(iso: &FittedTable, table: &AnisoTable, pl: &Plan) -> Resul
         let (m, mn) = iso_at(iso, c.ax.max(c.ay), c.theta);
         let (albedo, _, _) = t.albedo(1e-7);
         // the isotropic table's frame is the view's; its lobe ignores φ entirely
-        let (l2, l1, bar) = held_out(&t, albedo, &[at(table), at(&half), (g, gn), (m, mn)]);
+        let (l2, l1, bar) = held_out(
+            &t,
+            albedo,
+            &[at(table), at(&half), (g, gn), (m, mn)],
+            pl.tol,
+        );
         Ok(Between {
             case: *c,
             err_table: l2[0],

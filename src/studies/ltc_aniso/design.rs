@@ -92,7 +92,7 @@ pub(super) fn design_study(iso: &FittedTable, pl: &Plan) -> Result<Design> {
         |(_, _, inv, norm, c)| {
             let t = AnisoGgxTarget::new(c.ax, c.ay, c.theta, c.phi)?;
             let (albedo, _, _) = t.albedo(1e-7);
-            let (l2, _, bar) = super::compute::held_out(&t, albedo, &[(*inv, *norm)]);
+            let (l2, _, bar) = super::compute::held_out(&t, albedo, &[(*inv, *norm)], pl.tol);
             Ok((l2[0], bar))
         },
     )?;
