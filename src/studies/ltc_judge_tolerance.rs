@@ -249,36 +249,7 @@ fn markdown(r: &JudgeTolerance) -> String {
             "## {} ({} cells; the table's tolerance {:e})\n\n",
             c.table, c.cells, c.chosen_rel
         ));
-        let mut t = Table::new([
-            "relative tolerance",
-            "evaluations per cell",
-            "of the reference's",
-            "mean relative L2",
-            "largest bar (points)",
-            "largest change (points)",
-            "changes beyond both bars",
-            "cells not converged",
-        ]);
-        for col in 1..8 {
-            t = t.align(col, Align::Right);
-        }
-        for p in &c.points {
-            let mark = if p.rel == c.chosen_rel {
-                " (the table's)"
-            } else {
-                ""
-            };
-            t.row([
-                format!("{:e}{mark}", p.rel),
-                format!("{:.0}", p.evals_per_cell),
-                format!("{:.2}", p.evals_per_cell / reference),
-                p.l2_mean.pct_fixed(5),
-                format!("{:.5}", 100.0 * p.largest_bar),
-                format!("{:.5}", 100.0 * p.largest_change),
-                p.beyond_bars.to_string(),
-                p.unconverged.to_string(),
-            ]);
-        }
+        let t = curve_table(&c.points, c.chosen_rel, reference, false);
         md.push_str(&format!("{t}\n"));
         md.push_str(&l1_section(c, reference));
     }
@@ -291,40 +262,60 @@ fn l1_section(c: &JudgeCurve, reference: f64) -> String {
         "The relative L1's own tolerance, the relative L2's held at {:e} (the table's `held_out_l1_rel` is {:e}); changes against the same reference:\n\n",
         c.chosen_rel, c.chosen_l1_rel
     );
-    let mut t = Table::new([
-        "L1 tolerance",
-        "evaluations per cell",
-        "of the reference's",
-        "mean relative L1",
+    let t = curve_table(&c.l1_points, c.chosen_l1_rel, reference, true);
+    md.push_str(&format!("{t}\n"));
+    md
+}
+
+/// One curve as a table: a row per tolerance (the spec's marked), the work against the
+/// reference's, the mean figures (the relative L1's first on the L1 curve), the bars and
+/// the changes.
+fn curve_table(points: &[JudgePoint], chosen: f64, reference: f64, l1: bool) -> Table {
+    let mut head = vec![if l1 {
+        "L1 tolerance"
+    } else {
+        "relative tolerance"
+    }];
+    head.extend(["evaluations per cell", "of the reference's"]);
+    if l1 {
+        head.push("mean relative L1");
+    }
+    head.extend([
         "mean relative L2",
         "largest bar (points)",
         "largest change (points)",
         "changes beyond both bars",
         "cells not converged",
     ]);
-    for col in 1..9 {
+    let cols = head.len();
+    let mut t = Table::new(head);
+    for col in 1..cols {
         t = t.align(col, Align::Right);
     }
-    for p in &c.l1_points {
-        let mark = if p.rel == c.chosen_l1_rel {
+    for p in points {
+        let mark = if p.rel == chosen {
             " (the table's)"
         } else {
             ""
         };
-        t.row([
+        let mut row = vec![
             format!("{:e}{mark}", p.rel),
             format!("{:.0}", p.evals_per_cell),
             format!("{:.2}", p.evals_per_cell / reference),
-            p.l1_mean.pct_fixed(5),
+        ];
+        if l1 {
+            row.push(p.l1_mean.pct_fixed(5));
+        }
+        row.extend([
             p.l2_mean.pct_fixed(5),
             format!("{:.5}", 100.0 * p.largest_bar),
             format!("{:.5}", 100.0 * p.largest_change),
             p.beyond_bars.to_string(),
             p.unconverged.to_string(),
         ]);
+        t.row(row);
     }
-    md.push_str(&format!("{t}\n"));
-    md
+    t
 }
 
 fn plot(r: &JudgeTolerance) -> Result<String> {
