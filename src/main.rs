@@ -404,6 +404,30 @@ fn main() -> ExitCode {
             true
         }),
         Some(ref c @ Cmd::Engines { .. }) => run_engines(c, &cli),
+        Some(Cmd::EnginesSheen { three, out }) => {
+            let runs: Vec<String> = three
+                .iter()
+                .map(|p| format!("--three {}", p.display()))
+                .collect();
+            let command = format!("cargo run --release -- engines-sheen {}", runs.join(" "));
+            in_set(
+                "engines-sheen",
+                &out.join(".sets").join("engines-sheen.json"),
+                |set| {
+                    ndfbench::studies::engines::sheen_report::run(
+                        set,
+                        &three,
+                        &cli.results,
+                        &out,
+                        &command,
+                    )
+                },
+            )
+            .map(|s| {
+                println!("{s}");
+                true
+            })
+        }
         Some(Cmd::TensorlyCompare { python, preset }) => in_set(
             "tensorly-compare",
             &results_manifest(&cli.results, "tensorly-compare"),

@@ -461,3 +461,189 @@ fn a_compact_run_that_is_not_the_compact_drop_in_is_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// three.js r187 renders the sheen alone under each sheen scene's RectAreaLight
+/// (engines/three/scenes_sheen.json: lights low on the horizon, where a sheen reflects), as
+/// three is and with our recipe (results/textures/three/RectAreaLightSheen.js, the
+/// texture-free Neubelt sheen LTC), and the pixels are judged against the exact
+/// Charlie–Neubelt lobe (results/engines-sheen.md).
+#[test]
+fn three_lights_sheen_under_a_rect_area_light_only_with_the_recipe() {
+    use ndfbench::studies::engines::sheen::{judge, SheenRun};
+    use ndfbench::studies::engines::sheen_report::{mean_of, over_albedo};
+    if let Some(m) = missing() {
+        eprintln!("skipped: {m} absent (see .ci/run: apt chromium, npm ci in engines/three)");
+        return;
+    }
+    let dir = common::scratch("engines", "sheen");
+    let out = dir.join("sheen.json");
+    let o = Command::new("node")
+        .args([
+            "engines/three/render.mjs",
+            "--table",
+            "sheen",
+            "--scenes",
+            "scenes_sheen.json",
+            "--out",
+        ])
+        .arg(&out)
+        .args(["--chromium", CHROMIUM])
+        .output()
+        .unwrap();
+    if !o.status.success() {
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("browserType.launch") || e.contains("Failed to launch"),
+            "the three.js harness failed: {e}"
+        );
+        eprintln!(
+            "skipped: Chromium could not start: {}",
+            e.lines().next().unwrap_or("")
+        );
+        return;
+    }
+    let text = std::fs::read_to_string(&out).unwrap();
+    let scenes = EngineScenes::read(Path::new("engines/three/scenes_sheen.json")).unwrap();
+    let run = SheenRun::parse(&text, &scenes).unwrap();
+    assert_eq!(run.scenes, "engines/three/scenes_sheen.json");
+    let r = judge(&scenes, &run, Path::new("results")).unwrap();
+    let (recipe, shipped) = (
+        over_albedo(&r, |s| &s.recipe),
+        over_albedo(&r, |s| &s.shipped),
+    );
+    for (k, s) in r.scenes.iter().enumerate() {
+        // 1. three as shipped applies no sheen under RectAreaLight: the image is black
+        assert_eq!(
+            s.shipped_max, 0.0,
+            "{}: three lit the sheen without the recipe",
+            s.name
+        );
+        assert!(
+            s.truth_peak > 0.0,
+            "{}: a scene the sheen does not reflect",
+            s.name
+        );
+        // 2. with the recipe, the image is three's LTC_Evaluate with the series' entries,
+        //    within f32 arithmetic (1e-3 relative RMSE); a frame, winding, channel order or
+        //    roughness convention off is percent-level here
+        assert!(
+            s.gpu_share.rel_rmse.value <= 1e-3,
+            "{}: the recipe's image is {} from three's formula with the series",
+            s.name,
+            s.gpu_share.rel_rmse.value
+        );
+        // 3. from sheenRoughness 0.25 up, the recipe is closer to the truth than no sheen,
+        //    beyond both bars (at 0.1 it is not everywhere: results/engines-sheen.md)
+        if s.roughness >= 0.25 {
+            assert!(
+                recipe[k].value + recipe[k].error < shipped[k].value - shipped[k].error,
+                "{}: the recipe {} against no sheen {}",
+                s.name,
+                recipe[k].value,
+                shipped[k].value
+            );
+        }
+    }
+    // … and over all the scenes its mean error is at most half of rendering no sheen
+    let (m, z) = (mean_of(&recipe), mean_of(&shipped));
+    assert!(
+        m.value + m.error <= 0.5 * (z.value - z.error),
+        "recipe {} against no sheen {}",
+        m.value,
+        z.value
+    );
+    // 4. the committed report is this run's (within 1e-4 relative)
+    let committed: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string("results/engines-sheen.json").expect("results/engines-sheen.json"),
+    )
+    .unwrap();
+    let c = committed["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["scenes_file"] == "engines/three/scenes_sheen.json")
+        .expect("results/engines-sheen.json has no check of the sheen scenes");
+    let cs = c["scenes"].as_array().unwrap();
+    assert_eq!(
+        cs.len(),
+        r.scenes.len(),
+        "results/engines-sheen.json is stale"
+    );
+    for (s, c) in r.scenes.iter().zip(cs) {
+        let v = c["recipe"]["rms_over_albedo"]["value"].as_f64().unwrap();
+        assert!(
+            (s.recipe.rms_over_albedo.value - v).abs() <= 1e-4 * v + 1e-12,
+            "results/engines-sheen.json is stale at {}: {v} committed, {} now",
+            s.name,
+            s.recipe.rms_over_albedo.value
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sheen run is checked against its scene file before anything is judged: another
+/// table's run, a path missing or unknown, a scene missing or misnamed, a pixel array of
+/// the wrong size or a pixel that is not a number are typed errors naming the defect.
+#[test]
+fn a_sheen_run_is_checked_before_it_is_judged() {
+    use ndfbench::studies::engines::sheen::SheenRun;
+    use serde_json::json;
+    let scenes = EngineScenes::read(Path::new("engines/three/scenes_sheen.json")).unwrap();
+    let px = scenes.width * scenes.height * 4;
+    let all: Vec<serde_json::Value> = scenes
+        .scenes
+        .iter()
+        .map(|s| json!({ "name": s.name, "radiance": vec![0.0; px], "positions": vec![0.0; px] }))
+        .collect();
+    let good = json!({
+        "table": "sheen", "engine": "three.js 0.187.0", "scenes": "engines/three/scenes_sheen.json",
+        "paths": { "shipped": all.clone(), "recipe": all.clone() }
+    });
+    assert!(SheenRun::parse(&good.to_string(), &scenes).is_ok());
+    let refused = |f: &dyn Fn(&mut serde_json::Value), what: &str| {
+        let mut v = good.clone();
+        f(&mut v);
+        let e = SheenRun::parse(&v.to_string(), &scenes)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(what), "{e} (wanted {what:?})");
+        assert!(!e.contains('\n'), "one line: {e}");
+    };
+    refused(&|v| v["table"] = json!("ours"), "not the sheen run");
+    refused(
+        &|v| {
+            v["paths"].as_object_mut().unwrap().remove("recipe");
+        },
+        "no recipe path",
+    );
+    refused(&|v| v["paths"]["float"] = json!([]), "unknown path");
+    refused(
+        &|v| {
+            v["paths"]["shipped"].as_array_mut().unwrap().pop();
+        },
+        "scenes, the scene file",
+    );
+    refused(
+        &|v| v["paths"]["recipe"][3]["name"] = json!("other"),
+        "does not match",
+    );
+    refused(
+        &|v| {
+            v["paths"]["recipe"][0]["radiance"]
+                .as_array_mut()
+                .unwrap()
+                .pop();
+        },
+        "does not match",
+    );
+    refused(
+        &|v| v["paths"]["recipe"][0]["radiance"][5] = serde_json::Value::Null,
+        "null",
+    );
+    refused(
+        &|v| {
+            v.as_object_mut().unwrap().remove("scenes");
+        },
+        "scenes",
+    );
+}

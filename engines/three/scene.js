@@ -7,7 +7,7 @@ import * as THREE from 'three';
 import { RectAreaLightUniformsLib } from 'three/addons/lights/RectAreaLightUniformsLib.js';
 import { place } from './place.js';
 
-window.renderAll = async function ( config, halfPath ) {
+async function render( config, halfPath, material ) {
 
 	const { width, height } = config;
 	const canvas = document.createElement( 'canvas' );
@@ -29,7 +29,7 @@ window.renderAll = async function ( config, halfPath ) {
 	const scene = new THREE.Scene();
 	scene.background = null;
 	const s = config.plane_half;
-	const plane = new THREE.Mesh( new THREE.PlaneGeometry( 2 * s, 2 * s ), new THREE.MeshStandardMaterial( { color: 0xffffff, metalness: 1.0, roughness: 0.5 } ) );
+	const plane = new THREE.Mesh( new THREE.PlaneGeometry( 2 * s, 2 * s ), material( 0.5 ) );
 	scene.add( plane );
 	const light = new THREE.RectAreaLight( 0xffffff, 1.0, 1.0, 1.0 );
 	scene.add( light );
@@ -49,8 +49,7 @@ window.renderAll = async function ( config, halfPath ) {
 	for ( const sc of config.scenes ) {
 
 		const cam = place( THREE, light, sc, s );
-		plane.material.roughness = sc.roughness;
-		plane.material.needsUpdate = true;
+		plane.material = material( sc.roughness );
 		renderer.setRenderTarget( target );
 		renderer.setClearColor( 0x000000, 0 );
 		renderer.clear();
@@ -60,7 +59,6 @@ window.renderAll = async function ( config, halfPath ) {
 		renderer.clear();
 		renderer.render( scene, cam );
 		const where = read();
-		plane.material = new THREE.MeshStandardMaterial( { color: 0xffffff, metalness: 1.0, roughness: sc.roughness } );
 		out.push( { name: sc.name, radiance, positions: where } );
 
 	}
@@ -68,5 +66,25 @@ window.renderAll = async function ( config, halfPath ) {
 	renderer.setRenderTarget( null );
 	return { renderer: renderer.getContext().getParameter( renderer.getContext().VERSION ), scenes: out };
 
+}
+
+window.renderAll = ( config, halfPath ) => render( config, halfPath,
+	( roughness ) => new THREE.MeshStandardMaterial( { color: 0xffffff, metalness: 1.0, roughness } ) );
+
+window.renderAllSheen = async function ( config, recipe ) {
+
+	if ( recipe ) {
+
+		const { RectAreaLightSheen } = await import( '/ours/RectAreaLightSheen.js' );
+		RectAreaLightSheen.init();
+
+	}
+
+	return render( config, false, ( roughness ) => new THREE.MeshPhysicalMaterial( {
+		color: 0x000000, metalness: 0.0, roughness: 1.0, specularIntensity: 0.0,
+		sheen: 1.0, sheenColor: 0xffffff, sheenRoughness: roughness
+	} ) );
+
 };
+
 window.ready = true;

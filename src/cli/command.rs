@@ -338,6 +338,18 @@ pub enum Cmd {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
+    /// Judge three.js's sheen runs (engines/three: `node render.mjs --table sheen --scenes
+    /// FILE --out RUN`: the sheen alone, as three is and with
+    /// results/textures/three/RectAreaLightSheen.js) against the truth, each on the scene
+    /// file it names; writes DIR/engines-sheen.{md,json}
+    EnginesSheen {
+        /// a harness sheen run (repeat for each scene file)
+        #[arg(long, required = true)]
+        three: Vec<PathBuf>,
+        /// output directory
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
     /// Compare our GGX LTC table (results/fits/ltc-ggx.json) with a shipped one read from
     /// FILE (selfshadow ltc.js or three.js RectAreaLightTexturesLib.js); writes
     /// DIR/ltc-compare.md. The file is only read.

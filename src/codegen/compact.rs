@@ -33,7 +33,7 @@ pub fn read(results: &Path) -> Result<Option<(Compact, usize)>> {
     crate::results::ltc_compact::ggx_series(results)
 }
 
-fn code(t: Transform) -> u32 {
+pub(super) fn code(t: Transform) -> u32 {
     match t {
         Transform::Raw => 0,
         Transform::Log => 1,
@@ -50,7 +50,7 @@ fn codes(c: &Compact, suffix: &str) -> String {
         .join(", ")
 }
 
-fn lit(x: f64) -> String {
+pub(super) fn lit(x: f64) -> String {
     format!("{:?}", x as f32)
 }
 
@@ -97,11 +97,28 @@ pub fn render_rust(c: &Compact, n: usize, command: &str) -> String {
     s
 }
 
-/// Clenshaw's recurrence Σ c_k T_k(v) written out as WGSL `let`s named `{name}_{k}`, with
-/// `v2` = v + v; the operations of [`Compact::eval_f32`]'s recurrence in its order (the
-/// first steps, whose b1 and b2 are still 0, keep only what is not a zero term). Returns
-/// the lines and the name of the result.
-fn clenshaw_wgsl(c: &[String], v: &str, name: &str) -> (String, String) {
+/// The shading language a straight-line series is written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lang {
+    Wgsl,
+    Glsl,
+}
+
+impl Lang {
+    /// How a local is declared.
+    fn decl(self) -> &'static str {
+        match self {
+            Lang::Wgsl => "let",
+            Lang::Glsl => "float",
+        }
+    }
+}
+
+/// Clenshaw's recurrence Σ c_k T_k(v) written out as locals named `{name}_{k}` (declared
+/// with `decl`), with `v2` = v + v; the operations of [`Compact::eval_f32`]'s recurrence
+/// in its order (the first steps, whose b1 and b2 are still 0, keep only what is not a
+/// zero term). Returns the lines and the name of the result.
+fn clenshaw_lines(c: &[String], v: &str, name: &str, decl: &str) -> (String, String) {
     let p = c.len();
     let b = |k: usize| format!("{name}_{k}");
     let mut s = String::new();
@@ -115,15 +132,65 @@ fn clenshaw_wgsl(c: &[String], v: &str, name: &str) -> (String, String) {
             (true, false) => format!("{} + {v}2 * {}", c[k], b(k + 1)),
             (true, true) => format!("{} + {v}2 * {} - {}", c[k], b(k + 1), b(k + 2)),
         };
-        s.push_str(&format!("    let {} = {e};\n", b(k)));
+        s.push_str(&format!("    {decl} {} = {e};\n", b(k)));
     }
     let last = if p > 2 {
         format!("{} + {v} * {} - {}", c[0], b(1), b(2))
     } else {
         format!("{} + {v} * {}", c[0], b(1))
     };
-    s.push_str(&format!("    let {name} = {last};\n"));
+    s.push_str(&format!("    {decl} {name} = {last};\n"));
     (s, name.to_string())
+}
+
+/// One channel's series at (x, y) = (2r − 1, 2t − 1) as a function `fname` of straight-line
+/// code, the coefficients as literals (no array: naga would copy a dynamically indexed
+/// `const` array into every invocation's memory), preceded by a `comment` line.
+pub(super) fn series_fn(
+    lang: Lang,
+    fname: &str,
+    coeffs: &[f64],
+    p: usize,
+    comment: &str,
+) -> String {
+    let lits: Vec<String> = coeffs.iter().map(|&v| lit(v)).collect();
+    let d = lang.decl();
+    let head = match lang {
+        Lang::Wgsl => format!("fn {fname}(x: f32, y: f32) -> f32 {{\n"),
+        Lang::Glsl => format!("float {fname}(float x, float y) {{\n"),
+    };
+    let mut s = format!("\n// {comment}\n{head}    {d} x2 = x + x;\n    {d} y2 = y + y;\n");
+    let mut g = Vec::new();
+    for l in 0..p {
+        let (body, out) = clenshaw_lines(&lits[p * l..p * (l + 1)], "x", &format!("g{l}"), d);
+        s.push_str(&body);
+        g.push(out);
+    }
+    let (body, out) = clenshaw_lines(&g, "y", "v", d);
+    s.push_str(&body);
+    s.push_str(&format!("    return {out};\n}}\n"));
+    s
+}
+
+/// The lines that open an evaluation at (r_in, t_in): both clamped to [0, 1], x, y and
+/// α(r) = max(r², α_min).
+pub(super) fn eval_prelude(lang: Lang, alpha_min: f64) -> String {
+    let d = lang.decl();
+    format!(
+        "    {d} r = clamp(r_in, 0.0, 1.0);\n    {d} t = clamp(t_in, 0.0, 1.0);\n    {d} x = 2.0 * r - 1.0;\n    {d} y = 2.0 * t - 1.0;\n    {d} alpha = max(r * r, {});\n",
+        lit(alpha_min)
+    )
+}
+
+/// Channel `k`'s value: its series function `{prefix}_ch{k}` called at (x, y), then the
+/// channel's transform.
+pub(super) fn channel_call(prefix: &str, k: usize, t: Transform) -> String {
+    let call = format!("{prefix}_ch{k}(x, y)");
+    match t {
+        Transform::Raw => call,
+        Transform::Log => format!("exp({call})"),
+        Transform::OverAlpha => format!("{call} * alpha"),
+    }
 }
 
 /// WGSL library (no bindings, no entry point): per channel `ltc_compact_ch<k>(x, y)`, the
@@ -138,32 +205,16 @@ pub fn render_wgsl(c: &Compact, n: usize, command: &str) -> String {
         describe(c, n),
     );
     for (k, ch) in c.channels.iter().enumerate() {
-        let lits: Vec<String> = ch.coeffs.iter().map(|&v| lit(v)).collect();
-        s.push_str(&format!(
-            "\n// Channel {k}'s series at (x, y) = (2r − 1, 2t − 1): along x for each t-degree l, then along y.\nfn ltc_compact_ch{k}(x: f32, y: f32) -> f32 {{\n    let x2 = x + x;\n    let y2 = y + y;\n"
+        s.push_str(&series_fn(
+            Lang::Wgsl,
+            &format!("ltc_compact_ch{k}"),
+            &ch.coeffs,
+            p,
+            &format!("Channel {k}'s series at (x, y) = (2r − 1, 2t − 1): along x for each t-degree l, then along y."),
         ));
-        let mut g = Vec::new();
-        for l in 0..p {
-            let (body, out) = clenshaw_wgsl(&lits[p * l..p * (l + 1)], "x", &format!("g{l}"));
-            s.push_str(&body);
-            g.push(out);
-        }
-        let (body, out) = clenshaw_wgsl(&g, "y", "v");
-        s.push_str(&body);
-        s.push_str(&format!("    return {out};\n}}\n"));
     }
-    let ch = |k: usize| {
-        let call = format!("ltc_compact_ch{k}(x, y)");
-        match c.channels[k].transform {
-            Transform::Raw => call,
-            Transform::Log => format!("exp({call})"),
-            Transform::OverAlpha => format!("{call} * alpha"),
-        }
-    };
-    let pre = format!(
-        "    let r = clamp(r_in, 0.0, 1.0);\n    let t = clamp(t_in, 0.0, 1.0);\n    let x = 2.0 * r - 1.0;\n    let y = 2.0 * t - 1.0;\n    let alpha = max(r * r, {});\n",
-        lit(c.alpha_min)
-    );
+    let ch = |k: usize| channel_call("ltc_compact", k, c.channels[k].transform);
+    let pre = eval_prelude(Lang::Wgsl, c.alpha_min);
     s.push_str(&format!(
         "\n// M⁻¹'s (a, b, c, d) at (r, t), both clamped to [0, 1].\nfn ltc_compact_mat(r_in: f32, t_in: f32) -> vec4<f32> {{\n{pre}    return vec4<f32>({}, {}, {}, {});\n}}\n\n// (norm, fresnel) at (r, t), both clamped to [0, 1].\nfn ltc_compact_mag(r_in: f32, t_in: f32) -> vec2<f32> {{\n{pre}    return vec2<f32>({}, {});\n}}\n",
         ch(0),

@@ -9,7 +9,8 @@
 //! generation is byte-for-byte deterministic.
 //!
 //! Sources: results/fits/{multiscale-alpha-me, smith-lambda, filters, leadr-grids, ltc-ggx}.json,
-//! and results/fits/ltc-compact.json where the on-request study has written it (`compact`).
+//! and results/fits/ltc-compact.json where the on-request study has written it (`compact`,
+//! and the texture-free sheen forms: `sheen`).
 //! tests/codegen.rs re-renders from those files and fails when a committed generated file
 //! differs (stale), validates every WGSL module with naga, and compares each Rust twin
 //! with its f64 reference.
@@ -23,6 +24,7 @@ pub mod forms;
 pub mod lut;
 pub mod namespace;
 pub mod shaders;
+pub mod sheen;
 pub mod table;
 mod text;
 pub mod textures;
@@ -76,6 +78,7 @@ pub fn render_all(results: &Path, rust: bool) -> Result<Vec<(String, String)>> {
     }
     out.push((forms::Form::Plain.path("ltc_aniso"), an));
     out.extend(compact::render_all(results, rust, COMMAND)?);
+    out.extend(sheen::render_all(results, rust, COMMAND)?);
     if rust {
         let all: Vec<&str> = FUNCTIONS.iter().map(|f| f.name).collect();
         out.push((
@@ -98,6 +101,7 @@ pub fn write_all(set: &mut crate::io::Outputs, results: &Path) -> Result<Vec<Str
     let mut written = Vec::new();
     for (rel, text) in render_all(results, canonical)? {
         let path = if rel.starts_with("wgsl/")
+            || rel.starts_with("glsl/")
             || rel.starts_with("shaders/")
             || rel.starts_with("textures/")
         {

@@ -1,11 +1,11 @@
-//! Per pixel: the exact value of a scene (the GGX lobe integrated over the light) and the
+//! Per pixel: the exact value of a scene (a lobe, GGX or the sheen check's, integrated over the light) and the
 //! value an LTC table gives there (its lookup, its edge integral).
 
 use super::scenes::Rect;
 use crate::integrate::cubature::{cubature, SAFETY_SMOOTH};
 use crate::integrate::{Figure, Quad};
 use crate::ltc::polygon::{ltc_integral, EdgeForm};
-use crate::ltc::target::GgxTarget;
+use crate::ltc::target::{GgxTarget, LtcTarget};
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
@@ -18,7 +18,7 @@ pub fn lobe(roughness: f64, view_deg: f64) -> crate::error::Result<GgxTarget> {
 /// The exact radiance at surface point `x` (z = 0): ∫_P f(l) dω over the light (unit
 /// radiance), by adaptive cubature in the rectangle's (u, v) ∈ [0, 1]² with dω =
 /// |front·(p − x)|/|p − x|³ dA, to `rel` relative accuracy; ± its error bar.
-pub fn truth_value(t: &GgxTarget, light: &Rect, x: &V3, rel: f64) -> Figure<Quad> {
+pub fn truth_value<T: LtcTarget + ?Sized>(t: &T, light: &Rect, x: &V3, rel: f64) -> Figure<Quad> {
     if !light.lights(x) {
         return Figure::<Quad>::new(0.0, 0.0);
     }

@@ -8,3 +8,6 @@ pub mod ltc_table;
 
 #[rustfmt::skip]
 pub mod ltc_compact;
+
+#[rustfmt::skip]
+pub mod ltc_sheen;

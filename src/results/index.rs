@@ -58,6 +58,10 @@ const ENGINES: Writer = Command(
     "cargo run --release -- engines --three-shipped target/engines/three-shipped.json --three-ours target/engines/three-ours.json --three-compact target/engines/three-compact.json --bevy-shipped target/engines/bevy-shipped.json --bevy-ours target/engines/bevy-ours.json",
     "the engines' renders (engines/three, engines/bevy-check)",
 );
+const ENGINES_SHEEN: Writer = Command(
+    "cargo run --release -- engines-sheen --three target/engines/three-sheen.json",
+    "the three.js sheen run (engines/three: node render.mjs --table sheen)",
+);
 const LTC_COMPARE: Writer = Command(
     "cargo run --release -- ltc-compare --shipped target/shipped/RectAreaLightTexturesLib.js --bevy target/shipped/bevy_ltc.ktx2",
     "the shipped three.js and Bevy tables, results/fits/ltc-ggx.json",
@@ -114,7 +118,7 @@ pub const OUTPUTS: &[Output] = &[
     o("ltc-judge-tolerance.md", Study("ltc-judge-tolerance"), "the held-out judge's accuracy against its work per LTC table: the curve each table's tolerance is chosen from (on request only)"),
     o("ltc-judge-tolerance.svg", Study("ltc-judge-tolerance"), "its plot: the bars and the largest change against evaluations per cell"),
     o("fits/ltc-judge-tolerance.json", Study("ltc-judge-tolerance"), "its figures"),
-    o("ltc-compact.md", Study("ltc-compact"), "the GGX and sheen tables as compact Chebyshev series, fitted to the entries or by the lobe error after bilinear reading: coefficients against the exact lobe error, rebuilt and texture-free, beside the full and shipped tables (on request only; its GGX series becomes wgsl/ltc_compact.wgsl, textures/three/ltc_compact.js and src/generated/ltc_compact.rs)"),
+    o("ltc-compact.md", Study("ltc-compact"), "the GGX and sheen tables as compact Chebyshev series, fitted to the entries or by the lobe error after bilinear reading: coefficients against the exact lobe error, rebuilt and texture-free, beside the full and shipped tables (on request only; its GGX series becomes wgsl/ltc_compact.wgsl, textures/three/ltc_compact.js and src/generated/ltc_compact.rs; its sheen tables' texture-free picks become wgsl/ltc_sheen.wgsl, glsl/ltc_sheen.glsl, the three.js recipe textures/three/RectAreaLightSheen.js and src/generated/ltc_sheen.rs)"),
     o("ltc-compact.svg", Study("ltc-compact"), "its plot: mean held-out error against coefficient count"),
     o("fits/ltc-compact.json", Study("ltc-compact"), "its figures and the GGX and sheen series (the form the goal chose, else the most accurate rebuild)"),
     o("ltc-sheen.md", Study("ltc-sheen"), "the Charlie sheen LTC tables (both visibility conventions)"),
@@ -148,6 +152,7 @@ pub const OUTPUTS: &[Output] = &[
     o("render/*.png", Study("render"), "the figure grids and strips"),
     o("fits/render.json", Study("render"), "the render errors"),
     o("wgsl/*", AfterStudies, "the generated WGSL modules (naga-validated)"),
+    o("glsl/*", AfterStudies, "the generated GLSL ES 3.00 functions: the texture-free sheen LTCs (glslang-validated)"),
     o("shaders/naga_oil/*", AfterStudies, "the same modules for naga_oil's composer"),
     o("shaders/wesl/*", AfterStudies, "the same modules as WESL"),
     o("textures/**", AfterStudies, "the LTC tables as engine files: KTX2, DDS, raw f16/f32, ES modules, the three.js and Godot drop-ins"),
@@ -165,6 +170,7 @@ pub const OUTPUTS: &[Output] = &[
     o("ltc-compact-cost.svg", BENCH, "the compact LTC tables: held-out error against SPIR-V instructions per pixel, texture-free series and texture lookup"),
     o("main-job-before.json", KEPT, "the main job's stages before parallel studies and the cache"),
     o("engines.*", ENGINES, "LTC tables rendered in three.js and Bevy against the truth (three.js also with the compact drop-in)"),
+    o("engines-sheen.*", ENGINES_SHEEN, "the sheen alone under RectAreaLight in three.js, as shipped and with our texture-free recipe, against the truth"),
     o("ltc-compare*", LTC_COMPARE, "our GGX table against the shipped ones, as engines sample them"),
     o(
         "tensor-tensorly.json",

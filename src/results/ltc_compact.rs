@@ -47,6 +47,11 @@ pub struct CompactFamily {
     pub chosen: Option<usize>,
     /// The chosen form's series, else the most accurate rebuild's.
     pub series: Compact,
+    /// The form a shader with no texture runs: the lowest texture-free mean within the
+    /// spec's coefficient budget (`texture_free_form`), with its series; `None` when no
+    /// form is within the budget.
+    #[serde(default)]
+    pub texture_free: Option<TextureFree>,
     /// The polygon lights of the table's own study (its Monte Carlo truth), where that
     /// study has them (GGX).
     #[serde(default)]
@@ -123,6 +128,25 @@ pub struct CompactForm {
     pub lobe_fit: Option<crate::ltc::compact_fit::Trace>,
 }
 
+/// A family's texture-free pick: the form's index in `forms` and its series.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TextureFree {
+    pub form: usize,
+    pub series: Compact,
+}
+
+/// The form a shader with no texture should run: among the forms of at most
+/// `max_coefficients`, the lowest mean of the texture-free cells' and squares' means
+/// (ties to the first); `None` when none is within the budget.
+pub fn texture_free_form(forms: &[CompactForm], max_coefficients: usize) -> Option<usize> {
+    let mean = |f: &CompactForm| {
+        0.5 * (f.texture_free.cells.mean.value + f.texture_free.squares.mean.value)
+    };
+    (0..forms.len())
+        .filter(|&k| forms[k].coefficients <= max_coefficients)
+        .min_by(|&a, &b| mean(&forms[a]).total_cmp(&mean(&forms[b])))
+}
+
 /// The form a family's `series` holds: the chosen one, else the lowest rebuilt mean at
 /// the cells (ties to the first).
 pub fn series_form(forms: &[CompactForm], chosen: Option<usize>) -> Option<usize> {
@@ -164,4 +188,47 @@ pub fn ggx_series(results: &Path) -> Result<Option<(Compact, usize)>> {
         )));
     }
     Ok(Some((f.series, f.n)))
+}
+
+/// A family's texture-free pick of results/fits/ltc-compact.json: its series and a
+/// description ("log, lobe-fit p = 12 (864 coefficients)"), or `None` when the file is
+/// absent or was written before the study picked one. A family the file lacks, or a
+/// series that fails its check, is a typed error.
+pub fn texture_free_series(results: &Path, table: &str) -> Result<Option<(Compact, String)>> {
+    let path = results.join("fits/ltc-compact.json");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let r: LtcCompact = super::require(results)
+        .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
+    let f = r
+        .families
+        .into_iter()
+        .find(|f| f.table == table)
+        .ok_or_else(|| Error::InvalidArgument(format!("{}: no {table} family", path.display())))?;
+    let Some(tf) = f.texture_free else {
+        return Ok(None);
+    };
+    let form = f.forms.get(tf.form).ok_or_else(|| {
+        Error::InvalidArgument(format!(
+            "{}: {table}'s texture-free pick names form {} of {}",
+            path.display(),
+            tf.form,
+            f.forms.len()
+        ))
+    })?;
+    tf.series.check()?;
+    if form.p != tf.series.p {
+        return Err(Error::InvalidArgument(format!(
+            "{}: {table}'s texture-free series has p = {}, its form p = {}",
+            path.display(),
+            tf.series.p,
+            form.p
+        )));
+    }
+    let desc = format!(
+        "{} p = {} ({} coefficients)",
+        form.transforms, form.p, form.coefficients
+    );
+    Ok(Some((tf.series, desc)))
 }

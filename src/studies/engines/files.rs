@@ -37,7 +37,7 @@ fn read_capped(p: &std::path::Path) -> Result<Vec<u8>> {
     std::fs::read(p).map_err(io)
 }
 
-fn read_text(p: &std::path::Path) -> Result<String> {
+pub(super) fn read_text(p: &std::path::Path) -> Result<String> {
     String::from_utf8(read_capped(p)?).map_err(|_| {
         Error::InvalidArgument(format!(
             "engines: {} is not UTF-8 text",

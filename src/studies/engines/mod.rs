@@ -4,12 +4,15 @@
 //! half-float textures; Bevy: its RGBA16F array); this study judges every pixel against
 //! the truth (`crate::engines`) and splits each error into the table's share and the
 //! shader's share. Compute ([`compute`]) → render ([`report`]) → the CLI publishes
-//! results/engines.{md,json,svg}.
+//! results/engines.{md,json,svg}. The sheen check (`sheen`, `sheen_report`): three.js with
+//! and without our RectAreaLightSheen recipe, judged the same way → results/engines-sheen.{md,json}.
 
 mod compute;
 pub mod files;
 pub mod godot;
 pub mod report;
+pub mod sheen;
+pub mod sheen_report;
 mod summary;
 
 pub use compute::{

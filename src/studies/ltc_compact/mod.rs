@@ -2,7 +2,8 @@
 //! (`ltc::compact`: a tensor-product Chebyshev series per channel), judged the way a shader
 //! uses them.
 //!
-//! For the GGX table and the Estevez–Kulla sheen table (the published files), each
+//! For the GGX table and both sheen tables (Estevez–Kulla's Λ, glTF's; Neubelt's
+//! visibility, three.js's and Filament's) as published, each
 //! transform set and each degree p of the spec gives a compact form (6·p² coefficients).
 //! Each form is judged at every `every`-th cell (texel centre) and square centre along
 //! each axis, against the true lobe at that place, by the exact held-out figures of
@@ -30,7 +31,7 @@ use crate::ltc::compare::{cell_error_of, square_entries, stored_half, Shipped};
 use crate::ltc::lobe_error::{LobeError, Spread, Tolerance};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::target::{GgxTarget, LtcTarget};
-use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPath};
+use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPath, TextureFree};
 use crate::study::{Ctx, FitOutcome};
 
 mod polygons;
@@ -97,7 +98,7 @@ struct Source {
 
 use Transform::{Log, OverAlpha, Raw};
 
-const SOURCES: [Source; 2] = [
+const SOURCES: [Source; 3] = [
     Source {
         table: crate::results::names::LTC_GGX,
         lobe: None,
@@ -114,6 +115,16 @@ const SOURCES: [Source; 2] = [
         lobe: Some(Lobe::SheenEstevezKulla),
         // the sheen norm spans 18 decades, so a raw fit is no candidate: its absolute
         // error swamps the lobes of albedo ≈ 0 (a quick run measured rel. L2 ≈ 1e14 there)
+        transforms: [
+            ("log", [Raw, Raw, Raw, Log, Log, Raw]),
+            ("log-a", [Log, Raw, Raw, Log, Log, Raw]),
+        ],
+        lobe_fit: 0,
+    },
+    Source {
+        table: "ltc-sheen-neubelt",
+        lobe: Some(Lobe::SheenNeubelt),
+        // the same decades of norm as the Estevez–Kulla table
         transforms: [
             ("log", [Raw, Raw, Raw, Log, Log, Raw]),
             ("log-a", [Log, Raw, Raw, Log, Log, Raw]),
@@ -291,6 +302,13 @@ fn family<T: LtcTarget>(
         .collect();
     let full_j = split(0);
     let chosen = choose(&out_forms, &full_j, pl);
+    let texture_free =
+        crate::results::ltc_compact::texture_free_form(&out_forms, pl.max_coefficients).map(|k| {
+            TextureFree {
+                form: k,
+                series: forms[k].1.clone(),
+            }
+        });
     let series = forms[crate::results::ltc_compact::series_form(&out_forms, chosen).unwrap_or(0)]
         .1
         .clone();
@@ -303,6 +321,7 @@ fn family<T: LtcTarget>(
         forms: out_forms,
         chosen,
         series,
+        texture_free,
         polygons: polygons::measure(results, s.table, &table, &forms)?,
     })
 }

@@ -107,6 +107,19 @@ fn family(f: &CompactFamily) -> String {
         ),
         None => "No form meets the goal (at most the spec's coefficients, no reachable place worse than the shipped table, a mean within the spec's points of the full table's).\n\n".into(),
     });
+    if let Some(tf) = &f.texture_free {
+        let q = &f.forms[tf.form];
+        md.push_str(&format!(
+            "Texture-free pick (the lowest texture-free mean of cells and squares within the spec's coefficients; the form the generated texture-free code carries): {} p = {} ({} coefficients), {} (cells) / {} (squares) against the full table read as a texture, {} / {}.\n\n",
+            q.transforms,
+            q.p,
+            q.coefficients,
+            q.texture_free.cells.mean.pct(3),
+            q.texture_free.squares.mean.pct(3),
+            f.full.cells.mean.pct(3),
+            f.full.squares.mean.pct(3)
+        ));
+    }
     let worst = |s: &crate::ltc::lobe_error::Spread| s.max.pct(2);
     md.push_str(&format!(
         "Largest relative L2 of the full table: {} (cells), {} (squares).\n\n",
