@@ -403,3 +403,17 @@ fn the_polygon_lights_are_the_ggx_studys_own() {
     assert_eq!(p.rebuilt.len(), f.forms.len());
     assert_eq!(p.texture_free.len(), f.forms.len());
 }
+
+/// The committed report is what the report step renders from the committed result file
+/// (the study's typed result and its markdown cannot drift apart).
+#[test]
+fn the_committed_report_is_rendered_from_the_committed_result() {
+    let text = std::fs::read_to_string("results/fits/ltc-compact.json").unwrap();
+    let v: ndfbench::results::ltc_compact::LtcCompact = serde_json::from_str(&text).unwrap();
+    let md = ndfbench::studies::ltc_compact::report::markdown(&v);
+    let committed = std::fs::read_to_string("results/ltc-compact.md").unwrap();
+    assert!(
+        committed == md,
+        "results/ltc-compact.md is stale with respect to results/fits/ltc-compact.json: run `cargo run --release -- regen --only ltc-compact`"
+    );
+}

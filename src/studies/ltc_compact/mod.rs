@@ -35,7 +35,7 @@ use crate::results::ltc_compact::{CompactFamily, CompactForm, Judged, ShippedPat
 use crate::study::{Ctx, FitOutcome};
 
 mod polygons;
-mod report;
+pub mod report;
 
 /// What fits/ltc-compact.toml sets.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

@@ -8,7 +8,7 @@ use crate::results::ltc_compact::{CompactFamily, LtcCompact};
 /// for it, and it reproduces the shipped table).
 const PR_34611_COEFFICIENTS: usize = 3078;
 
-pub(super) fn markdown(r: &LtcCompact) -> String {
+pub fn markdown(r: &LtcCompact) -> String {
     let mut md = format!(
         "# Compact LTC tables: coefficients against the exact lobe error\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). Each channel of a published table (a, b, c, d, norm, fresnel over r = √α, t = √(1 − cos θ)) is a tensor-product Chebyshev series of degree < p in r and in t (`ltc::compact`; 6·p² coefficients), fitted in one of two ways. **Least squares** fits the table's entries: on the values (`raw`), on the values over α(r) = max(r², α_min) of the channels that vanish like α (`over-α`: GGX b and d), or on the logarithm of the positive channels that span decades (`log`: sheen d and norm; `log-a`: sheen a, d and norm). The **lobe fit** (`, lobe-fit`; `ltc::compact_fit`) starts from a least-squares form and moves its five lobe channels' coefficients by Levenberg–Marquardt to lower the mean relative L2 of the lobe the shader reads — the rebuilt texels read bilinearly, against the true lobe — at every texel centre and one low-discrepancy point inside every square (nodes: the target's, the start lobe's and clamped-cosine samples; ∫D² on the lobe's own samples, so mass between nodes counts; places weighted by 1/their starting error, so the mean and not the square is what falls); the fresnel channel keeps its least-squares series. Each form is judged at the cells (texel centres) and square centres whose indices along each axis are multiples of {} against the true lobe there, by the exact held-out relative L2 (`ltc::lobe_error`, tolerance {:e} relative; mean ± the mean of the bars):\n\n- **rebuilt**: evaluated at the texel centres, stored as the nearest binary16, read bilinearly (a square centre reads the mean of its four corners): the texture an engine's start-up code would fill from the coefficients;\n- **texture-free**: evaluated per pixel in f32 at the place itself.\n\nThe full table is our stored binary16 table read the same way; the shipped table's figures at the same places come from results/ltc-compare.json (its own tolerance, 5e-4), per engine path, and a place counts as better or worse only beyond both bars. three.js PR #34611 rebuilds the shipped table from {} Chebyshev coefficients; it reproduces that table, so its error is the shipped table's (its count as stated, no figure of ours).\n\n![coefficients against error]({}.svg)\n\n",
         r.command,
@@ -126,12 +126,25 @@ fn family(f: &CompactFamily) -> String {
         worst(&f.full.cells),
         worst(&f.full.squares)
     ));
-    for s in &f.shipped {
+    for (i, s) in f.shipped.iter().enumerate() {
         let c = s.full_vs_shipped;
         md.push_str(&format!(
-            "The full table itself against the shipped one on {}'s path: better at {}, tied at {}, worse at {} of the judged places (beyond both bars).\n\n",
+            "The full table itself against the shipped one on {}'s path: better at {}, tied at {}, worse at {} of the judged places (beyond both bars).",
             s.path, c[0], c[1], c[2]
         ));
+        let fewest = (0..f.forms.len()).min_by_key(|&k| f.forms[k].rebuilt_vs_shipped[i][2]);
+        if let (None, Some(k), true) = (f.chosen, fewest, c[2] > 0) {
+            let q = &f.forms[k];
+            md.push_str(&format!(
+                " So the goal's every-place condition is out of reach of any table fitted here, full or compact: its floor on this path is the full table's {} places; the compact form nearest it is {} p = {} ({} coefficients) with {}.",
+                c[2],
+                q.transforms,
+                q.p,
+                q.coefficients,
+                q.rebuilt_vs_shipped[i][2]
+            ));
+        }
+        md.push_str("\n\n");
     }
     md.push_str(&lobe_fits(f));
     md.push_str(&polygons(f));
