@@ -236,6 +236,30 @@ fn run_engines(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     })
 }
 
+/// `engines-sheen`: three.js's sheen runs judged against the truth.
+fn run_engines_sheen(
+    three: &[std::path::PathBuf],
+    out: &std::path::Path,
+    cli: &Cli,
+) -> Result<bool, ndfbench::Error> {
+    let runs: Vec<String> = three
+        .iter()
+        .map(|p| format!("--three {}", p.display()))
+        .collect();
+    let command = format!("cargo run --release -- engines-sheen {}", runs.join(" "));
+    in_set(
+        "engines-sheen",
+        &out.join(".sets").join("engines-sheen.json"),
+        |set| {
+            ndfbench::studies::engines::sheen_report::run(set, three, &cli.results, out, &command)
+        },
+    )
+    .map(|s| {
+        println!("{s}");
+        true
+    })
+}
+
 /// `regen` (whole, cached, parallel or one shard), `merge` and `slurm`.
 fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     match *cmd {
@@ -404,30 +428,7 @@ fn main() -> ExitCode {
             true
         }),
         Some(ref c @ Cmd::Engines { .. }) => run_engines(c, &cli),
-        Some(Cmd::EnginesSheen { three, out }) => {
-            let runs: Vec<String> = three
-                .iter()
-                .map(|p| format!("--three {}", p.display()))
-                .collect();
-            let command = format!("cargo run --release -- engines-sheen {}", runs.join(" "));
-            in_set(
-                "engines-sheen",
-                &out.join(".sets").join("engines-sheen.json"),
-                |set| {
-                    ndfbench::studies::engines::sheen_report::run(
-                        set,
-                        &three,
-                        &cli.results,
-                        &out,
-                        &command,
-                    )
-                },
-            )
-            .map(|s| {
-                println!("{s}");
-                true
-            })
-        }
+        Some(Cmd::EnginesSheen { ref three, ref out }) => run_engines_sheen(three, out, &cli),
         Some(Cmd::TensorlyCompare { python, preset }) => in_set(
             "tensorly-compare",
             &results_manifest(&cli.results, "tensorly-compare"),

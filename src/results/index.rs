@@ -59,8 +59,8 @@ const ENGINES: Writer = Command(
     "the engines' renders (engines/three, engines/bevy-check)",
 );
 const ENGINES_SHEEN: Writer = Command(
-    "cargo run --release -- engines-sheen --three target/engines/three-sheen.json",
-    "the three.js sheen run (engines/three: node render.mjs --table sheen)",
+    "cargo run --release -- engines-sheen --three target/engines/three-sheen.json --three target/engines/three-sheen-ggx-scenes.json",
+    "the three.js sheen runs (engines/three: node render.mjs --table sheen --scenes scenes_sheen.json, and on scenes.json)",
 );
 const LTC_COMPARE: Writer = Command(
     "cargo run --release -- ltc-compare --shipped target/shipped/RectAreaLightTexturesLib.js --bevy target/shipped/bevy_ltc.ktx2",

@@ -7,6 +7,7 @@ use super::sheen::{
 use crate::engines::EngineScenes;
 use crate::error::{Error, Result};
 use crate::integrate::{Figure, Quad};
+use crate::report::table::{Align, Table};
 
 /// The mean of per-scene figures, within the mean of their bars.
 pub fn mean_of(v: &[Figure<Quad>]) -> Figure<Quad> {
@@ -55,30 +56,48 @@ fn section(r: &SheenResult) -> String {
     );
     let gpu: Vec<Figure<Quad>> = r.scenes.iter().map(|s| s.gpu_share.rel_rmse).collect();
     let mut md = format!("## {} ({} scenes)\n\n", r.scenes_file, r.scenes.len());
-    md.push_str("| scene | sheenRoughness | view | albedo | truth's peak / albedo | three as shipped | recipe (three.js) | series, exact | sampled table, exact | GPU share |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    let mut t = Table::new([
+        "scene",
+        "sheenRoughness",
+        "view",
+        "albedo",
+        "truth's peak / albedo",
+        "three as shipped",
+        "recipe (three.js)",
+        "series, exact",
+        "sampled table, exact",
+        "GPU share",
+    ]);
+    for c in 1..10 {
+        t = t.align(c, Align::Right);
+    }
     for (k, s) in r.scenes.iter().enumerate() {
-        md.push_str(&format!(
-            "| {} | {} | {}° | {:.4} | {:.2e} | {} | {} | {} | {} | {} |\n",
-            s.name,
-            s.roughness,
-            s.view_deg,
-            s.albedo,
-            s.truth_peak / s.albedo,
+        t.row([
+            s.name.clone(),
+            s.roughness.to_string(),
+            format!("{}°", s.view_deg),
+            format!("{:.4}", s.albedo),
+            format!("{:.2e}", s.truth_peak / s.albedo),
             shipped[k].pct_fixed(3),
             recipe[k].pct_fixed(3),
             series[k].pct_fixed(3),
             table[k].pct_fixed(3),
-            gpu[k].pct_fixed(3)
-        ));
+            gpu[k].pct_fixed(3),
+        ]);
     }
-    md.push_str(&format!(
-        "| **mean** | | | | | {} | {} | {} | {} | {} |\n\n",
+    t.row([
+        "**mean**".to_string(),
+        String::new(),
+        String::new(),
+        String::new(),
+        String::new(),
         mean_of(&shipped).pct_fixed(3),
         mean_of(&recipe).pct_fixed(3),
         mean_of(&series).pct_fixed(3),
         mean_of(&table).pct_fixed(3),
-        mean_of(&gpu).pct_fixed(3)
-    ));
+        mean_of(&gpu).pct_fixed(3),
+    ]);
+    md.push_str(&format!("{t}\n"));
     let lit = r.scenes.iter().filter(|s| s.shipped_max > 0.0).count();
     md.push_str(&format!(
         "three as shipped renders no sheen under RectAreaLight: {} of {} scenes have any pixel above 0. With the recipe, three's image is further from the truth than the sampled table would be (beyond both bars) in {} of {} scenes, and closer in {}. ",

@@ -109,8 +109,9 @@ pub(super) fn ltc_tables_table(
                 s.cells_fitted
             ),
             format!(
-                "{:.2} % / {:.1} %",
-                100.0 * s.between_table.mean.value,
+                "{} (s.e., {} random cases) / {:.1} %",
+                s.between_table.mean.pct(2),
+                s.between_table.count,
                 100.0 * s.between_table.max
             ),
             px,
