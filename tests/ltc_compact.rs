@@ -417,3 +417,43 @@ fn the_committed_report_is_rendered_from_the_committed_result() {
         "results/ltc-compact.md is stale with respect to results/fits/ltc-compact.json: run `cargo run --release -- regen --only ltc-compact`"
     );
 }
+
+/// Both sheen families carry the polygon lights of their own study (results/fits/
+/// ltc-sheen*.json's report: (α, θ°, albedo, check)): the same rows and Monte Carlo truths,
+/// and the full table shaded through them gives that study's LTC values within 2 %: the
+/// study shades its cell's fit, before the bilinear pass moved the cell and binary16
+/// storage chose its entries (measured: up to 1.4 %); a light placed for another θ (a
+/// degree taken for a radian) or another cell's entries is off by far more.
+#[test]
+fn the_sheen_families_carry_their_studys_polygon_lights() {
+    let text = std::fs::read_to_string("results/fits/ltc-compact.json").unwrap();
+    let v: ndfbench::results::ltc_compact::LtcCompact = serde_json::from_str(&text).unwrap();
+    for table in ["ltc-sheen", "ltc-sheen-neubelt"] {
+        let f = v.families.iter().find(|f| f.table == table).unwrap();
+        let p = f
+            .polygons
+            .as_ref()
+            .unwrap_or_else(|| panic!("{table}: no polygon lights"));
+        let study: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(format!("results/fits/{table}.json")).unwrap(),
+        )
+        .unwrap();
+        let rows = study["report"]["polygons"].as_array().unwrap();
+        assert_eq!(p.truth.len(), rows.len(), "{table}");
+        assert!(!rows.is_empty());
+        for (k, ((a, th, light, mc), row)) in p.truth.iter().zip(rows).enumerate() {
+            assert_eq!(*a, row[0].as_f64().unwrap());
+            assert!((th.to_degrees() - row[1].as_f64().unwrap()).abs() <= 1e-12);
+            assert_eq!(light.as_str(), row[3]["light"].as_str().unwrap());
+            assert_eq!(mc.value, row[3]["mc"]["value"].as_f64().unwrap());
+            let exact = row[3]["ltc_exact"].as_f64().unwrap();
+            let full = p.full.values[k];
+            assert!(
+                (full - exact).abs() <= 2e-2 * exact.abs() + 1e-9,
+                "{table} row {k} ({light}): the full table gives {full}, the sheen study {exact}"
+            );
+        }
+        assert_eq!(p.rebuilt.len(), f.forms.len());
+        assert_eq!(p.texture_free.len(), f.forms.len());
+    }
+}

@@ -53,7 +53,7 @@ pub struct CompactFamily {
     #[serde(default)]
     pub texture_free: Option<TextureFree>,
     /// The polygon lights of the table's own study (its Monte Carlo truth), where that
-    /// study has them (GGX).
+    /// study has them (GGX, and both sheen tables from their study's report).
     #[serde(default)]
     pub polygons: Option<PolygonSet>,
 }

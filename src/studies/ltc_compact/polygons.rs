@@ -1,5 +1,5 @@
-//! The compact forms under the polygon lights the GGX study checks its table with
-//! (results/fits/ltc-ggx.json: four cells × the four quads of
+//! The compact forms under the polygon lights each table's own study checks it with
+//! (results/fits/<table>.json: four cells × the four quads of
 //! `ltc::polygon::check_lights`, each with its Monte Carlo truth ± s.e.): the full table's
 //! binary16 entries read bilinearly, each form rebuilt (binary16, bilinear) and each
 //! texture-free form (f32) at the cell's (α, θ), shaded as norm × the exact LTC integral
@@ -18,28 +18,59 @@ use crate::results::ltc_compact::{PolygonFigures, PolygonSet};
 /// The rows' (α, θ, light, truth), and the light's vertices for each.
 type Rows = Vec<((f64, f64, String, Figure), Vec<nalgebra::Vector3<f64>>)>;
 
+/// The rows of a table's own polygon checks: the GGX study's `polygons` (θ in radians),
+/// or a lobe study's `report.polygons` ((α, θ°, albedo, check)); `None` where the file
+/// holds none.
 fn rows(results: &std::path::Path, table: &str) -> Result<Option<Rows>> {
-    if table != crate::results::names::LTC_GGX {
-        return Ok(None);
-    }
     // the polygon rows alone (the file's tables are read by `family` already)
-    #[derive(serde::Deserialize)]
-    struct P {
-        polygons: Vec<crate::results::ltc::PolygonRow>,
-    }
-    let g: P = crate::results::require_named(results, table)?;
+    let checks: Vec<(f64, f64, crate::ltc::polygon::PolygonCheck)> =
+        if table == crate::results::names::LTC_GGX {
+            #[derive(serde::Deserialize)]
+            struct P {
+                polygons: Vec<crate::results::ltc::PolygonRow>,
+            }
+            let g: P = crate::results::require_named(results, table)?;
+            g.polygons
+                .into_iter()
+                .map(|r| {
+                    (
+                        r.alpha,
+                        r.theta,
+                        crate::ltc::polygon::PolygonCheck {
+                            light: r.light,
+                            mc: r.mc,
+                            ltc_exact: r.ltc_exact,
+                            ltc_rational: r.ltc_rational,
+                        },
+                    )
+                })
+                .collect()
+        } else {
+            #[derive(serde::Deserialize)]
+            struct R {
+                #[serde(default)]
+                polygons: Vec<(f64, f64, f64, crate::ltc::polygon::PolygonCheck)>,
+            }
+            #[derive(serde::Deserialize)]
+            struct P {
+                report: R,
+            }
+            let g: P = crate::results::require_named(results, table)?;
+            g.report
+                .polygons
+                .into_iter()
+                .map(|(a, deg, _, c)| (a, deg.to_radians(), c))
+                .collect()
+        };
     let mut out = Vec::new();
-    for r in g.polygons {
-        let Some((_, light)) = check_lights(r.theta)
-            .into_iter()
-            .find(|(n, _)| *n == r.light)
-        else {
+    for (alpha, theta, c) in checks {
+        let Some((_, light)) = check_lights(theta).into_iter().find(|(n, _)| *n == c.light) else {
             return Err(crate::error::Error::InvalidArgument(format!(
                 "results/fits/{table}.json: a polygon row of unknown light {}",
-                crate::error::quoted(&r.light)
+                crate::error::quoted(&c.light)
             )));
         };
-        out.push(((r.alpha, r.theta, r.light, r.mc), light.vertices));
+        out.push(((alpha, theta, c.light, c.mc), light.vertices));
     }
     Ok((!out.is_empty()).then_some(out))
 }

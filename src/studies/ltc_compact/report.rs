@@ -165,9 +165,14 @@ fn polygons(f: &CompactFamily) -> String {
     let mut md = format!(
         "### Polygon lights
 
-The {} quad lights the table's own study checks it with (results/{}.md: {} cells {} × the four quads of `ltc::polygon::check_lights`), each with its Monte Carlo truth ± s.e.; every form shaded as norm × the exact LTC integral of the quad, with its entries at the cell's (α, θ): rebuilt (binary16, bilinear) and texture-free (f32). Each figure is the mean over the lights of (value − truth)², estimated without bias as the mean of (value − MC)² − s.e.², ± its standard error (×10⁻⁶; the lights' values are form factors of 10⁻³ to 10⁻¹). With truths of this accuracy, forms whose figures differ by less than about twice their bars are not told apart.\n\n",
+The {} quad lights the table's own study checks it with (results/{}.md: {} cells {} × the four quads of `ltc::polygon::check_lights`), each with its Monte Carlo truth ± s.e.; every form shaded as norm × the exact LTC integral of the quad, with its entries at the cell's (α, θ): rebuilt (binary16, bilinear) and texture-free (f32). Each figure is the mean over the lights of (value − truth)², estimated without bias as the mean of (value − MC)² − s.e.², ± its standard error (×10⁻⁶; the lights' values: results/fits/ltc-compact.json). With truths of this accuracy, forms whose figures differ by less than about twice their bars are not told apart.\n\n",
         p.truth.len(),
-        f.table,
+        // both sheen tables are one study's, reported in results/ltc-sheen.md
+        if f.table.starts_with("ltc-sheen") {
+            "ltc-sheen"
+        } else {
+            f.table.as_str()
+        },
         cells.len(),
         cells.into_iter().collect::<Vec<_>>().join(", ")
     );

@@ -39,6 +39,46 @@ fn series_instructions(c: &crate::ltc::compact::Compact, n: usize) -> Result<usi
     Ok(v.iter().sum())
 }
 
+/// For a sheen family with a texture-free pick: what its generated shader executes per
+/// pixel (`ltc_sheen_<key>_mat` + `ltc_sheen_<key>_norm` of results/wgsl/ltc_sheen.wgsl:
+/// five channels, no Fresnel), beside the six-channel count the table shows at that degree.
+fn sheen_shader(f: &crate::results::ltc_compact::CompactFamily) -> Result<Option<String>> {
+    let (Some(fam), Some(tf)) = (
+        crate::codegen::sheen::FAMILIES
+            .iter()
+            .find(|x| x.table == f.table),
+        &f.texture_free,
+    ) else {
+        return Ok(None);
+    };
+    let q = &f.forms[tf.form.min(f.forms.len().saturating_sub(1))];
+    let src = crate::codegen::sheen::render_family(
+        crate::codegen::sheen::Lang::Wgsl,
+        fam,
+        &tf.series,
+        "bench-report",
+    );
+    let names = [
+        format!("ltc_sheen_{}_mat", fam.key),
+        format!("ltc_sheen_{}_norm", fam.key),
+    ];
+    let v = crate::codegen::backends::executed_instructions(
+        &src,
+        "sheen series",
+        &[names[0].as_str(), names[1].as_str()],
+    )?;
+    Ok(Some(format!(
+        "{}: its texture-free pick ({} p = {}) as the generated sheen shader runs it (`{}` + `{}`, results/wgsl/ltc_sheen.wgsl; five channels, the sheen has no Fresnel): {} SPIR-V instructions per pixel, against {} for the six-channel form above.",
+        f.table,
+        q.transforms,
+        q.p,
+        names[0],
+        names[1],
+        v.iter().sum::<usize>(),
+        series_instructions(&tf.series, f.n)?
+    )))
+}
+
 /// ns per pixel (4096-pixel batches) of one bench function on one backend.
 fn per_pixel(timed: &[Timed], function: &str, backend: &str) -> Option<f64> {
     timed
@@ -168,6 +208,9 @@ pub(super) fn ltc_compact_table(
                 f.table
             )
         }));
+        if let Some(v) = sheen_shader(f)? {
+            verdicts.push(v);
+        }
         panels.push(crate::report::plot::Panel {
             title: format!("{}: error against cost per pixel", f.table),
             x_label: "SPIR-V instructions per pixel".into(),
