@@ -1164,3 +1164,68 @@ fn a_foreign_tensorly_comparison_stops_the_tensor_study() {
     assert!(!dir.join("tensor.md").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `engines-sheen` with bad runs: a missing file, a file that is not JSON, a run that names
+/// no scene file, one that names a missing scene file, and a run of another table each exit
+/// 2 with one line naming the defect, and write nothing.
+#[test]
+fn engines_sheen_refuses_bad_runs_with_one_line() {
+    let dir = common::scratch("hardening", "engines-sheen");
+    let out = dir.join("out");
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let cases: Vec<(std::path::PathBuf, &str, Vec<&str>)> = vec![
+        (
+            dir.join("absent.json"),
+            "a missing run",
+            vec!["absent.json"],
+        ),
+        (
+            write("text.json", "not json"),
+            "a run that is not JSON",
+            vec!["text.json", "names no scene file"],
+        ),
+        (
+            write(
+                "noscenes.json",
+                r#"{"table": "sheen", "engine": "three.js", "paths": {}}"#,
+            ),
+            "a run naming no scene file",
+            vec!["names no scene file"],
+        ),
+        (
+            write(
+                "missing.json",
+                r#"{"table": "sheen", "engine": "three.js", "scenes": "engines/three/none.json", "paths": {}}"#,
+            ),
+            "a run naming a missing scene file",
+            vec!["none.json"],
+        ),
+        (
+            write(
+                "ours.json",
+                r#"{"table": "ours", "engine": "three.js", "scenes": "engines/three/scenes_sheen.json", "paths": {}}"#,
+            ),
+            "another table's run",
+            vec!["not the sheen run"],
+        ),
+    ];
+    for (run, what, needles) in cases {
+        let o = common::bin()
+            .args(["engines-sheen", "--three"])
+            .arg(&run)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_typed_error(&o, what, &needles);
+        assert!(
+            !out.join("engines-sheen.md").exists(),
+            "{what}: a report was written"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
