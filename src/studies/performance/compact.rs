@@ -51,7 +51,14 @@ fn sheen_shader(f: &crate::results::ltc_compact::CompactFamily) -> Result<Option
     ) else {
         return Ok(None);
     };
-    let q = &f.forms[tf.form.min(f.forms.len().saturating_sub(1))];
+    let q = f.forms.get(tf.form).ok_or_else(|| {
+        crate::error::Error::InvalidArgument(format!(
+            "results/fits/ltc-compact.json: {}'s texture-free pick names form {} of {}",
+            f.table,
+            tf.form,
+            f.forms.len()
+        ))
+    })?;
     let src = crate::codegen::sheen::render_family(
         crate::codegen::sheen::Lang::Wgsl,
         fam,
