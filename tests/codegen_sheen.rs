@@ -6,7 +6,8 @@
 //! - the WGSL module parses and validates with naga and defines each family's functions;
 //! - the GLSL is ASCII, defines the same functions, compiles as a GLSL ES 3.00 fragment
 //!   shader with glslangValidator (skips with one line without it), and the three.js
-//!   recipe embeds the Neubelt family's GLSL exactly as the file holds it.
+//!   recipe embeds the Neubelt family's GLSL exactly as the file holds it;
+//! - the WebGPU recipe's `wgslFn` functions are, each, text of the validated WGSL file.
 //!
 //! The committed files are stale-checked by tests/codegen.rs with the other generated code;
 //! the recipe is rendered in three.js by tests/engines.rs.
@@ -141,4 +142,31 @@ fn the_glsl_is_ascii_compiles_and_is_what_the_recipe_embeds() {
         String::from_utf8_lossy(&o.stdout)
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The WebGPURenderer recipe (RectAreaLightSheenNode.js) hands three exactly the Neubelt
+/// functions of the naga-validated WGSL file: every `wgslFn` code string is a piece of it,
+/// and there is one per channel plus the matrix and the norm.
+#[test]
+fn the_webgpu_recipe_embeds_the_validated_wgsl() {
+    let wgsl = std::fs::read_to_string("results/wgsl/ltc_sheen.wgsl").unwrap();
+    let js = std::fs::read_to_string("results/textures/three/RectAreaLightSheenNode.js").unwrap();
+    let pieces: Vec<&str> = js
+        .split("wgslFn( `")
+        .skip(1)
+        .map(|p| p.split('`').next().unwrap())
+        .collect();
+    assert_eq!(pieces.len(), 7, "5 channels, the matrix and the norm");
+    for p in &pieces {
+        assert!(
+            p.starts_with("fn ltc_sheen_neubelt_"),
+            "{}",
+            &p[..40.min(p.len())]
+        );
+        assert!(
+            wgsl.contains(p),
+            "not in ltc_sheen.wgsl: {}",
+            &p[..60.min(p.len())]
+        );
+    }
 }

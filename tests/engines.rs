@@ -544,6 +544,37 @@ fn three_lights_sheen_under_a_rect_area_light_only_with_the_recipe() {
             );
         }
     }
+    // the same on WebGPURenderer with RectAreaLightSheenNode, where Chromium offers WebGPU
+    if r.scenes.iter().all(|s| s.webgpu.is_some()) {
+        for (k, s) in r.scenes.iter().enumerate() {
+            let w = s.webgpu.as_ref().unwrap();
+            assert_eq!(
+                w.shipped_max, 0.0,
+                "{}: WebGPU lit the sheen without the recipe",
+                s.name
+            );
+            assert!(
+                w.gpu_share.rel_rmse.value <= 1e-3,
+                "{}: the WebGPU recipe's image is {} from three's formula with the series",
+                s.name,
+                w.gpu_share.rel_rmse.value
+            );
+            if s.roughness >= 0.25 {
+                let x = w.recipe.rms_over_albedo;
+                assert!(
+                    x.value + x.error < shipped[k].value - shipped[k].error,
+                    "{}: the WebGPU recipe {} against no sheen {}",
+                    s.name,
+                    x.value,
+                    shipped[k].value
+                );
+            }
+        }
+    } else {
+        eprintln!(
+            "note: this Chromium offered no WebGPU adapter: the WebGPU sheen recipe was not judged"
+        );
+    }
     // … and over all the scenes its mean error is at most half of rendering no sheen
     let (m, z) = (mean_of(&recipe), mean_of(&shipped));
     assert!(
@@ -617,6 +648,10 @@ fn a_sheen_run_is_checked_before_it_is_judged() {
         "no recipe path",
     );
     refused(&|v| v["paths"]["float"] = json!([]), "unknown path");
+    refused(
+        &|v| v["paths"]["webgpu-recipe"] = json!(all.clone()),
+        "one WebGPU path without the other",
+    );
     refused(
         &|v| {
             v["paths"]["shipped"].as_array_mut().unwrap().pop();

@@ -110,6 +110,32 @@ try {
 
 	}
 
+	// the sheen's WebGPURenderer paths, as three is and with RectAreaLightSheenNode, each on
+	// a fresh page, where this Chromium offers a WebGPU adapter
+	for ( const [ path, recipe ] of table === 'sheen' ? [ [ 'webgpu-shipped', false ], [ 'webgpu-recipe', true ] ] : [] ) {
+
+		const page = await browser.newPage();
+		page.on( 'pageerror', ( e ) => console.error( `page error: ${e.message}` ) );
+		await page.goto( `${base}/page_webgpu.html` );
+		await page.waitForFunction( () => window.ready === true, null, { timeout: 60000 } );
+		const hasGpu = await page.evaluate( async () => !! ( navigator.gpu && await navigator.gpu.requestAdapter() ) );
+		if ( hasGpu ) {
+
+			const r = await page.evaluate( ( [ c, h ] ) => window.renderAllSheenWebGPU( c, h ), [ config, recipe ] );
+			result.paths[ path ] = r.scenes;
+			result.webgpu_adapter = r.adapter;
+			console.error( `three.js sheen, ${path} path: ${r.scenes.length} scenes rendered (${r.adapter})` );
+
+		} else {
+
+			console.error( `three.js sheen: no WebGPU adapter in this Chromium, the ${path} path skipped` );
+
+		}
+
+		await page.close();
+
+	}
+
 	// the WebGPURenderer path, where this Chromium offers a WebGPU adapter (skipped with a
 	// line otherwise: the judging then has the two WebGL paths)
 	const page = table === 'sheen' ? null : await browser.newPage();

@@ -4,12 +4,17 @@
 // WebGPU examples do. A FloatType render target, no tone mapping, read back as numbers;
 // a second pass with each pixel's world position. Reports which textures three bound
 // (LTC_FLOAT where the adapter has float32-filterable, else LTC_HALF).
+//
+// renderAllWebGPU: the GGX check's white metallic MeshStandardNodeMaterial.
+// renderAllSheenWebGPU: the sheen alone (MeshPhysicalNodeMaterial, black dielectric base,
+// specularIntensity 0, white sheen of sheenRoughness = the scene's roughness); with
+// `recipe`, our RectAreaLightSheenNode.init() runs first.
 import * as THREE from 'three/webgpu';
 import { positionWorld, vec4 } from 'three/tsl';
 import { RectAreaLightTexturesLib } from 'three/addons/lights/RectAreaLightTexturesLib.js';
 import { place } from './place.js';
 
-window.renderAllWebGPU = async function ( config ) {
+async function renderWebGPU( config, material ) {
 
 	const { width, height } = config;
 	const renderer = new THREE.WebGPURenderer( { antialias: false } );
@@ -22,8 +27,7 @@ window.renderAllWebGPU = async function ( config ) {
 	const target = new THREE.RenderTarget( width, height, { type: THREE.FloatType, format: THREE.RGBAFormat, depthBuffer: true } );
 	const scene = new THREE.Scene();
 	const s = config.plane_half;
-	const standard = new THREE.MeshStandardNodeMaterial( { color: 0xffffff, metalness: 1.0, roughness: 0.5 } );
-	const plane = new THREE.Mesh( new THREE.PlaneGeometry( 2 * s, 2 * s ), standard );
+	const plane = new THREE.Mesh( new THREE.PlaneGeometry( 2 * s, 2 * s ), material( 0.5 ) );
 	scene.add( plane );
 	const light = new THREE.RectAreaLight( 0xffffff, 1.0, 1.0, 1.0 );
 	scene.add( light );
@@ -51,8 +55,7 @@ window.renderAllWebGPU = async function ( config ) {
 	for ( const sc of config.scenes ) {
 
 		const cam = place( THREE, light, sc, s );
-		standard.roughness = sc.roughness;
-		plane.material = standard;
+		plane.material = material( sc.roughness );
 		renderer.setRenderTarget( target );
 		renderer.setClearColor( 0x000000, 0 );
 		renderer.clear();
@@ -72,5 +75,25 @@ window.renderAllWebGPU = async function ( config ) {
 	const info = adapter && adapter.info ? adapter.info : {};
 	return { path: float ? 'webgpu-float' : 'webgpu-half', adapter: `WebGPU, ${info.vendor || '?'} ${info.architecture || '?'}`, scenes: out };
 
+}
+
+window.renderAllWebGPU = ( config ) => renderWebGPU( config,
+	( roughness ) => new THREE.MeshStandardNodeMaterial( { color: 0xffffff, metalness: 1.0, roughness } ) );
+
+window.renderAllSheenWebGPU = async function ( config, recipe ) {
+
+	if ( recipe ) {
+
+		const { RectAreaLightSheenNode } = await import( '/ours/RectAreaLightSheenNode.js' );
+		RectAreaLightSheenNode.init();
+
+	}
+
+	return renderWebGPU( config, ( roughness ) => new THREE.MeshPhysicalNodeMaterial( {
+		color: 0x000000, metalness: 0.0, roughness: 1.0, specularIntensity: 0.0,
+		sheen: 1.0, sheenColor: 0xffffff, sheenRoughness: roughness
+	} ) );
+
 };
+
 window.ready = true;

@@ -12,7 +12,9 @@
 //! - GLSL ES 3.0, results/glsl/ltc_sheen.glsl: the same functions in GLSL; and
 //!   results/textures/three/RectAreaLightSheen.js, the three.js recipe: its `init()` adds
 //!   the Neubelt form and a sheen term to three r187's RE_Direct_RectArea_Physical, so a
-//!   MeshPhysicalMaterial's sheen is lit by RectAreaLight with no texture and no sampler.
+//!   MeshPhysicalMaterial's sheen is lit by RectAreaLight with no texture and no sampler;
+//!   and results/textures/three/RectAreaLightSheenNode.js, the same for WebGPURenderer
+//!   (the WGSL functions as `wgslFn` nodes in `PhysicalLightingModel.directRectArea`).
 //!
 //! r = √α is glTF's sheenRoughness, t = √(1 − cos θ), as the GGX table's lookup.
 
@@ -191,6 +193,51 @@ pub fn render_three(f: &Family, c: &Compact, desc: &str, command: &str) -> Strin
     )
 }
 
+/// The three.js recipe for WebGPURenderer (an ES module): the same series as `wgslFn`
+/// nodes, and `RectAreaLightSheenNode.init()`, which wraps r187's
+/// `PhysicalLightingModel.prototype.directRectArea` once so that a sheen adds
+/// lightColor · sheen · norm · LTC_Evaluate(…, M⁻¹, …) to `sheenSpecularDirect`.
+pub fn render_three_webgpu(f: &Family, c: &Compact, desc: &str, command: &str) -> String {
+    let prefix = format!("ltc_sheen_{}", f.key);
+    let strip = |code: String| -> String {
+        // wgslFn reads the declaration from the code's start: no comment before it
+        let at = code.find("fn ").unwrap_or(0);
+        code[at..].trim_end().to_string()
+    };
+    let channels: Vec<String> = c.channels[..CHANNELS]
+        .iter()
+        .enumerate()
+        .map(|(k, ch)| {
+            let code = strip(series_fn(
+                Lang::Wgsl,
+                &format!("{prefix}_ch{k}"),
+                &ch.coeffs,
+                c.p,
+                "",
+            ));
+            format!("\twgslFn( `{code}` ),\n")
+        })
+        .collect();
+    let call = |k: usize| channel_call(&prefix, k, c.channels[k].transform);
+    let pre = eval_prelude(Lang::Wgsl, c.alpha_min);
+    let mat = format!(
+        "fn {prefix}_mat(r_in: f32, t_in: f32) -> vec4<f32> {{\n{pre}    return vec4<f32>({}, {}, {}, {});\n}}",
+        call(0),
+        call(1),
+        call(2),
+        call(3)
+    );
+    let norm = format!(
+        "fn {prefix}_norm(r_in: f32, t_in: f32) -> f32 {{\n{pre}    return {};\n}}",
+        call(4)
+    );
+    format!(
+        "{}// The sheen of MeshPhysicalNodeMaterial under RectAreaLight, for three.js r187's\n// WebGPURenderer (its PhysicalLightingModel.directRectArea has no sheen term).\n// RectAreaLightSheenNode.init(), called once before the first render, wraps that method so\n// that a material with sheen also gets\n//\n//     sheenSpecularDirect += lightColor · sheen · norm · LTC_Evaluate( …, M⁻¹, … )\n//\n// with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own\n// BRDF_Sheen) evaluated per pixel from its compact series ({desc}) as WGSL functions\n// (wgslFn; the same code as results/wgsl/ltc_sheen.wgsl): no texture, no sampler. The\n// WebGLRenderer's recipe is RectAreaLightSheen.js. Rendered in three.js and judged against\n// the truth: results/engines-sheen.md.\nimport {{ PhysicalLightingModel }} from 'three/webgpu';\nimport {{ wgslFn, LTC_Evaluate, normalView, positionView, positionViewDirection, sheen, sheenRoughness, mat3, vec3, float }} from 'three/tsl';\n\nconst channels = [\n{}];\nconst sheenMat = wgslFn( `{mat}`, [ channels[ 0 ], channels[ 1 ], channels[ 2 ], channels[ 3 ] ] );\nconst sheenNorm = wgslFn( `{norm}`, [ channels[ 4 ] ] );\n\nlet installed = false;\n\nexport const RectAreaLightSheenNode = {{\n\n\tinit() {{\n\n\t\tif ( installed ) return;\n\t\tinstalled = true;\n\t\tconst base = PhysicalLightingModel.prototype.directRectArea;\n\t\tPhysicalLightingModel.prototype.directRectArea = function ( input, builder ) {{\n\n\t\t\tbase.call( this, input, builder );\n\t\t\tif ( this.sheen !== true ) return;\n\t\t\tconst {{ lightColor, lightPosition, halfWidth, halfHeight }} = input;\n\t\t\tconst p0 = lightPosition.add( halfWidth ).sub( halfHeight );\n\t\t\tconst p1 = lightPosition.sub( halfWidth ).sub( halfHeight );\n\t\t\tconst p2 = lightPosition.sub( halfWidth ).add( halfHeight );\n\t\t\tconst p3 = lightPosition.add( halfWidth ).add( halfHeight );\n\t\t\tconst N = normalView;\n\t\t\tconst V = positionViewDirection;\n\t\t\tconst P = positionView.toVar();\n\t\t\tconst t = float( 1 ).sub( N.dot( V ).saturate() ).sqrt();\n\t\t\tconst m = sheenMat( {{ r_in: sheenRoughness, t_in: t }} ).toVar();\n\t\t\tconst mInv = mat3( vec3( m.x, 0, m.y ), vec3( 0, 1, 0 ), vec3( m.z, 0, m.w ) );\n\t\t\tthis.sheenSpecularDirect.addAssign( lightColor.mul( sheen ).mul( sheenNorm( {{ r_in: sheenRoughness, t_in: t }} ) ).mul( LTC_Evaluate( {{ N, V, P, mInv, p0, p1, p2, p3 }} ) ) );\n\n\t\t}};\n\n\t}}\n\n}};\n",
+        super::text::header("//", command, SOURCE),
+        channels.concat()
+    )
+}
+
 /// Every sheen file: (path: `wgsl/`, `glsl/` and `textures/` relative to results/, `src/`
 /// to the repository root, contents); none when the study's picks are absent, the Rust
 /// file only with `rust`.
@@ -213,6 +260,10 @@ pub fn render_all(results: &Path, rust: bool, command: &str) -> Result<Vec<(Stri
         out.push((
             "textures/three/RectAreaLightSheen.js".to_string(),
             render_three(f, c, d, command),
+        ));
+        out.push((
+            "textures/three/RectAreaLightSheenNode.js".to_string(),
+            render_three_webgpu(f, c, d, command),
         ));
     }
     if rust {

@@ -42,8 +42,12 @@ pub struct SheenRun {
     pub paths: std::collections::BTreeMap<String, Vec<EngineScene>>,
 }
 
-/// The paths a sheen run holds.
+/// The paths a sheen run holds: WebGLRenderer as three is and with the recipe.
 pub const PATHS: [&str; 2] = ["shipped", "recipe"];
+
+/// The WebGPURenderer paths, as three is and with RectAreaLightSheenNode: both or neither
+/// (where Chromium offers no WebGPU adapter).
+pub const WEBGPU_PATHS: [&str; 2] = ["webgpu-shipped", "webgpu-recipe"];
 
 impl SheenRun {
     /// Parse and check against the scenes: both paths, every scene, every size, finite.
@@ -59,10 +63,26 @@ impl SheenRun {
             )));
         }
         let px = scenes.width * scenes.height * 4;
-        if let Some(p) = r.paths.keys().find(|p| !PATHS.contains(&p.as_str())) {
+        if let Some(p) = r
+            .paths
+            .keys()
+            .find(|p| !PATHS.contains(&p.as_str()) && !WEBGPU_PATHS.contains(&p.as_str()))
+        {
             return Err(bad(format!("unknown path {}", crate::error::quoted(p))));
         }
-        for p in PATHS {
+        let webgpu = WEBGPU_PATHS
+            .iter()
+            .filter(|p| r.paths.contains_key(**p))
+            .count();
+        if webgpu == 1 {
+            return Err(bad("one WebGPU path without the other".into()));
+        }
+        let present: Vec<&str> = PATHS
+            .iter()
+            .chain(if webgpu == 2 { &WEBGPU_PATHS[..] } else { &[] })
+            .copied()
+            .collect();
+        for p in present {
             let v = r.paths.get(p).ok_or_else(|| bad(format!("no {p} path")))?;
             if v.len() != scenes.scenes.len() {
                 return Err(bad(format!(
@@ -151,9 +171,20 @@ pub struct SheenScene {
     pub table_share: SheenErrors,
     /// The recipe's image against three's formula in f64 with the series' entries.
     pub gpu_share: Errors,
+    /// WebGPURenderer, where the run has it: as shipped (its largest pixel) and with
+    /// RectAreaLightSheenNode (against the truth and against the formula).
+    pub webgpu: Option<WebGpuSheen>,
     /// Images for a figure: truth, recipe.
     #[serde(skip)]
     pub images: Vec<(String, Vec<f64>)>,
+}
+
+/// One scene on WebGPURenderer.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct WebGpuSheen {
+    pub shipped_max: f64,
+    pub recipe: SheenErrors,
+    pub gpu_share: Errors,
 }
 
 /// The whole check.
@@ -201,15 +232,17 @@ pub fn judge(sc: &EngineScenes, run: &SheenRun, results: &std::path::Path) -> Re
             .filter(|&p| pos[4 * p + 3] > 0.5)
             .map(|p| (p, Vector3::new(pos[4 * p], pos[4 * p + 1], pos[4 * p + 2])))
             .collect();
-        let other = &run.paths["shipped"][k].positions;
-        if pts
-            .iter()
-            .any(|(p, x)| (0..3).any(|c| (other[4 * p + c] - x[c]).abs() > 1e-4))
-        {
-            return Err(Error::InvalidArgument(format!(
-                "engines-sheen: scene {}: the two paths cover other points",
-                s.name
-            )));
+        for path in run.paths.keys() {
+            let other = &run.paths[path][k].positions;
+            if pts
+                .iter()
+                .any(|(p, x)| (0..3).any(|c| (other[4 * p + c] - x[c]).abs() > 1e-4))
+            {
+                return Err(Error::InvalidArgument(format!(
+                    "engines-sheen: scene {}: the {path} path covers other points",
+                    s.name
+                )));
+            }
         }
         let truth: Vec<Figure<Quad>> =
             crate::memo::map_items(&format!("engine sheen truth {}", s.name), &pts, |(_, x)| {
@@ -260,6 +293,14 @@ pub fn judge(sc: &EngineScenes, run: &SheenRun, results: &std::path::Path) -> Re
             series_share: sheen_errors(&series_v, &truth, albedo),
             table_share: sheen_errors(&table_v, &truth, albedo),
             gpu_share: errors(&recipe, &exact(&formula)),
+            webgpu: run.paths.contains_key(WEBGPU_PATHS[1]).then(|| {
+                let (ws, wr) = (px(WEBGPU_PATHS[0]), px(WEBGPU_PATHS[1]));
+                WebGpuSheen {
+                    shipped_max: ws.iter().map(|v| v.abs()).fold(0.0, f64::max),
+                    recipe: sheen_errors(&wr, &truth, albedo),
+                    gpu_share: errors(&wr, &exact(&formula)),
+                }
+            }),
             images: vec![
                 (
                     "truth".into(),

@@ -98,6 +98,24 @@ fn section(r: &SheenResult) -> String {
         mean_of(&gpu).pct_fixed(3),
     ]);
     md.push_str(&format!("{t}\n"));
+    let wg: Vec<&super::sheen::WebGpuSheen> =
+        r.scenes.iter().filter_map(|s| s.webgpu.as_ref()).collect();
+    if wg.len() == r.scenes.len() && !wg.is_empty() {
+        let rec: Vec<Figure<Quad>> = wg.iter().map(|w| w.recipe.rms_over_albedo).collect();
+        let share = wg
+            .iter()
+            .map(|w| w.gpu_share.rel_rmse.value)
+            .fold(0.0, f64::max);
+        md.push_str(&format!(
+            "WebGPURenderer (WebGPU on SwiftShader), as three is and with `RectAreaLightSheenNode.init()` (results/textures/three/RectAreaLightSheenNode.js: the same series as `wgslFn` nodes in PhysicalLightingModel.directRectArea): as shipped {} of {} scenes have any pixel above 0; with the recipe the mean RMS error over the albedo is {}, and its image is three's formula in f64 with the series' entries to at most {:.1e} relative RMSE per scene.\n\n",
+            wg.iter().filter(|w| w.shipped_max > 0.0).count(),
+            wg.len(),
+            mean_of(&rec).pct_fixed(3),
+            share
+        ));
+    } else {
+        md.push_str("WebGPURenderer: not in this run (Chromium offered no WebGPU adapter).\n\n");
+    }
     let lit = r.scenes.iter().filter(|s| s.shipped_max > 0.0).count();
     md.push_str(&format!(
         "three as shipped renders no sheen under RectAreaLight: {} of {} scenes have any pixel above 0. With the recipe, three's image is further from the truth than the sampled table would be (beyond both bars) in {} of {} scenes, and closer in {}. ",
