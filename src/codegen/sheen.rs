@@ -51,9 +51,12 @@ pub const FAMILIES: [Family; 2] = [
 /// Each family with its texture-free series and the series' description; empty when the
 /// on-request study has not written them (then no sheen code is generated).
 pub fn read(results: &Path) -> Result<Vec<(&'static Family, Compact, String)>> {
+    let Some((file, path)) = crate::results::ltc_compact::read_file(results)? else {
+        return Ok(Vec::new());
+    };
     let mut out = Vec::new();
     for f in &FAMILIES {
-        match crate::results::ltc_compact::texture_free_series(results, f.table)? {
+        match crate::results::ltc_compact::texture_free_in(&file, f.table, &path)? {
             Some((c, d)) => out.push((f, c, d)),
             None => return Ok(Vec::new()),
         }
@@ -142,7 +145,17 @@ fn family_text(lang: Lang, f: &Family, c: &Compact, desc: &str) -> String {
             &format!("{prefix}: channel {k}'s series at (x, y) = (2r − 1, 2t − 1)."),
         ));
     }
-    let ch = |k: usize| channel_call(&prefix, k, c.channels[k].transform);
+    let (mat, norm) = mat_norm(lang, &prefix, c);
+    s.push_str(&format!(
+        "\n// M⁻¹'s (a, b, c, d) at (r, t), both clamped to [0, 1]: M⁻¹ = [[a, 0, c], [0, 1, 0], [b, 0, d]].\n{mat}\n\n// The norm (the lobe's directional albedo) at (r, t), both clamped to [0, 1].\n{norm}\n"
+    ));
+    s
+}
+
+/// The two evaluation functions of a family, `{prefix}_mat` (M⁻¹'s a, b, c, d) and
+/// `{prefix}_norm`, as code without comments (the WebGPU recipe hands each to `wgslFn`).
+fn mat_norm(lang: Lang, prefix: &str, c: &Compact) -> (String, String) {
+    let ch = |k: usize| channel_call(prefix, k, c.channels[k].transform);
     let pre = eval_prelude(lang, c.alpha_min);
     let (mat_head, norm_head, vec4) = match lang {
         Lang::Wgsl => (
@@ -156,15 +169,16 @@ fn family_text(lang: Lang, f: &Family, c: &Compact, desc: &str) -> String {
             "vec4",
         ),
     };
-    s.push_str(&format!(
-        "\n// M⁻¹'s (a, b, c, d) at (r, t), both clamped to [0, 1]: M⁻¹ = [[a, 0, c], [0, 1, 0], [b, 0, d]].\n{mat_head}\n{pre}    return {vec4}({}, {}, {}, {});\n}}\n\n// The norm (the lobe's directional albedo) at (r, t), both clamped to [0, 1].\n{norm_head}\n{pre}    return {};\n}}\n",
-        ch(0),
-        ch(1),
-        ch(2),
-        ch(3),
-        ch(4)
-    ));
-    s
+    (
+        format!(
+            "{mat_head}\n{pre}    return {vec4}({}, {}, {}, {});\n}}",
+            ch(0),
+            ch(1),
+            ch(2),
+            ch(3)
+        ),
+        format!("{norm_head}\n{pre}    return {};\n}}", ch(4)),
+    )
 }
 
 /// The WGSL or GLSL file: header, then every family.
@@ -187,9 +201,11 @@ fn render_shader(lang: Lang, fams: &[(&Family, Compact, String)], command: &str)
 pub fn render_three(f: &Family, c: &Compact, desc: &str, command: &str) -> String {
     let glsl = render_family(Lang::Glsl, f, c, desc);
     format!(
-        "{}// The sheen of MeshPhysicalMaterial under RectAreaLight, for three.js r187's WebGLRenderer\n// (three applies no sheen under RectAreaLight: its RE_Direct_RectArea_Physical has no sheen\n// term). RectAreaLightSheen.init(), called once before the first render (beside\n// RectAreaLightUniformsLib.init()), adds to that function\n//\n//     sheenSpecularDirect += lightColor · sheenColor · norm · LTC_Evaluate( …, M⁻¹, rectCoords )\n//\n// with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own\n// BRDF_Sheen) evaluated per pixel in the shader from its compact series ({desc}):\n// no texture, no sampler. The base layer under the sheen is left as three lights it. Its error against the\n// BRDF and its cost: results/ltc-compact.md, results/performance.md; rendered in three.js and\n// judged against the truth: results/engines-sheen.md.\nimport {{ ShaderChunk }} from 'three';\n\nconst GLSL = `{glsl}`;\n\nconst FUNCTION = 'void RE_Direct_RectArea_Physical(';\nconst DIFFUSE = 'reflectedLight.directDiffuse += lightColor * material.diffuseContribution * LTC_Evaluate( normal, viewDir, position, mat3( 1.0 ), rectCoords );';\nconst TERM = `\n\t\t#ifdef USE_SHEEN\n\n\t\t\tfloat sheenT = sqrt( 1.0 - saturate( dot( normal, viewDir ) ) );\n\t\t\tvec4 sheenMat = ltc_sheen_{key}_mat( material.sheenRoughness, sheenT );\n\t\t\tmat3 mInvSheen = mat3(\n\t\t\t\tvec3( sheenMat.x, 0, sheenMat.y ),\n\t\t\t\tvec3(          0, 1,          0 ),\n\t\t\t\tvec3( sheenMat.z, 0, sheenMat.w )\n\t\t\t);\n\t\t\tsheenSpecularDirect += lightColor * material.sheenColor * ltc_sheen_{key}_norm( material.sheenRoughness, sheenT ) * LTC_Evaluate( normal, viewDir, position, mInvSheen, rectCoords );\n\n\t\t#endif\n`;\n\nexport const RectAreaLightSheen = {{\n\n\tinit() {{\n\n\t\tconst chunk = ShaderChunk.lights_physical_pars_fragment;\n\t\tif ( chunk.includes( 'ltc_sheen_{key}_mat' ) ) return;\n\t\tif ( ! chunk.includes( FUNCTION ) || ! chunk.includes( DIFFUSE ) ) {{\n\n\t\t\tthrow new Error( 'RectAreaLightSheen: this three.js has no RE_Direct_RectArea_Physical as r187 writes it' );\n\n\t\t}}\n\n\t\tShaderChunk.lights_physical_pars_fragment = chunk\n\t\t\t.replace( FUNCTION, '#if defined( USE_SHEEN )\\n' + GLSL + '\\n#endif\\n\\n' + FUNCTION )\n\t\t\t.replace( DIFFUSE, DIFFUSE + TERM );\n\n\t}}\n\n}};\n",
+        "{}// The sheen of MeshPhysicalMaterial under RectAreaLight, for three.js r187's WebGLRenderer\n// (three applies no sheen under RectAreaLight: its RE_Direct_RectArea_Physical has no sheen\n// term). RectAreaLightSheen.init(), called once before the first render (beside\n// RectAreaLightUniformsLib.init()), adds to that function\n//\n//     sheenSpecularDirect += lightColor · sheenColor · norm · LTC_Evaluate( …, M⁻¹, rectCoords )\n//\n// with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own\n// BRDF_Sheen) evaluated per pixel in the shader from its compact series ({desc}):\n// no texture, no sampler. Fitted for sheenRoughness in [{rmin}, 1] (α ≥ {amin}, the table's\n// α_min): below it the series gives the lobe of α = {amin}. The base layer under the sheen is\n// left as three lights it. Its error against the\n// BRDF and its cost: results/ltc-compact.md, results/performance.md; rendered in three.js and\n// judged against the truth: results/engines-sheen.md.\nimport {{ ShaderChunk }} from 'three';\n\nconst GLSL = `{glsl}`;\n\nconst FUNCTION = 'void RE_Direct_RectArea_Physical(';\nconst DIFFUSE = 'reflectedLight.directDiffuse += lightColor * material.diffuseContribution * LTC_Evaluate( normal, viewDir, position, mat3( 1.0 ), rectCoords );';\nconst TERM = `\n\t\t#ifdef USE_SHEEN\n\n\t\t\tfloat sheenT = sqrt( 1.0 - saturate( dot( normal, viewDir ) ) );\n\t\t\tvec4 sheenMat = ltc_sheen_{key}_mat( material.sheenRoughness, sheenT );\n\t\t\tmat3 mInvSheen = mat3(\n\t\t\t\tvec3( sheenMat.x, 0, sheenMat.y ),\n\t\t\t\tvec3(          0, 1,          0 ),\n\t\t\t\tvec3( sheenMat.z, 0, sheenMat.w )\n\t\t\t);\n\t\t\tsheenSpecularDirect += lightColor * material.sheenColor * ltc_sheen_{key}_norm( material.sheenRoughness, sheenT ) * LTC_Evaluate( normal, viewDir, position, mInvSheen, rectCoords );\n\n\t\t#endif\n`;\n\nexport const RectAreaLightSheen = {{\n\n\tinit() {{\n\n\t\tconst chunk = ShaderChunk.lights_physical_pars_fragment;\n\t\tif ( chunk.includes( 'ltc_sheen_{key}_mat' ) ) return;\n\t\tif ( ! chunk.includes( FUNCTION ) || ! chunk.includes( DIFFUSE ) ) {{\n\n\t\t\tthrow new Error( 'RectAreaLightSheen: this three.js has no RE_Direct_RectArea_Physical as r187 writes it' );\n\n\t\t}}\n\n\t\tShaderChunk.lights_physical_pars_fragment = chunk\n\t\t\t.replace( FUNCTION, '#if defined( USE_SHEEN )\\n' + GLSL + '\\n#endif\\n\\n' + FUNCTION )\n\t\t\t.replace( DIFFUSE, DIFFUSE + TERM );\n\n\t}}\n\n}};\n",
         super::text::header("//", command, SOURCE),
         key = f.key,
+        amin = lit(c.alpha_min),
+        rmin = lit(c.alpha_min.sqrt()),
     )
 }
 
@@ -218,23 +234,13 @@ pub fn render_three_webgpu(f: &Family, c: &Compact, desc: &str, command: &str) -
             format!("\twgslFn( `{code}` ),\n")
         })
         .collect();
-    let call = |k: usize| channel_call(&prefix, k, c.channels[k].transform);
-    let pre = eval_prelude(Lang::Wgsl, c.alpha_min);
-    let mat = format!(
-        "fn {prefix}_mat(r_in: f32, t_in: f32) -> vec4<f32> {{\n{pre}    return vec4<f32>({}, {}, {}, {});\n}}",
-        call(0),
-        call(1),
-        call(2),
-        call(3)
-    );
-    let norm = format!(
-        "fn {prefix}_norm(r_in: f32, t_in: f32) -> f32 {{\n{pre}    return {};\n}}",
-        call(4)
-    );
+    let (mat, norm) = mat_norm(Lang::Wgsl, &prefix, c);
     format!(
-        "{}// The sheen of MeshPhysicalNodeMaterial under RectAreaLight, for three.js r187's\n// WebGPURenderer (its PhysicalLightingModel.directRectArea has no sheen term).\n// RectAreaLightSheenNode.init(), called once before the first render, wraps that method so\n// that a material with sheen also gets\n//\n//     sheenSpecularDirect += lightColor · sheen · norm · LTC_Evaluate( …, M⁻¹, … )\n//\n// with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own\n// BRDF_Sheen) evaluated per pixel from its compact series ({desc}) as WGSL functions\n// (wgslFn; the same code as results/wgsl/ltc_sheen.wgsl): no texture, no sampler. The\n// WebGLRenderer's recipe is RectAreaLightSheen.js. Rendered in three.js and judged against\n// the truth: results/engines-sheen.md.\nimport {{ PhysicalLightingModel }} from 'three/webgpu';\nimport {{ wgslFn, LTC_Evaluate, normalView, positionView, positionViewDirection, sheen, sheenRoughness, mat3, vec3, float }} from 'three/tsl';\n\nconst channels = [\n{}];\nconst sheenMat = wgslFn( `{mat}`, [ channels[ 0 ], channels[ 1 ], channels[ 2 ], channels[ 3 ] ] );\nconst sheenNorm = wgslFn( `{norm}`, [ channels[ 4 ] ] );\n\nlet installed = false;\n\nexport const RectAreaLightSheenNode = {{\n\n\tinit() {{\n\n\t\tif ( installed ) return;\n\t\tinstalled = true;\n\t\tconst base = PhysicalLightingModel.prototype.directRectArea;\n\t\tPhysicalLightingModel.prototype.directRectArea = function ( input, builder ) {{\n\n\t\t\tbase.call( this, input, builder );\n\t\t\tif ( this.sheen !== true ) return;\n\t\t\tconst {{ lightColor, lightPosition, halfWidth, halfHeight }} = input;\n\t\t\tconst p0 = lightPosition.add( halfWidth ).sub( halfHeight );\n\t\t\tconst p1 = lightPosition.sub( halfWidth ).sub( halfHeight );\n\t\t\tconst p2 = lightPosition.sub( halfWidth ).add( halfHeight );\n\t\t\tconst p3 = lightPosition.add( halfWidth ).add( halfHeight );\n\t\t\tconst N = normalView;\n\t\t\tconst V = positionViewDirection;\n\t\t\tconst P = positionView.toVar();\n\t\t\tconst t = float( 1 ).sub( N.dot( V ).saturate() ).sqrt();\n\t\t\tconst m = sheenMat( {{ r_in: sheenRoughness, t_in: t }} ).toVar();\n\t\t\tconst mInv = mat3( vec3( m.x, 0, m.y ), vec3( 0, 1, 0 ), vec3( m.z, 0, m.w ) );\n\t\t\tthis.sheenSpecularDirect.addAssign( lightColor.mul( sheen ).mul( sheenNorm( {{ r_in: sheenRoughness, t_in: t }} ) ).mul( LTC_Evaluate( {{ N, V, P, mInv, p0, p1, p2, p3 }} ) ) );\n\n\t\t}};\n\n\t}}\n\n}};\n",
+        "{}// The sheen of MeshPhysicalNodeMaterial under RectAreaLight, for three.js r187's\n// WebGPURenderer (its PhysicalLightingModel.directRectArea has no sheen term).\n// RectAreaLightSheenNode.init(), called once before the first render, wraps that method so\n// that a material with sheen also gets\n//\n//     sheenSpecularDirect += lightColor · sheen · norm · LTC_Evaluate( …, M⁻¹, … )\n//\n// with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own\n// BRDF_Sheen) evaluated per pixel from its compact series ({desc}) as WGSL functions\n// (wgslFn; the same code as results/wgsl/ltc_sheen.wgsl): no texture, no sampler. Fitted\n// for sheenRoughness in [{rmin}, 1] (α ≥ {amin}): below it the series gives the lobe of\n// α = {amin}. The\n// WebGLRenderer's recipe is RectAreaLightSheen.js. Rendered in three.js and judged against\n// the truth: results/engines-sheen.md.\nimport {{ PhysicalLightingModel }} from 'three/webgpu';\nimport {{ wgslFn, LTC_Evaluate, normalView, positionView, positionViewDirection, sheen, sheenRoughness, mat3, vec3, float }} from 'three/tsl';\n\nconst channels = [\n{}];\nconst sheenMat = wgslFn( `{mat}`, [ channels[ 0 ], channels[ 1 ], channels[ 2 ], channels[ 3 ] ] );\nconst sheenNorm = wgslFn( `{norm}`, [ channels[ 4 ] ] );\n\nlet installed = false;\n\nexport const RectAreaLightSheenNode = {{\n\n\tinit() {{\n\n\t\tif ( installed ) return;\n\t\tinstalled = true;\n\t\tconst base = PhysicalLightingModel.prototype.directRectArea;\n\t\tPhysicalLightingModel.prototype.directRectArea = function ( input, builder ) {{\n\n\t\t\tbase.call( this, input, builder );\n\t\t\tif ( this.sheen !== true ) return;\n\t\t\tconst {{ lightColor, lightPosition, halfWidth, halfHeight }} = input;\n\t\t\tconst p0 = lightPosition.add( halfWidth ).sub( halfHeight );\n\t\t\tconst p1 = lightPosition.sub( halfWidth ).sub( halfHeight );\n\t\t\tconst p2 = lightPosition.sub( halfWidth ).add( halfHeight );\n\t\t\tconst p3 = lightPosition.add( halfWidth ).add( halfHeight );\n\t\t\tconst N = normalView;\n\t\t\tconst V = positionViewDirection;\n\t\t\tconst P = positionView.toVar();\n\t\t\tconst t = float( 1 ).sub( N.dot( V ).saturate() ).sqrt();\n\t\t\tconst m = sheenMat( {{ r_in: sheenRoughness, t_in: t }} ).toVar();\n\t\t\tconst mInv = mat3( vec3( m.x, 0, m.y ), vec3( 0, 1, 0 ), vec3( m.z, 0, m.w ) );\n\t\t\tthis.sheenSpecularDirect.addAssign( lightColor.mul( sheen ).mul( sheenNorm( {{ r_in: sheenRoughness, t_in: t }} ) ).mul( LTC_Evaluate( {{ N, V, P, mInv, p0, p1, p2, p3 }} ) ) );\n\n\t\t}};\n\n\t}}\n\n}};\n",
         super::text::header("//", command, SOURCE),
-        channels.concat()
+        channels.concat(),
+        amin = lit(c.alpha_min),
+        rmin = lit(c.alpha_min.sqrt()),
     )
 }
 

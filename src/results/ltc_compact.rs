@@ -167,12 +167,9 @@ pub fn series_form(forms: &[CompactForm], chosen: Option<usize>) -> Option<usize
 /// generate code from or to judge). A series that fails its check, or a side outside
 /// 2..=`MAX_SIDE`, is a typed error.
 pub fn ggx_series(results: &Path) -> Result<Option<(Compact, usize)>> {
-    let path = results.join("fits/ltc-compact.json");
-    if !path.is_file() {
+    let Some((r, path)) = read_file(results)? else {
         return Ok(None);
-    }
-    let r: LtcCompact = super::require(results)
-        .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
+    };
     let f = r
         .families
         .into_iter()
@@ -190,23 +187,41 @@ pub fn ggx_series(results: &Path) -> Result<Option<(Compact, usize)>> {
     Ok(Some((f.series, f.n)))
 }
 
-/// A family's texture-free pick of results/fits/ltc-compact.json: its series and a
-/// description ("log, lobe-fit p = 12 (864 coefficients)"), or `None` when the file is
-/// absent or was written before the study picked one. A family the file lacks, or a
-/// series that fails its check, is a typed error.
-pub fn texture_free_series(results: &Path, table: &str) -> Result<Option<(Compact, String)>> {
+/// results/fits/ltc-compact.json and its path, or `None` when the on-request study has not
+/// written it; a file that does not parse is a typed error naming it.
+pub fn read_file(results: &Path) -> Result<Option<(LtcCompact, std::path::PathBuf)>> {
     let path = results.join("fits/ltc-compact.json");
     if !path.is_file() {
         return Ok(None);
     }
     let r: LtcCompact = super::require(results)
         .map_err(|e| Error::InvalidArgument(format!("{}: {e}", path.display())))?;
+    Ok(Some((r, path)))
+}
+
+/// A family's texture-free pick of results/fits/ltc-compact.json: its series and a
+/// description ("log, lobe-fit p = 12 (864 coefficients)"), or `None` when the file is
+/// absent or was written before the study picked one. A family the file lacks, a pick
+/// naming a form it does not hold, or a series that fails its check, is a typed error.
+pub fn texture_free_series(results: &Path, table: &str) -> Result<Option<(Compact, String)>> {
+    match read_file(results)? {
+        Some((r, path)) => texture_free_in(&r, table, &path),
+        None => Ok(None),
+    }
+}
+
+/// [`texture_free_series`] from a file already read (`path` names it in errors).
+pub fn texture_free_in(
+    r: &LtcCompact,
+    table: &str,
+    path: &Path,
+) -> Result<Option<(Compact, String)>> {
     let f = r
         .families
-        .into_iter()
+        .iter()
         .find(|f| f.table == table)
         .ok_or_else(|| Error::InvalidArgument(format!("{}: no {table} family", path.display())))?;
-    let Some(tf) = f.texture_free else {
+    let Some(tf) = &f.texture_free else {
         return Ok(None);
     };
     let form = f.forms.get(tf.form).ok_or_else(|| {
@@ -230,5 +245,5 @@ pub fn texture_free_series(results: &Path, table: &str) -> Result<Option<(Compac
         "{} p = {} ({} coefficients)",
         form.transforms, form.p, form.coefficients
     );
-    Ok(Some((tf.series, desc)))
+    Ok(Some((tf.series.clone(), desc)))
 }

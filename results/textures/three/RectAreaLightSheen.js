@@ -8,7 +8,9 @@
 //
 // with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own
 // BRDF_Sheen) evaluated per pixel in the shader from its compact series (log, lobe-fit p = 12 (864 coefficients)):
-// no texture, no sampler. The base layer under the sheen is left as three lights it. Its error against the
+// no texture, no sampler. Fitted for sheenRoughness in [0.1, 1] (α ≥ 0.01, the table's
+// α_min): below it the series gives the lobe of α = 0.01. The base layer under the sheen is
+// left as three lights it. Its error against the
 // BRDF and its cost: results/ltc-compact.md, results/performance.md; rendered in three.js and
 // judged against the truth: results/engines-sheen.md.
 import { ShaderChunk } from 'three';

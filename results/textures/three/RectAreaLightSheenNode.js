@@ -8,7 +8,9 @@
 //
 // with M⁻¹ and the norm of the Charlie sheen lobe with Neubelt's visibility (three's own
 // BRDF_Sheen) evaluated per pixel from its compact series (log, lobe-fit p = 12 (864 coefficients)) as WGSL functions
-// (wgslFn; the same code as results/wgsl/ltc_sheen.wgsl): no texture, no sampler. The
+// (wgslFn; the same code as results/wgsl/ltc_sheen.wgsl): no texture, no sampler. Fitted
+// for sheenRoughness in [0.1, 1] (α ≥ 0.01): below it the series gives the lobe of
+// α = 0.01. The
 // WebGLRenderer's recipe is RectAreaLightSheen.js. Rendered in three.js and judged against
 // the truth: results/engines-sheen.md.
 import { PhysicalLightingModel } from 'three/webgpu';

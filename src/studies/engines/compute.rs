@@ -88,7 +88,6 @@ impl EngineRun {
     ) -> Result<EngineRun> {
         let bad = |m: String| Error::InvalidArgument(format!("engines: {what}: {m}"));
         let r: EngineRun = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
-        let px = scenes.width * scenes.height * 4;
         if let Some(p) = r.paths.keys().find(|p| {
             !engine.paths().contains(&p.as_str()) && !engine.optional_paths().contains(&p.as_str())
         }) {
@@ -99,38 +98,51 @@ impl EngineRun {
             .iter()
             .filter(|p| r.paths.contains_key(**p));
         for p in engine.paths().iter().chain(present) {
-            let v = r.paths.get(*p).ok_or_else(|| bad(format!("no {p} path")))?;
-            if v.len() != scenes.scenes.len() {
-                return Err(bad(format!(
-                    "{p} path has {} scenes, the scene file {}",
-                    v.len(),
-                    scenes.scenes.len()
-                )));
-            }
-            for (s, want) in v.iter().zip(&scenes.scenes) {
-                if s.name != want.name || s.radiance.len() != px || s.positions.len() != px {
-                    return Err(bad(format!(
-                        "scene {} does not match {} ({}×{} RGBA)",
-                        crate::error::quoted(&s.name),
-                        crate::error::quoted(&want.name),
-                        scenes.width,
-                        scenes.height
-                    )));
-                }
-                if s.radiance
-                    .iter()
-                    .chain(&s.positions)
-                    .any(|x| !x.is_finite())
-                {
-                    return Err(bad(format!(
-                        "scene {}: a pixel is not a finite number",
-                        crate::error::quoted(&s.name)
-                    )));
-                }
-            }
+            check_path(&r.paths, p, scenes).map_err(bad)?;
         }
         Ok(r)
     }
+}
+
+/// Path `p` of a harness run against the scene file: present, one render per scene in
+/// the file's order and names, RGBA images of the file's size, every pixel finite. The
+/// defect as a message for the caller's error.
+pub(super) fn check_path(
+    paths: &std::collections::BTreeMap<String, Vec<EngineScene>>,
+    p: &str,
+    scenes: &EngineScenes,
+) -> std::result::Result<(), String> {
+    let px = scenes.width * scenes.height * 4;
+    let v = paths.get(p).ok_or_else(|| format!("no {p} path"))?;
+    if v.len() != scenes.scenes.len() {
+        return Err(format!(
+            "{p} path has {} scenes, the scene file {}",
+            v.len(),
+            scenes.scenes.len()
+        ));
+    }
+    for (s, want) in v.iter().zip(&scenes.scenes) {
+        if s.name != want.name || s.radiance.len() != px || s.positions.len() != px {
+            return Err(format!(
+                "scene {} does not match {} ({}×{} RGBA)",
+                crate::error::quoted(&s.name),
+                crate::error::quoted(&want.name),
+                scenes.width,
+                scenes.height
+            ));
+        }
+        if s.radiance
+            .iter()
+            .chain(&s.positions)
+            .any(|x| !x.is_finite())
+        {
+            return Err(format!(
+                "scene {}: a pixel is not a finite number",
+                crate::error::quoted(&s.name)
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A table as an engine path holds it: n×n cells of [a, b, c, d, norm].

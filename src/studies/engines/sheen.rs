@@ -14,7 +14,7 @@
 //! exact edge integral (what a second texture would buy); and the recipe's image against
 //! three's formula in f64 with the series' entries (the GPU's share: f32, `exp`).
 
-use super::compute::{errors, image, EngineScene, Errors, TRUTH_REL};
+use super::compute::{check_path, errors, image, EngineScene, Errors, TRUTH_REL};
 use crate::engines::truth::{lookup, table_value, three_value, truth_value};
 use crate::engines::{EngineScenes, Rect};
 use crate::error::{Error, Result};
@@ -50,20 +50,27 @@ pub const PATHS: [&str; 2] = ["shipped", "recipe"];
 pub const WEBGPU_PATHS: [&str; 2] = ["webgpu-shipped", "webgpu-recipe"];
 
 impl SheenRun {
-    /// Parse and check against the scenes: both paths, every scene, every size, finite.
-    pub fn parse(text: &str, scenes: &EngineScenes) -> Result<SheenRun> {
+    /// Read a run without checking it against a scene file (the scene file it names is
+    /// read next; then [`SheenRun::check`]).
+    pub fn from_json(text: &str) -> Result<SheenRun> {
+        serde_json::from_str(text).map_err(|e| {
+            Error::InvalidArgument(format!("engines-sheen: the three.js sheen run: {e}"))
+        })
+    }
+
+    /// Check against the scenes: the sheen table's run, the WebGL paths and both WebGPU
+    /// paths or neither, every scene, every size, every pixel finite.
+    pub fn check(&self, scenes: &EngineScenes) -> Result<()> {
         let bad = |m: String| {
             Error::InvalidArgument(format!("engines-sheen: the three.js sheen run: {m}"))
         };
-        let r: SheenRun = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
-        if r.table != "sheen" {
+        if self.table != "sheen" {
             return Err(bad(format!(
                 "a run of the {} table, not the sheen run (render.mjs --table sheen)",
-                crate::error::quoted(&r.table)
+                crate::error::quoted(&self.table)
             )));
         }
-        let px = scenes.width * scenes.height * 4;
-        if let Some(p) = r
+        if let Some(p) = self
             .paths
             .keys()
             .find(|p| !PATHS.contains(&p.as_str()) && !WEBGPU_PATHS.contains(&p.as_str()))
@@ -72,47 +79,22 @@ impl SheenRun {
         }
         let webgpu = WEBGPU_PATHS
             .iter()
-            .filter(|p| r.paths.contains_key(**p))
+            .filter(|p| self.paths.contains_key(**p))
             .count();
         if webgpu == 1 {
             return Err(bad("one WebGPU path without the other".into()));
         }
-        let present: Vec<&str> = PATHS
-            .iter()
-            .chain(if webgpu == 2 { &WEBGPU_PATHS[..] } else { &[] })
-            .copied()
-            .collect();
-        for p in present {
-            let v = r.paths.get(p).ok_or_else(|| bad(format!("no {p} path")))?;
-            if v.len() != scenes.scenes.len() {
-                return Err(bad(format!(
-                    "{p} path has {} scenes, the scene file {}",
-                    v.len(),
-                    scenes.scenes.len()
-                )));
-            }
-            for (s, want) in v.iter().zip(&scenes.scenes) {
-                if s.name != want.name || s.radiance.len() != px || s.positions.len() != px {
-                    return Err(bad(format!(
-                        "scene {} does not match {} ({}×{} RGBA)",
-                        crate::error::quoted(&s.name),
-                        crate::error::quoted(&want.name),
-                        scenes.width,
-                        scenes.height
-                    )));
-                }
-                if s.radiance
-                    .iter()
-                    .chain(&s.positions)
-                    .any(|x| !x.is_finite())
-                {
-                    return Err(bad(format!(
-                        "scene {}: a pixel is not a finite number",
-                        crate::error::quoted(&s.name)
-                    )));
-                }
-            }
+        let optional: &[&str] = if webgpu == 2 { &WEBGPU_PATHS } else { &[] };
+        for p in PATHS.iter().chain(optional) {
+            check_path(&self.paths, p, scenes).map_err(bad)?;
         }
+        Ok(())
+    }
+
+    /// [`SheenRun::from_json`], then [`SheenRun::check`].
+    pub fn parse(text: &str, scenes: &EngineScenes) -> Result<SheenRun> {
+        let r = Self::from_json(text)?;
+        r.check(scenes)?;
         Ok(r)
     }
 }
@@ -128,7 +110,9 @@ pub struct SheenErrors {
     pub rms_over_albedo: Figure<Quad>,
 }
 
-fn sheen_errors(x: &[f64], truth: &[Figure<Quad>], albedo: f64) -> SheenErrors {
+/// `albedo` is (value, its quadrature error bound): both bars widen the figure's.
+fn sheen_errors(x: &[f64], truth: &[Figure<Quad>], albedo: (f64, f64)) -> SheenErrors {
+    let (albedo, albedo_err) = albedo;
     let (mut a, mut da) = (0.0, 0.0);
     for (x, t) in x.iter().zip(truth) {
         let d = x - t.value;
@@ -136,11 +120,13 @@ fn sheen_errors(x: &[f64], truth: &[Figure<Quad>], albedo: f64) -> SheenErrors {
         da += 2.0 * d.abs() * t.error + t.error * t.error;
     }
     let n = truth.len().max(1) as f64;
-    let at = |s: f64| (s.max(0.0) / n).sqrt() / albedo;
-    let v = at(a);
+    let at = |s: f64, alb: f64| (s.max(0.0) / n).sqrt() / alb;
+    let v = at(a, albedo);
+    let hi = at(a + da, (albedo - albedo_err).max(1e-300));
+    let lo = at(a - da, albedo + albedo_err);
     SheenErrors {
         rel_rmse: errors(x, truth).rel_rmse,
-        rms_over_albedo: Figure::<Quad>::new(v, (at(a + da) - v).max(v - at(a - da))),
+        rms_over_albedo: Figure::<Quad>::new(v, (hi - v).max(v - lo)),
     }
 }
 
@@ -156,8 +142,10 @@ pub struct SheenScene {
     pub truth_rel_error: f64,
     /// The truth's largest value (the scene's scale).
     pub truth_peak: f64,
-    /// The lobe's directional albedo at the scene's view (quadrature to 1e-8).
+    /// The lobe's directional albedo at the scene's view (quadrature to 1e-8) and its
+    /// error bound.
     pub albedo: f64,
+    pub albedo_error: f64,
     /// three.js as shipped against the truth.
     pub shipped: SheenErrors,
     /// The largest |pixel| three as shipped renders (0: no sheen at all).
@@ -268,10 +256,10 @@ pub fn judge(sc: &EngineScenes, run: &SheenRun, results: &std::path::Path) -> Re
             v.iter().map(|v| Figure::<Quad>::new(*v, 0.0)).collect()
         };
         let peak = truth.iter().map(|b| b.value).fold(0.0, f64::max);
-        let albedo = lobe.albedo(1e-8).0;
-        if !(albedo > 0.0) {
+        let (albedo, albedo_err, _) = lobe.albedo(1e-8);
+        if !(albedo > albedo_err) {
             return Err(Error::InvalidArgument(format!(
-                "engines-sheen: scene {}: the lobe's albedo is {albedo}",
+                "engines-sheen: scene {}: the lobe's albedo is {albedo} ± {albedo_err}",
                 s.name
             )));
         }
@@ -287,17 +275,18 @@ pub fn judge(sc: &EngineScenes, run: &SheenRun, results: &std::path::Path) -> Re
                 .fold(0.0, f64::max),
             truth_peak: peak,
             albedo,
-            shipped: sheen_errors(&shipped, &truth, albedo),
+            albedo_error: albedo_err,
+            shipped: sheen_errors(&shipped, &truth, (albedo, albedo_err)),
             shipped_max: shipped.iter().map(|v| v.abs()).fold(0.0, f64::max),
-            recipe: sheen_errors(&recipe, &truth, albedo),
-            series_share: sheen_errors(&series_v, &truth, albedo),
-            table_share: sheen_errors(&table_v, &truth, albedo),
+            recipe: sheen_errors(&recipe, &truth, (albedo, albedo_err)),
+            series_share: sheen_errors(&series_v, &truth, (albedo, albedo_err)),
+            table_share: sheen_errors(&table_v, &truth, (albedo, albedo_err)),
             gpu_share: errors(&recipe, &exact(&formula)),
             webgpu: run.paths.contains_key(WEBGPU_PATHS[1]).then(|| {
                 let (ws, wr) = (px(WEBGPU_PATHS[0]), px(WEBGPU_PATHS[1]));
                 WebGpuSheen {
                     shipped_max: ws.iter().map(|v| v.abs()).fold(0.0, f64::max),
-                    recipe: sheen_errors(&wr, &truth, albedo),
+                    recipe: sheen_errors(&wr, &truth, (albedo, albedo_err)),
                     gpu_share: errors(&wr, &exact(&formula)),
                 }
             }),

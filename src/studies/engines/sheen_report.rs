@@ -76,7 +76,7 @@ fn section(r: &SheenResult) -> String {
             s.name.clone(),
             s.roughness.to_string(),
             format!("{}°", s.view_deg),
-            format!("{:.4}", s.albedo),
+            format!("{:.3e} ± {:.0e}", s.albedo, s.albedo_error),
             format!("{:.2e}", s.truth_peak / s.albedo),
             shipped[k].pct_fixed(3),
             recipe[k].pct_fixed(3),
@@ -159,18 +159,14 @@ pub fn run(
     }
     let mut checks = Vec::new();
     for p in runs {
-        let text = super::files::read_text(p)?;
-        let scenes_file = serde_json::from_str::<serde_json::Value>(&text)
-            .ok()
-            .and_then(|v| v["scenes"].as_str().map(String::from))
-            .ok_or_else(|| {
-                Error::InvalidArgument(format!(
-                    "engines-sheen: {} names no scene file (render.mjs --table sheen writes it)",
-                    crate::error::quoted(&p.display().to_string())
-                ))
-            })?;
-        let sc = EngineScenes::read(std::path::Path::new(&scenes_file))?;
-        let run = SheenRun::parse(&text, &sc)?;
+        let run = SheenRun::from_json(&super::files::read_text(p)?).map_err(|_| {
+            Error::InvalidArgument(format!(
+                "engines-sheen: {} is not a sheen run, or names no scene file (render.mjs --table sheen writes one)",
+                crate::error::quoted(&p.display().to_string())
+            ))
+        })?;
+        let sc = EngineScenes::read(std::path::Path::new(&run.scenes))?;
+        run.check(&sc)?;
         checks.push(judge(&sc, &run, results)?);
     }
     set.put(
