@@ -716,12 +716,69 @@ fn tensor_wang(c: &mut Criterion) {
     g.finish();
 }
 
+/// Seed 002 Table 2's wave row, per unit of work: one CP-ALS sweep of the tensor-wave
+/// study's RGB tensor shape (16 × 16 × 768 slices, R = 16; one call with its start), and
+/// one coherence window of Eq 3 (FFT of the windowed phase, binned to a 64² image) at the
+/// study's σ_c = 2 µm (256² patch) and at σ_c = 8 µm, inside the paper's 5–10 µm (1024²).
+/// bench-report projects Table 2's minutes from them (performance.md).
+fn tensor_wave(c: &mut Criterion) {
+    use ndfbench::tensor::cp::{cp_als, AlsOptions, Tensor3};
+    use ndfbench::tensor::wave::{bin, gndf_fft, sampled_for, Waves, WAVELENGTHS};
+    let (t, slices) = (16usize, 768usize);
+    let data: Vec<f64> = (0..t * t * slices)
+        .map(|k| ((k as f64 * 0.618_033_988_7).fract() - 0.3).max(0.0))
+        .collect();
+    let Ok(tensor) = Tensor3::new([t, t, slices], data) else {
+        eprintln!("tensor-wave: skipped (the tensor failed to build)");
+        return;
+    };
+    let mut g = c.benchmark_group("tensor-wave");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(3));
+    let opts = AlsOptions {
+        rank: 16,
+        tol: 0.0,
+        max_iters: 1,
+        restarts: 1,
+        seed: 11,
+        nonnegative: false,
+    };
+    g.bench_function(BenchmarkId::new("cp-als sweep, R = 16", "16x16x768"), |b| {
+        b.iter(|| cp_als(black_box(&tensor), &opts).map(|cp| cp.rel_error))
+    });
+    // the study's 32 µm tile at σ_c = 2 µm; a 64 µm tile at 8 µm, whose 1024² patch must
+    // fit in the sampled field
+    for (sigma_c, period) in [(2.0f64, 32.0), (8.0, 64.0)] {
+        let Ok((hf, m)) = Waves::new(128, 16, period, 0.15, 12)
+            .and_then(|noise| sampled_for(&noise, WAVELENGTHS[0], sigma_c))
+        else {
+            continue;
+        };
+        let one = || {
+            gndf_fft(&hf, black_box((8.0, 8.0)), sigma_c, WAVELENGTHS[3], m)
+                .and_then(|gn| bin(&gn, 64))
+                .map(|img| img[0])
+        };
+        if let Err(e) = one() {
+            eprintln!("tensor-wave: window at σ_c = {sigma_c} skipped ({e})");
+            continue;
+        }
+        g.bench_function(
+            BenchmarkId::new("window: Eq 3 FFT + 64² binning", m),
+            |b| b.iter(one),
+        );
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     ltc,
     tensor,
     tensor_brdf,
     tensor_wang,
+    tensor_wave,
     kernels,
     filters,
     engines,

@@ -251,11 +251,13 @@ pub enum Cmd {
     ///
     /// Renders one scene (examples: `fits/render/*.toml`) on the CPU: the truth (every
     /// texel the pixel covers shaded with its own f64 lobe and weighted by its exact
-    /// coverage, quad lights by MIS on scrambled Sobol points, two replicates for each
-    /// pixel's standard error) and every method of the scene's set (`methods =
-    /// "multiscale"`: the seed 000 mip filters through the shipped LTC table;
-    /// `"specular-aa"`: the seed 003 and engine kernels; `"glints"`: seed 002's brute-force
-    /// P-NDF, CP range queries at three ranks and a plain mip; `"truth-only"`), each
+    /// coverage, quad lights and SG environments by MIS on scrambled Sobol points, two
+    /// replicates for each pixel's standard error) and every method of the scene's set
+    /// (`methods = "multiscale"`: the seed 000 mip filters through the shipped LTC table;
+    /// `"specular-aa"`: the seed 003 and engine kernels; `"glints"`: under a quad light
+    /// seed 002's brute-force P-NDF, CP range queries at three ranks and a plain mip, under
+    /// an SG environment the CP point and prefiltered (Eq 8–9) queries at three ranks and a
+    /// plain mip; `"truth-only"`), each
     /// through the shipped f32 code. Writes DIR/<name>.md (MSE and relative MSE, unbiased
     /// against the exact image, each ± the s.e. the truth's noise leaves; mean ꟻLIP; the
     /// truth's noise floor; flicker along a camera path),
@@ -265,7 +267,8 @@ pub enum Cmd {
     /// (plane|sphere|torus), radius, minor_radius, repeats; `[material]` lobe
     /// (ggx|gaussian|ltc), alpha, sigma_r, normal_map (a generator, `flat` or a PNG path
     /// relative to the scene), normal_scale, map_size, map_seed; `[[lights]]` kind =
-    /// point|quad|directional|environment; `[render]` methods, truth_samples, seed, scales,
+    /// point|quad|directional|environment|sg (`lobes = [{ axis, lambda, amplitude }, …]`,
+    /// glints and truth-only only); `[render]` methods, truth_samples, seed, scales,
     /// exposure. Unknown keys, non-finite numbers and sizes beyond the limits (≤ 2^36 truth
     /// samples in all) are errors naming the key, exit 2, nothing written. `--preset` sets
     /// the glint set's P-NDF grid and CP iterations, as fits/render.toml gives them to the

@@ -3,16 +3,22 @@
 //!   lobe integrated over the pixel square by a 16 × 16 Gauss–Legendre rule;
 //! - a flat map with the isotropic LTC lobe under a quad light: the MC truth against the
 //!   exact polygon integral of the LTC (seed 000 Eq 1; Heitz et al. 2016 Eq 9), averaged
-//!   over the pixel by a 6 × 6 Gauss–Legendre rule.
+//!   over the pixel by a 6 × 6 Gauss–Legendre rule;
+//! - a flat map with seed 002's Gaussian lobe under an SG environment: the MC truth (MIS
+//!   in l) against the same integral written in h_xy and taken by a 32² Gauss–Hermite rule
+//!   ([`super::glints_sg::gaussian_lobe_integral`]), averaged over the pixel by 6 × 6
+//!   Gauss–Legendre.
 //! Each returns the z-scores (truth − exact)/s.e. and the relative differences.
 
 use super::geometry::{Camera, Surface};
+use super::glints_sg::gaussian_lobe_integral;
 use super::light::{self, Light};
-use super::scene::Scene;
+use super::scene::{Lobe, Scene};
 use super::texture::Texture;
 use super::truth::{self, shading_frame, Shader};
 use crate::error::Result;
 use crate::integrate::quad::gauss_legendre;
+use crate::leadr::Grid;
 use crate::ltc::polygon::{ltc_integral, EdgeForm};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -81,6 +87,11 @@ fn exact_at(cam: &Camera, surf: &Surface, sh: &Shader, alpha: f64, px: f64, py: 
                 let m_inv = Matrix3::from_diagonal(&V3::new(1.0 / alpha, 1.0 / alpha, 1.0));
                 radiance * ltc_integral(&m_inv, &poly, EdgeForm::Exact)
             }
+            // the Gaussian lobe's integral in h_xy (other lobes have no check under SGs)
+            Light::Sg(env) if sh.kind == Lobe::Gaussian => {
+                gaussian_lobe_integral(env, fr, &v, &nt, sh.sigma_r, &Grid::gauss_hermite(32))
+            }
+            Light::Sg(_) => f64::NAN,
         })
         .sum()
 }
@@ -151,7 +162,7 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
 pub fn scenes() -> Vec<(&'static str, String, usize)> {
     let base = |lobe: &str, lights: &str, samples: usize| {
         format!(
-            "name = \"check\"\n[camera]\nposition = [0.0, -1.5, 1.2]\nlook_at = [0.0, 0.0, 0.0]\nfov_deg = 10.0\nwidth = 32\nheight = 32\n[surface]\nkind = \"plane\"\nrepeats = [1.0, 1.0]\n[material]\nlobe = \"{lobe}\"\nalpha = 0.3\nnormal_map = \"flat\"\nmap_size = 8\n{lights}\n[render]\nmethods = \"truth-only\"\ntruth_samples = {samples}\nseed = 5\n"
+            "name = \"check\"\n[camera]\nposition = [0.0, -1.5, 1.2]\nlook_at = [0.0, 0.0, 0.0]\nfov_deg = 10.0\nwidth = 32\nheight = 32\n[surface]\nkind = \"plane\"\nrepeats = [1.0, 1.0]\n[material]\nlobe = \"{lobe}\"\nalpha = 0.3\nsigma_r = 0.05\nnormal_map = \"flat\"\nmap_size = 8\n{lights}\n[render]\nmethods = \"truth-only\"\ntruth_samples = {samples}\nseed = 5\n"
         )
     };
     vec![
@@ -169,6 +180,17 @@ pub fn scenes() -> Vec<(&'static str, String, usize)> {
             base(
                 "ltc",
                 "[[lights]]\nkind = \"quad\"\ncenter = [0.0, 1.2, 1.0]\nu_axis = [1.0, 0.0, 0.0]\nv_axis = [0.0, -1.0, 1.2]\nhalf_size = [0.5, 0.3]\nradiance = 1.0",
+                512,
+            ),
+            6,
+        ),
+        (
+            "flat map, seed 002's Gaussian σ_r 0.05, SG environment (Gauss–Hermite in h_xy)",
+            base(
+                "gaussian",
+                // a broad sky, and a sharp lobe near the mirror direction (the reflection of
+                // the view about z points along (0, 0.78, 0.62))
+                "[[lights]]\nkind = \"sg\"\nlobes = [{ axis = [0.0, 0.0, 1.0], lambda = 2.0, amplitude = 0.8 }, { axis = [0.05, 0.8, 0.6], lambda = 60.0, amplitude = 5.0 }]",
                 512,
             ),
             6,

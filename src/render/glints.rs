@@ -284,29 +284,19 @@ impl CpGlints {
         })
     }
 
-    /// The range query at a pixel: nearest grid footprint, bins with centres in R (the bin
-    /// of R's centre when none), f32 queries.
-    pub fn shade(&self, gp: &GPixel, tex: &Texture, lights: &[Light]) -> f32 {
-        let Some(r) = region(gp, lights) else {
-            return 0.0;
-        };
-        let c = tex.texel_coords(gp.hit.uv);
+    /// The grid footprint nearest texel coordinates `c` (the map wraps).
+    pub fn footprint_at(&self, c: [f64; 2]) -> usize {
         let g = self.grid as i64;
         let near = |x: f64| ((x - (self.stride / 2) as f64) / self.stride as f64).round() as i64;
-        let f = (near(c[1]).rem_euclid(g) * g + near(c[0]).rem_euclid(g)) as usize;
-        let cell = 2.0 / self.res as f64;
+        (near(c[1]).rem_euclid(g) * g + near(c[0]).rem_euclid(g)) as usize
+    }
+
+    /// The mean of footprint `f`'s reconstructed image over the pixels [x0, x1] × [y0, y1]
+    /// clipped to the image (0 where nothing remains), f32 range queries per block
+    /// (seed 002 Eq 7).
+    pub fn box_mean(&self, f: usize, x: (i64, i64), y: (i64, i64)) -> f32 {
         let n = self.res as i64;
-        let bins = |lo: f64, hi: f64| -> (i64, i64) {
-            let a = ((lo + 1.0) / cell - 0.5).ceil() as i64;
-            let b = ((hi + 1.0) / cell - 0.5).floor() as i64;
-            if a <= b {
-                (a.max(0), b.min(n - 1))
-            } else {
-                let m = (((lo + hi) * 0.5 + 1.0) / cell).floor() as i64;
-                (m.clamp(0, n - 1), m.clamp(0, n - 1))
-            }
-        };
-        let ((x0, x1), (y0, y1)) = (bins(r.lo[0], r.hi[0]), bins(r.lo[1], r.hi[1]));
+        let (x0, x1, y0, y1) = (x.0.max(0), x.1.min(n - 1), y.0.max(0), y.1.min(n - 1));
         if x0 > x1 || y0 > y1 {
             return 0.0;
         }
@@ -332,6 +322,28 @@ impl CpGlints {
             }
         }
         let nbins = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32;
-        r.scale as f32 * (sum / nbins).max(0.0)
+        (sum / nbins).max(0.0)
+    }
+
+    /// The range query at a pixel: nearest grid footprint, bins with centres in R (the bin
+    /// of R's centre when none), f32 queries.
+    pub fn shade(&self, gp: &GPixel, tex: &Texture, lights: &[Light]) -> f32 {
+        let Some(r) = region(gp, lights) else {
+            return 0.0;
+        };
+        let f = self.footprint_at(tex.texel_coords(gp.hit.uv));
+        let cell = 2.0 / self.res as f64;
+        let n = self.res as i64;
+        let bins = |lo: f64, hi: f64| -> (i64, i64) {
+            let a = ((lo + 1.0) / cell - 0.5).ceil() as i64;
+            let b = ((hi + 1.0) / cell - 0.5).floor() as i64;
+            if a <= b {
+                (a.max(0), b.min(n - 1))
+            } else {
+                let m = (((lo + hi) * 0.5 + 1.0) / cell).floor() as i64;
+                (m.clamp(0, n - 1), m.clamp(0, n - 1))
+            }
+        };
+        r.scale as f32 * self.box_mean(f, bins(r.lo[0], r.hi[0]), bins(r.lo[1], r.hi[1]))
     }
 }

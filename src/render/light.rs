@@ -1,7 +1,9 @@
-//! Lights in world space: point, two-sided quad, directional, and an environment
-//! resolved into a few directional lights (a Fibonacci set of the upper hemisphere).
+//! Lights in world space: point, two-sided quad, directional, an environment resolved
+//! into a few directional lights (a Fibonacci set of the upper hemisphere), and a distant
+//! environment as a sum of spherical Gaussians ([`crate::tensor::envsg::SgEnv`]).
 
 use super::scene::LightSpec;
+use crate::tensor::envsg::{Sg, SgEnv};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
@@ -27,6 +29,8 @@ pub enum Light {
         dir: V3,
         irradiance: f64,
     },
+    /// Radiance from every direction: a sum of SGs in world axes.
+    Sg(SgEnv),
 }
 
 /// Every light of a scene, environments expanded.
@@ -83,6 +87,20 @@ pub fn resolve(specs: &[LightSpec]) -> Vec<Light> {
                     });
                 }
             }
+            // the scene's check made every axis non-zero and finite, λ > 0 and A ≥ 0
+            LightSpec::Sg { lobes } => out.push(Light::Sg(SgEnv {
+                lobes: lobes
+                    .iter()
+                    .map(|g| {
+                        let a = V3::from(g.axis).normalize();
+                        Sg {
+                            axis: [a.x, a.y, a.z],
+                            lambda: g.lambda,
+                            amp: g.amplitude,
+                        }
+                    })
+                    .collect(),
+            })),
         }
     }
     out

@@ -182,7 +182,7 @@ fn light_dir(light: &Light, p: &V3) -> Option<(V3, f64)> {
             Some((d / r2.sqrt(), intensity / r2))
         }
         Light::Directional { dir, irradiance } => Some((*dir, *irradiance)),
-        Light::Quad { .. } => None,
+        Light::Quad { .. } | Light::Sg(_) => None,
     }
 }
 
@@ -263,7 +263,10 @@ fn filter(
             // the half-vector of the first point/directional light, on each pixel's own
             // projected disk (seed 003 Eq 7) or in its slope space (Eq 2)
             let Some(q) = q else { return iso(alpha) };
-            let Some(light) = lights.iter().find(|l| !matches!(l, Light::Quad { .. })) else {
+            let Some(light) = lights
+                .iter()
+                .find(|l| matches!(l, Light::Point { .. } | Light::Directional { .. }))
+            else {
                 return iso(alpha);
             };
             let h = |p: &GPixel| -> [f32; 2] {

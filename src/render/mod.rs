@@ -2,7 +2,8 @@
 //! camera and surface hits (`geometry`) → the normal map and its mip chain as a shader
 //! reads them (`texture`) → the ground truth, the footprint-averaged BRDF with per-pixel
 //! standard errors (`truth`, lights in `light`) → the approximations through the shipped
-//! f32 code (`methods`; seed 002's glints in `glints`) → error, perceptual error and
+//! f32 code (`methods`; seed 002's glints in `glints`, under SG environments in
+//! `glints_sg`) → error, perceptual error and
 //! flicker (`measure`) → tone-mapped pictures (`picture`).
 //!
 //! Determinism: every pixel draws from its own ChaCha8 stream keyed by (seed, x, y), the
@@ -13,6 +14,7 @@ pub mod check;
 pub mod coverage;
 pub mod geometry;
 pub mod glints;
+pub mod glints_sg;
 pub mod light;
 pub mod measure;
 pub mod methods;
@@ -113,6 +115,14 @@ pub struct GlintPlan {
     pub ranks: [usize; 3],
     /// CP-ALS iteration cap.
     pub iters: usize,
+    /// Under an SG environment: draws per pixel of the point and the prefiltered query
+    /// (and of the largest rank's again, where the noise has fallen and the bias
+    /// remains), Eq 8's ε (absolute radiance) and Eq 9's side scale (the paper: 0.3 and
+    /// 0.5).
+    pub env_spp: usize,
+    pub env_spp_high: usize,
+    pub env_eps: f64,
+    pub env_scale: f64,
 }
 
 impl GlintPlan {
@@ -120,10 +130,24 @@ impl GlintPlan {
     /// before any work: the footprint grid (map width ÷ stride) must hold at least one
     /// footprint, and the images (res²) a whole number of t² blocks.
     pub fn check(&self, map_width: usize) -> Result<()> {
-        if self.stride == 0 || self.t == 0 || self.res == 0 || self.ranks.contains(&0) {
+        if self.stride == 0
+            || self.t == 0
+            || self.res == 0
+            || self.ranks.contains(&0)
+            || self.env_spp == 0
+            || self.env_spp_high == 0
+        {
             return Err(Error::InvalidArgument(format!(
-                "glints: the preset's plan has a zero size (stride {}, image {}², block {}², ranks {:?})",
-                self.stride, self.res, self.t, self.ranks
+                "glints: the preset's plan has a zero size (stride {}, image {}², block {}², ranks {:?}, {} SG draws per pixel)",
+                self.stride, self.res, self.t, self.ranks, self.env_spp
+            )));
+        }
+        if !(self.env_eps > 0.0 && self.env_eps.is_finite())
+            || !(self.env_scale > 0.0 && self.env_scale.is_finite())
+        {
+            return Err(Error::InvalidArgument(format!(
+                "glints: the preset's ε {} and square scale {} must be positive and finite",
+                self.env_eps, self.env_scale
             )));
         }
         if map_width / self.stride == 0 {
@@ -217,7 +241,37 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                         &mut notes,
                     )?;
                 }
-                out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps));
+                if lights
+                    .iter()
+                    .any(|l| matches!(l, light::Light::Quad { .. }))
+                {
+                    out.extend(glint_images(&cam, &g, &tex, &lights, m.sigma_r, &cps));
+                }
+                if let Some(light::Light::Sg(env)) =
+                    lights.iter().find(|l| matches!(l, light::Light::Sg(_)))
+                {
+                    let sp = glints_sg::SgPlan {
+                        spp: plan.env_spp,
+                        spp_high: plan.env_spp_high,
+                        eps: plan.env_eps,
+                        scale: plan.env_scale,
+                    };
+                    let imgs = glints_sg::images(
+                        w,
+                        &g,
+                        &tex,
+                        env,
+                        m.sigma_r,
+                        &cps,
+                        &sp,
+                        scene.render.seed,
+                    );
+                    out.extend(imgs.into_iter().map(|i| MethodImage {
+                        key: i.key,
+                        label: i.label,
+                        pixels: i.pixels,
+                    }));
+                }
             }
             views.push(View {
                 scale,

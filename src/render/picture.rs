@@ -128,6 +128,7 @@ fn ascii(s: &str) -> String {
             'δ' => out.push_str("delta"),
             'ρ' => out.push_str("rho"),
             'ψ' => out.push_str("psi"),
+            'ε' => out.push_str("eps"),
             'ꟻ' => out.push('F'),
             '²' => out.push_str("^2"),
             // after a caret already: "A)^¼" reads "A)^(1/4)"

@@ -1,6 +1,7 @@
 //! Render scenes as TOML: a camera (optionally moving along a straight path), one
 //! surface (plane, sphere, torus) with a normal map, a base roughness, lights (point,
-//! quad, directional, an environment as a few directional lights) and what to render.
+//! quad, directional, an environment as a few directional lights, an environment as a sum
+//! of spherical Gaussians) and what to render.
 //! Strict and bounded: an unknown key, a non-finite number or a size beyond the limits
 //! below is a typed error naming the field (fits/render/*.toml are the examples).
 
@@ -161,7 +162,24 @@ pub enum LightSpec {
         horizon: f64,
         count: usize,
     },
+    /// A distant environment L(ω) = Σ A·exp(λ(ω·μ − 1)) (seed 002 §5.4), world axes:
+    /// integrated by the truth, importance-sampled by the glint set's estimators.
+    Sg {
+        lobes: Vec<SgLobeSpec>,
+    },
 }
+
+/// One spherical Gaussian of an `sg` light: axis μ (normalised), bandwidth λ, amplitude A.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SgLobeSpec {
+    pub axis: [f64; 3],
+    pub lambda: f64,
+    pub amplitude: f64,
+}
+
+/// Most lobes of one `sg` light.
+pub const MAX_SG_LOBES: usize = 64;
 
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
@@ -403,6 +421,19 @@ impl Scene {
                         )));
                     }
                 }
+                LightSpec::Sg { lobes } => {
+                    check_sg(i, lobes)?;
+                    // the mip-normal and screen-space sets shade point, directional and quad
+                    // lights only: they would drop the environment without a word
+                    if !matches!(
+                        self.render.methods,
+                        MethodSet::Glints | MethodSet::TruthOnly
+                    ) {
+                        return Err(bad(format!(
+                            "scene: lights[{i}] is an SG environment, which only render.methods = \"glints\" or \"truth-only\" shade"
+                        )));
+                    }
+                }
             }
         }
         Ok(())
@@ -437,4 +468,30 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// An `sg` light: 1 to [`MAX_SG_LOBES`] lobes, each with a non-zero finite axis,
+/// λ ∈ [1e-3, 1e5] and A ∈ [0, 1e9], and some light in all.
+fn check_sg(i: usize, lobes: &[SgLobeSpec]) -> Result<()> {
+    if !(1..=MAX_SG_LOBES).contains(&lobes.len()) {
+        return Err(bad(format!(
+            "scene: lights[{i}].lobes needs 1 to {MAX_SG_LOBES} lobes, got {}",
+            lobes.len()
+        )));
+    }
+    for (k, g) in lobes.iter().enumerate() {
+        let w = |f: &str| format!("lights[{i}].lobes[{k}].{f}");
+        vec_ok(&w("axis"), &g.axis)?;
+        if !(norm(g.axis) > 1e-9) {
+            return Err(bad(format!("scene: {} is zero", w("axis"))));
+        }
+        pos(&w("lambda"), g.lambda, 1e-3, 1e5)?;
+        pos(&w("amplitude"), g.amplitude, 0.0, 1e9)?;
+    }
+    if lobes.iter().all(|g| g.amplitude == 0.0) {
+        return Err(bad(format!(
+            "scene: lights[{i}] is an SG environment with no light (every amplitude 0)"
+        )));
+    }
+    Ok(())
 }

@@ -4,8 +4,9 @@
 //! Gaussian, or an LTC) and weighted by its exact coverage; footprints too large for that
 //! are supersampled on jittered grids. Point and directional lights are evaluated
 //! exactly; a quad light is integrated by one-sample MIS of light-area and visible-normal
-//! sampling (balance heuristic). Two independent replicates give each pixel's standard
-//! error (see [`pixel`]).
+//! sampling, an SG environment by one-sample MIS of the SG mixture (vMF) and the lobe
+//! (GGX's visible normals, or seed 002's Gaussian of h_xy), both with the balance
+//! heuristic. Two independent replicates give each pixel's standard error (see [`pixel`]).
 
 use super::geometry::{Camera, Hit, Surface};
 use super::light::Light;
@@ -16,6 +17,7 @@ use crate::ltc::dist::LtcDist;
 use crate::microfacet::lobe::{lobe, Frame};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
+use crate::tensor::envsg::SgEnv;
 use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -111,32 +113,127 @@ impl<'a> Shader<'a> {
                 Light::Directional { dir, irradiance } => {
                     irradiance * self.lobe_in(&sf, nt, &v, &fr.local(dir))
                 }
-                Light::Quad { .. } => 0.0,
+                Light::Quad { .. } | Light::Sg(_) => 0.0,
             };
         }
         sum
     }
 
-    /// One MC sample of the quad lights' radiance (0 without quad lights) from the three
-    /// uniforms `u` (strategy, two for the direction).
-    pub fn quad_part(&self, hit: &Hit, eye: &V3, nt: &V3, u: [f64; 3]) -> f64 {
+    /// One MC sample of the sampled lights' radiance (quad lights and SG environments; 0
+    /// without them) from the three uniforms `u` (strategy, two for the direction).
+    pub fn sampled_part(&self, hit: &Hit, eye: &V3, nt: &V3, u: [f64; 3]) -> f64 {
         let v = hit.frame.local(&(eye - hit.p).normalize());
         let sf = Frame::around(*nt);
         self.lights
             .iter()
-            .filter(|l| matches!(l, Light::Quad { .. }))
-            .map(|l| self.quad_sample(l, hit, &v, nt, &sf, u))
+            .map(|l| match l {
+                Light::Quad { .. } => self.quad_sample(l, hit, &v, nt, &sf, u),
+                Light::Sg(env) => self.sg_sample(env, hit, &v, nt, &sf, u),
+                _ => 0.0,
+            })
             .sum()
     }
 
-    pub fn has_quad(&self) -> bool {
-        self.lights.iter().any(|l| matches!(l, Light::Quad { .. }))
+    pub fn has_sampled(&self) -> bool {
+        self.lights
+            .iter()
+            .any(|l| matches!(l, Light::Quad { .. } | Light::Sg(_)))
     }
 
-    /// One radiance sample: the exact part plus one sample of each quad light.
+    /// One radiance sample: the exact part plus one sample of each sampled light.
     pub fn sample(&self, hit: &Hit, eye: &V3, nt: &V3, u: &mut ChaCha8Rng) -> f64 {
         self.exact_part(hit, eye, nt)
-            + self.quad_part(hit, eye, nt, [u.random(), u.random(), u.random()])
+            + self.sampled_part(hit, eye, nt, [u.random(), u.random(), u.random()])
+    }
+
+    /// GGX's visible-normal sampler of the texel (frame `sf`) seen from tangent-space `v`.
+    fn vndf(&self, sf: &Frame, v: &V3) -> Option<(VndfSampler, Frame, V3)> {
+        match self.kind {
+            Lobe::Ggx => {
+                let vs = sf.local(v);
+                VndfSampler::new(self.surface.clone(), vs)
+                    .ok()
+                    .map(|s| (s, *sf, vs))
+            }
+            _ => None,
+        }
+    }
+
+    /// One-sample MIS of an SG environment: the mixture's vMF draw or the lobe's own (GGX
+    /// visible normals; the Gaussian lobe's h_xy ~ N(n_xy, σ_r²), so that its f·cos/pdf
+    /// is (v·h)/(v_z h_z)), balance heuristic; the LTC lobe draws from the SGs alone.
+    fn sg_sample(&self, env: &SgEnv, hit: &Hit, v: &V3, nt: &V3, sf: &Frame, u: [f64; 3]) -> f64 {
+        let fr = &hit.frame;
+        if v.z <= 0.0 {
+            return 0.0;
+        }
+        let vndf = self.vndf(sf, v);
+        let has_lobe = vndf.is_some() || self.kind == Lobe::Gaussian;
+        // the lobe's density of the tangent-space direction l
+        let lobe_pdf = |l: &V3| -> f64 {
+            if l.z <= 0.0 {
+                return 0.0;
+            }
+            let h = (v + l).normalize();
+            match (&vndf, self.kind) {
+                (Some((s, sf, vs)), _) => {
+                    let ls = sf.local(l);
+                    if ls.z <= 0.0 {
+                        return 0.0;
+                    }
+                    let hs = (vs + ls).normalize();
+                    s.pdf(&hs) / (4.0 * vs.dot(&hs).abs()).max(1e-300)
+                }
+                (None, Lobe::Gaussian) => {
+                    let s2 = self.sigma_r * self.sigma_r;
+                    let r2 = (h.x - nt.x).powi(2) + (h.y - nt.y).powi(2);
+                    (-r2 / (2.0 * s2)).exp() / (2.0 * PI * s2) * h.z / (4.0 * v.dot(&h)).max(1e-300)
+                }
+                _ => 0.0,
+            }
+        };
+        let mix = if has_lobe { 0.5 } else { 0.0 };
+        let [pick, s1, s2] = u;
+        let l = if pick < mix {
+            match (&vndf, self.kind) {
+                (Some((s, sf, vs)), _) => {
+                    let Some(h) = s.sample([s1, s2]) else {
+                        return 0.0;
+                    };
+                    sf.world(&(h * (2.0 * vs.dot(&h)) - vs))
+                }
+                _ => {
+                    let r = self.sigma_r * (-2.0 * (1.0 - s1).ln()).sqrt();
+                    let phi = 2.0 * PI * s2;
+                    let (hx, hy) = (nt.x + r * phi.cos(), nt.y + r * phi.sin());
+                    let r2 = hx * hx + hy * hy;
+                    if !(r2 < 1.0) {
+                        return 0.0;
+                    }
+                    let h = V3::new(hx, hy, (1.0 - r2).sqrt());
+                    let vh = v.dot(&h);
+                    if vh <= 0.0 {
+                        return 0.0;
+                    }
+                    h * (2.0 * vh) - v
+                }
+            }
+        } else {
+            let w = (pick - mix) / (1.0 - mix);
+            match env.sample([w.min(1.0 - f64::EPSILON / 2.0), s1, s2]) {
+                Ok((_, lw)) => fr.local(&lw),
+                Err(_) => return 0.0,
+            }
+        };
+        if l.z <= 0.0 {
+            return 0.0;
+        }
+        let lw = fr.world(&l);
+        let pdf = mix * lobe_pdf(&l) + (1.0 - mix) * env.pdf(&lw);
+        if !(pdf > 0.0) {
+            return 0.0;
+        }
+        env.eval(&lw) * self.lobe_in(sf, nt, v, &l) / pdf
     }
 
     /// Solid-angle density of area sampling the quad in world direction d from p.
@@ -163,15 +260,7 @@ impl<'a> Shader<'a> {
             return 0.0;
         };
         let fr = &hit.frame;
-        let vndf = match self.kind {
-            Lobe::Ggx => {
-                let vs = sf.local(v);
-                VndfSampler::new(self.surface.clone(), vs)
-                    .ok()
-                    .map(|s| (s, *sf, vs))
-            }
-            _ => None,
-        };
+        let vndf = self.vndf(sf, v);
         let brdf_pdf = |lw: &V3| -> f64 {
             let Some((s, sf, vs)) = &vndf else { return 0.0 };
             let ls = sf.local(&fr.local(lw));
@@ -251,7 +340,7 @@ pub const MAX_EXACT_TEXELS: usize = 4096;
 /// The truth of pixel (x, y). Where the pixel's preimage covers at most
 /// [`MAX_EXACT_TEXELS`] texels it is integrated exactly over them
 /// ([`super::coverage::shares`]: every texel weighted by its overlap with the pixel,
-/// shaded at its overlap's centroid), the quad lights by n/2 light samples per replicate
+/// shaded at its overlap's centroid), the sampled lights (quad, SG) by n/2 samples per replicate
 /// spread over the texels; otherwise the pixel is supersampled by n footprint samples.
 /// Either way two independent replicates give the value (their mean) and the standard
 /// error |m₁ − m₂|/2 (0 for point and directional lights on an exact footprint).
@@ -300,10 +389,10 @@ fn exact(
     if !(total > 0.0) {
         return None;
     }
-    // quad lights: k light samples per texel and replicate, all of a replicate's drawn
+    // sampled lights: k light samples per texel and replicate, all of a replicate's drawn
     // from one Owen-scrambled Sobol sequence (sobol_burley; its own scramble per pixel
     // and replicate, so the two replicates are independent)
-    let k = if sh.has_quad() {
+    let k = if sh.has_sampled() {
         (n / 2).div_ceil(shares.len()).max(1)
     } else {
         0
@@ -324,7 +413,7 @@ fn exact(
                     *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit)
                         .min(1.0 - f64::EPSILON / 2.0);
                 }
-                qs += sh.quad_part(&hit, &cam.eye, &nt, u);
+                qs += sh.sampled_part(&hit, &cam.eye, &nt, u);
             }
             *rep += s.area * (e + if k > 0 { qs / k as f64 } else { 0.0 });
         }

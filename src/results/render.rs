@@ -19,6 +19,36 @@ pub struct Render {
     /// The truth against closed forms.
     pub checks: Vec<CheckResult>,
     pub renders: Vec<SceneRun>,
+    /// Seed 002 Fig 11's claim judged in the glint scene under SGs (absent without one).
+    #[serde(default)]
+    pub fig11: Option<Fig11>,
+}
+
+/// Seed 002 §5.4's claim (Fig 11): the prefiltered query has "much lower noise" than the
+/// point query, at no visible bias; judged on one rendered scene by the relative MSE
+/// against the truth at equal draws per pixel.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Fig11 {
+    pub scene: String,
+    /// Eq 8's ε and Eq 9's side scale.
+    pub eps: f64,
+    pub scale: f64,
+    pub rows: Vec<Fig11Row>,
+    /// The plain mip (no noise) for comparison.
+    pub mip: Figure,
+    /// "holds", "holds with a caveat" or "refuted".
+    pub verdict: String,
+    /// Why, in one sentence.
+    pub reason: String,
+}
+
+/// One CP rank at one number of draws: both estimators' relative MSE.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Fig11Row {
+    pub rank: usize,
+    pub draws: usize,
+    pub point: Figure,
+    pub prefiltered: Figure,
 }
 
 impl super::ResultFile for Render {

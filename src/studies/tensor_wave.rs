@@ -32,7 +32,7 @@ use std::path::Path;
 
 /// Table 2's wave row (isotropic noise, 8K², stride 64, R = 16): NDF generation and
 /// compression minutes on 40 cores, storage without / with compression (MB), ratio (%).
-const TABLE2_WAVE: (f64, f64, f64, f64, f64) = (156.00, 347.94, 4292.25, 352.50, 8.21);
+pub const TABLE2_WAVE: (f64, f64, f64, f64, f64) = (156.00, 347.94, 4292.25, 352.50, 8.21);
 
 /// What fits/tensor-wave.toml sets (lengths in µm).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -395,7 +395,7 @@ impl Computed {
         }
         md.push_str(&t.to_string());
         md.push_str(&format!(
-            "\nTable 2's wave row (isotropic noise, 8K², RGB, R = 16, 40 cores): {pre:.2} min of NDF generation, {comp:.2} min of compression, {wo:.2} MB without and {w:.2} MB with compression, a ratio of {ratio:.2} %. A CP of rank R stores R·(2t + L + 1) values for t²·L, so for the long tensors of a large map the ratio tends to R/t² = {:.2} % at R = 16, t = {}: the ratios above sit at that floor already, and Table 2's 8.21 % lies above it by what its MB count holds besides the factors (the summed-area tables, at least; it does not itemise them). The reconstruction errors are this surface's at this image size, and the paper's minutes were not projected (its σ_c, sampling and spectral integration are not stated).\n",
+            "\nTable 2's wave row (isotropic noise, 8K², RGB, R = 16, 40 cores): {pre:.2} min of NDF generation, {comp:.2} min of compression, {wo:.2} MB without and {w:.2} MB with compression, a ratio of {ratio:.2} %. A CP of rank R stores R·(2t + L + 1) values for t²·L, so for the long tensors of a large map the ratio tends to R/t² = {:.2} % at R = 16, t = {}: the ratios above sit at that floor already, and Table 2's 8.21 % lies above it by what its MB count holds besides the factors (the summed-area tables, at least; it does not itemise them). The reconstruction errors are this surface's at this image size. results/performance.md (section \"Seed 002 Table 2's wave row, projected\") projects Table 2's compression minutes from the measured cost of an ALS sweep per slice, and bounds its generation minutes by the measured cost of one coherence window (the paper does not state its windows per footprint or its sampling).\n",
             100.0 * 16.0 / (p.t * p.t) as f64,
             p.t
         ));

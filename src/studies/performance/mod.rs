@@ -13,6 +13,7 @@ mod criterion;
 mod deliverables;
 mod main_job;
 mod tables;
+mod wave;
 
 use crate::report::table::Table;
 use criterion::{fmt_ratio, fmt_time, interval};
@@ -107,6 +108,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&kernels_table(set, &timed, results)?);
     md.push_str(&tensor_table(&timed));
     md.push_str(&wang_table(&timed));
+    md.push_str(&wave::wave_table(&timed, results)?);
     md.push_str(&crate::report::table3::markdown(
         &|key| {
             timed
