@@ -15,6 +15,9 @@
 //!   multiple of the K15 ⊗ K15 − G7 ⊗ G7 difference), not a proof, so this count is the
 //!   check that the bars a tolerance reports still bound their figures.
 //!
+//! The anisotropic GGX table (ltc-aniso) is judged the same way on every `aniso_every`-th
+//! fitted cell, its f64 cells only (its study judges one precision).
+//!
 //! A second curve holds the relative L2's tolerance at the table's own (`held_out_rel`)
 //! and sweeps the relative L1's alone (`l1_rels`, the table's `held_out_l1_rel`): |f − g|
 //! has kinks where f = g, so at equal tolerances the L1 figure sets most of the work.
@@ -44,11 +47,14 @@ pub struct Plan {
     /// The relative L1's tolerances of the second curve, strictly increasing (the relative
     /// L2 at the table's `held_out_rel`); judged against the same reference.
     pub l1_rels: Vec<f64>,
+    /// Judge every `aniso_every`-th fitted cell of the anisotropic table.
+    pub aniso_every: usize,
 }
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
         crate::fit::spec::within("every", self.every, 1, 64)?;
+        crate::fit::spec::within("aniso_every", self.aniso_every, 1, 4096)?;
         crate::fit::spec::within("rels (its length)", self.rels.len(), 2, 16)?;
         crate::fit::spec::within("l1_rels (its length)", self.l1_rels.len(), 1, 16)?;
         for &r in &self.rels {
@@ -118,6 +124,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
             Some(l) => curve(c.results, name, &move |a, t| l.target(a, t), &pl)?,
         });
     }
+    crate::report::stage("regen ltc-judge-tolerance: ltc-aniso");
+    tables.push(aniso_curve(c.results, &pl)?);
     Ok(Computed {
         result: JudgeTolerance {
             spec: c.spec.clone(),
@@ -150,19 +158,7 @@ fn curve<T: LtcTarget>(
         .step_by(pl.every)
         .flat_map(|j| (0..n).step_by(pl.every).map(move |i| (i, j)))
         .collect();
-    let chosen_l1 = chosen.held_out_l1_rel.unwrap_or(chosen.held_out_rel);
-    let tolerances: Vec<(String, Tolerance)> = pl
-        .rels
-        .iter()
-        .map(|&r| (format!("{r:e}"), Tolerance::relative(r)))
-        .chain(pl.l1_rels.iter().map(|&r| {
-            (
-                format!("{:e} L1 {r:e}", chosen.held_out_rel),
-                Tolerance::figures(chosen.held_out_rel, r),
-            )
-        }))
-        .collect();
-    let judged: Vec<Vec<Option<LobeError>>> = tolerances
+    let judged: Vec<Vec<Option<LobeError>>> = tolerances(pl, &chosen)
         .iter()
         .map(|(tag, tol)| {
             let label = format!("judge tolerance {name} {tag}");
@@ -180,6 +176,32 @@ fn curve<T: LtcTarget>(
             })
         })
         .collect::<Result<_>>()?;
+    Ok(assemble(name, cells.len(), &chosen, pl, &judged))
+}
+
+/// The tolerances every curve judges, in order: the plan's `rels` (both figures), then its
+/// `l1_rels` with the relative L2 at the table's own; each tagged for the memo's label.
+fn tolerances(pl: &Plan, chosen: &Chosen) -> Vec<(String, Tolerance)> {
+    pl.rels
+        .iter()
+        .map(|&r| (format!("{r:e}"), Tolerance::relative(r)))
+        .chain(pl.l1_rels.iter().map(|&r| {
+            (
+                format!("{:e} L1 {r:e}", chosen.held_out_rel),
+                Tolerance::figures(chosen.held_out_rel, r),
+            )
+        }))
+        .collect()
+}
+
+/// A table's two curves from its cells judged at [`tolerances`] (in that order).
+fn assemble(
+    name: &str,
+    cells: usize,
+    chosen: &Chosen,
+    pl: &Plan,
+    judged: &[Vec<Option<LobeError>>],
+) -> JudgeCurve {
     let reference = &judged[0];
     let (overall, l1) = judged.split_at(pl.rels.len());
     let points = pl
@@ -194,14 +216,64 @@ fn curve<T: LtcTarget>(
         .zip(l1)
         .map(|(&rel, v)| point(rel, v, reference))
         .collect();
-    Ok(JudgeCurve {
+    JudgeCurve {
         table: name.into(),
-        cells: cells.len(),
+        cells,
         chosen_rel: chosen.held_out_rel,
-        chosen_l1_rel: chosen_l1,
+        chosen_l1_rel: chosen.held_out_l1_rel.unwrap_or(chosen.held_out_rel),
         points,
         l1_points,
-    })
+    }
+}
+
+/// What a published file holds of the study that wrote it.
+#[derive(serde::Deserialize)]
+struct PublishedSpec {
+    spec: FitSpec,
+    preset: String,
+}
+
+/// The anisotropic GGX table's curves: every `aniso_every`-th fitted cell (α_x ≥ α_y, the
+/// diagonal up to φ = π/4, in the fit's order), its f64 production inverse and norm against its own target (the
+/// ltc-aniso study's held-out judge, one precision).
+fn aniso_curve(results: &std::path::Path, pl: &Plan) -> Result<JudgeCurve> {
+    use crate::ltc::aniso::inverse_of;
+    use crate::ltc::aniso::AnisoGgxTarget;
+    use crate::ltc::aniso_table::inv7;
+    let name = crate::results::names::LTC_ANISO;
+    let table = crate::results::ltc_aniso::aniso_table(results)?;
+    let p: PublishedSpec = crate::results::require_named(results, name)?;
+    let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
+    let chosen: Chosen = p.spec.params(preset)?;
+    let g = table.grid;
+    let mut fitted = Vec::new();
+    for j in 0..g.n_t {
+        for k in 0..g.n_phi {
+            for iy in 0..g.n_r {
+                for ix in iy..g.n_r {
+                    // the diagonal's cells past φ = π/4 are the mirrors of fitted ones
+                    if ix == iy && 2 * k > g.n_phi - 1 {
+                        continue;
+                    }
+                    fitted.push((ix, iy, k, j));
+                }
+            }
+        }
+    }
+    let cells: Vec<(usize, usize, usize, usize)> =
+        fitted.into_iter().step_by(pl.aniso_every).collect();
+    let judged: Vec<Vec<Option<LobeError>>> = tolerances(pl, &chosen)
+        .iter()
+        .map(|(tag, tol)| {
+            let label = format!("judge tolerance {name} {tag}");
+            crate::memo::map_items(&label, &cells, |&(ix, iy, k, j)| {
+                let c = table.cells[g.index(ix, iy, k, j)];
+                let t = AnisoGgxTarget::new(g.alpha(ix), g.alpha(iy), g.theta(j), g.phi(k))?;
+                Ok(judge(&t, c[7], &[(inverse_of(&inv7(&c)), c[7])], *tol)[0])
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(assemble(name, cells.len(), &chosen, pl, &judged))
 }
 
 /// One tolerance's figures against the reference's, cell by cell.
@@ -240,7 +312,7 @@ fn point(rel: f64, v: &[Option<LobeError>], reference: &[Option<LobeError>]) -> 
 
 fn markdown(r: &JudgeTolerance) -> String {
     let mut md = format!(
-        "# The held-out judge: accuracy against work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). Each LTC table's held-out figures are integrals by adaptive cubature (`ltc::lobe_error`) refined until each figure's bar is below a relative tolerance; this is the curve that tolerance is chosen from (each table spec's `held_out_rel`). Per table: the cells of the published file judged (every `every`-th along each axis), in the four precisions its judge sees together (f64, f32, binary16 nearest, the stored binary16); the figures are the f64 cells'. Work is integrand evaluations per cell (what the judge's time is proportional to, and deterministic). A change beyond both bars is a cell whose relative L2 or L1 moved from the reference tolerance's by more than the two bars together: the bars are the cubature's error estimates, and this counts where one failed to bound its figure.\n\n![accuracy against work](ltc-judge-tolerance.svg)\n\n",
+        "# The held-out judge: accuracy against work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). Each LTC table's held-out figures are integrals by adaptive cubature (`ltc::lobe_error`) refined until each figure's bar is below a relative tolerance; this is the curve that tolerance is chosen from (each table spec's `held_out_rel`). Per table: the cells of the published file judged (every `every`-th along each axis), in the four precisions its judge sees together (f64, f32, binary16 nearest, the stored binary16; the anisotropic table: every `aniso_every`-th fitted cell, f64 only, as its study judges it, so its evaluations per cell count one precision); the figures are the f64 cells'. Work is integrand evaluations per cell (what the judge's time is proportional to, and deterministic). A change beyond both bars is a cell whose relative L2 or L1 moved from the reference tolerance's by more than the two bars together: the bars are the cubature's error estimates, and this counts where one failed to bound its figure.\n\n![accuracy against work](ltc-judge-tolerance.svg)\n\n",
         r.command, r.preset, r.spec.name
     );
     for c in &r.tables {
@@ -420,5 +492,5 @@ impl crate::study::Computed for Computed {
 
 crate::study::study! {
     /// The held-out judge's accuracy against its work, as the registry holds it.
-    LtcJudgeTolerance = "ltc-judge-tolerance", after ["ltc-ggx", "ltc-sheen", "ltc-diffuse"], on request true, params Plan, computes compute
+    LtcJudgeTolerance = "ltc-judge-tolerance", after ["ltc-ggx", "ltc-sheen", "ltc-diffuse", "ltc-aniso"], on request true, params Plan, computes compute
 }

@@ -25,14 +25,10 @@ use crate::tensor::cluster::stack_blocks;
 use crate::tensor::cp::{cp_als, AlsOptions};
 use crate::tensor::wave::{
     bin, energy, field_side, gndf_direct, gndf_fft, patch_for, sampled_for, slope_image, to_rgb,
-    tv_distance, wave_image, Footprint, Waves, WAVELENGTHS,
+    tv_distance, wave_image, Footprint, Waves, TABLE2_WAVE, WAVELENGTHS,
 };
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// Table 2's wave row (isotropic noise, 8K², stride 64, R = 16): NDF generation and
-/// compression minutes on 40 cores, storage without / with compression (MB), ratio (%).
-pub const TABLE2_WAVE: (f64, f64, f64, f64, f64) = (156.00, 347.94, 4292.25, 352.50, 8.21);
 
 /// What fits/tensor-wave.toml sets (lengths in µm).
 #[derive(Clone, Debug, Serialize, Deserialize)]

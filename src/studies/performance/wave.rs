@@ -6,7 +6,7 @@ use super::criterion::{interval, Timed};
 use crate::error::Result;
 use crate::report::table::Table;
 use crate::results::tensor::WaveResult;
-use crate::studies::tensor_wave::TABLE2_WAVE;
+use crate::tensor::wave::TABLE2_WAVE;
 use std::path::Path;
 
 /// Table 2's wave row in images: an 8K² map at footprint stride 64 has 128² footprints at
