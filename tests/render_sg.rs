@@ -246,3 +246,62 @@ fn the_sg_estimators_agree_with_the_truth_on_a_flat_map() {
     // a factor such as 4 v_z against 4 v·h would move the image by far more
     assert!(truth > 0.1, "a lit plane: {truth}");
 }
+
+#[test]
+fn extreme_sg_scenes_render_finite_images() {
+    // the sharpest and the broadest lobe at the largest amplitude, σ_r at both ends of its
+    // range, and a camera 0.01° above the plane: every truth value, s.e. and method pixel
+    // finite and non-negative
+    let c = ndfbench::results::render::constants(Path::new("results")).expect("constants");
+    let plan = builtin_params(ndfbench::integrate::Preset::Quick)
+        .unwrap()
+        .glints;
+    let text = sky_text();
+    let head = text.split("lobes = [").next().unwrap();
+    let with = |lobes: &str| {
+        let mut s = Scene::parse(
+            &format!("{head}lobes = [{lobes}]\n\n[render]\nmethods = \"glints\"\ntruth_samples = 8\nseed = 17\n"),
+            "extreme-sky",
+        )
+        .expect("parses");
+        s.material.map_size = 64;
+        s.camera.width = 16;
+        s.camera.height = 16;
+        s
+    };
+    let sharp = "{ axis = [0.0, 0.2, 1.0], lambda = 1e5, amplitude = 1e9 }, { axis = [0.0, 0.0, 1.0], lambda = 1e-3, amplitude = 1e9 }";
+    let mut cases = Vec::new();
+    for sigma in [1e-3, 0.5] {
+        let mut s = with(sharp);
+        s.material.sigma_r = sigma;
+        cases.push(s);
+    }
+    let mut grazing = with(sharp);
+    let e = 0.01f64.to_radians();
+    grazing.camera.position = [0.0, -3.0 * e.cos(), 3.0 * e.sin()];
+    cases.push(grazing);
+    for s in cases {
+        let r = ndfbench::render::render(&s, Path::new("fits/render"), &c, &plan).expect("renders");
+        for v in &r.views {
+            for t in &v.truth {
+                assert!(
+                    t.value.is_finite() && t.value >= 0.0 && t.se().is_finite(),
+                    "σ_r {}: {t:?}",
+                    s.material.sigma_r
+                );
+            }
+            assert!(v
+                .methods
+                .iter()
+                .any(|m| m.key.starts_with("sg-prefiltered")));
+            for m in &v.methods {
+                assert!(
+                    m.pixels.iter().all(|p| p.is_finite() && *p >= 0.0),
+                    "σ_r {}: {}",
+                    s.material.sigma_r,
+                    m.key
+                );
+            }
+        }
+    }
+}
