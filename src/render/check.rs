@@ -8,6 +8,7 @@
 //!   in l) against the same integral written in h_xy and taken by a 32² Gauss–Hermite rule
 //!   ([`super::glints_sg::gaussian_lobe_integral`]), averaged over the pixel by 6 × 6
 //!   Gauss–Legendre.
+//!
 //! Each returns the z-scores (truth − exact)/s.e. and the relative differences.
 
 use super::geometry::{Camera, Surface};

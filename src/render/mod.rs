@@ -142,9 +142,8 @@ impl GlintPlan {
                 self.stride, self.res, self.t, self.ranks, self.env_spp
             )));
         }
-        if !(self.env_eps > 0.0 && self.env_eps.is_finite())
-            || !(self.env_scale > 0.0 && self.env_scale.is_finite())
-        {
+        let positive = |x: f64| x > 0.0 && x.is_finite();
+        if !(positive(self.env_eps) && positive(self.env_scale)) {
             return Err(Error::InvalidArgument(format!(
                 "glints: the preset's ε {} and square scale {} must be positive and finite",
                 self.env_eps, self.env_scale

@@ -151,7 +151,7 @@ impl<'a> Shader<'a> {
         match self.kind {
             Lobe::Ggx => {
                 let vs = sf.local(v);
-                VndfSampler::new(self.surface.clone(), vs)
+                VndfSampler::new(self.surface, vs)
                     .ok()
                     .map(|s| (s, *sf, vs))
             }
