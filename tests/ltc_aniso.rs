@@ -225,5 +225,16 @@ fn a_malformed_table_file_is_a_typed_error() {
             .to_string();
         assert!(e.contains("ltc-aniso.json"), "{e}");
     }
+    // the committed table with a norm of 0 in one cell
+    let mut v: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string("results/fits/ltc-aniso.json").expect("committed table"),
+    )
+    .unwrap();
+    v["cells"][3][7] = serde_json::json!(0.0);
+    std::fs::write(dir.join("fits/ltc-aniso.json"), v.to_string()).unwrap();
+    let e = ndfbench::results::ltc_aniso::aniso_table(&dir)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("ltc-aniso.json") && e.contains("cell 3"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -367,3 +367,17 @@ fn the_sg_mis_sample_is_unbiased_for_every_lobe() {
         }
     }
 }
+
+#[test]
+fn an_sg_check_without_its_closed_form_is_refused() {
+    // the renderer's check has the SG closed form for the Gaussian lobe only
+    let (name, text, nodes) = ndfbench::render::check::scenes()
+        .into_iter()
+        .find(|c| c.1.contains("kind = \"sg\""))
+        .expect("the SG check");
+    let ggx = Scene::parse(&text.replace("lobe = \"gaussian\"", "lobe = \"ggx\""), name).unwrap();
+    match ndfbench::render::check::run(&ggx, name, nodes) {
+        Err(Error::InvalidArgument(m)) => assert!(m.contains("Gaussian lobe only"), "{m}"),
+        other => panic!("expected a typed error, got {other:?}"),
+    }
+}

@@ -46,6 +46,24 @@ impl AnisoGrid {
     pub fn cells(&self) -> usize {
         self.n_r * self.n_r * self.n_phi * self.n_t
     }
+    /// The cells a fit computes, (i_x, i_y, k, j) in fit order: α_x ≥ α_y, and on the
+    /// diagonal only φ ≤ π/4 (the others follow by the symmetry (α_y, α_x, π/2 − φ)).
+    pub fn fitted_cells(&self) -> Vec<(usize, usize, usize, usize)> {
+        let mut todo = Vec::new();
+        for j in 0..self.n_t {
+            for k in 0..self.n_phi {
+                for iy in 0..self.n_r {
+                    for ix in iy..self.n_r {
+                        if ix == iy && 2 * k > self.n_phi - 1 {
+                            continue;
+                        }
+                        todo.push((ix, iy, k, j));
+                    }
+                }
+            }
+        }
+        todo
+    }
 }
 
 /// The fitted table.

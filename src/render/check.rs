@@ -88,11 +88,10 @@ fn exact_at(cam: &Camera, surf: &Surface, sh: &Shader, alpha: f64, px: f64, py: 
                 let m_inv = Matrix3::from_diagonal(&V3::new(1.0 / alpha, 1.0 / alpha, 1.0));
                 radiance * ltc_integral(&m_inv, &poly, EdgeForm::Exact)
             }
-            // the Gaussian lobe's integral in h_xy (other lobes have no check under SGs)
-            Light::Sg(env) if sh.kind == Lobe::Gaussian => {
+            // the Gaussian lobe's integral in h_xy ([`run`] refuses other lobes under SGs)
+            Light::Sg(env) => {
                 gaussian_lobe_integral(env, fr, &v, &nt, sh.sigma_r, &Grid::gauss_hermite(32))
             }
-            Light::Sg(_) => f64::NAN,
         })
         .sum()
 }
@@ -102,6 +101,11 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
     let tex = Texture::new(super::normal_map(scene, std::path::Path::new("."))?);
     let lights = light::resolve(&scene.lights);
     let m = &scene.material;
+    if m.lobe != Lobe::Gaussian && lights.iter().any(|l| matches!(l, Light::Sg(_))) {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "render check {name}: an SG environment has a closed form here for seed 002's Gaussian lobe only"
+        )));
+    }
     let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex)?;
     let cam = Camera::at_frame(&scene.camera, 0);
     let surf = Surface::new(&scene.surface, 1.0);

@@ -22,7 +22,7 @@ use super::texture::Texture;
 use super::truth::pixel_rng;
 use crate::leadr::Grid;
 use crate::microfacet::lobe::Frame;
-use crate::tensor::envsg::{query_side, Read, SgEnv};
+use crate::tensor::envsg::{query_side, square_start, Read, SgEnv};
 use nalgebra::Vector3;
 use rand::Rng;
 use rayon::prelude::*;
@@ -103,7 +103,6 @@ fn estimate(
         return 0.0;
     }
     let f = cp.footprint_at(tex.texel_coords(gp.hit.uv));
-    let res = cp.res as f64;
     let mut sum = 0.0;
     for _ in 0..spp {
         let u: [f64; 3] = rng.random();
@@ -122,10 +121,7 @@ fn estimate(
                 query_side(env.lobes[k].support(eps), cp.res, scale) as i64
             }
         };
-        // the q-pixel square whose centre lies nearest h_xy (pixel p spans [p, p + 1));
-        // q = 1 is h_xy's own pixel
-        let start = |c: f64| ((c + 1.0) * 0.5 * res - 0.5 * q as f64).round() as i64;
-        let (x0, y0) = (start(h.x), start(h.y));
+        let (x0, y0) = (square_start(h.x, q, cp.res), square_start(h.y, q, cp.res));
         let d = cp.box_mean(f, (x0, x0 + q - 1), (y0, y0 + q - 1)) as f64;
         sum += env.eval(&lw) * d / (4.0 * v.z) / pdf;
     }

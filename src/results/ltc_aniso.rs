@@ -58,6 +58,14 @@ pub fn aniso_table(results: &Path) -> Result<AnisoTable> {
     if t.cells.len() != grid.cells() || t.cells.iter().flatten().any(|x| !x.is_finite()) {
         return Err(bad("cells do not match the grid"));
     }
+    // a norm (the lobe's albedo, index 7) of 0 or below would scale every lookup to
+    // nothing and divide the held-out figures by it
+    if let Some(k) = t.cells.iter().position(|c| !(c[7] > 0.0)) {
+        return Err(bad(&format!(
+            "cell {k} has a norm {} that is not positive",
+            t.cells[k][7]
+        )));
+    }
     Ok(AnisoTable {
         grid,
         cells: t.cells,

@@ -246,22 +246,11 @@ fn aniso_curve(results: &std::path::Path, pl: &Plan) -> Result<JudgeCurve> {
     let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
     let chosen: Chosen = p.spec.params(preset)?;
     let g = table.grid;
-    let mut fitted = Vec::new();
-    for j in 0..g.n_t {
-        for k in 0..g.n_phi {
-            for iy in 0..g.n_r {
-                for ix in iy..g.n_r {
-                    // the diagonal's cells past φ = π/4 are the mirrors of fitted ones
-                    if ix == iy && 2 * k > g.n_phi - 1 {
-                        continue;
-                    }
-                    fitted.push((ix, iy, k, j));
-                }
-            }
-        }
-    }
-    let cells: Vec<(usize, usize, usize, usize)> =
-        fitted.into_iter().step_by(pl.aniso_every).collect();
+    let cells: Vec<(usize, usize, usize, usize)> = g
+        .fitted_cells()
+        .into_iter()
+        .step_by(pl.aniso_every)
+        .collect();
     let judged: Vec<Vec<Option<LobeError>>> = tolerances(pl, &chosen)
         .iter()
         .map(|(tag, tol)| {

@@ -102,6 +102,13 @@ pub fn query_side(theta: f64, res: usize, scale: f64) -> usize {
     ((scale * 2.0 * res as f64 * theta / PI).round() as usize).clamp(1, 2 * res.max(1))
 }
 
+/// The first pixel of Eq 9's q-pixel square along one axis of a res² image over
+/// [−1, 1]²: the square whose centre lies nearest h (pixel p spans [p, p + 1) in pixel
+/// units), so q = 1 is h's own pixel and an even q is never half a pixel off.
+pub fn square_start(h: f64, q: i64, res: usize) -> i64 {
+    ((h + 1.0) * 0.5 * res as f64 - 0.5 * q as f64).round() as i64
+}
+
 /// A sum of SGs; lobes are picked in proportion to their integrals.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SgEnv {
@@ -450,12 +457,8 @@ impl Shading<'_> {
             Read::Point => self.ndf.d(self.image, h.x, h.y),
             Read::Prefiltered { eps, scale } => {
                 let q = query_side(env.lobes[k].support(eps), self.ndf.res(), scale) as i64;
-                // the square whose centre lies nearest h_xy (pixel p spans [p, p + 1) in
-                // pixel units): one pixel for q = 1, never half a pixel off for even q
-                let start = |h: f64| {
-                    ((h + 1.0) * 0.5 * self.ndf.res() as f64 - 0.5 * q as f64).round() as i64
-                };
-                let (x0, y0) = (start(h.x), start(h.y));
+                let res = self.ndf.res();
+                let (x0, y0) = (square_start(h.x, q, res), square_start(h.y, q, res));
                 self.ndf
                     .box_mean(self.image, (x0, x0 + q - 1), (y0, y0 + q - 1))
                     .unwrap_or(0.0)

@@ -207,19 +207,7 @@ pub(crate) fn fit_case(iso: &FittedTable, c: Case, pl: &Plan) -> Result<Fitted> 
 /// filled by the symmetry (α_y, α_x, π/2 − φ) = S·(α_x, α_y, φ)·S.
 pub(super) fn fit_table(iso: &FittedTable, pl: &Plan) -> Result<(AnisoTable, Vec<Fitted>)> {
     let g = pl.grid;
-    let mut todo = Vec::new();
-    for j in 0..g.n_t {
-        for k in 0..g.n_phi {
-            for iy in 0..g.n_r {
-                for ix in iy..g.n_r {
-                    if ix == iy && 2 * k > g.n_phi - 1 {
-                        continue;
-                    }
-                    todo.push((ix, iy, k, j));
-                }
-            }
-        }
-    }
+    let todo = g.fitted_cells();
     let pb = indicatif::ProgressBar::new(todo.len() as u64);
     pb.set_message("ltc-aniso fit");
     let fitted: Vec<Fitted> =

@@ -28,9 +28,10 @@ fn pct(f: &Figure) -> String {
 
 /// The verdict on the first scene that rendered both queries (None without one).
 pub fn judge(rendered: &[(&Render, &Measured)], plan: &GlintPlan) -> Option<Fig11> {
+    let first = format!("sg-point-r{}", plan.ranks[0]);
     let &(render, r) = rendered
         .iter()
-        .find(|(_, m)| rel_mse(m, &format!("sg-point-r{}", plan.ranks[0])).is_some())?;
+        .find(|(_, m)| rel_mse(m, &first).is_some())?;
     let mut rows = Vec::new();
     for &rank in &plan.ranks {
         rows.push(Fig11Row {
