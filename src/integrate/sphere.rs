@@ -14,7 +14,7 @@ use super::estimate::Estimate;
 use super::quad::{adaptive_batched, gk15_breaks, Tol};
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Right-handed orthonormal basis (t1, t2) completing unit `n` (Duff et al. 2017).
 pub fn frame(n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
@@ -54,6 +54,14 @@ pub struct SphereRule {
     /// points of the outer one, so every GK panel sees a smooth integrand and its error
     /// estimate stays honest.
     pub kinks: Vec<(Vector3<f64>, f64)>,
+    /// Views v whose mirror horizon bounds the integrand: for a half-vector integral
+    /// about the pole z, the reflected direction l = 2(v·h)h − v reaches the horizon
+    /// l_z = 0 where sin 2θ·(v_xy·(cos φ, sin φ)) = −v_z cos 2θ, a curve (not a circle)
+    /// that the integrand of a cosine-weighted BRDF has a kink on. Its crossings with
+    /// each polar circle become inner break points and its polar extent outer ones, as
+    /// for `kinks`. Only for the pole z (the frame of `SphereRule::hemisphere` and of
+    /// `from_covariance` about z).
+    pub mirror_horizons: Vec<Vector3<f64>>,
 }
 
 impl SphereRule {
@@ -66,6 +74,7 @@ impl SphereRule {
             t_breaks: 4,
             stretch: None,
             kinks: Vec::new(),
+            mirror_horizons: Vec::new(),
         }
     }
     pub fn sphere(pole: Vector3<f64>, scale: f64) -> Self {
@@ -77,6 +86,7 @@ impl SphereRule {
             t_breaks: 4,
             stretch: None,
             kinks: Vec::new(),
+            mirror_horizons: Vec::new(),
         }
     }
 
@@ -96,6 +106,7 @@ impl SphereRule {
             t_breaks: 4,
             stretch: (ratio > 1.5).then_some((major, ratio)),
             kinks: Vec::new(),
+            mirror_horizons: Vec::new(),
         }
     }
 
@@ -109,6 +120,16 @@ impl SphereRule {
         let n = k.norm();
         if n > 0.0 && n.is_finite() && c.abs() < 1.0 {
             self.kinks.push((k / n, c));
+        }
+        self
+    }
+
+    /// Add the mirror horizon of the view `v` (see `mirror_horizons`); ignored unless the
+    /// pole is z and v is finite with v_z > 0.
+    pub fn with_mirror_horizon(mut self, v: Vector3<f64>) -> Self {
+        let z_pole = (self.pole.normalize() - Vector3::z()).norm() < 1e-15;
+        if z_pole && v.iter().all(|x| x.is_finite()) && v.z > 0.0 {
+            self.mirror_horizons.push(v.normalize());
         }
         self
     }
@@ -139,6 +160,20 @@ impl SphereRule {
                 }
             }
         }
+        // a mirror horizon touches the polar circle θ where |v_xy| sin 2θ = ±v_z cos 2θ:
+        // 2θ = π/2 ± γ (mod π), γ the view's polar angle
+        for w in &self.mirror_horizons {
+            let g = w.xy().norm().atan2(w.z);
+            for two in [FRAC_PI_2 + g, FRAC_PI_2 - g, g - FRAC_PI_2 + PI] {
+                let th = 0.5 * two;
+                if th > 0.0 && th < self.theta_max {
+                    let t = self.t_of(th);
+                    if t > 0.0 && t < 1.0 {
+                        v.push(t);
+                    }
+                }
+            }
+        }
         v
     }
 
@@ -147,6 +182,7 @@ impl SphereRule {
         let pole = self.pole.normalize();
         let (st, ct) = th.sin_cos();
         let mut v = Vec::new();
+        let mut crossings = Vec::new();
         for (k, c0) in &self.kinks {
             let kp = k.dot(&pole);
             let (kx, ky) = (k.dot(t1), k.dot(t2));
@@ -160,18 +196,34 @@ impl SphereRule {
             }
             let beta = ky.atan2(kx);
             let d = c.acos();
-            for phi in [beta + d, beta - d] {
-                let dir = nalgebra::Vector2::new(phi.cos(), phi.sin());
-                let psi = match self.stretch {
-                    None => phi,
-                    Some((major, ratio)) => {
-                        let r = (th / self.scale).clamp(1.0, ratio);
-                        let minor = nalgebra::Vector2::new(-major.y, major.x);
-                        (r * dir.dot(&minor)).atan2(dir.dot(&major))
-                    }
-                };
-                v.push(psi.rem_euclid(2.0 * PI));
+            crossings.extend([beta + d, beta - d]);
+        }
+        for w in &self.mirror_horizons {
+            // the pole is z, so (t1, t2) = (x, y): v_xy·(cos φ, sin φ) = −v_z cot 2θ
+            let (kx, ky) = (w.dot(t1), w.dot(t2));
+            let kt = (kx * kx + ky * ky).sqrt();
+            let s2 = (2.0 * th).sin();
+            if kt == 0.0 || s2 == 0.0 {
+                continue;
             }
+            let c = -w.z * (2.0 * th).cos() / (s2 * kt);
+            if !(-1.0..=1.0).contains(&c) {
+                continue;
+            }
+            let (beta, d) = (ky.atan2(kx), c.acos());
+            crossings.extend([beta + d, beta - d]);
+        }
+        for phi in crossings {
+            let dir = nalgebra::Vector2::new(phi.cos(), phi.sin());
+            let psi = match self.stretch {
+                None => phi,
+                Some((major, ratio)) => {
+                    let r = (th / self.scale).clamp(1.0, ratio);
+                    let minor = nalgebra::Vector2::new(-major.y, major.x);
+                    (r * dir.dot(&minor)).atan2(dir.dot(&major))
+                }
+            };
+            v.push(psi.rem_euclid(2.0 * PI));
         }
         v
     }
@@ -267,7 +319,7 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
             let dir = (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize();
             f(&dir) * w * dphi
         };
-        if rule.kinks.is_empty() {
+        if rule.kinks.is_empty() && rule.mirror_horizons.is_empty() {
             gk15_breaks(&g, &phi_breaks, inner_tol)
         } else {
             let b = merge_breaks(phi_breaks.clone(), rule.kink_psi_breaks(th, &t1, &t2));

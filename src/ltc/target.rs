@@ -156,7 +156,8 @@ impl GgxTarget {
 
 /// (∫f, its error estimate, ∫f(1 − v·h)⁵) of the cosine-weighted microfacet lobe of
 /// `surface` (height-correlated G2, F = 1) seen from `v`, by nested adaptive sphere
-/// quadrature in half-vector space on the polar layout `rule`:
+/// quadrature in half-vector space on the polar layout `rule` (about z), the mirror
+/// horizon l_z = 0 of `v` added to its break points:
 /// ∫f dl = ∫ D(h)·G2(l(h), v)·(v·h)/v_z dh (reflection Jacobian 4 v·h).
 pub fn microfacet_albedo(
     surface: &Microsurface,
@@ -182,9 +183,13 @@ pub fn microfacet_albedo(
             w
         }
     };
+    // l_z = 0 is a kink of the integrand along a curve of half-vectors: without its
+    // crossings as break points the adaptive rule converged to values off by up to 9e-7
+    // (α 0.012 at 89.99°) while reporting 1e-9, and spent 4–10× the evaluations
+    let rule = rule.clone().with_mirror_horizon(*v);
     let t = Tol::new(tol, tol, 20_000_000);
-    let a = integrate_sphere(&|h| g(h, false), rule, t);
-    let b = integrate_sphere(&|h| g(h, true), rule, t);
+    let a = integrate_sphere(&|h| g(h, false), &rule, t);
+    let b = integrate_sphere(&|h| g(h, true), &rule, t);
     (a.value, a.error, b.value)
 }
 

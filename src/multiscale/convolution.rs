@@ -247,6 +247,7 @@ pub fn ltc_cap_integral(alpha: f64, theta_c: f64, r: f64, tol: Tol) -> Result<Es
         t_breaks: 0,
         stretch: None,
         kinks: Vec::new(),
+        mirror_horizons: Vec::new(),
     };
     Ok(integrate_sphere(&|m: &V3| d.eval(m), &rule, tol))
 }
