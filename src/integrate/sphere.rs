@@ -128,6 +128,7 @@ impl SphereRule {
     /// pole is z and v is finite with v_z > 0.
     pub fn with_mirror_horizon(mut self, v: Vector3<f64>) -> Self {
         let z_pole = (self.pole.normalize() - Vector3::z()).norm() < 1e-15;
+        debug_assert!(z_pole, "a mirror horizon needs the pole z");
         if z_pole && v.iter().all(|x| x.is_finite()) && v.z > 0.0 {
             self.mirror_horizons.push(v.normalize());
         }
@@ -161,10 +162,11 @@ impl SphereRule {
             }
         }
         // a mirror horizon touches the polar circle θ where |v_xy| sin 2θ = ±v_z cos 2θ:
-        // 2θ = π/2 ± γ (mod π), γ the view's polar angle
+        // 2θ = π/2 ± γ, γ ∈ [0, π/2) the view's polar angle (the other roots lie outside
+        // 0 < 2θ < π)
         for w in &self.mirror_horizons {
             let g = w.xy().norm().atan2(w.z);
-            for two in [FRAC_PI_2 + g, FRAC_PI_2 - g, g - FRAC_PI_2 + PI] {
+            for two in [FRAC_PI_2 + g, FRAC_PI_2 - g] {
                 let th = 0.5 * two;
                 if th > 0.0 && th < self.theta_max {
                     let t = self.t_of(th);
