@@ -682,3 +682,77 @@ fn a_sheen_run_is_checked_before_it_is_judged() {
         "scenes",
     );
 }
+
+/// The committed engine reports were judged on the tables results/ holds now. The engines
+/// run only where Chromium, the Bevy harness and an adapter are; a table refitted on a
+/// machine without them would leave results/engines*.json quoting renders of the old
+/// table, and only those machines would notice. The reports record the SHA-256 of every
+/// file under results/ their runs loaded and their judge read; this checks them here.
+#[test]
+fn the_committed_engine_reports_were_judged_on_the_current_tables() {
+    use ndfbench::studies::engines::inputs::{stale, InputDigest};
+    for (report, must) in [
+        (
+            "results/engines.json",
+            &[
+                "fits/ltc-ggx.json",
+                "textures/three/RectAreaLightTexturesLib.js",
+                "textures/three/RectAreaLightTexturesLib.compact.js",
+                "fits/ltc-compact.json",
+                "textures/ltc_ggx_zstd.ktx2",
+            ][..],
+        ),
+        (
+            "results/engines-sheen.json",
+            &[
+                "fits/ltc-compact.json",
+                "fits/ltc-sheen-neubelt.json",
+                "textures/three/RectAreaLightSheen.js",
+            ][..],
+        ),
+    ] {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap();
+        let inputs: Vec<InputDigest> = serde_json::from_value(v["inputs"].clone())
+            .unwrap_or_else(|e| panic!("{report} records no inputs: {e}"));
+        for f in must {
+            assert!(
+                inputs.iter().any(|d| d.file == *f),
+                "{report} does not record {f} among its inputs"
+            );
+        }
+        let s = stale(Path::new("results"), &inputs);
+        assert!(
+            s.is_empty(),
+            "{report} is stale (rerun the engines and the command its .md names): {}",
+            s.join("; ")
+        );
+    }
+}
+
+/// The staleness check names a changed file and a missing one, and passes an unchanged one;
+/// the digest is SHA-256 (FIPS 180-2's example: "abc").
+#[test]
+fn a_changed_engine_input_is_named() {
+    use ndfbench::studies::engines::inputs::{digests, sha256_hex, stale};
+    assert_eq!(
+        sha256_hex(b"abc"),
+        "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+    );
+    let dir = common::scratch("engines", "inputs");
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    std::fs::write(dir.join("fits/a.json"), b"{\"m\": [1.0, 2.0]}").unwrap();
+    std::fs::write(dir.join("b.js"), b"export const x = 1;").unwrap();
+    let d = digests(&dir, &["fits/a.json", "b.js"]).unwrap();
+    assert!(stale(&dir, &d).is_empty());
+    std::fs::write(dir.join("fits/a.json"), b"{\"m\": [1.0, 2.5]}").unwrap();
+    let s = stale(&dir, &d);
+    assert_eq!(s.len(), 1, "{s:?}");
+    assert!(s[0].starts_with("fits/a.json changed"), "{s:?}");
+    std::fs::remove_file(dir.join("b.js")).unwrap();
+    let s = stale(&dir, &d);
+    assert_eq!(s.len(), 2, "{s:?}");
+    assert!(s[1].starts_with("b.js: "), "{s:?}");
+    assert!(digests(&dir, &["b.js"]).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}

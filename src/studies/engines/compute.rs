@@ -273,6 +273,9 @@ pub struct EnginesResult {
     pub engines: Vec<EngineResult>,
     /// Godot's formulas in f64 with our Godot files, where they were given.
     pub godot: Vec<GodotScene>,
+    /// The files under results/ the runs loaded and the judge read, with their digests
+    /// when judged: a table refitted since leaves this report stale.
+    pub inputs: Vec<super::inputs::InputDigest>,
 }
 
 /// One engine's inputs: its harness runs, one per table, and what each (table, path)

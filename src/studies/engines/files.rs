@@ -119,6 +119,31 @@ pub fn judge_files(
 /// Our table as the Bevy harness loads it, under results/.
 pub const BEVY_OURS: &str = "textures/ltc_ggx_zstd.ktx2";
 
+/// What three.js's run with ours loads (the import map's module) and what judges it.
+const THREE_OURS: [&str; 2] = [
+    "fits/ltc-ggx.json",
+    "textures/three/RectAreaLightTexturesLib.js",
+];
+
+/// Those, and what three.js's run with the compact drop-in loads and the series that
+/// judges it.
+const THREE_WITH_COMPACT: [&str; 5] = [
+    THREE_OURS[0],
+    THREE_OURS[1],
+    "fits/ltc-compact.json",
+    "textures/three/RectAreaLightTexturesLib.compact.js",
+    "textures/three/ltc_compact.js",
+];
+
+/// The files under results/ that one engine's runs loaded and its judging read.
+fn inputs_of(f: &EngineFiles) -> &'static [&'static str] {
+    match (f.engine, f.compact_run.is_some()) {
+        (Engine::Three, false) => &THREE_OURS,
+        (Engine::Three, true) => &THREE_WITH_COMPACT,
+        (Engine::Bevy, _) => &[BEVY_OURS],
+    }
+}
+
 /// Run the study from files into `set` (`out`/engines.{md,json,svg}); a one-line summary.
 pub fn run(
     set: &mut crate::io::Outputs,
@@ -139,10 +164,18 @@ pub fn run(
         height: sc.height,
         engines: Vec::new(),
         godot: Vec::new(),
+        inputs: Vec::new(),
     };
+    let mut read: Vec<&str> = Vec::new();
     for f in engines {
         r.engines.push(judge_files(&sc, f, results)?);
+        read.extend_from_slice(inputs_of(f));
     }
+    // Godot's figures below use our table as fits/ltc-ggx.json holds it
+    read.push(THREE_OURS[0]);
+    read.sort_unstable();
+    read.dedup();
+    r.inputs = super::inputs::digests(results, &read)?;
     if let Some(first) = r.engines.first() {
         let ours = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
         let (l1, l2) = crate::engines::godot::texels(&ours)?;

@@ -10,6 +10,7 @@
 mod compute;
 pub mod files;
 pub mod godot;
+pub mod inputs;
 pub mod report;
 pub mod sheen;
 pub mod sheen_report;

@@ -145,6 +145,14 @@ fn section(r: &SheenResult) -> String {
     md
 }
 
+/// The files under results/ the sheen runs load (the recipe) and the judge reads (the
+/// series it was made from, the table it is set beside).
+const SHEEN_INPUTS: [&str; 3] = [
+    "fits/ltc-compact.json",
+    "fits/ltc-sheen-neubelt.json",
+    "textures/three/RectAreaLightSheen.js",
+];
+
 /// Read each run (its scene file named in it), judge it with the series and table of
 /// `results`, and put results/engines-sheen.{md,json} into `set`. Returns the summary line.
 pub fn run(
@@ -176,12 +184,18 @@ pub fn run(
     #[derive(serde::Serialize)]
     struct File<'a> {
         checks: &'a [SheenResult],
+        /// What the runs loaded and the judge read, with their digests when judged.
+        inputs: Vec<super::inputs::InputDigest>,
     }
+    let inputs = super::inputs::digests(results, &SHEEN_INPUTS)?;
     set.put(
         &out.join("engines-sheen.json"),
-        serde_json::to_string_pretty(&File { checks: &checks })
-            .map_err(|e| Error::InvalidArgument(format!("engines-sheen: json: {e}")))?
-            .as_bytes(),
+        serde_json::to_string_pretty(&File {
+            checks: &checks,
+            inputs,
+        })
+        .map_err(|e| Error::InvalidArgument(format!("engines-sheen: json: {e}")))?
+        .as_bytes(),
     );
     let line: Vec<String> = checks
         .iter()

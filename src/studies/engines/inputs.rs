@@ -1,0 +1,61 @@
+//! What an engine check was judged on: every file under results/ that the harnesses loaded
+//! or the judge read, with its SHA-256 when it was judged. The engines themselves run only
+//! where Chromium, the Bevy harness and an adapter are, so their figures cannot be redone
+//! everywhere; the digests can be checked everywhere, and a table refitted after the check
+//! names the report it left stale ([`stale`]).
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::Path;
+
+/// One input file (relative to results/) and its SHA-256 (lower-case hex).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InputDigest {
+    pub file: String,
+    pub sha256: String,
+}
+
+/// The SHA-256 of `bytes`, lower-case hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The digests of `files` (relative to `results`), in the order given.
+pub fn digests(results: &Path, files: &[&str]) -> Result<Vec<InputDigest>> {
+    files
+        .iter()
+        .map(|f| {
+            let p = results.join(f);
+            let bytes = std::fs::read(&p).map_err(|e| Error::Io {
+                path: p.display().to_string(),
+                msg: e.to_string(),
+            })?;
+            Ok(InputDigest {
+                file: (*f).to_string(),
+                sha256: sha256_hex(&bytes),
+            })
+        })
+        .collect()
+}
+
+/// The recorded inputs whose file under `results` is missing or no longer has the recorded
+/// digest, each as one line; empty when the check is current.
+pub fn stale(results: &Path, recorded: &[InputDigest]) -> Vec<String> {
+    recorded
+        .iter()
+        .filter_map(|d| match std::fs::read(results.join(&d.file)) {
+            Err(e) => Some(format!("{}: {e}", d.file)),
+            Ok(b) if sha256_hex(&b) != d.sha256 => Some(format!(
+                "{} changed since the check (sha256 {} recorded, {} now)",
+                d.file,
+                &d.sha256[..d.sha256.len().min(12)],
+                &sha256_hex(&b)[..12]
+            )),
+            Ok(_) => None,
+        })
+        .collect()
+}
