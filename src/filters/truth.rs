@@ -15,6 +15,7 @@ use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
+use crate::microfacet::lobe::ViewedLobe;
 pub use crate::microfacet::lobe::{lobe, Frame};
 
 /// A footprint: normals with weights summing to 1.
@@ -63,6 +64,36 @@ impl Truth {
             .iter()
             .zip(&self.weights)
             .map(|(f, w)| w * lobe(&self.surface, f, v, l))
+            .sum()
+    }
+
+    /// The truth seen from `v`, each texel's lobe with the view prepared once
+    /// (`ViewedLobe`: Λ(v) and v in the texel's frame), for many light directions.
+    pub fn viewed(&self, v: &V3) -> ViewedTruth<'_> {
+        ViewedTruth {
+            truth: self,
+            lobes: self
+                .frames
+                .iter()
+                .map(|f| ViewedLobe::new(&self.surface, f, v))
+                .collect(),
+        }
+    }
+}
+
+/// [`Truth`] from one view: [`ViewedTruth::value`] is `Truth::value` bit for bit (the
+/// same terms, summed in the same order).
+pub struct ViewedTruth<'a> {
+    truth: &'a Truth,
+    lobes: Vec<ViewedLobe>,
+}
+
+impl ViewedTruth<'_> {
+    pub fn value(&self, l: &V3) -> f64 {
+        self.lobes
+            .iter()
+            .zip(&self.truth.weights)
+            .map(|(g, w)| w * g.eval(&self.truth.surface, l))
             .sum()
     }
 }
@@ -255,6 +286,7 @@ pub fn draw(
         parts.push((p.0, p.1.max(2e-3), 0.45 / proposals.len() as f64));
     }
     let mix = Mixture::new(&parts, v, 0.1)?;
+    let seen = truth.viewed(v);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (mut ls, mut q, mut t) = (
         Vec::with_capacity(n),
@@ -272,7 +304,7 @@ pub fn draw(
                 let p = mix.pdf(v, &l);
                 ls.push(Some(l));
                 q.push(if p > 0.0 { p } else { 1.0 });
-                t.push(truth.value(v, &l));
+                t.push(seen.value(&l));
             }
             _ => {
                 ls.push(None);
@@ -297,7 +329,7 @@ pub fn draw(
     peak_dirs.extend(truth.frames.iter().step_by(step).map(|f| mirror(&f.n)));
     let t_peak = peak_dirs
         .iter()
-        .map(|l| truth.value(v, l))
+        .map(|l| seen.value(l))
         .chain(t.iter().copied())
         .fold(0.0, f64::max);
     Ok(CaseSamples {

@@ -48,6 +48,8 @@ pub struct VndfSampler {
     surface: Microsurface,
     o: Vector3<f64>,
     o_stretched: Vector3<f64>,
+    /// G1(o), computed once: every density the sampler gives is seen from o.
+    g1_o: f64,
 }
 
 impl VndfSampler {
@@ -72,6 +74,7 @@ impl VndfSampler {
             surface,
             o,
             o_stretched,
+            g1_o: surface.g1_dir(&o),
         })
     }
 
@@ -81,7 +84,7 @@ impl VndfSampler {
         if c <= 0.0 {
             return 0.0;
         }
-        self.surface.g1_dir(&self.o) * c * self.surface.d(m) / self.o.z
+        self.g1_o * c * self.surface.d(m) / self.o.z
     }
 }
 

@@ -14,7 +14,7 @@ use super::scene::Lobe;
 use super::texture::Texture;
 use crate::integrate::mc::Strategy;
 use crate::ltc::dist::LtcDist;
-use crate::microfacet::lobe::{lobe, Frame};
+use crate::microfacet::lobe::{Frame, ViewedLobe};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use crate::tensor::envsg::SgEnv;
@@ -34,6 +34,17 @@ pub struct Shader<'a> {
     pub tex: &'a Texture,
     surface: Microsurface,
     ltc: Option<LtcDist>,
+}
+
+/// What one texel's shading at one hit needs whatever the light direction: the view in
+/// the hit's frame, the texel's frame and, for GGX, its lobe with Λ(v) and its
+/// visible-normal sampler (with G1(v)), each computed once for every light sample rather
+/// than once per sample; the same operations in the same order, so the same bits.
+struct Viewed {
+    v: V3,
+    sf: Frame,
+    lobe: Option<ViewedLobe>,
+    vndf: Option<(VndfSampler, Frame, V3)>,
 }
 
 /// One pixel of the truth: the mean radiance of two independent replicates, which are
@@ -84,7 +95,7 @@ impl<'a> Shader<'a> {
     /// The same with the texel's frame `sf` = `Frame::around(nt)` already built.
     fn lobe_in(&self, sf: &Frame, nt: &V3, v: &V3, l: &V3) -> f64 {
         match self.kind {
-            Lobe::Ggx => lobe(&self.surface, sf, v, l),
+            Lobe::Ggx => ViewedLobe::new(&self.surface, sf, v).eval(&self.surface, l),
             Lobe::Gaussian => gaussian_lobe(self.sigma_r, nt, v, l),
             Lobe::Ltc => {
                 if v.z <= 0.0 || l.z <= 0.0 {
@@ -96,22 +107,47 @@ impl<'a> Shader<'a> {
         }
     }
 
+    /// The texel with normal `nt` at `hit`, seen from the eye, prepared for its lights.
+    fn viewed(&self, hit: &Hit, eye: &V3, nt: &V3) -> Viewed {
+        let v = hit.frame.local(&(eye - hit.p).normalize());
+        let sf = Frame::around(*nt);
+        let (lobe, vndf) = match self.kind {
+            Lobe::Ggx => (
+                Some(ViewedLobe::new(&self.surface, &sf, &v)),
+                // only the sampled lights draw from it
+                self.has_sampled().then(|| self.vndf(&sf, &v)).flatten(),
+            ),
+            _ => (None, None),
+        };
+        Viewed { v, sf, lobe, vndf }
+    }
+
+    /// f·cos of the prepared texel toward tangent-space l.
+    fn lobe_at(&self, w: &Viewed, nt: &V3, l: &V3) -> f64 {
+        match &w.lobe {
+            Some(g) => g.eval(&self.surface, l),
+            None => self.lobe_in(&w.sf, nt, &w.v, l),
+        }
+    }
+
     /// The point and directional lights' exact radiance at a hit seen from the eye,
     /// texel normal `nt`.
     pub fn exact_part(&self, hit: &Hit, eye: &V3, nt: &V3) -> f64 {
+        self.exact_at(&self.viewed(hit, eye, nt), hit, nt)
+    }
+
+    fn exact_at(&self, w: &Viewed, hit: &Hit, nt: &V3) -> f64 {
         let fr = &hit.frame;
-        let v = fr.local(&(eye - hit.p).normalize());
-        let sf = Frame::around(*nt);
         let mut sum = 0.0;
         for light in self.lights {
             sum += match light {
                 Light::Point { pos, intensity } => {
                     let d = pos - hit.p;
                     let r2 = d.norm_squared();
-                    intensity / r2 * self.lobe_in(&sf, nt, &v, &fr.local(&(d / r2.sqrt())))
+                    intensity / r2 * self.lobe_at(w, nt, &fr.local(&(d / r2.sqrt())))
                 }
                 Light::Directional { dir, irradiance } => {
-                    irradiance * self.lobe_in(&sf, nt, &v, &fr.local(dir))
+                    irradiance * self.lobe_at(w, nt, &fr.local(dir))
                 }
                 Light::Quad { .. } | Light::Sg(_) => 0.0,
             };
@@ -122,13 +158,15 @@ impl<'a> Shader<'a> {
     /// One MC sample of the sampled lights' radiance (quad lights and SG environments; 0
     /// without them) from the three uniforms `u` (strategy, two for the direction).
     pub fn sampled_part(&self, hit: &Hit, eye: &V3, nt: &V3, u: [f64; 3]) -> f64 {
-        let v = hit.frame.local(&(eye - hit.p).normalize());
-        let sf = Frame::around(*nt);
+        self.sampled_at(&self.viewed(hit, eye, nt), hit, nt, u)
+    }
+
+    fn sampled_at(&self, w: &Viewed, hit: &Hit, nt: &V3, u: [f64; 3]) -> f64 {
         self.lights
             .iter()
             .map(|l| match l {
-                Light::Quad { .. } => self.quad_sample(l, hit, &v, nt, &sf, u),
-                Light::Sg(env) => self.sg_sample(env, hit, &v, nt, &sf, u),
+                Light::Quad { .. } => self.quad_sample(l, hit, w, nt, u),
+                Light::Sg(env) => self.sg_sample(env, hit, w, nt, u),
                 _ => 0.0,
             })
             .sum()
@@ -142,8 +180,9 @@ impl<'a> Shader<'a> {
 
     /// One radiance sample: the exact part plus one sample of each sampled light.
     pub fn sample(&self, hit: &Hit, eye: &V3, nt: &V3, u: &mut ChaCha8Rng) -> f64 {
-        self.exact_part(hit, eye, nt)
-            + self.sampled_part(hit, eye, nt, [u.random(), u.random(), u.random()])
+        let w = self.viewed(hit, eye, nt);
+        self.exact_at(&w, hit, nt)
+            + self.sampled_at(&w, hit, nt, [u.random(), u.random(), u.random()])
     }
 
     /// GGX's visible-normal sampler of the texel (frame `sf`) seen from tangent-space `v`.
@@ -162,12 +201,13 @@ impl<'a> Shader<'a> {
     /// One-sample MIS of an SG environment: the mixture's vMF draw or the lobe's own (GGX
     /// visible normals; the Gaussian lobe's h_xy ~ N(n_xy, σ_r²), so that its f·cos/pdf
     /// is (v·h)/(v_z h_z)), balance heuristic; the LTC lobe draws from the SGs alone.
-    fn sg_sample(&self, env: &SgEnv, hit: &Hit, v: &V3, nt: &V3, sf: &Frame, u: [f64; 3]) -> f64 {
+    fn sg_sample(&self, env: &SgEnv, hit: &Hit, w: &Viewed, nt: &V3, u: [f64; 3]) -> f64 {
         let fr = &hit.frame;
+        let v = &w.v;
         if v.z <= 0.0 {
             return 0.0;
         }
-        let vndf = self.vndf(sf, v);
+        let vndf = &w.vndf;
         let has_lobe = vndf.is_some() || self.kind == Lobe::Gaussian;
         // the lobe's density of the tangent-space direction l
         let lobe_pdf = |l: &V3| -> f64 {
@@ -175,7 +215,7 @@ impl<'a> Shader<'a> {
                 return 0.0;
             }
             let h = (v + l).normalize();
-            match (&vndf, self.kind) {
+            match (vndf, self.kind) {
                 (Some((s, sf, vs)), _) => {
                     let ls = sf.local(l);
                     if ls.z <= 0.0 {
@@ -195,7 +235,7 @@ impl<'a> Shader<'a> {
         let mix = if has_lobe { 0.5 } else { 0.0 };
         let [pick, s1, s2] = u;
         let l = if pick < mix {
-            match (&vndf, self.kind) {
+            match (vndf, self.kind) {
                 (Some((s, sf, vs)), _) => {
                     let Some(h) = s.sample([s1, s2]) else {
                         return 0.0;
@@ -233,7 +273,7 @@ impl<'a> Shader<'a> {
         if !(pdf > 0.0) {
             return 0.0;
         }
-        env.eval(&lw) * self.lobe_in(sf, nt, v, &l) / pdf
+        env.eval(&lw) * self.lobe_at(w, nt, &l) / pdf
     }
 
     /// Solid-angle density of area sampling the quad in world direction d from p.
@@ -247,22 +287,14 @@ impl<'a> Shader<'a> {
         }
     }
 
-    fn quad_sample(
-        &self,
-        light: &Light,
-        hit: &Hit,
-        v: &V3,
-        nt: &V3,
-        sf: &Frame,
-        u: [f64; 3],
-    ) -> f64 {
+    fn quad_sample(&self, light: &Light, hit: &Hit, w: &Viewed, nt: &V3, u: [f64; 3]) -> f64 {
         let Light::Quad { radiance, .. } = light else {
             return 0.0;
         };
         let fr = &hit.frame;
-        let vndf = self.vndf(sf, v);
+        let vndf = &w.vndf;
         let brdf_pdf = |lw: &V3| -> f64 {
-            let Some((s, sf, vs)) = &vndf else { return 0.0 };
+            let Some((s, sf, vs)) = vndf else { return 0.0 };
             let ls = sf.local(&fr.local(lw));
             let h = vs + ls;
             let hn = h.norm();
@@ -280,7 +312,7 @@ impl<'a> Shader<'a> {
             };
             (q - hit.p).normalize()
         } else {
-            let Some((s, sf, vs)) = &vndf else { return 0.0 };
+            let Some((s, sf, vs)) = vndf else { return 0.0 };
             let Some(h) = s.sample([s1, s2]) else {
                 return 0.0;
             };
@@ -295,7 +327,7 @@ impl<'a> Shader<'a> {
         if !(pdf > 0.0) {
             return 0.0;
         }
-        radiance * self.lobe_in(sf, nt, v, &fr.local(&lw)) / pdf
+        radiance * self.lobe_at(w, nt, &fr.local(&lw)) / pdf
     }
 }
 
@@ -402,7 +434,8 @@ fn exact(
     for (si, s) in shares.iter().enumerate() {
         let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
         let nt = sh.tex.at(s.i, s.j);
-        let e = sh.exact_part(&hit, &cam.eye, &nt);
+        let w = sh.viewed(&hit, &cam.eye, &nt);
+        let e = sh.exact_at(&w, &hit, &nt);
         for (rep, &scr) in reps.iter_mut().zip(&scrambles) {
             let mut qs = 0.0;
             for j in 0..k {
@@ -413,7 +446,7 @@ fn exact(
                     *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit)
                         .min(1.0 - f64::EPSILON / 2.0);
                 }
-                qs += sh.sampled_part(&hit, &cam.eye, &nt, u);
+                qs += sh.sampled_at(&w, &hit, &nt, u);
             }
             *rep += s.area * (e + if k > 0 { qs / k as f64 } else { 0.0 });
         }
