@@ -300,15 +300,17 @@ fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
 /// section), then the example scenes, which quote its costs.
 fn run_bench_report(
     criterion: &std::path::Path,
-    main_job_only: bool,
+    (main_job_only, compact_only): (bool, bool),
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
+    use ndfbench::studies::performance as perf;
     let s = in_set(
         "performance",
         &results_manifest(results, "performance"),
-        |set| match main_job_only {
-            true => ndfbench::studies::performance::refresh_main_job(set, results),
-            false => ndfbench::studies::performance::run(set, criterion, results),
+        |set| match (main_job_only, compact_only) {
+            (true, _) => perf::refresh_main_job(set, results),
+            (_, true) => perf::refresh_compact(set, criterion, results),
+            _ => perf::run(set, criterion, results),
         },
     )?;
     println!("{s}");
@@ -446,7 +448,8 @@ fn main() -> ExitCode {
         Some(Cmd::BenchReport {
             ref criterion,
             main_job_only,
-        }) => run_bench_report(criterion, main_job_only, &cli.results),
+            compact_only,
+        }) => run_bench_report(criterion, (main_job_only, compact_only), &cli.results),
     };
     match res {
         Ok(true) => ExitCode::SUCCESS,

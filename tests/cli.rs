@@ -199,7 +199,8 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
 }
 
 /// `bench-report --main-job-only` rewrites only the main job's section of an existing
-/// performance page (every other line kept byte for byte) and refuses a page without one.
+/// performance page (every other line kept byte for byte) and refuses a page without one;
+/// `--compact-only` without criterion's results is refused and writes nothing.
 #[test]
 fn bench_report_refreshes_only_the_main_job_section() {
     let dir = common::scratch("cli", "perf");
@@ -235,7 +236,31 @@ fn bench_report_refreshes_only_the_main_job_section() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("no main-job section"));
+    assert!(
+        err.contains("no section \"Main job: wall clock per stage\""),
+        "{err}"
+    );
+    // --compact-only without criterion's results: exit 2, one line, the page untouched
+    let empty = dir.join("criterion");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = bin()
+        .args([
+            "--results",
+            dir.to_str().unwrap(),
+            "bench-report",
+            "--compact-only",
+        ])
+        .arg("--criterion")
+        .arg(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("performance.md")).unwrap(),
+        "# Performance\n\nno section\n"
+    );
 }
 
 /// docs/cli.md is what `cli-reference` writes from the help texts now: the reference a

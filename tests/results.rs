@@ -576,3 +576,46 @@ fn the_stored_comparison_is_of_the_published_table() {
     other.cells[5][2] = f64::from_bits(other.cells[5][2].to_bits() ^ 1);
     assert_ne!(other.fingerprint(), t.fingerprint());
 }
+
+/// results/performance.md's compact section quotes the compact study's current figures:
+/// each family's full-table row carries results/fits/ltc-compact.json's mean held-out
+/// errors at the cells and the squares. The section is written by `bench-report`
+/// (`--compact-only` after the study alone), from criterion's times and that file; a
+/// study rerun without it leaves the page quoting the previous run.
+#[test]
+fn the_performance_page_quotes_the_current_compact_study() {
+    use ndfbench::results::ltc_compact::LtcCompact;
+    let Some(file) = ndfbench::results::read::<LtcCompact>(Path::new("results")).unwrap() else {
+        panic!("results/fits/ltc-compact.json absent");
+    };
+    let md = std::fs::read_to_string("results/performance.md").unwrap();
+    let head = "\n## Compact LTC tables: texture-free against the texture";
+    let start = md
+        .find(head)
+        .expect("performance.md has the compact section");
+    let section = &md[start..];
+    let section = &section[..section[head.len()..]
+        .find("\n## ")
+        .map_or(section.len(), |k| head.len() + k)];
+    for f in &file.families {
+        let want = format!(
+            "| {} | lookup: full table (binary16) | {} |",
+            f.table, f.full_coefficients
+        );
+        let row = section
+            .lines()
+            .find(|l| l.starts_with(&want))
+            .unwrap_or_else(|| panic!("performance.md's compact section has no row {want}"));
+        let err = format!(
+            "{} / {}",
+            f.full.cells.mean.pct(2),
+            f.full.squares.mean.pct(2)
+        );
+        assert!(
+            row.trim_end().trim_end_matches('|').trim_end().ends_with(&err),
+            "performance.md quotes {} for {}'s full table, results/fits/ltc-compact.json has {err} (bench-report --compact-only)",
+            row.rsplit('|').nth(1).unwrap_or("").trim(),
+            f.table
+        );
+    }
+}

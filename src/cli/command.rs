@@ -431,14 +431,20 @@ pub enum Cmd {
     /// module, the prefilter tool at 2048²) first (`cargo bench --bench engines -- kernel-`
     /// for the kernels only). `--main-job-only` replaces only the main job's wall-clock
     /// section of an existing `results/performance.md` from
-    /// `target/main-job-{cold,warm}.json` (the criterion tables stay as measured).
+    /// `target/main-job-{cold,warm}.json` (the criterion tables stay as measured);
+    /// `--compact-only` its compact LTC tables' section and results/ltc-compact-cost.svg,
+    /// from criterion's `ltc-compact` group and results/fits/ltc-compact.json.
     BenchReport {
         /// criterion output directory
         #[arg(long, default_value = "target/criterion")]
         criterion: PathBuf,
         /// refresh only the main job's wall-clock section (no benches needed)
-        #[arg(long)]
+        #[arg(long, conflicts_with = "compact_only")]
         main_job_only: bool,
+        /// refresh only the compact LTC tables' section and its plot, from criterion's
+        /// ltc-compact group (`cargo bench --bench deliverables -- ltc-compact`)
+        #[arg(long)]
+        compact_only: bool,
     },
 }
 

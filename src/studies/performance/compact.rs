@@ -98,6 +98,9 @@ fn pct(j: &Judged) -> String {
     format!("{} / {}", j.cells.mean.pct(2), j.squares.mean.pct(2))
 }
 
+/// The heading of the section.
+pub(super) const HEAD: &str = "\n## Compact LTC tables: texture-free against the texture";
+
 /// The section of results/performance.md and its plot (results/ltc-compact-cost.svg), or
 /// nothing without the study's file or the bench.
 pub(super) fn ltc_compact_table(
@@ -112,7 +115,8 @@ pub(super) fn ltc_compact_table(
         return Ok(String::new());
     }
     let lookup = lookup_instructions(results)?;
-    let mut md = String::from("\n## Compact LTC tables: texture-free against the texture\n\nPer pixel, the six channels of the LTC table (M⁻¹'s a, b, c, d; norm; fresnel) at (α, cos θ): read bilinearly from a 64×64 binary16 table (two filtered fetches), or evaluated from the compact Chebyshev series (results/ltc-compact.md) in f32 with no texture. **SPIR-V**: the instructions a pixel executes in naga's SPIR-V of the generated WGSL (the lookup: `ndfb_ltc_lut_matrix` + `ndfb_ltc_lut_weights` of results/wgsl/ltc_lut.wgsl, each fetch one instruction; the series: `ltc_compact_mat` + `ltc_compact_mag` as results/wgsl/ltc_compact.wgsl writes them at that degree; both loop-free, every function counted at each call). **CPU**: criterion's mean per pixel over 4096 pixels for the f32 kernels (`kernels::ltc_compact_lookup`, `ltc_compact_series`; the series at each degree is the stored one resized, its cost depends on the degree alone): AVX2 (8 pixels at a time, gathers for the fetches), and the scalar form one pixel per call. **Error**: mean held-out relative L2 of the lobe at the judged cells / squares (results/ltc-compact.md, ± the mean of the bars there); for a degree, the most accurate texture-free form the study fitted at it.\n\n");
+    let mut md = String::from(HEAD);
+    md.push_str("\n\nPer pixel, the six channels of the LTC table (M⁻¹'s a, b, c, d; norm; fresnel) at (α, cos θ): read bilinearly from a 64×64 binary16 table (two filtered fetches), or evaluated from the compact Chebyshev series (results/ltc-compact.md) in f32 with no texture. **SPIR-V**: the instructions a pixel executes in naga's SPIR-V of the generated WGSL (the lookup: `ndfb_ltc_lut_matrix` + `ndfb_ltc_lut_weights` of results/wgsl/ltc_lut.wgsl, each fetch one instruction; the series: `ltc_compact_mat` + `ltc_compact_mag` as results/wgsl/ltc_compact.wgsl writes them at that degree; both loop-free, every function counted at each call). **CPU**: criterion's mean per pixel over 4096 pixels for the f32 kernels (`kernels::ltc_compact_lookup`, `ltc_compact_series`; the series at each degree is the stored one resized, its cost depends on the degree alone): AVX2 (8 pixels at a time, gathers for the fetches), and the scalar form one pixel per call. **Error**: mean held-out relative L2 of the lobe at the judged cells / squares (results/ltc-compact.md, ± the mean of the bars there); for a degree, the most accurate texture-free form the study fitted at it.\n\n");
     let mut table = Table::new([
         "table",
         "form",

@@ -140,22 +140,12 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 /// profiles now in target/ (no benches needed; the criterion tables stay as they were
 /// measured). An absent page or section is an error.
 pub fn refresh_main_job(set: &mut crate::io::Outputs, results: &Path) -> Result<String> {
-    let path = results.join("performance.md");
-    let (p, md) = (
-        path.display(),
-        std::fs::read_to_string(&path).unwrap_or_default(),
-    );
-    const HEAD: &str = "\n## Main job: wall clock per stage";
-    let start = md.find(HEAD).ok_or_else(|| {
-        let why = format!("{p}: no main-job section to refresh (run bench-report in full)");
-        crate::error::Error::InvalidArgument(why)
-    })?;
-    let end = md[start + HEAD.len()..]
-        .find("\n## ")
-        .map_or(md.len(), |k| start + HEAD.len() + k);
-    let out = format!("{}{}{}", &md[..start], main_job_table(results), &md[end..]);
-    set.put(&path, out.as_bytes());
-    Ok(format!("{p}: main-job section refreshed"))
+    super::replace_section(
+        set,
+        results,
+        "\n## Main job: wall clock per stage",
+        &main_job_table(results),
+    )
 }
 
 pub(super) fn main_job_table(results: &Path) -> String {

@@ -28,6 +28,53 @@ use tables::{
     tensor_table, wang_table,
 };
 
+/// Replace the section of an existing results/performance.md that starts with `head`
+/// (up to the next `## ` heading) by `section`; an absent page or section is an error.
+fn replace_section(
+    set: &mut crate::io::Outputs,
+    results: &Path,
+    head: &str,
+    section: &str,
+) -> Result<String> {
+    let path = results.join("performance.md");
+    let (p, md) = (
+        path.display(),
+        std::fs::read_to_string(&path).unwrap_or_default(),
+    );
+    let name = head.trim_start_matches("\n## ");
+    let start = md.find(head).ok_or_else(|| {
+        let why = format!("{p}: no section \"{name}\" to refresh (run bench-report in full)");
+        crate::error::Error::InvalidArgument(why)
+    })?;
+    let end = md[start + head.len()..]
+        .find("\n## ")
+        .map_or(md.len(), |k| start + head.len() + k);
+    let out = format!("{}{}{}", &md[..start], section, &md[end..]);
+    set.put(&path, out.as_bytes());
+    Ok(format!("{p}: section \"{name}\" refreshed"))
+}
+
+/// Replace only the compact LTC tables' section of an existing results/performance.md
+/// (and its plot, results/ltc-compact-cost.svg) from criterion's `ltc-compact` group and
+/// results/fits/ltc-compact.json: after the compact study is rerun, without the rest of
+/// the benches. Without that group's results or the study's file, an error.
+pub fn refresh_compact(
+    set: &mut crate::io::Outputs,
+    criterion: &Path,
+    results: &Path,
+) -> Result<String> {
+    let timed = read_criterion(criterion)?;
+    let section = compact::ltc_compact_table(set, &timed, results)?;
+    if section.is_empty() {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "bench-report --compact-only: needs criterion's ltc-compact group under {} (cargo bench --bench deliverables -- ltc-compact) and {}",
+            criterion.display(),
+            results.join("fits/ltc-compact.json").display()
+        )));
+    }
+    replace_section(set, results, compact::HEAD, &section)
+}
+
 /// results/performance.md (and costs.json, the plots) into `set`.
 pub fn run(set: &mut crate::io::Outputs, criterion: &Path, results: &Path) -> Result<String> {
     let timed = read_criterion(criterion)?;
