@@ -619,3 +619,45 @@ fn the_performance_page_quotes_the_current_compact_study() {
         );
     }
 }
+
+/// The compact study was run on the tables results/ holds now: each family records the
+/// fingerprint of the table it was fitted to, and it is the published table's. A table
+/// refitted without rerunning the study (on request, 30 min) would leave the series, and
+/// the shaders, three.js drop-ins and Rust twins written from them, describing the old
+/// table.
+#[test]
+fn the_compact_study_is_of_the_published_tables() {
+    use ndfbench::results::ltc_compact::LtcCompact;
+    let results = Path::new("results");
+    let file = ndfbench::results::read::<LtcCompact>(results)
+        .unwrap()
+        .expect("results/fits/ltc-compact.json");
+    assert!(!file.families.is_empty());
+    for f in &file.families {
+        let now = ltc::table(results, &f.table).unwrap().fingerprint();
+        assert_eq!(
+            f.table_fingerprint.as_deref(),
+            Some(now.as_str()),
+            "results/fits/ltc-compact.json's {} family was fitted to another table than results/fits/{}.json (regen --only ltc-compact)",
+            f.table,
+            f.table
+        );
+    }
+}
+
+/// The optimisers study (on request) ran on the published GGX table: its floor and route
+/// comparison index that table's cells, so a refit without rerunning it leaves them
+/// describing another table.
+#[test]
+fn the_optimisers_study_is_of_the_published_table() {
+    let results = Path::new("results");
+    let o = results::read::<ltc::Optimisers>(results)
+        .unwrap()
+        .expect("results/fits/ltc-ggx-optimisers.json");
+    let now = ltc::table(results, "ltc-ggx").unwrap().fingerprint();
+    assert_eq!(
+        o.table_fingerprint.as_deref(),
+        Some(now.as_str()),
+        "results/fits/ltc-ggx-optimisers.json was computed on another table than results/fits/ltc-ggx.json (regen --only ltc-ggx-optimisers)"
+    );
+}

@@ -113,6 +113,11 @@ pub struct Optimisers {
     pub variants: Vec<Variant>,
     pub floor: Vec<FloorCell>,
     pub reference: RouteComparison,
+    /// The fingerprint (`FittedTable::fingerprint`) of the published GGX table the study
+    /// read (its floor and route comparison index its cells), when it ran; `None` in a
+    /// file from before it was kept.
+    #[serde(default)]
+    pub table_fingerprint: Option<String>,
 }
 
 impl super::ResultFile for Optimisers {

@@ -56,6 +56,11 @@ pub struct CompactFamily {
     /// study has them (GGX, and both sheen tables from their study's report).
     #[serde(default)]
     pub polygons: Option<PolygonSet>,
+    /// The fingerprint (`FittedTable::fingerprint`) of the table the family was fitted
+    /// to, when the study ran: a table refitted since leaves this file, and the shaders
+    /// and drop-ins written from it, stale (`None` in a file from before it was kept).
+    #[serde(default)]
+    pub table_fingerprint: Option<String>,
 }
 
 /// The polygon lights of results/fits/ltc-ggx.json (four cells × the quads of

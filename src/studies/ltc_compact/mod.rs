@@ -323,6 +323,7 @@ fn family<T: LtcTarget>(
         series,
         texture_free,
         polygons: polygons::measure(results, s.table, &table, &forms)?,
+        table_fingerprint: Some(table.fingerprint()),
     })
 }
 

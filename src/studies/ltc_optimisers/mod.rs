@@ -75,13 +75,14 @@ pub struct Computed {
     floor: Vec<FloorCell>,
     floor_summary: floor::Summary,
     reference: RouteComparison,
+    table_fingerprint: String,
 }
 
 /// The study: read the published table, then the three diagnostics.
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let pl: Plan = c.params()?;
     let ggx: Ggx = crate::results::require(c.results)?;
-    check_published(&ggx, c.results)?;
+    let table_fingerprint = check_published(&ggx, c.results)?;
     let table_preset = Preset::named(&ggx.preset, "results/fits/ltc-ggx.json")?;
     let route: TableRoute = ggx.spec.params(table_preset)?;
     let sub = Grid {
@@ -112,6 +113,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         floor,
         floor_summary,
         reference,
+        table_fingerprint,
     })
 }
 
@@ -119,7 +121,8 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 /// one reader of fitted tables (n × n finite cells, 2 ≤ n ≤ its bound), its grid of the
 /// same side, and every cell's held-out figure present as a finite pair — what the floor
 /// and the route comparison index by (i, j).
-fn check_published(ggx: &Ggx, results: &std::path::Path) -> Result<()> {
+/// Returns the table's fingerprint.
+fn check_published(ggx: &Ggx, results: &std::path::Path) -> Result<String> {
     let t = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
     let n = ggx.grid.n;
     let bad = |what: String| {
@@ -142,7 +145,7 @@ fn check_published(ggx: &Ggx, results: &std::path::Path) -> Result<()> {
     {
         return bad("a held-out figure that is not a finite, non-negative pair".into());
     }
-    Ok(())
+    Ok(t.fingerprint())
 }
 
 fn reference_section(r: &RouteComparison) -> String {
@@ -193,6 +196,7 @@ impl crate::study::Computed for Computed {
                 variants: variants::rows(&self.variants),
                 floor: self.floor.clone(),
                 reference: self.reference.clone(),
+                table_fingerprint: Some(self.table_fingerprint.clone()),
             },
         )
     }
