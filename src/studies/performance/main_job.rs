@@ -140,7 +140,7 @@ pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
 /// profiles now in target/ (no benches needed; the criterion tables stay as they were
 /// measured). An absent page or section is an error.
 pub fn refresh_main_job(set: &mut crate::io::Outputs, results: &Path) -> Result<String> {
-    super::replace_section(
+    super::section::replace_section(
         set,
         results,
         "\n## Main job: wall clock per stage",

@@ -12,6 +12,7 @@ mod compact;
 mod criterion;
 mod deliverables;
 mod main_job;
+mod section;
 mod tables;
 mod wave;
 
@@ -27,32 +28,6 @@ use tables::{
     alpha_me_table, filters_table, kernels_table, leadr_table, ltc_table, smith_lambda_table,
     tensor_table, wang_table,
 };
-
-/// Replace the section of an existing results/performance.md that starts with `head`
-/// (up to the next `## ` heading) by `section`; an absent page or section is an error.
-fn replace_section(
-    set: &mut crate::io::Outputs,
-    results: &Path,
-    head: &str,
-    section: &str,
-) -> Result<String> {
-    let path = results.join("performance.md");
-    let (p, md) = (
-        path.display(),
-        std::fs::read_to_string(&path).unwrap_or_default(),
-    );
-    let name = head.trim_start_matches("\n## ");
-    let start = md.find(head).ok_or_else(|| {
-        let why = format!("{p}: no section \"{name}\" to refresh (run bench-report in full)");
-        crate::error::Error::InvalidArgument(why)
-    })?;
-    let end = md[start + head.len()..]
-        .find("\n## ")
-        .map_or(md.len(), |k| start + head.len() + k);
-    let out = format!("{}{}{}", &md[..start], section, &md[end..]);
-    set.put(&path, out.as_bytes());
-    Ok(format!("{p}: section \"{name}\" refreshed"))
-}
 
 /// Replace only the compact LTC tables' section of an existing results/performance.md
 /// (and its plot, results/ltc-compact-cost.svg) from criterion's `ltc-compact` group and
@@ -72,7 +47,7 @@ pub fn refresh_compact(
             results.join("fits/ltc-compact.json").display()
         )));
     }
-    replace_section(set, results, compact::HEAD, &section)
+    section::replace_section(set, results, compact::HEAD, &section)
 }
 
 /// results/performance.md (and costs.json, the plots) into `set`.
