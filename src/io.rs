@@ -120,6 +120,16 @@ impl Outputs {
     }
 }
 
+/// The SHA-256 of `bytes`, lower-case hex: what a result records of a file it was made
+/// from (`studies::engines::inputs`, `results::fits_sha256`).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
 /// FNV-1a 64 of a byte string (manifest checksums: detects a mixed set, not an attacker).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;

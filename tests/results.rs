@@ -661,3 +661,27 @@ fn the_optimisers_study_is_of_the_published_table() {
         "results/fits/ltc-ggx-optimisers.json was computed on another table than results/fits/ltc-ggx.json (regen --only ltc-ggx-optimisers)"
     );
 }
+
+/// The judge-tolerance study (on request) ran on the published tables: each curve records
+/// the SHA-256 of the table's file (its cells and its spec's tolerances) and it is the
+/// file's now, so a refit without rerunning the study fails here, not only in its report.
+#[test]
+fn the_judge_tolerance_study_is_of_the_published_tables() {
+    let results = Path::new("results");
+    let j = results::read::<ltc::JudgeTolerance>(results)
+        .unwrap()
+        .expect("results/fits/ltc-judge-tolerance.json");
+    assert!(!j.tables.is_empty());
+    for c in &j.tables {
+        let bytes = std::fs::read(format!("results/fits/{}.json", c.table)).unwrap();
+        // FIPS 180-4's SHA-256, as the study records it (lower-case hex)
+        let now = ndfbench::io::sha256_hex(&bytes);
+        assert_eq!(
+            c.table_sha256.as_deref(),
+            Some(now.as_str()),
+            "results/fits/ltc-judge-tolerance.json's {} curve was judged on another file than results/fits/{}.json (regen --only ltc-judge-tolerance)",
+            c.table,
+            c.table
+        );
+    }
+}

@@ -176,7 +176,9 @@ fn curve<T: LtcTarget>(
             })
         })
         .collect::<Result<_>>()?;
-    Ok(assemble(name, cells.len(), &chosen, pl, &judged))
+    let mut c = assemble(name, cells.len(), &chosen, pl, &judged);
+    c.table_sha256 = Some(crate::results::fits_sha256(results, name)?);
+    Ok(c)
 }
 
 /// The tolerances every curve judges, in order: the plan's `rels` (both figures), then its
@@ -223,6 +225,7 @@ fn assemble(
         chosen_l1_rel: chosen.held_out_l1_rel.unwrap_or(chosen.held_out_rel),
         points,
         l1_points,
+        table_sha256: None,
     }
 }
 
@@ -262,7 +265,9 @@ fn aniso_curve(results: &std::path::Path, pl: &Plan) -> Result<JudgeCurve> {
             })
         })
         .collect::<Result<_>>()?;
-    Ok(assemble(name, cells.len(), &chosen, pl, &judged))
+    let mut c = assemble(name, cells.len(), &chosen, pl, &judged);
+    c.table_sha256 = Some(crate::results::fits_sha256(results, name)?);
+    Ok(c)
 }
 
 /// One tolerance's figures against the reference's, cell by cell.

@@ -6,7 +6,6 @@
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::path::Path;
 
 /// One input file (relative to results/) and its SHA-256 (lower-case hex).
@@ -16,13 +15,7 @@ pub struct InputDigest {
     pub sha256: String,
 }
 
-/// The SHA-256 of `bytes`, lower-case hex.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
+pub use crate::io::sha256_hex;
 
 /// The digests of `files` (relative to `results`), in the order given.
 pub fn digests(results: &Path, files: &[&str]) -> Result<Vec<InputDigest>> {
