@@ -754,5 +754,12 @@ fn a_changed_engine_input_is_named() {
     assert_eq!(s.len(), 2, "{s:?}");
     assert!(s[1].starts_with("b.js: "), "{s:?}");
     assert!(digests(&dir, &["b.js"]).is_err());
+    // a recorded digest read back from a damaged report (not hex, multi-byte characters)
+    // is named as changed, not a panic
+    let mut bad = d[0].clone();
+    bad.sha256 = "é".repeat(20);
+    let s = stale(&dir, &[bad]);
+    assert_eq!(s.len(), 1, "{s:?}");
+    assert!(s[0].contains("éééééééééééé recorded"), "{s:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -14,7 +14,7 @@ use super::scene::Lobe;
 use super::texture::Texture;
 use crate::integrate::mc::Strategy;
 use crate::ltc::dist::LtcDist;
-use crate::microfacet::lobe::{Frame, ViewedLobe};
+use crate::microfacet::lobe::{lobe, Frame, ViewedLobe};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, Roughness};
 use crate::tensor::envsg::SgEnv;
@@ -95,7 +95,7 @@ impl<'a> Shader<'a> {
     /// The same with the texel's frame `sf` = `Frame::around(nt)` already built.
     fn lobe_in(&self, sf: &Frame, nt: &V3, v: &V3, l: &V3) -> f64 {
         match self.kind {
-            Lobe::Ggx => ViewedLobe::new(&self.surface, sf, v).eval(&self.surface, l),
+            Lobe::Ggx => lobe(&self.surface, sf, v, l),
             Lobe::Gaussian => gaussian_lobe(self.sigma_r, nt, v, l),
             Lobe::Ltc => {
                 if v.z <= 0.0 || l.z <= 0.0 {

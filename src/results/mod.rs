@@ -105,12 +105,7 @@ pub fn require_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<
 /// The SHA-256 (lower-case hex) of the result file `name` as it is now: what a study that
 /// reads a published result records of it, so that a test can tell when it went stale.
 pub fn fits_sha256(results: &Path, name: &str) -> Result<String> {
-    let p = fit_path(results, name);
-    let bytes = std::fs::read(&p).map_err(|e| Error::Io {
-        path: p.display().to_string(),
-        msg: e.to_string(),
-    })?;
-    Ok(crate::io::sha256_hex(&bytes))
+    crate::io::file_sha256(&fit_path(results, name))
 }
 
 /// A number that may have been written as `null` (serde_json writes a NaN or an infinity

@@ -4,7 +4,7 @@
 //! everywhere; the digests can be checked everywhere, and a table refitted after the check
 //! names the report it left stale ([`stale`]).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -22,14 +22,9 @@ pub fn digests(results: &Path, files: &[&str]) -> Result<Vec<InputDigest>> {
     files
         .iter()
         .map(|f| {
-            let p = results.join(f);
-            let bytes = std::fs::read(&p).map_err(|e| Error::Io {
-                path: p.display().to_string(),
-                msg: e.to_string(),
-            })?;
             Ok(InputDigest {
                 file: (*f).to_string(),
-                sha256: sha256_hex(&bytes),
+                sha256: crate::io::file_sha256(&results.join(f))?,
             })
         })
         .collect()
@@ -40,13 +35,15 @@ pub fn digests(results: &Path, files: &[&str]) -> Result<Vec<InputDigest>> {
 pub fn stale(results: &Path, recorded: &[InputDigest]) -> Vec<String> {
     recorded
         .iter()
-        .filter_map(|d| match std::fs::read(results.join(&d.file)) {
+        .filter_map(|d| match crate::io::file_sha256(&results.join(&d.file)) {
             Err(e) => Some(format!("{}: {e}", d.file)),
-            Ok(b) if sha256_hex(&b) != d.sha256 => Some(format!(
+            // the recorded digest is read back from a report: shortened by characters,
+            // whatever it holds
+            Ok(now) if now != d.sha256 => Some(format!(
                 "{} changed since the check (sha256 {} recorded, {} now)",
                 d.file,
-                &d.sha256[..d.sha256.len().min(12)],
-                &sha256_hex(&b)[..12]
+                d.sha256.chars().take(12).collect::<String>(),
+                &now[..12]
             )),
             Ok(_) => None,
         })

@@ -145,14 +145,6 @@ fn section(r: &SheenResult) -> String {
     md
 }
 
-/// The files under results/ the sheen runs load (the recipe) and the judge reads (the
-/// series it was made from, the table it is set beside).
-const SHEEN_INPUTS: [&str; 3] = [
-    "fits/ltc-compact.json",
-    "fits/ltc-sheen-neubelt.json",
-    "textures/three/RectAreaLightSheen.js",
-];
-
 /// Read each run (its scene file named in it), judge it with the series and table of
 /// `results`, and put results/engines-sheen.{md,json} into `set`. Returns the summary line.
 pub fn run(
@@ -187,7 +179,17 @@ pub fn run(
         /// What the runs loaded and the judge read, with their digests when judged.
         inputs: Vec<super::inputs::InputDigest>,
     }
-    let inputs = super::inputs::digests(results, &SHEEN_INPUTS)?;
+    // what the runs load (the recipe) and the judge reads (the series it was made from,
+    // the table it is set beside)
+    let table = format!("fits/{}.json", super::sheen::TABLE);
+    let inputs = super::inputs::digests(
+        results,
+        &[
+            "fits/ltc-compact.json",
+            &table,
+            "textures/three/RectAreaLightSheen.js",
+        ],
+    )?;
     set.put(
         &out.join("engines-sheen.json"),
         serde_json::to_string_pretty(&File {
