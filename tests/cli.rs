@@ -198,6 +198,24 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The process's CPU seconds, as the main job keeps them: present on Unix, finite, and
+/// never less after more work.
+#[test]
+fn the_process_cpu_time_grows_with_work() {
+    use ndfbench::studies::performance::process_cpu_seconds;
+    let Some(t0) = process_cpu_seconds() else {
+        assert!(!cfg!(unix), "getrusage gave nothing on Unix");
+        return;
+    };
+    let mut x = 0u64;
+    for i in 0..20_000_000u64 {
+        x = x.wrapping_mul(6364136223846793005).wrapping_add(i);
+    }
+    std::hint::black_box(x);
+    let t1 = process_cpu_seconds().unwrap();
+    assert!(t0.is_finite() && t0 >= 0.0 && t1 >= t0, "{t0} → {t1}");
+}
+
 /// `bench-report --main-job-only` rewrites only the main job's section of an existing
 /// performance page (every other line kept byte for byte) and refuses a page without one;
 /// `--compact-only` without criterion's results is refused and writes nothing.
@@ -213,6 +231,15 @@ fn bench_report_refreshes_only_the_main_job_section() {
         dir.join("main-job-before.json"),
     )
     .unwrap();
+    // a cold profile as the main job keeps it (CPU seconds included) under the target dir
+    let target = dir.join("target");
+    std::fs::create_dir_all(&target).unwrap();
+    std::fs::write(
+        target.join("main-job-cold.json"),
+        r#"{"total_s": 633.2, "threads": 2, "warm": false, "cpu_s": 1222.4,
+            "stages": [{"stage": "ltc-ggx", "seconds": 90.04, "computed": 3, "reused": 0}]}"#,
+    )
+    .unwrap();
     let refresh = || {
         bin()
             .args([
@@ -221,6 +248,7 @@ fn bench_report_refreshes_only_the_main_job_section() {
                 "bench-report",
                 "--main-job-only",
             ])
+            .env("CARGO_TARGET_DIR", &target)
             .output()
             .unwrap()
     };
@@ -231,6 +259,10 @@ fn bench_report_refreshes_only_the_main_job_section() {
     assert!(new.ends_with("\n## After\n\nkept below\n"));
     assert!(!new.contains("old table"));
     assert!(new.contains("before: sequential, no cache"));
+    // the cold total with its CPU seconds; the kept "before" profile has none
+    assert!(new.contains("**633 (2 threads, 1222 s of CPU)**"), "{new}");
+    assert!(new.contains("**993 (2 threads)**"), "{new}");
+    assert!(new.contains("| 90.0 |"), "{new}");
     std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
     let out = refresh();
     assert_eq!(out.status.code(), Some(2));

@@ -730,6 +730,48 @@ fn the_committed_engine_reports_were_judged_on_the_current_tables() {
     }
 }
 
+/// Of an LTC table file the digest covers what its readers read: a restated report figure
+/// (or a reordered file) keeps it, a changed table entry or spec changes it; a file that is
+/// no table is digested whole, every byte.
+#[test]
+fn a_table_files_digest_covers_its_table_not_its_report() {
+    use ndfbench::results::published_sha256;
+    use ndfbench::studies::engines::inputs::sha256_hex;
+    let dir = common::scratch("engines", "table-digest");
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("t.json");
+    let write = |text: &str| std::fs::write(&f, text).unwrap();
+    write(r#"{"spec": {"n": 2}, "table": [[1.0, 2.0]], "held_out": {"mean": 0.5}}"#);
+    let d0 = published_sha256(&f).unwrap();
+    // the digest of the table part, spelled here: sorted keys, compact JSON
+    assert_eq!(d0, sha256_hex(br#"{"spec":{"n":2},"table":[[1.0,2.0]]}"#));
+    write(r#"{"held_out": {"mean": 0.25}, "table": [[1.0, 2.0]], "spec": {"n": 2}}"#);
+    assert_eq!(
+        published_sha256(&f).unwrap(),
+        d0,
+        "a report figure moved the digest"
+    );
+    write(r#"{"spec": {"n": 2}, "table": [[1.0, 2.5]], "held_out": {"mean": 0.5}}"#);
+    assert_ne!(
+        published_sha256(&f).unwrap(),
+        d0,
+        "a table entry left the digest"
+    );
+    write(r#"{"spec": {"n": 3}, "table": [[1.0, 2.0]], "held_out": {"mean": 0.5}}"#);
+    assert_ne!(
+        published_sha256(&f).unwrap(),
+        d0,
+        "the spec left the digest"
+    );
+    let other = r#"{"families": [1, 2], "held_out": 0.5}"#;
+    write(other);
+    assert_eq!(published_sha256(&f).unwrap(), sha256_hex(other.as_bytes()));
+    write("{\"table\": [1.0,");
+    let e = published_sha256(&f).unwrap_err().to_string();
+    assert!(e.contains("t.json") && e.contains("not JSON"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The staleness check names a changed file and a missing one, and passes an unchanged one;
 /// the digest is SHA-256 (FIPS 180-2's example: "abc").
 #[test]

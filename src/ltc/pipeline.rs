@@ -82,8 +82,13 @@ pub fn ltc_shade(table: &LtcTable, n: &V3, alpha: f64, v: &V3, light: &Light) ->
 /// The footprint average of ∫_P f_x(l) dl with each texel's own GGX lobe (as
 /// [`brute_force`] estimates it), exactly: one adaptive cubature over the quad light's
 /// parallelogram (dω = |n_P·l| dA/|p|², the shading point at the origin) of the texels'
-/// mean lobe, to `rel` relative accuracy (an 8×8 start grid, the panels' K15 ⊗ K15 against
+/// mean lobe, to `rel` relative accuracy (a 2×2 start grid, the panels' K15 ⊗ K15 against
 /// G7 ⊗ G7 with the kinked-integrand safety factor: a texel's horizon may cross the light).
+/// The start grid sets the cost: every evaluation sums all texels' lobes. Measured on 144
+/// cases like the GGX study's (its four 64² maps, levels 0–5, two footprints each, its
+/// three views; α = 0.05, tolerance 1e-4): an 8×8 start converged
+/// every value far beyond its tolerance (bars ≤ 1e-9) at 7.2× the time of this 2×2 start,
+/// whose values stay within 1.5e-8 relative of the 8×8's (4×4: 2.3e-9, 1.9×; 1×1: 1.3e-7, 1.2×).
 /// The value ± its error bar; a typed error for a light that is not a parallelogram.
 pub fn exact_footprint(
     normals: &[V3],
@@ -122,7 +127,7 @@ pub fn exact_footprint(
         let sum: f64 = views.iter().map(|t| t.eval(&s, &d)).sum();
         out[0] = sum * w * dw;
     };
-    let grid: Vec<f64> = (0..=8).map(|k| k as f64 / 8.0).collect();
+    let grid = [0.0, 0.5, 1.0];
     let r = cubature(
         integrand,
         &[SAFETY_KINKED],

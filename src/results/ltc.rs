@@ -175,8 +175,9 @@ pub struct JudgeCurve {
     /// The relative L2 at `chosen_rel`, the relative L1's tolerance swept (`rel` is the
     /// L1's); against the same reference as `points`.
     pub l1_points: Vec<JudgePoint>,
-    /// The SHA-256 of results/fits/<table>.json (its cells and its spec's tolerances) when
-    /// the study ran (`results::fits_sha256`); `None` in a file from before it was kept.
+    /// The SHA-256 of results/fits/<table>.json's table part (its cells and its spec's
+    /// tolerances) when the study ran (`results::fits_sha256`); `None` in a file from
+    /// before it was kept.
     #[serde(default)]
     pub table_sha256: Option<String>,
 }

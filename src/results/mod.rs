@@ -102,10 +102,57 @@ pub fn require_named<T: DeserializeOwned>(results: &Path, name: &str) -> Result<
     })
 }
 
-/// The SHA-256 (lower-case hex) of the result file `name` as it is now: what a study that
-/// reads a published result records of it, so that a test can tell when it went stale.
+/// The SHA-256 (lower-case hex) of what the readers of the result file `name` read of it
+/// as it is now ([`published_sha256`]): what a study that reads a published result records
+/// of it, so that a test can tell when it went stale.
 pub fn fits_sha256(results: &Path, name: &str) -> Result<String> {
-    crate::io::file_sha256(&fit_path(results, name))
+    published_sha256(&fit_path(results, name))
+}
+
+/// The keys of a published LTC table file (results/fits/, a `table` or the anisotropic
+/// `cells`) that its readers read: the spec (its tolerances), the preset, the grid and the
+/// stored tables. Everything else in such a file (held-out figures, the report's sections)
+/// is what the study said about the table.
+pub const TABLE_KEYS: [&str; 7] = [
+    "spec",
+    "preset",
+    "grid",
+    "layout",
+    "table",
+    "table_f16",
+    "cells",
+];
+
+/// The SHA-256 (lower-case hex) of what a reader reads of the published file at `path`: for
+/// an LTC table file, its [`TABLE_KEYS`] (serialised as one JSON object, keys sorted), so
+/// that a study restating its report figures leaves the consumers of its table current;
+/// for any other file, every byte. A typed error naming the file when it cannot be read,
+/// or when it is a table file (`.json`) that does not parse.
+pub fn published_sha256(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(crate::io::io_err(path))?;
+    if path.extension().and_then(|e| e.to_str()) != Some("json") {
+        return Ok(crate::io::sha256_hex(&bytes));
+    }
+    let v: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| {
+        Error::InvalidArgument(format!(
+            "{}: not JSON ({e})",
+            crate::error::quoted(&path.display().to_string())
+        ))
+    })?;
+    let Some(obj) = v
+        .as_object()
+        .filter(|o| o.contains_key("table") || o.contains_key("cells"))
+    else {
+        return Ok(crate::io::sha256_hex(&bytes));
+    };
+    // serde_json's map keeps its keys sorted: the same table, the same bytes
+    let part: serde_json::Map<String, serde_json::Value> = obj
+        .iter()
+        .filter(|(k, _)| TABLE_KEYS.contains(&k.as_str()))
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    let text = serde_json::to_vec(&part).map_err(|e| Error::InvalidArgument(e.to_string()))?;
+    Ok(crate::io::sha256_hex(&text))
 }
 
 /// A number that may have been written as `null` (serde_json writes a NaN or an infinity

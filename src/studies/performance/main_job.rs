@@ -43,6 +43,10 @@ pub struct Profile {
     pub threads: usize,
     #[serde(default)]
     pub warm: bool,
+    /// CPU seconds the process spent (user + system, every thread; `None` where the OS
+    /// does not say, and in profiles from before it was kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_s: Option<f64>,
     /// How and when it was measured (the kept "before" profile).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -70,14 +74,35 @@ impl JobStage {
     }
 }
 
+/// CPU seconds this process has spent so far, user + system over every thread
+/// (`getrusage(RUSAGE_SELF)`); `None` where the OS does not say.
+pub fn process_cpu_seconds() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        // SAFETY: getrusage writes one plain struct that we own; a zeroed rusage is valid
+        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+        if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) } != 0 {
+            return None;
+        }
+        let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        Some(s(u.ru_utime) + s(u.ru_stime))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 /// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
 /// failure to write is reported, never fatal).
 pub fn write_main_job_times(stages: &[JobStage], total: f64) {
     let warm = stages.iter().all(|s| s.computed == 0) && stages.iter().any(|s| s.reused > 0);
     let mut sorted: Vec<&JobStage> = stages.iter().collect();
     sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
+    let cpu = process_cpu_seconds();
     println!(
-        "main job: {total:.0} s in all ({}); by stage (longest first):",
+        "main job: {total:.0} s in all{} ({}); by stage (longest first):",
+        cpu.map_or(String::new(), |c| format!(", {c:.0} s of CPU")),
         if warm {
             "every memoised map from the cache"
         } else {
@@ -98,6 +123,7 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
         total_s: total,
         threads: rayon::current_num_threads(),
         warm,
+        cpu_s: cpu,
         note: None,
         stages: stages.to_vec(),
     };
@@ -112,26 +138,26 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
     }
 }
 
-/// A kept profile: (total seconds, threads, (stage, seconds) rows); `None` when the file
-/// is absent, or unreadable (said on stderr: a profile is a local measurement, not a
-/// result, so the report goes on without it).
-fn profile(path: &Path) -> Option<(f64, u64, Vec<(String, f64)>)> {
+/// A kept profile; `None` when the file is absent, or unreadable (said on stderr: a
+/// profile is a local measurement, not a result, so the report goes on without it).
+fn profile(path: &Path) -> Option<Profile> {
     let text = std::fs::read_to_string(path).ok()?;
-    let p: Profile = match serde_json::from_str(&text) {
-        Ok(p) => p,
+    match serde_json::from_str(&text) {
+        Ok(p) => Some(p),
         Err(e) => {
             eprintln!("{}: not a main-job profile ({e}); left out", path.display());
-            return None;
+            None
         }
-    };
-    let rows = p.stages.into_iter().map(|s| (s.stage, s.seconds)).collect();
-    Some((p.total_s, p.threads as u64, rows))
+    }
 }
 
 /// Seconds of `stage` in the last cold main job on this machine, if kept.
 pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
-    let (_, _, rows) = profile(&main_job_times_path(false))?;
-    rows.into_iter().find(|(n, _)| n == stage).map(|(_, t)| t)
+    let p = profile(&main_job_times_path(false))?;
+    p.stages
+        .into_iter()
+        .find(|s| s.stage == stage)
+        .map(|s| s.seconds)
 }
 
 /// The main job's profile: before (committed), the last cold run and the last warm run
@@ -168,20 +194,20 @@ pub(super) fn main_job_table(results: &Path) -> String {
     }
     let mut names: Vec<(String, f64)> = Vec::new();
     for (_, p) in &cols {
-        for (n, t) in p.iter().flat_map(|p| p.2.iter()) {
-            match names.iter_mut().find(|(m, _)| m == n) {
-                Some(e) => e.1 = e.1.max(*t),
-                None => names.push((n.clone(), *t)),
+        for st in p.iter().flat_map(|p| p.stages.iter()) {
+            match names.iter_mut().find(|(m, _)| *m == st.stage) {
+                Some(e) => e.1 = e.1.max(st.seconds),
+                None => names.push((st.stage.clone(), st.seconds)),
             }
         }
     }
     names.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let cell = |p: &Option<(f64, u64, Vec<(String, f64)>)>, n: &str| -> String {
+    let cell = |p: &Option<Profile>, n: &str| -> String {
         p.as_ref()
-            .and_then(|p| p.2.iter().find(|(m, _)| m == n))
-            .map_or("—".into(), |(_, t)| format!("{t:.1}"))
+            .and_then(|p| p.stages.iter().find(|s| s.stage == n))
+            .map_or("—".into(), |s| format!("{:.1}", s.seconds))
     };
-    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). With studies in parallel the stages overlap, so they add up to more than the total.\n\n");
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). The total's CPU seconds are the process's user and system time over every thread (`getrusage`), where the profile kept them. With studies in parallel the stages overlap, so they add up to more than the total.\n\n");
     let mut t = Table::new(
         std::iter::once("stage".to_string()).chain(cols.iter().map(|(h, _)| format!("{h} (s)"))),
     );
@@ -189,8 +215,10 @@ pub(super) fn main_job_table(results: &Path) -> String {
         std::iter::once("**total**".to_string()).chain(cols.iter().map(|(_, p)| {
             format!(
                 "**{}**",
-                p.as_ref()
-                    .map_or("—".into(), |p| format!("{:.0} ({} threads)", p.0, p.1))
+                p.as_ref().map_or("—".into(), |p| match p.cpu_s {
+                    Some(c) => format!("{:.0} ({} threads, {c:.0} s of CPU)", p.total_s, p.threads),
+                    None => format!("{:.0} ({} threads)", p.total_s, p.threads),
+                })
             )
         })),
     );
