@@ -662,6 +662,37 @@ fn the_optimisers_study_is_of_the_published_table() {
     );
 }
 
+/// The render study shaded its LTC methods with the published GGX table: the SHA-256 it
+/// records is that of results/fits/ltc-ggx.json's binary16 table, packed here as every
+/// texture ships it (per texel k = i + n·j: (a, b), (c, d), (norm, fresnel) as binary16
+/// pairs in little-endian u32, the first in the low bits). A refit without rerunning
+/// `regen --only render` fails here, not only in its pictures.
+#[test]
+fn the_render_study_shaded_with_the_published_table() {
+    let text = std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let t = v["table_f16"].as_array().unwrap();
+    let n = t.len();
+    let mut bytes = Vec::new();
+    for k in 0..n * n {
+        let (i, j) = (k % n, k / n);
+        let c = &t[j][i];
+        let h = |q: usize| half::f16::from_f64(c[q].as_f64().unwrap()).to_bits() as u32;
+        for w in [h(0) | h(1) << 16, h(2) | h(3) << 16, h(4) | h(5) << 16] {
+            bytes.extend_from_slice(&w.to_le_bytes());
+        }
+    }
+    let now = ndfbench::io::sha256_hex(&bytes);
+    let r = results::read::<ndfbench::results::render::Render>(Path::new("results"))
+        .unwrap()
+        .expect("results/fits/render.json");
+    assert_eq!(
+        r.ltc_table_sha256.as_deref(),
+        Some(now.as_str()),
+        "results/fits/render.json was rendered with another GGX LTC table than results/fits/ltc-ggx.json's (regen --only render)"
+    );
+}
+
 /// The JSON text of a table file's part its readers read (spec, preset, grid, layout,
 /// the stored tables), keys sorted.
 fn table_part(text: &str) -> Vec<u8> {

@@ -357,6 +357,22 @@ pub fn ltc_lookup(alpha: f32, cos_theta: f32) -> ([f32; 4], f32) {
     ([v[0], v[1], v[2], v[3]], v[4])
 }
 
+/// The SHA-256 (lower-case hex) of the GGX LTC table the methods shade with: for every
+/// texel k = i + n·j in turn, its three words `LTC_1_F16[k][0]`, `LTC_1_F16[k][1]`,
+/// `LTC_2_F16[k][0]` as little-endian u32 (binary16 pairs, the first in bits 0–15). The
+/// render study records it, so that a refit the render was not rerun after is caught
+/// (tests/results.rs recomputes it from results/fits/ltc-ggx.json's `table_f16`).
+pub fn ltc_table_sha256() -> String {
+    let n = LTC_TABLE_N;
+    let mut bytes = Vec::with_capacity(n * n * 12);
+    for k in 0..n * n {
+        for w in [LTC_1_F16[k][0], LTC_1_F16[k][1], LTC_2_F16[k][0]] {
+            bytes.extend_from_slice(&w.to_le_bytes());
+        }
+    }
+    crate::io::sha256_hex(&bytes)
+}
+
 /// One quad light's LTC evaluation at a pixel: the table's (a, b, c, d) and the quad's
 /// vertices in the shading frame (x toward the view), to be integrated by
 /// `generated::shading::ltc_quad` (or its SIMD kernel) and multiplied by `scale`

@@ -22,6 +22,10 @@ pub struct Render {
     /// Seed 002 Fig 11's claim judged in the glint scene under SGs (absent without one).
     #[serde(default)]
     pub fig11: Option<Fig11>,
+    /// The SHA-256 of the GGX LTC table the methods shaded with
+    /// (`render::methods::ltc_table_sha256`); `None` in a file from before it was kept.
+    #[serde(default)]
+    pub ltc_table_sha256: Option<String>,
 }
 
 /// Seed 002 §5.4's claim (Fig 11): the prefiltered query has "much lower noise" than the

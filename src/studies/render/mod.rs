@@ -333,6 +333,7 @@ fn render(set: &mut Outputs, results: &Path, c: &Computed) -> Result<()> {
             checks: c.checks.clone(),
             renders: json,
             fig11: c.fig11.clone(),
+            ltc_table_sha256: Some(crate::render::methods::ltc_table_sha256()),
         },
     )
 }
