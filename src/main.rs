@@ -66,7 +66,17 @@ fn run_regen(
     results: &std::path::Path,
     opts: &ndfbench::studies::RunOptions,
 ) -> Result<bool, ndfbench::Error> {
-    run_regen_timed(only, preset, fits, results, opts, &mut Vec::new())
+    let start = std::time::Instant::now();
+    let mut times = Vec::new();
+    let ok = run_regen_timed(only, preset, fits, results, opts, &mut times)?;
+    // every study, one at a time, nothing from the cache: each study's own cost
+    if only.is_none() && !opts.parallel && opts.cache.is_none() {
+        ndfbench::studies::performance::write_sequential_times(
+            &times,
+            start.elapsed().as_secs_f64(),
+        );
+    }
+    Ok(ok)
 }
 
 /// [`run_regen`], appending each study's and each generation step's wall-clock seconds.
@@ -81,7 +91,12 @@ fn run_regen_timed(
     let (out, t) = ndfbench::studies::regen_with(fits, results, only, preset, opts)?;
     times.extend(t.iter().map(|t| {
         let maps: Vec<(usize, usize)> = t.maps.iter().map(|m| (m.items, m.computed)).collect();
-        ndfbench::studies::performance::JobStage::of_study(&t.study, t.seconds, &maps)
+        ndfbench::studies::performance::JobStage::of_study(
+            &t.study,
+            t.seconds,
+            t.cpu_seconds,
+            &maps,
+        )
     }));
     let t0 = std::time::Instant::now();
     // generated WGSL (and, for the canonical results/, the Rust twins) follow the fits

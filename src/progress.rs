@@ -213,6 +213,25 @@ impl Drop for Progress {
     }
 }
 
+/// CPU seconds this process has spent so far, user + system over every thread
+/// (`getrusage(RUSAGE_SELF)`); `None` where the OS does not say.
+pub fn process_cpu_seconds() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        // SAFETY: getrusage writes one plain struct that we own; a zeroed rusage is valid
+        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+        if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) } != 0 {
+            return None;
+        }
+        let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        Some(s(u.ru_utime) + s(u.ru_stime))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -202,7 +202,7 @@ fn prefilter_rank_compresses_and_rejects_bad_input_without_output() {
 /// never less after more work.
 #[test]
 fn the_process_cpu_time_grows_with_work() {
-    use ndfbench::studies::performance::process_cpu_seconds;
+    use ndfbench::progress::process_cpu_seconds;
     let Some(t0) = process_cpu_seconds() else {
         assert!(!cfg!(unix), "getrusage gave nothing on Unix");
         return;
@@ -240,6 +240,13 @@ fn bench_report_refreshes_only_the_main_job_section() {
             "stages": [{"stage": "ltc-ggx", "seconds": 90.04, "computed": 3, "reused": 0}]}"#,
     )
     .unwrap();
+    // a sequential regen's profile: each study alone, with its own CPU seconds
+    std::fs::write(
+        target.join("regen-sequential.json"),
+        r#"{"total_s": 643.0, "threads": 2, "cpu_s": 1202.3,
+            "stages": [{"stage": "ltc-ggx", "seconds": 90.04, "cpu_s": 172.6}]}"#,
+    )
+    .unwrap();
     let refresh = || {
         bin()
             .args([
@@ -262,7 +269,11 @@ fn bench_report_refreshes_only_the_main_job_section() {
     // the cold total with its CPU seconds; the kept "before" profile has none
     assert!(new.contains("**633 (2 threads, 1222 s of CPU)**"), "{new}");
     assert!(new.contains("**993 (2 threads)**"), "{new}");
-    assert!(new.contains("| 90.0 |"), "{new}");
+    assert!(
+        new.contains("| ltc-ggx | 251.7 | 90.0 | — | 90.0 (173) |"),
+        "{new}"
+    );
+    assert!(new.contains("**643 (2 threads, 1202 s of CPU)**"), "{new}");
     std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
     let out = refresh();
     assert_eq!(out.status.code(), Some(2));

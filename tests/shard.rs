@@ -37,7 +37,19 @@ fn files(dir: &Path) -> Vec<Vec<u8>> {
 
 fn unsharded(name: &str) -> (PathBuf, Vec<Vec<u8>>) {
     let d = tmp(&format!("whole-{name}"));
-    studies::regen(&fits(), &d, Some(STUDY), Preset::Quick).unwrap();
+    let (_, t) = studies::regen_with(
+        &fits(),
+        &d,
+        Some(STUDY),
+        Preset::Quick,
+        &RunOptions::default(),
+    )
+    .unwrap();
+    // one study at a time: each has its own CPU seconds (getrusage, on Unix)
+    assert!(
+        !cfg!(unix) || t.iter().all(|t| t.cpu_seconds.is_some_and(|c| c >= 0.0)),
+        "{t:?}"
+    );
     let f = files(&d);
     (d, f)
 }
@@ -272,6 +284,8 @@ fn a_cache_hit_equals_recomputation() {
         t1[0].maps.iter().all(|m| m.source != "cache hit"),
         "cold run hit an empty cache"
     );
+    // studies that may run at the same time have no CPU seconds of their own
+    assert!(t1.iter().all(|t| t.cpu_seconds.is_none()), "{t1:?}");
     assert!(
         !t2[0].maps.is_empty() && t2[0].maps.iter().all(|m| m.source == "cache hit"),
         "{:?}",

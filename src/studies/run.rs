@@ -25,6 +25,9 @@ pub struct RunOptions {
 pub struct StudyTime {
     pub study: String,
     pub seconds: f64,
+    /// The process's CPU seconds while it ran, where it ran alone (studies one at a time;
+    /// `None` when studies ran at the same time, whose CPU cannot be told apart).
+    pub cpu_seconds: Option<f64>,
     pub maps: Vec<MapLog>,
 }
 
@@ -215,16 +218,21 @@ pub fn regen_with(
         Some(d) => Mode::Cache(memo::cache::Cache::new(d)),
         None => Mode::Plain,
     };
+    let cpu = crate::progress::process_cpu_seconds;
     let runs = schedule(&selected, opts.parallel, &|s: &FitSpec| {
+        let c0 = cpu().filter(|_| !opts.parallel);
         let (r, scope, secs) = run_one(s, &specs, results, preset, mode(), true);
+        let cpu_seconds = c0.and_then(|c0| Some(cpu()? - c0));
         if r.is_ok() {
-            crate::report::stage(&format!("regen {}: done in {secs:.1} s", s.name));
+            let used = cpu_seconds.map_or(String::new(), |c| format!(" ({c:.1} s of CPU)"));
+            crate::report::stage(&format!("regen {}: done in {secs:.1} s{used}", s.name));
         }
         (
             r,
             StudyTime {
                 study: s.name.clone(),
                 seconds: secs,
+                cpu_seconds,
                 maps: scope.log,
             },
         )

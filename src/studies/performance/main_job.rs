@@ -7,6 +7,39 @@ use crate::error::Result;
 use crate::report::table::Table;
 use std::path::{Path, PathBuf};
 
+/// Where a sequential, uncached `regen` of every study leaves its profile: each study
+/// alone, so its CPU seconds are its own.
+pub fn sequential_times_path() -> PathBuf {
+    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
+    Path::new(&target).join("regen-sequential.json")
+}
+
+/// Keep a sequential, uncached `regen`'s profile for `bench-report` (best-effort, as
+/// [`write_main_job_times`]).
+pub fn write_sequential_times(stages: &[JobStage], total: f64) {
+    keep(&sequential_times_path(), stages, total, false);
+}
+
+/// Write a profile to `p`; a failure is said, never fatal.
+fn keep(p: &Path, stages: &[JobStage], total: f64, warm: bool) {
+    let json = Profile {
+        total_s: total,
+        threads: rayon::current_num_threads(),
+        warm,
+        cpu_s: crate::progress::process_cpu_seconds(),
+        note: None,
+        stages: stages.to_vec(),
+    };
+    if let Err(e) = crate::io::write_atomic(
+        p,
+        serde_json::to_string_pretty(&json)
+            .unwrap_or_default()
+            .as_bytes(),
+    ) {
+        eprintln!("profile not kept ({}): {e}", p.display());
+    }
+}
+
 /// Where the main job leaves its wall-clock profile (build output, not results/: it
 /// changes on every run): `target/main-job-cold.json` when it computed any memoised map,
 /// `target/main-job-warm.json` when every one came from the cache.
@@ -33,6 +66,9 @@ pub struct JobStage {
     pub computed: usize,
     #[serde(default)]
     pub reused: usize,
+    /// The process's CPU seconds during the stage, where it ran alone (a sequential run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_s: Option<f64>,
 }
 
 /// A main job's wall-clock profile as kept on disk (target/main-job-{cold,warm}.json,
@@ -61,35 +97,24 @@ impl JobStage {
             seconds: t0.elapsed().as_secs_f64(),
             computed: 0,
             reused: 0,
+            cpu_s: None,
         }
     }
-    /// A study's stage: its seconds and, per memoised map, (items, items computed).
-    pub fn of_study(study: &str, seconds: f64, maps: &[(usize, usize)]) -> JobStage {
+    /// A study's stage: its seconds, its CPU seconds where it ran alone and, per memoised
+    /// map, (items, items computed).
+    pub fn of_study(
+        study: &str,
+        seconds: f64,
+        cpu_s: Option<f64>,
+        maps: &[(usize, usize)],
+    ) -> JobStage {
         JobStage {
             stage: study.into(),
             seconds,
             computed: maps.iter().map(|m| m.1).sum(),
             reused: maps.iter().map(|m| m.0 - m.1).sum(),
+            cpu_s,
         }
-    }
-}
-
-/// CPU seconds this process has spent so far, user + system over every thread
-/// (`getrusage(RUSAGE_SELF)`); `None` where the OS does not say.
-pub fn process_cpu_seconds() -> Option<f64> {
-    #[cfg(unix)]
-    {
-        // SAFETY: getrusage writes one plain struct that we own; a zeroed rusage is valid
-        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
-        if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) } != 0 {
-            return None;
-        }
-        let s = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-        Some(s(u.ru_utime) + s(u.ru_stime))
-    }
-    #[cfg(not(unix))]
-    {
-        None
     }
 }
 
@@ -99,7 +124,7 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
     let warm = stages.iter().all(|s| s.computed == 0) && stages.iter().any(|s| s.reused > 0);
     let mut sorted: Vec<&JobStage> = stages.iter().collect();
     sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
-    let cpu = process_cpu_seconds();
+    let cpu = crate::progress::process_cpu_seconds();
     println!(
         "main job: {total:.0} s in all{} ({}); by stage (longest first):",
         cpu.map_or(String::new(), |c| format!(", {c:.0} s of CPU")),
@@ -119,23 +144,7 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
             s.reused
         );
     }
-    let json = Profile {
-        total_s: total,
-        threads: rayon::current_num_threads(),
-        warm,
-        cpu_s: cpu,
-        note: None,
-        stages: stages.to_vec(),
-    };
-    let p = main_job_times_path(warm);
-    if let Err(e) = crate::io::write_atomic(
-        &p,
-        serde_json::to_string_pretty(&json)
-            .unwrap_or_default()
-            .as_bytes(),
-    ) {
-        eprintln!("main-job profile not kept: {e}");
-    }
+    keep(&main_job_times_path(warm), stages, total, warm);
 }
 
 /// A kept profile; `None` when the file is absent, or unreadable (said on stderr: a
@@ -188,6 +197,10 @@ pub(super) fn main_job_table(results: &Path) -> String {
             "after: warm (parallel, maps from the cache)",
             profile(&main_job_times_path(true)),
         ),
+        (
+            "now, each study alone: sequential `regen`, no cache (CPU s)",
+            profile(&sequential_times_path()),
+        ),
     ];
     if cols.iter().all(|c| c.1.is_none()) {
         return String::new();
@@ -205,9 +218,12 @@ pub(super) fn main_job_table(results: &Path) -> String {
     let cell = |p: &Option<Profile>, n: &str| -> String {
         p.as_ref()
             .and_then(|p| p.stages.iter().find(|s| s.stage == n))
-            .map_or("—".into(), |s| format!("{:.1}", s.seconds))
+            .map_or("—".into(), |s| match s.cpu_s {
+                Some(c) => format!("{:.1} ({c:.0})", s.seconds),
+                None => format!("{:.1}", s.seconds),
+            })
     };
-    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). The total's CPU seconds are the process's user and system time over every thread (`getrusage`), where the profile kept them. With studies in parallel the stages overlap, so they add up to more than the total.\n\n");
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). The total's CPU seconds are the process's user and system time over every thread (`getrusage`), where the profile kept them. With studies in parallel the stages overlap, so they add up to more than the total, and one study's time says little about its own cost; the last column is a sequential `regen` of every study with no cache (`target/regen-sequential.json`, the studies only, without verify and the convergence study), where each study ran alone, with the CPU seconds it used in parentheses.\n\n");
     let mut t = Table::new(
         std::iter::once("stage".to_string()).chain(cols.iter().map(|(h, _)| format!("{h} (s)"))),
     );
