@@ -198,7 +198,7 @@ pub(super) fn main_job_table(results: &Path) -> String {
             profile(&main_job_times_path(true)),
         ),
         (
-            "now, each study alone: sequential `regen`, no cache (CPU s)",
+            "each study alone: sequential `regen`, no cache; CPU in parentheses",
             profile(&sequential_times_path()),
         ),
     ];
