@@ -145,11 +145,11 @@ pub fn published_sha256(path: &Path) -> Result<String> {
     else {
         return Ok(crate::io::sha256_hex(&bytes));
     };
-    // serde_json's map keeps its keys sorted: the same table, the same bytes
-    let part: serde_json::Map<String, serde_json::Value> = obj
+    // keys sorted whatever the file's order (and whatever serde_json's map keeps)
+    let part: std::collections::BTreeMap<&str, &serde_json::Value> = obj
         .iter()
         .filter(|(k, _)| TABLE_KEYS.contains(&k.as_str()))
-        .map(|(k, v)| (k.clone(), v.clone()))
+        .map(|(k, v)| (k.as_str(), v))
         .collect();
     let text = serde_json::to_vec(&part).map_err(|e| Error::InvalidArgument(e.to_string()))?;
     Ok(crate::io::sha256_hex(&text))

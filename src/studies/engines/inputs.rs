@@ -1,9 +1,10 @@
 //! What an engine check was judged on: every file under results/ that the harnesses loaded
-//! or the judge read, with the SHA-256 of what they read of it when it was judged (of an LTC
-//! table file its table and spec, `results::published_sha256`; of any other file every byte). The engines themselves run only
-//! where Chromium, the Bevy harness and an adapter are, so their figures cannot be redone
-//! everywhere; the digests can be checked everywhere, and a table refitted after the check
-//! names the report it left stale ([`stale`]).
+//! or the judge read, with the SHA-256 of what they read of it when it was judged (of an
+//! LTC table file its table and spec, `results::published_sha256`; of any other file every
+//! byte). The engines themselves run only where Chromium, the Bevy harness and an adapter
+//! are, so their figures cannot be redone everywhere; the digests can be checked
+//! everywhere, and a table refitted after the check names the report it left stale
+//! ([`stale`]).
 
 use crate::error::Result;
 use serde::{Deserialize, Serialize};

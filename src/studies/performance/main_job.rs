@@ -10,8 +10,12 @@ use std::path::{Path, PathBuf};
 /// Where a sequential, uncached `regen` of every study leaves its profile: each study
 /// alone, so its CPU seconds are its own.
 pub fn sequential_times_path() -> PathBuf {
-    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
-    Path::new(&target).join("regen-sequential.json")
+    target_dir().join("regen-sequential.json")
+}
+
+/// Cargo's target directory (`CARGO_TARGET_DIR`, else `target`): where local profiles live.
+fn target_dir() -> PathBuf {
+    PathBuf::from(std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into()))
 }
 
 /// Keep a sequential, uncached `regen`'s profile for `bench-report` (best-effort, as
@@ -44,8 +48,7 @@ fn keep(p: &Path, stages: &[JobStage], total: f64, warm: bool) {
 /// changes on every run): `target/main-job-cold.json` when it computed any memoised map,
 /// `target/main-job-warm.json` when every one came from the cache.
 pub fn main_job_times_path(warm: bool) -> PathBuf {
-    let target = std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into());
-    Path::new(&target).join(if warm {
+    target_dir().join(if warm {
         "main-job-warm.json"
     } else {
         "main-job-cold.json"
