@@ -130,13 +130,6 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
         .collect()
 }
 
-/// The SHA-256 of the file at `path` ([`sha256_hex`]); a typed error naming it when it
-/// cannot be read.
-pub fn file_sha256(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(io_err(path))?;
-    Ok(sha256_hex(&bytes))
-}
-
 /// FNV-1a 64 of a byte string (manifest checksums: detects a mixed set, not an attacker).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;

@@ -714,8 +714,9 @@ fn table_part(text: &str) -> Vec<u8> {
 }
 
 /// The judge-tolerance study (on request) ran on the published tables: each curve records
-/// the SHA-256 of the table's file's table part (its cells and its spec's tolerances) and it is the
-/// file's now, so a refit without rerunning the study fails here, not only in its report.
+/// the SHA-256 of its table file's table part (its cells and its spec's tolerances), and it
+/// is the file's now, so a refit without rerunning the study fails here, not only in its
+/// report.
 #[test]
 fn the_judge_tolerance_study_is_of_the_published_tables() {
     let results = Path::new("results");

@@ -176,9 +176,8 @@ fn curve<T: LtcTarget>(
             })
         })
         .collect::<Result<_>>()?;
-    let mut c = assemble(name, cells.len(), &chosen, pl, &judged);
-    c.table_sha256 = Some(crate::results::fits_sha256(results, name)?);
-    Ok(c)
+    let sha = crate::results::fits_sha256(results, name)?;
+    Ok(assemble(name, cells.len(), &chosen, pl, &judged, sha))
 }
 
 /// The tolerances every curve judges, in order: the plan's `rels` (both figures), then its
@@ -196,13 +195,15 @@ fn tolerances(pl: &Plan, chosen: &Chosen) -> Vec<(String, Tolerance)> {
         .collect()
 }
 
-/// A table's two curves from its cells judged at [`tolerances`] (in that order).
+/// A table's two curves from its cells judged at [`tolerances`] (in that order), with the
+/// SHA-256 of the table file it judged (`results::fits_sha256`).
 fn assemble(
     name: &str,
     cells: usize,
     chosen: &Chosen,
     pl: &Plan,
     judged: &[Vec<Option<LobeError>>],
+    table_sha256: String,
 ) -> JudgeCurve {
     let reference = &judged[0];
     let (overall, l1) = judged.split_at(pl.rels.len());
@@ -225,7 +226,7 @@ fn assemble(
         chosen_l1_rel: chosen.held_out_l1_rel.unwrap_or(chosen.held_out_rel),
         points,
         l1_points,
-        table_sha256: None,
+        table_sha256: Some(table_sha256),
     }
 }
 
@@ -265,9 +266,8 @@ fn aniso_curve(results: &std::path::Path, pl: &Plan) -> Result<JudgeCurve> {
             })
         })
         .collect::<Result<_>>()?;
-    let mut c = assemble(name, cells.len(), &chosen, pl, &judged);
-    c.table_sha256 = Some(crate::results::fits_sha256(results, name)?);
-    Ok(c)
+    let sha = crate::results::fits_sha256(results, name)?;
+    Ok(assemble(name, cells.len(), &chosen, pl, &judged, sha))
 }
 
 /// One tolerance's figures against the reference's, cell by cell.

@@ -21,16 +21,18 @@ fn target_dir() -> PathBuf {
 /// Keep a sequential, uncached `regen`'s profile for `bench-report` (best-effort, as
 /// [`write_main_job_times`]).
 pub fn write_sequential_times(stages: &[JobStage], total: f64) {
-    keep(&sequential_times_path(), stages, total, false);
+    let cpu = crate::progress::process_cpu_seconds();
+    keep(&sequential_times_path(), stages, total, cpu, false);
 }
 
-/// Write a profile to `p`; a failure is said, never fatal.
-fn keep(p: &Path, stages: &[JobStage], total: f64, warm: bool) {
+/// Write a profile (the process's CPU seconds `cpu` at its end) to `p`; a failure is
+/// said, never fatal.
+fn keep(p: &Path, stages: &[JobStage], total: f64, cpu: Option<f64>, warm: bool) {
     let json = Profile {
         total_s: total,
         threads: rayon::current_num_threads(),
         warm,
-        cpu_s: crate::progress::process_cpu_seconds(),
+        cpu_s: cpu,
         note: None,
         stages: stages.to_vec(),
     };
@@ -147,7 +149,8 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
             s.reused
         );
     }
-    keep(&main_job_times_path(warm), stages, total, warm);
+    // the figure printed above is the one kept
+    keep(&main_job_times_path(warm), stages, total, cpu, warm);
 }
 
 /// A kept profile; `None` when the file is absent, or unreadable (said on stderr: a
