@@ -2,28 +2,59 @@
 //!
 //! - On a terminal: an `indicatif` bar per running stage (items done of total, elapsed,
 //!   ETA), one line each under a shared [`MultiProgress`], as cargo shows crates.
-//! - Otherwise (CI, `| tee`, a log file): one ticker thread prints, for every running
-//!   stage that has been silent for [`PERIOD`], a plain line
-//!   `[  123.4 s] ltc-ggx: fit 64² cells: 1200/4096 (29 %), ETA 290 s` — so a slow item
-//!   still gets its line — and a last line when a stage that printed ends. Stages that
-//!   end within the period print nothing.
+//! - Otherwise (CI, `| tee`, a log file): one ticker thread prints a plain line
+//!   `[  123.4 s] ltc-ggx: ltc fit: 1200/4096 (29 %), ETA 290 s` for every running study
+//!   that has been silent for [`DUE`], so no running study is silent for more than
+//!   [`PERIOD`] — so a slow item still gets its line — and a last line when a stage that
+//!   printed ends. Stages that end within the period print nothing.
 //!
-//! A study registers itself for its whole run ([`Progress::new`] with total 0: "running,
-//! N s"), so a study between its maps is not silent either.
+//! A study registers itself for its whole run ([`Progress::study`]: "running, N s"); the
+//! stages started on its thread are its own, and the study's silence is measured from the
+//! last line of any of them, so a run of short stages that each end unprinted cannot add
+//! up to a long silence. The line, when due, is that of the study's latest busy stage (its
+//! numbers), else the study's own. A stage started outside a study (or on a worker thread)
+//! is due its line on its own silence.
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
-/// The longest a running stage stays silent when stderr is not a terminal.
+/// The longest a running study stays silent when stderr is not a terminal.
 pub const PERIOD: Duration = Duration::from_secs(10);
 
+/// How often the ticker wakes.
+const TICK: Duration = Duration::from_millis(500);
+
+/// The silence after which the ticker prints: [`PERIOD`] less two ticks, so the line
+/// comes within the period even when a wake-up runs a tick late.
+pub const DUE: Duration = Duration::from_millis(9000);
+
+thread_local! {
+    /// The study running on this thread (its entry's id), set by [`Progress::study`].
+    static OWNER: Cell<Option<u64>> = const { Cell::new(None) };
+}
+
 /// One line on stderr stamped with the seconds since the process's first line
-/// (`crate::report::stage` is this).
+/// (`crate::report::stage` is this). Said on a study's thread, it counts as that study's
+/// line: the study's silence starts again.
 pub fn stamp(msg: &str) {
+    emit(msg);
+    if let Some(id) = OWNER.get() {
+        if let Ok(mut p) = plain().lock() {
+            if let Some(e) = p.running.get_mut(&id) {
+                e.last = Instant::now();
+            }
+        }
+    }
+}
+
+/// [`stamp`]'s line alone (what the ticker and a stage's end print, with the stages'
+/// lock held).
+fn emit(msg: &str) {
     static START: OnceLock<Instant> = OnceLock::new();
     let t0 = START.get_or_init(Instant::now);
     let text = format!("[{:>7.1} s] {msg}", t0.elapsed().as_secs_f64());
@@ -71,53 +102,122 @@ struct Entry {
     start: Instant,
     last: Instant,
     printed: bool,
+    /// The study whose thread started this stage.
+    owner: Option<u64>,
 }
 
+#[derive(Default)]
 struct Plain {
     next_id: u64,
     running: BTreeMap<u64, Entry>,
 }
 
+impl Plain {
+    fn insert(
+        &mut self,
+        label: String,
+        total: u64,
+        done: Arc<AtomicU64>,
+        owner: Option<u64>,
+        now: Instant,
+    ) -> u64 {
+        let id = self.next_id;
+        self.next_id += 1;
+        self.running.insert(
+            id,
+            Entry {
+                label,
+                total,
+                done,
+                start: now,
+                last: now,
+                printed: false,
+                owner,
+            },
+        );
+        id
+    }
+
+    /// Print (through `sink`) a line for every running study, and every stage of no
+    /// running study, silent for `period` at `now`.
+    fn tick(&mut self, now: Instant, period: Duration, sink: &dyn Fn(&str)) {
+        let studies: Vec<u64> = self
+            .running
+            .iter()
+            .filter(|(_, e)| e.total == 0)
+            .map(|(&id, _)| id)
+            .collect();
+        for &study in &studies {
+            let members: Vec<u64> = self
+                .running
+                .iter()
+                .filter(|(_, e)| e.owner == Some(study))
+                .map(|(&id, _)| id)
+                .collect();
+            // the study's silence: since the last line of the study or any of its stages
+            let last = self.running[&study].last;
+            if !due(last, now, period) {
+                continue;
+            }
+            // the latest busy stage speaks for the study (its numbers), else the study
+            let speaker = members
+                .iter()
+                .copied()
+                .max_by_key(|id| (self.running[id].start, *id))
+                .unwrap_or(study);
+            if let Some(e) = self.running.get_mut(&speaker) {
+                let done = e.done.load(Ordering::Relaxed);
+                sink(&line(&e.label, done, e.total, now - e.start, false));
+                e.printed = true;
+                e.last = now;
+            }
+            if let Some(e) = self.running.get_mut(&study) {
+                e.last = now;
+            }
+        }
+        for e in self.running.values_mut() {
+            let orphan = e.owner.is_none_or(|o| !studies.contains(&o));
+            if e.total > 0 && orphan && due(e.last, now, period) {
+                let done = e.done.load(Ordering::Relaxed);
+                sink(&line(&e.label, done, e.total, now - e.start, false));
+                e.last = now;
+                e.printed = true;
+            }
+        }
+    }
+
+    /// End stage `id` at `now`: its last line if it printed one (which counts as its
+    /// study's line too).
+    fn end(&mut self, id: u64, now: Instant, sink: &dyn Fn(&str)) {
+        let Some(e) = self.running.remove(&id) else {
+            return;
+        };
+        if e.printed {
+            let done = e.done.load(Ordering::Relaxed);
+            sink(&line(&e.label, done, e.total, now - e.start, true));
+            if let Some(o) = e.owner.and_then(|o| self.running.get_mut(&o)) {
+                o.last = now;
+            }
+        }
+    }
+}
+
 fn plain() -> &'static Mutex<Plain> {
     static P: OnceLock<Mutex<Plain>> = OnceLock::new();
     P.get_or_init(|| {
-        // the ticker: wakes every second, prints what is due
+        // the ticker: wakes every TICK, prints what is due
         std::thread::spawn(|| loop {
-            std::thread::sleep(Duration::from_secs(1));
-            tick(Instant::now(), PERIOD, &stamp);
+            std::thread::sleep(TICK);
+            tick(Instant::now(), DUE, &emit);
         });
-        Mutex::new(Plain {
-            next_id: 0,
-            running: BTreeMap::new(),
-        })
+        Mutex::new(Plain::default())
     })
 }
 
-/// Print (through `sink`) a line for every running stage due at `now`.
+/// Print (through `sink`) what is due at `now` (see [`Plain::tick`]).
 fn tick(now: Instant, period: Duration, sink: &dyn Fn(&str)) {
-    let Ok(mut p) = plain().lock() else { return };
-    // a study's own "running" line gives way to the lines of its maps
-    let busy: Vec<String> = p
-        .running
-        .values()
-        .filter(|e| e.total > 0)
-        .map(|e| e.label.clone())
-        .collect();
-    for e in p.running.values_mut() {
-        let inner = e.total == 0
-            && busy
-                .iter()
-                .any(|b| b.starts_with(&format!("{}: ", e.label)));
-        if inner {
-            e.last = now;
-            continue;
-        }
-        if due(e.last, now, period) {
-            let done = e.done.load(Ordering::Relaxed);
-            sink(&line(&e.label, done, e.total, now - e.start, false));
-            e.last = now;
-            e.printed = true;
-        }
+    if let Ok(mut p) = plain().lock() {
+        p.tick(now, period, sink);
     }
 }
 
@@ -131,10 +231,13 @@ pub struct Progress {
     done: Arc<AtomicU64>,
     bar: Option<ProgressBar>,
     id: Option<u64>,
+    /// For a study: the thread's study before it, restored when it ends.
+    outer: Option<Option<u64>>,
 }
 
 impl Progress {
-    /// A stage of `total` items (0: unknown, shown as "running").
+    /// A stage of `total` items (0: unknown, shown as "running"), the current study's
+    /// when started on its thread.
     pub fn new(label: impl Into<String>, total: u64) -> Progress {
         let label = label.into();
         let done = Arc::new(AtomicU64::new(0));
@@ -156,30 +259,30 @@ impl Progress {
                 done,
                 bar: Some(bar),
                 id: None,
+                outer: None,
             };
         }
-        let now = Instant::now();
-        let id = plain().lock().ok().map(|mut p| {
-            let id = p.next_id;
-            p.next_id += 1;
-            p.running.insert(
-                id,
-                Entry {
-                    label,
-                    total,
-                    done: done.clone(),
-                    start: now,
-                    last: now,
-                    printed: false,
-                },
-            );
-            id
-        });
+        let owner = OWNER.get();
+        let id = plain()
+            .lock()
+            .ok()
+            .map(|mut p| p.insert(label, total, done.clone(), owner, Instant::now()));
         Progress {
             done,
             bar: None,
             id,
+            outer: None,
         }
+    }
+
+    /// A study, for its whole run: "running, N s", and the owner of every stage started
+    /// on this thread until it ends.
+    pub fn study(name: impl Into<String>) -> Progress {
+        let mut p = Progress::new(name, 0);
+        if let Some(id) = p.id {
+            p.outer = Some(OWNER.replace(Some(id)));
+        }
+        p
     }
 
     /// `k` more items done.
@@ -200,14 +303,12 @@ impl Drop for Progress {
             b.finish_and_clear();
             bars().remove(&b);
         }
+        if let Some(outer) = self.outer.take() {
+            OWNER.set(outer);
+        }
         if let Some(id) = self.id {
             if let Ok(mut p) = plain().lock() {
-                if let Some(e) = p.running.remove(&id) {
-                    if e.printed {
-                        let done = e.done.load(Ordering::Relaxed);
-                        stamp(&line(&e.label, done, e.total, e.start.elapsed(), true));
-                    }
-                }
+                p.end(id, Instant::now(), &emit);
             }
         }
     }
@@ -297,6 +398,162 @@ mod tests {
             mine[0]
         );
         p.finish();
+    }
+
+    /// Drive `p` on a synthetic clock from `t0` in ticks of [`TICK`] for `secs`, running
+    /// `events(p, t)` before each tick; returns every line with its time in seconds.
+    fn drive(
+        p: &mut Plain,
+        t0: Instant,
+        secs: f64,
+        mut events: impl FnMut(&mut Plain, f64, &dyn Fn(&str)),
+    ) -> Vec<(f64, String)> {
+        let seen = std::cell::RefCell::new(Vec::new());
+        let t = Cell::new(0.0);
+        let sink = |s: &str| seen.borrow_mut().push((t.get(), s.to_string()));
+        while t.get() <= secs {
+            events(p, t.get(), &sink);
+            p.tick(t0 + Duration::from_secs_f64(t.get()), DUE, &sink);
+            t.set(t.get() + TICK.as_secs_f64());
+        }
+        seen.into_inner()
+    }
+
+    /// The longest silence from 0 to `end` between the lines at `times`.
+    fn longest_silence(times: &[f64], end: f64) -> f64 {
+        let mut last = 0.0f64;
+        let mut worst = 0.0f64;
+        for &t in times.iter().chain([&end]) {
+            worst = worst.max(t - last);
+            last = t;
+        }
+        worst
+    }
+
+    #[test]
+    fn short_stages_in_a_row_cannot_silence_a_study() {
+        // a study of ten 6-second stages, each ending before its own line would be due:
+        // the study still gets a line within every period (the old per-stage rule left it
+        // silent for up to a stage plus a period)
+        let t0 = Instant::now();
+        let mut p = Plain::default();
+        let done = || Arc::new(AtomicU64::new(0));
+        let study = p.insert("study".into(), 0, done(), None, t0);
+        let mut stage: Option<u64> = None;
+        let lines = drive(&mut p, t0, 60.0, |p, t, sink| {
+            let at = t0 + Duration::from_secs_f64(t);
+            if t % 6.0 == 0.0 {
+                if let Some(id) = stage.take() {
+                    p.end(id, at, sink);
+                }
+                if t < 60.0 {
+                    let label = format!("study: stage {}", t / 6.0);
+                    stage = Some(p.insert(label, 4, done(), Some(study), at));
+                }
+            }
+        });
+        let times: Vec<f64> = lines.iter().map(|l| l.0).collect();
+        let worst = longest_silence(&times, 60.0);
+        assert!(
+            worst <= (DUE + TICK).as_secs_f64() && worst < PERIOD.as_secs_f64(),
+            "{worst} s: {lines:?}"
+        );
+        // the lines carry the busy stage's numbers, not "running"
+        assert!(
+            lines.iter().all(|l| l.1.starts_with("study: stage ")),
+            "{lines:?}"
+        );
+        assert!(lines.len() >= 6, "{lines:?}");
+    }
+
+    #[test]
+    fn a_study_without_a_busy_stage_says_it_is_running() {
+        let t0 = Instant::now();
+        let mut p = Plain::default();
+        p.insert("ltc-ggx".into(), 0, Arc::new(AtomicU64::new(0)), None, t0);
+        let lines = drive(&mut p, t0, 20.0, |_, _, _| {});
+        let texts: Vec<&str> = lines.iter().map(|l| l.1.as_str()).collect();
+        assert_eq!(texts, ["ltc-ggx: running, 9 s", "ltc-ggx: running, 18 s"]);
+    }
+
+    #[test]
+    fn a_printed_stages_end_line_restarts_its_studys_silence() {
+        let t0 = Instant::now();
+        let mut p = Plain::default();
+        let study = p.insert("s".into(), 0, Arc::new(AtomicU64::new(0)), None, t0);
+        let stage = p.insert(
+            "s: long".into(),
+            8,
+            Arc::new(AtomicU64::new(3)),
+            Some(study),
+            t0,
+        );
+        let lines = drive(&mut p, t0, 30.0, |p, t, sink| {
+            // the stage ends at 12 s, after its line at 9 s: its end line is the study's
+            if t == 12.0 {
+                p.end(stage, t0 + Duration::from_secs(12), sink);
+            }
+        });
+        let times: Vec<f64> = lines.iter().map(|l| l.0).collect();
+        // 9 s (the stage), its end at 12 s, then 12 + 9 = 21 s (the study), then 30 s
+        assert_eq!(times, [9.0, 12.0, 21.0, 30.0], "{lines:?}");
+        assert!(
+            lines[0].1.starts_with("s: long: 3/8 (38 %), ETA"),
+            "{lines:?}"
+        );
+        assert_eq!(lines[1].1, "s: long: 3/8 (38 %), ETA 20 s");
+        assert_eq!(lines[2].1, "s: running, 21 s");
+    }
+
+    #[test]
+    fn a_stage_of_no_study_keeps_its_own_period() {
+        let t0 = Instant::now();
+        let mut p = Plain::default();
+        p.insert("verify".into(), 10, Arc::new(AtomicU64::new(5)), None, t0);
+        // its study is gone: it speaks for itself too
+        p.insert(
+            "orphan".into(),
+            10,
+            Arc::new(AtomicU64::new(1)),
+            Some(999),
+            t0,
+        );
+        let lines = drive(&mut p, t0, 10.0, |_, _, _| {});
+        let texts: Vec<&str> = lines.iter().map(|l| l.1.as_str()).collect();
+        assert_eq!(texts.len(), 2, "{texts:?}");
+        assert!(texts[0].starts_with("verify: 5/10 (50 %)"), "{texts:?}");
+        assert!(texts[1].starts_with("orphan: 1/10 (10 %)"), "{texts:?}");
+    }
+
+    #[test]
+    fn a_studys_stages_are_its_own_on_its_thread_only() {
+        if std::io::stderr().is_terminal() {
+            return; // bars, not lines, on a terminal
+        }
+        let owner_of = |p: &Progress| {
+            let id = p.id.expect("registered");
+            plain().lock().unwrap().running[&id].owner
+        };
+        let study = Progress::study("unit-test study");
+        let sid = study.id;
+        assert!(sid.is_some());
+        let inner = Progress::new("unit-test study: stage", 3);
+        assert_eq!(owner_of(&inner), sid);
+        // another thread's stage belongs to no study
+        let other = std::thread::spawn(|| {
+            let q = Progress::new("unit-test other", 3);
+            let id = q.id.expect("registered");
+            let o = plain().lock().unwrap().running[&id].owner;
+            o
+        })
+        .join()
+        .unwrap();
+        assert_eq!(other, None);
+        drop(inner);
+        drop(study);
+        // the study ended: the thread owns nothing again
+        let after = Progress::new("unit-test after", 1);
+        assert_eq!(owner_of(&after), None);
     }
 
     #[test]

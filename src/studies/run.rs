@@ -155,7 +155,7 @@ fn run_one(
             .ok_or_else(|| Error::InvalidArgument(format!("spec '{}' names no study", s.name)))?;
         crate::report::stage(&format!("regen {}: started", s.name));
         // the study's own line while it runs (between its maps too)
-        let _running = crate::progress::Progress::new(s.name.clone(), 0);
+        let _running = crate::progress::Progress::study(s.name.clone());
         // one study = one output set: computed, rendered as data, then published here in
         // one step (crate::io)
         let computed = study.compute(&Ctx {
