@@ -1,23 +1,11 @@
 //! Command-line front end of the workbench: parses `cli::command::Cli` and dispatches.
 
 use clap::Parser;
-use indicatif::{ProgressBar, ProgressStyle};
 use ndfbench::cli::command::{Cli, Cmd};
 use ndfbench::integrate::Preset;
 use ndfbench::io::{in_set, results_manifest};
 use ndfbench::{cli, verify};
 use std::process::ExitCode;
-
-fn bar(len: u64, msg: &str) -> ProgressBar {
-    let pb = ProgressBar::new(len);
-    pb.set_style(
-        ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed} {wide_msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    pb.set_message(msg.to_string());
-    pb
-}
 
 fn run_verify(
     preset: Preset,
@@ -27,7 +15,8 @@ fn run_verify(
     let checks = verify::select(only)?;
     let n = checks.len();
     ndfbench::report::stage(&format!("verify: {n} checks at the {preset:?} preset"));
-    let pb = bar(n as u64, "verify");
+    // a bar on a terminal, a plain line at least every 10 s otherwise
+    let pb = ndfbench::progress::Progress::new("verify", n as u64);
     let outcomes = verify::run(preset, checks, |o| {
         pb.inc(1);
         pb.suspend(|| {
@@ -42,7 +31,7 @@ fn run_verify(
             )
         });
     });
-    pb.finish_and_clear();
+    pb.finish();
     let ok = outcomes.iter().all(|o| o.passed);
     ndfbench::report::stage("verify: done");
     if only.is_none() {

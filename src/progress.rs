@@ -293,6 +293,14 @@ impl Progress {
         }
     }
 
+    /// Run `f` (which prints) with this stage's bar out of the way on a terminal.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        match &self.bar {
+            Some(_) => bars().suspend(f),
+            None => f(),
+        }
+    }
+
     /// End the stage (the same as dropping it).
     pub fn finish(self) {}
 }

@@ -36,27 +36,60 @@ pub struct CharlieTarget {
     pub visibility: SheenVisibility,
     /// Estevez & Kulla's Λ(v_z), computed once (every value needs it).
     lambda_v: f64,
+    /// Their Λ at this α, for Λ(l_z).
+    ek: EkLambda,
 }
 
 /// Estevez & Kulla's L(x) of their Λ fit, with the coefficients interpolated in
 /// t = (1 − α)² between their α = 1 and α = 0 values.
 pub fn ek_l(x: f64, alpha: f64) -> f64 {
-    let t = (1.0 - alpha.clamp(0.0, 1.0)).powi(2);
-    let mix = |at1: f64, at0: f64| at1 * (1.0 - t) + at0 * t;
-    let a = mix(21.5473, 25.3245);
-    let b = mix(3.82987, 3.32435);
-    let c = mix(0.19823, 0.16801);
-    let d = mix(-1.97760, -1.27393);
-    let e = mix(-4.32054, -4.85967);
-    a / (1.0 + b * x.powf(c)) + d * x + e
+    EkLambda::new(alpha).l(x)
 }
 
 /// Estevez & Kulla's fitted Smith Λ of the Charlie NDF at cos θ ∈ (0, 1].
 pub fn ek_lambda(cos_theta: f64, alpha: f64) -> f64 {
-    if cos_theta < 0.5 {
-        ek_l(cos_theta, alpha).exp()
-    } else {
-        (2.0 * ek_l(0.5, alpha) - ek_l(1.0 - cos_theta, alpha)).exp()
+    EkLambda::new(alpha).at(cos_theta)
+}
+
+/// Estevez & Kulla's Λ at one α: L's five coefficients and 2L(½) computed once (a target
+/// evaluates Λ(l) for every sample), the same operations as [`ek_l`] and [`ek_lambda`],
+/// so the same bits.
+#[derive(Clone, Copy, Debug)]
+struct EkLambda {
+    /// a, b, c, d, e of L(x) = a/(1 + b·x^c) + d·x + e.
+    k: [f64; 5],
+    /// 2·L(½), the upper branch's constant.
+    two_l_half: f64,
+}
+
+impl EkLambda {
+    fn new(alpha: f64) -> EkLambda {
+        let t = (1.0 - alpha.clamp(0.0, 1.0)).powi(2);
+        let mix = |at1: f64, at0: f64| at1 * (1.0 - t) + at0 * t;
+        let k = [
+            mix(21.5473, 25.3245),
+            mix(3.82987, 3.32435),
+            mix(0.19823, 0.16801),
+            mix(-1.97760, -1.27393),
+            mix(-4.32054, -4.85967),
+        ];
+        let mut e = EkLambda { k, two_l_half: 0.0 };
+        e.two_l_half = 2.0 * e.l(0.5);
+        e
+    }
+
+    fn l(&self, x: f64) -> f64 {
+        let [a, b, c, d, e] = self.k;
+        a / (1.0 + b * x.powf(c)) + d * x + e
+    }
+
+    /// Λ(cos θ): exp(L(cos θ)) below cos θ = ½, exp(2L(½) − L(1 − cos θ)) above.
+    fn at(&self, cos_theta: f64) -> f64 {
+        if cos_theta < 0.5 {
+            self.l(cos_theta).exp()
+        } else {
+            (self.two_l_half - self.l(1.0 - cos_theta)).exp()
+        }
     }
 }
 
@@ -71,11 +104,13 @@ impl CharlieTarget {
     /// θ in radians (clamped to ≤ 89.99°), α ∈ (0, 1] finite.
     pub fn new(alpha: f64, theta: f64, visibility: SheenVisibility) -> Result<CharlieTarget> {
         let v = hemisphere::checked_view(alpha, theta)?;
+        let ek = EkLambda::new(alpha);
         Ok(CharlieTarget {
             alpha,
             v,
             visibility,
-            lambda_v: ek_lambda(v.z, alpha),
+            lambda_v: ek.at(v.z),
+            ek,
         })
     }
 
@@ -117,7 +152,7 @@ impl CharlieTarget {
         let (lz, vz) = (l.z, self.v.z);
         match self.visibility {
             SheenVisibility::EstevezKulla => {
-                let g = 1.0 / (1.0 + self.lambda_v + ek_lambda(lz, self.alpha));
+                let g = 1.0 / (1.0 + self.lambda_v + self.ek.at(lz));
                 d * g / (4.0 * vz)
             }
             SheenVisibility::Neubelt => d * lz / (4.0 * (lz + vz - lz * vz)),

@@ -83,6 +83,12 @@ impl ViewedLobe {
         }
     }
 
+    /// v in the lobe's frame, and Λ of it (what a visible-normal sampler of the same view
+    /// needs, `VndfSampler::seen_with`).
+    pub fn view(&self) -> (V3, f64) {
+        (self.vl, self.lambda_v)
+    }
+
     /// `lobe(s, f, v, l)` for the `s`, `f` and `v` given to [`ViewedLobe::new`].
     pub fn eval(&self, s: &Microsurface, l: &V3) -> f64 {
         if !self.v_above || l.z <= 0.0 {

@@ -55,6 +55,12 @@ pub struct VndfSampler {
 impl VndfSampler {
     /// Errors: not GGX, non-zero mean slope, or o not in the upper hemisphere.
     pub fn new(surface: Microsurface, o: Vector3<f64>) -> Result<Self> {
+        Self::seen_with(surface, o, surface.lambda(&o))
+    }
+
+    /// [`VndfSampler::new`] given Λ(o) = `surface.lambda(&o)` already computed (a shader
+    /// that has it for the lobe too): the same sampler, bit for bit.
+    pub fn seen_with(surface: Microsurface, o: Vector3<f64>, lambda_o: f64) -> Result<Self> {
         if surface.kind != NdfKind::Ggx {
             return Err(Error::InvalidArgument(
                 "VNDF sampling is implemented for GGX".into(),
@@ -74,7 +80,12 @@ impl VndfSampler {
             surface,
             o,
             o_stretched,
-            g1_o: surface.g1_dir(&o),
+            // Microsurface::g1_dir from its Λ
+            g1_o: if lambda_o.is_infinite() {
+                0.0
+            } else {
+                1.0 / (1.0 + lambda_o)
+            },
         })
     }
 

@@ -112,11 +112,17 @@ impl<'a> Shader<'a> {
         let v = hit.frame.local(&(eye - hit.p).normalize());
         let sf = Frame::around(*nt);
         let (lobe, vndf) = match self.kind {
-            Lobe::Ggx => (
-                Some(ViewedLobe::new(&self.surface, &sf, &v)),
-                // only the sampled lights draw from it
-                self.has_sampled().then(|| self.vndf(&sf, &v)).flatten(),
-            ),
+            Lobe::Ggx => {
+                let g = ViewedLobe::new(&self.surface, &sf, &v);
+                // only the sampled lights draw from it; the lobe's Λ(v) serves it too
+                let (vs, lambda) = g.view();
+                let vndf = self
+                    .has_sampled()
+                    .then(|| VndfSampler::seen_with(self.surface, vs, lambda).ok())
+                    .flatten()
+                    .map(|s| (s, sf, vs));
+                (Some(g), vndf)
+            }
             _ => (None, None),
         };
         Viewed { v, sf, lobe, vndf }
@@ -183,19 +189,6 @@ impl<'a> Shader<'a> {
         let w = self.viewed(hit, eye, nt);
         self.exact_at(&w, hit, nt)
             + self.sampled_at(&w, hit, nt, [u.random(), u.random(), u.random()])
-    }
-
-    /// GGX's visible-normal sampler of the texel (frame `sf`) seen from tangent-space `v`.
-    fn vndf(&self, sf: &Frame, v: &V3) -> Option<(VndfSampler, Frame, V3)> {
-        match self.kind {
-            Lobe::Ggx => {
-                let vs = sf.local(v);
-                VndfSampler::new(self.surface, vs)
-                    .ok()
-                    .map(|s| (s, *sf, vs))
-            }
-            _ => None,
-        }
     }
 
     /// One-sample MIS of an SG environment: the mixture's vMF draw or the lobe's own (GGX
@@ -278,8 +271,15 @@ impl<'a> Shader<'a> {
 
     /// Solid-angle density of area sampling the quad in world direction d from p.
     fn area_pdf(light: &Light, p: &V3, d: &V3) -> f64 {
-        match (light, light.quad_hit(p, d)) {
-            (Light::Quad { normal, area, .. }, Some(q)) => {
+        light
+            .quad_hit(p, d)
+            .map_or(0.0, |q| Self::area_pdf_at(light, p, d, &q))
+    }
+
+    /// [`Self::area_pdf`] given the point q where d from p hits the quad.
+    fn area_pdf_at(light: &Light, p: &V3, d: &V3, q: &V3) -> f64 {
+        match light {
+            Light::Quad { normal, area, .. } => {
                 let r2 = (q - p).norm_squared();
                 r2 / (area * d.dot(normal).abs()).max(1e-300)
             }
@@ -306,11 +306,12 @@ impl<'a> Shader<'a> {
         };
         let mix = if vndf.is_some() { 0.5 } else { 1.0 };
         let [pick, s1, s2] = u;
-        let lw = if pick < mix {
+        let (lw, area_pdf) = if pick < mix {
             let Some(q) = light.quad_point([s1, s2]) else {
                 return 0.0;
             };
-            (q - hit.p).normalize()
+            let lw = (q - hit.p).normalize();
+            (lw, Self::area_pdf(light, &hit.p, &lw))
         } else {
             let Some((s, sf, vs)) = vndf else { return 0.0 };
             let Some(h) = s.sample([s1, s2]) else {
@@ -318,12 +319,13 @@ impl<'a> Shader<'a> {
             };
             let ls = h * (2.0 * vs.dot(&h)) - vs;
             let lw = fr.world(&sf.world(&ls));
-            if light.quad_hit(&hit.p, &lw).is_none() {
+            // the hit that decides whether the direction sees the light gives its density
+            let Some(q) = light.quad_hit(&hit.p, &lw) else {
                 return 0.0;
-            }
-            lw
+            };
+            (lw, Self::area_pdf_at(light, &hit.p, &lw, &q))
         };
-        let pdf = mix * Self::area_pdf(light, &hit.p, &lw) + (1.0 - mix) * brdf_pdf(&lw);
+        let pdf = mix * area_pdf + (1.0 - mix) * brdf_pdf(&lw);
         if !(pdf > 0.0) {
             return 0.0;
         }

@@ -113,12 +113,11 @@ pub fn filter_sqrt_sum(alpha: f32, k: f32) -> f32 {
     return sqrt(alpha * alpha + k);
 }
 
-/// vMF filter α′² = α² + c/κ, κ = (3r − r³)/(1 − r²) (Banerjee), written with 1 − r; r clamped to [m, 1] as in filter_toksvig.
+/// Toksvig in α²: α′² = α² + c(1 − r)/r, r = ‖μ‖ of the mip-mapped normal (seed 004 §3.2.1; c = 2 is the per-axis-variance form). r is clamped to [m, 1] (m = smallest normal f32, NaN ↦ m), so r → 0 gives a finite α′ ~ √(c/r).
 /// Inputs — alpha: GGX/Beckmann α, the squared perceptual roughness: Bevy's `roughness = perceptualRoughnessToRoughness(perceptual_roughness)` (pbr_functions), glTF's α = roughnessFactor², three.js's `roughness * roughness`; r: r = ‖μ‖, the length of the mip-filtered normal before renormalisation (sample a normal map whose mips were not renormalised).
-pub fn filter_vmf(alpha: f32, r: f32, c: f32) -> f32 {
+pub fn filter_toksvig(alpha: f32, r: f32, c: f32) -> f32 {
     let rc: f32 = clamp(r, 1.1754944e-38, 1.0);
-    let inv_kappa: f32 = (1.0 - rc) * (1.0 + rc) / (rc * (3.0 - rc * rc));
-    return filter_sqrt_sum(alpha, c * inv_kappa);
+    return filter_sqrt_sum(alpha, c * (1.0 - rc) / rc);
 }
 
 /// Deferred isotropic kernel (seed 003 Eq 13): α′² = min(1, α² + min(2σ²(‖Δn_u‖² + ‖Δn_v‖²), δ)). Tokuyoshi σ² 0.25 δ 0.18; Filament 0.15/0.04; Unity 0.1/0.04.

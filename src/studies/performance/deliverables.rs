@@ -55,17 +55,17 @@ pub(super) fn prefilter_table(timed: &[Timed]) -> String {
     md
 }
 
-/// Every shipped LTC table: what its study cost (wall clock in the last cold main job on
-/// this machine), its held-out error, and criterion's time per
+/// Every shipped LTC table: what its study cost on this machine (`main_job::study_cost`),
+/// its held-out error, and criterion's time per
 /// pixel (bench `ltc-tables`: bilinear lookup of the binary16 entries + quad integral).
 pub(super) fn ltc_tables_table(
     timed: &[Timed],
     results: &std::path::Path,
 ) -> crate::error::Result<String> {
-    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: the wall clock of its whole study in the last cold main job on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, reports; not criterion), its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n");
+    let mut md = String::from("\n## LTC tables: fit cost and per-pixel cost\n\nPer table: what its whole study cost on this machine (default preset: the main table and its variant, bilinear pass, binary16 storage, held-out judging, reports; not criterion): run alone in a sequential uncached `regen` where that profile is kept, with its own CPU seconds, else its wall clock in the last cold main job, where studies overlap; its held-out relative L2, and criterion's mean per pixel (95 % CI) for the lookup of the binary16 table at (α, cos θ) plus norm × the quad integral (rational edges, f64 on the CPU): every table has the same layout, so each lobe an area light shades with costs one more lookup and one more polygon integral.\n\n");
     let mut table = Table::new([
         "table",
-        "study (wall clock)",
+        "study cost",
         "held-out rel. L2 mean / max",
         "per pixel (95 % CI)",
     ]);
@@ -82,8 +82,8 @@ pub(super) fn ltc_tables_table(
         } else {
             kind.fit
         };
-        let fit = super::main_job::cold_stage_seconds(study)
-            .map_or("—".into(), |s| format!("{s:.0} s ({study})"));
+        let fit = super::main_job::study_cost(study)
+            .map_or("—".into(), |c| format!("{} ({study})", c.describe()));
         let h = &v.held_out.l2;
         let err = format!("{} / {}", h.mean.pct(2), h.max.pct(1));
         let px = timed
@@ -104,8 +104,7 @@ pub(super) fn ltc_tables_table(
             "ltc_ggx_aniso (ltc-aniso; 4D, 12 fetches, between cells)".to_string(),
             format!(
                 "{} for {} cells",
-                super::main_job::cold_stage_seconds("ltc-aniso")
-                    .map_or("—".into(), |t| format!("{t:.0} s")),
+                super::main_job::study_cost("ltc-aniso").map_or("—".into(), |c| c.describe()),
                 s.cells_fitted
             ),
             format!(

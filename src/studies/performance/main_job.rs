@@ -10,8 +10,13 @@ use std::path::{Path, PathBuf};
 /// Where a sequential, uncached `regen` of every study leaves its profile: each study
 /// alone, so its CPU seconds are its own.
 pub fn sequential_times_path() -> PathBuf {
-    target_dir().join("regen-sequential.json")
+    target_dir().join(SEQUENTIAL)
 }
+
+/// The kept profiles' file names under the target directory.
+const SEQUENTIAL: &str = "regen-sequential.json";
+const COLD: &str = "main-job-cold.json";
+const WARM: &str = "main-job-warm.json";
 
 /// Cargo's target directory (`CARGO_TARGET_DIR`, else `target`): where local profiles live.
 fn target_dir() -> PathBuf {
@@ -50,11 +55,7 @@ fn keep(p: &Path, stages: &[JobStage], total: f64, cpu: Option<f64>, warm: bool)
 /// changes on every run): `target/main-job-cold.json` when it computed any memoised map,
 /// `target/main-job-warm.json` when every one came from the cache.
 pub fn main_job_times_path(warm: bool) -> PathBuf {
-    target_dir().join(if warm {
-        "main-job-warm.json"
-    } else {
-        "main-job-cold.json"
-    })
+    target_dir().join(if warm { WARM } else { COLD })
 }
 
 /// The committed profile of the main job before it ran studies in parallel and cached
@@ -166,13 +167,52 @@ fn profile(path: &Path) -> Option<Profile> {
     }
 }
 
-/// Seconds of `stage` in the last cold main job on this machine, if kept.
-pub fn cold_stage_seconds(stage: &str) -> Option<f64> {
-    let p = profile(&main_job_times_path(false))?;
-    p.stages
-        .into_iter()
-        .find(|s| s.stage == stage)
-        .map(|s| s.seconds)
+/// What one study cost on this machine, as the sections that quote it say it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StudyCost {
+    pub seconds: f64,
+    /// Its own CPU seconds (only where it ran alone).
+    pub cpu_s: Option<f64>,
+    /// Run alone (a sequential uncached `regen`), or overlapping others in the parallel
+    /// main job.
+    pub alone: bool,
+}
+
+impl StudyCost {
+    /// "99 s alone, 189 s of CPU", or "245 s in the parallel cold main job".
+    pub fn describe(&self) -> String {
+        match (self.alone, self.cpu_s) {
+            (true, Some(c)) => format!("{:.0} s alone, {c:.0} s of CPU", self.seconds),
+            (true, None) => format!("{:.0} s alone", self.seconds),
+            (false, _) => format!("{:.0} s in the parallel cold main job", self.seconds),
+        }
+    }
+}
+
+/// What `study` cost: run alone in the last sequential uncached `regen` where that profile
+/// is kept (its wall clock and its own CPU), else its wall clock in the last cold main
+/// job, where studies overlap and one study's time says little about its own cost.
+pub fn study_cost(study: &str) -> Option<StudyCost> {
+    study_cost_in(&target_dir(), study)
+}
+
+/// [`study_cost`] from the profiles kept under `target`.
+fn study_cost_in(target: &Path, study: &str) -> Option<StudyCost> {
+    let find = |p: Profile| p.stages.into_iter().find(|s| s.stage == study);
+    if let Some(s) = profile(&target.join(SEQUENTIAL)).and_then(find) {
+        return Some(StudyCost {
+            seconds: s.seconds,
+            cpu_s: s.cpu_s,
+            alone: true,
+        });
+    }
+    profile(&target.join(COLD))
+        .and_then(find)
+        .map(|s| StudyCost {
+            seconds: s.seconds,
+            cpu_s: None,
+            alone: false,
+        })
 }
 
 /// The main job's profile: before (committed), the last cold run and the last warm run
@@ -249,4 +289,50 @@ pub(super) fn main_job_table(results: &Path) -> String {
     }
     md.push_str(&t.to_string());
     md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A study's cost comes from the sequential profile (alone, its own CPU) where that
+    /// holds it, else from the cold main job (said to overlap), else nothing.
+    #[test]
+    fn a_study_cost_says_where_it_was_measured() {
+        let dir = std::env::temp_dir().join(format!("ndfbench-study-cost-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(study_cost_in(&dir, "ltc-ggx"), None);
+        std::fs::write(
+            dir.join(COLD),
+            r#"{"total_s": 649.0, "threads": 2, "stages": [
+                {"stage": "ltc-ggx", "seconds": 244.7}, {"stage": "ltc-sheen", "seconds": 479.7}]}"#,
+        )
+        .unwrap();
+        let cold = study_cost_in(&dir, "ltc-ggx").unwrap();
+        assert_eq!(cold.describe(), "245 s in the parallel cold main job");
+        std::fs::write(
+            dir.join(SEQUENTIAL),
+            r#"{"total_s": 669.0, "threads": 2, "stages": [
+                {"stage": "ltc-ggx", "seconds": 99.1, "cpu_s": 188.6}]}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            study_cost_in(&dir, "ltc-ggx").unwrap().describe(),
+            "99 s alone, 189 s of CPU"
+        );
+        // a study the sequential profile lacks still falls back to the cold job
+        assert_eq!(
+            study_cost_in(&dir, "ltc-sheen").unwrap().describe(),
+            "480 s in the parallel cold main job"
+        );
+        assert_eq!(study_cost_in(&dir, "render"), None);
+        // an unreadable profile is left out, not an error
+        std::fs::write(dir.join(SEQUENTIAL), "not json").unwrap();
+        assert_eq!(
+            study_cost_in(&dir, "ltc-ggx").unwrap().describe(),
+            "245 s in the parallel cold main job"
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

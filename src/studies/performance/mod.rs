@@ -21,8 +21,8 @@ use criterion::{fmt_ratio, fmt_time, interval};
 pub use criterion::{read_criterion, Timed};
 use main_job::main_job_table;
 pub use main_job::{
-    cold_stage_seconds, main_job_times_path, refresh_main_job, sequential_times_path,
-    write_main_job_times, write_sequential_times, JobStage, BEFORE_PATH,
+    main_job_times_path, refresh_main_job, sequential_times_path, write_main_job_times,
+    write_sequential_times, JobStage, BEFORE_PATH,
 };
 use tables::{
     alpha_me_table, filters_table, kernels_table, leadr_table, ltc_table, smith_lambda_table,

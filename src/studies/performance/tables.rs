@@ -63,8 +63,8 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     let mut md = String::from("\n## LTC fitting and polygon integration\n\n");
     if let Some(held) = v.as_ref().map(|v| &v.held_out) {
         md.push_str(&format!(
-            "The whole GGX table: {} s of wall clock for the ltc-ggx study in the last cold main job on this machine (table, variants, bilinear pass, reports; the section below), for a held-out relative L2 of mean {}, max {} (results/ltc-ggx.md).\n\n",
-            super::main_job::cold_stage_seconds("ltc-ggx").map_or("—".into(), |t| format!("{t:.0}")),
+            "The whole GGX table: {} for the ltc-ggx study on this machine (table, bilinear pass, held-out judging, reports; alone: a sequential uncached `regen`, see the main job's section), for a held-out relative L2 of mean {}, max {} (results/ltc-ggx.md).\n\n",
+            super::main_job::study_cost("ltc-ggx").map_or("—".into(), |c| c.describe()),
             held.l2.mean.pct(2),
             held.l2.max.pct(1)
         ));
