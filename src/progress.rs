@@ -187,12 +187,12 @@ impl Plain {
     }
 
     /// End stage `id` at `now`: its last line if it printed one (which counts as its
-    /// study's line too).
+    /// study's line too). A study itself ends without one: its runner says "done in".
     fn end(&mut self, id: u64, now: Instant, sink: &dyn Fn(&str)) {
         let Some(e) = self.running.remove(&id) else {
             return;
         };
-        if e.printed {
+        if e.printed && e.total > 0 {
             let done = e.done.load(Ordering::Relaxed);
             sink(&line(&e.label, done, e.total, now - e.start, true));
             if let Some(o) = e.owner.and_then(|o| self.running.get_mut(&o)) {
@@ -479,9 +479,16 @@ mod tests {
         let t0 = Instant::now();
         let mut p = Plain::default();
         p.insert("ltc-ggx".into(), 0, Arc::new(AtomicU64::new(0)), None, t0);
-        let lines = drive(&mut p, t0, 20.0, |_, _, _| {});
+        let lines = drive(&mut p, t0, 20.0, |p, t, sink| {
+            // the study ends at 20 s, after its lines: no "running" line as it ends
+            if t == 20.0 {
+                let id = *p.running.keys().next().unwrap();
+                p.end(id, t0 + Duration::from_secs(20), sink);
+            }
+        });
         let texts: Vec<&str> = lines.iter().map(|l| l.1.as_str()).collect();
         assert_eq!(texts, ["ltc-ggx: running, 9 s", "ltc-ggx: running, 18 s"]);
+        assert!(p.running.is_empty());
     }
 
     #[test]
