@@ -148,23 +148,17 @@ impl Plain {
             .map(|(&id, _)| id)
             .collect();
         for &study in &studies {
-            let members: Vec<u64> = self
-                .running
-                .iter()
-                .filter(|(_, e)| e.owner == Some(study))
-                .map(|(&id, _)| id)
-                .collect();
             // the study's silence: since the last line of the study or any of its stages
-            let last = self.running[&study].last;
-            if !due(last, now, period) {
+            if !due(self.running[&study].last, now, period) {
                 continue;
             }
             // the latest busy stage speaks for the study (its numbers), else the study
-            let speaker = members
+            let speaker = self
+                .running
                 .iter()
-                .copied()
-                .max_by_key(|id| (self.running[id].start, *id))
-                .unwrap_or(study);
+                .filter(|(_, e)| e.owner == Some(study))
+                .max_by_key(|(&id, e)| (e.start, id))
+                .map_or(study, |(&id, _)| id);
             if let Some(e) = self.running.get_mut(&speaker) {
                 let done = e.done.load(Ordering::Relaxed);
                 sink(&line(&e.label, done, e.total, now - e.start, false));
