@@ -216,6 +216,54 @@ fn the_process_cpu_time_grows_with_work() {
     assert!(t0.is_finite() && t0 >= 0.0 && t1 >= t0, "{t0} → {t1}");
 }
 
+/// A sequential, uncached `regen` keeps each study's own cost for performance.md only when
+/// it ran the shipped specs (`fits/`) at the default preset: a quick or custom run does not
+/// overwrite the profile it would misstate.
+#[test]
+fn only_a_default_regen_keeps_the_sequential_profile() {
+    let dir = common::scratch("cli", "sequential-profile");
+    std::fs::create_dir_all(dir.join("fits")).unwrap();
+    std::fs::create_dir_all(dir.join("other")).unwrap();
+    for d in ["fits", "other"] {
+        std::fs::copy(
+            "fits/smith-lambda.toml",
+            dir.join(d).join("smith-lambda.toml"),
+        )
+        .unwrap();
+    }
+    let target = dir.join("target");
+    let kept = target.join("regen-sequential.json");
+    let regen = |extra: &[&str]| {
+        let out = bin()
+            .current_dir(&dir)
+            .args(["--results", "res"])
+            .args(extra)
+            .arg("regen")
+            .env("CARGO_TARGET_DIR", &target)
+            .output()
+            .unwrap();
+        common::assert_success(&out);
+    };
+    // quick preset, or specs from elsewhere: nothing kept
+    let quick = ["--preset", "quick"];
+    let out = bin()
+        .current_dir(&dir)
+        .args(["--results", "res", "regen"])
+        .args(quick)
+        .env("CARGO_TARGET_DIR", &target)
+        .output()
+        .unwrap();
+    common::assert_success(&out);
+    assert!(!kept.exists());
+    regen(&["--fits", "other"]);
+    assert!(!kept.exists());
+    // the shipped specs' directory at the default preset: kept, with the study in it
+    regen(&[]);
+    let text = std::fs::read_to_string(&kept).unwrap();
+    assert!(text.contains("\"stage\": \"smith-lambda\""), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// `bench-report --main-job-only` rewrites only the main job's section of an existing
 /// performance page (every other line kept byte for byte) and refuses a page without one;
 /// `--compact-only` without criterion's results is refused and writes nothing.

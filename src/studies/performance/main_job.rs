@@ -124,9 +124,9 @@ impl JobStage {
     }
 }
 
-/// Print the main job's time per stage and keep it for `bench-report` (best-effort: a
-/// failure to write is reported, never fatal).
-pub fn write_main_job_times(stages: &[JobStage], total: f64) {
+/// Print the main job's time per stage and, with `keep_it` (a run of the shipped specs),
+/// keep it for `bench-report` (best-effort: a failure to write is reported, never fatal).
+pub fn write_main_job_times(stages: &[JobStage], total: f64, keep_it: bool) {
     let warm = stages.iter().all(|s| s.computed == 0) && stages.iter().any(|s| s.reused > 0);
     let mut sorted: Vec<&JobStage> = stages.iter().collect();
     sorted.sort_by(|a, b| b.seconds.total_cmp(&a.seconds));
@@ -151,7 +151,9 @@ pub fn write_main_job_times(stages: &[JobStage], total: f64) {
         );
     }
     // the figure printed above is the one kept
-    keep(&main_job_times_path(warm), stages, total, cpu, warm);
+    if keep_it {
+        keep(&main_job_times_path(warm), stages, total, cpu, warm);
+    }
 }
 
 /// A kept profile; `None` when the file is absent, or unreadable (said on stderr: a
