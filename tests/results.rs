@@ -309,20 +309,23 @@ fn results_hold_no_wall_clock_or_thread_count_outside_the_profile() {
     }
 }
 
-/// The optimisers study reads the published GGX table by index: a file whose held-out
-/// cells or table do not match its grid is a typed error naming the file, never an
-/// out-of-bounds panic or a comparison over a silently shorter zip.
+/// The studies that refit the published GGX table (optimisers, work) read it by index: a
+/// file whose held-out cells or table do not match its grid is a typed error naming the
+/// file, never an out-of-bounds panic or a comparison over a silently shorter zip.
 #[test]
 fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
+    for name in ["ltc-ggx-optimisers", "ltc-work"] {
+        refuses_a_published_table_of_the_wrong_shape(name);
+    }
+}
+
+fn refuses_a_published_table_of_the_wrong_shape(name: &str) {
     use ndfbench::fit::spec::FitSpec;
     let committed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string("results/fits/ltc-ggx.json").unwrap())
             .unwrap();
-    let spec = FitSpec::parse(
-        &std::fs::read_to_string("fits/ltc-ggx-optimisers.toml").unwrap(),
-        "fits/ltc-ggx-optimisers.toml",
-    )
-    .unwrap();
+    let path = format!("fits/{name}.toml");
+    let spec = FitSpec::parse(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
     let breaks: [(&str, fn(&mut serde_json::Value)); 3] = [
         ("short held-out column", |v| {
             v["held_out_cells"]["l2"][3].as_array_mut().unwrap().pop();
@@ -333,7 +336,7 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
         }),
     ];
     for (what, brk) in breaks {
-        let d = common::scratch("results", &format!("optimisers-{}", what.replace(' ', "-")));
+        let d = common::scratch("results", &format!("{name}-{}", what.replace(' ', "-")));
         std::fs::create_dir_all(d.join("fits")).unwrap();
         let mut v = committed.clone();
         brk(&mut v);
@@ -343,8 +346,11 @@ fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
         )
         .unwrap();
         match common::compute_study(&spec, &d, ndfbench::integrate::Preset::Quick) {
-            Err(e) => assert!(e.to_string().contains("ltc-ggx.json"), "{what}: {e}"),
-            Ok(_) => panic!("{what}: a broken published table was accepted"),
+            Err(e) => assert!(
+                e.to_string().contains("ltc-ggx.json"),
+                "{name}, {what}: {e}"
+            ),
+            Ok(_) => panic!("{name}, {what}: a broken published table was accepted"),
         }
         let _ = std::fs::remove_dir_all(&d);
     }

@@ -28,7 +28,7 @@ use serde::Serialize;
 
 pub use super::params::{matrix, params_to_m, turn};
 pub use super::polish::{Polish, POLISH_ITERS};
-pub use super::samples::{metrics, metrics_on, Sets, TargetSamples};
+pub use super::samples::{metrics, metrics_on, Sets, TargetSamples, TRAIN_OFFSET};
 
 type V3 = Vector3<f64>;
 
@@ -54,6 +54,9 @@ pub struct Cell {
     /// until then).
     pub held: Option<Held>,
     pub iters: u64,
+    /// Trial-LTC sample evaluations of the cell's fit and polish on its sample sets
+    /// (`samples::work`; a Levenberg–Marquardt route's own nodes are not counted).
+    pub work: u64,
     /// The binary16 storage of [a, b, c, d, norm, fresnel] (as f64): each entry rounded
     /// to nearest, or the f16 neighbours chosen by `ltc::storage::half_storage`.
     pub half: [f64; 6],
@@ -466,6 +469,7 @@ pub struct Table {
 /// Fit a whole table of `target(α, θ)`: rayon over θ columns; within a column α runs from rough to smooth,
 /// each cell starting from its neighbour's solution (the first from the isotropic
 /// M = diag(α, α, 1)).
+#[allow(clippy::too_many_arguments)]
 pub fn fit_table<T: LtcTarget>(
     pm: &impl ParMap,
     grid: Grid,
@@ -477,11 +481,35 @@ pub fn fit_table<T: LtcTarget>(
     polish: Polish,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
+    let route = (metric, method, max_iters, polish);
+    fit_table_drawn(pm, grid, target, n, route, TRAIN_OFFSET, progress)
+}
+
+/// [`fit_table`] with every cell's training set drawn at stratum offset `train`
+/// (`Sets::drawn`): the same route on another draw of its samples, at the same cost.
+/// `route` is (metric, method, iteration cap, polish).
+pub fn fit_table_drawn<T: LtcTarget>(
+    pm: &impl ParMap,
+    grid: Grid,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    n: usize,
+    route: (Metric, Method, u64, Polish),
+    train: f64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Table> {
+    let (metric, method, max_iters, polish) = route;
     // one θ column per item of the caller's map
-    let label = format!(
-        "ltc table {}² ({metric:?}, {method:?}, {n}² samples)",
-        grid.n
-    );
+    let label = if train == TRAIN_OFFSET {
+        format!(
+            "ltc table {}² ({metric:?}, {method:?}, {n}² samples)",
+            grid.n
+        )
+    } else {
+        format!(
+            "ltc table {}² ({metric:?}, {method:?}, {n}² samples, training offset {train})",
+            grid.n
+        )
+    };
     let cols: Vec<Vec<Cell>> = pm.map(&label, grid.n, |j| -> Result<Vec<Cell>> {
         let theta = grid.theta(j);
         let mut col = Vec::with_capacity(grid.n);
@@ -503,7 +531,8 @@ pub fn fit_table<T: LtcTarget>(
                 // the best axis approaches the mean direction as the lobe narrows
                 p[3] *= alpha / prev;
             }
-            let sets = Sets::new(&t, n);
+            let sets = Sets::drawn(&t, n, train);
+            let work0 = super::samples::work();
             let (best, iters) = fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?;
             // the warm-start chain carries the primary metric's solution
             p = best;
@@ -531,6 +560,7 @@ pub fn fit_table<T: LtcTarget>(
                 inv,
                 held: None,
                 iters,
+                work: super::samples::work() - work0,
                 // round to nearest; a study may choose better (`ltc::storage`)
                 half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
                     .map(|x| half::f16::from_f64(x).to_f64()),

@@ -19,6 +19,8 @@
 //! - `upload`: how three.js and Bevy upload and sample a table (three's truncating
 //!   half floats, Bevy's zstd KTX2);
 //! - `storage`: the binary16 storage of a cell, chosen by the fit's error;
+//! - `spread`: whether another fitting route is no worse than the reference, judged
+//!   against the reference's own spread over draws of its training samples;
 //! - `table`: the one reader of a fitted table (results/fits/ltc-ggx.json);
 //! - `pipeline`: the multi-scale shading pipeline of seed 000 §3–4 against brute force;
 //! The `ltc-ggx` study that fits the table and measures all of the above is
@@ -45,6 +47,7 @@ pub mod polygon;
 pub mod samples;
 pub mod sheen;
 pub mod smooth;
+pub mod spread;
 pub mod storage;
 pub mod table;
 pub mod target;

@@ -12,6 +12,17 @@ use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
 
+thread_local! {
+    /// Trial-LTC sample evaluations on this thread ([`metrics_on`]): 2n² per call.
+    static WORK: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Trial-LTC sample evaluations [`metrics_on`] has made on this thread so far. A fit's
+/// work is the change across it: a count, the same at any thread count, unlike a clock.
+pub fn work() -> u64 {
+    WORK.with(|w| w.get())
+}
+
 /// The target's half of a balance sample set: its n×n stratified samples (offset `off`
 /// ∈ [0, 1)) with the target's value and density at each. They do not depend on the LTC,
 /// so a fit draws and evaluates them once and every trial LTC reuses them
@@ -75,6 +86,7 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
 ) -> (f64, f64) {
     let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
     let n = s.n;
+    WORK.with(|w| w.set(w.get() + 2 * (n * n) as u64));
     let cnt = (n * n) as f64;
     let mut add = |f: f64, pb: f64, pl: f64| {
         let fl = norm * pl;
@@ -108,14 +120,46 @@ pub struct Sets {
     pub val: TargetSamples,
 }
 
+/// The training set's stratum offset of every published table.
+pub const TRAIN_OFFSET: f64 = 0.5;
+
 impl Sets {
     pub fn new<T: LtcTarget + ?Sized>(t: &T, n: usize) -> Sets {
+        Sets::drawn(t, n, TRAIN_OFFSET)
+    }
+    /// The same with the training set's strata offset by `train` ∈ [0, 1) instead: another
+    /// draw of the training set at the same cost (the validation set stays).
+    pub fn drawn<T: LtcTarget + ?Sized>(t: &T, n: usize, train: f64) -> Sets {
         Sets {
-            train: TargetSamples::new(t, n, 0.5),
+            train: TargetSamples::new(t, n, train),
             val: TargetSamples::new(t, n + 7, 0.37),
         }
     }
     pub(crate) fn n(&self) -> usize {
         self.train.n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ltc::target::GgxTarget;
+
+    /// Every trial LTC measured on a set counts its 2n² sample evaluations (n² of the LTC's
+    /// own samples, n² at the target's), on this thread only; drawing the target's half
+    /// counts nothing.
+    #[test]
+    fn a_fits_work_is_two_n_squared_per_trial() {
+        let t = GgxTarget::new(0.3, 0.7).unwrap();
+        let before = work();
+        let s = TargetSamples::new(&t, 9, 0.5);
+        assert_eq!(work(), before);
+        let ltc = LtcDist::new(nalgebra::Matrix3::from_diagonal(&V3::new(0.3, 0.3, 1.0))).unwrap();
+        for k in 1..=3u64 {
+            metrics_on(&t, &s, &ltc, 0.9);
+            assert_eq!(work() - before, k * 2 * 81);
+        }
+        let other = std::thread::spawn(work).join().unwrap();
+        assert_eq!(other, 0);
     }
 }

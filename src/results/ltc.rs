@@ -148,6 +148,49 @@ pub struct RouteComparison {
     pub cells: usize,
 }
 
+/// results/fits/ltc-work.json (on request): the LTC tables' accuracy against their
+/// fitting work — each published route on other training draws, cheaper routes judged
+/// against that spread (`ltc::spread`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LtcWork {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub tables: Vec<TableWork>,
+}
+
+impl super::ResultFile for LtcWork {
+    const NAME: &'static str = super::names::LTC_WORK;
+}
+
+/// One published table's part of the work study.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TableWork {
+    /// The table's file (results/fits/<table>.json).
+    pub table: String,
+    /// The fingerprint (`FittedTable::fingerprint`) of the table read.
+    pub table_fingerprint: String,
+    /// The published route's polish, in words.
+    pub polish: String,
+    /// The reference's draws, the published one first.
+    pub draws: Vec<WorkRow>,
+    /// Each cheaper route with its verdict.
+    pub routes: Vec<(WorkRow, crate::ltc::spread::Verdict)>,
+}
+
+/// One fitted table of the work study: its route and training draw, the mean held-out
+/// relative L2 of its f64 cells, and its fit's work and cubic-stage iterations per cell
+/// (`None` for the published table, read rather than refitted).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct WorkRow {
+    pub samples: usize,
+    pub max_iters: u64,
+    pub offset: f64,
+    pub mean: Figure<Quad>,
+    pub work_per_cell: Option<f64>,
+    pub iters_per_cell: Option<f64>,
+}
+
 /// results/fits/ltc-judge-tolerance.json (on request): the held-out judge's accuracy
 /// against its work, per published table, at each relative tolerance.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -278,6 +321,109 @@ pub struct FloorCell {
 
 impl super::ResultFile for Ggx {
     const NAME: &'static str = super::names::LTC_GGX;
+}
+
+/// What a published LTC table file (GGX or a lobe table) holds besides its table that a
+/// study refitting it reads.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Published {
+    pub spec: FitSpec,
+    pub preset: String,
+    pub grid: Grid,
+    pub held_out_cells: HeldCells,
+}
+
+impl Published {
+    /// The route its spec names, at the preset it was fitted at.
+    pub fn route(&self, name: &str) -> Result<GgxRoute> {
+        let at = format!("results/fits/{name}.json");
+        let preset = crate::integrate::Preset::named(&self.preset, &at)?;
+        self.spec.params(preset)
+    }
+}
+
+/// The published LTC table `name` read back for a study that indexes its cells: the
+/// table through the one reader of fitted tables (n × n finite cells), its grid of the
+/// same side, and every cell's held-out figure a finite, non-negative pair — never
+/// trusted by its shape. Returns the file's keys and the table's fingerprint
+/// (`FittedTable::fingerprint`).
+pub fn published(results: &Path, name: &str) -> Result<(Published, String)> {
+    let p: Published = super::require_named(results, name)?;
+    let t = table(results, name)?;
+    let n = p.grid.n;
+    let bad = |what: String| {
+        Err(Error::InvalidArgument(format!(
+            "results/fits/{name}.json: {what}: run `cargo run --release -- regen --only {}`",
+            p.spec.name
+        )))
+    };
+    if t.n != n {
+        return bad(format!("a {0}×{0} table under a grid of side {n}", t.n));
+    }
+    let cells = &p.held_out_cells.l2;
+    if cells.len() != n || cells.iter().any(|col| col.len() != n) {
+        return bad(format!("held_out_cells is not {n}×{n}"));
+    }
+    if cells
+        .iter()
+        .flatten()
+        .flatten()
+        .any(|f| !(f[0].is_finite() && f[1].is_finite() && f[0] >= 0.0 && f[1] >= 0.0))
+    {
+        return bad("a held-out figure that is not a finite, non-negative pair".into());
+    }
+    Ok((p, t.fingerprint()))
+}
+
+/// The published GGX table, checked as [`published`] checks it, with its whole file.
+pub fn published_ggx(results: &Path) -> Result<(Ggx, String)> {
+    let (_, fingerprint) = published(results, super::names::LTC_GGX)?;
+    Ok((super::require(results)?, fingerprint))
+}
+
+/// The route a published LTC table was fitted with: the keys of its spec that the
+/// studies refitting it read (the others are the table study's own).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct GgxRoute {
+    pub samples: usize,
+    pub max_iters: u64,
+    pub polish: crate::ltc::fit::Polish,
+    /// The held-out figures' tolerance; a spec from before the key judged to the
+    /// default.
+    #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]
+    pub held_out_rel: f64,
+    /// The relative L1's own; a spec from before the key judged it to `held_out_rel`.
+    #[serde(default)]
+    pub held_out_l1_rel: Option<f64>,
+}
+
+impl GgxRoute {
+    /// The tolerance the published figures were judged to.
+    pub fn tolerance(&self) -> crate::ltc::lobe_error::Tolerance {
+        let l1 = self.held_out_l1_rel.unwrap_or(self.held_out_rel);
+        crate::ltc::lobe_error::Tolerance::figures(self.held_out_rel, l1)
+    }
+}
+
+impl crate::fit::spec::Params for GgxRoute {
+    fn check(&self) -> std::result::Result<(), String> {
+        crate::fit::spec::within("samples", self.samples, 2, 128)?;
+        crate::fit::spec::within("max_iters", self.max_iters, 1, 100_000)?;
+        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
+        match self.held_out_l1_rel {
+            Some(r) => crate::ltc::lobe_error::Tolerance::check_relative_l1(r),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Ggx {
+    /// The route its spec names, at the preset it was fitted at.
+    pub fn route(&self) -> Result<GgxRoute> {
+        let at = "results/fits/ltc-ggx.json";
+        self.spec
+            .params(crate::integrate::Preset::named(&self.preset, at)?)
+    }
 }
 
 /// The clipped-sphere horizon correction against exact clipping over random quads.

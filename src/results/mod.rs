@@ -188,6 +188,7 @@ pub mod names {
     pub const LEADR_GRIDS: &str = "leadr-grids";
     pub const LTC_GGX: &str = "ltc-ggx";
     pub const LTC_GGX_OPTIMISERS: &str = "ltc-ggx-optimisers";
+    pub const LTC_WORK: &str = "ltc-work";
     pub const LTC_JUDGE_TOLERANCE: &str = "ltc-judge-tolerance";
     pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";
     pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";

@@ -16,6 +16,7 @@ pub mod ltc_ggx;
 pub mod ltc_judge_tolerance;
 pub mod ltc_lobes;
 pub mod ltc_optimisers;
+pub mod ltc_work;
 pub mod multiscale_alpha_me;
 pub mod multiscale_convolution;
 pub mod performance;

@@ -13,13 +13,13 @@
 //! with (its spec, at the preset it was run at); writes results/ltc-ggx-optimisers.md and
 //! results/fits/ltc-ggx-optimisers.json.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::io::Outputs;
-use crate::ltc::fit::{Grid, Polish};
+use crate::ltc::fit::Grid;
 use crate::ltc::held::Stats;
-use crate::results::ltc::{FloorCell, Ggx, Optimisers, RouteComparison};
+use crate::results::ltc::{FloorCell, Optimisers, RouteComparison};
 use crate::study::{Ctx, FitOutcome};
 
 mod floor;
@@ -45,26 +45,6 @@ impl crate::fit::spec::Params for Plan {
     }
 }
 
-/// The route the published table was fitted with: the keys of its spec this study reads
-/// (the others are the GGX study's own).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-struct TableRoute {
-    samples: usize,
-    max_iters: u64,
-    polish: Polish,
-    /// The held-out figures' tolerance; a spec from before the key judged to the default.
-    #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]
-    held_out_rel: f64,
-}
-
-impl crate::fit::spec::Params for TableRoute {
-    fn check(&self) -> std::result::Result<(), String> {
-        crate::fit::spec::within("samples", self.samples, 2, 128)?;
-        crate::fit::spec::within("max_iters", self.max_iters, 1, 100_000)?;
-        crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)
-    }
-}
-
 /// What the study computed.
 pub struct Computed {
     spec: FitSpec,
@@ -81,10 +61,8 @@ pub struct Computed {
 /// The study: read the published table, then the three diagnostics.
 pub fn compute(c: &Ctx) -> Result<Computed> {
     let pl: Plan = c.params()?;
-    let ggx: Ggx = crate::results::require(c.results)?;
-    let table_fingerprint = check_published(&ggx, c.results)?;
-    let table_preset = Preset::named(&ggx.preset, "results/fits/ltc-ggx.json")?;
-    let route: TableRoute = ggx.spec.params(table_preset)?;
+    let (ggx, table_fingerprint) = crate::results::ltc::published_ggx(c.results)?;
+    let route = ggx.route()?;
     let sub = Grid {
         n: pl.sub,
         alpha_min: ggx.grid.alpha_min,
@@ -115,37 +93,6 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         reference,
         table_fingerprint,
     })
-}
-
-/// The published table is read, not trusted by its shape: the table itself through the
-/// one reader of fitted tables (n × n finite cells, 2 ≤ n ≤ its bound), its grid of the
-/// same side, and every cell's held-out figure present as a finite pair — what the floor
-/// and the route comparison index by (i, j).
-/// Returns the table's fingerprint.
-fn check_published(ggx: &Ggx, results: &std::path::Path) -> Result<String> {
-    let t = crate::results::ltc::table(results, crate::results::names::LTC_GGX)?;
-    let n = ggx.grid.n;
-    let bad = |what: String| {
-        Err(Error::InvalidArgument(format!(
-            "results/fits/ltc-ggx.json: {what}: run `cargo run --release -- regen --only ltc-ggx`"
-        )))
-    };
-    if t.n != n {
-        return bad(format!("a {0}×{0} table under a grid of side {n}", t.n));
-    }
-    let cells = &ggx.held_out_cells.l2;
-    if cells.len() != n || cells.iter().any(|col| col.len() != n) {
-        return bad(format!("held_out_cells is not {n}×{n}"));
-    }
-    if cells
-        .iter()
-        .flatten()
-        .flatten()
-        .any(|f| !(f[0].is_finite() && f[1].is_finite() && f[0] >= 0.0 && f[1] >= 0.0))
-    {
-        return bad("a held-out figure that is not a finite, non-negative pair".into());
-    }
-    Ok(t.fingerprint())
 }
 
 fn reference_section(r: &RouteComparison) -> String {

@@ -290,7 +290,39 @@ pub(super) fn main_job_table(results: &Path) -> String {
         t.row(std::iter::once(n.clone()).chain(cols.iter().map(|(_, p)| cell(p, n))));
     }
     md.push_str(&t.to_string());
+    md.push_str(&fits_work_line(results));
     md
+}
+
+/// Whether the LTC fits do more work than their accuracy needs, from the on-request
+/// `ltc-work` study (results/fits/ltc-work.json), when it has run: per table, its cheaper
+/// routes and how many are no worse than the published route's own spread.
+fn fits_work_line(results: &Path) -> String {
+    let Ok(Some(w)) = crate::results::read::<crate::results::ltc::LtcWork>(results) else {
+        return String::new();
+    };
+    let parts: Vec<String> = w
+        .tables
+        .iter()
+        .map(|t| {
+            let d0 = &t.draws[0];
+            let ok = t.routes.iter().filter(|(_, v)| v.no_worse).count();
+            format!(
+                "{} ({}², ≤ {} iterations): {} of {} no worse",
+                t.table,
+                d0.samples,
+                d0.max_iters,
+                ok,
+                t.routes.len()
+            )
+        })
+        .collect();
+    format!(
+        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {} other draws of its training samples and judges cheaper routes (fewer samples, lower caps; a route with the published settings is its check) against that spread: {}.\n",
+        w.preset,
+        w.tables.first().map_or(0, |t| t.draws.len() - 1),
+        parts.join("; ")
+    )
 }
 
 #[cfg(test)]

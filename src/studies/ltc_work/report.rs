@@ -1,0 +1,151 @@
+//! results/ltc-work.md: per table, the reference's spread and the cheaper routes against it.
+
+use crate::integrate::Preset;
+use crate::report::table::Table as MdTable;
+use crate::results::ltc::{LtcWork, TableWork, WorkRow};
+
+pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
+    let mut md = format!(
+        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. A route with the published settings is a check: its cells are the published table's, bit for bit.\n\n",
+        o.command,
+        preset.name(),
+        o.spec.name,
+    );
+    for t in &o.tables {
+        md.push_str(&table_section(t));
+    }
+    md
+}
+
+fn table_section(t: &TableWork) -> String {
+    let d0 = &t.draws[0];
+    let mut md = format!(
+        "## {}\n\nThe published route: {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {} (table fingerprint {}).\n\n",
+        t.table,
+        d0.samples,
+        d0.max_iters,
+        t.polish,
+        &t.table_fingerprint[..t.table_fingerprint.len().min(16)]
+    );
+    let mut d = MdTable::new([
+        "training offset",
+        "mean rel. L2",
+        "work per cell (M)",
+        "mean iterations",
+        "cells above the others",
+        "sum above (points)",
+        "largest (points)",
+        "cells below the others",
+    ]);
+    let leave_out = t
+        .routes
+        .first()
+        .map(|r| r.1.reference.clone())
+        .unwrap_or_default();
+    for (k, r) in t.draws.iter().enumerate() {
+        let e = leave_out.get(k).copied().unwrap_or_default();
+        d.row([
+            format!("{}", r.offset),
+            r.mean.pct(3),
+            millions(r.work_per_cell),
+            r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
+            e.above.to_string(),
+            format!("{:.3}", 100.0 * e.excess),
+            format!("{:.3}", 100.0 * e.largest),
+            e.below.to_string(),
+        ]);
+    }
+    md.push_str(&d.to_string());
+    md.push('\n');
+    md.push_str(&routes_table(t));
+    md
+}
+
+fn millions(w: Option<f64>) -> String {
+    w.map_or("(published, not refitted)".into(), |w| {
+        format!("{:.3}", w / 1e6)
+    })
+}
+
+/// The reference route's work per cell: the mean over its refitted draws.
+fn reference_work(t: &TableWork) -> f64 {
+    let w: Vec<f64> = t.draws.iter().filter_map(|d| d.work_per_cell).collect();
+    w.iter().sum::<f64>() / w.len() as f64
+}
+
+fn routes_table(t: &TableWork) -> String {
+    let w0 = reference_work(t);
+    let mut r = MdTable::new([
+        "samples",
+        "cap",
+        "work per cell (M)",
+        "work / reference",
+        "mean rel. L2",
+        "cells above",
+        "sum above (points)",
+        "largest (points)",
+        "cells below",
+        "surplus above",
+        "no worse",
+    ]);
+    for (row, v) in &t.routes {
+        let largest = v.candidate.iter().map(|e| e.largest).fold(0.0, f64::max);
+        let below =
+            v.candidate.iter().map(|e| e.below as f64).sum::<f64>() / v.candidate.len() as f64;
+        r.row([
+            format!("{}²", row.samples),
+            row.max_iters.to_string(),
+            millions(row.work_per_cell),
+            row.work_per_cell
+                .map_or("—".into(), |w| format!("{:.2}", w / w0)),
+            row.mean.pct(3),
+            format!("{:.1}", v.candidate_above),
+            format!("{:.3}", 100.0 * v.candidate_excess),
+            format!("{:.3}", 100.0 * largest),
+            format!("{below:.1}"),
+            format!("{:.1}", v.candidate_surplus),
+            if v.no_worse { "yes" } else { "no" }.into(),
+        ]);
+    }
+    let mut md = r.to_string();
+    if let Some((_, v)) = t.routes.first() {
+        md.push_str(&format!(
+            "\nBounds (one-sided 95 % prediction from the {} draws, over {} cells): mean rel. L2 ≤ {:.3} %, cells above ≤ {:.1}, sum above ≤ {:.3} points, surplus above ≤ {:.1}. ",
+            v.reference.len(),
+            v.cells,
+            100.0 * v.mean_bound,
+            v.above_bound,
+            100.0 * v.excess_bound,
+            v.surplus_bound,
+        ));
+    }
+    md.push_str(&verdict(t, w0));
+    md
+}
+
+/// The cheapest route no worse than the reference, in a sentence.
+fn verdict(t: &TableWork, w0: f64) -> String {
+    let d0 = &t.draws[0];
+    // cheaper by its settings: no more samples or iterations than the published route,
+    // and fewer of one (the published route itself is a check, not a candidate)
+    let cheaper = |r: &WorkRow| {
+        r.samples <= d0.samples
+            && r.max_iters <= d0.max_iters
+            && (r.samples, r.max_iters) != (d0.samples, d0.max_iters)
+    };
+    let w = |r: &WorkRow| r.work_per_cell.unwrap_or(f64::INFINITY);
+    let cheapest = t
+        .routes
+        .iter()
+        .filter(|(r, v)| v.no_worse && cheaper(r))
+        .min_by(|a, b| w(&a.0).total_cmp(&w(&b.0)));
+    match cheapest {
+        Some((r, _)) => format!(
+            "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage, {:.2}× the reference's fit work.\n\n",
+            r.samples,
+            r.max_iters,
+            w(r) / w0
+        ),
+        None => "No cheaper route is no worse than the reference: among these routes, the published route's work is what its accuracy needs.\n\n".into(),
+    }
+}

@@ -1,0 +1,87 @@
+//! The LTC tables' accuracy-against-work study (`regen --only ltc-work`, on request): its
+//! pipeline is each published table's, its rule behaves on a route whose answer is known,
+//! and the committed file is of the committed tables.
+
+mod common;
+
+use ndfbench::results::{self, ltc};
+use std::path::Path;
+
+/// At the quick preset, in a scratch results folder: the GGX and sheen studies publish
+/// their 8×8 tables, then the work study refits them. For each table, its route with the
+/// published settings goes through fit, bilinear pass, storage and judge on the work
+/// study's own code path, and must give the table study's published held-out figures bit
+/// for bit: the same mean as the published cells', and against every envelope that holds
+/// the published draw no cell above it; against the one without it, exactly what the
+/// published draw does.
+#[test]
+fn each_published_route_refitted_is_its_published_table() {
+    let d = common::scratch("ltc-work", "quick");
+    let out = common::regen_in(
+        Path::new("fits"),
+        &d,
+        &["--only", "ltc-work", "--preset", "quick", "--no-cache"],
+    )
+    .output()
+    .unwrap();
+    common::assert_success(&out);
+    let w = results::read::<ltc::LtcWork>(&d)
+        .unwrap()
+        .expect("ltc-work.json");
+    let names: Vec<&str> = w.tables.iter().map(|t| t.table.as_str()).collect();
+    assert_eq!(names, ["ltc-ggx", "ltc-sheen", "ltc-sheen-neubelt"]);
+    for t in &w.tables {
+        let (p, fingerprint) = ltc::published(&d, &t.table).unwrap();
+        assert_eq!(t.table_fingerprint, fingerprint, "{}", t.table);
+        let route = p.route(&t.table).unwrap();
+        // the published draw is the file's own figures
+        let cells: Vec<[f64; 2]> = p
+            .held_out_cells
+            .l2
+            .iter()
+            .flatten()
+            .flatten()
+            .copied()
+            .collect();
+        let mean = cells.iter().map(|c| c[0]).sum::<f64>() / cells.len() as f64;
+        assert_eq!(t.draws[0].mean.value, mean, "{}", t.table);
+        let (same, v) = t
+            .routes
+            .iter()
+            .find(|(r, _)| (r.samples, r.max_iters) == (route.samples, route.max_iters))
+            .expect("fits/ltc-work.toml's quick routes hold the published route");
+        let bits = |f: ndfbench::integrate::Figure<ndfbench::integrate::Quad>| {
+            (f.value.to_bits(), f.error.to_bits())
+        };
+        assert_eq!(bits(same.mean), bits(t.draws[0].mean), "{}", t.table);
+        assert_eq!(v.candidate[0], v.reference[0], "{}", t.table);
+        for e in &v.candidate[1..] {
+            assert_eq!(e.above, 0, "{}: {v:?}", t.table);
+        }
+        assert!(v.no_worse, "{}", t.table);
+        // the refitted draws did real work, and each is another table
+        for r in &t.draws[1..] {
+            assert!(r.work_per_cell.is_some_and(|x| x > 0.0), "{}", t.table);
+            assert_ne!(r.mean.value, t.draws[0].mean.value, "{}", t.table);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The committed work study ran on the committed tables: a refit without rerunning it
+/// leaves it describing other tables.
+#[test]
+fn the_work_study_is_of_the_published_tables() {
+    let r = Path::new("results");
+    let w = results::read::<ltc::LtcWork>(r)
+        .unwrap()
+        .expect("results/fits/ltc-work.json");
+    for t in &w.tables {
+        assert_eq!(
+            t.table_fingerprint,
+            ltc::table(r, &t.table).unwrap().fingerprint(),
+            "results/fits/ltc-work.json was computed on another table than results/fits/{}.json (regen --only ltc-work)",
+            t.table
+        );
+    }
+}
