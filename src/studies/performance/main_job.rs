@@ -308,7 +308,7 @@ fn fits_work_line(results: &Path) -> String {
             let d0 = &t.draws[0];
             let ok = t.routes.iter().filter(|(_, v)| v.no_worse).count();
             format!(
-                "{} ({}², ≤ {} iterations): {} of {} no worse",
+                "{} ({}², ≤ {} iterations): {} of {} cheaper routes no worse",
                 t.table,
                 d0.samples,
                 d0.max_iters,
@@ -318,7 +318,7 @@ fn fits_work_line(results: &Path) -> String {
         })
         .collect();
     format!(
-        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {} other draws of its training samples and judges cheaper routes (fewer samples, lower caps; a route with the published settings is its check) against that spread: {}.\n",
+        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {} other draws of its training samples and judges cheaper routes (fewer samples, lower caps) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
         w.preset,
         w.tables.first().map_or(0, |t| t.draws.len() - 1),
         parts.join("; ")
