@@ -313,7 +313,7 @@ fn results_hold_no_wall_clock_or_thread_count_outside_the_profile() {
 /// file whose held-out cells or table do not match its grid is a typed error naming the
 /// file, never an out-of-bounds panic or a comparison over a silently shorter zip.
 #[test]
-fn the_optimisers_study_refuses_a_published_table_of_the_wrong_shape() {
+fn the_studies_refitting_the_ggx_table_refuse_it_in_the_wrong_shape() {
     for name in ["ltc-ggx-optimisers", "ltc-work"] {
         refuses_a_published_table_of_the_wrong_shape(name);
     }

@@ -81,11 +81,7 @@ impl VndfSampler {
             o,
             o_stretched,
             // Microsurface::g1_dir from its Λ
-            g1_o: if lambda_o.is_infinite() {
-                0.0
-            } else {
-                1.0 / (1.0 + lambda_o)
-            },
+            g1_o: super::surface::g1_from_lambda(lambda_o),
         })
     }
 

@@ -173,12 +173,7 @@ impl Microsurface {
 
     /// Smith masking of direction o alone, 1/(1 + Λ(o)) ∈ [0, 1] (exact Λ).
     pub fn g1_dir(&self, o: &Vector3<f64>) -> f64 {
-        let l = self.lambda(o);
-        if l.is_infinite() {
-            0.0
-        } else {
-            1.0 / (1.0 + l)
-        }
+        g1_from_lambda(self.lambda(o))
     }
 
     /// G1(o, m) = χ⁺(o·m)/(1 + Λ(o)) (seed 003 App. A).
@@ -216,5 +211,15 @@ impl Microsurface {
     /// Direction of the mean normal ω_n̄ ∝ (−x̄, −ȳ, 1).
     pub fn mean_normal(&self) -> Vector3<f64> {
         Vector3::new(-self.mean.x, -self.mean.y, 1.0).normalize()
+    }
+}
+
+/// Smith G1(o) = 1/(1 + Λ(o)) given Λ (0 where Λ is infinite: o at or below the horizon);
+/// the f64 reference of `shading::g1_from_lambda`.
+pub fn g1_from_lambda(l: f64) -> f64 {
+    if l.is_infinite() {
+        0.0
+    } else {
+        1.0 / (1.0 + l)
     }
 }

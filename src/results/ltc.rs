@@ -336,10 +336,14 @@ pub struct Published {
 impl Published {
     /// The route its spec names, at the preset it was fitted at.
     pub fn route(&self, name: &str) -> Result<GgxRoute> {
-        let at = format!("results/fits/{name}.json");
-        let preset = crate::integrate::Preset::named(&self.preset, &at)?;
-        self.spec.params(preset)
+        route_of(&self.spec, &self.preset, name)
     }
+}
+
+/// The route `spec` names at the preset called `preset`, of the file `name`.
+fn route_of(spec: &FitSpec, preset: &str, name: &str) -> Result<GgxRoute> {
+    let at = format!("results/fits/{name}.json");
+    spec.params(crate::integrate::Preset::named(preset, &at)?)
 }
 
 /// The published LTC table `name` read back for a study that indexes its cells: the
@@ -349,18 +353,38 @@ impl Published {
 /// (`FittedTable::fingerprint`).
 pub fn published(results: &Path, name: &str) -> Result<(Published, String)> {
     let p: Published = super::require_named(results, name)?;
+    let fingerprint = check_published(results, name, &p.spec, p.grid.n, &p.held_out_cells)?;
+    Ok((p, fingerprint))
+}
+
+/// The published GGX table, checked as [`published`] checks it, with its whole file.
+pub fn published_ggx(results: &Path) -> Result<(Ggx, String)> {
+    let g: Ggx = super::require(results)?;
+    let name = super::names::LTC_GGX;
+    let fingerprint = check_published(results, name, &g.spec, g.grid.n, &g.held_out_cells)?;
+    Ok((g, fingerprint))
+}
+
+/// [`published`]'s checks of the file `name` (its spec, grid side `n` and held-out
+/// cells already read); the table's fingerprint.
+fn check_published(
+    results: &Path,
+    name: &str,
+    spec: &FitSpec,
+    n: usize,
+    held: &HeldCells,
+) -> Result<String> {
     let t = table(results, name)?;
-    let n = p.grid.n;
     let bad = |what: String| {
         Err(Error::InvalidArgument(format!(
             "results/fits/{name}.json: {what}: run `cargo run --release -- regen --only {}`",
-            p.spec.name
+            spec.name
         )))
     };
     if t.n != n {
         return bad(format!("a {0}×{0} table under a grid of side {n}", t.n));
     }
-    let cells = &p.held_out_cells.l2;
+    let cells = &held.l2;
     if cells.len() != n || cells.iter().any(|col| col.len() != n) {
         return bad(format!("held_out_cells is not {n}×{n}"));
     }
@@ -372,13 +396,7 @@ pub fn published(results: &Path, name: &str) -> Result<(Published, String)> {
     {
         return bad("a held-out figure that is not a finite, non-negative pair".into());
     }
-    Ok((p, t.fingerprint()))
-}
-
-/// The published GGX table, checked as [`published`] checks it, with its whole file.
-pub fn published_ggx(results: &Path) -> Result<(Ggx, String)> {
-    let (_, fingerprint) = published(results, super::names::LTC_GGX)?;
-    Ok((super::require(results)?, fingerprint))
+    Ok(t.fingerprint())
 }
 
 /// The route a published LTC table was fitted with: the keys of its spec that the
@@ -420,9 +438,7 @@ impl crate::fit::spec::Params for GgxRoute {
 impl Ggx {
     /// The route its spec names, at the preset it was fitted at.
     pub fn route(&self) -> Result<GgxRoute> {
-        let at = "results/fits/ltc-ggx.json";
-        self.spec
-            .params(crate::integrate::Preset::named(&self.preset, at)?)
+        route_of(&self.spec, &self.preset, super::names::LTC_GGX)
     }
 }
 

@@ -227,11 +227,11 @@ pub fn refresh_main_job(set: &mut crate::io::Outputs, results: &Path) -> Result<
         set,
         results,
         "\n## Main job: wall clock per stage",
-        &main_job_table(results),
+        &main_job_table(results)?,
     )
 }
 
-pub(super) fn main_job_table(results: &Path) -> String {
+pub(super) fn main_job_table(results: &Path) -> Result<String> {
     let cols = [
         (
             "before: sequential, no cache",
@@ -251,7 +251,7 @@ pub(super) fn main_job_table(results: &Path) -> String {
         ),
     ];
     if cols.iter().all(|c| c.1.is_none()) {
-        return String::new();
+        return Ok(String::new());
     }
     let mut names: Vec<(String, f64)> = Vec::new();
     for (_, p) in &cols {
@@ -290,44 +290,73 @@ pub(super) fn main_job_table(results: &Path) -> String {
         t.row(std::iter::once(n.clone()).chain(cols.iter().map(|(_, p)| cell(p, n))));
     }
     md.push_str(&t.to_string());
-    md.push_str(&fits_work_line(results));
-    md
+    md.push_str(&fits_work_line(results)?);
+    Ok(md)
 }
 
 /// Whether the LTC fits do more work than their accuracy needs, from the on-request
 /// `ltc-work` study (results/fits/ltc-work.json), when it has run: per table, its cheaper
-/// routes and how many are no worse than the published route's own spread.
-fn fits_work_line(results: &Path) -> String {
-    let Ok(Some(w)) = crate::results::read::<crate::results::ltc::LtcWork>(results) else {
-        return String::new();
+/// routes and how many are no worse than the published route's own spread. A file that
+/// does not read as its type is an error; a table without its published draw is left out.
+fn fits_work_line(results: &Path) -> Result<String> {
+    let Some(w) = crate::results::read::<crate::results::ltc::LtcWork>(results)? else {
+        return Ok(String::new());
     };
-    let parts: Vec<String> = w
-        .tables
-        .iter()
-        .map(|t| {
-            let d0 = &t.draws[0];
-            let ok = t.routes.iter().filter(|(_, v)| v.no_worse).count();
-            format!(
-                "{} ({}², ≤ {} iterations): {} of {} cheaper routes no worse",
-                t.table,
-                d0.samples,
-                d0.max_iters,
-                ok,
-                t.routes.len()
-            )
-        })
-        .collect();
-    format!(
-        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {} other draws of its training samples and judges cheaper routes (fewer samples, lower caps) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
+    let mut parts = Vec::new();
+    let mut refitted = 0;
+    for t in &w.tables {
+        let Some(d0) = t.draws.first() else { continue };
+        refitted = t.draws.len() - 1;
+        let ok = t.routes.iter().filter(|(_, v)| v.no_worse).count();
+        parts.push(format!(
+            "{} ({}², ≤ {} iterations): {} of {} cheaper routes no worse",
+            t.table,
+            d0.samples,
+            d0.max_iters,
+            ok,
+            t.routes.len()
+        ));
+    }
+    if parts.is_empty() {
+        return Ok(String::new());
+    }
+    Ok(format!(
+        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {refitted} other draws of its training samples and judges cheaper routes (fewer samples, lower caps) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
         w.preset,
-        w.tables.first().map_or(0, |t| t.draws.len() - 1),
         parts.join("; ")
-    )
+    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ltc-work line is read, not trusted: no file, no line; a file that is not its
+    /// type, an error naming it; a table without its published draw, left out (no panic),
+    /// and the committed file gives one part per table.
+    #[test]
+    fn the_fits_work_line_reads_its_file_as_its_type() {
+        let dir = std::env::temp_dir().join(format!("ndfbench-fits-work-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("fits")).unwrap();
+        assert_eq!(fits_work_line(&dir).unwrap(), "");
+        let file = dir.join("fits/ltc-work.json");
+        std::fs::write(&file, "not json").unwrap();
+        let e = fits_work_line(&dir).unwrap_err().to_string();
+        assert!(e.contains("ltc-work"), "{e}");
+        let committed = std::fs::read_to_string("results/fits/ltc-work.json").unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&committed).unwrap();
+        let tables = v["tables"].as_array().unwrap().len();
+        std::fs::write(&file, &committed).unwrap();
+        let line = fits_work_line(&dir).unwrap();
+        assert_eq!(line.matches("cheaper routes no worse").count(), tables);
+        for t in v["tables"].as_array_mut().unwrap() {
+            t["draws"] = serde_json::json!([]);
+        }
+        std::fs::write(&file, serde_json::to_string(&v).unwrap()).unwrap();
+        assert_eq!(fits_work_line(&dir).unwrap(), "");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 
     /// A study's cost comes from the sequential profile (alone, its own CPU) where that
     /// holds it, else from the cold main job (said to overlap), else nothing.

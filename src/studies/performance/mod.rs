@@ -159,7 +159,7 @@ left by `cargo bench` under `target/criterion/report/index.html`; this page is i
     md.push_str(&deliverables::render_table(&timed, results)?);
     md.push_str(&deliverables::survey_table(&timed, results)?);
     md.push_str(&deliverables::visibility_table(&timed));
-    md.push_str(&main_job_table(results));
+    md.push_str(&main_job_table(results)?);
     let other: Vec<&Timed> = timed
         .iter()
         .filter(|t| {
