@@ -85,8 +85,18 @@ impl Convolution {
     }
 
     /// ∫ w(θ) c(θ) 2π sin θ dθ over [θ0, θ1] by adaptive GK, with geometric break points
-    /// following the lobe; inner errors are propagated.
-    fn radial(&self, w: &(dyn Fn(f64) -> f64 + Sync), t0: f64, t1: f64, tol: Tol) -> Estimate {
+    /// following the lobe; inner errors are propagated. `seen` holds the c(θ) already
+    /// computed at this `tol` (by θ's bits): integrals of the same range with other
+    /// weights start on the same nodes, and c(θ) is a pure function of θ, so a value taken
+    /// from it is the one a fresh quadrature gives.
+    fn radial(
+        &self,
+        w: &(dyn Fn(f64) -> f64 + Sync),
+        t0: f64,
+        t1: f64,
+        tol: Tol,
+        seen: &std::sync::Mutex<std::collections::HashMap<u64, Estimate>>,
+    ) -> Estimate {
         let width = self.alpha_me.max(self.alpha_mi).min(1.0);
         let mut breaks = vec![t0, t1];
         let mut th = 0.25 * width;
@@ -99,7 +109,19 @@ impl Convolution {
         breaks.sort_by(|a, b| a.total_cmp(b));
         let inner = Tol::new(tol.abs * 0.1, tol.rel * 0.1, tol.max_evals / 20);
         let eval = |xs: &[f64; 15]| {
-            let r: Vec<Estimate> = xs.par_iter().map(|&t| self.density(t, inner)).collect();
+            let known = |t: f64| seen.lock().ok()?.get(&t.to_bits()).cloned();
+            let r: Vec<Estimate> = xs
+                .par_iter()
+                .map(|&t| {
+                    known(t).unwrap_or_else(|| {
+                        let e = self.density(t, inner);
+                        if let Ok(mut m) = seen.lock() {
+                            m.insert(t.to_bits(), e.clone());
+                        }
+                        e
+                    })
+                })
+                .collect();
             let mut v = [0.0; 15];
             let mut e = [0.0; 15];
             let mut n = 0;
@@ -118,10 +140,12 @@ impl Convolution {
     pub fn moments_quad(&self, tol: Tol) -> Moments {
         let one = |_t: f64| 1.0;
         let cz = |t: f64| t.cos();
-        let above = self.radial(&one, 0.0, PI / 2.0, tol);
-        let below = self.radial(&one, PI / 2.0, PI, tol);
-        let mrl_above = self.radial(&cz, 0.0, PI / 2.0, tol);
-        let mrl_below = self.radial(&cz, PI / 2.0, PI, tol);
+        // the mass and the mean resultant length of a half share its c(θ) nodes
+        let seen = Default::default();
+        let above = self.radial(&one, 0.0, PI / 2.0, tol, &seen);
+        let below = self.radial(&one, PI / 2.0, PI, tol, &seen);
+        let mrl_above = self.radial(&cz, 0.0, PI / 2.0, tol, &seen);
+        let mrl_below = self.radial(&cz, PI / 2.0, PI, tol, &seen);
         let sum = |a: &Estimate, b: &Estimate| Estimate {
             value: a.value + b.value,
             error: a.error + b.error,
@@ -433,5 +457,32 @@ impl Polygon {
             rule = rule.with_kink(k);
         }
         integrate_sphere(&g, &rule, tol)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A radial integral that takes c(θ) from another's nodes is the integral it gives
+    /// alone, bit for bit, and the two weights of a half do share nodes.
+    #[test]
+    fn shared_nodes_change_no_bit() {
+        let c = Convolution::new(0.3, 0.2).unwrap();
+        let tol = Tol::new(1e-6, 1e-6, 200_000);
+        let cz = |t: f64| t.cos();
+        let own = Default::default();
+        let alone = c.radial(&cz, 0.0, PI / 2.0, tol, &own);
+        let needed = own.lock().unwrap().len();
+        let seen = Default::default();
+        c.radial(&|_| 1.0, 0.0, PI / 2.0, tol, &seen);
+        let filled = seen.lock().unwrap().len();
+        assert!(filled > 0);
+        let shared = c.radial(&cz, 0.0, PI / 2.0, tol, &seen);
+        assert_eq!(alone.value.to_bits(), shared.value.to_bits());
+        assert_eq!(alone.error.to_bits(), shared.error.to_bits());
+        assert_eq!(alone.evals, shared.evals);
+        // the second weight found some of its nodes computed already
+        assert!(seen.lock().unwrap().len() - filled < needed);
     }
 }

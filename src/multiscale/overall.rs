@@ -294,13 +294,54 @@ pub struct PairFit {
     pub cap_quad_rel_error: f64,
 }
 
+/// The coarse log scan [`brent_min`] brackets its minimum with: 41 points from lo to hi.
+fn scan_points(lo: f64, hi: f64) -> Vec<f64> {
+    let n = 40;
+    (0..=n)
+        .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
+        .collect()
+}
+
 fn brent_min(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
     // coarse log scan for a bracket, then Brent inside it
-    let n = 40;
-    let xs: Vec<f64> = (0..=n)
-        .map(|i| lo * (hi / lo).powf(i as f64 / n as f64))
-        .collect();
-    crate::optimize::scan_brent(f, &xs, (1e-10, 1e-12), 200)
+    crate::optimize::scan_brent(f, &scan_points(lo, hi), (1e-10, 1e-12), 200)
+}
+
+/// The one-LTC energies in every light ([`lights_of_ltc`]) at the points of the caps
+/// metric's scan over [`QUAD_DOMAIN`]. They depend on α alone, not on the pair, so a set
+/// of pair fits computes them once ([`fit_pair_with`]) instead of once per pair; every
+/// value is the one [`lights_of_ltc`] gives at that α, so the fits do not change by a bit.
+pub struct LightScan {
+    /// (α's bits, the energies) at every scan point.
+    at: Vec<(u64, Vec<f64>)>,
+}
+
+impl LightScan {
+    pub fn new() -> LightScan {
+        use rayon::prelude::*;
+        let polys = polygons();
+        let xs = scan_points(QUAD_DOMAIN.0, QUAD_DOMAIN.1);
+        LightScan {
+            at: xs
+                .par_iter()
+                .map(|&a| (a.to_bits(), lights_of_ltc(a, &polys)))
+                .collect(),
+        }
+    }
+
+    /// The energies at α: from the scan where α is one of its points, else computed.
+    fn lights(&self, alpha: f64, polys: &[Polygon]) -> std::borrow::Cow<'_, [f64]> {
+        match self.at.iter().find(|(b, _)| *b == alpha.to_bits()) {
+            Some((_, v)) => std::borrow::Cow::Borrowed(v),
+            None => std::borrow::Cow::Owned(lights_of_ltc(alpha, polys)),
+        }
+    }
+}
+
+impl Default for LightScan {
+    fn default() -> Self {
+        LightScan::new()
+    }
 }
 
 /// Roughness range on which the quadrature metrics (clipped moment, L2, caps) are fitted:
@@ -311,6 +352,11 @@ pub const QUAD_DOMAIN: (f64, f64) = (1e-3, 3.0);
 /// Fit one pair under every metric (both α in [`QUAD_DOMAIN`]; about 1 s of quadrature,
 /// every integral under an evaluation budget).
 pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
+    fit_pair_with(&LightScan::new(), alpha_mi, alpha_me)
+}
+
+/// [`fit_pair`] with the caps metric's scan computed beforehand (shared by a set of pairs).
+pub fn fit_pair_with(scan: &LightScan, alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
     for a in [alpha_mi, alpha_me] {
         if !(QUAD_DOMAIN.0..=QUAD_DOMAIN.1).contains(&a) {
             return Err(Error::InvalidArgument(format!(
@@ -361,14 +407,14 @@ pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
     }
     let caps = brent_min(
         &|a| {
-            let c = lights_of_ltc(a, &polys);
+            let c = scan.lights(a, &polys);
             c.iter()
                 .zip(&target)
                 .map(|(x, t)| ((x - t) / t).powi(2))
                 .sum::<f64>()
         },
-        1e-3,
-        3.0,
+        QUAD_DOMAIN.0,
+        QUAD_DOMAIN.1,
     );
     Ok(PairFit {
         alpha_mi,
@@ -491,4 +537,31 @@ pub fn evaluate_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairEval> {
             QUAD_DOMAIN.0, QUAD_DOMAIN.1
         ),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shared scan holds, at every point the caps metric's Brent search scans, the
+    /// energies a fresh [`lights_of_ltc`] gives there, bit for bit; any other α is
+    /// computed afresh.
+    #[test]
+    fn the_shared_scan_is_what_each_pair_would_compute() {
+        let scan = LightScan::new();
+        let polys = polygons();
+        let xs = scan_points(QUAD_DOMAIN.0, QUAD_DOMAIN.1);
+        assert_eq!(scan.at.len(), xs.len());
+        for &a in xs.iter().step_by(10) {
+            let got = scan.lights(a, &polys);
+            assert!(matches!(got, std::borrow::Cow::Borrowed(_)), "α = {a} not in the scan");
+            let fresh = lights_of_ltc(a, &polys);
+            assert_eq!(got.len(), fresh.len());
+            for (x, y) in got.iter().zip(&fresh) {
+                assert_eq!(x.to_bits(), y.to_bits());
+            }
+        }
+        let off = 0.5 * (xs[3] + xs[4]);
+        assert!(matches!(scan.lights(off, &polys), std::borrow::Cow::Owned(_)));
+    }
 }

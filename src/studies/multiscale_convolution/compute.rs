@@ -6,8 +6,8 @@ use crate::fit::spec::FitSpec;
 use crate::integrate::Preset;
 use crate::multiscale::alpha_me::{held_out_alphas, training_alphas};
 use crate::multiscale::overall::{
-    alpha_moment, corrected, eq7, fit_corrected, fit_improved, fit_pair, improved, refit_eq7,
-    sum_of_squares, vmf, Metric, PairFit,
+    alpha_moment, corrected, eq7, fit_corrected, fit_improved, fit_pair_with, improved, refit_eq7,
+    sum_of_squares, vmf, LightScan, Metric, PairFit,
 };
 
 #[derive(Clone, Copy, Debug, serde::Serialize)]
@@ -171,10 +171,13 @@ pub(super) fn compute(
         "convolution fits",
         (pairs.len() + (m - 1) * (m - 1)) as u64,
     );
-    // memoised (cached, shardable; crate::memo): each pair's fit is a pure function of it
+    // memoised (cached, shardable; crate::memo): each pair's fit is a pure function of it;
+    // the caps metric's scan is the same for every pair: computed once (41 one-LTC light
+    // sets, a fraction of one pair's fit), before the pairs
+    let scan = LightScan::new();
     let fit_all = |label: &str, pts: &[(f64, f64)]| {
         crate::memo::map(label, pts.len(), |k| {
-            let r = fit_pair(pts[k].0, pts[k].1);
+            let r = fit_pair_with(&scan, pts[k].0, pts[k].1);
             pb.inc(1);
             r
         })
