@@ -554,7 +554,10 @@ mod tests {
         assert_eq!(scan.at.len(), xs.len());
         for &a in xs.iter().step_by(10) {
             let got = scan.lights(a, &polys);
-            assert!(matches!(got, std::borrow::Cow::Borrowed(_)), "α = {a} not in the scan");
+            assert!(
+                matches!(got, std::borrow::Cow::Borrowed(_)),
+                "α = {a} not in the scan"
+            );
             let fresh = lights_of_ltc(a, &polys);
             assert_eq!(got.len(), fresh.len());
             for (x, y) in got.iter().zip(&fresh) {
@@ -562,6 +565,9 @@ mod tests {
             }
         }
         let off = 0.5 * (xs[3] + xs[4]);
-        assert!(matches!(scan.lights(off, &polys), std::borrow::Cow::Owned(_)));
+        assert!(matches!(
+            scan.lights(off, &polys),
+            std::borrow::Cow::Owned(_)
+        ));
     }
 }
