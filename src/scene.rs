@@ -1,12 +1,15 @@
 //! "Model only what a scene requires": a scene file names the NDF, the
 //! roughness form, the lights, the normal-map filter, the screen-space AA, the precision
 //! and an error budget; `scene` writes only the WGSL and Rust that scene needs, and a
-//! report of every chosen approximation with its measured error and cost. `auto` picks
-//! the cheapest approximation whose measured error (mean + 1 s.e.) meets the budget,
-//! from results/fits/filters.json (errors) and results/costs.json (ns per evaluation).
+//! report of every chosen approximation with its measured error and cost. `auto` takes,
+//! among the approximations whose measured error (mean + 1 s.e.) meets the budget, the
+//! cheapest and every one whose cost's 95 % interval reaches the cheapest's (not
+//! measurably dearer), and of those the most accurate (`filters::choice::pick`); errors from
+//! results/fits/filters.json, costs from results/costs.json (ns per evaluation).
 
 use crate::codegen;
 use crate::error::{Error, Result};
+use crate::filters::choice::{pick, Candidate};
 use crate::filters::registry::{Domain, Filter, MapRule, Rule, ScreenRule};
 use serde::Deserialize;
 use std::path::Path;
@@ -185,6 +188,9 @@ pub struct Choice {
     pub error: Option<crate::integrate::Figure>,
     pub error_note: String,
     pub cost_ns: Option<f64>,
+    /// The cost's 95 % confidence interval (criterion's), where measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cost_ci: Option<(f64, f64)>,
 }
 
 /// The measured tables a scene chooses from, read once per build.
@@ -205,9 +211,18 @@ impl Measured {
     fn cost(&self, key: &str) -> Option<f64> {
         self.costs.as_ref().and_then(|c| c.get(key))
     }
+    fn cost_interval(&self, key: &str) -> Option<(f64, f64)> {
+        self.costs.as_ref().and_then(|c| c.interval(key))
+    }
 }
 
-fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<crate::integrate::Figure>, Option<f64>) {
+type MeasuredCost = Option<(f64, (f64, f64))>;
+
+fn measured(
+    m: &Measured,
+    f: Filter,
+    ndf: &str,
+) -> (Option<crate::integrate::Figure>, MeasuredCost) {
     let beck = ndf == "beckmann";
     let err = m
         .filters
@@ -228,8 +243,11 @@ fn measured(m: &Measured, f: Filter, ndf: &str) -> (Option<crate::integrate::Fig
         });
     // a filter that ships no function costs nothing; the others their bench's time
     let cost = match (f.uses().shader, f.uses().bench) {
-        (None, _) => Some(0.0),
-        (Some(_), Some(b)) => m.cost(&format!("filters/{b}")),
+        (None, _) => Some((0.0, (0.0, 0.0))),
+        (Some(_), Some(b)) => {
+            let key = format!("filters/{b}");
+            m.cost(&key).zip(m.cost_interval(&key))
+        }
         (Some(_), None) => None,
     };
     (err, cost)
@@ -244,14 +262,15 @@ fn choose(
     m: &Measured,
 ) -> Result<Choice> {
     let mk = |o: &Filter| {
-        let (error, cost_ns) = measured(m, *o, ndf);
+        let (error, cost) = measured(m, *o, ndf);
         Choice {
             aspect: aspect.into(),
             key: o.key().into(),
             function: o.uses().shader.map(String::from),
             error,
             error_note: format!("mean relative L2 lobe error ± s.e. against the footprint-averaged {ndf} BRDF (results/filters.md)"),
-            cost_ns,
+            cost_ns: cost.map(|c| c.0),
+            cost_ci: cost.map(|c| c.1).filter(|ci| ci.0 < ci.1),
         }
     };
     if want != "auto" {
@@ -262,21 +281,16 @@ fn choose(
         return Ok(mk(o));
     }
     let all: Vec<Choice> = opts.iter().map(mk).collect();
-    let ok: Vec<&Choice> = all
+    let cands: Vec<Candidate> = all
         .iter()
-        .filter(|c| c.error.is_some_and(|e| e.value + e.error <= budget))
+        .map(|c| Candidate {
+            error: c.error.map(|e| (e.value, e.error)),
+            cost: c.cost_ns.map(|m| (m, c.cost_ci.unwrap_or((m, m)))),
+        })
         .collect();
-    let best = ok.iter().min_by(|a, b| {
-        let ca = a.cost_ns.unwrap_or(f64::INFINITY);
-        let cb = b.cost_ns.unwrap_or(f64::INFINITY);
-        ca.total_cmp(&cb).then(
-            a.error
-                .map_or(f64::INFINITY, |e| e.value)
-                .total_cmp(&b.error.map_or(f64::INFINITY, |e| e.value)),
-        )
-    });
+    let best = pick(&cands, budget).map(|k| &all[k]);
     match best {
-        Some(c) => Ok((*c).clone()),
+        Some(c) => Ok(c.clone()),
         None => {
             let closest = all.iter().filter(|c| c.error.is_some()).min_by(|a, b| {
                 a.error
@@ -449,7 +463,7 @@ pub fn build(s: &Scene, results: &Path) -> Result<Vec<(String, String)>> {
                 "{}{}",
                 c.key,
                 if want == "auto" {
-                    " (auto: cheapest within budget)"
+                    " (auto: the most accurate within budget of those not measurably dearer than the cheapest)"
                 } else {
                     ""
                 }

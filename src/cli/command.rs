@@ -235,8 +235,9 @@ pub enum Cmd {
     /// `normal_map_filter` (auto, mip-normal or the key of a map filter that ships a
     /// generated function; an unknown key is an error listing the valid ones),
     /// `screen_space_aa` (auto, none or the key of such a kernel), `precision` (f32; f16 is
-    /// refused with the reason), `error_budget` (mean relative L2 lobe error; `auto` takes
-    /// the cheapest option whose measured error + 1 s.e. meets it). Unknown or
+    /// refused with the reason), `error_budget` (mean relative L2 lobe error; `auto` takes,
+    /// of the options whose measured error + 1 s.e. meets it, the most accurate whose
+    /// cost is not measurably above the cheapest's: 95 % intervals that meet). Unknown or
     /// contradictory keys are errors naming the key; the WGSL is validated with naga before
     /// anything is written. Examples: `tests/scenes/*.toml`, outputs in `results/scenes/`.
     Scene {

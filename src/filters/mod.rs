@@ -2,6 +2,7 @@
 //! the filters of the engines and papers (f64 reference + f32 shading form), the exact
 //! footprint-averaged ground truth, and the study behind results/filters.md.
 
+pub mod choice;
 pub mod footprint;
 pub mod plan;
 pub mod registry;

@@ -22,6 +22,19 @@ impl Costs {
     pub fn get(&self, key: &str) -> Option<f64> {
         self.ns.get(key).copied()
     }
+
+    /// The 95 % confidence interval of the cost under `key` (criterion's, kept as
+    /// `key/lo` and `key/hi`); the point itself where no interval was kept.
+    pub fn interval(&self, key: &str) -> Option<(f64, f64)> {
+        let mean = self.get(key)?;
+        match (
+            self.get(&format!("{key}/lo")),
+            self.get(&format!("{key}/hi")),
+        ) {
+            (Some(lo), Some(hi)) if lo <= mean && mean <= hi => Some((lo, hi)),
+            _ => Some((mean, mean)),
+        }
+    }
 }
 
 /// Where the costs live under `results`.
