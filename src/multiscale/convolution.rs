@@ -88,7 +88,8 @@ impl Convolution {
     /// following the lobe; inner errors are propagated. `seen` holds the c(θ) already
     /// computed at this `tol` (by θ's bits): integrals of the same range with other
     /// weights start on the same nodes, and c(θ) is a pure function of θ, so a value taken
-    /// from it is the one a fresh quadrature gives.
+    /// from it is the one a fresh quadrature gives (and its evaluations are counted in
+    /// each integral it serves: `evals` is what the figure rests on, not what was spent).
     fn radial(
         &self,
         w: &(dyn Fn(f64) -> f64 + Sync),
@@ -109,14 +110,14 @@ impl Convolution {
         breaks.sort_by(|a, b| a.total_cmp(b));
         let inner = Tol::new(tol.abs * 0.1, tol.rel * 0.1, tol.max_evals / 20);
         let eval = |xs: &[f64; 15]| {
-            let known = |t: f64| seen.lock().ok()?.get(&t.to_bits()).cloned();
+            let known = |t: f64| seen.lock().ok()?.get(&t.to_bits()).copied();
             let r: Vec<Estimate> = xs
                 .par_iter()
                 .map(|&t| {
                     known(t).unwrap_or_else(|| {
                         let e = self.density(t, inner);
                         if let Ok(mut m) = seen.lock() {
-                            m.insert(t.to_bits(), e.clone());
+                            m.insert(t.to_bits(), e);
                         }
                         e
                     })

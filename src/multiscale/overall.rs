@@ -317,7 +317,8 @@ pub struct LightScan {
 }
 
 impl LightScan {
-    pub fn new() -> LightScan {
+    /// The 41 light sets of the scan (adaptive quadratures, in parallel).
+    pub fn compute() -> LightScan {
         use rayon::prelude::*;
         let polys = polygons();
         let xs = scan_points(QUAD_DOMAIN.0, QUAD_DOMAIN.1);
@@ -338,12 +339,6 @@ impl LightScan {
     }
 }
 
-impl Default for LightScan {
-    fn default() -> Self {
-        LightScan::new()
-    }
-}
-
 /// Roughness range on which the quadrature metrics (clipped moment, L2, caps) are fitted:
 /// the bracket of their Brent search. Outside it [`fit_pair`] is a typed error and
 /// [`evaluate_pair`] gives the closed form and the limits instead.
@@ -352,11 +347,13 @@ pub const QUAD_DOMAIN: (f64, f64) = (1e-3, 3.0);
 /// Fit one pair under every metric (both α in [`QUAD_DOMAIN`]; about 1 s of quadrature,
 /// every integral under an evaluation budget).
 pub fn fit_pair(alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
-    fit_pair_with(&LightScan::new(), alpha_mi, alpha_me)
+    // refuse a pair outside the domain before the scan's 41 quadratures
+    in_quad_domain(alpha_mi, alpha_me)?;
+    fit_pair_with(&LightScan::compute(), alpha_mi, alpha_me)
 }
 
-/// [`fit_pair`] with the caps metric's scan computed beforehand (shared by a set of pairs).
-pub fn fit_pair_with(scan: &LightScan, alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
+/// Both α inside [`QUAD_DOMAIN`] (NaN is not), or the typed error naming the one outside.
+fn in_quad_domain(alpha_mi: f64, alpha_me: f64) -> Result<()> {
     for a in [alpha_mi, alpha_me] {
         if !(QUAD_DOMAIN.0..=QUAD_DOMAIN.1).contains(&a) {
             return Err(Error::InvalidArgument(format!(
@@ -365,6 +362,12 @@ pub fn fit_pair_with(scan: &LightScan, alpha_mi: f64, alpha_me: f64) -> Result<P
             )));
         }
     }
+    Ok(())
+}
+
+/// [`fit_pair`] with the caps metric's scan computed beforehand (shared by a set of pairs).
+pub fn fit_pair_with(scan: &LightScan, alpha_mi: f64, alpha_me: f64) -> Result<PairFit> {
+    in_quad_domain(alpha_mi, alpha_me)?;
     let conv = Convolution::new(alpha_me, alpha_mi)?;
     let tol = Tol::new(1e-8, 1e-8, 5_000_000);
     let m = conv.moments_quad(tol);
@@ -548,7 +551,7 @@ mod tests {
     /// computed afresh.
     #[test]
     fn the_shared_scan_is_what_each_pair_would_compute() {
-        let scan = LightScan::new();
+        let scan = LightScan::compute();
         let polys = polygons();
         let xs = scan_points(QUAD_DOMAIN.0, QUAD_DOMAIN.1);
         assert_eq!(scan.at.len(), xs.len());
@@ -565,6 +568,11 @@ mod tests {
             }
         }
         let off = 0.5 * (xs[3] + xs[4]);
+        // a pair outside the domain (NaN, 1e300, 0) is refused before any quadrature
+        for bad in [f64::NAN, 1e300, 0.0] {
+            assert!(fit_pair(bad, 0.1).is_err());
+            assert!(fit_pair_with(&scan, 0.1, bad).is_err());
+        }
         assert!(matches!(
             scan.lights(off, &polys),
             std::borrow::Cow::Owned(_)

@@ -174,7 +174,7 @@ pub(super) fn compute(
     // memoised (cached, shardable; crate::memo): each pair's fit is a pure function of it;
     // the caps metric's scan is the same for every pair: computed once (41 one-LTC light
     // sets, a fraction of one pair's fit), before the pairs
-    let scan = LightScan::new();
+    let scan = LightScan::compute();
     let fit_all = |label: &str, pts: &[(f64, f64)]| {
         crate::memo::map(label, pts.len(), |k| {
             let r = fit_pair_with(&scan, pts[k].0, pts[k].1);
