@@ -142,6 +142,14 @@ impl LtcTarget for AnisoGgxTarget {
     fn eval(&self, l: &V3) -> (f64, f64) {
         self.seen.eval(l)
     }
+    fn eval_lanes(
+        &self,
+        l: &crate::ltc::lanes::Dirs,
+        live: [bool; crate::ltc::lanes::LANES],
+    ) -> [(f64, f64); crate::ltc::lanes::LANES] {
+        let (f, p) = self.seen.eval_lanes(l);
+        std::array::from_fn(|i| if live[i] { (f[i], p[i]) } else { (0.0, 0.0) })
+    }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         let m = self.vndf.sample(u)?;
         let l = m * (2.0 * self.v.dot(&m)) - self.v;

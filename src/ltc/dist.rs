@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::integrate::mc::{CosineHemisphere, Strategy};
 use crate::jacobian::{DirMap, Ltc};
+use crate::ltc::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
 
@@ -36,6 +37,12 @@ impl LtcDist {
 
     /// Density γ(x) w.r.t. solid angle (seed 000 Eq 1).
     pub fn eval(&self, x: &Vector3<f64>) -> f64 {
+        self.map.density(x)
+    }
+
+    /// [`Self::eval`] as the map's `forward` and `det` compute it, each in full: the
+    /// reference the shared-work form is checked against, bit for bit.
+    pub fn eval_reference(&self, x: &Vector3<f64>) -> f64 {
         let xo = self.map.forward(x);
         if xo.z <= 0.0 {
             return 0.0;
@@ -48,6 +55,24 @@ impl LtcDist {
     /// its cosine samples once and maps them through every trial matrix.
     pub fn from_cosine(&self, c: &Vector3<f64>) -> Option<Vector3<f64>> {
         self.map.inverse(c)
+    }
+
+    /// [`Self::from_cosine`] of four clamped-cosine samples (`ltc::lanes`, the same bits
+    /// per lane): the images, and whether each exists (a zero image has none).
+    pub fn from_cosine_lanes(&self, c: &Dirs) -> (Dirs, [bool; LANES]) {
+        let v = c.times(&self.map.m);
+        let n = v.norm();
+        (v.over(&n), std::array::from_fn(|i| n[i] > 0.0))
+    }
+
+    /// [`Self::eval`] of four directions (`ltc::lanes`, the same bits per lane).
+    pub fn eval_lanes(&self, x: &Dirs) -> Lanes {
+        let v = x.times(&self.map.m_inv);
+        let n = v.norm();
+        let z = map(|i| v.z[i] / n[i]);
+        let det = self.map.det_inv_abs();
+        let j = map(|i| det / n[i].powi(3));
+        map(|i| if z[i] <= 0.0 { 0.0 } else { z[i] / PI * j[i] })
     }
 
     pub fn matrix(&self) -> &Matrix3<f64> {

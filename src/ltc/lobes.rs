@@ -99,6 +99,13 @@ impl LtcTarget for LobeTarget {
     fn eval(&self, l: &V3) -> (f64, f64) {
         self.inner().eval(l)
     }
+    fn eval_lanes(
+        &self,
+        l: &super::lanes::Dirs,
+        live: [bool; super::lanes::LANES],
+    ) -> [(f64, f64); super::lanes::LANES] {
+        self.inner().eval_lanes(l, live)
+    }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         self.inner().sample(u)
     }

@@ -38,6 +38,7 @@ pub mod fit;
 pub mod gauss_newton;
 pub mod held;
 pub mod hemisphere;
+pub mod lanes;
 pub mod lobe_error;
 pub mod lobes;
 pub mod params;

@@ -9,8 +9,9 @@
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
 use crate::ltc::chart::Chart;
+use crate::ltc::lanes::{map, quad2, Dirs, Lanes, LANES};
 use crate::microfacet::sampling::VndfSampler;
-use crate::microfacet::{Microsurface, Roughness};
+use crate::microfacet::{Microsurface, NdfKind, Roughness};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -21,6 +22,18 @@ pub trait LtcTarget: Sync {
     fn view(&self) -> V3;
     /// (f(l), density of l under [`LtcTarget::sample`]); (0, 0) below the horizon.
     fn eval(&self, l: &V3) -> (f64, f64);
+    /// [`LtcTarget::eval`] of the four directions of `l` whose lane is `live` ((0, 0)
+    /// elsewhere): each lane's bits are `eval`'s. A target whose value is a chain of
+    /// divisions and roots computes the lanes step by step (`ltc::lanes`).
+    fn eval_lanes(&self, l: &Dirs, live: [bool; LANES]) -> [(f64, f64); LANES] {
+        std::array::from_fn(|i| {
+            if live[i] {
+                self.eval(&l.get(i))
+            } else {
+                (0.0, 0.0)
+            }
+        })
+    }
     /// An importance sample of f (None where it lands below the horizon).
     fn sample(&self, u: [f64; 2]) -> Option<V3>;
     /// A width of the lobe (α for microfacet lobes; 1 for diffuse): scales the first
@@ -75,6 +88,8 @@ pub(crate) struct FixedView {
     v: V3,
     lambda_v: f64,
     g1_v: f64,
+    /// D's constant factor (`Microsurface::d_norm`).
+    d_norm: f64,
 }
 
 impl FixedView {
@@ -84,6 +99,7 @@ impl FixedView {
             v,
             lambda_v: surface.lambda(&v),
             g1_v: surface.g1_dir(&v),
+            d_norm: surface.d_norm(),
         }
     }
 
@@ -96,7 +112,7 @@ impl FixedView {
             return (0.0, 0.0);
         }
         let h = (self.v + l).normalize();
-        let d = self.surface.d(&h);
+        let d = self.surface.d_with(&h, self.d_norm);
         let pdf = d * self.g1_v / (4.0 * self.v.z);
         let g2 = if l.dot(&h) <= 0.0 || self.v.dot(&h) <= 0.0 {
             0.0
@@ -109,6 +125,89 @@ impl FixedView {
             }
         };
         (d * g2 / (4.0 * self.v.z), pdf)
+    }
+
+    /// [`Self::eval`] of four directions, step by step across the lanes (`ltc::lanes`):
+    /// `Microsurface::d_with`, `nu` and `lambda::ggx` spelled out lane by lane for GGX,
+    /// the same operations in the same order, so each lane's bits are `eval`'s; other
+    /// NDFs lane by lane through `eval`.
+    pub(crate) fn eval_lanes(&self, l: &Dirs) -> (Lanes, Lanes) {
+        let sf = &self.surface;
+        if sf.kind != NdfKind::Ggx {
+            let r: [(f64, f64); LANES] = std::array::from_fn(|i| self.eval(&l.get(i)));
+            return (map(|i| r[i].0), map(|i| r[i].1));
+        }
+        let (v, mean) = (&self.v, &sf.mean);
+        let s = l.plus(v);
+        let h = s.over(&s.norm());
+        // D(h)
+        let vx = map(|i| h.x[i] + mean.x * h.z[i]);
+        let vy = map(|i| h.y[i] + mean.y * h.z[i]);
+        let w = quad2(sf.rough.inv(), &vx, &vy);
+        let d = map(|i| {
+            let (mz, s) = (h.z[i], w[i] + h.z[i] * h.z[i]);
+            if !(mz > 0.0) {
+                0.0
+            } else {
+                self.d_norm / (s * s)
+            }
+        });
+        // Λ(l): ν = (l_z − x̄·l_xy)/√(l_xyᵀ A l_xy)
+        let num = map(|i| l.z[i] - mean.x * l.x[i] - mean.y * l.y[i]);
+        let q = quad2(sf.rough.a(), &l.x, &l.y);
+        let den = map(|i| q[i].sqrt());
+        let nu = map(|i| {
+            if den[i] == 0.0 {
+                if num[i] > 0.0 {
+                    f64::INFINITY
+                } else if num[i] < 0.0 {
+                    f64::NEG_INFINITY
+                } else {
+                    0.0
+                }
+            } else {
+                num[i] / den[i]
+            }
+        });
+        let lam = map(|i| {
+            if !(nu[i] > 0.0) {
+                f64::INFINITY
+            } else {
+                crate::microfacet::lambda::ggx(nu[i])
+            }
+        });
+        let (lh, vh) = (
+            l.dot(&h),
+            map(|i| v.x * h.x[i] + v.y * h.y[i] + v.z * h.z[i]),
+        );
+        let g2 = map(|i| {
+            if lh[i] <= 0.0 || vh[i] <= 0.0 {
+                0.0
+            } else {
+                let s = lam[i] + self.lambda_v;
+                if s.is_infinite() {
+                    0.0
+                } else {
+                    1.0 / (1.0 + s)
+                }
+            }
+        });
+        let up = map(|i| if l.z[i] <= 0.0 { 0.0 } else { 1.0 });
+        let f = map(|i| {
+            if up[i] == 0.0 {
+                0.0
+            } else {
+                d[i] * g2[i] / (4.0 * v.z)
+            }
+        });
+        let p = map(|i| {
+            if up[i] == 0.0 {
+                0.0
+            } else {
+                d[i] * self.g1_v / (4.0 * v.z)
+            }
+        });
+        (f, p)
     }
 }
 
@@ -199,6 +298,10 @@ impl LtcTarget for GgxTarget {
     }
     fn eval(&self, l: &V3) -> (f64, f64) {
         GgxTarget::eval(self, l)
+    }
+    fn eval_lanes(&self, l: &Dirs, live: [bool; LANES]) -> [(f64, f64); LANES] {
+        let (f, p) = self.seen.eval_lanes(l);
+        std::array::from_fn(|i| if live[i] { (f[i], p[i]) } else { (0.0, 0.0) })
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         GgxTarget::sample(self, u)

@@ -107,13 +107,23 @@ impl Microsurface {
     /// with w = (m_xy + x̄ m_z)ᵀA⁻¹(m_xy + x̄ m_z), (x̃ − x̄)ᵀA⁻¹(x̃ − x̄) = w/m_z², so
     /// GGX: D = 1/(π√det A (w + m_z²)²) — stable as m_z → 0 and for α = 1e-4.
     pub fn d(&self, m: &Vector3<f64>) -> f64 {
+        self.d_with(m, self.d_norm())
+    }
+
+    /// D's constant factor 1/(π √det A), which [`Self::d`] computes at every call: a
+    /// caller evaluating one surface many times computes it once for [`Self::d_with`].
+    pub fn d_norm(&self) -> f64 {
+        1.0 / (PI * self.rough.sqrt_det())
+    }
+
+    /// [`Self::d`] given `norm` = [`Self::d_norm`]: the same operations, the same bits.
+    pub fn d_with(&self, m: &Vector3<f64>, norm: f64) -> f64 {
         let mz = m.z;
         if !(mz > 0.0) {
             return 0.0;
         }
         let v = Vector2::new(m.x + self.mean.x * mz, m.y + self.mean.y * mz);
         let w = self.rough.quad_inv(&v);
-        let norm = 1.0 / (PI * self.rough.sqrt_det());
         match self.kind {
             NdfKind::Ggx => {
                 let s = w + mz * mz;
