@@ -33,6 +33,7 @@ pub mod io;
 pub mod jacobian;
 pub mod kernels;
 pub mod ktx2;
+pub mod lanes;
 pub mod leadr;
 pub mod linalg;
 pub mod ltc;

@@ -288,12 +288,15 @@ proptest::proptest! {
 
     /// The cubature's sin/cos memo returns f64::sin_cos's bits for every argument, whether
     /// it was asked for before, evicted (more than 16 distinct since), or new: sequences
-    /// drawn from pools of 1 to 40 values, extremes (±0, subnormals, 1e300, NaN) included.
+    /// drawn from pools of 1 to 40 values, extremes (±0, subnormals, 1e300, NaN) included,
+    /// in random order, cycling through the pool (a panel's y nodes along a row: the
+    /// memo's next-entry guess) or each value asked for several times in a row (a row's x).
     #[test]
     fn sin_cos_memo_returns_sin_cos_bit_for_bit(
         pool_size in 1usize..40,
         picks in proptest::collection::vec(0usize..1000, 1..300),
         seed in proptest::prelude::any::<u64>(),
+        order in 0usize..3,
     ) {
         use ndfbench::integrate::cubature::SinCosMemo;
         let special = [0.0, -0.0, 5e-324, -1e300, 1e300, f64::NAN, std::f64::consts::FRAC_PI_2];
@@ -308,7 +311,13 @@ proptest::proptest! {
             })
             .collect();
         let mut memo = SinCosMemo::default();
-        for p in picks {
+        let first = picks[0];
+        for (k, p) in picks.iter().enumerate() {
+            let p = match order {
+                0 => *p,
+                1 => first + k,
+                _ => first + k / (1 + first % 15),
+            };
             let a = pool[p % pool.len()];
             let (s, c) = memo.get(a);
             let (s0, c0) = a.sin_cos();

@@ -19,6 +19,7 @@
 //! derives from the integrals, so the split goes where the derived figure is least sure).
 
 use super::quad::{kronrod_nodes, WG, WGK};
+use crate::lanes::{Lanes, LANES};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -93,30 +94,44 @@ pub struct SinCosMemo {
     vals: [(f64, f64); 16],
     len: usize,
     next: usize,
+    /// The entry returned last: a panel asks for the same angle again (x fixed along a
+    /// row) or for the one after it (y along the row), so these two are tried first.
+    last: usize,
 }
 
 impl SinCosMemo {
     /// `a.sin_cos()`, from the memo where `a` was asked for among the last 16.
+    #[inline]
     pub fn get(&mut self, a: f64) -> (f64, f64) {
         let b = a.to_bits();
-        if let Some(k) = self.keys[..self.len].iter().position(|&x| x == b) {
+        let after = (self.last + 1) % 16;
+        let k = if self.last < self.len && self.keys[self.last] == b {
+            Some(self.last)
+        } else if after < self.len && self.keys[after] == b {
+            Some(after)
+        } else {
+            self.keys[..self.len].iter().position(|&x| x == b)
+        };
+        if let Some(k) = k {
+            self.last = k;
             return self.vals[k];
         }
         let v = a.sin_cos();
         self.keys[self.next] = b;
         self.vals[self.next] = v;
+        self.last = self.next;
         self.next = (self.next + 1) % 16;
         self.len = (self.len + 1).min(16);
         v
     }
 }
 
-fn panel<F: FnMut(f64, f64, &mut [f64])>(
-    f: &mut F,
-    safety: &[f64],
-    lo: [f64; 2],
-    hi: [f64; 2],
-) -> Panel {
+/// The integrand of [`cubature_lanes`]: the first `live` of four nodes (x, y), writing
+/// component c of lane i to `out[c][i]` (all zero on entry).
+pub trait LaneIntegrand: FnMut(&Lanes, &Lanes, usize, &mut [Lanes]) {}
+impl<F: FnMut(&Lanes, &Lanes, usize, &mut [Lanes])> LaneIntegrand for F {}
+
+fn panel<F: LaneIntegrand>(f: &mut F, safety: &[f64], lo: [f64; 2], hi: [f64; 2]) -> Panel {
     let n = safety.len();
     let (wk, wg) = weights_1d();
     let xs = kronrod_nodes(lo[0], hi[0]);
@@ -127,15 +142,22 @@ fn panel<F: FnMut(f64, f64, &mut [f64])>(
     let mut gk = vec![0.0; n]; // G7 in x, K15 in y
     let mut kg = vec![0.0; n]; // K15 in x, G7 in y
     let mut round = vec![0.0; n];
-    let mut out = vec![0.0; n];
-    for (i, &x) in xs.iter().enumerate() {
-        for (j, &y) in ys.iter().enumerate() {
-            out.iter_mut().for_each(|o| *o = 0.0);
-            f(x, y, &mut out);
+    let mut out = vec![[0.0; LANES]; n];
+    // the 225 nodes in row order (x outer), four at a time; each node's terms are added in
+    // that order, as one node at a time would add them
+    for q0 in (0..225).step_by(LANES) {
+        let live = LANES.min(225 - q0);
+        let px: Lanes = std::array::from_fn(|i| xs[(q0 + i).min(224) / 15]);
+        let py: Lanes = std::array::from_fn(|i| ys[(q0 + i).min(224) % 15]);
+        out.iter_mut().for_each(|o| *o = [0.0; LANES]);
+        f(&px, &py, live, &mut out);
+        for lane in 0..live {
+            let (i, j) = ((q0 + lane) / 15, (q0 + lane) % 15);
             let (kij, gij, gkij, kgij) =
                 (wk[i] * wk[j], wg[i] * wg[j], wg[i] * wk[j], wk[i] * wg[j]);
             for c in 0..n {
-                let v = if out[c].is_finite() { out[c] } else { 0.0 };
+                let v = out[c][lane];
+                let v = if v.is_finite() { v } else { 0.0 };
                 kk[c] += kij * v;
                 gg[c] += gij * v;
                 gk[c] += gkij * v;
@@ -184,6 +206,37 @@ pub fn cubature<F, W, D>(
 ) -> Cubature
 where
     F: FnMut(f64, f64, &mut [f64]),
+    W: Fn(&[f64]) -> Vec<f64>,
+    D: Fn(&[f64], &[f64]) -> bool,
+{
+    let mut one = vec![0.0; safety.len()];
+    let lanes = |x: &Lanes, y: &Lanes, live: usize, out: &mut [Lanes]| {
+        for i in 0..live {
+            one.iter_mut().for_each(|o| *o = 0.0);
+            f(x[i], y[i], &mut one);
+            for (c, o) in out.iter_mut().enumerate() {
+                o[i] = one[c];
+            }
+        }
+    };
+    cubature_lanes(lanes, safety, xb, yb, weights, done, max_evals)
+}
+
+/// [`cubature`] with an integrand that takes four nodes at a time (`ltc::lanes`), so that
+/// an integrand whose value is a chain of divisions and roots can compute four chains
+/// side by side. The nodes, their order and every sum are [`cubature`]'s: an integrand
+/// that gives each lane the bits of the scalar one gives the same result, bit for bit.
+pub fn cubature_lanes<F, W, D>(
+    mut f: F,
+    safety: &[f64],
+    xb: &[f64],
+    yb: &[f64],
+    weights: W,
+    done: D,
+    max_evals: u64,
+) -> Cubature
+where
+    F: LaneIntegrand,
     W: Fn(&[f64]) -> Vec<f64>,
     D: Fn(&[f64], &[f64]) -> bool,
 {

@@ -144,9 +144,9 @@ impl LtcTarget for AnisoGgxTarget {
     }
     fn eval_lanes(
         &self,
-        l: &crate::ltc::lanes::Dirs,
-        live: [bool; crate::ltc::lanes::LANES],
-    ) -> [(f64, f64); crate::ltc::lanes::LANES] {
+        l: &crate::lanes::Dirs,
+        live: [bool; crate::lanes::LANES],
+    ) -> [(f64, f64); crate::lanes::LANES] {
         let (f, p) = self.seen.eval_lanes(l);
         std::array::from_fn(|i| if live[i] { (f[i], p[i]) } else { (0.0, 0.0) })
     }

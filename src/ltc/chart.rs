@@ -2,6 +2,7 @@
 //! transformed upper hemisphere (directions, or half-vectors reflected about the view).
 //! `ltc::lobe_error` integrates on them; `ltc::target` names each target's own.
 
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::{Matrix3, Vector3};
 
 type V3 = Vector3<f64>;
@@ -47,5 +48,26 @@ impl Chart {
             return None;
         }
         Some((x * (2.0 * vx) - v, j * 4.0 * vx))
+    }
+
+    /// [`Self::map`] of four ω (`lanes`, each lane with `map`'s bits): l, dl/dω and
+    /// whether the chart reaches the lane (`map`'s `Some`).
+    pub(crate) fn map_lanes(&self, w: &Dirs, det: f64, v: &V3) -> (Dirs, Lanes, [bool; LANES]) {
+        let x = w.times(&self.m);
+        let n = x.norm();
+        let reach: [bool; LANES] = std::array::from_fn(|i| n[i] > 0.0 && n[i].is_finite());
+        let x = x.over(&n);
+        let j = map(|i| det / (n[i] * n[i] * n[i]));
+        if !self.half_vector {
+            return (x, j, reach);
+        }
+        let vx = map(|i| v.x * x.x[i] + v.y * x.y[i] + v.z * x.z[i]);
+        let l = Dirs {
+            x: map(|i| x.x[i] * (2.0 * vx[i]) - v.x),
+            y: map(|i| x.y[i] * (2.0 * vx[i]) - v.y),
+            z: map(|i| x.z[i] * (2.0 * vx[i]) - v.z),
+        };
+        let j = map(|i| j[i] * 4.0 * vx[i]);
+        (l, j, std::array::from_fn(|i| reach[i] && !(vx[i] <= 0.0)))
     }
 }

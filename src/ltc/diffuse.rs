@@ -9,6 +9,7 @@
 use super::hemisphere;
 use super::target::LtcTarget;
 use crate::error::Result;
+use crate::lanes::{map, Dirs, LANES};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -44,11 +45,15 @@ impl BurleyTarget {
     pub fn fd90(&self, l: &V3) -> f64 {
         let h = (self.v + l).normalize();
         let ld = l.dot(&h);
-        let rho = match self.roughness {
+        0.5 + 2.0 * self.rho() * ld * ld
+    }
+
+    /// The roughness in F_D90: √α (the paper's r) or α (the engines').
+    fn rho(&self) -> f64 {
+        match self.roughness {
             BurleyRoughness::Paper => self.alpha.sqrt(),
             BurleyRoughness::Engines => self.alpha,
-        };
-        0.5 + 2.0 * rho * ld * ld
+        }
     }
 
     /// BRDF(l, v)·l_z (0 below the horizon).
@@ -68,6 +73,29 @@ impl LtcTarget for BurleyTarget {
     }
     fn eval(&self, l: &V3) -> (f64, f64) {
         (self.value(l), hemisphere::cosine_pdf(l))
+    }
+    /// Step by step across the lanes (`lanes`): `value`'s and `cosine_pdf`'s operations
+    /// in their order, each lane with their bits.
+    fn eval_lanes(&self, l: &Dirs, live: [bool; LANES]) -> [(f64, f64); LANES] {
+        let s = l.plus(&self.v);
+        let h = s.over(&s.norm());
+        let ld = l.dot(&h);
+        let rho = self.rho();
+        let f90 = map(|i| 0.5 + 2.0 * rho * ld[i] * ld[i]);
+        let sh = |f90: f64, c: f64| 1.0 + (f90 - 1.0) * (1.0 - c).max(0.0).powi(5);
+        let f = map(|i| sh(f90[i], l.z[i]) * sh(f90[i], self.v.z) * l.z[i] / std::f64::consts::PI);
+        std::array::from_fn(|i| {
+            let p = if l.z[i] > 0.0 {
+                l.z[i] / std::f64::consts::PI
+            } else {
+                0.0
+            };
+            match (live[i], l.z[i] <= 0.0) {
+                (false, _) => (0.0, 0.0),
+                (true, true) => (0.0, p),
+                (true, false) => (f[i], p),
+            }
+        })
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         hemisphere::cosine_sample(u)

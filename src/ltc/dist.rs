@@ -5,7 +5,7 @@
 use crate::error::{Error, Result};
 use crate::integrate::mc::{CosineHemisphere, Strategy};
 use crate::jacobian::{DirMap, Ltc};
-use crate::ltc::lanes::{map, Dirs, Lanes, LANES};
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
 

@@ -101,9 +101,9 @@ impl LtcTarget for LobeTarget {
     }
     fn eval_lanes(
         &self,
-        l: &super::lanes::Dirs,
-        live: [bool; super::lanes::LANES],
-    ) -> [(f64, f64); super::lanes::LANES] {
+        l: &crate::lanes::Dirs,
+        live: [bool; crate::lanes::LANES],
+    ) -> [(f64, f64); crate::lanes::LANES] {
         self.inner().eval_lanes(l, live)
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {

@@ -6,7 +6,7 @@
 //! reuses them: the same terms in the same order as drawing them afresh.
 
 use crate::integrate::mc::{CosineHemisphere, Strategy};
-use crate::ltc::lanes::{Dirs, LANES};
+use crate::lanes::{Dirs, LANES};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use nalgebra::Vector3;

@@ -17,6 +17,7 @@
 use super::hemisphere;
 use super::target::LtcTarget;
 use crate::error::Result;
+use crate::lanes::{map, Dirs, LANES};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -172,6 +173,23 @@ impl LtcTarget for CharlieTarget {
         let h = (self.v + l).normalize();
         let d = charlie_d(h.z, self.alpha);
         (self.value_at(l, d), self.pdf_at(l, &h, d))
+    }
+    /// Step by step across the lanes (`ltc::lanes`): the half-vectors, then the four D(h)
+    /// (a power each), then the four Λ(l), each lane by `eval`'s operations in its order.
+    fn eval_lanes(&self, l: &Dirs, live: [bool; LANES]) -> [(f64, f64); LANES] {
+        let s = l.plus(&self.v);
+        let h = s.over(&s.norm());
+        let d = map(|i| charlie_d(h.z[i], self.alpha));
+        let f = map(|i| self.value_at(&l.get(i), d[i]));
+        let p = map(|i| self.pdf_at(&l.get(i), &h.get(i), d[i]));
+        std::array::from_fn(|i| {
+            // as `eval`: only l_z ≤ 0 is (0, 0) (a NaN l_z is evaluated)
+            if live[i] && !(l.z[i] <= 0.0) {
+                (f[i], p[i])
+            } else {
+                (0.0, 0.0)
+            }
+        })
     }
     fn sample(&self, u: [f64; 2]) -> Option<V3> {
         if u[0] < 0.5 {

@@ -8,8 +8,8 @@
 
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
+use crate::lanes::{map, quad2, Dirs, Lanes, LANES};
 use crate::ltc::chart::Chart;
-use crate::ltc::lanes::{map, quad2, Dirs, Lanes, LANES};
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, NdfKind, Roughness};
 use nalgebra::Vector3;
@@ -318,5 +318,208 @@ impl LtcTarget for GgxTarget {
         Chart::half_vector(nalgebra::Matrix3::from_diagonal(&V3::new(
             self.alpha, self.alpha, 1.0,
         )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lanes::{Dirs, LANES};
+    use nalgebra::Matrix3;
+    use rand::{Rng, SeedableRng};
+
+    fn wild(r: &mut impl Rng) -> f64 {
+        match r.random_range(0..6) {
+            0 => 0.0,
+            1 => -0.0,
+            2 => r.random_range(-1.0..1.0) * 1e-300,
+            3 => r.random_range(-1.0..1.0) * 1e150,
+            _ => r.random_range(-2.0..2.0),
+        }
+    }
+
+    fn direction(r: &mut impl Rng) -> V3 {
+        match r.random_range(0..10) {
+            0 => V3::new(wild(r), wild(r), wild(r)),
+            1 => V3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), 0.0),
+            2 => V3::new(r.random_range(-1.0..1.0), 0.0, -0.0),
+            3 => V3::new(0.0, 0.0, 1.0),
+            4 => V3::new(1.0, 0.0, 1e-300),
+            5 => V3::new(f64::NAN, 0.0, 1.0),
+            _ => {
+                let (z, p) = (
+                    r.random_range(-0.2..1.0f64),
+                    r.random_range(0.0..std::f64::consts::TAU),
+                );
+                let s = (1.0 - z * z).max(0.0).sqrt();
+                V3::new(s * p.cos(), s * p.sin(), z)
+            }
+        }
+    }
+
+    /// The microfacet lobe (`FixedView`) and the LTC (`LtcDist`) in lanes give each lane
+    /// the bits of their scalar forms: 12 000 sets of four directions (below, on and above
+    /// the horizon, ±0, 1e-300, NaN, off the unit sphere) against isotropic GGX at α from
+    /// 1e-4 to 1, rotated anisotropic GGX, GGX with a mean slope and Beckmann (the
+    /// lane-by-lane path), views up to 89.99°, and random M.
+    #[test]
+    fn lobes_and_ltcs_are_the_scalar_bits() {
+        use crate::ltc::target::FixedView;
+        use crate::ltc::LtcDist;
+        use crate::microfacet::{Microsurface, Roughness};
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for case in 0..12_000 {
+            let alpha = match case % 6 {
+                0 => 1e-4,
+                1 => 1.0,
+                _ => 10f64.powf(r.random_range(-4.0..0.0)),
+            };
+            let rough = match case % 3 {
+                0 => Roughness::iso(alpha),
+                _ => {
+                    Roughness::rotated(alpha, r.random_range(1e-4..1.0), r.random_range(-3.0..3.0))
+                }
+            }
+            .unwrap();
+            let surface = match case % 7 {
+                0 => Microsurface::beckmann(rough),
+                // a non-centred (LEAN) slope distribution
+                1 => Microsurface::ggx(rough)
+                    .with_mean(nalgebra::Vector2::new(
+                        r.random_range(-1.0..1.0),
+                        r.random_range(-1.0..1.0),
+                    ))
+                    .unwrap(),
+                _ => Microsurface::ggx(rough),
+            };
+            let th = if case % 5 == 0 {
+                89.99f64.to_radians()
+            } else {
+                r.random_range(0.0..1.5707)
+            };
+            let view = FixedView::new(surface, V3::new(th.sin(), 0.0, th.cos()));
+            let d: Vec<V3> = (0..LANES).map(|_| direction(&mut r)).collect();
+            let (f, p) = view.eval_lanes(&Dirs::of(&d));
+            for i in 0..LANES {
+                let (f1, p1) = view.eval(&d[i]);
+                assert!(
+                    same(f[i], f1) && same(p[i], p1),
+                    "case {case} lane {i}: {:?}",
+                    d[i]
+                );
+            }
+            let m = Matrix3::from_fn(|_, _| r.random_range(-2.0..2.0));
+            let Ok(ltc) = LtcDist::new(m) else { continue };
+            let (img, ok) = ltc.from_cosine_lanes(&Dirs::of(&d));
+            let g = ltc.eval_lanes(&Dirs::of(&d));
+            for i in 0..LANES {
+                match ltc.from_cosine(&d[i]) {
+                    Some(x) => {
+                        assert!(ok[i]);
+                        (0..3).for_each(|c| assert!(same(img.get(i)[c], x[c])));
+                    }
+                    None => assert!(!ok[i]),
+                }
+                assert!(
+                    same(g[i], ltc.eval_reference(&d[i])),
+                    "case {case} lane {i}"
+                );
+                assert!(same(ltc.eval(&d[i]), ltc.eval_reference(&d[i])));
+            }
+        }
+    }
+
+    /// Every target's `eval_lanes` gives each live lane `eval`'s bits and (0, 0) to the
+    /// others: GGX, anisotropic GGX, both sheens (their four powers overlapping) and both
+    /// diffuse roughnesses, 12 000 sets of four extreme directions with random live lanes.
+    #[test]
+    fn targets_in_lanes_are_their_eval() {
+        use crate::ltc::aniso::AnisoGgxTarget;
+        use crate::ltc::diffuse::{BurleyRoughness, BurleyTarget};
+        use crate::ltc::sheen::{CharlieTarget, SheenVisibility};
+        use crate::ltc::target::{GgxTarget, LtcTarget};
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for case in 0..12_000 {
+            let alpha = match case % 6 {
+                0 => 1e-4,
+                1 => 1.0,
+                _ => 10f64.powf(r.random_range(-4.0..0.0)),
+            };
+            let th = if case % 5 == 0 {
+                89.99f64.to_radians()
+            } else {
+                r.random_range(0.0..1.5707)
+            };
+            let t: Box<dyn LtcTarget> = match case % 6 {
+                0 => Box::new(GgxTarget::new(alpha, th).unwrap()),
+                1 => Box::new(
+                    AnisoGgxTarget::new(alpha, r.random_range(1e-4..1.0), th, 0.7).unwrap(),
+                ),
+                2 => Box::new(
+                    CharlieTarget::new(alpha.max(0.01), th, SheenVisibility::EstevezKulla).unwrap(),
+                ),
+                3 => Box::new(
+                    CharlieTarget::new(alpha.max(0.01), th, SheenVisibility::Neubelt).unwrap(),
+                ),
+                4 => Box::new(BurleyTarget::new(alpha, th, BurleyRoughness::Paper).unwrap()),
+                _ => Box::new(BurleyTarget::new(alpha, th, BurleyRoughness::Engines).unwrap()),
+            };
+            let d: Vec<V3> = (0..LANES).map(|_| direction(&mut r)).collect();
+            let live: [bool; LANES] = std::array::from_fn(|_| r.random_range(0..4) > 0);
+            let got = t.eval_lanes(&Dirs::of(&d), live);
+            for i in 0..LANES {
+                let want = if live[i] { t.eval(&d[i]) } else { (0.0, 0.0) };
+                assert!(
+                    same(got[i].0, want.0) && same(got[i].1, want.1),
+                    "case {case} lane {i}: {:?} {:?} vs {want:?}",
+                    d[i],
+                    got[i]
+                );
+            }
+        }
+    }
+
+    /// `Chart::map_lanes` gives each lane `Chart::map`'s bits, and reaches exactly the
+    /// lanes `map` does: 12 000 sets of four extreme ω, random M (near-singular among
+    /// them), direction and half-vector charts, views up to 89.99°.
+    #[test]
+    fn charts_in_lanes_are_map() {
+        use crate::ltc::chart::Chart;
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(13);
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for case in 0..12_000 {
+            let mut m = Matrix3::from_fn(|_, _| r.random_range(-2.0..2.0));
+            if case % 9 == 0 {
+                m.set_row(2, &(m.row(0) * 1e-12));
+            }
+            let chart = if case % 2 == 0 {
+                Chart::direction(m)
+            } else {
+                Chart::half_vector(m)
+            };
+            let th = if case % 5 == 0 {
+                89.99f64.to_radians()
+            } else {
+                r.random_range(0.0..1.5707)
+            };
+            let v = V3::new(th.sin(), 0.0, th.cos());
+            let det = r.random_range(0.0..3.0);
+            let w: Vec<V3> = (0..LANES).map(|_| direction(&mut r)).collect();
+            let (l, j, reach) = chart.map_lanes(&Dirs::of(&w), det, &v);
+            for i in 0..LANES {
+                match chart.map(&w[i], det, &v) {
+                    Some((x, jx)) => {
+                        assert!(reach[i], "case {case} lane {i}");
+                        assert!(
+                            same(j[i], jx) && (0..3).all(|c| same(l.get(i)[c], x[c])),
+                            "case {case} lane {i}"
+                        );
+                    }
+                    None => assert!(!reach[i], "case {case} lane {i}"),
+                }
+            }
+        }
     }
 }

@@ -1,14 +1,16 @@
-//! Four samples at a time: the fitter's inner loop (`ltc::samples::metrics_on`) spends its
+//! Four samples at a time. The hot loops of the fits and of the held-out judge spend their
 //! time in chains of divisions and square roots, one chain per sample (normalising the
 //! LTC's image, the half-vector, Smith Λ, D, the LTC's Jacobian). Written one sample at a
 //! time, each chain waits on its own latency; written step by step across four
-//! independent samples, the four chains overlap.
+//! independent samples (`ltc::samples::metrics_on`, the targets' `eval_lanes`,
+//! `integrate::cubature::cubature_lanes`), the four chains overlap.
 //!
-//! Every function here performs, lane by lane, exactly the IEEE operations of the scalar
-//! form it names, in the same order (nalgebra's 3-vector dot and norm: (a + b) + c;
-//! matrix times vector: (m₀₀x + m₀₁y) + m₀₂z per row), so each lane's bits are the
-//! scalar form's: `tests::lanes_are_the_scalar_bits` checks them against it on random
-//! and extreme inputs. Nothing is approximated and no sum is reordered.
+//! Every helper here performs, lane by lane, exactly the IEEE operations of the nalgebra
+//! form it names, in the same order (3-vector dot and norm: (a + b) + c; matrix times
+//! vector: (m₀₀x + m₀₁y) + m₀₂z per row), so each lane's bits are the scalar form's:
+//! `tests::helpers_are_nalgebra_bits` checks them on random and extreme inputs, and each
+//! user checks its own lanes against its scalar form. Nothing is approximated and no sum
+//! is reordered.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 
@@ -152,98 +154,6 @@ mod tests {
                 assert!(same(de[i], d[i].dot(&e[i])));
                 let u = nalgebra::Vector2::new(d[i].x, d[i].y);
                 assert!(same(q[i], u.dot(&(a * u))));
-            }
-        }
-    }
-
-    fn direction(r: &mut impl Rng) -> V3 {
-        match r.random_range(0..10) {
-            0 => V3::new(wild(r), wild(r), wild(r)),
-            1 => V3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), 0.0),
-            2 => V3::new(r.random_range(-1.0..1.0), 0.0, -0.0),
-            3 => V3::new(0.0, 0.0, 1.0),
-            4 => V3::new(1.0, 0.0, 1e-300),
-            5 => V3::new(f64::NAN, 0.0, 1.0),
-            _ => {
-                let (z, p) = (
-                    r.random_range(-0.2..1.0f64),
-                    r.random_range(0.0..std::f64::consts::TAU),
-                );
-                let s = (1.0 - z * z).max(0.0).sqrt();
-                V3::new(s * p.cos(), s * p.sin(), z)
-            }
-        }
-    }
-
-    /// The microfacet lobe (`FixedView`) and the LTC (`LtcDist`) in lanes give each lane
-    /// the bits of their scalar forms: 12 000 sets of four directions (below, on and above
-    /// the horizon, ±0, 1e-300, NaN, off the unit sphere) against isotropic GGX at α from
-    /// 1e-4 to 1, rotated anisotropic GGX, GGX with a mean slope and Beckmann (the
-    /// lane-by-lane path), views up to 89.99°, and random M.
-    #[test]
-    fn lobes_and_ltcs_are_the_scalar_bits() {
-        use crate::ltc::target::FixedView;
-        use crate::ltc::LtcDist;
-        use crate::microfacet::{Microsurface, Roughness};
-        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(9);
-        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
-        for case in 0..12_000 {
-            let alpha = match case % 6 {
-                0 => 1e-4,
-                1 => 1.0,
-                _ => 10f64.powf(r.random_range(-4.0..0.0)),
-            };
-            let rough = match case % 3 {
-                0 => Roughness::iso(alpha),
-                _ => {
-                    Roughness::rotated(alpha, r.random_range(1e-4..1.0), r.random_range(-3.0..3.0))
-                }
-            }
-            .unwrap();
-            let surface = match case % 7 {
-                0 => Microsurface::beckmann(rough),
-                // a non-centred (LEAN) slope distribution
-                1 => Microsurface::ggx(rough)
-                    .with_mean(nalgebra::Vector2::new(
-                        r.random_range(-1.0..1.0),
-                        r.random_range(-1.0..1.0),
-                    ))
-                    .unwrap(),
-                _ => Microsurface::ggx(rough),
-            };
-            let th = if case % 5 == 0 {
-                89.99f64.to_radians()
-            } else {
-                r.random_range(0.0..1.5707)
-            };
-            let view = FixedView::new(surface, V3::new(th.sin(), 0.0, th.cos()));
-            let d: Vec<V3> = (0..LANES).map(|_| direction(&mut r)).collect();
-            let (f, p) = view.eval_lanes(&Dirs::of(&d));
-            for i in 0..LANES {
-                let (f1, p1) = view.eval(&d[i]);
-                assert!(
-                    same(f[i], f1) && same(p[i], p1),
-                    "case {case} lane {i}: {:?}",
-                    d[i]
-                );
-            }
-            let m = Matrix3::from_fn(|_, _| r.random_range(-2.0..2.0));
-            let Ok(ltc) = LtcDist::new(m) else { continue };
-            let (img, ok) = ltc.from_cosine_lanes(&Dirs::of(&d));
-            let g = ltc.eval_lanes(&Dirs::of(&d));
-            for i in 0..LANES {
-                match ltc.from_cosine(&d[i]) {
-                    Some(x) => {
-                        assert!(ok[i]);
-                        (0..3).for_each(|c| assert!(same(img.get(i)[c], x[c])));
-                    }
-                    None => assert!(!ok[i]),
-                }
-                assert!(
-                    same(g[i], ltc.eval_reference(&d[i])),
-                    "case {case} lane {i}"
-                );
-                assert!(same(ltc.eval(&d[i]), ltc.eval_reference(&d[i])));
             }
         }
     }
