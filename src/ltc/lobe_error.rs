@@ -33,7 +33,7 @@ use crate::integrate::cubature::{
 };
 use crate::lanes::Lanes;
 pub use crate::ltc::chart::Chart;
-pub use crate::ltc::lobe_nodes::{FnValue, JudgedValue, TargetValue};
+pub use crate::ltc::lobe_nodes::{Candidate, FnValue, JudgedValue, TargetValue};
 use crate::ltc::lobe_nodes::{Integrand, Prepared};
 use crate::ltc::target::LtcTarget;
 use nalgebra::{Matrix3, Vector3};
@@ -171,16 +171,6 @@ fn ratios(
         Figure::<Quad>::new(l2, (hi2 - l2).max(l2 - lo2)),
         Figure::<Quad>::new(l1, (hi1 - l1).max(l1 - lo1)),
     )
-}
-
-/// One LTC judged against a target: g = amp·γ_M. `chart`: whether its own lobe gets a
-/// chart (give one to every candidate that can put its mass where the target has none;
-/// near-copies of a charted candidate — the same table rounded — need none).
-#[derive(Clone, Copy, Debug)]
-pub struct Candidate {
-    pub m: Matrix3<f64>,
-    pub amp: f64,
-    pub chart: bool,
 }
 
 /// The held-out error of each candidate against the target `f` (cosine-weighted, seen

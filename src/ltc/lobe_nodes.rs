@@ -3,7 +3,6 @@
 //! balance weight of the node's chart. The four-node form evaluates the target and each
 //! candidate four directions at a time (`lanes`), each lane with the one-node form's bits.
 
-use super::lobe_error::Candidate;
 use crate::integrate::cubature::SinCosMemo;
 use crate::lanes::{map, Dirs, Lanes, LANES};
 use crate::ltc::chart::Chart;
@@ -12,6 +11,16 @@ use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 type V3 = Vector3<f64>;
+
+/// One LTC judged against a target: g = amp·γ_M. `chart`: whether its own lobe gets a
+/// chart (give one to every candidate that can put its mass where the target has none;
+/// near-copies of a charted candidate — the same table rounded — need none).
+#[derive(Clone, Copy, Debug)]
+pub struct Candidate {
+    pub m: Matrix3<f64>,
+    pub amp: f64,
+    pub chart: bool,
+}
 
 /// An LTC prepared for evaluation: M⁻¹ and |det M⁻¹|.
 pub(crate) struct Prepared {
