@@ -227,10 +227,14 @@ impl Ltc {
         let v = self.m_inv * w;
         let n = v.norm();
         let z = v.z / n;
+        // both sides computed, then chosen: no branch on a sign that varies from sample to
+        // sample (the loops that call this overlap their samples)
+        let d = z / std::f64::consts::PI * (self.det_inv_abs / n.powi(3));
         if z <= 0.0 {
-            return 0.0;
+            0.0
+        } else {
+            d
         }
-        z / std::f64::consts::PI * (self.det_inv_abs / n.powi(3))
     }
 }
 impl DirMap for Ltc {
