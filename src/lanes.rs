@@ -104,17 +104,39 @@ pub fn quad2(a: &Matrix2<f64>, x: &Lanes, y: &Lanes) -> Lanes {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
-    fn wild(r: &mut impl Rng) -> f64 {
+    /// A coordinate: ±0, ±1e-300-sized, ±1e150-sized or ordinary.
+    pub(crate) fn wild(r: &mut impl Rng) -> f64 {
         match r.random_range(0..6) {
             0 => 0.0,
             1 => -0.0,
             2 => r.random_range(-1.0..1.0) * 1e-300,
             3 => r.random_range(-1.0..1.0) * 1e150,
             _ => r.random_range(-2.0..2.0),
+        }
+    }
+
+    /// A direction for lane tests: arbitrary (`wild` components), on the horizon (+0 and
+    /// −0), the pole, 1e-300 above the horizon, NaN, or unit and up to 0.2 below.
+    pub(crate) fn direction(r: &mut impl Rng) -> V3 {
+        match r.random_range(0..10) {
+            0 => V3::new(wild(r), wild(r), wild(r)),
+            1 => V3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), 0.0),
+            2 => V3::new(r.random_range(-1.0..1.0), 0.0, -0.0),
+            3 => V3::new(0.0, 0.0, 1.0),
+            4 => V3::new(1.0, 0.0, 1e-300),
+            5 => V3::new(f64::NAN, 0.0, 1.0),
+            _ => {
+                let (z, p) = (
+                    r.random_range(-0.2..1.0f64),
+                    r.random_range(0.0..std::f64::consts::TAU),
+                );
+                let s = (1.0 - z * z).max(0.0).sqrt();
+                V3::new(s * p.cos(), s * p.sin(), z)
+            }
         }
     }
 

@@ -222,7 +222,7 @@ where
     cubature_lanes(lanes, safety, xb, yb, weights, done, max_evals)
 }
 
-/// [`cubature`] with an integrand that takes four nodes at a time (`ltc::lanes`), so that
+/// [`cubature`] with an integrand that takes four nodes at a time (`crate::lanes`), so that
 /// an integrand whose value is a chain of divisions and roots can compute four chains
 /// side by side. The nodes, their order and every sum are [`cubature`]'s: an integrand
 /// that gives each lane the bits of the scalar one gives the same result, bit for bit.

@@ -88,10 +88,9 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
     let n = s.n;
     WORK.with(|w| w.set(w.get() + 2 * (n * n) as u64));
     let cnt = (n * n) as f64;
-    // 1. every sample's (f, p_brdf, p_ltc), in the order the sums take them, four
-    // samples at a time (`ltc::lanes`: the same bits as one at a time); no sample depends
-    // on another, so their chains of divisions and roots overlap
-    let mut terms: Vec<(f64, f64, f64)> = Vec::with_capacity(2 * n * n);
+    // four samples at a time (`lanes`: the same bits as one at a time), each group's
+    // terms summed as soon as it is computed, in the order one at a time takes them
+    let mut sums = Sums::default();
     for k0 in (0..n * n).step_by(LANES) {
         let m = LANES.min(n * n - k0);
         let cos: [Option<V3>; LANES] =
@@ -107,27 +106,14 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
         let pt = ltc.eval_lanes(&Dirs::of(&at));
         for i in 0..m {
             if live[i] {
-                terms.push((fb[i].0, fb[i].1, pl[i]));
+                sums.add(norm, fb[i].0, fb[i].1, pl[i]);
             }
             if let Some((_, f, pb)) = pts[i] {
-                terms.push((*f, *pb, pt[i]));
+                sums.add(norm, *f, *pb, pt[i]);
             }
         }
     }
-    // 2. the sums, term by term in that order
-    let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
-    for &(f, pb, pl) in &terms {
-        let fl = norm * pl;
-        let q = pl + pb;
-        if q > 0.0 {
-            let e = (f - fl).abs();
-            cubic += e * e * e / q;
-            l2 += e * e / q;
-            f2 += f * f / q;
-        }
-    }
-    let rel = if f2 > 0.0 { (l2 / f2).sqrt() } else { f64::NAN };
-    (cubic / cnt, rel)
+    sums.metrics(cnt)
 }
 
 /// [`metrics_on`] one sample at a time, each through the scalar `from_cosine`, `eval`
@@ -139,29 +125,49 @@ pub fn metrics_on_reference<T: LtcTarget + ?Sized>(
     ltc: &LtcDist,
     norm: f64,
 ) -> (f64, f64) {
-    let (mut cubic, mut l2, mut f2) = (0.0, 0.0, 0.0);
     let n = s.n;
-    let mut add = |f: f64, pb: f64, pl: f64| {
+    let mut sums = Sums::default();
+    for k in 0..n * n {
+        if let Some(l) = s.cos[k].and_then(|c| ltc.from_cosine(&c)) {
+            let (f, pb) = t.eval(&l);
+            sums.add(norm, f, pb, ltc.eval_reference(&l));
+        }
+        if let Some((l, f, pb)) = &s.pts[k] {
+            sums.add(norm, *f, *pb, ltc.eval_reference(l));
+        }
+    }
+    sums.metrics((n * n) as f64)
+}
+
+/// The balance estimator's running sums over the samples of both techniques, term by term
+/// in the order given: Σ|f − f_ltc|³/q, Σ(f − f_ltc)²/q and Σf²/q with q = p_ltc + p_brdf.
+#[derive(Default)]
+struct Sums {
+    cubic: f64,
+    l2: f64,
+    f2: f64,
+}
+
+impl Sums {
+    fn add(&mut self, norm: f64, f: f64, pb: f64, pl: f64) {
         let fl = norm * pl;
         let q = pl + pb;
         if q > 0.0 {
             let e = (f - fl).abs();
-            cubic += e * e * e / q;
-            l2 += e * e / q;
-            f2 += f * f / q;
-        }
-    };
-    for k in 0..n * n {
-        if let Some(l) = s.cos[k].and_then(|c| ltc.from_cosine(&c)) {
-            let (f, pb) = t.eval(&l);
-            add(f, pb, ltc.eval_reference(&l));
-        }
-        if let Some((l, f, pb)) = &s.pts[k] {
-            add(*f, *pb, ltc.eval_reference(l));
+            self.cubic += e * e * e / q;
+            self.l2 += e * e / q;
+            self.f2 += f * f / q;
         }
     }
-    let rel = if f2 > 0.0 { (l2 / f2).sqrt() } else { f64::NAN };
-    (cubic / (n * n) as f64, rel)
+    /// (the cubic metric per sample count `cnt`, the relative L2).
+    fn metrics(&self, cnt: f64) -> (f64, f64) {
+        let rel = if self.f2 > 0.0 {
+            (self.l2 / self.f2).sqrt()
+        } else {
+            f64::NAN
+        };
+        (self.cubic / cnt, rel)
+    }
 }
 
 /// A cell's two sample sets, the target's half of each drawn once: training (n×n,

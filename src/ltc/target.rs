@@ -192,16 +192,16 @@ impl FixedView {
                 }
             }
         });
-        let up = map(|i| if l.z[i] <= 0.0 { 0.0 } else { 1.0 });
+        // as `eval`: only l_z ≤ 0 is (0, 0) (a NaN l_z is evaluated)
         let f = map(|i| {
-            if up[i] == 0.0 {
+            if l.z[i] <= 0.0 {
                 0.0
             } else {
                 d[i] * g2[i] / (4.0 * v.z)
             }
         });
         let p = map(|i| {
-            if up[i] == 0.0 {
+            if l.z[i] <= 0.0 {
                 0.0
             } else {
                 d[i] * self.g1_v / (4.0 * v.z)
@@ -324,36 +324,17 @@ impl LtcTarget for GgxTarget {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::tests::direction;
     use crate::lanes::{Dirs, LANES};
     use nalgebra::Matrix3;
     use rand::{Rng, SeedableRng};
 
-    fn wild(r: &mut impl Rng) -> f64 {
-        match r.random_range(0..6) {
-            0 => 0.0,
-            1 => -0.0,
-            2 => r.random_range(-1.0..1.0) * 1e-300,
-            3 => r.random_range(-1.0..1.0) * 1e150,
-            _ => r.random_range(-2.0..2.0),
-        }
-    }
-
-    fn direction(r: &mut impl Rng) -> V3 {
-        match r.random_range(0..10) {
-            0 => V3::new(wild(r), wild(r), wild(r)),
-            1 => V3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), 0.0),
-            2 => V3::new(r.random_range(-1.0..1.0), 0.0, -0.0),
-            3 => V3::new(0.0, 0.0, 1.0),
-            4 => V3::new(1.0, 0.0, 1e-300),
-            5 => V3::new(f64::NAN, 0.0, 1.0),
-            _ => {
-                let (z, p) = (
-                    r.random_range(-0.2..1.0f64),
-                    r.random_range(0.0..std::f64::consts::TAU),
-                );
-                let s = (1.0 - z * z).max(0.0).sqrt();
-                V3::new(s * p.cos(), s * p.sin(), z)
-            }
+    /// α by case: 1e-4, 1, else log-uniform in [1e-4, 1].
+    fn alpha_of(case: usize, r: &mut impl Rng) -> f64 {
+        match case % 6 {
+            0 => 1e-4,
+            1 => 1.0,
+            _ => 10f64.powf(r.random_range(-4.0..0.0)),
         }
     }
 
@@ -370,11 +351,7 @@ mod tests {
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(9);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         for case in 0..12_000 {
-            let alpha = match case % 6 {
-                0 => 1e-4,
-                1 => 1.0,
-                _ => 10f64.powf(r.random_range(-4.0..0.0)),
-            };
+            let alpha = alpha_of(case, &mut r);
             let rough = match case % 3 {
                 0 => Roughness::iso(alpha),
                 _ => {
@@ -442,11 +419,7 @@ mod tests {
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(5);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         for case in 0..12_000 {
-            let alpha = match case % 6 {
-                0 => 1e-4,
-                1 => 1.0,
-                _ => 10f64.powf(r.random_range(-4.0..0.0)),
-            };
+            let alpha = alpha_of(case, &mut r);
             let th = if case % 5 == 0 {
                 89.99f64.to_radians()
             } else {
