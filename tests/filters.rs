@@ -587,6 +587,8 @@ proptest! {
         la in -4.0f64..0.0,
         n1 in (-0.9f64..0.9, -0.9f64..0.9),
         n2 in (-0.9f64..0.9, -0.9f64..0.9),
+        n3 in (-0.9f64..0.9, -0.9f64..0.9),
+        n4 in (-0.9f64..0.9, -0.9f64..0.9),
         tv in 0.0f64..1.5706,
         pv in 0.0f64..6.2832,
         tl in 0.0f64..1.5707,
@@ -597,12 +599,16 @@ proptest! {
             V3::new(n1.0, n1.1, 1.0).normalize(),
             V3::new(n2.0, n2.1, 1.0).normalize(),
             V3::z(),
+            V3::new(n3.0, n3.1, 1.0).normalize(),
+            V3::new(n4.0, n4.1, 1.0).normalize(),
         ]);
         let t = Truth::new(kind, 10f64.powf(la), &fp).unwrap();
         let dir = |th: f64, ph: f64| V3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
         let (v, l) = (dir(tv, pv), dir(tl, pl));
         let a = t.value(&v, &l);
-        let b = t.viewed(&v).value(&l);
+        let seen = t.viewed(&v);
+        let (b, c) = (seen.value(&l), seen.value_reference(&l));
         prop_assert_eq!(a.to_bits(), b.to_bits(), "{} against {}", a, b);
+        prop_assert_eq!(c.to_bits(), b.to_bits(), "{} against {}", c, b);
     }
 }

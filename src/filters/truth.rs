@@ -15,6 +15,7 @@ use serde::Serialize;
 
 type V3 = Vector3<f64>;
 
+use crate::lanes::{Dirs, LANES};
 use crate::microfacet::lobe::ViewedLobe;
 pub use crate::microfacet::lobe::{lobe, Frame};
 
@@ -90,6 +91,21 @@ pub struct ViewedTruth<'a> {
 
 impl ViewedTruth<'_> {
     pub fn value(&self, l: &V3) -> f64 {
+        // four texels' lobes at a time (their chains overlap), summed in order
+        let ls = Dirs::of(&[*l; LANES]);
+        let s = &self.truth.surface;
+        self.lobes
+            .chunks(LANES)
+            .zip(self.truth.weights.chunks(LANES))
+            .flat_map(|(g, w)| {
+                let e = ViewedLobe::eval_lanes(s, ViewedLobe::lanes_of(g), &ls);
+                (0..g.len()).map(move |i| w[i] * e[i])
+            })
+            .sum()
+    }
+
+    /// The one-lobe-at-a-time form of [`Self::value`] (its reference).
+    pub fn value_reference(&self, l: &V3) -> f64 {
         self.lobes
             .iter()
             .zip(&self.truth.weights)

@@ -8,7 +8,7 @@
 
 use crate::error::Result;
 use crate::integrate::mc::Strategy;
-use crate::lanes::{map, quad2, Dirs, Lanes, LANES};
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use crate::ltc::chart::Chart;
 use crate::microfacet::sampling::VndfSampler;
 use crate::microfacet::{Microsurface, NdfKind, Roughness};
@@ -127,55 +127,21 @@ impl FixedView {
         (d * g2 / (4.0 * self.v.z), pdf)
     }
 
-    /// [`Self::eval`] of four directions, step by step across the lanes (`ltc::lanes`):
-    /// `Microsurface::d_with`, `nu` and `lambda::ggx` spelled out lane by lane for GGX,
-    /// the same operations in the same order, so each lane's bits are `eval`'s; other
-    /// NDFs lane by lane through `eval`.
+    /// [`Self::eval`] of four directions, step by step across the lanes (`crate::lanes`):
+    /// for GGX the half-vectors and G2 here, D and Λ(l) by `Microsurface::d_lanes` and
+    /// `lambda_lanes`, the same operations in the same order, so each lane's bits are
+    /// `eval`'s; other NDFs lane by lane through `eval`.
     pub(crate) fn eval_lanes(&self, l: &Dirs) -> (Lanes, Lanes) {
         let sf = &self.surface;
         if sf.kind != NdfKind::Ggx {
             let r: [(f64, f64); LANES] = std::array::from_fn(|i| self.eval(&l.get(i)));
             return (map(|i| r[i].0), map(|i| r[i].1));
         }
-        let (v, mean) = (&self.v, &sf.mean);
+        let v = &self.v;
         let s = l.plus(v);
         let h = s.over(&s.norm());
-        // D(h)
-        let vx = map(|i| h.x[i] + mean.x * h.z[i]);
-        let vy = map(|i| h.y[i] + mean.y * h.z[i]);
-        let w = quad2(sf.rough.inv(), &vx, &vy);
-        let d = map(|i| {
-            let (mz, s) = (h.z[i], w[i] + h.z[i] * h.z[i]);
-            if !(mz > 0.0) {
-                0.0
-            } else {
-                self.d_norm / (s * s)
-            }
-        });
-        // Λ(l): ν = (l_z − x̄·l_xy)/√(l_xyᵀ A l_xy)
-        let num = map(|i| l.z[i] - mean.x * l.x[i] - mean.y * l.y[i]);
-        let q = quad2(sf.rough.a(), &l.x, &l.y);
-        let den = map(|i| q[i].sqrt());
-        let nu = map(|i| {
-            if den[i] == 0.0 {
-                if num[i] > 0.0 {
-                    f64::INFINITY
-                } else if num[i] < 0.0 {
-                    f64::NEG_INFINITY
-                } else {
-                    0.0
-                }
-            } else {
-                num[i] / den[i]
-            }
-        });
-        let lam = map(|i| {
-            if !(nu[i] > 0.0) {
-                f64::INFINITY
-            } else {
-                crate::microfacet::lambda::ggx(nu[i])
-            }
-        });
+        let d = sf.d_lanes(&h, self.d_norm);
+        let lam = sf.lambda_lanes(l);
         let (lh, vh) = (
             l.dot(&h),
             map(|i| v.x * h.x[i] + v.y * h.y[i] + v.z * h.z[i]),
@@ -330,13 +296,6 @@ mod tests {
     use rand::{Rng, SeedableRng};
 
     /// α by case: 1e-4, 1, else log-uniform in [1e-4, 1].
-    fn alpha_of(case: usize, r: &mut impl Rng) -> f64 {
-        match case % 6 {
-            0 => 1e-4,
-            1 => 1.0,
-            _ => 10f64.powf(r.random_range(-4.0..0.0)),
-        }
-    }
 
     /// The microfacet lobe (`FixedView`) and the LTC (`LtcDist`) in lanes give each lane
     /// the bits of their scalar forms: 12 000 sets of four directions (below, on and above
@@ -347,29 +306,10 @@ mod tests {
     fn lobes_and_ltcs_are_the_scalar_bits() {
         use crate::ltc::target::FixedView;
         use crate::ltc::LtcDist;
-        use crate::microfacet::{Microsurface, Roughness};
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(9);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         for case in 0..12_000 {
-            let alpha = alpha_of(case, &mut r);
-            let rough = match case % 3 {
-                0 => Roughness::iso(alpha),
-                _ => {
-                    Roughness::rotated(alpha, r.random_range(1e-4..1.0), r.random_range(-3.0..3.0))
-                }
-            }
-            .unwrap();
-            let surface = match case % 7 {
-                0 => Microsurface::beckmann(rough),
-                // a non-centred (LEAN) slope distribution
-                1 => Microsurface::ggx(rough)
-                    .with_mean(nalgebra::Vector2::new(
-                        r.random_range(-1.0..1.0),
-                        r.random_range(-1.0..1.0),
-                    ))
-                    .unwrap(),
-                _ => Microsurface::ggx(rough),
-            };
+            let surface = crate::microfacet::lobe::tests::surface_of(case, &mut r);
             let th = if case % 5 == 0 {
                 89.99f64.to_radians()
             } else {
@@ -419,7 +359,7 @@ mod tests {
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(5);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
         for case in 0..12_000 {
-            let alpha = alpha_of(case, &mut r);
+            let alpha = crate::microfacet::lobe::tests::alpha_of(case, &mut r);
             let th = if case % 5 == 0 {
                 89.99f64.to_radians()
             } else {

@@ -9,6 +9,7 @@ pub mod sampling;
 pub mod sggx;
 pub mod shading;
 pub mod surface;
+mod surface_lanes;
 
 pub use roughness::Roughness;
 pub use surface::{unit, LambdaKind, Microsurface, NdfKind};
