@@ -9,6 +9,7 @@
 use super::surface::{Microsurface, NdfKind};
 use crate::error::{Error, Result};
 use crate::integrate::mc::Strategy;
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::{Vector2, Vector3};
 use std::f64::consts::PI;
 
@@ -92,6 +93,29 @@ impl VndfSampler {
             return 0.0;
         }
         self.g1_o * c * self.surface.d(m) / self.o.z
+    }
+
+    /// [`Self::pdf_exact`] of sampler `s[i]` at normal `m`'s lane i (one sampler may fill
+    /// several lanes), step by step across the lanes (`crate::lanes`; D by
+    /// `Microsurface::d_lanes` where every sampler has the same surface, else lane by
+    /// lane): each lane's bits are `pdf_exact`'s.
+    pub fn pdf_lanes(s: [&VndfSampler; LANES], m: &Dirs) -> Lanes {
+        let surface = &s[0].surface;
+        if s.iter().any(|s| s.surface != *surface) {
+            return map(|i| s[i].pdf_exact(&m.get(i)));
+        }
+        let c = map(|i| {
+            let o = &s[i].o;
+            o.x * m.x[i] + o.y * m.y[i] + o.z * m.z[i]
+        });
+        let d = surface.d_lanes(m, surface.d_norm());
+        map(|i| {
+            if c[i] <= 0.0 {
+                0.0
+            } else {
+                s[i].g1_o * c[i] * d[i] / s[i].o.z
+            }
+        })
     }
 }
 

@@ -25,6 +25,9 @@ use std::f64::consts::PI;
 
 type V3 = Vector3<f64>;
 
+mod lanes;
+use crate::lanes::LANES;
+
 /// The per-texel lobe and the scene's lights.
 pub struct Shader<'a> {
     pub kind: Lobe,
@@ -287,6 +290,42 @@ impl<'a> Shader<'a> {
         }
     }
 
+    /// One sample's light direction (world) and its density under area sampling of the
+    /// quad: with probability `mix` (`u[0] < mix`) a point of the quad, else the lobe's
+    /// visible normal reflected (its hit on the quad gives the density); None where the
+    /// sample is lost (its value is 0).
+    fn quad_direction(
+        light: &Light,
+        hit: &Hit,
+        w: &Viewed,
+        u: [f64; 3],
+        mix: f64,
+    ) -> Option<(V3, f64)> {
+        let [pick, s1, s2] = u;
+        if pick < mix {
+            let q = light.quad_point([s1, s2])?;
+            let lw = (q - hit.p).normalize();
+            Some((lw, Self::area_pdf(light, &hit.p, &lw)))
+        } else {
+            let (s, sf, vs) = w.vndf.as_ref()?;
+            let h = s.sample([s1, s2])?;
+            let ls = h * (2.0 * vs.dot(&h)) - vs;
+            let lw = hit.frame.world(&sf.world(&ls));
+            // the hit that decides whether the direction sees the light gives its density
+            let q = light.quad_hit(&hit.p, &lw)?;
+            Some((lw, Self::area_pdf_at(light, &hit.p, &lw, &q)))
+        }
+    }
+
+    /// The share of light samples the quad draws from its area (the rest from the lobe).
+    fn quad_mix(w: &Viewed) -> f64 {
+        if w.vndf.is_some() {
+            0.5
+        } else {
+            1.0
+        }
+    }
+
     fn quad_sample(&self, light: &Light, hit: &Hit, w: &Viewed, nt: &V3, u: [f64; 3]) -> f64 {
         let Light::Quad { radiance, .. } = light else {
             return 0.0;
@@ -304,26 +343,9 @@ impl<'a> Shader<'a> {
             let h = h / hn;
             s.pdf(&h) / (4.0 * vs.dot(&h).abs()).max(1e-300)
         };
-        let mix = if vndf.is_some() { 0.5 } else { 1.0 };
-        let [pick, s1, s2] = u;
-        let (lw, area_pdf) = if pick < mix {
-            let Some(q) = light.quad_point([s1, s2]) else {
-                return 0.0;
-            };
-            let lw = (q - hit.p).normalize();
-            (lw, Self::area_pdf(light, &hit.p, &lw))
-        } else {
-            let Some((s, sf, vs)) = vndf else { return 0.0 };
-            let Some(h) = s.sample([s1, s2]) else {
-                return 0.0;
-            };
-            let ls = h * (2.0 * vs.dot(&h)) - vs;
-            let lw = fr.world(&sf.world(&ls));
-            // the hit that decides whether the direction sees the light gives its density
-            let Some(q) = light.quad_hit(&hit.p, &lw) else {
-                return 0.0;
-            };
-            (lw, Self::area_pdf_at(light, &hit.p, &lw, &q))
+        let mix = Self::quad_mix(w);
+        let Some((lw, area_pdf)) = Self::quad_direction(light, hit, w, u, mix) else {
+            return 0.0;
         };
         let pdf = mix * area_pdf + (1.0 - mix) * brdf_pdf(&lw);
         if !(pdf > 0.0) {
@@ -432,14 +454,49 @@ fn exact(
         0
     };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
-    let mut reps = [0.0f64; 2];
-    for (si, s) in shares.iter().enumerate() {
+    let prepared = |s: &super::coverage::Share| {
         let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
         let nt = sh.tex.at(s.i, s.j);
         let w = sh.viewed(&hit, &cam.eye, &nt);
         let e = sh.exact_at(&w, &hit, &nt);
-        for (rep, &scr) in reps.iter_mut().zip(&scrambles) {
-            let mut qs = 0.0;
+        (hit, nt, w, e)
+    };
+    let reps = if k == 0 {
+        // no sampled light: each texel's exact part alone
+        let mut reps = [0.0f64; 2];
+        for s in &shares {
+            let e = prepared(s).3;
+            reps.iter_mut().for_each(|rep| *rep += s.area * (e + 0.0));
+        }
+        reps
+    } else {
+        let texels: Vec<_> = shares.iter().map(prepared).collect();
+        with_light_samples(sh, &shares, &texels, k, scrambles, rng)
+    };
+    let (m1, m2) = (reps[0] / total, reps[1] / total);
+    Some(PixelTruth {
+        value: 0.5 * (m1 + m2),
+        diff: 0.5 * (m1 - m2),
+        covered: true,
+    })
+}
+
+/// The two replicates' sums over the texels (`exact`) with k samples of the sampled lights
+/// per texel and replicate: their uniforms drawn first, in the one-sample loop's order
+/// (the shading draws none), then the samples four at a time across texels
+/// (`Shader::sampled_lanes`), then summed in the one-sample loop's order.
+fn with_light_samples(
+    sh: &Shader,
+    shares: &[super::coverage::Share],
+    texels: &[(Hit, V3, Viewed, f64)],
+    k: usize,
+    scrambles: [u32; 2],
+    rng: &mut ChaCha8Rng,
+) -> [f64; 2] {
+    // texel si's replicate r, sample j at (2 si + r) k + j
+    let mut us = Vec::with_capacity(2 * k * shares.len());
+    for si in 0..shares.len() {
+        for &scr in &scrambles {
             for j in 0..k {
                 let i = ((si * k + j) as u32).min((1 << 16) - 1);
                 let mut u = [0.0; 3];
@@ -448,17 +505,33 @@ fn exact(
                     *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit)
                         .min(1.0 - f64::EPSILON / 2.0);
                 }
-                qs += sh.sampled_at(&w, &hit, &nt, u);
+                us.push(u);
             }
-            *rep += s.area * (e + if k > 0 { qs / k as f64 } else { 0.0 });
         }
     }
-    let (m1, m2) = (reps[0] / total, reps[1] / total);
-    Some(PixelTruth {
-        value: 0.5 * (m1 + m2),
-        diff: 0.5 * (m1 - m2),
-        covered: true,
-    })
+    let mut q = Vec::with_capacity(us.len());
+    for (c, u) in us.chunks(LANES).enumerate() {
+        let at = |i: usize| {
+            let (hit, nt, w, _) = &texels[(c * LANES + i.min(u.len() - 1)) / (2 * k)];
+            (w, hit, nt)
+        };
+        let got = sh.sampled_lanes(
+            std::array::from_fn(at),
+            std::array::from_fn(|i| u[i.min(u.len() - 1)]),
+        );
+        q.extend_from_slice(&got[..u.len()]);
+    }
+    let mut reps = [0.0f64; 2];
+    for (si, (s, t)) in shares.iter().zip(texels).enumerate() {
+        for (r, rep) in reps.iter_mut().enumerate() {
+            let mut qs = 0.0;
+            for x in &q[(2 * si + r) * k..(2 * si + r + 1) * k] {
+                qs += x;
+            }
+            *rep += s.area * (t.3 + qs / k as f64);
+        }
+    }
+    reps
 }
 
 /// n footprint samples as two replicates of n/2 (each a jittered grid when n/2 is a
