@@ -104,6 +104,14 @@ impl LtcTarget for BurleyTarget {
         1.0
     }
     fn albedo(&self, tol: f64) -> (f64, f64, f64) {
-        hemisphere::albedo(&|l| self.value(l), &self.v, &[], tol)
+        hemisphere::albedo(
+            &|l| {
+                let r = self.eval_lanes(l, [true; LANES]);
+                map(|i| r[i].0)
+            },
+            &self.v,
+            &[],
+            tol,
+        )
     }
 }

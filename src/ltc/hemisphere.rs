@@ -3,7 +3,8 @@
 //! Gauss–Kronrod over (cos θ_l, φ) — the view lies in the xz-plane, so the lobe is
 //! symmetric in φ ↔ −φ and φ runs over [0, π] (doubled).
 
-use crate::integrate::quad::{gk15, gk15_breaks, Tol};
+use crate::integrate::quad::{adaptive_batched, gk15_breaks, NodeValues, Tol};
+use crate::lanes::{Dirs, Lanes, LANES};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -43,9 +44,11 @@ pub fn cosine_pdf(l: &V3) -> f64 {
 /// hemisphere, to relative tolerance `tol`: outer adaptive GK over u = cos θ_l ∈ [0, 1]
 /// with breaks at the mirror direction's u = v_z and at `u_kinks` (where f has a kink in
 /// l_z, e.g. the two branches of Estevez & Kulla's Λ at ½), inner over φ ∈ [0, π] (×2 by
-/// symmetry).
+/// symmetry). `f` takes four directions at a time (`crate::lanes`): each inner G7–K15
+/// segment's 15 nodes go through it in four calls, the same nodes and sums as one node at
+/// a time (`tests::albedo_in_lanes_is_one_node_at_a_time`).
 pub fn albedo(
-    f: &(dyn Fn(&V3) -> f64 + Sync),
+    f: &(dyn Fn(&Dirs) -> Lanes + Sync),
     v: &V3,
     u_kinks: &[f64],
     tol: f64,
@@ -56,21 +59,24 @@ pub fn albedo(
         V3::new(s * phi.cos(), s * phi.sin(), u)
     };
     let inner = |u: f64, fres: bool| {
-        gk15(
-            &|phi: f64| {
-                let l = dir(u, phi);
-                let w = f(&l);
-                if fres {
-                    let h = (v + l).normalize();
-                    w * (1.0 - v.dot(&h)).max(0.0).powi(5)
-                } else {
-                    w
+        // `gk15` over [0, π], its 15 nodes four at a time
+        let nodes = |phis: &[f64; 15]| -> NodeValues {
+            let l: [V3; 15] = std::array::from_fn(|k| dir(u, phis[k]));
+            let mut out = [0.0; 15];
+            for (c, ls) in l.chunks(LANES).enumerate() {
+                let w = f(&Dirs::of(ls));
+                for (k, l) in ls.iter().enumerate() {
+                    out[c * LANES + k] = if fres {
+                        let h = (v + l).normalize();
+                        w[k] * (1.0 - v.dot(&h)).max(0.0).powi(5)
+                    } else {
+                        w[k]
+                    };
                 }
-            },
-            0.0,
-            std::f64::consts::PI,
-            t,
-        )
+            }
+            (out, [0.0; 15], 15)
+        };
+        adaptive_batched(&nodes, &[0.0, std::f64::consts::PI], t)
     };
     // the mirror direction (u = v_z, φ = π, an endpoint of the inner range) is where a
     // half-vector lobe such as the Charlie sin^(1/α)θ_h has its cone point for α ≥ ½
@@ -82,4 +88,95 @@ pub fn albedo(
     let a = gk15_breaks(&|u| 2.0 * inner(u, false).value, &breaks, t);
     let b = gk15_breaks(&|u| 2.0 * inner(u, true).value, &breaks, t);
     (a.value, a.error, b.value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::quad::gk15;
+    use crate::lanes::map;
+    use crate::ltc::diffuse::{BurleyRoughness, BurleyTarget};
+    use crate::ltc::sheen::{CharlieTarget, SheenVisibility};
+    use crate::ltc::target::LtcTarget;
+
+    /// The albedo one node at a time, as it was written before `albedo` took lanes: the
+    /// reference its lanes form must equal bit for bit.
+    fn one_node_at_a_time(f: &dyn Fn(&V3) -> f64, v: &V3, u_kinks: &[f64], tol: f64) -> [f64; 3] {
+        let t = Tol::new(tol * 1e-3, tol, 2_000_000);
+        let dir = |u: f64, phi: f64| {
+            let s = (1.0 - u * u).max(0.0).sqrt();
+            V3::new(s * phi.cos(), s * phi.sin(), u)
+        };
+        let inner = |u: f64, fres: bool| {
+            let g = |phi: f64| {
+                let l = dir(u, phi);
+                let w = f(&l);
+                if fres {
+                    let h = (v + l).normalize();
+                    w * (1.0 - v.dot(&h)).max(0.0).powi(5)
+                } else {
+                    w
+                }
+            };
+            gk15(&g, 0.0, std::f64::consts::PI, t)
+        };
+        let mut breaks = vec![0.0, 1.0, v.z];
+        breaks.extend(u_kinks.iter().copied());
+        breaks.retain(|&k| (0.0..=1.0).contains(&k));
+        breaks.sort_by(f64::total_cmp);
+        breaks.dedup();
+        let a = gk15_breaks(&|u| 2.0 * inner(u, false).value, &breaks, t);
+        let b = gk15_breaks(&|u| 2.0 * inner(u, true).value, &breaks, t);
+        [a.value, a.error, b.value]
+    }
+
+    /// `albedo`, its inner segments' nodes four at a time through the targets'
+    /// `eval_lanes`, gives the one-node form's bits (value, error estimate, Fresnel
+    /// moment): both sheens and both diffuse roughnesses at α from 0.01 (the sheen's
+    /// floor) or 1e-4 to 1 and views from 0° to 89.99°, at two tolerances.
+    #[test]
+    fn albedo_in_lanes_is_one_node_at_a_time() {
+        let thetas = [0.0, 0.7, 1.3, 89.99f64.to_radians()];
+        let mut checked = 0;
+        for (k, &alpha) in [1e-4f64, 0.01, 0.2, 0.6, 1.0].iter().enumerate() {
+            for &th in &thetas {
+                let tol = if k % 2 == 0 { 1e-8 } else { 1e-6 };
+                let sheens = [SheenVisibility::EstevezKulla, SheenVisibility::Neubelt]
+                    .map(|vis| CharlieTarget::new(alpha.max(0.01), th, vis).unwrap());
+                for t in &sheens {
+                    let kinks: &[f64] = match t.visibility {
+                        SheenVisibility::EstevezKulla => &[0.5],
+                        SheenVisibility::Neubelt => &[],
+                    };
+                    let want = one_node_at_a_time(&|l| t.value(l), &t.view(), kinks, tol);
+                    let got = t.albedo(tol);
+                    assert_eq!(
+                        [got.0, got.1, got.2].map(f64::to_bits),
+                        want.map(f64::to_bits)
+                    );
+                    checked += 1;
+                }
+                for r in [BurleyRoughness::Paper, BurleyRoughness::Engines] {
+                    let t = BurleyTarget::new(alpha, th, r).unwrap();
+                    let want = one_node_at_a_time(&|l| t.value(l), &t.view(), &[], tol);
+                    let got = t.albedo(tol);
+                    assert_eq!(
+                        [got.0, got.1, got.2].map(f64::to_bits),
+                        want.map(f64::to_bits)
+                    );
+                    checked += 1;
+                }
+                // a lanes closure that is not a target's: the same nodes reach it
+                let v = V3::new(th.sin(), 0.0, th.cos());
+                let g = |l: &V3| l.z.max(0.0).powf(1.0 / alpha.max(0.05)) * (1.0 + l.x);
+                let got = albedo(&|l| map(|i| g(&l.get(i))), &v, &[0.3], tol);
+                let want = one_node_at_a_time(&g, &v, &[0.3], tol);
+                assert_eq!(
+                    [got.0, got.1, got.2].map(f64::to_bits),
+                    want.map(f64::to_bits)
+                );
+            }
+        }
+        assert_eq!(checked, 5 * 4 * 4);
+    }
 }

@@ -209,6 +209,14 @@ impl LtcTarget for CharlieTarget {
             SheenVisibility::EstevezKulla => &[0.5],
             SheenVisibility::Neubelt => &[],
         };
-        hemisphere::albedo(&|l| self.value(l), &self.v, kinks, tol)
+        hemisphere::albedo(
+            &|l| {
+                let r = self.eval_lanes(l, [true; LANES]);
+                map(|i| r[i].0)
+            },
+            &self.v,
+            kinks,
+            tol,
+        )
     }
 }
