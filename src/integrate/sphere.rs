@@ -11,7 +11,8 @@
 //! (rayon), written back by index, so the result is identical at any thread count.
 
 use super::estimate::Estimate;
-use super::quad::{adaptive_batched, gk15_breaks, Tol};
+use super::quad::{adaptive_batched, NodeValues, Tol};
+use crate::lanes::{Dirs, Lanes, LANES};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -281,6 +282,39 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
     rule: &SphereRule,
     tol: Tol,
 ) -> Estimate {
+    integrate_sphere_by(
+        &|d: &[Vector3<f64>; 15]| std::array::from_fn(|k| f(&d[k])),
+        rule,
+        tol,
+    )
+}
+
+/// [`integrate_sphere`] with f taking four directions at a time (`crate::lanes`): each
+/// inner G7–K15 segment's 15 directions go through it in four calls (the last with three
+/// live lanes). The same nodes and sums, so the same bits where f's lanes are f's values
+/// (`tests::lanes_integrate_as_one_direction_at_a_time`).
+pub fn integrate_sphere_lanes<F: Fn(&Dirs) -> Lanes + Sync>(
+    f: &F,
+    rule: &SphereRule,
+    tol: Tol,
+) -> Estimate {
+    let f15 = |d: &[Vector3<f64>; 15]| {
+        let mut out = [0.0; 15];
+        for (c, ds) in d.chunks(LANES).enumerate() {
+            let r = f(&Dirs::of(ds));
+            out[c * LANES..c * LANES + ds.len()].copy_from_slice(&r[..ds.len()]);
+        }
+        out
+    };
+    integrate_sphere_by(&f15, rule, tol)
+}
+
+/// The sphere quadrature given `f15`, f at the 15 directions of one inner segment.
+fn integrate_sphere_by<N: Fn(&[Vector3<f64>; 15]) -> [f64; 15] + Sync>(
+    f15: &N,
+    rule: &SphereRule,
+    tol: Tol,
+) -> Estimate {
     let pole = rule.pole.normalize();
     let (t1, t2) = frame(&pole);
     let nphi = rule.phi_segments.max(1);
@@ -316,16 +350,21 @@ pub fn integrate_sphere<F: Fn(&Vector3<f64>) -> f64 + Sync>(
                 converged: true,
             };
         }
-        let g = |psi: f64| {
-            let (a, dphi) = rule.azimuth(th, psi);
-            let dir = (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize();
-            f(&dir) * w * dphi
+        // G7–K15 in ψ (as `gk15_breaks`), f at a segment's 15 directions in one call
+        let g = |psis: &[f64; 15]| -> NodeValues {
+            let at: [(Vector3<f64>, f64); 15] = std::array::from_fn(|k| {
+                let (a, dphi) = rule.azimuth(th, psis[k]);
+                let dir = (t1 * (st * a.x) + t2 * (st * a.y) + pole * ct).normalize();
+                (dir, dphi)
+            });
+            let fv = f15(&at.map(|(d, _)| d));
+            (std::array::from_fn(|k| fv[k] * w * at[k].1), [0.0; 15], 15)
         };
         if rule.kinks.is_empty() && rule.mirror_horizons.is_empty() {
-            gk15_breaks(&g, &phi_breaks, inner_tol)
+            adaptive_batched(&g, &phi_breaks, inner_tol)
         } else {
             let b = merge_breaks(phi_breaks.clone(), rule.kink_psi_breaks(th, &t1, &t2));
-            gk15_breaks(&g, &b, inner_tol)
+            adaptive_batched(&g, &b, inner_tol)
         }
     };
     let eval = |xs: &[f64; 15]| {

@@ -10,7 +10,8 @@ use crate::error::Result;
 use crate::integrate::estimate::{ErrorKind, Estimate, Welford};
 use crate::integrate::mc::Strategy;
 use crate::integrate::quad::Tol;
-use crate::integrate::sphere::{frame, integrate_sphere, SphereRule};
+use crate::integrate::sphere::{frame, integrate_sphere, integrate_sphere_lanes, SphereRule};
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use crate::ltc::LtcDist;
 use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
@@ -68,10 +69,33 @@ impl Convolution {
         self.me.eval(b) * zonal(&self.mi, c)
     }
 
+    /// [`Self::integrand`] at four b at a time (`crate::lanes`: both LTC densities step
+    /// by step across the lanes, as `LtcDist::eval_lanes` computes them): each lane's
+    /// bits are `integrand`'s (`tests::integrand_in_lanes_is_integrand`).
+    fn integrand_lanes(&self, m: &V3, b: &Dirs) -> Lanes {
+        let c = map(|i| m.x * b.x[i] + m.y * b.y[i] + m.z * b.z[i]);
+        let me = self.me.eval_lanes(b);
+        // zonal(mi, c): γ_mi at (sin θ, 0, cos θ) with cos θ = c clamped to [−1, 1]
+        let cz = map(|i| c[i].clamp(-1.0, 1.0));
+        let sz = map(|i| (1.0 - cz[i] * cz[i]).max(0.0).sqrt());
+        let mi = self.mi.eval_lanes(&Dirs {
+            x: sz,
+            y: [0.0; LANES],
+            z: cz,
+        });
+        map(|i| {
+            if b.z[i] <= 0.0 || c[i] <= 0.0 {
+                0.0
+            } else {
+                me[i] * mi[i]
+            }
+        })
+    }
+
     /// c(θ_m) by adaptive sphere quadrature over b (kinks: b_z = 0 and m·b = 0).
     pub fn density(&self, theta_m: f64, tol: Tol) -> Estimate {
         let m = V3::new(theta_m.sin(), 0.0, theta_m.cos());
-        let f = |b: &V3| self.integrand(&m, b);
+        let f = |b: &Dirs| self.integrand_lanes(&m, b);
         // pole at the narrower lobe's centre, scale its width
         let (pole, scale) = if self.alpha_mi <= self.alpha_me {
             (m, self.alpha_mi)
@@ -81,7 +105,7 @@ impl Convolution {
         let rule = SphereRule::sphere(pole, scale.min(1.0))
             .with_kink(V3::z())
             .with_kink(m);
-        integrate_sphere(&f, &rule, tol)
+        integrate_sphere_lanes(&f, &rule, tol)
     }
 
     /// ∫ w(θ) c(θ) 2π sin θ dθ over [θ0, θ1] by adaptive GK, with geometric break points
@@ -464,6 +488,51 @@ impl Polygon {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `integrand_lanes` gives each lane `integrand`'s bits: 20 000 sets of four b (below,
+    /// on and above the horizon, ±0, 1e-300, NaN, off the unit sphere) and random m, at
+    /// α_me and α_mi from 1e-4 to 1. And the density through it is the density through
+    /// the one-direction integrand, bit for bit (`integrate_sphere` against
+    /// `integrate_sphere_lanes`).
+    #[test]
+    fn integrand_in_lanes_is_integrand() {
+        use crate::lanes::tests::direction;
+        let mut r = ChaCha8Rng::seed_from_u64(41);
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        let alpha = |r: &mut ChaCha8Rng| match r.random_range(0..4) {
+            0 => 1e-4,
+            1 => 1.0,
+            _ => 10f64.powf(r.random_range(-4.0..0.0)),
+        };
+        for case in 0..20_000 {
+            let c = Convolution::new(alpha(&mut r), alpha(&mut r)).unwrap();
+            let m = direction(&mut r);
+            let d: Vec<V3> = (0..LANES).map(|_| direction(&mut r)).collect();
+            let got = c.integrand_lanes(&m, &Dirs::of(&d));
+            for i in 0..LANES {
+                let want = c.integrand(&m, &d[i]);
+                assert!(
+                    same(got[i], want),
+                    "case {case} lane {i}: {} vs {want}",
+                    got[i]
+                );
+            }
+        }
+        let tol = Tol::new(1e-7, 1e-7, 400_000);
+        for (me, mi, th) in [(0.3, 0.2, 0.4), (0.05, 0.5, 1.2), (1e-3, 1e-3, 1.5)] {
+            let c = Convolution::new(me, mi).unwrap();
+            let m = V3::new(f64::sin(th), 0.0, f64::cos(th));
+            let rule = SphereRule::sphere(m, me.min(mi))
+                .with_kink(V3::z())
+                .with_kink(m);
+            let one = integrate_sphere(&|b: &V3| c.integrand(&m, b), &rule, tol);
+            let four = integrate_sphere_lanes(&|b: &Dirs| c.integrand_lanes(&m, b), &rule, tol);
+            assert_eq!(one.value.to_bits(), four.value.to_bits());
+            assert_eq!(one.error.to_bits(), four.error.to_bits());
+            assert_eq!(one.evals, four.evals);
+            assert!(one.value > 0.0);
+        }
+    }
 
     /// A radial integral that takes c(θ) from another's nodes is the integral it gives
     /// alone, bit for bit, and the two weights of a half do share nodes.
