@@ -104,7 +104,7 @@ impl LtcTarget for BurleyTarget {
         1.0
     }
     fn albedo(&self, tol: f64) -> (f64, f64, f64) {
-        hemisphere::albedo(
+        hemisphere::albedo_lanes(
             &|l| {
                 let r = self.eval_lanes(l, [true; LANES]);
                 map(|i| r[i].0)

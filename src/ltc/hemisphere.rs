@@ -4,7 +4,7 @@
 //! symmetric in φ ↔ −φ and φ runs over [0, π] (doubled).
 
 use crate::integrate::quad::{adaptive_batched, gk15_breaks, NodeValues, Tol};
-use crate::lanes::{Dirs, Lanes, LANES};
+use crate::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -41,13 +41,24 @@ pub fn cosine_pdf(l: &V3) -> f64 {
 }
 
 /// (∫f dl, error estimate, ∫f·(1 − v·h)⁵ dl) of a cosine-weighted lobe f over the upper
+/// hemisphere, to relative tolerance `tol`: [`albedo_lanes`] with f one direction at a time.
+pub fn albedo(
+    f: &(dyn Fn(&V3) -> f64 + Sync),
+    v: &V3,
+    u_kinks: &[f64],
+    tol: f64,
+) -> (f64, f64, f64) {
+    albedo_lanes(&|l| map(|i| f(&l.get(i))), v, u_kinks, tol)
+}
+
+/// (∫f dl, error estimate, ∫f·(1 − v·h)⁵ dl) of a cosine-weighted lobe f over the upper
 /// hemisphere, to relative tolerance `tol`: outer adaptive GK over u = cos θ_l ∈ [0, 1]
 /// with breaks at the mirror direction's u = v_z and at `u_kinks` (where f has a kink in
 /// l_z, e.g. the two branches of Estevez & Kulla's Λ at ½), inner over φ ∈ [0, π] (×2 by
 /// symmetry). `f` takes four directions at a time (`crate::lanes`): each inner G7–K15
 /// segment's 15 nodes go through it in four calls, the same nodes and sums as one node at
 /// a time (`tests::albedo_in_lanes_is_one_node_at_a_time`).
-pub fn albedo(
+pub fn albedo_lanes(
     f: &(dyn Fn(&Dirs) -> Lanes + Sync),
     v: &V3,
     u_kinks: &[f64],
@@ -94,7 +105,6 @@ pub fn albedo(
 mod tests {
     use super::*;
     use crate::integrate::quad::gk15;
-    use crate::lanes::map;
     use crate::ltc::diffuse::{BurleyRoughness, BurleyTarget};
     use crate::ltc::sheen::{CharlieTarget, SheenVisibility};
     use crate::ltc::target::LtcTarget;
@@ -169,7 +179,9 @@ mod tests {
                 // a lanes closure that is not a target's: the same nodes reach it
                 let v = V3::new(th.sin(), 0.0, th.cos());
                 let g = |l: &V3| l.z.max(0.0).powf(1.0 / alpha.max(0.05)) * (1.0 + l.x);
-                let got = albedo(&|l| map(|i| g(&l.get(i))), &v, &[0.3], tol);
+                let got = albedo_lanes(&|l| map(|i| g(&l.get(i))), &v, &[0.3], tol);
+                let scalar = albedo(&g, &v, &[0.3], tol);
+                assert_eq!(got, scalar);
                 let want = one_node_at_a_time(&g, &v, &[0.3], tol);
                 assert_eq!(
                     [got.0, got.1, got.2].map(f64::to_bits),

@@ -209,7 +209,7 @@ impl LtcTarget for CharlieTarget {
             SheenVisibility::EstevezKulla => &[0.5],
             SheenVisibility::Neubelt => &[],
         };
-        hemisphere::albedo(
+        hemisphere::albedo_lanes(
             &|l| {
                 let r = self.eval_lanes(l, [true; LANES]);
                 map(|i| r[i].0)
