@@ -92,6 +92,18 @@ impl Dirs {
     }
 }
 
+/// `f` at each of the `N` directions `d`, through `f`'s four lanes (the last call's lanes
+/// past `d` hold +z, and their values are dropped): what a quadrature segment's nodes
+/// take from an integrand written in lanes.
+pub fn by_four<const N: usize>(d: &[V3; N], f: impl Fn(&Dirs) -> Lanes) -> [f64; N] {
+    let mut out = [0.0; N];
+    for (c, ds) in d.chunks(LANES).enumerate() {
+        let r = f(&Dirs::of(ds));
+        out[c * LANES..c * LANES + ds.len()].copy_from_slice(&r[..ds.len()]);
+    }
+    out
+}
+
 /// uᵀ A u for the 2-vectors (x, y) of each lane, as `Roughness::quad` computes it with
 /// nalgebra: A·u = (a₀₀x + a₀₁y, a₁₀x + a₁₁y), then the dot x·(Au)₀ + y·(Au)₁.
 #[inline(always)]

@@ -12,7 +12,7 @@
 
 use super::estimate::Estimate;
 use super::quad::{adaptive_batched, NodeValues, Tol};
-use crate::lanes::{Dirs, Lanes, LANES};
+use crate::lanes::{by_four, Dirs, Lanes};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -298,15 +298,7 @@ pub fn integrate_sphere_lanes<F: Fn(&Dirs) -> Lanes + Sync>(
     rule: &SphereRule,
     tol: Tol,
 ) -> Estimate {
-    let f15 = |d: &[Vector3<f64>; 15]| {
-        let mut out = [0.0; 15];
-        for (c, ds) in d.chunks(LANES).enumerate() {
-            let r = f(&Dirs::of(ds));
-            out[c * LANES..c * LANES + ds.len()].copy_from_slice(&r[..ds.len()]);
-        }
-        out
-    };
-    integrate_sphere_by(&f15, rule, tol)
+    integrate_sphere_by(&|d: &[Vector3<f64>; 15]| by_four(d, f), rule, tol)
 }
 
 /// The sphere quadrature given `f15`, f at the 15 directions of one inner segment.

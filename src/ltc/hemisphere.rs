@@ -4,7 +4,7 @@
 //! symmetric in φ ↔ −φ and φ runs over [0, π] (doubled).
 
 use crate::integrate::quad::{adaptive_batched, gk15_breaks, NodeValues, Tol};
-use crate::lanes::{map, Dirs, Lanes, LANES};
+use crate::lanes::{by_four, Dirs, Lanes};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -41,25 +41,46 @@ pub fn cosine_pdf(l: &V3) -> f64 {
 }
 
 /// (∫f dl, error estimate, ∫f·(1 − v·h)⁵ dl) of a cosine-weighted lobe f over the upper
-/// hemisphere, to relative tolerance `tol`: [`albedo_lanes`] with f one direction at a time.
+/// hemisphere, to relative tolerance `tol`: outer adaptive GK over u = cos θ_l ∈ [0, 1]
+/// with breaks at the mirror direction's u = v_z and at `u_kinks` (where f has a kink in
+/// l_z, e.g. the two branches of Estevez & Kulla's Λ at ½), inner over φ ∈ [0, π] (×2 by
+/// symmetry).
 pub fn albedo(
     f: &(dyn Fn(&V3) -> f64 + Sync),
     v: &V3,
     u_kinks: &[f64],
     tol: f64,
 ) -> (f64, f64, f64) {
-    albedo_lanes(&|l| map(|i| f(&l.get(i))), v, u_kinks, tol)
+    albedo_by(&|d| std::array::from_fn(|k| f(&d[k])), v, u_kinks, tol)
 }
 
-/// (∫f dl, error estimate, ∫f·(1 − v·h)⁵ dl) of a cosine-weighted lobe f over the upper
-/// hemisphere, to relative tolerance `tol`: outer adaptive GK over u = cos θ_l ∈ [0, 1]
-/// with breaks at the mirror direction's u = v_z and at `u_kinks` (where f has a kink in
-/// l_z, e.g. the two branches of Estevez & Kulla's Λ at ½), inner over φ ∈ [0, π] (×2 by
-/// symmetry). `f` takes four directions at a time (`crate::lanes`): each inner G7–K15
-/// segment's 15 nodes go through it in four calls, the same nodes and sums as one node at
-/// a time (`tests::albedo_in_lanes_is_one_node_at_a_time`).
+/// [`albedo`] with f taking four directions at a time (`crate::lanes`): each inner
+/// G7–K15 segment's 15 nodes go through it in four calls, the same nodes and sums as one
+/// node at a time (`tests::albedo_in_lanes_is_one_node_at_a_time`).
 pub fn albedo_lanes(
     f: &(dyn Fn(&Dirs) -> Lanes + Sync),
+    v: &V3,
+    u_kinks: &[f64],
+    tol: f64,
+) -> (f64, f64, f64) {
+    albedo_by(&|d| by_four(d, f), v, u_kinks, tol)
+}
+
+/// The outer break points in u = cos θ_l: the ends, the mirror direction's u = v_z (where
+/// a half-vector lobe such as the Charlie sin^(1/α)θ_h has its cone point for α ≥ ½, at
+/// φ = π, an end of the inner range) and the kinks, those inside [0, 1], sorted, once each.
+fn u_breaks(v: &V3, u_kinks: &[f64]) -> Vec<f64> {
+    let mut breaks = vec![0.0, 1.0, v.z];
+    breaks.extend(u_kinks.iter().copied());
+    breaks.retain(|&k| (0.0..=1.0).contains(&k));
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup();
+    breaks
+}
+
+/// The albedo given `f15`, f at the 15 directions of one inner segment.
+fn albedo_by(
+    f15: &(dyn Fn(&[V3; 15]) -> [f64; 15] + Sync),
     v: &V3,
     u_kinks: &[f64],
     tol: f64,
@@ -70,32 +91,23 @@ pub fn albedo_lanes(
         V3::new(s * phi.cos(), s * phi.sin(), u)
     };
     let inner = |u: f64, fres: bool| {
-        // `gk15` over [0, π], its 15 nodes four at a time
+        // `gk15` over [0, π], a segment's 15 nodes in one call of f15
         let nodes = |phis: &[f64; 15]| -> NodeValues {
             let l: [V3; 15] = std::array::from_fn(|k| dir(u, phis[k]));
-            let mut out = [0.0; 15];
-            for (c, ls) in l.chunks(LANES).enumerate() {
-                let w = f(&Dirs::of(ls));
-                for (k, l) in ls.iter().enumerate() {
-                    out[c * LANES + k] = if fres {
-                        let h = (v + l).normalize();
-                        w[k] * (1.0 - v.dot(&h)).max(0.0).powi(5)
-                    } else {
-                        w[k]
-                    };
+            let w = f15(&l);
+            let out = std::array::from_fn(|k| {
+                if fres {
+                    let h = (v + l[k]).normalize();
+                    w[k] * (1.0 - v.dot(&h)).max(0.0).powi(5)
+                } else {
+                    w[k]
                 }
-            }
+            });
             (out, [0.0; 15], 15)
         };
         adaptive_batched(&nodes, &[0.0, std::f64::consts::PI], t)
     };
-    // the mirror direction (u = v_z, φ = π, an endpoint of the inner range) is where a
-    // half-vector lobe such as the Charlie sin^(1/α)θ_h has its cone point for α ≥ ½
-    let mut breaks = vec![0.0, 1.0, v.z];
-    breaks.extend(u_kinks.iter().copied());
-    breaks.retain(|&k| (0.0..=1.0).contains(&k));
-    breaks.sort_by(f64::total_cmp);
-    breaks.dedup();
+    let breaks = u_breaks(v, u_kinks);
     let a = gk15_breaks(&|u| 2.0 * inner(u, false).value, &breaks, t);
     let b = gk15_breaks(&|u| 2.0 * inner(u, true).value, &breaks, t);
     (a.value, a.error, b.value)
@@ -105,6 +117,7 @@ pub fn albedo_lanes(
 mod tests {
     use super::*;
     use crate::integrate::quad::gk15;
+    use crate::lanes::map;
     use crate::ltc::diffuse::{BurleyRoughness, BurleyTarget};
     use crate::ltc::sheen::{CharlieTarget, SheenVisibility};
     use crate::ltc::target::LtcTarget;
@@ -130,11 +143,7 @@ mod tests {
             };
             gk15(&g, 0.0, std::f64::consts::PI, t)
         };
-        let mut breaks = vec![0.0, 1.0, v.z];
-        breaks.extend(u_kinks.iter().copied());
-        breaks.retain(|&k| (0.0..=1.0).contains(&k));
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
+        let breaks = u_breaks(v, u_kinks);
         let a = gk15_breaks(&|u| 2.0 * inner(u, false).value, &breaks, t);
         let b = gk15_breaks(&|u| 2.0 * inner(u, true).value, &breaks, t);
         [a.value, a.error, b.value]

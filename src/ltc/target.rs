@@ -11,7 +11,8 @@ use crate::integrate::mc::Strategy;
 use crate::lanes::{map, Dirs, Lanes, LANES};
 use crate::ltc::chart::Chart;
 use crate::microfacet::sampling::VndfSampler;
-use crate::microfacet::{Microsurface, NdfKind, Roughness};
+use crate::microfacet::surface::g2_from_lambdas;
+use crate::microfacet::{g2_lanes, Microsurface, NdfKind, Roughness};
 use nalgebra::Vector3;
 
 type V3 = Vector3<f64>;
@@ -117,12 +118,7 @@ impl FixedView {
         let g2 = if l.dot(&h) <= 0.0 || self.v.dot(&h) <= 0.0 {
             0.0
         } else {
-            let s = self.surface.lambda(l) + self.lambda_v;
-            if s.is_infinite() {
-                0.0
-            } else {
-                1.0 / (1.0 + s)
-            }
+            g2_from_lambdas(self.surface.lambda(l), self.lambda_v)
         };
         (d * g2 / (4.0 * self.v.z), pdf)
     }
@@ -146,18 +142,7 @@ impl FixedView {
             l.dot(&h),
             map(|i| v.x * h.x[i] + v.y * h.y[i] + v.z * h.z[i]),
         );
-        let g2 = map(|i| {
-            if lh[i] <= 0.0 || vh[i] <= 0.0 {
-                0.0
-            } else {
-                let s = lam[i] + self.lambda_v;
-                if s.is_infinite() {
-                    0.0
-                } else {
-                    1.0 / (1.0 + s)
-                }
-            }
-        });
+        let g2 = g2_lanes(&lh, &vh, &lam, &[self.lambda_v; LANES]);
         // as `eval`: only l_z ≤ 0 is (0, 0) (a NaN l_z is evaluated)
         let f = map(|i| {
             if l.z[i] <= 0.0 {
@@ -246,22 +231,12 @@ pub fn microfacet_albedo(
         };
         let d = surface.d_lanes(h, d_norm);
         let lam = surface.lambda_lanes(&l);
-        let lh = l.dot(h);
+        let g2 = g2_lanes(&l.dot(h), &vh, &lam, &[lambda_v; LANES]);
         map(|i| {
             if vh[i] <= 0.0 || h.z[i] <= 0.0 || l.z[i] <= 0.0 {
                 return 0.0;
             }
-            let g2 = if lh[i] <= 0.0 || vh[i] <= 0.0 {
-                0.0
-            } else {
-                let s = lam[i] + lambda_v;
-                if s.is_infinite() {
-                    0.0
-                } else {
-                    1.0 / (1.0 + s)
-                }
-            };
-            let w = d[i] * g2 * vh[i] / v.z;
+            let w = d[i] * g2[i] * vh[i] / v.z;
             if fres {
                 w * (1.0 - vh[i]).powi(5)
             } else {

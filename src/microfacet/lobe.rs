@@ -2,7 +2,8 @@
 //! normal and the cosine-weighted microfacet specular lobe seen in it (D·G2/(4 v_n),
 //! F = 1; seed 003 Eq 14–15).
 
-use super::Microsurface;
+use super::surface::g2_from_lambdas;
+use super::{g2_lanes, Microsurface};
 use crate::lanes::{map, Dirs, Lanes, LANES};
 use nalgebra::Vector3;
 
@@ -108,12 +109,7 @@ impl ViewedLobe {
         let g2 = if ll.dot(&h) <= 0.0 || self.vl.dot(&h) <= 0.0 {
             0.0
         } else {
-            let sum = s.lambda(&ll) + self.lambda_v;
-            if sum.is_infinite() {
-                0.0
-            } else {
-                1.0 / (1.0 + sum)
-            }
+            g2_from_lambdas(s.lambda(&ll), self.lambda_v)
         };
         s.d(&h) * g2 / (4.0 * self.vn)
     }
@@ -151,22 +147,13 @@ impl ViewedLobe {
             v.x * h.x[i] + v.y * h.y[i] + v.z * h.z[i]
         });
         let area = map(|i| s.projected_area(&ll.get(i)));
+        let g2 = g2_lanes(&lh, &vh, &lam, &map(|i| g[i].lambda_v));
         map(|i| {
             let g = g[i];
             if !g.v_above || l.z[i] <= 0.0 || g.vn <= 0.0 || area[i] <= 0.0 || !(hn[i] > 0.0) {
                 return 0.0;
             }
-            let g2 = if lh[i] <= 0.0 || vh[i] <= 0.0 {
-                0.0
-            } else {
-                let sum = lam[i] + g.lambda_v;
-                if sum.is_infinite() {
-                    0.0
-                } else {
-                    1.0 / (1.0 + sum)
-                }
-            };
-            d[i] * g2 / (4.0 * g.vn)
+            d[i] * g2[i] / (4.0 * g.vn)
         })
     }
 }

@@ -10,6 +10,7 @@ pub mod sggx;
 pub mod shading;
 pub mod surface;
 mod surface_lanes;
+pub use surface_lanes::g2_lanes;
 
 pub use roughness::Roughness;
 pub use surface::{unit, LambdaKind, Microsurface, NdfKind};

@@ -200,12 +200,7 @@ impl Microsurface {
         if i.dot(m) <= 0.0 || o.dot(m) <= 0.0 {
             return 0.0;
         }
-        let s = self.lambda(i) + self.lambda(o);
-        if s.is_infinite() {
-            0.0
-        } else {
-            1.0 / (1.0 + s)
-        }
+        g2_from_lambdas(self.lambda(i), self.lambda(o))
     }
 
     /// Separable G2 = G1(i, m)·G1(o, m).
@@ -232,4 +227,10 @@ pub fn g1_from_lambda(l: f64) -> f64 {
     } else {
         1.0 / (1.0 + l)
     }
+}
+
+/// Height-correlated G2 of two directions both facing m, from their Λ:
+/// 1/(1 + Λ(i) + Λ(o)), 0 where the sum is infinite (seed 003 Eq 14).
+pub fn g2_from_lambdas(lambda_i: f64, lambda_o: f64) -> f64 {
+    g1_from_lambda(lambda_i + lambda_o)
 }

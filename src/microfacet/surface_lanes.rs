@@ -4,7 +4,7 @@
 //! Each lane performs [`Microsurface::d_with`]'s and [`Microsurface::lambda`]'s
 //! operations in their order, so its bits are theirs (tested in `microfacet::lobe`).
 
-use super::surface::{Microsurface, NdfKind};
+use super::surface::{g2_from_lambdas, Microsurface, NdfKind};
 use crate::lanes::{map, quad2, Dirs, Lanes};
 
 impl Microsurface {
@@ -61,4 +61,17 @@ impl Microsurface {
             }
         })
     }
+}
+
+/// `Microsurface::g2_correlated` lane by lane from its pieces: 0 where i·m ≤ 0 or o·m ≤ 0,
+/// else [`g2_from_lambdas`] of Λ(i) and Λ(o).
+#[inline(always)]
+pub fn g2_lanes(im: &Lanes, om: &Lanes, lambda_i: &Lanes, lambda_o: &Lanes) -> Lanes {
+    map(|k| {
+        if im[k] <= 0.0 || om[k] <= 0.0 {
+            0.0
+        } else {
+            g2_from_lambdas(lambda_i[k], lambda_o[k])
+        }
+    })
 }
