@@ -162,7 +162,10 @@ fn full(c: &Cell) -> ([f64; 4], f64) {
 }
 
 /// Every cell of `t` against `lobe` at its (α, θ): the held-out figures of each of the
-/// entries `entries(cell)` (judged together, in one cubature per cell).
+/// entries `entries(cell)` (judged together, in one cubature per cell). `t` must be
+/// `lobe`'s own table: the target's chart is weighed by the cell's norm, the albedo its
+/// fit integrated to `ltc::fit::ALBEDO_TOL` (as the held-out stage, `ltc::held`, does),
+/// rather than by a second integral of the same albedo.
 fn against(
     label: &str,
     t: &Table,
@@ -175,8 +178,7 @@ fn against(
     let errs: Vec<Vec<Option<LobeError>>> = crate::memo::map(label, cells.len(), |k| {
         let c = cells[k];
         let tgt = lobe.target(c.alpha, c.theta)?;
-        let (albedo, _, _) = tgt.albedo(1e-8);
-        Ok(cell_error_of(&tgt, albedo, &entries(k % n, k / n, c), tol))
+        Ok(cell_error_of(&tgt, c.norm, &entries(k % n, k / n, c), tol))
     })?;
     // a cell may judge fewer candidates than another: the missing ones are `None`
     let k = errs.iter().map(|e| e.len()).max().unwrap_or(0);
