@@ -6,6 +6,7 @@
 //! - [`quad`]: Gauss–Legendre (1D, 2D tensor), adaptive Gauss–Kronrod, substitutions.
 //! - [`cubature`]: adaptive tensor G7/K15 cubature of vector integrands on rectangles.
 //! - [`sphere`]: adaptive quadrature over the sphere with a peak-following substitution.
+//! - [`trig`]: sin and cos remembered per thread (the nested rules' repeated φ nodes).
 //! - [`auto`]: tolerance-driven entry point.
 //! - [`preset`]: quick / default / precise.
 
@@ -17,6 +18,7 @@ pub mod preset;
 pub mod qmc;
 pub mod quad;
 pub mod sphere;
+pub mod trig;
 
 pub use estimate::{ErrorKind, Estimate, Figure, Kind, Quad, StdErr};
 pub use preset::Preset;

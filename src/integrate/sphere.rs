@@ -233,7 +233,8 @@ impl SphereRule {
 
     /// Tangent direction and dφ/dψ at azimuth parameter ψ and polar angle θ.
     fn azimuth(&self, th: f64, psi: f64) -> (nalgebra::Vector2<f64>, f64) {
-        let (sp, cp) = psi.sin_cos();
+        // the inner rule's ψ nodes recur at every outer node: remembered (`trig`)
+        let (sp, cp) = super::trig::sin_cos(psi);
         match self.stretch {
             None => (nalgebra::Vector2::new(cp, sp), 1.0),
             Some((major, ratio)) => {

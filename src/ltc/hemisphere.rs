@@ -88,7 +88,9 @@ fn albedo_by(
     let t = Tol::new(tol * 1e-3, tol, 2_000_000);
     let dir = |u: f64, phi: f64| {
         let s = (1.0 - u * u).max(0.0).sqrt();
-        V3::new(s * phi.cos(), s * phi.sin(), u)
+        // every u node's inner rule has the same φ nodes: remembered (`integrate::trig`)
+        let (sp, cp) = crate::integrate::trig::sin_cos(phi);
+        V3::new(s * cp, s * sp, u)
     };
     let inner = |u: f64, fres: bool| {
         // `gk15` over [0, π], a segment's 15 nodes in one call of f15

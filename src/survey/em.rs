@@ -98,9 +98,14 @@ fn responsibilities(logp: &[Vec<f64>], w: &[f64], r: &mut [Vec<f64>]) -> f64 {
             }
             continue;
         }
-        let s: f64 = logp.iter().map(|l| (l[i] - m).exp()).sum();
+        // each e^(l − m) once: kept in r, summed in the components' order, then divided
+        let mut s = 0.0;
         for (rk, l) in r.iter_mut().zip(logp) {
-            rk[i] = (l[i] - m).exp() / s;
+            rk[i] = (l[i] - m).exp();
+            s += rk[i];
+        }
+        for rk in r.iter_mut().take(logp.len()) {
+            rk[i] /= s;
         }
         ll += w[i] * (m + s.ln());
     }

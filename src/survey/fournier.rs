@@ -143,8 +143,19 @@ impl Objective<'_> {
         let t = self.target;
         let mut g = vec![0.0; p.len()];
         let mut cost = 0.0;
+        // one buffer for every direction's lobe values (no allocation per direction)
+        let mut vals = Vec::with_capacity(lobes.len());
+        // each lobe's ‖m‖ (the gradient's chain rule), once rather than per direction
+        let mnorms: Vec<f64> = (0..lobes.len())
+            .map(|k| {
+                let base = 5 * k;
+                V3::new(p[base + 1], p[base + 2], p[base + 3])
+                    .norm()
+                    .max(1e-300)
+            })
+            .collect();
         for ((d, w), q) in t.dirs.iter().zip(&t.weights).zip(&t.values) {
-            let mut vals = Vec::with_capacity(lobes.len());
+            vals.clear();
             let mut f = 0.0;
             for l in &lobes {
                 let c = l.mu.dot(d);
@@ -161,9 +172,7 @@ impl Objective<'_> {
                         continue;
                     }
                     let base = 5 * k;
-                    let mnorm = V3::new(p[base + 1], p[base + 2], p[base + 3])
-                        .norm()
-                        .max(1e-300);
+                    let mnorm = mnorms[k];
                     g[base] += k2 * v;
                     // ∂v/∂m = a e c^{e−1} (d − c μ)/‖m‖
                     let dv = v * l.e / c;
