@@ -454,23 +454,31 @@ fn exact(
         0
     };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
-    let prepared = |s: &super::coverage::Share| {
-        let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
-        let nt = sh.tex.at(s.i, s.j);
-        let w = sh.viewed(&hit, &cam.eye, &nt);
-        let e = sh.exact_at(&w, &hit, &nt);
-        (hit, nt, w, e)
-    };
+    let prepared: Vec<(Hit, V3, Viewed)> = shares
+        .iter()
+        .map(|s| {
+            let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
+            let nt = sh.tex.at(s.i, s.j);
+            let w = sh.viewed(&hit, &cam.eye, &nt);
+            (hit, nt, w)
+        })
+        .collect();
+    // every texel's point and directional lights at once (`Shader::exact_texels`)
+    let at: Vec<lanes::At> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
+    let exact = sh.exact_texels(&at);
     let reps = if k == 0 {
         // no sampled light: each texel's exact part alone
         let mut reps = [0.0f64; 2];
-        for s in &shares {
-            let e = prepared(s).3;
+        for (s, e) in shares.iter().zip(&exact) {
             reps.iter_mut().for_each(|rep| *rep += s.area * (e + 0.0));
         }
         reps
     } else {
-        let texels: Vec<_> = shares.iter().map(prepared).collect();
+        let texels: Vec<_> = prepared
+            .into_iter()
+            .zip(exact)
+            .map(|((h, n, w), e)| (h, n, w, e))
+            .collect();
         with_light_samples(sh, &shares, &texels, k, scrambles, rng)
     };
     let (m1, m2) = (reps[0] / total, reps[1] / total);
