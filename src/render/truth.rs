@@ -464,7 +464,7 @@ fn exact(
         })
         .collect();
     // every texel's point and directional lights at once (`Shader::exact_texels`)
-    let at: Vec<lanes::At> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
+    let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
     let exact = sh.exact_texels(&at);
     let reps = if k == 0 {
         // no sampled light: each texel's exact part alone
