@@ -139,12 +139,7 @@ fn bad_sg_lights_are_typed_errors_naming_the_field() {
 }
 
 fn flat_texture() -> Texture {
-    Texture::new(NormalMap {
-        name: "flat".into(),
-        width: 4,
-        height: 4,
-        normals: vec![V3::z(); 16],
-    })
+    Texture::new(NormalMap::flat(4))
 }
 
 fn plane() -> Surface {

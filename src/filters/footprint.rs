@@ -170,6 +170,16 @@ pub const UNIT_TOLERANCE: f64 = 0.05;
 pub const MAX_OFF_UNIT_FRACTION: f64 = 0.01;
 
 impl NormalMap {
+    /// The flat map of size × size texels: every normal +z.
+    pub fn flat(size: usize) -> NormalMap {
+        NormalMap {
+            name: "flat".into(),
+            width: size,
+            height: size,
+            normals: vec![Vector3::z(); size * size],
+        }
+    }
+
     /// A procedural map of size × size texels (size a power of two ≥ 2).
     pub fn procedural(kind: Procedural, size: usize, seed: u64) -> Result<NormalMap> {
         if size < 2 || !size.is_power_of_two() {

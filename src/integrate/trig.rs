@@ -13,18 +13,17 @@ use std::cell::RefCell;
 
 const SLOTS: usize = 2048;
 
+/// Every slot starts holding the angle +0 (key 0) with its own pair, so a slot's key
+/// alone says what its pair is the sine and cosine of.
 struct Memo {
     keys: [u64; SLOTS],
     vals: [(f64, f64); SLOTS],
-    /// Whether the slot holds a pair (all keys start equal, so a key alone cannot say).
-    full: [bool; SLOTS],
 }
 
 thread_local! {
     static MEMO: RefCell<Box<Memo>> = RefCell::new(Box::new(Memo {
-        keys: [0; SLOTS],
-        vals: [(0.0, 0.0); SLOTS],
-        full: [false; SLOTS],
+        keys: [0.0f64.to_bits(); SLOTS],
+        vals: [(0.0f64.sin(), 0.0f64.cos()); SLOTS],
     }));
 }
 
@@ -42,13 +41,12 @@ pub fn sin_cos(a: f64) -> (f64, f64) {
     let k = slot(b);
     MEMO.with(|m| {
         let mut m = m.borrow_mut();
-        if m.full[k] && m.keys[k] == b {
+        if m.keys[k] == b {
             return m.vals[k];
         }
         let v = (a.sin(), a.cos());
         m.keys[k] = b;
         m.vals[k] = v;
-        m.full[k] = true;
         v
     })
 }
@@ -89,6 +87,9 @@ mod tests {
             angles.iter().copied().for_each(same);
         }
         let counted = std::thread::spawn(move || {
+            // a fresh thread: +0 is found in any slot's initial state, −0 is not
+            same(0.0);
+            same(-0.0);
             angles.iter().rev().copied().for_each(same);
             angles.len()
         })

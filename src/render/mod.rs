@@ -82,12 +82,7 @@ fn unscaled_map(scene: &Scene, base: &Path) -> Result<NormalMap> {
         return NormalMap::procedural(k, m.map_size, m.map_seed);
     }
     if m.normal_map == "flat" {
-        return Ok(NormalMap {
-            name: "flat".into(),
-            width: m.map_size,
-            height: m.map_size,
-            normals: vec![Vector3::z(); m.map_size * m.map_size],
-        });
+        return Ok(NormalMap::flat(m.map_size));
     }
     let p = base.join(&m.normal_map);
     if !p.is_file() {

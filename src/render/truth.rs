@@ -145,20 +145,26 @@ impl<'a> Shader<'a> {
         self.exact_at(&self.viewed(hit, eye, nt), hit, nt)
     }
 
+    /// A point or directional light's factor at `hit` and its direction in the hit's
+    /// frame (its exact term is factor × lobe); `None` for the sampled lights.
+    fn exact_light(light: &Light, hit: &Hit) -> Option<(f64, V3)> {
+        match light {
+            Light::Point { pos, intensity } => {
+                let d = pos - hit.p;
+                let r2 = d.norm_squared();
+                Some((intensity / r2, hit.frame.local(&(d / r2.sqrt()))))
+            }
+            Light::Directional { dir, irradiance } => Some((*irradiance, hit.frame.local(dir))),
+            Light::Quad { .. } | Light::Sg(_) => None,
+        }
+    }
+
     fn exact_at(&self, w: &Viewed, hit: &Hit, nt: &V3) -> f64 {
-        let fr = &hit.frame;
         let mut sum = 0.0;
         for light in self.lights {
-            sum += match light {
-                Light::Point { pos, intensity } => {
-                    let d = pos - hit.p;
-                    let r2 = d.norm_squared();
-                    intensity / r2 * self.lobe_at(w, nt, &fr.local(&(d / r2.sqrt())))
-                }
-                Light::Directional { dir, irradiance } => {
-                    irradiance * self.lobe_at(w, nt, &fr.local(dir))
-                }
-                Light::Quad { .. } | Light::Sg(_) => 0.0,
+            sum += match Self::exact_light(light, hit) {
+                Some((c, l)) => c * self.lobe_at(w, nt, &l),
+                None => 0.0,
             };
         }
         sum

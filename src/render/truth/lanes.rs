@@ -47,24 +47,15 @@ impl Shader<'_> {
     /// (`tests::exact_lights_across_texels_are_exact_at`).
     pub(super) fn exact_texels(&self, at: &[At]) -> Vec<f64> {
         let nl = self.lights.len();
-        // per (texel, light): its factor and value; the quad and SG lights' terms are 0
+        // per (texel, light), texel-major: its factor and value; the sampled lights' are 0
         let mut terms: Vec<Option<(f64, f64)>> = Vec::with_capacity(at.len() * nl);
         // the pairs whose values the lanes compute: (index into terms, lobe, direction)
         let mut pending: Vec<(usize, &ViewedLobe, V3)> = Vec::new();
         for &(w, hit, nt) in at {
-            let fr = &hit.frame;
             for light in self.lights {
-                let (c, l) = match light {
-                    Light::Point { pos, intensity } => {
-                        let d = pos - hit.p;
-                        let r2 = d.norm_squared();
-                        (intensity / r2, fr.local(&(d / r2.sqrt())))
-                    }
-                    Light::Directional { dir, irradiance } => (*irradiance, fr.local(dir)),
-                    Light::Quad { .. } | Light::Sg(_) => {
-                        terms.push(None);
-                        continue;
-                    }
+                let Some((c, l)) = Self::exact_light(light, hit) else {
+                    terms.push(None);
+                    continue;
                 };
                 let value = match &w.lobe {
                     // `ViewedLobe::eval`'s first test: 0 at once below the horizon
@@ -88,21 +79,17 @@ impl Shader<'_> {
                 }
             }
         }
-        terms
-            .chunks(nl.max(1))
-            .take(at.len())
-            .map(|ts| {
+        (0..at.len())
+            .map(|t| {
                 let mut sum = 0.0;
-                for t in ts {
-                    sum += match t {
+                for term in &terms[t * nl..(t + 1) * nl] {
+                    sum += match term {
                         Some((c, v)) => c * v,
                         None => 0.0,
                     };
                 }
                 sum
             })
-            .chain(std::iter::repeat(0.0))
-            .take(at.len())
             .collect()
     }
 
@@ -184,6 +171,27 @@ mod tests {
     use crate::render::texture::Texture;
     use rand::{Rng, SeedableRng};
 
+    /// The unit direction at polar angle t and azimuth p.
+    fn sph(t: f64, p: f64) -> V3 {
+        V3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+    }
+
+    /// A texel's view in its hit's frame (89.99°, below the horizon or above it, by `k`)
+    /// and its normal (tilted up to 89°), drawn in that order.
+    fn view_and_normal(r: &mut rand_chacha::ChaCha8Rng, k: usize) -> (V3, V3) {
+        let vt = match k % 5 {
+            0 => 89.99f64.to_radians(),
+            1 => r.random_range(1.5707..1.8),
+            _ => r.random_range(0.0..1.5707),
+        };
+        let view = sph(vt, r.random_range(0.0..6.3));
+        let nt = sph(
+            r.random_range(0.0..89f64.to_radians()),
+            r.random_range(0.0..6.3),
+        );
+        (view, nt)
+    }
+
     /// `sampled_lanes` gives each lane `sampled_at`'s bits: 6000 sets of four samples, of
     /// four texels or fewer (a texel repeated), GGX (roughness 1e-4 to 1), seed 002's Gaussian and the LTC lobe, under a
     /// quad light alone, a quad with a point light and an SG environment, two quads, or a
@@ -194,12 +202,8 @@ mod tests {
     fn four_samples_are_the_one_sample_bits() {
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(31);
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
-        let tex = Texture::new(NormalMap {
-            name: "flat".into(),
-            width: 4,
-            height: 4,
-            normals: vec![V3::z(); 16],
-        });
+        // flat: the tests give each texel its normal themselves
+        let tex = Texture::new(NormalMap::flat(4));
         let quad = |c: [f64; 3], radiance: f64| LightSpec::Quad {
             center: c,
             u_axis: [1.0, 0.0, 0.0],
@@ -237,7 +241,6 @@ mod tests {
                 },
             ]),
         ];
-        let sph = |t: f64, p: f64| V3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
         let uniform = |r: &mut rand_chacha::ChaCha8Rng| match r.random_range(0..8) {
             0 => 0.0,
             1 => 1.0 - f64::EPSILON / 2.0,
@@ -263,16 +266,8 @@ mod tests {
                     uv: [0.3, 0.7],
                     scale: [1.0, 1.0],
                 };
-                let vt = match (case + i) % 5 {
-                    0 => 89.99f64.to_radians(),
-                    1 => r.random_range(1.5707..1.8),
-                    _ => r.random_range(0.0..1.5707),
-                };
-                let eye = p + sph(vt, r.random_range(0.0..6.3)) * 2.0;
-                let nt = sph(
-                    r.random_range(0.0..89f64.to_radians()),
-                    r.random_range(0.0..6.3),
-                );
+                let (view, nt) = view_and_normal(&mut r, case + i);
+                let eye = p + view * 2.0;
                 texels.push((hit, eye, nt));
             }
             let ws: Vec<Viewed> = texels.iter().map(|(h, e, n)| sh.viewed(h, e, n)).collect();
@@ -299,16 +294,12 @@ mod tests {
     /// the LTC lobe, under a point light and an 8-light sky (most of it below some
     /// horizons), two directional lights, a quad beside a point light (terms 0 among the
     /// others), or no light; views to 89.99° and below the horizon, texel normals tilted
-    /// to 89°.
+    /// to 89°, texels at the point light itself.
     #[test]
     fn exact_lights_across_texels_are_exact_at() {
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(37);
-        let tex = Texture::new(NormalMap {
-            name: "flat".into(),
-            width: 4,
-            height: 4,
-            normals: vec![V3::z(); 16],
-        });
+        // flat: the tests give each texel its normal themselves
+        let tex = Texture::new(NormalMap::flat(4));
         let point = LightSpec::Point {
             position: [-3.0, -5.0, 6.0],
             intensity: 40.0,
@@ -344,8 +335,7 @@ mod tests {
             ]),
             resolve(&[]),
         ];
-        let sph = |t: f64, p: f64| V3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
-        let (mut lit, mut terms) = (0, 0);
+        let (mut lit, mut terms, mut at_light) = (0, 0, 0);
         for case in 0..4000 {
             let lights = &sets[case % sets.len()];
             let kind = [Lobe::Ggx, Lobe::Ggx, Lobe::Gaussian, Lobe::Ltc][case % 4];
@@ -359,6 +349,13 @@ mod tests {
                         r.random_range(-2.0..2.0),
                         r.random_range(-0.5..0.5),
                     );
+                    // now and then a texel at the point light itself (r² = 0: an infinite
+                    // factor and a NaN direction)
+                    let p = if case % 97 == 0 && i == 0 {
+                        V3::new(-3.0, -5.0, 6.0)
+                    } else {
+                        p
+                    };
                     let gn = sph(r.random_range(0.0..3.1), r.random_range(0.0..6.3));
                     let hit = Hit {
                         p,
@@ -366,16 +363,8 @@ mod tests {
                         uv: [0.3, 0.7],
                         scale: [1.0, 1.0],
                     };
-                    let vt = match (case + i) % 5 {
-                        0 => 89.99f64.to_radians(),
-                        1 => r.random_range(1.5707..1.8),
-                        _ => r.random_range(0.0..1.5707),
-                    };
-                    let eye = p + hit.frame.world(&sph(vt, r.random_range(0.0..6.3))) * 3.0;
-                    let nt = sph(
-                        r.random_range(0.0..89f64.to_radians()),
-                        r.random_range(0.0..6.3),
-                    );
+                    let (view, nt) = view_and_normal(&mut r, case + i);
+                    let eye = p + hit.frame.world(&view) * 3.0;
                     (hit, eye, nt)
                 })
                 .collect();
@@ -390,6 +379,7 @@ mod tests {
             for (i, (w, (h, _, nt))) in ws.iter().zip(&texels).enumerate() {
                 let want = sh.exact_at(w, h, nt);
                 lit += usize::from(want > 0.0);
+                at_light += usize::from(want.is_nan());
                 terms += 1;
                 assert_eq!(
                     got[i].to_bits(),
@@ -401,5 +391,7 @@ mod tests {
         }
         // lit texels among the light sets that have point or directional lights
         assert!(lit > terms / 4, "only {lit} of {terms} texels lit");
+        // the texels at the point light were evaluated (NaN, as exact_at gives)
+        assert!(at_light >= 10, "{at_light} texels at the light");
     }
 }
