@@ -120,7 +120,10 @@ pub fn run(scene: &Scene, name: &str, quad_nodes: usize) -> Result<CheckResult> 
                 &sh,
                 x,
                 y,
-                scene.render.truth_samples,
+                truth::Budget {
+                    n: scene.render.truth_samples,
+                    draws: scene.render.truth_draws,
+                },
                 scene.render.seed,
             );
             if !t.covered {

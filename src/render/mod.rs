@@ -191,7 +191,10 @@ pub fn render(scene: &Scene, base: &Path, c: &Constants, plan: &GlintPlan) -> Re
                         &sh,
                         k % w,
                         k / w,
-                        scene.render.truth_samples,
+                        truth::Budget {
+                            n: scene.render.truth_samples,
+                            draws: scene.render.truth_draws,
+                        },
                         scene.render.seed,
                     )
                 })

@@ -200,6 +200,12 @@ pub struct RenderSpec {
     pub methods: MethodSet,
     /// Truth samples per pixel (a √n × √n jittered grid when n is a square).
     pub truth_samples: usize,
+    /// Where a quad light or an SG environment shines on a pixel's footprint of more texels
+    /// than this, each of the truth's two replicates draws this many texels in proportion
+    /// to their overlap (one light sample each) instead of shading every texel; absent:
+    /// every texel (render::truth::Budget).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub truth_draws: Option<usize>,
     pub seed: u64,
     /// The map is scaled by each factor in turn (more texels per pixel = farther away).
     #[serde(default = "unit_scale")]
@@ -446,6 +452,14 @@ impl Scene {
                 "scene: render.truth_samples must be in [2, {MAX_SAMPLES}], got {}",
                 r.truth_samples
             )));
+        }
+        if let Some(m) = r.truth_draws {
+            // the truth shades at most 4096 texels of a footprint (truth::MAX_EXACT_TEXELS)
+            if !(1..=4096).contains(&m) {
+                return Err(bad(format!(
+                    "scene: render.truth_draws must be in [1, 4096], got {m}"
+                )));
+            }
         }
         if r.scales.is_empty() || r.scales.len() > MAX_SCALES {
             return Err(bad(format!(

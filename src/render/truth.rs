@@ -26,7 +26,7 @@ use std::f64::consts::PI;
 type V3 = Vector3<f64>;
 
 mod lanes;
-use crate::lanes::LANES;
+mod texels;
 
 /// The per-texel lobe and the scene's lights.
 pub struct Shader<'a> {
@@ -399,25 +399,36 @@ pub fn pixel_rng(seed: u64, x: usize, y: usize) -> ChaCha8Rng {
 /// Footprints of at most this many texels (bounding box) are integrated texel by texel.
 pub const MAX_EXACT_TEXELS: usize = 4096;
 
+/// A pixel's truth work: `n` samples (two replicates of n/2), and, where a sampled light
+/// (quad, SG) shines on a footprint of more than `draws` texels, `draws` texels drawn per
+/// replicate instead of every texel (`None`: every texel).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    pub n: usize,
+    pub draws: Option<usize>,
+}
+
 /// The truth of pixel (x, y). Where the pixel's preimage covers at most
 /// [`MAX_EXACT_TEXELS`] texels it is integrated exactly over them
 /// ([`super::coverage::shares`]: every texel weighted by its overlap with the pixel,
-/// shaded at its overlap's centroid), the sampled lights (quad, SG) by n/2 samples per replicate
-/// spread over the texels; otherwise the pixel is supersampled by n footprint samples.
-/// Either way two independent replicates give the value (their mean) and the standard
-/// error |m₁ − m₂|/2 (0 for point and directional lights on an exact footprint).
+/// shaded at its overlap's centroid), the sampled lights (quad, SG) by n/2 samples per
+/// replicate spread over the texels, or, on a footprint of more than the budget's `draws`
+/// texels, by that many texels per replicate drawn in proportion to their overlap
+/// (`texels.rs`); otherwise the pixel is supersampled by n footprint samples. Either way
+/// two independent replicates give the value (their mean) and the standard error
+/// |m₁ − m₂|/2 (0 for point and directional lights on an exact footprint).
 pub fn pixel(
     cam: &Camera,
     surf: &Surface,
     sh: &Shader,
     x: usize,
     y: usize,
-    n: usize,
+    budget: Budget,
     seed: u64,
 ) -> PixelTruth {
     let mut rng = pixel_rng(seed, x, y);
-    exact(cam, surf, sh, x, y, n, &mut rng)
-        .unwrap_or_else(|| sampled(cam, surf, sh, x, y, n, &mut rng))
+    exact(cam, surf, sh, x, y, budget, &mut rng)
+        .unwrap_or_else(|| sampled(cam, surf, sh, x, y, budget.n, &mut rng))
 }
 
 fn exact(
@@ -426,9 +437,10 @@ fn exact(
     sh: &Shader,
     x: usize,
     y: usize,
-    n: usize,
+    budget: Budget,
     rng: &mut ChaCha8Rng,
 ) -> Option<PixelTruth> {
+    let n = budget.n;
     let centre = surf.intersect(&cam.eye, &cam.dir(x as f64 + 0.5, y as f64 + 0.5))?;
     let per = surf.periods();
     let size = [sh.tex.map.width as f64, sh.tex.map.height as f64];
@@ -460,15 +472,21 @@ fn exact(
         0
     };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
-    let prepared: Vec<(Hit, V3, Viewed)> = shares
-        .iter()
-        .map(|s| {
-            let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
-            let nt = sh.tex.at(s.i, s.j);
-            let w = sh.viewed(&hit, &cam.eye, &nt);
-            (hit, nt, w)
-        })
-        .collect();
+    let prepare = |s: &super::coverage::Share| {
+        let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
+        let nt = sh.tex.at(s.i, s.j);
+        let w = sh.viewed(&hit, &cam.eye, &nt);
+        (hit, nt, w)
+    };
+    if let Some(m) = budget.draws.filter(|&m| k > 0 && shares.len() > m) {
+        let [m1, m2] = sh.drawn_texels(&shares, m, prepare, scrambles, rng);
+        return Some(PixelTruth {
+            value: 0.5 * (m1 + m2),
+            diff: 0.5 * (m1 - m2),
+            covered: true,
+        });
+    }
+    let prepared: Vec<(Hit, V3, Viewed)> = shares.iter().map(prepare).collect();
     // every texel's point and directional lights at once (`Shader::exact_texels`)
     let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
     let exact = sh.exact_texels(&at);
@@ -485,7 +503,7 @@ fn exact(
             .zip(exact)
             .map(|((h, n, w), e)| (h, n, w, e))
             .collect();
-        with_light_samples(sh, &shares, &texels, k, scrambles, rng)
+        sh.every_texel(&shares, &texels, k, scrambles, rng)
     };
     let (m1, m2) = (reps[0] / total, reps[1] / total);
     Some(PixelTruth {
@@ -493,59 +511,6 @@ fn exact(
         diff: 0.5 * (m1 - m2),
         covered: true,
     })
-}
-
-/// The two replicates' sums over the texels (`exact`) with k samples of the sampled lights
-/// per texel and replicate: their uniforms drawn first, in the one-sample loop's order
-/// (the shading draws none), then the samples four at a time across texels
-/// (`Shader::sampled_lanes`), then summed in the one-sample loop's order.
-fn with_light_samples(
-    sh: &Shader,
-    shares: &[super::coverage::Share],
-    texels: &[(Hit, V3, Viewed, f64)],
-    k: usize,
-    scrambles: [u32; 2],
-    rng: &mut ChaCha8Rng,
-) -> [f64; 2] {
-    // texel si's replicate r, sample j at (2 si + r) k + j
-    let mut us = Vec::with_capacity(2 * k * shares.len());
-    for si in 0..shares.len() {
-        for &scr in &scrambles {
-            for j in 0..k {
-                let i = ((si * k + j) as u32).min((1 << 16) - 1);
-                let mut u = [0.0; 3];
-                for (d, x) in u.iter_mut().enumerate() {
-                    let jit = rng.random::<f64>() * (1.0 / (1u64 << 24) as f64);
-                    *x = (sobol_burley::sample(i, d as u32, scr) as f64 + jit)
-                        .min(1.0 - f64::EPSILON / 2.0);
-                }
-                us.push(u);
-            }
-        }
-    }
-    let mut q = Vec::with_capacity(us.len());
-    for (c, u) in us.chunks(LANES).enumerate() {
-        let at = |i: usize| {
-            let (hit, nt, w, _) = &texels[(c * LANES + i.min(u.len() - 1)) / (2 * k)];
-            (w, hit, nt)
-        };
-        let got = sh.sampled_lanes(
-            std::array::from_fn(at),
-            std::array::from_fn(|i| u[i.min(u.len() - 1)]),
-        );
-        q.extend_from_slice(&got[..u.len()]);
-    }
-    let mut reps = [0.0f64; 2];
-    for (si, (s, t)) in shares.iter().zip(texels).enumerate() {
-        for (r, rep) in reps.iter_mut().enumerate() {
-            let mut qs = 0.0;
-            for x in &q[(2 * si + r) * k..(2 * si + r + 1) * k] {
-                qs += x;
-            }
-            *rep += s.area * (t.3 + qs / k as f64);
-        }
-    }
-    reps
 }
 
 /// n footprint samples as two replicates of n/2 (each a jittered grid when n/2 is a

@@ -1,0 +1,194 @@
+//! The sampled lights (quad, SG) of an exact footprint: every texel with k light samples
+//! per replicate ([`Shader::every_texel`]), or, above the scene's draw budget, texels drawn
+//! in proportion to their overlap with one light sample each ([`Shader::drawn_texels`]).
+//! Both estimate the same overlap-weighted mean of seed 004 Eq 11 without bias; the draws
+//! bound a pixel's work at the budget where the every-texel form's grows with the
+//! footprint (2 samples per texel once it holds more than n/2 texels).
+
+use super::{Shader, Viewed, V3};
+use crate::lanes::LANES;
+use crate::render::coverage::Share;
+use crate::render::geometry::Hit;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// A footprint texel prepared for shading: its hit at the overlap's centroid, its normal,
+/// its lobe seen from the eye, and its point and directional lights' exact part.
+pub(super) type Texel = (Hit, V3, Viewed, f64);
+
+/// Sample `i` of an Owen-scrambled Sobol sequence (sobol_burley, scramble `scr`) in three
+/// dimensions, each coordinate jittered below its 2⁻²⁴ grid from `rng`. The first three of
+/// `sample_4d`'s four dimensions, which the crate computes together and guarantees equal
+/// to `sample`'s one by one (`tests::four_dimensions_are_sample_one_by_one`).
+fn uniforms(i: usize, scr: u32, rng: &mut ChaCha8Rng) -> [f64; 3] {
+    let i = (i as u32).min((1 << 16) - 1);
+    let s = sobol_burley::sample_4d(i, 0, scr);
+    let mut u = [0.0; 3];
+    for (x, v) in u.iter_mut().zip(s) {
+        let jit = rng.random::<f64>() * (1.0 / (1u64 << 24) as f64);
+        *x = (v as f64 + jit).min(1.0 - f64::EPSILON / 2.0);
+    }
+    u
+}
+
+/// The index of (i, j) on the Z-order (Morton) curve, after offsetting both to ≥ 0: texels
+/// close on the map are close in this order, so one stratum of a systematic draw along it
+/// is a compact patch.
+fn morton(i: u64, j: u64) -> u64 {
+    let spread = |mut x: u64| {
+        x &= 0xffff_ffff;
+        x = (x | (x << 16)) & 0x0000_ffff_0000_ffff;
+        x = (x | (x << 8)) & 0x00ff_00ff_00ff_00ff;
+        x = (x | (x << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
+        x = (x | (x << 2)) & 0x3333_3333_3333_3333;
+        (x | (x << 1)) & 0x5555_5555_5555_5555
+    };
+    spread(i) | (spread(j) << 1)
+}
+
+impl Shader<'_> {
+    /// The sampled lights' values of `texels[of[s]]` at the uniforms `us[s]`, four samples
+    /// at a time ([`Shader::sampled_lanes`]).
+    fn light_values(&self, texels: &[Texel], of: impl Fn(usize) -> usize, us: &[[f64; 3]]) -> Vec<f64> {
+        let mut q = Vec::with_capacity(us.len());
+        for (c, u) in us.chunks(LANES).enumerate() {
+            let at = |i: usize| {
+                let (hit, nt, w, _) = &texels[of(c * LANES + i.min(u.len() - 1))];
+                (w, hit, nt)
+            };
+            let got = self.sampled_lanes(
+                std::array::from_fn(at),
+                std::array::from_fn(|i| u[i.min(u.len() - 1)]),
+            );
+            q.extend_from_slice(&got[..u.len()]);
+        }
+        q
+    }
+
+    /// The two replicates' overlap-weighted sums over every texel, with k samples of the
+    /// sampled lights per texel and replicate: their uniforms drawn first (texel by texel,
+    /// replicate by replicate), then the samples four at a time across texels, then summed
+    /// texel by texel.
+    pub(super) fn every_texel(
+        &self,
+        shares: &[Share],
+        texels: &[Texel],
+        k: usize,
+        scrambles: [u32; 2],
+        rng: &mut ChaCha8Rng,
+    ) -> [f64; 2] {
+        // texel si's replicate r, sample j at (2 si + r) k + j
+        let mut us = Vec::with_capacity(2 * k * shares.len());
+        for si in 0..shares.len() {
+            for &scr in &scrambles {
+                for j in 0..k {
+                    us.push(uniforms(si * k + j, scr, rng));
+                }
+            }
+        }
+        let q = self.light_values(texels, |s| s / (2 * k), &us);
+        let mut reps = [0.0f64; 2];
+        for (si, (s, t)) in shares.iter().zip(texels).enumerate() {
+            for (r, rep) in reps.iter_mut().enumerate() {
+                let mut qs = 0.0;
+                for x in &q[(2 * si + r) * k..(2 * si + r + 1) * k] {
+                    qs += x;
+                }
+                *rep += s.area * (t.3 + qs / k as f64);
+            }
+        }
+        reps
+    }
+
+    /// The two replicates' means over `m` texels each, drawn in proportion to their
+    /// overlap: the texels in Z order, each owning its overlap's stretch of [0, A) (A the
+    /// footprint's area), and replicate r takes the texel at (j + u_r) A/m for j < m, one
+    /// uniform u_r per replicate (systematic sampling: every point is uniform on [0, A), so
+    /// each draw is a texel with probability area/A and the mean of its radiance estimates
+    /// the overlap-weighted mean without bias; the replicates' offsets are independent, so
+    /// their half difference is still the standard error). Each drawn texel takes its exact
+    /// part and one sample of the sampled lights, the j-th point of its replicate's Sobol
+    /// sequence. `prepare` places and prepares a texel; its result's exact part is filled
+    /// here.
+    pub(super) fn drawn_texels(
+        &self,
+        shares: &[Share],
+        m: usize,
+        prepare: impl Fn(&Share) -> (Hit, V3, Viewed),
+        scrambles: [u32; 2],
+        rng: &mut ChaCha8Rng,
+    ) -> [f64; 2] {
+        let (i0, j0) = shares
+            .iter()
+            .fold((i64::MAX, i64::MAX), |(i, j), s| (i.min(s.i), j.min(s.j)));
+        let mut order: Vec<(u64, &Share)> = shares
+            .iter()
+            .map(|s| (morton((s.i - i0) as u64, (s.j - j0) as u64), s))
+            .collect();
+        order.sort_by_key(|&(z, _)| z);
+        let total: f64 = order.iter().map(|(_, s)| s.area).sum();
+        let offsets: [f64; 2] = [rng.random(), rng.random()];
+        // replicate r's draws at r m .. (r + 1) m
+        let mut picked = Vec::with_capacity(2 * m);
+        for off in offsets {
+            let (mut at, mut below) = (0, 0.0);
+            for j in 0..m {
+                let t = (j as f64 + off) / m as f64 * total;
+                // the texel whose stretch holds t (the last one when rounding runs past it)
+                while at + 1 < order.len() && below + order[at].1.area <= t {
+                    below += order[at].1.area;
+                    at += 1;
+                }
+                picked.push(order[at].1);
+            }
+        }
+        let prepared: Vec<(Hit, V3, Viewed)> = picked.iter().map(|s| prepare(s)).collect();
+        let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
+        let exact = self.exact_texels(&at);
+        let texels: Vec<Texel> = prepared
+            .into_iter()
+            .zip(exact)
+            .map(|((h, n, w), e)| (h, n, w, e))
+            .collect();
+        let mut us = Vec::with_capacity(2 * m);
+        for &scr in &scrambles {
+            for j in 0..m {
+                us.push(uniforms(j, scr, rng));
+            }
+        }
+        let q = self.light_values(&texels, |s| s, &us);
+        let mut reps = [0.0f64; 2];
+        for (r, rep) in reps.iter_mut().enumerate() {
+            let mut s = 0.0;
+            for (t, x) in texels[r * m..(r + 1) * m].iter().zip(&q[r * m..(r + 1) * m]) {
+                s += t.3 + x;
+            }
+            *rep = s / m as f64;
+        }
+        reps
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+
+    /// The guarantee `uniforms` relies on, over the indices and scrambles the truth uses:
+    /// sobol_burley's four dimensions at once are its one-at-a-time samples, bit for bit.
+    #[test]
+    fn four_dimensions_are_sample_one_by_one() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for k in 0..20_000u32 {
+            let i = if k < 4096 { k } else { rng.random_range(0..1 << 16) };
+            let scr: u32 = rng.random();
+            let four = sobol_burley::sample_4d(i, 0, scr);
+            for d in 0..3 {
+                assert_eq!(
+                    four[d].to_bits(),
+                    sobol_burley::sample(i, d as u32, scr).to_bits(),
+                    "index {i}, dimension {d}, scramble {scr:#x}"
+                );
+            }
+        }
+    }
+}
