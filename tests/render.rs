@@ -65,6 +65,28 @@ fn bad_scenes_are_typed_errors_naming_the_field() {
             "render.truth_samples",
         ),
         (
+            base.replace(
+                "truth_samples = 256",
+                "truth_samples = 256\ntruth_draws = 0",
+            ),
+            "render.truth_draws",
+        ),
+        (
+            base.replace(
+                "truth_samples = 256",
+                "truth_samples = 256\ntruth_draws = 4097",
+            ),
+            "render.truth_draws",
+        ),
+        (
+            // a serde type error names the value and its line
+            base.replace(
+                "truth_samples = 256",
+                "truth_samples = 256\ntruth_draws = -3",
+            ),
+            "integer `-3`",
+        ),
+        (
             base.replace("width = 256", "width = 2048")
                 .replace("height = 256", "height = 2048")
                 .replace("truth_samples = 256", "truth_samples = 4096"),
@@ -748,4 +770,65 @@ fn flicker_figures_are_not_biased_by_the_truths_noise() {
         naive - mse > 10.0 * f.temporal_mse.error,
         "the noise is visible"
     );
+}
+
+/// Texels drawn in proportion to their overlap (`truth_draws`) estimate what shading every
+/// texel gives, with honest errors: the multi-scale plane's quad light at scale ×32, the
+/// centre 64² pixels (footprints of hundreds of texels), n/2 = 128 draws per replicate
+/// against every texel on the footprints larger than that, independent seeds. Both the mean difference and the mean excess
+/// (t_d − t_e)² − s.e._d² − s.e._e² must be within 4 of their standard errors of 0.
+#[test]
+fn drawn_texels_estimate_the_every_texel_truth() {
+    use ndfbench::integrate::Figure;
+    use ndfbench::render::geometry::{Camera, Surface};
+    use ndfbench::render::truth::{footprint_texels, pixel, Budget, Shader};
+    use ndfbench::render::{light, normal_map, texture::Texture};
+    let s = example(0);
+    assert_eq!(s.name, "multiscale-ltc-plane");
+    let tex = Texture::new(normal_map(&s, Path::new("fits/render")).expect("map"));
+    let lights = light::resolve(&s.lights);
+    let m = &s.material;
+    let sh = Shader::new(m.lobe, m.alpha, m.sigma_r, &lights, &tex).expect("shader");
+    let surf = Surface::new(&s.surface, 32.0);
+    let cam = Camera::at_frame(&s.camera, 0);
+    let n = s.render.truth_samples;
+    let (mut diff, mut excess, mut largest) = (Vec::new(), Vec::new(), 0);
+    for y in 96..160 {
+        for x in 96..160 {
+            let t = footprint_texels(&cam, &surf, &sh, x, y).expect("an exact footprint");
+            largest = largest.max(t);
+            if t <= 128 {
+                continue;
+            }
+            let e = pixel(&cam, &surf, &sh, x, y, Budget { n, draws: None }, 5);
+            let d = pixel(
+                &cam,
+                &surf,
+                &sh,
+                x,
+                y,
+                Budget {
+                    n,
+                    draws: Some(128),
+                },
+                6,
+            );
+            assert!(d.se() > 0.0 && e.se() > 0.0);
+            diff.push(d.value - e.value);
+            excess.push((d.value - e.value).powi(2) - d.se().powi(2) - e.se().powi(2));
+        }
+    }
+    assert!(largest > 300, "largest footprint {largest} texels");
+    assert!(diff.len() > 2000, "{} footprints drew", diff.len());
+    for (what, f) in [
+        ("difference", Figure::mean_of(&diff)),
+        ("excess", Figure::mean_of(&excess)),
+    ] {
+        assert!(
+            f.value.abs() <= 4.0 * f.error,
+            "mean {what} {} ± {}",
+            f.value,
+            f.error
+        );
+    }
 }

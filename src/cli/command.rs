@@ -61,7 +61,9 @@ pub enum Cmd {
     /// builds and checks seed 002's Wang tiles
     /// (`results/tensor-wang.md`; on request only); `--only visibility`
     /// measures the horizon, shadow and procedural methods
-    /// (`results/visibility.md`); `--only filters` runs the footprint-filter group
+    /// (`results/visibility.md`); `--only render-truth-work` measures the render truth's
+    /// accuracy against its work, the curve each scene's `truth_draws` is chosen
+    /// from (`results/render-truth-work.md`; on request only); `--only filters` runs the footprint-filter group
     /// (LEADR grids, Smith Λ refit, footprint filters, and on the same cases the survey's
     /// pre-filtering representations) and writes `results/filters.md` and
     /// `results/filters-survey.md` with progress bars. Every regen then regenerates the code: WGSL

@@ -153,7 +153,10 @@ mod tests {
             }
             if k % 2 == 0 {
                 // a dart: the third corner between the centroid of the others and the first
-                let c = [(q[0][0] + q[1][0] + q[3][0]) / 3.0, (q[0][1] + q[1][1] + q[3][1]) / 3.0];
+                let c = [
+                    (q[0][0] + q[1][0] + q[3][0]) / 3.0,
+                    (q[0][1] + q[1][1] + q[3][1]) / 3.0,
+                ];
                 let t: f64 = rng.random();
                 q[2] = [c[0] + t * (q[0][0] - c[0]), c[1] + t * (q[0][1] - c[1])];
             }
@@ -171,7 +174,10 @@ mod tests {
                 simple += 1;
                 let total: f64 = sh.iter().map(|s| s.area).sum();
                 let area = area_centroid(&q).0.abs();
-                assert!((total - area).abs() <= 1e-9 * area.max(1.0), "{q:?}: {total} vs {area}");
+                assert!(
+                    (total - area).abs() <= 1e-9 * area.max(1.0),
+                    "{q:?}: {total} vs {area}"
+                );
             }
         }
         assert!(simple > 5_000, "{simple} simple quadrilaterals");

@@ -408,6 +408,60 @@ pub struct Budget {
     pub draws: Option<usize>,
 }
 
+/// How a pixel's truth shades its sampled lights (quad, SG).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Work {
+    /// Every texel of an exact footprint, k light samples per texel and replicate (0: no
+    /// sampled light, the point and directional lights alone).
+    EveryTexel { texels: usize, k: usize },
+    /// `m` texels drawn per replicate, one light sample each.
+    Drawn { m: usize },
+    /// n footprint samples (no exact footprint).
+    Supersampled { n: usize },
+}
+
+impl Budget {
+    /// The work of a pixel whose exact footprint holds `texels` texels (`None`: none within
+    /// [`MAX_EXACT_TEXELS`]), with or without sampled lights.
+    pub fn work(&self, texels: Option<usize>, sampled: bool) -> Work {
+        match texels {
+            None => Work::Supersampled { n: self.n },
+            Some(t) if !sampled => Work::EveryTexel { texels: t, k: 0 },
+            Some(t) => match self.draws.filter(|&m| t > m) {
+                Some(m) => Work::Drawn { m },
+                None => Work::EveryTexel {
+                    texels: t,
+                    k: (self.n / 2).div_ceil(t).max(1),
+                },
+            },
+        }
+    }
+}
+
+impl Work {
+    /// The texel shadings it takes: one per light sample (each takes the texel's point and
+    /// directional lights too), or one per texel without sampled lights.
+    pub fn shadings(&self) -> usize {
+        match *self {
+            Work::EveryTexel { texels, k } => texels * (2 * k).max(1),
+            Work::Drawn { m } => 2 * m,
+            Work::Supersampled { n } => 2 * (n / 2).max(1),
+        }
+    }
+}
+
+/// The texels of pixel (x, y)'s exact footprint, as its truth finds them (`None`: more than
+/// [`MAX_EXACT_TEXELS`], or no footprint on the surface; the truth supersamples).
+pub fn footprint_texels(
+    cam: &Camera,
+    surf: &Surface,
+    sh: &Shader,
+    x: usize,
+    y: usize,
+) -> Option<usize> {
+    footprint(cam, surf, sh, x, y).map(|(shares, _)| shares.len())
+}
+
 /// The truth of pixel (x, y). Where the pixel's preimage covers at most
 /// [`MAX_EXACT_TEXELS`] texels it is integrated exactly over them
 /// ([`super::coverage::shares`]: every texel weighted by its overlap with the pixel,
@@ -428,7 +482,7 @@ pub fn pixel(
 ) -> PixelTruth {
     let mut rng = pixel_rng(seed, x, y);
     exact(cam, surf, sh, x, y, budget, &mut rng)
-        .unwrap_or_else(|| sampled(cam, surf, sh, x, y, budget.n, &mut rng))
+        .unwrap_or_else(|| sh.supersampled(cam, surf, x, y, budget.n, &mut rng))
 }
 
 fn exact(
@@ -440,52 +494,32 @@ fn exact(
     budget: Budget,
     rng: &mut ChaCha8Rng,
 ) -> Option<PixelTruth> {
-    let n = budget.n;
-    let centre = surf.intersect(&cam.eye, &cam.dir(x as f64 + 0.5, y as f64 + 0.5))?;
-    let per = surf.periods();
-    let size = [sh.tex.map.width as f64, sh.tex.map.height as f64];
-    let mut q = [[0.0; 2]; 4];
-    for (c, (dx, dy)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
-        .iter()
-        .enumerate()
-    {
-        let h = surf.intersect(&cam.eye, &cam.dir(x as f64 + dx, y as f64 + dy))?;
-        for a in 0..2 {
-            let mut d = h.uv[a] - centre.uv[a];
-            if per[a].is_finite() {
-                d -= per[a] * (d / per[a]).round();
-            }
-            q[c][a] = (centre.uv[a] + d) * size[a];
-        }
-    }
-    let shares = super::coverage::shares(&q, MAX_EXACT_TEXELS)?;
+    let (shares, size) = footprint(cam, surf, sh, x, y)?;
     let total: f64 = shares.iter().map(|s| s.area).sum();
-    if !(total > 0.0) {
-        return None;
-    }
     // sampled lights: k light samples per texel and replicate, all of a replicate's drawn
     // from one Owen-scrambled Sobol sequence (sobol_burley; its own scramble per pixel
-    // and replicate, so the two replicates are independent)
-    let k = if sh.has_sampled() {
-        (n / 2).div_ceil(shares.len()).max(1)
-    } else {
-        0
-    };
-    let scrambles: [u32; 2] = [rng.random(), rng.random()];
+    // and replicate, so the two replicates are independent), or m texels drawn per
+    // replicate
+    let work = budget.work(Some(shares.len()), sh.has_sampled());
     let prepare = |s: &super::coverage::Share| {
         let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
         let nt = sh.tex.at(s.i, s.j);
         let w = sh.viewed(&hit, &cam.eye, &nt);
         (hit, nt, w)
     };
-    if let Some(m) = budget.draws.filter(|&m| k > 0 && shares.len() > m) {
-        let [m1, m2] = sh.drawn_texels(&shares, m, prepare, scrambles, rng);
-        return Some(PixelTruth {
-            value: 0.5 * (m1 + m2),
-            diff: 0.5 * (m1 - m2),
-            covered: true,
-        });
-    }
+    let k = match work {
+        Work::Drawn { m } => {
+            let [m1, m2] = sh.drawn_texels(&shares, m, prepare, rng);
+            return Some(PixelTruth {
+                value: 0.5 * (m1 + m2),
+                diff: 0.5 * (m1 - m2),
+                covered: true,
+            });
+        }
+        Work::EveryTexel { k, .. } => k,
+        Work::Supersampled { .. } => return None,
+    };
+    let scrambles: [u32; 2] = [rng.random(), rng.random()];
     let prepared: Vec<(Hit, V3, Viewed)> = shares.iter().map(prepare).collect();
     // every texel's point and directional lights at once (`Shader::exact_texels`)
     let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
@@ -513,51 +547,35 @@ fn exact(
     })
 }
 
-/// n footprint samples as two replicates of n/2 (each a jittered grid when n/2 is a
-/// square, else uniform).
-fn sampled(
+/// The texels pixel (x, y) covers with their shares, and the map's size in texels: the
+/// pixel square's corners taken to the map through the surface (one period's copy, the
+/// closest to the centre's), or `None` (a corner off the surface, more than
+/// [`MAX_EXACT_TEXELS`] texels, or no area).
+fn footprint(
     cam: &Camera,
     surf: &Surface,
     sh: &Shader,
     x: usize,
     y: usize,
-    n: usize,
-    rng: &mut ChaCha8Rng,
-) -> PixelTruth {
-    let half = (n / 2).max(1);
-    let g = (half as f64).sqrt().round() as usize;
-    let grid = g * g == half;
-    let mut covered = true;
-    let mut reps = [0.0f64; 2];
-    for rep in &mut reps {
-        let mut s = 0.0;
-        for k in 0..half {
-            let (jx, jy): (f64, f64) = (rng.random(), rng.random());
-            let (ox, oy) = if grid {
-                (
-                    ((k % g) as f64 + jx) / g as f64,
-                    ((k / g) as f64 + jy) / g as f64,
-                )
-            } else {
-                (jx, jy)
-            };
-            let d = cam.dir(x as f64 + ox, y as f64 + oy);
-            s += match surf.intersect(&cam.eye, &d) {
-                Some(hit) => {
-                    let nt = sh.tex.texel(hit.uv);
-                    sh.sample(&hit, &cam.eye, &nt, rng)
-                }
-                None => {
-                    covered = false;
-                    0.0
-                }
-            };
+) -> Option<(Vec<super::coverage::Share>, [f64; 2])> {
+    let centre = surf.intersect(&cam.eye, &cam.dir(x as f64 + 0.5, y as f64 + 0.5))?;
+    let per = surf.periods();
+    let size = [sh.tex.map.width as f64, sh.tex.map.height as f64];
+    let mut q = [[0.0; 2]; 4];
+    for (c, (dx, dy)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+        .iter()
+        .enumerate()
+    {
+        let h = surf.intersect(&cam.eye, &cam.dir(x as f64 + dx, y as f64 + dy))?;
+        for a in 0..2 {
+            let mut d = h.uv[a] - centre.uv[a];
+            if per[a].is_finite() {
+                d -= per[a] * (d / per[a]).round();
+            }
+            q[c][a] = (centre.uv[a] + d) * size[a];
         }
-        *rep = s / half as f64;
     }
-    PixelTruth {
-        value: 0.5 * (reps[0] + reps[1]),
-        diff: 0.5 * (reps[0] - reps[1]),
-        covered,
-    }
+    let shares = super::coverage::shares(&q, MAX_EXACT_TEXELS)?;
+    let total: f64 = shares.iter().map(|s| s.area).sum();
+    (total > 0.0).then_some((shares, size))
 }

@@ -178,6 +178,20 @@ pub fn put<T: ResultFile>(set: &mut crate::io::Outputs, results: &Path, value: &
     put_named(set, results, T::NAME, value)
 }
 
+/// A study's report, its plot and its typed result: results/NAME.md, results/NAME.svg and
+/// results/fits/NAME.json, NAME the result's.
+pub fn put_report<T: ResultFile>(
+    set: &mut crate::io::Outputs,
+    results: &Path,
+    md: &str,
+    svg: &str,
+    value: &T,
+) -> Result<()> {
+    set.put(&results.join(format!("{}.md", T::NAME)), md.as_bytes());
+    set.put(&results.join(format!("{}.svg", T::NAME)), svg.as_bytes());
+    put(set, results, value)
+}
+
 /// The names of the result files (results/fits/<name>.json), one per fit spec: readers
 /// name a result through these, never through a string of their own.
 pub mod names {
@@ -185,6 +199,7 @@ pub mod names {
     pub const LTC_ANISO: &str = "ltc-aniso";
     pub const LTC_COMPACT: &str = "ltc-compact";
     pub const RENDER: &str = "render";
+    pub const RENDER_TRUTH_WORK: &str = "render-truth-work";
     pub const LEADR_GRIDS: &str = "leadr-grids";
     pub const LTC_GGX: &str = "ltc-ggx";
     pub const LTC_GGX_OPTIMISERS: &str = "ltc-ggx-optimisers";

@@ -113,3 +113,73 @@ pub fn constants(
         y_mi: f32::NAN,
     })
 }
+
+/// results/fits/render-truth-work.json (on request): the render truth's accuracy against
+/// its work, per scene, at each draw scale of texels per replicate, against the truth that
+/// shades every texel.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthWork {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub scenes: Vec<TruthWorkScene>,
+}
+
+impl super::ResultFile for TruthWork {
+    const NAME: &'static str = super::names::RENDER_TRUTH_WORK;
+}
+
+/// One scene: its truth samples per pixel, the every-texel reference first, then one point
+/// per draw scale.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthWorkScene {
+    pub scene: String,
+    pub samples: usize,
+    /// The scene file's `truth_draws` (absent: every texel).
+    pub chosen: Option<usize>,
+    /// The smallest draw scale that passes (absent: none does).
+    pub smallest_passing: Option<f64>,
+    /// The scene's choice takes at least the smallest passing scale's draws, or every texel.
+    pub supported: bool,
+    pub points: Vec<TruthWorkPoint>,
+}
+
+/// One truth of a scene: its draws, its work and its figures per view.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthWorkPoint {
+    /// × (n/2) texels per replicate; `None`: every texel (the reference).
+    pub draw_scale: Option<f64>,
+    pub draws: Option<usize>,
+    /// Texel shadings per pixel over every view (`render::truth::Work::shadings`).
+    pub shadings_per_pixel: f64,
+    pub views: Vec<TruthWorkView>,
+    /// Every check of the rule held (the reference: true).
+    pub passes: bool,
+    /// The checks that failed, view by view.
+    pub failures: Vec<String>,
+}
+
+/// One view of one truth.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthWorkView {
+    pub scale: f64,
+    pub frame: usize,
+    pub shadings_per_pixel: f64,
+    /// Covered pixels whose texels were drawn.
+    pub drawn_pixels: usize,
+    pub pixels: usize,
+    /// The mean squared standard error of a covered pixel (the truth's variance), ± its s.e.
+    pub truth_variance: Figure,
+    /// mean((t − t_ref)² − s.e.² − s.e._ref²) over the covered pixels that drew: 0 when both
+    /// truths are unbiased and their errors honest (the reference: none).
+    pub excess: Option<Figure>,
+    pub methods: Vec<TruthWorkMethod>,
+}
+
+/// A method's figures against one truth.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthWorkMethod {
+    pub key: String,
+    pub rel_mse: Figure,
+    pub flip: Figure,
+}

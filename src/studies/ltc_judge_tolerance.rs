@@ -439,16 +439,8 @@ fn plot(r: &JudgeTolerance) -> Result<String> {
 
 impl crate::study::Computed for Computed {
     fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
-        let name = &self.result.spec.name;
-        set.put(
-            &results.join(format!("{name}.md")),
-            markdown(&self.result).as_bytes(),
-        );
-        set.put(
-            &results.join(format!("{name}.svg")),
-            plot(&self.result)?.as_bytes(),
-        );
-        crate::results::put(set, results, &self.result)
+        let (md, svg) = (markdown(&self.result), plot(&self.result)?);
+        crate::results::put_report(set, results, &md, &svg, &self.result)
     }
 
     fn outcome(&self) -> FitOutcome {

@@ -22,6 +22,7 @@ pub mod multiscale_convolution;
 pub mod performance;
 mod registry;
 pub mod render;
+pub mod render_truth_work;
 mod run;
 pub mod smith_lambda;
 pub mod tensor;

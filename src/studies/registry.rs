@@ -7,8 +7,9 @@ use crate::study::Study;
 
 use super::{
     filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobes,
-    ltc_optimisers, ltc_work, multiscale_alpha_me, multiscale_convolution, render, smith_lambda,
-    tensor, tensor_envsg, tensor_scale, tensor_wang, tensor_wave, visibility,
+    ltc_optimisers, ltc_work, multiscale_alpha_me, multiscale_convolution, render,
+    render_truth_work, smith_lambda, tensor, tensor_envsg, tensor_scale, tensor_wang, tensor_wave,
+    visibility,
 };
 
 /// Every study, as data.
@@ -32,6 +33,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &ltc_judge_tolerance::LtcJudgeTolerance,
     &ltc_compact::LtcCompactStudy,
     &render::RenderStudy,
+    &render_truth_work::RenderTruthWork,
     &filters::Filters,
 ];
 

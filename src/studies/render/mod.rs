@@ -122,6 +122,12 @@ pub fn sized(mut s: Scene, p: &Params) -> Scene {
     s
 }
 
+/// The texels each truth replicate draws at `scale` × (n/2), n truth samples: at least 1,
+/// at most the 4096 of an exact footprint.
+pub fn draws(n: usize, scale: f64) -> usize {
+    ((scale * (n / 2) as f64).ceil() as usize).clamp(1, crate::render::truth::MAX_EXACT_TEXELS)
+}
+
 /// Render and measure one scene; write its pictures into `pictures`.
 pub fn render_one(
     set: &mut crate::io::Outputs,
@@ -299,7 +305,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 fn render(set: &mut Outputs, results: &Path, c: &Computed) -> Result<()> {
     let pictures = results.join("render");
     let mut md = format!(
-        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels), quad lights and SG environments by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
+        "# Rendered evidence\n\nWritten by `cargo run --release -- regen --only render` (preset {}) from `fits/render.toml` and the scenes of `fits/render/`. Every method shades one sample at the pixel centre through the shipped f32 code (the generated twins of the WGSL, the f32 filter forms, the GGX LTC table as stored in binary16, bilinear; quad lights through the SIMD kernel `kernels::ltc_quad`); the truth shades every texel the pixel covers with its own lobe, weighted by its exact overlap (jittered supersampling beyond 4096 texels; where a scene sets `truth_draws`, a larger footprint under a quad light or an SG environment draws that many texels per replicate in proportion to their overlap, the choice results/render-truth-work.md supports), quad lights and SG environments by MIS on scrambled Sobol points (render/truth.rs). Errors are over the pixels the surface covers entirely. Grid tiles are the centre {}² crops (never downsampled); the ꟻLIP maps under each tile use the magma map from 0 (black) to 1 (the bar under the truth column). The cost of each method per pixel is criterion's, in results/performance.md; this report holds no wall clock and no thread count, so it is the same on every machine.\n\n",
         c.preset.name(),
         report::TILE,
     );

@@ -135,8 +135,11 @@ fn row(s: &Scored) -> [String; 4] {
 /// report at `rel`.
 pub fn markdown(r: &Render, m: &Measured, rel: &str) -> String {
     let sc = &r.scene;
+    let draws = sc.render.truth_draws.map_or(String::new(), |m| {
+        format!("; footprints of more than {m} texels draw {m} per replicate in proportion to their overlap")
+    });
     let mut md = format!(
-        "{}. {}×{} pixels, {} truth samples per pixel (two independent replicates), tone map: exposure {} → Reinhard → sRGB.\n\n![grid: truth in the first column, each method's ꟻLIP map under it (magma, 0 → 1, the bar under the truth)]({rel}/{}-grid.png)\n\n",
+        "{}. {}×{} pixels, {} truth samples per pixel (two independent replicates{draws}), tone map: exposure {} → Reinhard → sRGB.\n\n![grid: truth in the first column, each method's ꟻLIP map under it (magma, 0 → 1, the bar under the truth)]({rel}/{}-grid.png)\n\n",
         sc.description, r.width, r.height, sc.render.truth_samples, sc.render.exposure, sc.name
     );
     if sc.frames() > 1 {
