@@ -207,11 +207,18 @@ fn a_name_declared_in_another_file_of_the_same_unit_is_its_own() {
 /// The study → study arrows the sources have, each with its reason. Any other arrow from
 /// one study to another fails: shared drawing goes beside the studies
 /// (`studies::ltc_error_map`), so a study's cache never reaches another study's files.
-const STUDY_ARROWS: &[(&str, &str, &str)] = &[(
-    "studies::performance",
-    "studies::convergence",
-    "performance.md times the convergence study's engines on its integrands",
-)];
+const STUDY_ARROWS: &[(&str, &str, &str)] = &[
+    (
+        "studies::performance",
+        "studies::convergence",
+        "performance.md times the convergence study's engines on its integrands",
+    ),
+    (
+        "studies::render_truth_work",
+        "studies::render",
+        "the curve is of the render study's own scenes, at the size and truth samples its spec sets",
+    ),
+];
 
 #[test]
 fn no_study_imports_another_study() {

@@ -65,25 +65,16 @@ fn bad_scenes_are_typed_errors_naming_the_field() {
             "render.truth_samples",
         ),
         (
-            base.replace(
-                "truth_samples = 256",
-                "truth_samples = 256\ntruth_draws = 0",
-            ),
+            base.replace("truth_draws = 128", "truth_draws = 0"),
             "render.truth_draws",
         ),
         (
-            base.replace(
-                "truth_samples = 256",
-                "truth_samples = 256\ntruth_draws = 4097",
-            ),
+            base.replace("truth_draws = 128", "truth_draws = 4097"),
             "render.truth_draws",
         ),
         (
             // a serde type error names the value and its line
-            base.replace(
-                "truth_samples = 256",
-                "truth_samples = 256\ntruth_draws = -3",
-            ),
+            base.replace("truth_draws = 128", "truth_draws = -3"),
             "integer `-3`",
         ),
         (
