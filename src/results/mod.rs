@@ -187,8 +187,8 @@ pub fn put_report<T: ResultFile>(
     svg: &str,
     value: &T,
 ) -> Result<()> {
-    set.put(&results.join(format!("{}.md", T::NAME)), md.as_bytes());
-    set.put(&results.join(format!("{}.svg", T::NAME)), svg.as_bytes());
+    set.put(results.join(format!("{}.md", T::NAME)), md.as_bytes());
+    set.put(results.join(format!("{}.svg", T::NAME)), svg.as_bytes());
     put(set, results, value)
 }
 

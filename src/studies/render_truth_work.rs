@@ -394,7 +394,7 @@ fn markdown(r: &TruthWork) -> String {
             }));
             row.push(match p.failures.split_first() {
                 None => "yes".to_string(),
-                Some((first, rest)) if rest.is_empty() => format!("no: {first}"),
+                Some((first, [])) => format!("no: {first}"),
                 Some((first, rest)) => format!("no: {first}, and {} more", rest.len()),
             });
             t.row(row);

@@ -306,9 +306,9 @@ mod tests {
             };
             let scr: u32 = rng.random();
             let four = sobol_burley::sample_4d(i, 0, scr);
-            for d in 0..3 {
+            for (d, v) in four.iter().enumerate().take(3) {
                 assert_eq!(
-                    four[d].to_bits(),
+                    v.to_bits(),
                     sobol_burley::sample(i, d as u32, scr).to_bits(),
                     "index {i}, dimension {d}, scramble {scr:#x}"
                 );
