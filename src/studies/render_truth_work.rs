@@ -171,8 +171,12 @@ fn mean(v: impl Iterator<Item = usize>) -> f64 {
     s as f64 / n.max(1) as f64
 }
 
-/// |a − b| in units of their bars in quadrature (∞ where both are exact and differ).
+/// |a − b| in units of their bars in quadrature (0 where the values are equal, ∞ where
+/// both are exact and differ).
 fn apart(a: Figure, b: Figure) -> f64 {
+    if a.value == b.value {
+        return 0.0;
+    }
     (a.value - b.value).abs() / a.error.hypot(b.error)
 }
 
@@ -500,4 +504,59 @@ impl crate::study::Computed for Computed {
 crate::study::study! {
     /// The render truth's accuracy against its work, as the registry holds it.
     RenderTruthWork = "render-truth-work", after ["filters"], on request true, params Plan, computes compute
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn view(excess: Option<Figure>, rel: &[(f64, f64)]) -> TruthWorkView {
+        TruthWorkView {
+            scale: 1.0,
+            frame: 0,
+            shadings_per_pixel: 1.0,
+            drawn_pixels: 1,
+            pixels: 1,
+            truth_variance: Figure::with_se(1.0, 0.1),
+            excess,
+            methods: rel
+                .iter()
+                .map(|&(v, e)| TruthWorkMethod {
+                    key: "m".into(),
+                    rel_mse: Figure::with_se(v, e),
+                    flip: Figure::with_se(0.1, 0.001),
+                })
+                .collect(),
+        }
+    }
+
+    /// The rule's three checks, each at and across its edge, and an exact view (no noise,
+    /// no draws) against itself.
+    #[test]
+    fn the_rule_fails_each_check_at_its_edge() {
+        let r = view(None, &[(10.0, 0.03)]);
+        let fails = |v: &TruthWorkView| view_failures(v, &r).len();
+        // (a) the excess: 2.9 s.e. passes, 3.1 fails
+        assert_eq!(
+            fails(&view(Some(Figure::with_se(2.9, 1.0)), &[(10.0, 0.03)])),
+            0
+        );
+        assert_eq!(
+            fails(&view(Some(Figure::with_se(-3.1, 1.0)), &[(10.0, 0.03)])),
+            1
+        );
+        // (b) 0.15 apart with bars 0.04 and 0.03 (0.05 in quadrature): 3 s.e. passes
+        assert_eq!(fails(&view(None, &[(10.149, 0.04)])), 0);
+        assert_eq!(fails(&view(None, &[(10.151, 0.04)])), 1);
+        // (c) a bar of 1 % of the value passes, more fails (the reference's 0.03 is narrower)
+        assert_eq!(fails(&view(None, &[(10.0, 0.0999)])), 0);
+        assert_eq!(fails(&view(None, &[(10.0, 0.11)])), 1);
+        // (c) where the reference's bar is already wider than 1 %: up to 1.1 × it
+        let wide = view(None, &[(1.0, 0.05)]);
+        assert!(view_failures(&view(None, &[(1.0, 0.0549)]), &wide).is_empty());
+        assert_eq!(view_failures(&view(None, &[(1.0, 0.0551)]), &wide).len(), 1);
+        // an exact view: equal values with zero bars agree
+        let exact = view(None, &[(0.5, 0.0)]);
+        assert!(view_failures(&exact, &exact).is_empty());
+    }
 }
