@@ -4,6 +4,10 @@
 //! surfaces) clipped against every texel square it overlaps (Sutherland–Hodgman), giving
 //! each texel's area and centroid.
 
+/// Footprints of at most this many texels (bounding box) are integrated texel by texel by
+/// the truth (render::truth); larger ones are supersampled.
+pub const MAX_EXACT_TEXELS: usize = 4096;
+
 /// A texel's share of a footprint: index, overlap area (texel units) and centroid.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Share {
@@ -139,8 +143,9 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
-    /// Any four corners, convex, concave or crossed, stay within the clip's fixed capacity,
-    /// and a simple (uncrossed) quadrilateral's shares add up to its area: 20 000 random
+    /// Any four corners, convex, concave or crossed, stay within the clip's fixed capacity
+    /// (each clip keeps at most 3k/2 of k vertices, the bound `Poly::CAP` rests on), and a
+    /// simple (uncrossed) quadrilateral's shares add up to its area: 20 000 random
     /// quadrilaterals over a few texels, half of them with a corner pulled inside.
     #[test]
     fn any_quadrilateral_clips_within_capacity() {
@@ -159,6 +164,13 @@ mod tests {
                 ];
                 let t: f64 = rng.random();
                 q[2] = [c[0] + t * (q[0][0] - c[0]), c[1] + t * (q[0][1] - c[1])];
+            }
+            // the capacity's argument, clip by clip: k vertices become at most 3k/2
+            let mut p = Poly::quad(&q);
+            for (axis, below) in [(1, false), (1, true), (0, false), (0, true)] {
+                let c = clip(&p, axis, rng.random_range(-3.0..3.0), below);
+                assert!(2 * c.n <= 3 * p.n, "{q:?}: {} vertices from {}", c.n, p.n);
+                p = c;
             }
             let sh = shares(&q, 1 << 10).expect("bounded and finite");
             let crossed = {

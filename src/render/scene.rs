@@ -454,10 +454,10 @@ impl Scene {
             )));
         }
         if let Some(m) = r.truth_draws {
-            // the truth shades at most 4096 texels of a footprint (truth::MAX_EXACT_TEXELS)
-            if !(1..=4096).contains(&m) {
+            use crate::render::coverage::MAX_EXACT_TEXELS;
+            if !(1..=MAX_EXACT_TEXELS).contains(&m) {
                 return Err(bad(format!(
-                    "scene: render.truth_draws must be in [1, 4096], got {m}"
+                    "scene: render.truth_draws must be in [1, {MAX_EXACT_TEXELS}], got {m}"
                 )));
             }
         }

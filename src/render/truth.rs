@@ -396,8 +396,7 @@ pub fn pixel_rng(seed: u64, x: usize, y: usize) -> ChaCha8Rng {
     r
 }
 
-/// Footprints of at most this many texels (bounding box) are integrated texel by texel.
-pub const MAX_EXACT_TEXELS: usize = 4096;
+pub use super::coverage::MAX_EXACT_TEXELS;
 
 /// A pixel's truth work: `n` samples (two replicates of n/2), and, where a sampled light
 /// (quad, SG) shines on a footprint of more than `draws` texels, `draws` texels drawn per
@@ -520,23 +519,15 @@ fn exact(
         Work::Supersampled { .. } => return None,
     };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
-    let prepared: Vec<(Hit, V3, Viewed)> = shares.iter().map(prepare).collect();
-    // every texel's point and directional lights at once (`Shader::exact_texels`)
-    let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
-    let exact = sh.exact_texels(&at);
+    let texels = sh.with_exact(shares.iter().map(prepare).collect());
     let reps = if k == 0 {
         // no sampled light: each texel's exact part alone
         let mut reps = [0.0f64; 2];
-        for (s, e) in shares.iter().zip(&exact) {
-            reps.iter_mut().for_each(|rep| *rep += s.area * (e + 0.0));
+        for (s, t) in shares.iter().zip(&texels) {
+            reps.iter_mut().for_each(|rep| *rep += s.area * (t.3 + 0.0));
         }
         reps
     } else {
-        let texels: Vec<_> = prepared
-            .into_iter()
-            .zip(exact)
-            .map(|((h, n, w), e)| (h, n, w, e))
-            .collect();
         sh.every_texel(&shares, &texels, k, scrambles, rng)
     };
     let (m1, m2) = (reps[0] / total, reps[1] / total);

@@ -33,7 +33,7 @@
 //!
 //! Writes results/render-truth-work.{md,svg} and results/fits/render-truth-work.json.
 
-use super::render::{builtin_params, draws, Params as RenderParams, SCENES};
+use super::render::{builtin_params, Params as RenderParams, SCENES};
 use crate::error::{Error, Result};
 use crate::integrate::Figure;
 use crate::io::Outputs;
@@ -48,6 +48,12 @@ use crate::results::render::{
 };
 use crate::study::{Ctx, FitOutcome};
 use std::path::Path;
+
+/// The texels each truth replicate draws at `scale` × (n/2), n truth samples: at least 1,
+/// at most the 4096 of an exact footprint.
+fn draws(n: usize, scale: f64) -> usize {
+    ((scale * (n / 2) as f64).ceil() as usize).clamp(1, crate::render::truth::MAX_EXACT_TEXELS)
+}
 
 /// What fits/render-truth-work.toml sets.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

@@ -81,6 +81,18 @@ fn systematic<'s>(order: &[&'s Share], m: usize, off: f64) -> Vec<&'s Share> {
 }
 
 impl Shader<'_> {
+    /// The prepared texels with their point and directional lights' exact parts, every
+    /// texel's at once ([`Shader::exact_texels`]).
+    pub(super) fn with_exact(&self, prepared: Vec<(Hit, V3, Viewed)>) -> Vec<Texel> {
+        let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
+        let exact = self.exact_texels(&at);
+        prepared
+            .into_iter()
+            .zip(exact)
+            .map(|((h, n, w), e)| (h, n, w, e))
+            .collect()
+    }
+
     /// The sampled lights' values of `texels[of[s]]` at the uniforms `us[s]`, four samples
     /// at a time ([`Shader::sampled_lanes`]).
     fn light_values(
@@ -166,14 +178,7 @@ impl Shader<'_> {
             .iter()
             .flat_map(|&off| systematic(&order, m, off))
             .collect();
-        let prepared: Vec<(Hit, V3, Viewed)> = picked.iter().map(|s| prepare(s)).collect();
-        let at: Vec<(&Viewed, &Hit, &V3)> = prepared.iter().map(|(h, n, w)| (w, h, n)).collect();
-        let exact = self.exact_texels(&at);
-        let texels: Vec<Texel> = prepared
-            .into_iter()
-            .zip(exact)
-            .map(|((h, n, w), e)| (h, n, w, e))
-            .collect();
+        let texels = self.with_exact(picked.iter().map(|s| prepare(s)).collect());
         let mut us = Vec::with_capacity(2 * m);
         for &scr in &scrambles {
             for j in 0..m {

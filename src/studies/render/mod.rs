@@ -122,12 +122,6 @@ pub fn sized(mut s: Scene, p: &Params) -> Scene {
     s
 }
 
-/// The texels each truth replicate draws at `scale` × (n/2), n truth samples: at least 1,
-/// at most the 4096 of an exact footprint.
-pub fn draws(n: usize, scale: f64) -> usize {
-    ((scale * (n / 2) as f64).ceil() as usize).clamp(1, crate::render::truth::MAX_EXACT_TEXELS)
-}
-
 /// Render and measure one scene; write its pictures into `pictures`.
 pub fn render_one(
     set: &mut crate::io::Outputs,
