@@ -47,7 +47,8 @@ pub enum Cmd {
     /// 64×64 GGX LTC table (four parameters per cell) and measures polygon integration,
     /// the multi-scale pipeline and what f32/f16 storage costs (`results/ltc-ggx.md`; its
     /// fit's diagnostics — optimiser variants, the floor of a single LTC, the route
-    /// against the reference route — run on request, `--only ltc-ggx-optimisers`; the LTC tables' accuracy against fitting work, cheaper routes
+    /// against the reference route — run on request, `--only ltc-ggx-optimisers`; the cost of shading a sheen or diffuse lobe with
+    /// the other lobe's table or with Lambert, on request, `--only ltc-lobe-cross`; the LTC tables' accuracy against fitting work, cheaper routes
     /// judged against each published route's own spread over training draws, `--only ltc-work`; every cell's held-out figures are judged as exact integrals,
     /// to the tolerance each table's spec chooses from the curve of `--only ltc-judge-tolerance`, on request;
     /// results/performance.md has each study's wall clock), and writes the

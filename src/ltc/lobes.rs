@@ -23,6 +23,40 @@ pub enum Lobe {
     BurleyEngines,
 }
 
+/// A table family: the lobe of its main table and of its variant (the ltc-sheen and
+/// ltc-diffuse studies fit both; the ltc-lobe-cross study shades each with the other's
+/// table).
+#[derive(Clone, Copy, Debug)]
+pub struct Family {
+    pub name: &'static str,
+    pub title: &'static str,
+    pub main: Lobe,
+    pub variant: Lobe,
+    /// The spec name of the variant's table (results/fits/<variant_name>.json).
+    pub variant_name: &'static str,
+}
+
+/// The families, by spec name.
+pub fn family(name: &str) -> Option<Family> {
+    match name {
+        "ltc-sheen" => Some(Family {
+            name: "ltc-sheen",
+            title: "Charlie sheen LTC tables",
+            main: Lobe::SheenEstevezKulla,
+            variant: Lobe::SheenNeubelt,
+            variant_name: "ltc-sheen-neubelt",
+        }),
+        "ltc-diffuse" => Some(Family {
+            name: "ltc-diffuse",
+            title: "Burley diffuse LTC tables",
+            main: Lobe::BurleyPaper,
+            variant: Lobe::BurleyEngines,
+            variant_name: "ltc-diffuse-engines",
+        }),
+        _ => None,
+    }
+}
+
 impl Lobe {
     /// The target of cell (α, θ).
     pub fn target(self, alpha: f64, theta: f64) -> Result<LobeTarget> {

@@ -15,6 +15,7 @@ pub mod envsg;
 pub mod filters;
 pub mod index;
 pub mod leadr_grids;
+pub mod lobe_cross;
 pub mod ltc;
 pub mod ltc_aniso;
 pub mod ltc_compact;
@@ -203,6 +204,7 @@ pub mod names {
     pub const LEADR_GRIDS: &str = "leadr-grids";
     pub const LTC_GGX: &str = "ltc-ggx";
     pub const LTC_GGX_OPTIMISERS: &str = "ltc-ggx-optimisers";
+    pub const LTC_LOBE_CROSS: &str = "ltc-lobe-cross";
     pub const LTC_WORK: &str = "ltc-work";
     pub const LTC_JUDGE_TOLERANCE: &str = "ltc-judge-tolerance";
     pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";

@@ -14,6 +14,7 @@ pub mod ltc_compare;
 pub mod ltc_error_map;
 pub mod ltc_ggx;
 pub mod ltc_judge_tolerance;
+pub mod ltc_lobe_cross;
 pub mod ltc_lobes;
 pub mod ltc_optimisers;
 pub mod ltc_work;

@@ -6,8 +6,8 @@
 use crate::study::Study;
 
 use super::{
-    filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobes,
-    ltc_optimisers, ltc_work, multiscale_alpha_me, multiscale_convolution, render,
+    filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobe_cross,
+    ltc_lobes, ltc_optimisers, ltc_work, multiscale_alpha_me, multiscale_convolution, render,
     render_truth_work, smith_lambda, tensor, tensor_envsg, tensor_scale, tensor_wang, tensor_wave,
     visibility,
 };
@@ -29,6 +29,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &visibility::Visibility,
     &ltc_aniso::LtcAniso,
     &ltc_optimisers::LtcGgxOptimisers,
+    &ltc_lobe_cross::LtcLobeCross,
     &ltc_work::LtcWorkStudy,
     &ltc_judge_tolerance::LtcJudgeTolerance,
     &ltc_compact::LtcCompactStudy,

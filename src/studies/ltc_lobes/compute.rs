@@ -3,41 +3,10 @@
 
 use crate::error::Result;
 use crate::ltc::fit::{fit_table, Grid, Method, Metric, Polish, Table};
+pub use crate::ltc::lobes::{family, Family};
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
 use crate::memo::Memo;
-
-/// A table family: the lobe of its main table and of its variant.
-#[derive(Clone, Copy, Debug)]
-pub struct Family {
-    pub name: &'static str,
-    pub title: &'static str,
-    pub main: Lobe,
-    pub variant: Lobe,
-    /// The spec name of the variant's table (results/fits/<variant_name>.json).
-    pub variant_name: &'static str,
-}
-
-/// The families, by spec name.
-pub fn family(name: &str) -> Option<Family> {
-    match name {
-        "ltc-sheen" => Some(Family {
-            name: "ltc-sheen",
-            title: "Charlie sheen LTC tables",
-            main: Lobe::SheenEstevezKulla,
-            variant: Lobe::SheenNeubelt,
-            variant_name: "ltc-sheen-neubelt",
-        }),
-        "ltc-diffuse" => Some(Family {
-            name: "ltc-diffuse",
-            title: "Burley diffuse LTC tables",
-            main: Lobe::BurleyPaper,
-            variant: Lobe::BurleyEngines,
-            variant_name: "ltc-diffuse-engines",
-        }),
-        _ => None,
-    }
-}
 
 /// What fits/ltc-sheen.toml and fits/ltc-diffuse.toml set.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

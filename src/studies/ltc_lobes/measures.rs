@@ -5,16 +5,16 @@
 //! (a light straddling the horizon included), and the cost of shading one lobe with the
 //! other's table. The report (`report`) formats them.
 
-use super::compute::{Family, Fitted, Plan};
+use super::compute::{Fitted, Plan};
 use crate::error::Result;
 use crate::integrate::{Figure, Quad};
-use crate::ltc::compare::{cell_error_of, midpoint_error_of, Shipped};
+use crate::ltc::compare::{midpoint_error_of, Shipped};
 use crate::ltc::fit::{inverse_from_production, Cell, Table};
-use crate::ltc::lobe_error::{Change, LobeError, Spread, Tolerance};
-use crate::ltc::lobes::Lobe;
+use crate::ltc::lobe_error::{Change, LobeError};
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
 use crate::memo::Memo;
+use crate::results::ltc::Located;
 use serde::Serialize;
 
 /// The side of the stratified Monte Carlo grid the norms are checked against.
@@ -32,28 +32,6 @@ pub struct CellRow {
     pub fresnel: f64,
     pub l2: Figure<Quad>,
     pub l1: Figure<Quad>,
-}
-
-/// Both held-out figures over a set of places, with where the largest relative L2 is.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Located {
-    pub l2: Spread,
-    pub l1: Spread,
-    /// (α, θ°) of the largest relative L2.
-    pub at: (f64, f64),
-}
-
-fn located(v: &[(Option<LobeError>, (f64, f64))]) -> Located {
-    let l2 = Spread::of(v.iter().map(|x| x.0.as_ref().map(|e| &e.l2)));
-    let l1 = Spread::of(v.iter().map(|x| x.0.as_ref().map(|e| &e.l1)));
-    Located {
-        l2,
-        l1,
-        at: v
-            .get(l2.argmax)
-            .map(|x| x.1)
-            .unwrap_or((f64::NAN, f64::NAN)),
-    }
 }
 
 /// The change of the held-out relative L2 that a storage precision costs, each change
@@ -116,29 +94,10 @@ pub struct TableReport {
     pub sampled: crate::ltc::held::Sampled,
 }
 
-/// The cost of shading one lobe with the other's table, or with no table.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Cross {
-    /// The main table against the variant's lobe.
-    pub main_table_for_variant: Located,
-    /// The variant's table against the main lobe.
-    pub variant_table_for_main: Located,
-    /// The clamped cosine (M = I) with weight 1 against the main lobe: Lambert, what an
-    /// engine without this table shades area lights with.
-    pub cosine_unit_for_main: Located,
-    /// The clamped cosine with the main table's norm (energy-correct Lambert).
-    pub cosine_norm_for_main: Located,
-    /// The main table with its norm clamped to ≤ 1 (a bounded table), on the cells whose
-    /// albedo exceeds 1, and the same cells with the true norm.
-    pub bounded_main: Located,
-    pub true_main_where_bounded: Located,
-}
-
 /// Everything the report shows.
 pub struct Report {
     pub main: TableReport,
     pub variant: TableReport,
-    pub cross: Cross,
 }
 
 fn flat(t: &Table) -> Vec<&Cell> {
@@ -155,41 +114,6 @@ fn as_shipped(t: &Table) -> Shipped {
             .map(|k| [t.cells[k / n][k % n].norm, 0.0])
             .collect(),
     }
-}
-
-fn full(c: &Cell) -> ([f64; 4], f64) {
-    (c.inv, c.norm)
-}
-
-/// Every cell of `t` against `lobe` at its (α, θ): the held-out figures of each of the
-/// entries `entries(cell)` (judged together, in one cubature per cell). `t` must be
-/// `lobe`'s own table: the target's chart is weighed by the cell's norm, the albedo its
-/// fit integrated to `ltc::fit::ALBEDO_TOL` (as the held-out stage, `ltc::held`, does),
-/// rather than by a second integral of the same albedo.
-fn against(
-    label: &str,
-    t: &Table,
-    lobe: Lobe,
-    entries: &(dyn Fn(usize, usize, &Cell) -> Vec<([f64; 4], f64)> + Sync),
-    tol: Tolerance,
-) -> Result<Vec<Vec<(Option<LobeError>, (f64, f64))>>> {
-    let cells = flat(t);
-    let n = t.grid.n;
-    let errs: Vec<Vec<Option<LobeError>>> = crate::memo::map(label, cells.len(), |k| {
-        let c = cells[k];
-        let tgt = lobe.target(c.alpha, c.theta)?;
-        Ok(cell_error_of(&tgt, c.norm, &entries(k % n, k / n, c), tol))
-    })?;
-    // a cell may judge fewer candidates than another: the missing ones are `None`
-    let k = errs.iter().map(|e| e.len()).max().unwrap_or(0);
-    Ok((0..k)
-        .map(|q| {
-            errs.iter()
-                .zip(&cells)
-                .map(|(e, c)| (e.get(q).copied().flatten(), (c.alpha, c.theta.to_degrees())))
-                .collect()
-        })
-        .collect())
 }
 
 /// The LTC's mass below the horizon: with (Mω)_z = m·ω (m the third row of M), the
@@ -356,7 +280,7 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
     }
     Ok(TableReport {
         worst,
-        between: located(&mids),
+        between: Located::of(&mids),
         between_left_out,
         storage: storage_costs(t),
         storage_left_out: flat(t).iter().filter(|c| c.norm < F16_NORMAL_MIN).count(),
@@ -371,58 +295,9 @@ fn table_report(f: &Fitted, pl: &Plan) -> Result<TableReport> {
 }
 
 /// All measures of both tables of a family.
-pub(super) fn compute(fam: &Family, main: &Fitted, variant: &Fitted, pl: &Plan) -> Result<Report> {
-    const COSINE: [f64; 4] = [1.0, 0.0, 0.0, 1.0];
-    // against the main lobe, per main cell: the variant's table, Lambert with weight 1,
-    // Lambert with the norm, the main table with its norm clamped to 1
-    let vt = &variant.table;
-    let on_main = against(
-        "other tables against the main lobe",
-        &main.table,
-        fam.main,
-        &|i, j, c| {
-            let v = &vt.cells[j][i];
-            let mut e = vec![full(v), (COSINE, 1.0), (COSINE, c.norm)];
-            // the bounded table differs from the table only where the albedo exceeds 1:
-            // elsewhere both would be the table itself, judged already (`Cell::held`)
-            if c.norm > 1.0 {
-                e.extend([(c.inv, 1.0), (c.inv, c.norm)]);
-            }
-            e
-        },
-        pl.tolerance(),
-    )?;
-    let mt = &main.table;
-    let on_variant = against(
-        "main table against the variant lobe",
-        vt,
-        fam.variant,
-        &|i, j, _| vec![full(&mt.cells[j][i])],
-        pl.tolerance(),
-    )?;
-    let bounded = |k: usize| -> Located {
-        // no column at all where no cell's albedo exceeds 1
-        let none = Vec::new();
-        let rows: Vec<(Option<LobeError>, (f64, f64))> = on_main
-            .get(k)
-            .unwrap_or(&none)
-            .iter()
-            .zip(flat(&main.table))
-            .filter(|(_, c)| c.norm > 1.0)
-            .map(|(e, _)| *e)
-            .collect();
-        located(&rows)
-    };
+pub(super) fn compute(main: &Fitted, variant: &Fitted, pl: &Plan) -> Result<Report> {
     Ok(Report {
         main: table_report(main, pl)?,
         variant: table_report(variant, pl)?,
-        cross: Cross {
-            main_table_for_variant: located(&on_variant[0]),
-            variant_table_for_main: located(&on_main[0]),
-            cosine_unit_for_main: located(&on_main[1]),
-            cosine_norm_for_main: located(&on_main[2]),
-            bounded_main: bounded(3),
-            true_main_where_bounded: bounded(4),
-        },
     })
 }

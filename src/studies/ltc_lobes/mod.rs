@@ -4,7 +4,8 @@
 //! binary16 storage as the GGX table (`ltc::{fit, smooth, storage}`), judged the same
 //! way. Each family has a main lobe (its table is shipped) and a variant (the other
 //! visibility term, the other roughness convention), fitted on the same grid and shipped
-//! too, with the error of shading one with the other's table. The fits (`compute`) and
+//! too (the error of shading one with the other's table is the `ltc-lobe-cross` study's,
+//! on request). The fits (`compute`) and
 //! their measures (`measures`) → the report (`report`, formatting only) →
 //! results/fits/<name>.json, results/<name>.md, results/<name>-error.svg.
 //!
@@ -54,7 +55,6 @@ struct LobeResult<'a> {
     held_out: crate::ltc::held::Stats,
     held_out_cells: crate::results::ltc::HeldCells,
     report: &'a measures::TableReport,
-    cross: &'a measures::Cross,
     bilinear_pass: &'a crate::ltc::smooth::BilinearPass,
 }
 
@@ -94,7 +94,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         fam.name,
         fam.variant.short(),
     ));
-    let rep = measures::compute(&fam, &main, &variant, &pl)?;
+    let rep = measures::compute(&main, &variant, &pl)?;
     let held = [held_out_stats(&main.table), held_out_stats(&variant.table)];
     Ok(Computed {
         fam,
@@ -134,7 +134,6 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
             held_out: *held,
             held_out_cells: crate::results::ltc::HeldCells::of(&f.table),
             report: r,
-            cross: &c.rep.cross,
             bilinear_pass: &f.bilinear,
         };
         crate::results::put_named(set, results, name, &json)?;

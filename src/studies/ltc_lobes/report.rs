@@ -2,25 +2,12 @@
 //! Formats only.
 
 use super::compute::{Family, Fitted, Plan};
-use super::measures::{Located, Report, TableReport, VISIBLE_ALBEDO};
+use super::measures::{Report, TableReport, VISIBLE_ALBEDO};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset};
 use crate::ltc::held::Stats;
-use crate::ltc::lobes::Lobe;
 use crate::report::table::Table as MdTable;
-
-fn both(l: &Located) -> String {
-    format!(
-        "relative L2 mean {}, max {} at ({:.3}, {:.1}°); relative L1 mean {}, max {}",
-        l.l2.mean.pct(2),
-        l.l2.max.pct(1),
-        l.at.0,
-        l.at.1,
-        l.l1.mean.pct(2),
-        l.l1.max.pct(1)
-    )
-}
 
 fn table_section(
     md: &mut String,
@@ -57,7 +44,7 @@ fn table_section(
     md.push_str(&t.to_string());
     md.push_str(&format!(
         "\nBetween cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of the squares, judged against the lobe there by the same integrals, over the {} squares whose lobe has an albedo of at least {:e}: {}.{}\n\n",
-        r.between.l2.count, VISIBLE_ALBEDO, both(&r.between),
+        r.between.l2.count, VISIBLE_ALBEDO, r.between.words(),
         if r.between_left_out > 0 { format!(" {} squares are left out: their lobe carries almost no energy (sheen seen head-on at small α), and between corners whose albedos differ by orders of magnitude the interpolated norm dwarfs it, so their relative error says nothing about the picture", r.between_left_out) } else { String::new() }
     ));
     md.push_str("Storage precision (change of the held-out relative L2 per cell against the f64 table, ± the sum of the two figures' error bars; 0.01 = one point):\n\n");
@@ -161,30 +148,13 @@ pub(super) fn markdown(
         fam.variant_name,
         pl.tolerance(),
     );
-    let c = &r.cross;
-    md.push_str(&format!(
-        "## One lobe shaded with the other's table, or with none\n\nHeld-out figures per cell (the same integrals), each table with its own norm:\n\n- the {} table against the {} lobe: {};\n- the {} table against the {} lobe: {};\n",
-        main.lobe.short(), variant.lobe.short(), both(&c.main_table_for_variant),
-        variant.lobe.short(), main.lobe.short(), both(&c.variant_table_for_main),
-    ));
-    if matches!(main.lobe, Lobe::BurleyPaper | Lobe::BurleyEngines) {
-        md.push_str(&format!(
-            "- the clamped cosine (M = I) with weight 1 (Lambert, as Bevy shades area lights' diffuse) against the {} lobe: {};\n",
-            main.lobe.short(), both(&c.cosine_unit_for_main)
-        ));
-    }
-    md.push_str(&format!(
-        "- the clamped cosine with the table's norm (energy-correct, no table but the norm) against the {} lobe: {}.\n\n",
-        main.lobe.short(), both(&c.cosine_norm_for_main)
-    ));
-    if c.bounded_main.l2.count > 0 {
-        md.push_str(&format!(
-            "A bounded table (for an engine that wants no weight above 1: the {} table with its norm clamped to 1) differs only on the {} cells whose albedo exceeds 1; there it costs: {} against the true table's {}. The true table stays the one shipped; the bounded one is the same files with the norm channel clamped.\n\n",
-            main.lobe.short(), c.bounded_main.l2.count, both(&c.bounded_main), both(&c.true_main_where_bounded)
-        ));
-    }
+    md.push_str(CROSS);
     md
 }
+
+/// Where the cost of shading one lobe with the other's table went: a study of its own,
+/// run on request.
+const CROSS: &str = "## One lobe shaded with the other's table, or with none\n\nRun on request, not part of the tables' fit: `cargo run --release -- regen --only ltc-lobe-cross` (results/ltc-lobe-cross.md) judges, cell by cell on the same held-out integrals, each family's main table against its variant's lobe and the variant's table against the main lobe, the clamped cosine with weight 1 and with the table's norm, and a table with its norm clamped to 1.\n\n";
 
 /// results/<family>-error.svg: both tables' held-out error.
 pub(super) fn heatmaps(main: &Fitted, variant: &Fitted) -> Result<String> {
