@@ -44,7 +44,17 @@ impl Poly {
     }
 }
 
+/// `poly` clipped to one side of the line x_axis = bound (Sutherland–Hodgman).
+#[cfg(test)]
 fn clip(poly: &Poly, axis: usize, bound: f64, keep_below: bool) -> Poly {
+    let mut out = Poly::quad(&[[0.0; 2]; 4]);
+    clip_into(poly, axis, bound, keep_below, &mut out);
+    out
+}
+
+/// [`clip`] written into `out` (its vertices overwritten): the clips of a footprint run
+/// four per texel, and a polygon returned by value is copied, and first zeroed, each time.
+fn clip_into(poly: &Poly, axis: usize, bound: f64, keep_below: bool, out: &mut Poly) {
     let inside = |p: &[f64; 2]| {
         if keep_below {
             p[axis] <= bound
@@ -52,10 +62,7 @@ fn clip(poly: &Poly, axis: usize, bound: f64, keep_below: bool) -> Poly {
             p[axis] >= bound
         }
     };
-    let mut out = Poly {
-        n: 0,
-        p: [[0.0; 2]; Poly::CAP],
-    };
+    out.n = 0;
     let mut push = |v: [f64; 2]| {
         out.p[out.n] = v;
         out.n += 1;
@@ -72,7 +79,6 @@ fn clip(poly: &Poly, axis: usize, bound: f64, keep_below: bool) -> Poly {
             push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
         }
     }
-    out
 }
 
 /// Signed area and centroid of a polygon (shoelace).
@@ -113,14 +119,18 @@ pub fn shares(q: &[[f64; 2]; 4], max: usize) -> Option<Vec<Share>> {
     }
     let mut out = Vec::new();
     let quad = Poly::quad(q);
+    // the clips' polygons, reused: the row's strip, then each texel of it
+    let (mut half, mut row, mut cell) = (quad, quad, quad);
     for j in j0..j1 {
-        // the row's strip first, then each texel of it
-        let row = clip(&clip(&quad, 1, j as f64, false), 1, (j + 1) as f64, true);
+        clip_into(&quad, 1, j as f64, false, &mut half);
+        clip_into(&half, 1, (j + 1) as f64, true, &mut row);
         if row.n < 3 {
             continue;
         }
         for i in i0..i1 {
-            let c = clip(&clip(&row, 0, i as f64, false), 0, (i + 1) as f64, true);
+            clip_into(&row, 0, i as f64, false, &mut half);
+            clip_into(&half, 0, (i + 1) as f64, true, &mut cell);
+            let c = &cell;
             if c.n < 3 {
                 continue;
             }

@@ -504,7 +504,8 @@ fn exact(
         let hit = surf.point_at([s.centroid[0] / size[0], s.centroid[1] / size[1]]);
         let nt = sh.tex.at(s.i, s.j);
         let w = sh.viewed(&hit, &cam.eye, &nt);
-        (hit, nt, w)
+        // the exact part is written in by `Shader::with_exact`
+        (hit, nt, w, 0.0)
     };
     let k = match work {
         Work::Drawn { m } => {
@@ -519,7 +520,7 @@ fn exact(
         Work::Supersampled { .. } => return None,
     };
     let scrambles: [u32; 2] = [rng.random(), rng.random()];
-    let texels = sh.with_exact(shares.iter().map(prepare).collect());
+    let texels = sh.with_exact(shares.iter().map(prepare));
     let reps = if k == 0 {
         // no sampled light: each texel's exact part alone
         let mut reps = [0.0f64; 2];
