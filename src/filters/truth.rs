@@ -164,7 +164,9 @@ pub struct CaseResult {
 /// Proposal: a mixture of GGX VNDF lobes (truth normals with their weights, candidates)
 /// plus a cosine hemisphere, all in world space.
 struct Mixture {
-    comps: Vec<(Frame, VndfSampler, Microsurface, V3)>, // frame, sampler, surface, v local
+    /// Per lobe: its frame, sampler and surface, the view in its frame, and the view's
+    /// masking G1(v), which every density evaluation needs and the view fixes.
+    comps: Vec<(Frame, VndfSampler, Microsurface, V3, f64)>,
     cum: Vec<f64>,
     probs: Vec<f64>,
     w_cos: f64,
@@ -182,7 +184,7 @@ impl Mixture {
             }
             let s = Microsurface::ggx(Roughness::iso(a.clamp(1e-4, 4.0))?);
             let sampler = VndfSampler::new(s, vl)?;
-            comps.push((f, sampler, s, vl));
+            comps.push((f, sampler, s, vl, s.g1_dir(&vl)));
             probs.push(w);
         }
         let tot: f64 = probs.iter().sum();
@@ -209,7 +211,7 @@ impl Mixture {
                 .cum
                 .partition_point(|&c| c <= u[0])
                 .min(self.comps.len() - 1);
-            let (f, sampler, _, _) = &self.comps[i];
+            let (f, sampler, ..) = &self.comps[i];
             let m = sampler.sample([u[1], u[2]])?;
             let h = f.world(&m);
             let l = h * (2.0 * v.dot(&h)) - v;
@@ -240,13 +242,13 @@ impl Mixture {
         if vh <= 0.0 {
             return p;
         }
-        for ((f, _, s, vl), w) in self.comps.iter().zip(&self.probs) {
+        for ((f, _, s, vl, g1_v), w) in self.comps.iter().zip(&self.probs) {
             let hl = f.local(&h);
             if hl.z <= 0.0 {
                 continue;
             }
             // VNDF pdf of h, times the reflection Jacobian 1/(4 v·h)
-            p += w * s.g1_dir(vl) * s.d(&hl) / (4.0 * vl.z);
+            p += w * g1_v * s.d(&hl) / (4.0 * vl.z);
         }
         p
     }
