@@ -250,7 +250,7 @@ fn markdown(c: &Computed) -> String {
 impl crate::study::Computed for Computed {
     fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
         set.put(
-            &results.join(format!("{}.md", self.spec.name)),
+            results.join(format!("{}.md", self.spec.name)),
             markdown(self).as_bytes(),
         );
         crate::results::put(
