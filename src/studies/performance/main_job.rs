@@ -290,8 +290,28 @@ pub(super) fn main_job_table(results: &Path) -> Result<String> {
         t.row(std::iter::once(n.clone()).chain(cols.iter().map(|(_, p)| cell(p, n))));
     }
     md.push_str(&t.to_string());
+    md.push_str(&format!(
+        "\nThe *after* columns were measured on {} ({} logical cores), the machine that wrote this section; *before* on the development machine of its time. The study costs quoted in the sections above come from the last full `bench-report`, which may have run on another machine: compare a study's cost only within one column, or within one section.\n",
+        cpu_model(),
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    ));
     md.push_str(&fits_work_line(results)?);
     Ok(md)
+}
+
+/// The processor's model name as the OS reports it (Linux: /proc/cpuinfo), or a phrase
+/// saying it is unknown.
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, m)| m.trim().to_string())
+        })
+        .filter(|m| !m.is_empty())
+        .unwrap_or_else(|| "a processor whose model the OS does not report".into())
 }
 
 /// Whether the LTC fits do more work than their accuracy needs, from the on-request
