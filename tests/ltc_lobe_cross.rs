@@ -236,3 +236,38 @@ fn the_cross_study_is_of_the_published_tables() {
         }
     }
 }
+
+/// A spec whose `families` is empty, names no family or names one twice is a typed error
+/// naming the field and the offending name, never a panic or a silently shorter run.
+#[test]
+fn bad_families_are_typed_errors() {
+    use ndfbench::fit::spec::FitSpec;
+    use ndfbench::studies::ltc_lobe_cross::Plan;
+    let text = std::fs::read_to_string("fits/ltc-lobe-cross.toml").unwrap();
+    let good = "families = [\"ltc-sheen\", \"ltc-diffuse\"]";
+    assert!(
+        text.contains(good),
+        "fits/ltc-lobe-cross.toml names both families"
+    );
+    let parsed = |families: &str| {
+        let t = text.replace(good, &format!("families = {families}"));
+        FitSpec::parse(&t, "fits/ltc-lobe-cross.toml")
+            .and_then(|s| s.params::<Plan>(ndfbench::integrate::Preset::Default))
+    };
+    assert!(parsed("[\"ltc-diffuse\"]").is_ok());
+    for (families, says) in [
+        ("[]", "empty"),
+        ("[\"ltc-ggx\"]", "ltc-ggx"),
+        ("[\"ltc-sheen\", \"ltc-sheen\"]", "twice"),
+        ("[\"\"]", "no LTC table family"),
+    ] {
+        let e = parsed(families)
+            .err()
+            .unwrap_or_else(|| panic!("{families} accepted"));
+        let m = e.to_string();
+        assert!(
+            m.contains("families") && m.contains(says),
+            "{families}: {m}"
+        );
+    }
+}
