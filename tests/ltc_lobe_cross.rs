@@ -271,3 +271,57 @@ fn bad_families_are_typed_errors() {
         );
     }
 }
+
+/// The study indexes the variant's table by the main table's cells: a variant published
+/// on another grid (here another α floor, same side) is a typed error naming the file,
+/// never a judgement of cells at the wrong (α, θ); a broken main table is refused by the
+/// published-table checks.
+#[test]
+fn tables_on_other_grids_are_refused() {
+    use ndfbench::fit::spec::FitSpec;
+    let path = "fits/ltc-lobe-cross.toml";
+    let spec = FitSpec::parse(&std::fs::read_to_string(path).unwrap(), path).unwrap();
+    let read = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(format!("results/fits/{name}.json")).unwrap())
+            .unwrap()
+    };
+    let breaks: [(&str, &str, fn(&mut serde_json::Value)); 2] = [
+        ("ltc-sheen-neubelt", "grid", |v| {
+            v["grid"]["alpha_min"] = serde_json::json!(0.02)
+        }),
+        ("ltc-sheen", "held_out_cells", |v| {
+            v["held_out_cells"]["l2"][3].as_array_mut().unwrap().pop();
+        }),
+    ];
+    for (broken, says, brk) in breaks {
+        let d = common::scratch("ltc-lobe-cross", &format!("broken-{broken}"));
+        std::fs::create_dir_all(d.join("fits")).unwrap();
+        for name in [
+            "ltc-sheen",
+            "ltc-sheen-neubelt",
+            "ltc-diffuse",
+            "ltc-diffuse-engines",
+        ] {
+            let mut v = read(name);
+            if name == broken {
+                brk(&mut v);
+            }
+            std::fs::write(
+                d.join(format!("fits/{name}.json")),
+                serde_json::to_string(&v).unwrap(),
+            )
+            .unwrap();
+        }
+        match common::compute_study(&spec, &d, ndfbench::integrate::Preset::Default) {
+            Err(e) => {
+                let m = e.to_string();
+                assert!(
+                    m.contains(&format!("{broken}.json")) && m.contains(says),
+                    "{broken}: {m}"
+                );
+            }
+            Ok(_) => panic!("{broken}: a table on another grid was judged"),
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}

@@ -392,28 +392,35 @@ fn route_of(spec: &FitSpec, preset: &str, name: &str) -> Result<GgxRoute> {
 /// trusted by its shape. Returns the file's keys and the table's fingerprint
 /// (`FittedTable::fingerprint`).
 pub fn published(results: &Path, name: &str) -> Result<(Published, String)> {
-    let p: Published = super::require_named(results, name)?;
-    let fingerprint = check_published(results, name, &p.spec, p.grid.n, &p.held_out_cells)?;
+    let (p, _, fingerprint) = published_table(results, name)?;
     Ok((p, fingerprint))
+}
+
+/// [`published`] with the table itself, for a study that reads its cells: the file is
+/// read and checked once.
+pub fn published_table(results: &Path, name: &str) -> Result<(Published, FittedTable, String)> {
+    let p: Published = super::require_named(results, name)?;
+    let (t, fingerprint) = check_published(results, name, &p.spec, p.grid.n, &p.held_out_cells)?;
+    Ok((p, t, fingerprint))
 }
 
 /// The published GGX table, checked as [`published`] checks it, with its whole file.
 pub fn published_ggx(results: &Path) -> Result<(Ggx, String)> {
     let g: Ggx = super::require(results)?;
     let name = super::names::LTC_GGX;
-    let fingerprint = check_published(results, name, &g.spec, g.grid.n, &g.held_out_cells)?;
+    let (_, fingerprint) = check_published(results, name, &g.spec, g.grid.n, &g.held_out_cells)?;
     Ok((g, fingerprint))
 }
 
 /// [`published`]'s checks of the file `name` (its spec, grid side `n` and held-out
-/// cells already read); the table's fingerprint.
+/// cells already read); the table and its fingerprint.
 fn check_published(
     results: &Path,
     name: &str,
     spec: &FitSpec,
     n: usize,
     held: &HeldCells,
-) -> Result<String> {
+) -> Result<(FittedTable, String)> {
     let t = table(results, name)?;
     let bad = |what: String| {
         Err(Error::InvalidArgument(format!(
@@ -436,7 +443,8 @@ fn check_published(
     {
         return bad("a held-out figure that is not a finite, non-negative pair".into());
     }
-    Ok(t.fingerprint())
+    let fingerprint = t.fingerprint();
+    Ok((t, fingerprint))
 }
 
 /// The route a published LTC table was fitted with: the keys of its spec that the

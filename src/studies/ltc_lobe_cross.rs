@@ -91,9 +91,9 @@ struct Read {
 }
 
 fn read(results: &std::path::Path, name: &str) -> Result<Read> {
-    let (p, fingerprint) = crate::results::ltc::published(results, name)?;
+    let (p, table, fingerprint) = crate::results::ltc::published_table(results, name)?;
     Ok(Read {
-        table: crate::results::ltc::table(results, name)?,
+        table,
         grid: p.grid,
         fingerprint,
         tolerance: p.route(name)?.tolerance(),
@@ -163,20 +163,22 @@ fn judge_family(results: &std::path::Path, fam: &Family) -> Result<FamilyCross> 
     })
 }
 
+/// Per cell of a table, its figures (`None` where it has none) and its (α, θ°).
+type Judged = Vec<(Option<LobeError>, (f64, f64))>;
+
 /// Every cell of the published table `t` against `lobe` at its (α, θ): the held-out
 /// figures of each of the entries `entries(k, cell)` (judged together, in one cubature
 /// per cell; k = i + n·j). `t` must be `lobe`'s own table: the target's chart is weighed
 /// by the cell's norm, the albedo its fit integrated (as the held-out stage,
 /// `ltc::held`, does). Per entry, every cell's figures (`None` where a cell has fewer
 /// entries or a singular matrix) with its (α, θ°).
-#[allow(clippy::type_complexity)]
 fn against(
     label: &str,
     t: &Read,
     lobe: Lobe,
     entries: &(dyn Fn(usize, &[f64; 6]) -> Vec<([f64; 4], f64)> + Sync),
     tol: Tolerance,
-) -> Result<Vec<Vec<(Option<LobeError>, (f64, f64))>>> {
+) -> Result<Vec<Judged>> {
     let (n, cells) = (t.grid.n, &t.table.cells);
     let place = |k: usize| (t.grid.alpha(k % n), t.grid.theta(k / n));
     let errs: Vec<Vec<Option<LobeError>>> = crate::memo::map(label, cells.len(), |k| {
