@@ -163,6 +163,10 @@ fn judge_family(results: &std::path::Path, fam: &Family) -> Result<FamilyCross> 
     })
 }
 
+/// The entries judged at cell k of a table (k = i + n·j, given its stored cell): each a
+/// production-form M⁻¹ with its amplitude.
+type Entries<'a> = dyn Fn(usize, &[f64; 6]) -> Vec<([f64; 4], f64)> + Sync + 'a;
+
 /// Per cell of a table, its figures (`None` where it has none) and its (α, θ°).
 type Judged = Vec<(Option<LobeError>, (f64, f64))>;
 
@@ -176,7 +180,7 @@ fn against(
     label: &str,
     t: &Read,
     lobe: Lobe,
-    entries: &(dyn Fn(usize, &[f64; 6]) -> Vec<([f64; 4], f64)> + Sync),
+    entries: &Entries<'_>,
     tol: Tolerance,
 ) -> Result<Vec<Judged>> {
     let (n, cells) = (t.grid.n, &t.table.cells);
