@@ -525,7 +525,8 @@ fn tensor_brdf(c: &mut Criterion) {
     g.finish();
 }
 
-/// The cost of fitting one LTC cell (Nelder–Mead, and Levenberg–Marquardt on fixed nodes;
+/// The cost of fitting one LTC cell (Nelder–Mead on moving samples and on fixed nodes, and
+/// Levenberg–Marquardt on fixed nodes;
 /// four parameters, the default preset's 24×24 samples per technique) and of integrating one pixel's quad light
 /// with each edge form (f64, clipped to the horizon), next to their errors in
 /// results/ltc-ggx.md.
@@ -542,20 +543,16 @@ fn ltc(c: &mut Criterion) {
         let (_, _, _, z) = t.moments(32);
         let (norm, _, _) = t.norm_quad(1e-9);
         let p0 = [alpha.ln(), alpha.ln(), 0.0, 0.0];
-        g.bench_function(label, |b| {
-            b.iter(|| {
-                fit_cell(
-                    &t,
-                    &z,
-                    norm,
-                    black_box(&p0),
-                    24,
-                    Metric::Cubic,
-                    Method::NelderMead,
-                    400,
-                )
-            })
-        });
+        // Nelder–Mead on moving samples (the tables' route) and with the cubic stage's
+        // trials on fixed nodes (`Method::FixedNodes`)
+        for (name, method) in [
+            (label.to_string(), Method::NelderMead),
+            (format!("fixed-nodes {label}"), Method::FixedNodes),
+        ] {
+            g.bench_function(name, |b| {
+                b.iter(|| fit_cell(&t, &z, norm, black_box(&p0), 24, Metric::Cubic, method, 400))
+            });
+        }
         // the fast route: Levenberg–Marquardt on fixed nodes, same start and sample count
         g.bench_function(format!("levenberg-marquardt {label}"), |b| {
             b.iter(|| {

@@ -1,6 +1,7 @@
 //! The LTC tables' accuracy-against-work study (`regen --only ltc-work`, on request): its
 //! pipeline is each published table's, its rule behaves on a route whose answer is known,
-//! and the committed file is of the committed tables.
+//! a fixed-node route evaluates fewer targets, and the committed file is of the committed
+//! tables.
 
 mod common;
 
@@ -48,7 +49,9 @@ fn each_published_route_refitted_is_its_published_table() {
         let (same, v) = t
             .routes
             .iter()
-            .find(|(r, _)| (r.samples, r.max_iters) == (route.samples, route.max_iters))
+            .find(|(r, _)| {
+                (r.samples, r.max_iters) == (route.samples, route.max_iters) && !r.fixed_nodes
+            })
             .expect("fits/ltc-work.toml's quick routes hold the published route");
         let bits = |f: ndfbench::integrate::Figure<ndfbench::integrate::Quad>| {
             (f.value.to_bits(), f.error.to_bits())
@@ -59,6 +62,25 @@ fn each_published_route_refitted_is_its_published_table() {
             assert_eq!(e.above, 0, "{}: {v:?}", t.table);
         }
         assert!(v.no_worse, "{}", t.table);
+        // the same settings on fixed nodes: another table, whose cubic-stage trials
+        // evaluate no target — a moving-sample trial evaluates one per LTC-half sample, so
+        // over ~100 trials a cell's target evaluations fall well below the published route's
+        let (fixed, _) = t
+            .routes
+            .iter()
+            .find(|(r, _)| {
+                (r.samples, r.max_iters) == (route.samples, route.max_iters) && r.fixed_nodes
+            })
+            .expect("fits/ltc-work.toml's quick routes hold the published route on fixed nodes");
+        assert_ne!(fixed.mean.value, same.mean.value, "{}", t.table);
+        let evals = |r: &ltc::WorkRow| r.target_evals_per_cell.expect("counted");
+        assert!(
+            evals(fixed) < 0.7 * evals(same),
+            "{}: {} vs {} target evaluations per cell",
+            t.table,
+            evals(fixed),
+            evals(same)
+        );
         // the refitted draws did real work, and each is another table
         for r in &t.draws[1..] {
             assert!(r.work_per_cell.is_some_and(|x| x > 0.0), "{}", t.table);

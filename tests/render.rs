@@ -119,6 +119,71 @@ fn bad_scenes_are_typed_errors_naming_the_field() {
     assert!(matches!(scene(&torus), Err(Error::InvalidArgument(m)) if m.contains("minor_radius")));
 }
 
+/// A point light on the surface (where 1/r² has no value at its own hit and none bounded
+/// beside it) is refused, on each kind of surface: on the torus's outer equator, its top
+/// and its inner equator, on the sphere and on the plane; a light just off each is
+/// accepted, so the check measures distance rather than refusing a region.
+#[test]
+fn point_lights_on_the_surface_are_typed_errors() {
+    let torus = SCENES[1].1;
+    let light = "position = [-3.0, -5.0, 6.0]";
+    assert!(torus.contains(light), "the torus scene's point light");
+    let with = |text: &str, p: [f64; 3]| {
+        text.replace(
+            light,
+            &format!("position = [{:?}, {:?}, {:?}]", p[0], p[1], p[2]),
+        )
+    };
+    // R = 1, r = 0.2: the tube's outer equator at ρ = 1.2, its top at (ρ = 1, z = 0.2), its
+    // inner equator at ρ = 0.8
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let on_torus = [
+        [1.2, 0.0, 0.0],
+        [0.0, -1.2, 0.0],
+        [s, s, 0.2],
+        [-0.8 * s, 0.8 * s, 0.0],
+    ];
+    for p in on_torus {
+        match scene(&with(torus, p)) {
+            Err(Error::InvalidArgument(m)) => {
+                assert!(
+                    m.contains("lights[0].position") && m.contains("on the surface"),
+                    "{m}"
+                );
+                assert!(!m.contains('\n'), "one line: {m}");
+            }
+            other => {
+                panic!("a point light at {p:?} on the torus: expected a typed error, got {other:?}")
+            }
+        }
+        // 1e-3 up: off the equators by ~2.5e-6 (the tube curves away), off the top by 1e-3
+        let off = [p[0], p[1], p[2] + 1e-3];
+        assert!(scene(&with(torus, off)).is_ok(), "{off:?} is off the torus");
+    }
+    let sphere = torus.replace("kind = \"torus\"", "kind = \"sphere\"");
+    assert!(
+        scene(&with(&sphere, [1.0, 1.0, 1.0])).is_ok(),
+        "the sphere scene parses"
+    );
+    assert!(
+        matches!(scene(&with(&sphere, [0.0, 0.0, -1.0])), Err(Error::InvalidArgument(m)) if m.contains("on the surface"))
+    );
+    assert!(
+        matches!(scene(&with(&sphere, [0.6, 0.0, 0.8])), Err(Error::InvalidArgument(m)) if m.contains("on the surface"))
+    );
+    let plane = torus.replace("kind = \"torus\"", "kind = \"plane\"");
+    assert!(
+        matches!(scene(&with(&plane, [3.0, -2.0, 0.0])), Err(Error::InvalidArgument(m)) if m.contains("on the surface"))
+    );
+    assert!(
+        matches!(scene(&with(&plane, [1e6, -2.0, -0.0])), Err(Error::InvalidArgument(m)) if m.contains("on the surface"))
+    );
+    assert!(
+        scene(&with(&plane, [3.0, -2.0, 1e-6])).is_ok(),
+        "1e-6 above the plane"
+    );
+}
+
 proptest! {
     #![proptest_config(common::config(10_000))]
     /// The shares of a convex quadrilateral (any size from a tenth of a texel to 30

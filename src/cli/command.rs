@@ -274,8 +274,9 @@ pub enum Cmd {
     /// relative to the scene), normal_scale, map_size, map_seed; `[[lights]]` kind =
     /// point|quad|directional|environment|sg (`lobes = [{ axis, lambda, amplitude }, …]`,
     /// glints and truth-only only); `[render]` methods, truth_samples, seed, scales,
-    /// exposure. Unknown keys, non-finite numbers and sizes beyond the limits (≤ 2^36 truth
-    /// samples in all) are errors naming the key, exit 2, nothing written. `--preset` sets
+    /// exposure. Unknown keys, non-finite numbers, sizes beyond the limits (≤ 2^36 truth
+    /// samples in all) and a point light on the surface are errors naming the key, exit 2,
+    /// nothing written. `--preset` sets
     /// the glint set's P-NDF grid and CP iterations, as fits/render.toml gives them to the
     /// render study (the spec this build compiled in).
     Render {

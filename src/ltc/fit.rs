@@ -12,7 +12,12 @@
 //! stratified n×n set each), and the plain L2 error ∫(f − f_ltc)² by the same balance
 //! estimator, reported relative to ∫f². Optimisers (argmin): Nelder–Mead, and L-BFGS on
 //! central-difference gradients; parameters (ln m11, ln m22, m13/m11) so that α down to
-//! 1e-4 has no floor and no sign to flip.
+//! 1e-4 has no floor and no sign to flip. The published routes draw half of each trial's
+//! samples from the trial LTC itself (`samples::metrics_on`), so every trial evaluates the
+//! target; `Method::FixedNodes` measures a stage's trials on nodes drawn once from the
+//! stage's start (`samples::FixedNodes`), an unbiased estimator of the same integrals
+//! whose trials evaluate no target (judged against the published route in the
+//! `ltc-work` study).
 //!
 //! Production form: M⁻¹ normalised by its middle element, stored as (a, b, c, d) with
 //! M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]] — the layout of the 2016 "journey" talk and the
@@ -23,12 +28,15 @@ use crate::ltc::lobe_error::Held;
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use crate::parmap::ParMap;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use serde::Serialize;
 
-pub use super::params::{matrix, params_to_m, turn};
+pub use super::params::{
+    inverse_from_production, matrix, params_from_production, params_to_m, production_inverse, turn,
+};
 pub use super::polish::{Polish, POLISH_ITERS};
-pub use super::samples::{metrics, metrics_on, Sets, TargetSamples, TRAIN_OFFSET};
+pub use super::samples::{metrics, metrics_on, FixedNodes, Sets, TargetSamples, TRAIN_OFFSET};
+pub use super::table::Grid;
 
 type V3 = Vector3<f64>;
 
@@ -57,6 +65,10 @@ pub struct Cell {
     /// Trial-LTC sample evaluations of the cell's fit and polish on its sample sets
     /// (`samples::work`; a Levenberg–Marquardt route's own nodes are not counted).
     pub work: u64,
+    /// Target evaluations of the cell's fit and polish (`samples::target_work`: its
+    /// sample sets, the LTC half of every moving-sample trial, each fixed-node set).
+    #[serde(default)]
+    pub target_evals: u64,
     /// The binary16 storage of [a, b, c, d, norm, fresnel] (as f64): each entry rounded
     /// to nearest, or the f16 neighbours chosen by `ltc::storage::half_storage`.
     pub half: [f64; 6],
@@ -69,58 +81,6 @@ impl Cell {
     pub fn l2(&self) -> Option<crate::integrate::Figure<crate::integrate::Quad>> {
         self.held.and_then(|h| h.f64).map(|e| e.l2)
     }
-}
-
-/// (a, b, c, d) of M⁻¹ normalised by its middle element (typed error if singular).
-pub fn production_inverse(m: &Matrix3<f64>) -> Result<[f64; 4]> {
-    let inv = m
-        .try_inverse()
-        .ok_or_else(|| Error::InvalidArgument("LTC matrix is singular".into()))?;
-    let s = inv[(1, 1)];
-    if !(s.is_finite() && s != 0.0) {
-        return Err(Error::InvalidArgument(
-            "LTC inverse has a zero middle element".into(),
-        ));
-    }
-    let n = inv / s;
-    Ok([n[(0, 0)], n[(2, 0)], n[(0, 2)], n[(2, 2)]])
-}
-
-/// The fit parameters of a production-form cell: (m11, m22, m13, φ) with the frame axis
-/// `turn(zm, φ)`, i.e. the inverse of `production_inverse(matrix(m11, m22, m13, turn(zm, φ)))`.
-/// M's xz-block is s·Q·[[m11, m13], [0, 1]] with Q the frame rotation and s = 1/m22 (the
-/// production form has M_yy = 1): a QR factorisation. `None` where M is singular or the
-/// factor's sign would flip the lobe below the horizon.
-pub fn params_from_production(p: &[f64; 4], zm: &V3) -> Option<(f64, f64, f64, f64)> {
-    // M⁻¹'s xz-block [[a, c], [b, d]] and its inverse A = M's xz-block
-    let (a, b, c, d) = (p[0], p[1], p[2], p[3]);
-    let det = a * d - b * c;
-    if !(det.is_finite() && det != 0.0) {
-        return None;
-    }
-    let m = [[d / det, -c / det], [-b / det, a / det]];
-    // Gram–Schmidt on A's columns: q1 = (Z_z, −Z_x), q2 = (Z_x, Z_z)
-    let col1 = [m[0][0], m[1][0]];
-    let col2 = [m[0][1], m[1][1]];
-    let u00 = (col1[0] * col1[0] + col1[1] * col1[1]).sqrt();
-    if !(u00 > 0.0) {
-        return None;
-    }
-    let q1 = [col1[0] / u00, col1[1] / u00];
-    let q2 = [-q1[1], q1[0]];
-    let u01 = q1[0] * col2[0] + q1[1] * col2[1];
-    let s = q2[0] * col2[0] + q2[1] * col2[1];
-    if !(s > 0.0) {
-        return None;
-    }
-    let (zx, zz) = (q2[0], q2[1]);
-    let phi = zx.atan2(zz) - zm.x.atan2(zm.z);
-    Some((u00 / s, 1.0 / s, u01 / s, phi))
-}
-
-/// Rebuild M⁻¹ from the production form.
-pub fn inverse_from_production(p: &[f64; 4]) -> Matrix3<f64> {
-    Matrix3::new(p[0], 0.0, p[2], 0.0, 1.0, 0.0, p[1], 0.0, p[3])
 }
 
 /// Which metric drives the fit.
@@ -138,6 +98,10 @@ pub enum Method {
     /// Levenberg–Marquardt on fixed nodes (`ltc::gauss_newton`): the relative L2 whatever
     /// the metric asked for.
     LevenbergMarquardt,
+    /// Nelder–Mead on fixed nodes (`samples::FixedNodes`): each stage draws its LTC half
+    /// once from the stage's start instead of from every trial, so a trial evaluates no
+    /// target. The L2 polish after a cubic stage stays the reference's (its `Polish`).
+    FixedNodes,
 }
 
 /// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,
@@ -150,9 +114,32 @@ struct Objective<'a, T: ?Sized> {
     /// The target's samples of the set (training or validation).
     set: &'a TargetSamples,
     metric: Metric,
+    /// Fixed nodes in place of `set`'s moving ones (`FixedNodes`).
+    fixed: Option<&'a FixedNodes>,
 }
 
-impl<T: LtcTarget + ?Sized> Objective<'_, T> {
+impl<'a, T: LtcTarget + ?Sized> Objective<'a, T> {
+    /// On the training or the validation set of `sets`; on the matching one of a stage's
+    /// fixed `nodes` (training, validation) where given.
+    fn on(
+        t: &'a T,
+        z: V3,
+        norm: f64,
+        metric: Metric,
+        sets: &'a Sets,
+        nodes: Option<&'a (FixedNodes, FixedNodes)>,
+        validation: bool,
+    ) -> Self {
+        Objective {
+            t,
+            z,
+            norm,
+            set: if validation { &sets.val } else { &sets.train },
+            metric,
+            fixed: nodes.map(|n| if validation { &n.1 } else { &n.0 }),
+        }
+    }
+
     fn value(&self, p: &[f64]) -> f64 {
         if p.iter().any(|x| !x.is_finite()) {
             return f64::INFINITY;
@@ -165,7 +152,10 @@ impl<T: LtcTarget + ?Sized> Objective<'_, T> {
         };
         match LtcDist::new(matrix(m11, m22, m13, &z)) {
             Ok(ltc) => {
-                let (c, l2) = metrics_on(self.t, self.set, &ltc, self.norm);
+                let (c, l2) = match self.fixed {
+                    Some(fx) => fx.metrics(&ltc, self.norm),
+                    None => metrics_on(self.t, self.set, &ltc, self.norm),
+                };
                 if self.metric == Metric::Cubic {
                     c
                 } else {
@@ -224,7 +214,7 @@ fn optimise<T: LtcTarget + ?Sized>(
     use argmin::core::{Executor, State};
     let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
     Ok(match method {
-        Method::NelderMead => {
+        Method::NelderMead | Method::FixedNodes => {
             use argmin::solver::neldermead::NelderMead;
             let mut simplex = vec![start.clone()];
             for (k, st) in steps.iter().enumerate() {
@@ -307,18 +297,31 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
     if method == Method::LevenbergMarquardt {
         return fit_cell(t, z, norm, p0, sets.n(), metric, method, max_iters);
     }
-    let obj = |z: V3, validation: bool| Objective {
-        t,
-        z,
-        norm,
-        set: if validation { &sets.val } else { &sets.train },
-        metric,
+    // the fixed-node route: each stage's training and validation nodes from its start (a
+    // singular start, which the warm-start chain never hands over, keeps moving samples)
+    let nodes_at = |zz: &V3, p: &[f64]| -> Option<(FixedNodes, FixedNodes)> {
+        if method != Method::FixedNodes {
+            return None;
+        }
+        let (m11, m22, m13) = params_to_m(p);
+        let zt = if p.len() > 3 {
+            turn(zz, p[3].clamp(-0.5, 0.5))
+        } else {
+            *zz
+        };
+        let start = LtcDist::new(matrix(m11, m22, m13, &zt)).ok()?;
+        Some((
+            FixedNodes::new(t, &sets.train, &start),
+            FixedNodes::new(t, &sets.val, &start),
+        ))
     };
     let symmetric = t.view().x.abs() <= 1e-12;
     // 1. the three matrix parameters, the frame turn held at the start's
     let phi0 = if symmetric { 0.0 } else { p0[3] };
     let z1 = turn(z, phi0);
     let q0 = [p0[0], p0[1], p0[2]];
+    let nodes1 = nodes_at(&z1, &q0);
+    let obj = |z, validation| Objective::on(t, z, norm, metric, sets, nodes1.as_ref(), validation);
     let (b3, i3) = optimise(
         obj(z1, false),
         method,
@@ -342,6 +345,8 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
     // parameters from that solution; the turn's first step scales with the lobe width.
     // Taken only if it lowers the training metric and a separate validation set's, so the
     // cubic metric's spurious basin of very wide LTCs (tiny α) cannot capture it.
+    let nodes2 = nodes_at(z, &p3);
+    let obj = |z, validation| Objective::on(t, z, norm, metric, sets, nodes2.as_ref(), validation);
     let (b4, i4) = optimise(
         obj(*z, false),
         method,
@@ -401,6 +406,7 @@ fn polish_l2<T: LtcTarget + ?Sized>(
         norm,
         set: &sets.val,
         metric: Metric::L2,
+        fixed: None,
     };
     if q.iter().all(|x| x.is_finite()) && val.value(&q) < val.value(p) {
         Ok((q, true))
@@ -435,25 +441,6 @@ pub fn production_metrics_on<T: LtcTarget + ?Sized>(
 
 /// The absolute tolerance of a cell's norm and Fresnel share (the albedo integrals).
 pub const ALBEDO_TOL: f64 = 1e-9;
-
-/// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
-/// t = √(1 − cos θ), both uniform on [0, 1] with `n` points.
-#[derive(Clone, Copy, Debug, Serialize, serde::Deserialize)]
-pub struct Grid {
-    pub n: usize,
-    pub alpha_min: f64,
-}
-
-impl Grid {
-    pub fn alpha(&self, i: usize) -> f64 {
-        let r = i as f64 / (self.n - 1) as f64;
-        (r * r).max(self.alpha_min)
-    }
-    pub fn theta(&self, j: usize) -> f64 {
-        let t = j as f64 / (self.n - 1) as f64;
-        (1.0 - t * t).clamp(0.0, 1.0).acos()
-    }
-}
 
 /// The fitted table: cells[j][i] for θ index j and α index i.
 #[derive(Clone, Debug, Serialize)]
@@ -532,7 +519,7 @@ pub fn fit_table_drawn<T: LtcTarget>(
                 p[3] *= alpha / prev;
             }
             let sets = Sets::drawn(&t, n, train);
-            let work0 = super::samples::work();
+            let (work0, evals0) = (super::samples::work(), super::samples::target_work());
             let (best, iters) = fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?;
             // the warm-start chain carries the primary metric's solution
             p = best;
@@ -561,6 +548,7 @@ pub fn fit_table_drawn<T: LtcTarget>(
                 held: None,
                 iters,
                 work: super::samples::work() - work0,
+                target_evals: super::samples::target_work() - evals0,
                 // round to nearest; a study may choose better (`ltc::storage`)
                 half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
                     .map(|x| half::f16::from_f64(x).to_f64()),

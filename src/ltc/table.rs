@@ -2,6 +2,25 @@
 //! (√α, √(1 − cos θ)) grid, their binary16 storage and the bilinear lookup engines do.
 //! Read from results/ by `crate::results::ltc::table`.
 
+/// Grid parameterisation: perceptual roughness r = √α (α = max(r², α_min)) and
+/// t = √(1 − cos θ), both uniform on [0, 1] with `n` points.
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Grid {
+    pub n: usize,
+    pub alpha_min: f64,
+}
+
+impl Grid {
+    pub fn alpha(&self, i: usize) -> f64 {
+        let r = i as f64 / (self.n - 1) as f64;
+        (r * r).max(self.alpha_min)
+    }
+    pub fn theta(&self, j: usize) -> f64 {
+        let t = j as f64 / (self.n - 1) as f64;
+        (1.0 - t * t).clamp(0.0, 1.0).acos()
+    }
+}
+
 /// A fitted table: `cells[i + n·j]` = [a, b, c, d, norm, fresnel] at roughness index i
 /// (r = √α = i/(n − 1)) and view index j (t = √(1 − cos θ) = j/(n − 1)).
 #[derive(Clone, Debug, PartialEq)]

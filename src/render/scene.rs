@@ -129,6 +129,21 @@ pub struct MaterialSpec {
     pub map_seed: u64,
 }
 
+impl SurfaceSpec {
+    /// The distance from p to the surface: |z| for the plane, ||p| − radius| for the
+    /// sphere, |√((ρ − radius)² + z²) − minor_radius| (ρ = √(x² + y²)) for the torus.
+    pub fn distance(&self, p: &[f64; 3]) -> f64 {
+        match self.kind {
+            SurfaceKind::Plane => p[2].abs(),
+            SurfaceKind::Sphere => (norm(*p) - self.radius).abs(),
+            SurfaceKind::Torus => {
+                let q = p[0].hypot(p[1]) - self.radius;
+                (q.hypot(p[2]) - self.minor_radius).abs()
+            }
+        }
+    }
+}
+
 fn sigma_r() -> f64 {
     0.02
 }
@@ -380,6 +395,7 @@ impl Scene {
                 } => {
                     vec_ok(&w("position"), position)?;
                     pos(&w("intensity"), *intensity, 0.0, 1e9)?;
+                    self.off_the_surface(&w("position"), position)?;
                 }
                 LightSpec::Quad {
                     center,
@@ -443,6 +459,22 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// A point light on the surface has unbounded irradiance 1/r² at the hits beside it
+    /// and none defined at its own: a point closer than 1e-9 of the scene's size (the
+    /// surface's radius, at least 1, or the light's distance from the origin if larger;
+    /// the torus hits converge to 1e-12 of it) is refused.
+    fn off_the_surface(&self, what: &str, p: &[f64; 3]) -> Result<()> {
+        let d = self.surface.distance(p);
+        let size = self.surface.radius.max(1.0).max(norm(*p));
+        if d > 1e-9 * size {
+            Ok(())
+        } else {
+            Err(bad(format!(
+                "scene: {what} = {p:?} lies on the surface (distance {d:.1e}): a point light there has unbounded irradiance; move it off the surface"
+            )))
+        }
     }
 
     fn check_render(&self) -> Result<()> {

@@ -225,9 +225,16 @@ pub struct TableWork {
 pub struct WorkRow {
     pub samples: usize,
     pub max_iters: u64,
+    /// Whether the cubic stage measured its trials on fixed nodes
+    /// (`ltc::fit::Method::FixedNodes`) rather than on samples of each trial.
+    #[serde(default)]
+    pub fixed_nodes: bool,
     pub offset: f64,
     pub mean: Figure<Quad>,
     pub work_per_cell: Option<f64>,
+    /// Target evaluations of the fit per cell (`ltc::samples::target_work`).
+    #[serde(default)]
+    pub target_evals_per_cell: Option<f64>,
     pub iters_per_cell: Option<f64>,
 }
 

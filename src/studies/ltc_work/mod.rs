@@ -52,6 +52,28 @@ const TABLES: [(&str, Lobe); 3] = [
 pub struct Route {
     pub samples: f64,
     pub max_iters: f64,
+    /// The cubic stage's nodes: "moving" (the published routes': half of them drawn from
+    /// each trial LTC) or "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`).
+    #[serde(default)]
+    pub nodes: Nodes,
+}
+
+/// Where a route's cubic stage measures its trial lobes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Nodes {
+    #[default]
+    Moving,
+    Fixed,
+}
+
+impl Nodes {
+    fn method(self) -> Method {
+        match self {
+            Nodes::Moving => Method::NelderMead,
+            Nodes::Fixed => Method::FixedNodes,
+        }
+    }
 }
 
 /// What fits/ltc-work.toml sets.
@@ -97,26 +119,28 @@ impl Route {
 }
 
 /// A fitted table's per-cell held-out relative L2 (f64 cell, `[j][i]` flattened) and its
-/// work and iterations per cell.
+/// work, target evaluations and iterations per cell.
 struct Fitted {
     cells: Vec<Option<Figure<Quad>>>,
     work: Option<f64>,
+    target_evals: Option<f64>,
     iters: Option<f64>,
 }
 
-/// Fit `grid` of `lobe` by the route (`samples`, `max_iters`, `polish`) on the training
-/// draw `offset`, then the published table's steps: bilinear pass, storage, held-out judge.
+/// Fit `grid` of `lobe` by the route (`samples`, `max_iters`, `polish`, the cubic
+/// stage's `nodes`) on the training draw `offset`, then the published table's steps:
+/// bilinear pass, storage, held-out judge.
 fn fit(
     lobe: Lobe,
     grid: Grid,
-    (samples, max_iters, polish): (usize, u64, Polish),
+    (samples, max_iters, polish, nodes): (usize, u64, Polish, Nodes),
     offset: f64,
     tol: Tolerance,
 ) -> Result<Fitted> {
     let target = move |a: f64, t: f64| lobe.target(a, t);
     let label = format!("ltc work fit: {}", lobe.short());
     let pb = crate::progress::Progress::new(label, (grid.n * grid.n) as u64);
-    let route = (Metric::Cubic, Method::NelderMead, max_iters, polish);
+    let route = (Metric::Cubic, nodes.method(), max_iters, polish);
     let mut t = fit_table_drawn(&Memo, grid, &target, samples, route, offset, &|| pb.inc(1))?;
     pb.finish();
     crate::ltc::smooth::bilinear_pass(&Memo, &mut t, &target, samples)?;
@@ -128,17 +152,20 @@ fn fit(
     Ok(Fitted {
         cells: all.iter().map(|c| c.l2()).collect(),
         work: Some(per_cell(&|c| c.work as f64)),
+        target_evals: Some(per_cell(&|c| c.target_evals as f64)),
         iters: Some(per_cell(&|c| c.iters as f64)),
     })
 }
 
-fn row((samples, max_iters): (usize, u64), offset: f64, f: &Fitted) -> WorkRow {
+fn row((samples, max_iters): (usize, u64), nodes: Nodes, offset: f64, f: &Fitted) -> WorkRow {
     WorkRow {
         samples,
         max_iters,
+        fixed_nodes: nodes == Nodes::Fixed,
         offset,
         mean: Figure::mean_bounded(&f.cells.iter().flatten().copied().collect::<Vec<_>>()),
         work_per_cell: f.work,
+        target_evals_per_cell: f.target_evals,
         iters_per_cell: f.iters,
     }
 }
@@ -156,31 +183,48 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
             .map(|f| f.map(|f| Figure::new(f[0], f[1])))
             .collect(),
         work: None,
+        target_evals: None,
         iters: None,
     };
     let (tol, at) = (route.tolerance(), (route.samples, route.max_iters));
     let mut draws = vec![published];
-    let mut rows = vec![row(at, TRAIN_OFFSET, &draws[0])];
+    let mut rows = vec![row(at, Nodes::Moving, TRAIN_OFFSET, &draws[0])];
     for &o in &pl.draws {
         crate::report::stage(&format!(
             "regen ltc-work: {name}, the published route on the training draw at offset {o}"
         ));
-        let f = fit(lobe, p.grid, (at.0, at.1, route.polish), o, tol)?;
-        rows.push(row(at, o, &f));
+        let f = fit(
+            lobe,
+            p.grid,
+            (at.0, at.1, route.polish, Nodes::Moving),
+            o,
+            tol,
+        )?;
+        rows.push(row(at, Nodes::Moving, o, &f));
         draws.push(f);
     }
     let refs: Vec<&spread::Cells> = draws.iter().map(|d| d.cells.as_slice()).collect();
     let mut routes = Vec::with_capacity(pl.routes.len());
     for r in &pl.routes {
         let (s, i) = r.of(route.samples, route.max_iters);
+        let on = match r.nodes {
+            Nodes::Moving => "",
+            Nodes::Fixed => ", fixed nodes",
+        };
         crate::report::stage(&format!(
-            "regen ltc-work: {name}, {s}² samples, ≤ {i} iterations per stage"
+            "regen ltc-work: {name}, {s}² samples, ≤ {i} iterations per stage{on}"
         ));
-        let f = fit(lobe, p.grid, (s, i, route.polish), TRAIN_OFFSET, tol)?;
+        let f = fit(
+            lobe,
+            p.grid,
+            (s, i, route.polish, r.nodes),
+            TRAIN_OFFSET,
+            tol,
+        )?;
         let v = spread::judge(&refs, &f.cells).ok_or_else(|| {
             Error::InvalidArgument(format!("ltc-work: {name}: tables of unequal size"))
         })?;
-        routes.push((row((s, i), TRAIN_OFFSET, &f), v));
+        routes.push((row((s, i), r.nodes, TRAIN_OFFSET, &f), v));
     }
     Ok(TableWork {
         table: name.into(),

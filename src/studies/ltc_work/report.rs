@@ -6,7 +6,7 @@ use crate::results::ltc::{LtcWork, TableWork, WorkRow};
 
 pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
     let mut md = format!(
-        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. A route with the published settings is a check: its cells are the published table's, bit for bit.\n\n",
+        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. Target evaluations: the fit's evaluations of the BRDF lobe per cell, in millions, also a count: a moving-sample trial evaluates the lobe at each of its LTC half's samples, so the lobe (two powers and an exponential per value for the sheen, GGX's D and Λ) is most of a trial's cost. A route with fixed nodes (`ltc::fit::Method::FixedNodes`) measures the cubic stage's trials on nodes drawn once per stage — the LTC half from the stage's start, with the balance weights of the two techniques that drew them — so its trials evaluate no lobe; the L2 polish stays the published one. A route with the published settings and moving nodes is a check: its cells are the published table's, bit for bit.\n\n",
         o.command,
         preset.name(),
         o.spec.name,
@@ -31,6 +31,7 @@ fn table_section(t: &TableWork) -> String {
         "training offset",
         "mean rel. L2",
         "work per cell (M)",
+        "target evaluations per cell (M)",
         "mean iterations",
         "cells above the others",
         "sum above (points)",
@@ -48,6 +49,7 @@ fn table_section(t: &TableWork) -> String {
             format!("{}", r.offset),
             r.mean.pct(3),
             millions(r.work_per_cell),
+            millions(r.target_evals_per_cell),
             r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
             e.above.to_string(),
             format!("{:.3}", 100.0 * e.excess),
@@ -73,13 +75,32 @@ fn reference_work(t: &TableWork) -> f64 {
     w.iter().sum::<f64>() / w.len() as f64
 }
 
+/// The reference route's target evaluations per cell: the mean over its refitted draws.
+fn reference_target_evals(t: &TableWork) -> f64 {
+    let w: Vec<f64> = t
+        .draws
+        .iter()
+        .filter_map(|d| d.target_evals_per_cell)
+        .collect();
+    w.iter().sum::<f64>() / w.len() as f64
+}
+
+fn ratio(x: Option<f64>, of: f64) -> String {
+    x.filter(|_| of > 0.0)
+        .map_or("—".into(), |x| format!("{:.2}", x / of))
+}
+
 fn routes_table(t: &TableWork) -> String {
     let w0 = reference_work(t);
+    let e0 = reference_target_evals(t);
     let mut r = MdTable::new([
         "samples",
         "cap",
+        "cubic stage's nodes",
         "work per cell (M)",
         "work / reference",
+        "target evaluations per cell (M)",
+        "target evaluations / reference",
         "mean rel. L2",
         "cells above",
         "sum above (points)",
@@ -95,9 +116,12 @@ fn routes_table(t: &TableWork) -> String {
         r.row([
             format!("{}²", row.samples),
             row.max_iters.to_string(),
+            if row.fixed_nodes { "fixed" } else { "moving" }.into(),
             millions(row.work_per_cell),
             row.work_per_cell
                 .map_or("—".into(), |w| format!("{:.2}", w / w0)),
+            millions(row.target_evals_per_cell),
+            ratio(row.target_evals_per_cell, e0),
             row.mean.pct(3),
             format!("{:.1}", v.candidate_above),
             format!("{:.3}", 100.0 * v.candidate_excess),
@@ -127,11 +151,12 @@ fn routes_table(t: &TableWork) -> String {
 fn verdict(t: &TableWork, w0: f64) -> String {
     let d0 = &t.draws[0];
     // cheaper by its settings: no more samples or iterations than the published route,
-    // and fewer of one (the published route itself is a check, not a candidate)
+    // and fewer of one or fixed nodes (the published route itself is a check, not a
+    // candidate)
     let cheaper = |r: &WorkRow| {
         r.samples <= d0.samples
             && r.max_iters <= d0.max_iters
-            && (r.samples, r.max_iters) != (d0.samples, d0.max_iters)
+            && ((r.samples, r.max_iters) != (d0.samples, d0.max_iters) || r.fixed_nodes)
     };
     let w = |r: &WorkRow| r.work_per_cell.unwrap_or(f64::INFINITY);
     let cheapest = t
@@ -141,9 +166,10 @@ fn verdict(t: &TableWork, w0: f64) -> String {
         .min_by(|a, b| w(&a.0).total_cmp(&w(&b.0)));
     match cheapest {
         Some((r, _)) => format!(
-            "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage, {:.2}× the reference's fit work.\n\n",
+            "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage{}, {:.2}× the reference's fit work.\n\n",
             r.samples,
             r.max_iters,
+            if r.fixed_nodes { ", fixed nodes in the cubic stage" } else { "" },
             w(r) / w0
         ),
         None => "No cheaper route is no worse than the reference: among these routes, the published route's work is what its accuracy needs.\n\n".into(),

@@ -341,7 +341,7 @@ fn fits_work_line(results: &Path) -> Result<String> {
         return Ok(String::new());
     }
     Ok(format!(
-        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {refitted} other draws of its training samples and judges cheaper routes (fewer samples, lower caps) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
+        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {refitted} other draws of its training samples and judges cheaper routes (fewer samples, lower caps, or the cubic stage on fixed nodes, whose trials evaluate no target) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
         w.preset,
         parts.join("; ")
     ))

@@ -70,7 +70,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
         ));
     }
     let mut table = Table::new([
-        "fit of one table cell (4 parameters, 24×24 samples per technique; Nelder–Mead unless the row names Levenberg–Marquardt)",
+        "fit of one table cell (4 parameters, 24×24 samples per technique; Nelder–Mead on moving samples unless the row names fixed nodes or Levenberg–Marquardt)",
         "time (95 % CI)",
         "÷ ltc_code's fitLTC per cell",
     ]);
