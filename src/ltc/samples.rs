@@ -108,6 +108,7 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
     // four samples at a time (`lanes`: the same bits as one at a time), each group's
     // terms summed as soon as it is computed, in the order one at a time takes them
     let mut sums = Sums::default();
+    let mut evals = 0;
     for k0 in (0..n * n).step_by(LANES) {
         let m = LANES.min(n * n - k0);
         let cos: [Option<V3>; LANES] =
@@ -115,7 +116,7 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
         let c: [V3; LANES] = std::array::from_fn(|i| cos[i].unwrap_or_else(V3::z));
         let (img, ok) = ltc.from_cosine_lanes(&Dirs::of(&c));
         let live: [bool; LANES] = std::array::from_fn(|i| i < m && cos[i].is_some() && ok[i]);
-        count_targets(live.iter().filter(|x| **x).count());
+        evals += live.iter().filter(|x| **x).count();
         let fb = t.eval_lanes(&img, live);
         let pl = ltc.eval_lanes(&img);
         let pts: [Option<&(V3, f64, f64)>; LANES] =
@@ -131,6 +132,7 @@ pub fn metrics_on<T: LtcTarget + ?Sized>(
             }
         }
     }
+    count_targets(evals);
     sums.metrics(cnt)
 }
 
@@ -203,12 +205,12 @@ impl FixedNodes {
                 l2 += e * e * iq[i];
             }
         }
-        let rel = if self.f2 > 0.0 {
-            (l2 / self.f2).sqrt()
-        } else {
-            f64::NAN
-        };
-        (cubic / (n * n) as f64, rel)
+        Sums {
+            cubic,
+            l2,
+            f2: self.f2,
+        }
+        .metrics((n * n) as f64)
     }
 }
 
@@ -404,6 +406,9 @@ mod fixed_tests {
     use crate::ltc::target::GgxTarget;
     use nalgebra::Matrix3;
 
+    /// 89.99°, the tables' last view.
+    const GRAZING: f64 = 89.99 * std::f64::consts::PI / 180.0;
+
     /// An LTC about the view's mirror direction: M = R·diag(a, b, 1)·skew.
     fn lobe(theta: f64, a: f64, b: f64, skew: f64) -> Matrix3<f64> {
         let (s, c) = theta.sin_cos();
@@ -440,33 +445,58 @@ mod fixed_tests {
     /// residual is estimated coarsely by either estimator (the moving one is 12 % low on
     /// the diffuse cell, whose fit is within 1.6 %; the others agree to 3 %), a far lobe's
     /// large one to < 0.15 %. On GGX, both sheens and Burley's diffuse, α 0.05 to 1,
-    /// θ 0 to 74°. A
+    /// θ 0 to 74°, and at the extremes: GGX α 1e-4 and the sheen's floor α 0.01, both at
+    /// 89.99° (there the sheen's far lobe within 3 %: both estimators are 1.6–1.7 % off). A
     /// trial on fixed nodes counts its 2n² work and evaluates no target; drawing the nodes
     /// evaluates one per LTC-half node.
     #[test]
     fn fixed_nodes_estimate_the_judged_integrals() {
         let n = 48;
-        let cases: Vec<(Box<dyn LtcTarget>, f64, f64)> = vec![
-            (Box::new(GgxTarget::new(0.3, 0.7).unwrap()), 0.3, 0.7),
-            (Box::new(GgxTarget::new(0.05, 0.2).unwrap()), 0.05, 0.2),
-            (Box::new(GgxTarget::new(1.0, 1.3).unwrap()), 1.0, 1.3),
+        // (target, α, the θ of its far lobe's axis, that lobe's bound)
+        let cases: Vec<(Box<dyn LtcTarget>, f64, f64, f64)> = vec![
+            (Box::new(GgxTarget::new(0.3, 0.7).unwrap()), 0.3, 0.7, 0.005),
+            (
+                Box::new(GgxTarget::new(0.05, 0.2).unwrap()),
+                0.05,
+                0.2,
+                0.005,
+            ),
+            (Box::new(GgxTarget::new(1.0, 1.3).unwrap()), 1.0, 1.3, 0.005),
             (
                 Box::new(CharlieTarget::new(0.4, 0.9, SheenVisibility::EstevezKulla).unwrap()),
                 0.4,
                 0.0,
+                0.005,
             ),
             (
                 Box::new(CharlieTarget::new(0.2, 1.2, SheenVisibility::Neubelt).unwrap()),
                 0.2,
                 0.0,
+                0.005,
             ),
             (
                 Box::new(BurleyTarget::new(0.5, 1.0, BurleyRoughness::Paper).unwrap()),
                 0.5,
                 0.0,
+                0.005,
+            ),
+            // the extremes: the smoothest GGX and the sheen floor, both at 89.99°; 48²
+            // samples resolve the sheen's grazing sliver less well (the moving estimator
+            // misses its far lobe by 1.7 %), hence its looser bound
+            (
+                Box::new(GgxTarget::new(1e-4, GRAZING).unwrap()),
+                1e-4,
+                GRAZING,
+                0.005,
+            ),
+            (
+                Box::new(CharlieTarget::new(0.01, GRAZING, SheenVisibility::EstevezKulla).unwrap()),
+                0.01,
+                0.0,
+                0.03,
             ),
         ];
-        for (k, (t, alpha, mirror)) in cases.iter().enumerate() {
+        for (k, (t, alpha, mirror, far_bound)) in cases.iter().enumerate() {
             let t = t.as_ref();
             let (albedo, _, _) = t.albedo(1e-9);
             let far = if *mirror > 0.0 {
@@ -474,7 +504,7 @@ mod fixed_tests {
             } else {
                 lobe(0.0, 1.0, 0.8, 0.1)
             };
-            for (trial, bound) in [(fitted(t, *alpha, albedo), 0.15), (far, 0.005)] {
+            for (trial, bound) in [(fitted(t, *alpha, albedo), 0.15), (far, *far_bound)] {
                 let ltc = LtcDist::new(trial).unwrap();
                 let exact = judge(
                     t,
