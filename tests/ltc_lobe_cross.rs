@@ -55,20 +55,6 @@ fn rel_l2(
     dd.iter().map(|d| (d / ff).sqrt()).collect()
 }
 
-/// A copy of the folder `from` (files and folders, recursively) at `to`.
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let dst = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy_dir(&e.path(), &dst);
-        } else {
-            std::fs::copy(e.path(), &dst).unwrap();
-        }
-    }
-}
-
 /// At the quick preset in a scratch folder (the sheen and diffuse studies publish their
 /// 8×8 tables, then the cross study judges them): per family, every cell's relative L2
 /// of the variant's table against the main lobe, of the main table against the variant's
@@ -84,7 +70,7 @@ fn every_cross_figure_is_the_named_table_against_the_named_lobe() {
     // sheen lobe is a sliver at grazing half-vectors that a product midpoint rule resolves
     // only with far more nodes (the wiring checked here is the same at every α)
     let fits = d.join("fits-in");
-    copy_dir(Path::new("fits"), &fits);
+    common::copy_dir(Path::new("fits"), &fits);
     let sheen = fits.join("ltc-sheen.toml");
     let text = std::fs::read_to_string(&sheen).unwrap();
     assert!(

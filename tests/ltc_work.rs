@@ -107,3 +107,72 @@ fn the_work_study_is_of_the_published_tables() {
         );
     }
 }
+
+/// A table's spec chooses its cubic stage's nodes: at the quick preset, the GGX spec with
+/// `nodes = "fixed"` fits another table than the committed spec's moving samples (its
+/// report says how), an unknown value is refused before anything runs, and the work
+/// study, which takes a published table as the reference fitter's own draw, refuses a
+/// table fitted on fixed nodes with a one-line error naming the file (exit 2).
+#[test]
+fn the_nodes_key_chooses_the_route_and_the_work_study_refuses_a_fixed_table() {
+    let d = common::scratch("ltc-work-nodes", "quick");
+    let fits = d.join("fits-in");
+    common::copy_dir(Path::new("fits"), &fits);
+    let spec = fits.join("ltc-ggx.toml");
+    let text = std::fs::read_to_string(&spec).unwrap();
+    assert!(
+        !text.contains("\nnodes ="),
+        "fits/ltc-ggx.toml sets no nodes key"
+    );
+    let with =
+        |value: &str| text.replace("\n[params]\n", &format!("\n[params]\nnodes = {value}\n"));
+    let run = |args: &[&str]| common::regen_in(&fits, &d, args).output().unwrap();
+    // an unknown value: refused, naming the file
+    std::fs::write(&spec, with("\"frozen\"")).unwrap();
+    let out = run(&["--only", "ltc-ggx", "--preset", "quick", "--no-cache"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ltc-ggx") && err.contains("nodes"), "{err}");
+    // the committed spec (moving samples), then fixed nodes
+    std::fs::write(&spec, &text).unwrap();
+    common::assert_success(&run(&[
+        "--only",
+        "ltc-ggx",
+        "--preset",
+        "quick",
+        "--no-cache",
+    ]));
+    let moving = ltc::table(&d, "ltc-ggx").unwrap();
+    let md = std::fs::read_to_string(d.join("ltc-ggx.md")).unwrap();
+    assert!(!md.contains("fixed nodes"), "the moving route's report");
+    std::fs::write(&spec, with("\"fixed\"")).unwrap();
+    common::assert_success(&run(&[
+        "--only",
+        "ltc-ggx",
+        "--preset",
+        "quick",
+        "--no-cache",
+    ]));
+    let fixed = ltc::table(&d, "ltc-ggx").unwrap();
+    assert_ne!(fixed.fingerprint(), moving.fingerprint());
+    let md = std::fs::read_to_string(d.join("ltc-ggx.md")).unwrap();
+    assert!(
+        md.contains("the trials measured on fixed nodes"),
+        "the fixed route's report"
+    );
+    // the work study refuses it
+    let out = run(&["--only", "ltc-work", "--preset", "quick", "--no-cache"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let last = err
+        .trim_end()
+        .lines()
+        .last()
+        .unwrap_or_default()
+        .to_string();
+    assert!(
+        last.contains("results/fits/ltc-ggx.json") && last.contains("fixed"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

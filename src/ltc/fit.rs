@@ -35,7 +35,9 @@ pub use super::params::{
     inverse_from_production, matrix, params_from_production, params_to_m, production_inverse, turn,
 };
 pub use super::polish::{Polish, POLISH_ITERS};
-pub use super::samples::{metrics, metrics_on, FixedNodes, Sets, TargetSamples, TRAIN_OFFSET};
+pub use super::samples::{
+    metrics, metrics_on, FixedNodes, Nodes, Sets, TargetSamples, TRAIN_OFFSET,
+};
 pub use super::table::Grid;
 
 type V3 = Vector3<f64>;
@@ -102,6 +104,16 @@ pub enum Method {
     /// once from the stage's start instead of from every trial, so a trial evaluates no
     /// target. The L2 polish after a cubic stage stays the reference's (its `Polish`).
     FixedNodes,
+}
+
+impl Nodes {
+    /// The cubic stage's method (`samples::Nodes`).
+    pub fn method(self) -> Method {
+        match self {
+            Nodes::Moving => Method::NelderMead,
+            Nodes::Fixed => Method::FixedNodes,
+        }
+    }
 }
 
 /// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,

@@ -268,6 +268,28 @@ impl Sums {
     }
 }
 
+/// Where a fit measures its trial lobes: on "moving" nodes (the reference fitter's: half
+/// of them drawn from each trial LTC, [`metrics_on`]) or on "fixed" ones (drawn once per
+/// stage from its start, [`FixedNodes`]). A spec key of the tables fitted by Nelder–Mead.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Nodes {
+    #[default]
+    Moving,
+    Fixed,
+}
+
+impl Nodes {
+    /// In words, for a table's report, after a clause: nothing for the reference
+    /// fitter's moving samples, which the report's method already describes.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Nodes::Moving => "",
+            Nodes::Fixed => "; the trials measured on fixed nodes: each stage's LTC half drawn once from the stage's start and weighted by the balance heuristic of the two techniques that drew it, so a trial evaluates no lobe (results/ltc-work.md judges it as a route against the reference fitter); the L2 polish and the bilinear pass on moving samples",
+        }
+    }
+}
+
 /// A cell's two sample sets, the target's half of each drawn once: training (n×n,
 /// offset 0.5) and validation ((n + 7)², offset 0.37).
 pub struct Sets {

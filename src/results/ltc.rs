@@ -461,6 +461,9 @@ pub struct GgxRoute {
     pub samples: usize,
     pub max_iters: u64,
     pub polish: crate::ltc::fit::Polish,
+    /// Where its cubic stage measured its trials (a spec without the key: moving).
+    #[serde(default)]
+    pub nodes: crate::ltc::fit::Nodes,
     /// The held-out figures' tolerance; a spec from before the key judged to the
     /// default.
     #[serde(default = "crate::ltc::lobe_error::Tolerance::default_relative")]

@@ -2,7 +2,7 @@
 //! LTC it stands for.
 
 use crate::error::Result;
-use crate::ltc::fit::{self, fit_table, Cell, Grid, Method, Metric, Polish, Table};
+use crate::ltc::fit::{self, fit_table, Cell, Grid, Metric, Nodes, Polish, Table};
 use crate::ltc::target::GgxTarget;
 use crate::memo::Memo;
 use nalgebra::Matrix3;
@@ -23,6 +23,10 @@ pub struct Plan {
     pub max_iters: u64,
     /// The L2 polish after the cubic stage (`ltc::fit::Polish`).
     pub polish: Polish,
+    /// Where the cubic stage's trials are measured (the bilinear pass stays on moving ones)
+    /// (`ltc::fit::Nodes`; absent: moving, the reference fitter's).
+    #[serde(default)]
+    pub nodes: Nodes,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
     /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
@@ -85,7 +89,7 @@ pub(super) fn fit_main(pl: &Plan) -> Result<Table> {
         &GgxTarget::new,
         pl.samples,
         Metric::Cubic,
-        Method::NelderMead,
+        pl.nodes.method(),
         pl.max_iters,
         pl.polish,
         &|| pb.inc(1),

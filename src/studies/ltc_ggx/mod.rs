@@ -47,7 +47,7 @@ use compute::{fit_main, Plan};
 fn intro(c: &Computed) -> String {
     let (preset, pl, main, st) = (c.preset, &c.pl, &c.main, &c.held);
     let mut md = format!(
-        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to {}°). Fit: Nelder–Mead (argmin, ≤ {} iterations per stage) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. Then an L2 polish: {}, kept only where the validation set's L2 drops too ({} of {} cells). norm and fresnel by nested adaptive quadrature in half-vector space (tolerance {:e}, largest error estimate {:.1e}).\n\n",
+        "# GGX LTC table and polygonal lights\n\nWritten by `cargo run --release -- regen --only ltc-ggx` (preset {}) from `fits/ltc-ggx.toml`. Target: the cosine-weighted GGX BRDF with height-correlated Smith G2 and F = 1, f = D·G2/(4 v_z). Model: norm·γ_M with M = [X Y Z]·[[m11, 0, m13], [0, m22, 0], [0, 0, 1]], Z the BRDF's mean direction. Grid {}×{}: perceptual roughness r = √α uniform on [0, 1] (α = max(r², {})), t = √(1 − cos θ) uniform on [0, 1] (θ clamped to {}°). Fit: Nelder–Mead (argmin, ≤ {} iterations per stage) on (ln m11, ln m22, m13/m11) against the reference fitter's cubic metric on {}×{} stratified samples per technique (LTC and VNDF{}), warm-started from the rougher neighbour within each θ column (rayon over columns). Four parameters per cell: (ln m11, ln m22, m13/m11) with the frame axis at the mean direction, then all four with the frame turn φ about Y free (the production form's four degrees of freedom; the reference fitter fixes the axis), kept only if it lowers both the training metric and a separate validation set's; φ is carried from cell to cell like the other parameters. Then an L2 polish: {}, kept only where the validation set's L2 drops too ({} of {} cells). norm and fresnel by nested adaptive quadrature in half-vector space (tolerance {:e}, largest error estimate {:.1e}).\n\n",
         preset.name(),
         pl.n,
         pl.n,
@@ -56,6 +56,7 @@ fn intro(c: &Computed) -> String {
         pl.max_iters,
         pl.samples,
         pl.samples,
+        pl.nodes.describe(),
         pl.polish.describe(pl.samples),
         main.cells.iter().flatten().filter(|c| c.polished).count(),
         pl.n * pl.n,

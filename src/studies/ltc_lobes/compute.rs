@@ -2,7 +2,7 @@
 //! lobe's fit, bilinear pass and binary16 storage.
 
 use crate::error::Result;
-use crate::ltc::fit::{fit_table, Grid, Method, Metric, Polish, Table};
+use crate::ltc::fit::{fit_table, Grid, Metric, Nodes, Polish, Table};
 pub use crate::ltc::lobes::{family, Family};
 use crate::ltc::lobes::{Lobe, LobeTarget};
 use crate::ltc::smooth::{bilinear_pass, BilinearPass};
@@ -24,6 +24,10 @@ pub struct Plan {
     pub max_iters: u64,
     /// The L2 polish after the cubic stage (`ltc::fit::Polish`).
     pub polish: Polish,
+    /// Where the cubic stage's trials are measured (the bilinear pass stays on moving ones)
+    /// (`ltc::fit::Nodes`; absent: moving, the reference fitter's).
+    #[serde(default)]
+    pub nodes: Nodes,
     /// MC samples per technique of the polygon-light checks.
     pub mc: usize,
     /// The held-out figures' relative tolerance (`ltc::lobe_error::Tolerance::relative`),
@@ -85,7 +89,7 @@ pub(super) fn fit_lobe(lobe: Lobe, pl: &Plan) -> Result<Fitted> {
         &target,
         pl.samples,
         Metric::Cubic,
-        Method::NelderMead,
+        pl.nodes.method(),
         iters,
         pl.polish,
         &|| pb.inc(1),

@@ -127,7 +127,7 @@ pub(super) fn markdown(
     command: &str,
 ) -> String {
     let mut md = format!(
-        "# {}\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Both tables go through the fitter of the GGX table (`ltc::fit`, generic over the target): grid {n}×{n} in (r = √α, t = √(1 − cos θ)), α = max(r², {}), θ clamped to {}°; Nelder–Mead (argmin, ≤ {it} iterations per stage) on the cubic metric with {s}×{s} stratified samples per technique (the LTC and the lobe's own sampler), warm-started from the rougher neighbour (rayon over θ columns), then an L2 polish ({polish}, kept where a validation set agrees), one bilinear pass (`ltc::smooth`) and the binary16 storage (`ltc::storage`). Layout and production form as the GGX table: M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]], texture 1 = (a, b, c, d), texture 2 = (norm, fresnel, 0, 0). Engine files: results/textures/ (README).\n\n![error](./{}-error.svg)\n\n",
+        "# {}\n\nWritten by `{command}` (preset {}) from `fits/{}.toml`. Both tables go through the fitter of the GGX table (`ltc::fit`, generic over the target): grid {n}×{n} in (r = √α, t = √(1 − cos θ)), α = max(r², {}), θ clamped to {}°; Nelder–Mead (argmin, ≤ {it} iterations per stage) on the cubic metric with {s}×{s} stratified samples per technique (the LTC and the lobe's own sampler{nodes}), warm-started from the rougher neighbour (rayon over θ columns), then an L2 polish ({polish}, kept where a validation set agrees), one bilinear pass (`ltc::smooth`) and the binary16 storage (`ltc::storage`). Layout and production form as the GGX table: M⁻¹ ∝ [[a, 0, c], [0, 1, 0], [b, 0, d]], texture 1 = (a, b, c, d), texture 2 = (norm, fresnel, 0, 0). Engine files: results/textures/ (README).\n\n![error](./{}-error.svg)\n\n",
         fam.title,
         preset.name(),
         spec.name,
@@ -137,6 +137,7 @@ pub(super) fn markdown(
         n = pl.n,
         s = pl.samples,
         polish = pl.polish.describe(pl.samples),
+        nodes = pl.nodes.describe(),
         it = pl.max_iters
     );
     table_section(&mut md, main, &held[0], &r.main, fam.name, pl.tolerance());

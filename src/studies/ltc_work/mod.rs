@@ -28,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset, Quad};
 use crate::io::Outputs;
-use crate::ltc::fit::{fit_table_drawn, Cell, Grid, Method, Metric, Polish, TRAIN_OFFSET};
+use crate::ltc::fit::{fit_table_drawn, Cell, Grid, Metric, Nodes, Polish, TRAIN_OFFSET};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::Lobe;
 use crate::ltc::spread;
@@ -56,24 +56,6 @@ pub struct Route {
     /// each trial LTC) or "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`).
     #[serde(default)]
     pub nodes: Nodes,
-}
-
-/// Where a route's cubic stage measures its trial lobes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Nodes {
-    #[default]
-    Moving,
-    Fixed,
-}
-
-impl Nodes {
-    fn method(self) -> Method {
-        match self {
-            Nodes::Moving => Method::NelderMead,
-            Nodes::Fixed => Method::FixedNodes,
-        }
-    }
 }
 
 /// What fits/ltc-work.toml sets.
@@ -174,6 +156,13 @@ fn row((samples, max_iters): (usize, u64), nodes: Nodes, offset: f64, f: &Fitted
 fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result<TableWork> {
     let (p, fingerprint) = crate::results::ltc::published(results, name)?;
     let route = p.route(name)?;
+    // the published table is the reference's draw at the published offset: the study
+    // judges routes against the reference fitter's moving samples
+    if route.nodes != Nodes::Moving {
+        return Err(Error::InvalidArgument(format!(
+            "ltc-work: results/fits/{name}.json was fitted with nodes = \"fixed\"; the study takes the published table as the reference fitter's draw, which measures its trials on moving samples"
+        )));
+    }
     let published = Fitted {
         cells: p
             .held_out_cells
