@@ -127,32 +127,21 @@ fn the_nodes_key_chooses_the_route_and_the_work_study_refuses_a_fixed_table() {
     let with =
         |value: &str| text.replace("\n[params]\n", &format!("\n[params]\nnodes = {value}\n"));
     let run = |args: &[&str]| common::regen_in(&fits, &d, args).output().unwrap();
+    let fit_ggx = || run(&["--only", "ltc-ggx", "--preset", "quick", "--no-cache"]);
     // an unknown value: refused, naming the file
     std::fs::write(&spec, with("\"frozen\"")).unwrap();
-    let out = run(&["--only", "ltc-ggx", "--preset", "quick", "--no-cache"]);
+    let out = fit_ggx();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("ltc-ggx") && err.contains("nodes"), "{err}");
     // the committed spec (moving samples), then fixed nodes
     std::fs::write(&spec, &text).unwrap();
-    common::assert_success(&run(&[
-        "--only",
-        "ltc-ggx",
-        "--preset",
-        "quick",
-        "--no-cache",
-    ]));
+    common::assert_success(&fit_ggx());
     let moving = ltc::table(&d, "ltc-ggx").unwrap();
     let md = std::fs::read_to_string(d.join("ltc-ggx.md")).unwrap();
     assert!(!md.contains("fixed nodes"), "the moving route's report");
     std::fs::write(&spec, with("\"fixed\"")).unwrap();
-    common::assert_success(&run(&[
-        "--only",
-        "ltc-ggx",
-        "--preset",
-        "quick",
-        "--no-cache",
-    ]));
+    common::assert_success(&fit_ggx());
     let fixed = ltc::table(&d, "ltc-ggx").unwrap();
     assert_ne!(fixed.fingerprint(), moving.fingerprint());
     let md = std::fs::read_to_string(d.join("ltc-ggx.md")).unwrap();
