@@ -311,6 +311,24 @@ impl Figure<StdErr> {
         }
     }
 
+    /// The mean of y over a population of `population` places from a simple random sample
+    /// of them (drawn without replacement) by the difference estimator with a control x
+    /// known at every place: `control_mean` (x's mean over the population) plus the mean of
+    /// `diffs` (y − x at the sampled places), with the standard error
+    /// √((1 − m/N)·s²/m) of m differences (s² their n − 1 variance; Cochran 1977, §7.2 and
+    /// §2.5). Unbiased for the population mean whatever the control; the closer x follows
+    /// y, the smaller the error. The whole population sampled: the exact mean, error 0.
+    /// NaN for no sample or more sampled places than the population holds.
+    pub fn difference_mean(control_mean: f64, diffs: &[f64], population: usize) -> Figure {
+        let m = diffs.len();
+        if m == 0 || m > population {
+            return Figure::NONE;
+        }
+        let d = Figure::mean_of(diffs);
+        let fpc = 1.0 - m as f64 / population as f64;
+        Figure::with_se(control_mean + d.value, d.error * fpc.sqrt())
+    }
+
     /// [`Figure::mean_of`] over the finite values of `v` only.
     pub fn mean_of_finite(v: &[f64]) -> Figure {
         let f: Vec<f64> = v.iter().copied().filter(|a| a.is_finite()).collect();

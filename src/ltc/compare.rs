@@ -187,7 +187,18 @@ pub fn midpoint_error_of<T: LtcTarget>(
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     tol: Tolerance,
 ) -> Result<(Option<LobeError>, f64)> {
-    let n = t.n;
+    let (lobe, albedo) = square_lobe(t.n, (i, j), alpha_min, target)?;
+    Ok((square_error_of(t, (i, j), &lobe, albedo, tol), albedo))
+}
+
+/// The first half of [`midpoint_error_of`]: the lobe at the centre of square (i, j) of an
+/// `n`×`n` table (α = max(r², `alpha_min`)) and its albedo.
+pub fn square_lobe<T: LtcTarget>(
+    n: usize,
+    (i, j): (usize, usize),
+    alpha_min: f64,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+) -> Result<(T, f64)> {
     let r = (i as f64 + 0.5) / (n - 1) as f64;
     let tt = (j as f64 + 0.5) / (n - 1) as f64;
     let lobe = target(
@@ -195,10 +206,20 @@ pub fn midpoint_error_of<T: LtcTarget>(
         (1.0 - tt * tt).clamp(0.0, 1.0).acos(),
     )?;
     let (albedo, _, _) = lobe.albedo(1e-8);
-    let Some(entries) = square_entries(t, i, j) else {
-        return Ok((None, albedo));
-    };
-    Ok((cell_error_of(&lobe, albedo, &[entries], tol)[0], albedo))
+    Ok((lobe, albedo))
+}
+
+/// The second half of [`midpoint_error_of`]: the table interpolated at the centre of
+/// square (i, j) judged against `lobe` (of albedo `albedo`) to `tol`.
+pub fn square_error_of<T: LtcTarget>(
+    t: &Shipped,
+    (i, j): (usize, usize),
+    lobe: &T,
+    albedo: f64,
+    tol: Tolerance,
+) -> Option<LobeError> {
+    let entries = square_entries(t, i, j)?;
+    cell_error_of(lobe, albedo, &[entries], tol)[0]
 }
 
 /// The roughness and view of grid coordinates (r, t) in the shipped convention

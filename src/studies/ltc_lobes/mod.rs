@@ -94,7 +94,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         fam.name,
         fam.variant.short(),
     ));
-    let rep = measures::compute(&main, &variant, &pl)?;
+    let rep = measures::compute(&main, &variant, &pl, pl.between_sample(preset))?;
     let held = [held_out_stats(&main.table), held_out_stats(&variant.table)];
     Ok(Computed {
         fam,
