@@ -285,23 +285,22 @@ pub struct Between {
     /// Whether `judged` holds every visible square (its means are then exact).
     pub all: bool,
     /// Visible squares judged whatever the sample (those touching the
-    /// [`BETWEEN_WORST_CELLS`] worst cells; every one when `all`), and the rest, of which a
-    /// random sample was judged.
+    /// [`BETWEEN_WORST_CELLS`] worst cells and those whose corners' entries jump most;
+    /// every one when `all`), and the rest, of which a random sample was judged.
     pub census: usize,
     pub rest: usize,
     /// The mean relative L2 and L1 over every visible square: the census squares' sum plus
     /// the rest's from a random sample of them by `Figure::difference_mean`, with the mean
     /// of each square's four corner cells' held-out figures as the control (± the sample's
-    /// standard error scaled by the rest's share; exact, ± 0, when all are judged).
+    /// standard error scaled by the rest's share; exact, ± 0, when all are judged). A
+    /// judged square without a figure (a singular interpolated matrix; none in the
+    /// published tables) adds nothing to the census sum and is left out of the sample.
     pub mean_l2: Figure<StdErr>,
     pub mean_l1: Figure<StdErr>,
 }
 
-/// The visible squares (indices into the row-major squares) the between-cell figures
-/// judge: the census — those touching the [`BETWEEN_WORST_CELLS`] worst cells, and the
-/// quarter of `sample` whose corners' entries jump most ([`corner_jumps`]) — and the other
-/// three quarters drawn at random from the rest; all of them (all census) when those
-/// reach the rest's count.
+/// The visible squares (indices into the row-major squares) a between-cell measure judges:
+/// the census, every one of them judged, and the rest, of which `drawn` were.
 struct Picked {
     census: Vec<usize>,
     rest: Vec<usize>,
@@ -337,6 +336,10 @@ fn corner_jumps(t: &Table) -> Vec<f64> {
         .collect()
 }
 
+/// The census — the squares touching the [`BETWEEN_WORST_CELLS`] worst cells, and the
+/// quarter of `sample` whose corners' entries jump most ([`corner_jumps`]) — and the other
+/// three quarters drawn at random (fixed seed) from the rest; all of them (all census)
+/// when those reach the rest's count.
 fn pick_squares(t: &Table, visible: &[usize], sample: usize) -> Picked {
     use rand::SeedableRng;
     if sample >= visible.len() {
