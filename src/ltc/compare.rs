@@ -199,14 +199,21 @@ pub fn square_lobe<T: LtcTarget>(
     alpha_min: f64,
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
 ) -> Result<(T, f64)> {
-    let r = (i as f64 + 0.5) / (n - 1) as f64;
-    let tt = (j as f64 + 0.5) / (n - 1) as f64;
-    let lobe = target(
-        (r * r).max(alpha_min),
-        (1.0 - tt * tt).clamp(0.0, 1.0).acos(),
-    )?;
+    let (alpha, theta) = square_centre(n, (i, j), alpha_min);
+    let lobe = target(alpha, theta)?;
     let (albedo, _, _) = lobe.albedo(1e-8);
     Ok((lobe, albedo))
+}
+
+/// (α, θ in radians) at the centre of square (i, j) of an `n`×`n` table in (r = √α,
+/// t = √(1 − cos θ)), α = max(r², `alpha_min`).
+pub fn square_centre(n: usize, (i, j): (usize, usize), alpha_min: f64) -> (f64, f64) {
+    let r = (i as f64 + 0.5) / (n - 1) as f64;
+    let tt = (j as f64 + 0.5) / (n - 1) as f64;
+    (
+        (r * r).max(alpha_min),
+        (1.0 - tt * tt).clamp(0.0, 1.0).acos(),
+    )
 }
 
 /// The second half of [`midpoint_error_of`]: the table interpolated at the centre of

@@ -8,7 +8,7 @@
 use super::compute::{Fitted, Plan};
 use crate::error::Result;
 use crate::integrate::{Figure, Quad, StdErr};
-use crate::ltc::compare::{square_error_of, square_lobe, Shipped};
+use crate::ltc::compare::{square_centre, square_error_of, square_lobe, Shipped};
 use crate::ltc::fit::{inverse_from_production, Cell, Table};
 use crate::ltc::lobe_error::{Change, LobeError};
 use crate::ltc::polygon::{check_cell, PolygonCheck};
@@ -445,7 +445,9 @@ fn measure_between(f: &Fitted, pl: &Plan, sample: usize) -> Result<Between> {
     let judged: Vec<usize> = p.census.iter().chain(&p.drawn).copied().collect();
     let errs: Vec<Option<LobeError>> =
         crate::memo::map_items("lobe table between cells", &judged, |&k| {
-            let (lobe, _) = square_lobe(n, squares[k], t.grid.alpha_min, &target)?;
+            // the lobe again (cheap), not its albedo: the first pass has it
+            let (alpha, theta) = square_centre(n, squares[k], t.grid.alpha_min);
+            let lobe = target(alpha, theta)?;
             Ok(square_error_of(
                 &sh,
                 squares[k],
@@ -454,13 +456,9 @@ fn measure_between(f: &Fitted, pl: &Plan, sample: usize) -> Result<Between> {
                 pl.tolerance(),
             ))
         })?;
-    let at = |(i, j): (usize, usize)| {
-        let r = (i as f64 + 0.5) / (n - 1) as f64;
-        let tt = (j as f64 + 0.5) / (n - 1) as f64;
-        (
-            (r * r).max(t.grid.alpha_min),
-            (1.0 - tt * tt).clamp(0.0, 1.0).acos().to_degrees(),
-        )
+    let at = |q: (usize, usize)| {
+        let (alpha, theta) = square_centre(n, q, t.grid.alpha_min);
+        (alpha, theta.to_degrees())
     };
     let mids: Vec<(Option<LobeError>, (f64, f64))> = judged
         .iter()
