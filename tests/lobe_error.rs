@@ -408,3 +408,100 @@ fn the_between_cell_means_from_a_random_sample_agree_with_every_square() {
         }
     }
 }
+
+/// The GGX table's between-cell figures are over every square, the first column (between
+/// α_min and the next roughness, where the table errs most between cells) included: on the
+/// quick preset, judging each square of the published table here, as a shader
+/// interpolates it, gives the recorded count, means (exact, ± 0) and largest; a sample of
+/// 0 is refused in one line, exit 2.
+#[test]
+fn the_ggx_between_cell_figures_judge_every_square() {
+    use ndfbench::ltc::compare::{midpoint_error_of, of_table};
+    use ndfbench::ltc::target::GgxTarget;
+    let d = common::scratch("lobe-error", "ggx-between");
+    let run = |extra: &str| {
+        let (fits, res) = (
+            d.join(format!("fits{extra}")),
+            d.join(format!("results{extra}")),
+        );
+        common::copy_dir(Path::new("fits"), &fits);
+        if !extra.is_empty() {
+            let p = fits.join("ltc-ggx.toml");
+            let text = std::fs::read_to_string(&p).unwrap();
+            std::fs::write(
+                &p,
+                text.replace("\n[quick]\n", &format!("\n[quick]\n{extra}\n")),
+            )
+            .unwrap();
+        }
+        let args = ["--only", "ltc-ggx", "--preset", "quick", "--no-cache"];
+        (common::regen_in(&fits, &res, &args).output().unwrap(), res)
+    };
+    let (out, _) = run("between_sample = 0");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("between_sample") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    let (out, res) = run("");
+    common::assert_success(&out);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(res.join("fits/ltc-ggx.json")).unwrap())
+            .unwrap();
+    let params = &v["spec"]["params"];
+    for k in ["held_out_rel", "held_out_l1_rel", "alpha_min"] {
+        assert!(
+            v["spec"]["quick"].get(k).is_none(),
+            "the quick preset sets {k}"
+        );
+    }
+    let num = |x: &serde_json::Value| x.as_f64().expect("a number");
+    let tol = Tolerance::figures(
+        num(&params["held_out_rel"]),
+        num(&params["held_out_l1_rel"]),
+    );
+    let t = ndfbench::results::ltc::table(&res, "ltc-ggx").unwrap();
+    let sh = of_table(&t);
+    let n = t.n;
+    let (mut l2, mut l1, mut visible, mut largest) = (Vec::new(), Vec::new(), 0, 0.0f64);
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let (e, albedo) =
+                midpoint_error_of(&sh, (i, j), num(&params["alpha_min"]), &GgxTarget::new, tol)
+                    .unwrap();
+            if albedo < 1e-4 {
+                continue;
+            }
+            visible += 1;
+            let e = e.expect("every GGX square has a figure");
+            l2.push(e.l2.value);
+            l1.push(e.l1.value);
+            largest = largest.max(e.l2.value);
+        }
+    }
+    let b = &v["between"];
+    assert_eq!(b["all"], true);
+    assert_eq!(num(&b["visible"]) as usize, visible);
+    assert_eq!(
+        visible,
+        (n - 1) * (n - 1),
+        "every GGX square carries energy"
+    );
+    assert_eq!(num(&b["judged"]["l2"]["count"]) as usize, visible);
+    for (figure, vals) in [("mean_l2", &l2), ("mean_l1", &l1)] {
+        let mean = vals.iter().sum::<f64>() / vals.len() as f64;
+        let got = num(&b[figure]["value"]);
+        assert!(
+            (got - mean).abs() <= 1e-12 * mean,
+            "{figure}: {got} against {mean}"
+        );
+        assert_eq!(num(&b[figure]["error"]), 0.0, "{figure}");
+    }
+    assert_eq!(num(&b["judged"]["l2"]["max"]["value"]), largest);
+    let md = std::fs::read_to_string(res.join("ltc-ggx.md")).unwrap();
+    assert!(
+        md.contains(&format!("over the {visible} squares whose lobe")),
+        "{md}"
+    );
+}

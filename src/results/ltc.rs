@@ -41,45 +41,7 @@ pub struct Summary {
     pub edge_approximations: Vec<EdgeApproximation>,
 }
 
-/// Both held-out figures over a set of places (a table's cells or squares), with where
-/// the largest relative L2 is.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-pub struct Located {
-    pub l2: crate::ltc::lobe_error::Spread,
-    pub l1: crate::ltc::lobe_error::Spread,
-    /// (α, θ°) of the largest relative L2; `None` where no place has a figure.
-    pub at: Option<(f64, f64)>,
-}
-
-impl Located {
-    /// The figures of `v` (each place's error, `None` where it has none, and its (α, θ°)).
-    pub fn of(v: &[(Option<crate::ltc::lobe_error::LobeError>, (f64, f64))]) -> Located {
-        use crate::ltc::lobe_error::Spread;
-        let l2 = Spread::of(v.iter().map(|x| x.0.as_ref().map(|e| &e.l2)));
-        let l1 = Spread::of(v.iter().map(|x| x.0.as_ref().map(|e| &e.l1)));
-        Located {
-            l2,
-            l1,
-            at: (l2.count > 0)
-                .then(|| v.get(l2.argmax).map(|x| x.1))
-                .flatten(),
-        }
-    }
-    /// Both figures in words, for a report: "relative L2 mean …, max … at (α, θ°);
-    /// relative L1 mean …, max …".
-    pub fn words(&self) -> String {
-        let at = self
-            .at
-            .map_or(String::new(), |(a, t)| format!(" at ({a:.3}, {t:.1}°)"));
-        format!(
-            "relative L2 mean {}, max {}{at}; relative L1 mean {}, max {}",
-            self.l2.mean.pct(2),
-            self.l2.max.pct(1),
-            self.l1.mean.pct(2),
-            self.l1.max.pct(1)
-        )
-    }
-}
+pub use super::between::Located;
 
 /// results/fits/ltc-ggx.json: the GGX table, its held-out figures and every section's
 /// measures. The lobe-table results share its first part ([`Tables`], [`Summary`]).
@@ -104,6 +66,8 @@ pub struct Ggx {
     pub sphere_horizon: SphereHorizon,
     /// The bilinear-aware refit.
     pub bilinear_pass: BilinearPass,
+    /// The error between cells, from a calibrated sample of squares.
+    pub between: crate::results::between::Between,
 }
 
 /// The held-out relative L2 and L1 of every cell of a table (its f64 cell), each

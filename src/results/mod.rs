@@ -9,6 +9,7 @@ use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
 pub mod alpha_me;
+pub mod between;
 pub mod compare;
 pub mod costs;
 pub mod envsg;

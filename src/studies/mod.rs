@@ -9,6 +9,7 @@ pub mod engines;
 pub mod filters;
 pub mod leadr_grids;
 pub mod ltc_aniso;
+pub mod ltc_between;
 pub mod ltc_compact;
 pub mod ltc_compare;
 pub mod ltc_error_map;

@@ -41,9 +41,21 @@ pub struct Plan {
     pub pipeline_levels: Vec<usize>,
     pub pipeline_per_level: usize,
     pub pipeline_tolerance: f64,
+    /// Squares the between-cell figures judge at random beyond those judged always
+    /// (`studies::ltc_between`); as many as the other squares or more: all of them, and
+    /// the means are exact. Absent: every square at every preset. Unlike the sheen and
+    /// diffuse tables', this table's errors between cells have a tail no sample of 1024
+    /// covers: the squares next to the smallest α (α = max(r², α_min) changes 25-fold
+    /// across the first column) and at grazing; measured in fits/ltc-ggx.toml.
+    #[serde(default)]
+    pub between_sample: Option<usize>,
 }
 
 impl Plan {
+    /// The squares judged at random between cells (`usize::MAX`: all).
+    pub fn between_sample(&self) -> usize {
+        self.between_sample.unwrap_or(usize::MAX)
+    }
     /// The held-out judge's tolerance: `held_out_rel` for the relative L2,
     /// `held_out_l1_rel` for the relative L1.
     pub fn tolerance(&self) -> crate::ltc::lobe_error::Tolerance {
@@ -67,7 +79,8 @@ impl crate::fit::spec::Params for Plan {
         within("pipeline_per_level", self.pipeline_per_level, 1, 1_000)?;
         within("pipeline_tolerance", self.pipeline_tolerance, 1e-9, 0.1)?;
         crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
-        crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)
+        crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)?;
+        crate::studies::ltc_between::check_sample(self.between_sample)
     }
 }
 

@@ -97,7 +97,7 @@ pub struct Computed {
     sampled: held::Sampled,
     bilinear: BilinearPass,
     structure: table::Structure,
-    between: table::Between,
+    between: crate::studies::ltc_between::Between,
     compare: Option<crate::results::compare::LtcCompare>,
     precision: precision::Precision,
     polygons: polygons::Polygons,
@@ -118,7 +118,12 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
     let st = stats(&main);
     let sampled = held::sampled_estimate(&Memo, &main, &GgxTarget::new, 2 * pl.samples)?;
     let structure = table::measure_structure(&main);
-    let between = table::measure_between(&main, pl.tolerance())?;
+    let between = crate::studies::ltc_between::measure(
+        &main,
+        &GgxTarget::new,
+        pl.tolerance(),
+        pl.between_sample(),
+    )?;
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
     let polygons = polygons::measure(&main, pl.mc)?;
@@ -200,6 +205,7 @@ fn render(set: &mut Outputs, results: &std::path::Path, c: &Computed) -> Result<
         pipeline: pipeline::result(&c.pipeline),
         sphere_horizon: poly.sphere_horizon,
         bilinear_pass: c.bilinear,
+        between: c.between.clone(),
     };
     crate::results::put_named(set, results, &spec.name, &json)
 }

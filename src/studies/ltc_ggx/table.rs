@@ -1,12 +1,9 @@
-//! The fitted table itself: corners, collapse and sign checks, smoothness, the error
-//! between cells (bilinear interpolation, as a shader samples the table). `measure_*`
-//! computes, `*_section` formats.
+//! The fitted table itself: corners, collapse and sign checks, smoothness, and the
+//! sentence on the error between cells (bilinear interpolation, as a shader samples the
+//! table; measured by `studies::ltc_between`). `measure_*` computes, `*_section` formats.
 
-use crate::error::Result;
 use crate::ltc::fit::{Cell, Table};
 use crate::ltc::held::Stats;
-use crate::ltc::lobe_error::Spread;
-use crate::ltc::target::GgxTarget;
 use crate::report::table::Table as MdTable;
 
 /// Corners, collapse/sign checks and smoothness of the main table.
@@ -141,64 +138,11 @@ pub(super) fn structure_section(s: &Structure) -> String {
     md
 }
 
-/// Between cells: the production inverse interpolated at square centres.
-pub(super) struct Between {
-    step: usize,
-    l2: Spread,
-    l1: Spread,
-    /// (i, j) of the square with the largest relative L2.
-    worst: (usize, usize),
-}
-
-pub(super) fn measure_between(
-    main: &Table,
-    tol: crate::ltc::lobe_error::Tolerance,
-) -> Result<Between> {
-    let n = main.grid.n;
-    let table = crate::ltc::compare::Shipped {
-        n,
-        mat: (0..n * n).map(|k| main.cells[k / n][k % n].inv).collect(),
-        mag: (0..n * n)
-            .map(|k| [main.cells[k / n][k % n].norm, 0.0])
-            .collect(),
-    };
-    let step = (n / 16).max(1);
-    let squares: Vec<(usize, usize)> = (0..n - 1)
-        .step_by(step)
-        .flat_map(|j| (1..n - 1).step_by(step).map(move |i| (i, j)))
-        .collect();
-    let mids = crate::memo::map_items("ltc between cells", &squares, |&(i, j)| {
-        crate::ltc::compare::midpoint_error_of(
-            &table,
-            (i, j),
-            main.grid.alpha_min,
-            &GgxTarget::new,
-            tol,
-        )
-        .map(|e| e.0)
-    })?;
-    let l2 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l2)));
-    let l1 = Spread::of(mids.iter().map(|e| e.as_ref().map(|e| &e.l1)));
-    let worst = squares.get(l2.argmax).copied().unwrap_or((0, 0));
-    Ok(Between {
-        step,
-        l2,
-        l1,
-        worst,
-    })
-}
-
 /// `cells`: the table's own held-out summary, shown beside the squares'.
-pub(super) fn between_section(b: &Between, cells: &Stats) -> String {
-    let step = b.step;
+pub(super) fn between_section(b: &crate::studies::ltc_between::Between, cells: &Stats) -> String {
     format!(
-        "Between cells (what a shader sampling the table bilinearly sees): the production inverse interpolated at the centres of {} squares (every {step}th in each direction, r > 0), judged against the BRDF there by the same held-out integrals with the interpolated norm: relative L2 mean {}, max {} (square at i = {}, j = {}); relative L1 mean {}. The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
-        b.l2.count,
-        b.l2.mean.pct(2),
-        b.l2.max.pct(1),
-        b.worst.0,
-        b.worst.1,
-        b.l1.mean.pct(2),
+        "{} The cells themselves: relative L2 mean {}, relative L1 mean {}.\n\n",
+        crate::studies::ltc_between::report::words(b, "absent every square"),
         cells.l2.mean.pct(2),
         cells.l1.mean.pct(2)
     )

@@ -37,28 +37,17 @@ pub struct Plan {
     /// chosen from the same study's L1 curve.
     pub held_out_l1_rel: f64,
     /// Squares the between-cell figures judge at random beyond those judged always
-    /// (`measures::pick_squares`); as many as the other squares or more: all of them, and
-    /// the means are exact. Absent: [`BETWEEN_SAMPLE`] at the quick and default presets,
+    /// (`ltc_between::pick_squares`); as many as the other squares or more: all of them,
+    /// and the means are exact. Absent: `ltc_between::BETWEEN_SAMPLE` at the quick and default presets,
     /// every square at the precise one.
     #[serde(default)]
     pub between_sample: Option<usize>,
 }
 
-/// The between-cell sample where the spec gives none (quick and default presets). Measured
-/// against judging every square of the four published tables (results of one full run,
-/// the sample redrawn 2000 times): ±2 s.e. covered the exact mean in 94–96 % of the draws
-/// at 1024 (and at 512; at 2048 the sheen tables' coverage fell to 92–93 %), for about a
-/// quarter of the judge's work between cells.
-pub const BETWEEN_SAMPLE: usize = 1024;
-
 impl Plan {
     /// The squares judged at random between cells at `preset` (`usize::MAX`: all).
     pub fn between_sample(&self, preset: crate::integrate::Preset) -> usize {
-        match (self.between_sample, preset) {
-            (Some(m), _) => m,
-            (None, crate::integrate::Preset::Precise) => usize::MAX,
-            (None, _) => BETWEEN_SAMPLE,
-        }
+        crate::studies::ltc_between::sample_at(self.between_sample, preset)
     }
     /// The held-out judge's tolerance: `held_out_rel` for the relative L2,
     /// `held_out_l1_rel` for the relative L1.
@@ -78,10 +67,7 @@ impl crate::fit::spec::Params for Plan {
         )?;
         crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
         crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)?;
-        if self.between_sample == Some(0) {
-            return Err("between_sample = 0 judges no square: give at least 1".into());
-        }
-        Ok(())
+        crate::studies::ltc_between::check_sample(self.between_sample)
     }
 }
 

@@ -7,14 +7,12 @@
 
 use super::compute::{Fitted, Plan};
 use crate::error::Result;
-use crate::integrate::{Figure, Quad, StdErr};
-use crate::ltc::compare::{square_centre, square_error_of, square_lobe, Shipped};
+use crate::integrate::{Figure, Quad};
 use crate::ltc::fit::{inverse_from_production, Cell, Table};
-use crate::ltc::lobe_error::{Change, LobeError};
+use crate::ltc::lobe_error::Change;
 use crate::ltc::polygon::{check_cell, PolygonCheck};
 use crate::ltc::target::LtcTarget;
 use crate::memo::Memo;
-use crate::results::ltc::Located;
 use serde::Serialize;
 
 /// The side of the stratified Monte Carlo grid the norms are checked against.
@@ -60,10 +58,6 @@ pub struct Facts {
     pub below_horizon_at: (f64, f64),
 }
 
-/// The albedo below which a lobe's relative error is left out of the between-cell means
-/// (a ten-thousandth of a white light's energy).
-pub const VISIBLE_ALBEDO: f64 = 1e-4;
-
 /// The smallest normal binary16 number.
 const F16_NORMAL_MIN: f64 = 6.103515625e-5;
 
@@ -72,7 +66,7 @@ const F16_NORMAL_MIN: f64 = 6.103515625e-5;
 pub struct TableReport {
     pub worst: Vec<CellRow>,
     /// The production inverse interpolated at the centres of the squares between cells.
-    pub between: Between,
+    pub between: crate::studies::ltc_between::Between,
     /// f32, binary16 to nearest, binary16 as stored.
     pub storage: [StorageCost; 3],
     /// Cells with an albedo below binary16's normal range (left out of `storage`).
@@ -99,18 +93,6 @@ pub struct Report {
 
 fn flat(t: &Table) -> Vec<&Cell> {
     t.cells.iter().flatten().collect()
-}
-
-/// The table in the shipped layout (for the between-cell measure).
-fn as_shipped(t: &Table) -> Shipped {
-    let n = t.grid.n;
-    Shipped {
-        n,
-        mat: (0..n * n).map(|k| t.cells[k / n][k % n].inv).collect(),
-        mag: (0..n * n)
-            .map(|k| [t.cells[k / n][k % n].norm, 0.0])
-            .collect(),
-    }
 }
 
 /// The LTC's mass below the horizon: with (Mω)_z = m·ω (m the third row of M), the
@@ -217,7 +199,8 @@ fn table_report(f: &Fitted, pl: &Plan, sample: usize) -> Result<TableReport> {
             }
         })
         .collect();
-    let between = measure_between(f, pl, sample)?;
+    let target = |a: f64, th: f64| f.lobe.target(a, th);
+    let between = crate::studies::ltc_between::measure(t, &target, pl.tolerance(), sample)?;
     let target = |a: f64, th: f64| f.lobe.target(a, th);
     // the norm by quadrature against stratified MC (NORM_MC_SIDE² samples of the lobe's
     // sampler)
@@ -261,232 +244,6 @@ fn table_report(f: &Fitted, pl: &Plan, sample: usize) -> Result<TableReport> {
         polygons,
         facts: facts(t),
         sampled: crate::ltc::held::sampled_estimate(&Memo, t, &target, 2 * pl.samples)?,
-    })
-}
-
-/// The seed of the random sample of squares the between-cell figures judge.
-const BETWEEN_SEED: u64 = 0x005e_edb7;
-
-/// The cells (by held-out relative L2, worst first) whose squares the between-cell figures
-/// always judge, so that the largest error between cells is not left to chance.
-pub const BETWEEN_WORST_CELLS: usize = 16;
-
-/// The error between cells: the table interpolated at square centres as a shader reads it,
-/// judged against the lobe there.
-#[derive(Clone, Debug, Serialize)]
-pub struct Between {
-    /// Over the judged squares (their count, mean, largest and where).
-    pub judged: Located,
-    /// Squares whose lobe has an albedo of at least [`VISIBLE_ALBEDO`] (the population),
-    /// and those below it, left out: between corners whose albedos differ by orders of
-    /// magnitude (sheen seen head-on at small α) the interpolated norm dwarfs such a lobe.
-    pub visible: usize,
-    pub left_out: usize,
-    /// Whether `judged` holds every visible square (its means are then exact).
-    pub all: bool,
-    /// Visible squares judged whatever the sample (those touching the
-    /// [`BETWEEN_WORST_CELLS`] worst cells and those whose corners' entries jump most;
-    /// every one when `all`), and the rest, of which a random sample was judged.
-    pub census: usize,
-    pub rest: usize,
-    /// The mean relative L2 and L1 over every visible square: the census squares' sum plus
-    /// the rest's from a random sample of them by `Figure::difference_mean`, with the mean
-    /// of each square's four corner cells' held-out figures as the control (± the sample's
-    /// standard error scaled by the rest's share; exact, ± 0, when all are judged). A
-    /// judged square without a figure (a singular interpolated matrix; none in the
-    /// published tables) adds nothing to the census sum and is left out of the sample.
-    pub mean_l2: Figure<StdErr>,
-    pub mean_l1: Figure<StdErr>,
-}
-
-/// The visible squares (indices into the row-major squares) a between-cell measure judges:
-/// the census, every one of them judged, and the rest, of which `drawn` were.
-struct Picked {
-    census: Vec<usize>,
-    rest: Vec<usize>,
-    drawn: Vec<usize>,
-}
-
-/// Per square (row-major), how far its four corners' entries (a, b, c, d, norm) spread:
-/// Σ over the entries of (max − min)/(max |v| + the entry's mean |v| over the table).
-fn corner_jumps(t: &Table) -> Vec<f64> {
-    let n = t.grid.n;
-    let entry = |c: &Cell, e: usize| if e < 4 { c.inv[e] } else { c.norm };
-    let scale: Vec<f64> = (0..5)
-        .map(|e| flat(t).iter().map(|c| entry(c, e).abs()).sum::<f64>() / (n * n) as f64)
-        .collect();
-    (0..(n - 1) * (n - 1))
-        .map(|k| {
-            let (i, j) = (k % (n - 1), k / (n - 1));
-            let corners =
-                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)].map(|(a, b)| &t.cells[b][a]);
-            (0..5)
-                .map(|e| {
-                    let v = corners.map(|c| entry(c, e));
-                    let (lo, hi) = v
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
-                            (l.min(x), h.max(x))
-                        });
-                    let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                    (hi - lo) / (big + scale[e]).max(f64::MIN_POSITIVE)
-                })
-                .sum()
-        })
-        .collect()
-}
-
-/// The census — the squares touching the [`BETWEEN_WORST_CELLS`] worst cells, and the
-/// quarter of `sample` whose corners' entries jump most ([`corner_jumps`]) — and the other
-/// three quarters drawn at random (fixed seed) from the rest; all of them (all census)
-/// when those reach the rest's count.
-fn pick_squares(t: &Table, visible: &[usize], sample: usize) -> Picked {
-    use rand::SeedableRng;
-    if sample >= visible.len() {
-        return Picked {
-            census: visible.to_vec(),
-            rest: Vec::new(),
-            drawn: Vec::new(),
-        };
-    }
-    let n = t.grid.n;
-    let l2 = |(i, j): (usize, usize)| {
-        let c: &Cell = &t.cells[j][i];
-        c.l2().map_or(f64::NEG_INFINITY, |b| b.value)
-    };
-    let mut cells: Vec<(usize, usize)> = (0..n).flat_map(|j| (0..n).map(move |i| (i, j))).collect();
-    cells.sort_by(|&a, &b| l2(b).total_cmp(&l2(a)));
-    cells.truncate(BETWEEN_WORST_CELLS);
-    // square k = i + (n − 1)·j has corners (i, j) … (i + 1, j + 1)
-    let touches = |k: usize| {
-        let (i, j) = (k % (n - 1), k / (n - 1));
-        cells
-            .iter()
-            .any(|&(a, b)| (a == i || a == i + 1) && (b == j || b == j + 1))
-    };
-    let (mut census, rest): (Vec<usize>, Vec<usize>) = visible.iter().partition(|&&k| touches(k));
-    // and the quarter of the sample where the corners' entries jump most (where the
-    // interpolated lobe strays furthest from its corners' fits)
-    let jump = corner_jumps(t);
-    let mut rest = rest;
-    rest.sort_by(|&a, &b| jump[b].total_cmp(&jump[a]).then(a.cmp(&b)));
-    census.extend(rest.drain(..(sample / 4).min(rest.len())));
-    census.sort_unstable();
-    rest.sort_unstable();
-    let sample = sample - sample / 4;
-    if sample >= rest.len() {
-        return Picked {
-            census: visible.to_vec(),
-            rest: Vec::new(),
-            drawn: Vec::new(),
-        };
-    }
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(BETWEEN_SEED);
-    let mut drawn: Vec<usize> = rand::seq::index::sample(&mut rng, rest.len(), sample)
-        .into_iter()
-        .map(|k| rest[k])
-        .collect();
-    drawn.sort_unstable();
-    Picked {
-        census,
-        rest,
-        drawn,
-    }
-}
-
-/// The mean over every visible square of the relative L2 (or L1) from the judged ones:
-/// the census's sum plus the rest's from its random sample by `Figure::difference_mean`,
-/// the control x being the mean of a square's corner cells' held-out figures.
-fn stratified_mean(
-    t: &Table,
-    p: &Picked,
-    y: &dyn Fn(usize) -> Option<f64>,
-    l1: bool,
-) -> Figure<StdErr> {
-    let n = t.grid.n;
-    let x = |k: usize| {
-        let (i, j) = (k % (n - 1), k / (n - 1));
-        let v: Vec<f64> = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-            .iter()
-            .filter_map(|&(a, b)| t.cells[b][a].held.and_then(|h| h.f64))
-            .map(|e| if l1 { e.l1.value } else { e.l2.value })
-            .collect();
-        v.iter().sum::<f64>() / v.len().max(1) as f64
-    };
-    let total = (p.census.len() + p.rest.len()) as f64;
-    let census: f64 = p.census.iter().filter_map(|&k| y(k)).sum();
-    if p.rest.is_empty() {
-        return Figure::with_se(census / total, 0.0);
-    }
-    let x_mean = p.rest.iter().map(|&k| x(k)).sum::<f64>() / p.rest.len() as f64;
-    let d: Vec<f64> = p.drawn.iter().filter_map(|&k| Some(y(k)? - x(k))).collect();
-    let rest = Figure::difference_mean(x_mean, &d, p.rest.len());
-    let share = p.rest.len() as f64 / total;
-    Figure::with_se(census / total + share * rest.value, share * rest.error)
-}
-
-/// [`Between`] of a fitted table: every square's lobe and albedo, then the judge at the
-/// squares [`pick_squares`] chooses.
-fn measure_between(f: &Fitted, pl: &Plan, sample: usize) -> Result<Between> {
-    let t = &f.table;
-    let n = t.grid.n;
-    let sh = as_shipped(t);
-    let target = |a: f64, th: f64| f.lobe.target(a, th);
-    let squares: Vec<(usize, usize)> = (0..n - 1)
-        .flat_map(|j| (0..n - 1).map(move |i| (i, j)))
-        .collect();
-    let albedos: Vec<f64> = crate::memo::map_items("lobe table square albedos", &squares, |&q| {
-        Ok(square_lobe(n, q, t.grid.alpha_min, &target)?.1)
-    })?;
-    let visible: Vec<usize> = (0..squares.len())
-        .filter(|&k| albedos[k] >= VISIBLE_ALBEDO)
-        .collect();
-    let p = pick_squares(t, &visible, sample);
-    let judged: Vec<usize> = p.census.iter().chain(&p.drawn).copied().collect();
-    let errs: Vec<Option<LobeError>> =
-        crate::memo::map_items("lobe table between cells", &judged, |&k| {
-            // the lobe again (cheap), not its albedo: the first pass has it
-            let (alpha, theta) = square_centre(n, squares[k], t.grid.alpha_min);
-            let lobe = target(alpha, theta)?;
-            Ok(square_error_of(
-                &sh,
-                squares[k],
-                &lobe,
-                albedos[k],
-                pl.tolerance(),
-            ))
-        })?;
-    let at = |q: (usize, usize)| {
-        let (alpha, theta) = square_centre(n, q, t.grid.alpha_min);
-        (alpha, theta.to_degrees())
-    };
-    let mids: Vec<(Option<LobeError>, (f64, f64))> = judged
-        .iter()
-        .zip(&errs)
-        .map(|(&k, e)| (*e, at(squares[k])))
-        .collect();
-    let by_square: std::collections::HashMap<usize, LobeError> = judged
-        .iter()
-        .zip(&errs)
-        .filter_map(|(&k, e)| Some((k, (*e)?)))
-        .collect();
-    let by_square = &by_square;
-    let y = |l1: bool| {
-        move |k: usize| {
-            by_square
-                .get(&k)
-                .map(|e| if l1 { e.l1.value } else { e.l2.value })
-        }
-    };
-    Ok(Between {
-        judged: Located::of(&mids),
-        visible: visible.len(),
-        left_out: squares.len() - visible.len(),
-        all: p.rest.is_empty(),
-        census: p.census.len(),
-        rest: p.rest.len(),
-        mean_l2: stratified_mean(t, &p, &y(false), false),
-        mean_l1: stratified_mean(t, &p, &y(true), true),
     })
 }
 

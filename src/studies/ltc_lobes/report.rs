@@ -2,53 +2,13 @@
 //! Formats only.
 
 use super::compute::{Family, Fitted, Plan};
-use super::measures::{Between, Report, TableReport, BETWEEN_WORST_CELLS, VISIBLE_ALBEDO};
+use super::measures::{Report, TableReport};
 use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset};
 use crate::ltc::held::Stats;
 use crate::report::table::Table as MdTable;
-
-/// The between-cell sentence: every visible square judged (exact means), or a random
-/// sample of them (means over all by the difference estimator, ± its s.e.).
-fn between_words(b: &Between) -> String {
-    let left_out = if b.left_out > 0 {
-        format!(" {} squares are left out: their lobe carries almost no energy (sheen seen head-on at small α), and between corners whose albedos differ by orders of magnitude the interpolated norm dwarfs it, so their relative error says nothing about the picture", b.left_out)
-    } else {
-        String::new()
-    };
-    let j = &b.judged;
-    if b.all {
-        return format!(
-            "Between cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of the squares, judged against the lobe there by the same integrals, over the {} squares whose lobe has an albedo of at least {:e}: {}.{left_out}",
-            j.l2.count, VISIBLE_ALBEDO, j.words()
-        );
-    }
-    let at =
-        j.at.map_or(String::new(), |(a, t)| format!(" at ({a:.3}, {t:.1}°)"));
-    let mean = |m: &crate::integrate::Figure, judged: &crate::ltc::lobe_error::Spread| {
-        format!(
-            "{} (s.e.; the judged figures' own integral bars average ±{:.4})",
-            m.pct(4),
-            100.0 * judged.mean.error
-        )
-    };
-    format!(
-        "Between cells (what a shader sampling the table bilinearly sees): the production inverse and the norm interpolated at the centres of {} of the {} squares whose lobe has an albedo of at least {:e} — {} always (those touching the {} worst cells, and those whose corners' entries jump most), and {} drawn at random from the other {} (`between_sample` in the spec, absent 1024: a quarter of it goes to the jumps; as many as the other squares or more judges all, as the precise preset does) — judged against the lobe there by the same integrals. Means over all {}: the first group's sum plus the others' by the difference estimator with the mean of each square's four corner cells' held-out figures as the control, ± the sample's standard error: relative L2 {}, relative L1 {}. Largest among the judged: relative L2 {}{at}, relative L1 {}.{left_out}",
-        j.l2.count,
-        b.visible,
-        VISIBLE_ALBEDO,
-        b.census,
-        BETWEEN_WORST_CELLS,
-        j.l2.count.saturating_sub(b.census),
-        b.rest,
-        b.visible,
-        mean(&b.mean_l2, &j.l2),
-        mean(&b.mean_l1, &j.l1),
-        j.l2.max.pct(1),
-        j.l1.max.pct(1),
-    )
-}
+use crate::studies::ltc_between::report::words as between_words;
 
 fn table_section(
     md: &mut String,
@@ -83,7 +43,10 @@ fn table_section(
         ]);
     }
     md.push_str(&t.to_string());
-    md.push_str(&format!("\n{}\n\n", between_words(&r.between)));
+    md.push_str(&format!(
+        "\n{}\n\n",
+        between_words(&r.between, "absent 1024")
+    ));
     md.push_str("Storage precision (change of the held-out relative L2 per cell against the f64 table, ± the sum of the two figures' error bars; 0.01 = one point):\n\n");
     let mut t = MdTable::new([
         "storage",
