@@ -51,6 +51,8 @@ pub enum Cmd {
     /// the other lobe's table or with Lambert, on request, `--only ltc-lobe-cross`; the LTC tables' accuracy against fitting work, cheaper routes
     /// judged against each published route's own spread over training draws, `--only ltc-work`; every cell's held-out figures are judged as exact integrals,
     /// to the tolerance each table's spec chooses from the curve of `--only ltc-judge-tolerance`, on request;
+    /// the error between cells over every square, the GGX table judging all, the sheen and diffuse a calibrated sample whose size
+    /// comes from the curve of `--only ltc-between-sample`, on request;
     /// results/performance.md has each study's wall clock), and writes the
     /// engine files (`results/textures/`); `--only tensor` CP-compresses P-NDF image blocks
     /// at several ranks (`results/tensor.md`); `--only tensor-scale` runs seed 002

@@ -3,7 +3,8 @@
 //! lands) as results/fits/ltc-ggx.json and the lobe tables' results record it;
 //! `studies::ltc_between` measures it.
 
-use crate::integrate::{Figure, StdErr};
+use crate::fit::spec::FitSpec;
+use crate::integrate::{Figure, Quad, StdErr};
 use serde::{Deserialize, Serialize};
 
 /// Both held-out figures over a set of places (a table's cells or squares), with where
@@ -72,4 +73,68 @@ pub struct Between {
     /// published tables) adds nothing to the census sum and is left out of the sample.
     pub mean_l2: Figure<StdErr>,
     pub mean_l1: Figure<StdErr>,
+}
+
+/// results/fits/ltc-between-sample.json (on request): how well the between-cell sample
+/// estimates the mean over every square, per published table and sample size.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BetweenSample {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    /// The samples redrawn per size (each with its own seed).
+    pub redraws: usize,
+    pub tables: Vec<SampleCurve>,
+}
+
+impl super::ResultFile for BetweenSample {
+    const NAME: &'static str = super::names::LTC_BETWEEN_SAMPLE;
+}
+
+/// One table: every visible square judged (the exact means), and one point per size.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SampleCurve {
+    pub table: String,
+    /// The SHA-256 of results/fits/<table>.json's table part (`results::fits_sha256`).
+    pub sha256: String,
+    pub visible: usize,
+    /// Visible squares with no figure (a singular interpolated matrix).
+    pub without_figure: usize,
+    /// The means over every visible square, ± the mean of their integrals' bars.
+    pub exact_l2: Figure<Quad>,
+    pub exact_l1: Figure<Quad>,
+    /// What the table's own spec draws (`between_sample`, resolved at its preset;
+    /// `usize::MAX`: every square).
+    pub published_sample: usize,
+    pub points: Vec<SamplePoint>,
+}
+
+/// One sample size, over the redraws.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct SamplePoint {
+    /// `between_sample`: the squares drawn at random beyond the census.
+    pub sample: usize,
+    /// Squares judged per draw (census and drawn); every visible one when the sample
+    /// reaches the rest (then the estimate is exact and the calibration is empty).
+    pub judged: usize,
+    /// The first draw's estimates (relative L2, L1) ± their s.e.: the studies' own draw,
+    /// what a table's report publishes at this size.
+    pub own: [Figure<StdErr>; 2],
+    pub l2: Calibration,
+    pub l1: Calibration,
+}
+
+/// The estimator over the redraws, each draw's error e = estimate − exact mean and its
+/// reported s.e. (plain means over the draws, each ± its own s.e.; no ratio or root).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Calibration {
+    /// The share of draws with |e| ≤ 2 s.e. (0.954 for a normal estimate with an
+    /// honest s.e.).
+    pub coverage: Figure<StdErr>,
+    /// The mean of e (0 for an unbiased estimator).
+    pub bias: Figure<StdErr>,
+    /// The mean of (e / s.e.)² (1 when the s.e. is honest).
+    pub z2: Figure<StdErr>,
+    /// The mean reported s.e.
+    pub se: Figure<StdErr>,
 }

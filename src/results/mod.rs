@@ -208,6 +208,7 @@ pub mod names {
     pub const LTC_LOBE_CROSS: &str = "ltc-lobe-cross";
     pub const LTC_WORK: &str = "ltc-work";
     pub const LTC_JUDGE_TOLERANCE: &str = "ltc-judge-tolerance";
+    pub const LTC_BETWEEN_SAMPLE: &str = "ltc-between-sample";
     pub const MULTISCALE_ALPHA_ME: &str = "multiscale-alpha-me";
     pub const MULTISCALE_CONVOLUTION: &str = "multiscale-convolution";
     pub const SMITH_LAMBDA: &str = "smith-lambda";

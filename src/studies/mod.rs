@@ -10,6 +10,7 @@ pub mod filters;
 pub mod leadr_grids;
 pub mod ltc_aniso;
 pub mod ltc_between;
+pub mod ltc_between_sample;
 pub mod ltc_compact;
 pub mod ltc_compare;
 pub mod ltc_error_map;

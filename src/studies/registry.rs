@@ -6,10 +6,10 @@
 use crate::study::Study;
 
 use super::{
-    filters, leadr_grids, ltc_aniso, ltc_compact, ltc_ggx, ltc_judge_tolerance, ltc_lobe_cross,
-    ltc_lobes, ltc_optimisers, ltc_work, multiscale_alpha_me, multiscale_convolution, render,
-    render_truth_work, smith_lambda, tensor, tensor_envsg, tensor_scale, tensor_wang, tensor_wave,
-    visibility,
+    filters, leadr_grids, ltc_aniso, ltc_between_sample, ltc_compact, ltc_ggx, ltc_judge_tolerance,
+    ltc_lobe_cross, ltc_lobes, ltc_optimisers, ltc_work, multiscale_alpha_me,
+    multiscale_convolution, render, render_truth_work, smith_lambda, tensor, tensor_envsg,
+    tensor_scale, tensor_wang, tensor_wave, visibility,
 };
 
 /// Every study, as data.
@@ -32,6 +32,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &ltc_lobe_cross::LtcLobeCross,
     &ltc_work::LtcWorkStudy,
     &ltc_judge_tolerance::LtcJudgeTolerance,
+    &ltc_between_sample::LtcBetweenSample,
     &ltc_compact::LtcCompactStudy,
     &render::RenderStudy,
     &render_truth_work::RenderTruthWork,

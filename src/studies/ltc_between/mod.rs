@@ -11,7 +11,7 @@
 use crate::error::Result;
 use crate::integrate::{Figure, StdErr};
 use crate::ltc::compare::{square_centre, square_error_of, square_lobe, Shipped};
-use crate::ltc::fit::{Cell, Table};
+use crate::ltc::fit::Table;
 use crate::ltc::lobe_error::{LobeError, Tolerance};
 use crate::ltc::target::LtcTarget;
 pub use crate::results::between::Between;
@@ -20,12 +20,13 @@ use crate::results::ltc::Located;
 pub mod report;
 
 /// The random squares judged where a sheen or diffuse spec gives no `between_sample`
-/// (quick and default presets). Measured against judging every square of the published
-/// tables (results of one full run, the sample redrawn 2000 times): ±2 s.e. covered the
-/// exact mean in 94–96 % of the draws at 1024 (and at 512; at 2048 the sheen tables'
-/// coverage fell to 92–93 %), for about a quarter of the judge's work between cells. The
-/// GGX table judges every square: its check, in fits/ltc-ggx.toml, found no sample size
-/// whose bars hold.
+/// (quick and default presets), chosen from the curve of the `ltc-between-sample` study
+/// (results/ltc-between-sample.md: every square of each published table judged, the
+/// sample redrawn per size): at 1024 the ±2 s.e. interval covers the exact mean about as
+/// often as an honest one should, for about a quarter of the judge's work between cells;
+/// at 2048 the sheen tables' coverage falls (the rest's heavy tail is too thin a sample).
+/// The GGX table judges every square: on that curve its s.e. at 1024 is 180 times its
+/// integrals' bars, and judging all costs it little.
 pub const BETWEEN_SAMPLE: usize = 1024;
 
 /// The random squares judged at `preset` given the spec's `between_sample` (`usize::MAX`:
@@ -47,15 +48,61 @@ pub fn check_sample(given: Option<usize>) -> std::result::Result<(), String> {
     }
 }
 
-/// The table in the shipped layout, the norm as the second texture's first channel.
-fn as_shipped(t: &Table) -> Shipped {
-    let n = t.grid.n;
-    Shipped {
-        n,
-        mat: (0..n * n).map(|k| t.cells[k / n][k % n].inv).collect(),
-        mag: (0..n * n)
-            .map(|k| [t.cells[k / n][k % n].norm, 0.0])
-            .collect(),
+/// What the sample design and the estimator read of a table, cell k = i + n·j (i the
+/// roughness index, j the view's): its entries and its held-out figures.
+pub struct Cells {
+    pub n: usize,
+    pub alpha_min: f64,
+    /// (a, b, c, d, norm) of the f64 cell.
+    pub entries: Vec<[f64; 5]>,
+    /// The f64 cell's held-out (relative L2, relative L1); `None` where it has none.
+    pub held: Vec<Option<[f64; 2]>>,
+}
+
+impl Cells {
+    /// A fitted, judged table's cells.
+    pub fn of_table(t: &Table) -> Cells {
+        let n = t.grid.n;
+        let cell = |k: usize| &t.cells[k / n][k % n];
+        Cells {
+            n,
+            alpha_min: t.grid.alpha_min,
+            entries: (0..n * n)
+                .map(|k| {
+                    let c = cell(k);
+                    [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm]
+                })
+                .collect(),
+            held: (0..n * n)
+                .map(|k| {
+                    let e = cell(k).held.and_then(|h| h.f64)?;
+                    Some([e.l2.value, e.l1.value])
+                })
+                .collect(),
+        }
+    }
+
+    /// The table in the shipped layout, the norm as the second texture's first channel.
+    fn shipped(&self) -> Shipped {
+        Shipped {
+            n: self.n,
+            mat: self
+                .entries
+                .iter()
+                .map(|e| [e[0], e[1], e[2], e[3]])
+                .collect(),
+            mag: self.entries.iter().map(|e| [e[4], 0.0]).collect(),
+        }
+    }
+
+    /// Square k = i + (n − 1)·j as (i, j): its corners are (i, j) … (i + 1, j + 1).
+    pub fn square(&self, k: usize) -> (usize, usize) {
+        (k % (self.n - 1), k / (self.n - 1))
+    }
+
+    /// The squares' count, (n − 1)².
+    pub fn squares(&self) -> usize {
+        (self.n - 1) * (self.n - 1)
     }
 }
 
@@ -64,43 +111,36 @@ fn as_shipped(t: &Table) -> Shipped {
 pub const VISIBLE_ALBEDO: f64 = 1e-4;
 
 /// The seed of the random sample of squares the between-cell figures judge.
-const BETWEEN_SEED: u64 = 0x005e_edb7;
+pub const BETWEEN_SEED: u64 = 0x005e_edb7;
 
 /// The cells (by held-out relative L2, worst first) whose squares the between-cell figures
 /// always judge, so that the largest error between cells is not left to chance.
 pub const BETWEEN_WORST_CELLS: usize = 16;
 
-/// The visible squares (indices into the row-major squares) a between-cell measure judges:
-/// the census, every one of them judged, and the rest, of which `drawn` were.
-struct Picked {
-    census: Vec<usize>,
-    rest: Vec<usize>,
-    drawn: Vec<usize>,
+/// The visible squares (indices k = i + (n − 1)·j) a between-cell measure judges: the
+/// census, every one of them judged, and the rest, of which `drawn` were.
+#[derive(Clone)]
+pub struct Picked {
+    pub census: Vec<usize>,
+    pub rest: Vec<usize>,
+    pub drawn: Vec<usize>,
 }
 
-/// Per square (row-major), how far its four corners' entries (a, b, c, d, norm) spread:
-/// Σ over the entries of (max − min)/(max |v| + the entry's mean |v| over the table).
-fn corner_jumps(t: &Table) -> Vec<f64> {
-    let n = t.grid.n;
-    let entry = |c: &Cell, e: usize| if e < 4 { c.inv[e] } else { c.norm };
+/// Per square, how far its four corners' entries (a, b, c, d, norm) spread: Σ over the
+/// entries of (max − min)/(max |v| + the entry's mean |v| over the table).
+fn corner_jumps(c: &Cells) -> Vec<f64> {
+    let n = c.n;
     let scale: Vec<f64> = (0..5)
-        .map(|e| {
-            t.cells
-                .iter()
-                .flatten()
-                .map(|c| entry(c, e).abs())
-                .sum::<f64>()
-                / (n * n) as f64
-        })
+        .map(|e| c.entries.iter().map(|v| v[e].abs()).sum::<f64>() / (n * n) as f64)
         .collect();
-    (0..(n - 1) * (n - 1))
+    (0..c.squares())
         .map(|k| {
-            let (i, j) = (k % (n - 1), k / (n - 1));
-            let corners =
-                [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)].map(|(a, b)| &t.cells[b][a]);
+            let (i, j) = c.square(k);
+            let corners = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                .map(|(a, b)| &c.entries[a + n * b]);
             (0..5)
                 .map(|e| {
-                    let v = corners.map(|c| entry(c, e));
+                    let v = corners.map(|x| x[e]);
                     let (lo, hi) = v
                         .iter()
                         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
@@ -116,28 +156,30 @@ fn corner_jumps(t: &Table) -> Vec<f64> {
 
 /// The census — the squares touching the [`BETWEEN_WORST_CELLS`] worst cells, and the
 /// quarter of `sample` whose corners' entries jump most ([`corner_jumps`]) — and the other
-/// three quarters drawn at random (fixed seed) from the rest; all of them (all census)
-/// when those reach the rest's count.
-fn pick_squares(t: &Table, visible: &[usize], sample: usize) -> Picked {
-    use rand::SeedableRng;
-    if sample >= visible.len() {
-        return Picked {
-            census: visible.to_vec(),
-            rest: Vec::new(),
-            drawn: Vec::new(),
-        };
-    }
-    let n = t.grid.n;
-    let l2 = |(i, j): (usize, usize)| {
-        let c: &Cell = &t.cells[j][i];
-        c.l2().map_or(f64::NEG_INFINITY, |b| b.value)
+/// three quarters drawn at random (`seed`) from the rest; all of them (all census) when
+/// those reach the rest's count. The studies draw with [`BETWEEN_SEED`].
+pub fn pick_squares(c: &Cells, visible: &[usize], sample: usize, seed: u64) -> Picked {
+    draw(census(c, visible, sample), sample, seed)
+}
+
+/// [`pick_squares`]' census and rest, nothing drawn yet (all census when `sample` reaches
+/// the visible squares or, past the census, the rest).
+pub fn census(c: &Cells, visible: &[usize], sample: usize) -> Picked {
+    let all = || Picked {
+        census: visible.to_vec(),
+        rest: Vec::new(),
+        drawn: Vec::new(),
     };
+    if sample >= visible.len() {
+        return all();
+    }
+    let n = c.n;
+    let l2 = |(i, j): (usize, usize)| c.held[i + n * j].map_or(f64::NEG_INFINITY, |h| h[0]);
     let mut cells: Vec<(usize, usize)> = (0..n).flat_map(|j| (0..n).map(move |i| (i, j))).collect();
     cells.sort_by(|&a, &b| l2(b).total_cmp(&l2(a)));
     cells.truncate(BETWEEN_WORST_CELLS);
-    // square k = i + (n − 1)·j has corners (i, j) … (i + 1, j + 1)
     let touches = |k: usize| {
-        let (i, j) = (k % (n - 1), k / (n - 1));
+        let (i, j) = c.square(k);
         cells
             .iter()
             .any(|&(a, b)| (a == i || a == i + 1) && (b == j || b == j + 1))
@@ -145,49 +187,59 @@ fn pick_squares(t: &Table, visible: &[usize], sample: usize) -> Picked {
     let (mut census, rest): (Vec<usize>, Vec<usize>) = visible.iter().partition(|&&k| touches(k));
     // and the quarter of the sample where the corners' entries jump most (where the
     // interpolated lobe strays furthest from its corners' fits)
-    let jump = corner_jumps(t);
+    let jump = corner_jumps(c);
     let mut rest = rest;
     rest.sort_by(|&a, &b| jump[b].total_cmp(&jump[a]).then(a.cmp(&b)));
     census.extend(rest.drain(..(sample / 4).min(rest.len())));
     census.sort_unstable();
     rest.sort_unstable();
-    let sample = sample - sample / 4;
-    if sample >= rest.len() {
-        return Picked {
-            census: visible.to_vec(),
-            rest: Vec::new(),
-            drawn: Vec::new(),
-        };
+    if sample - sample / 4 >= rest.len() {
+        return all();
     }
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(BETWEEN_SEED);
-    let mut drawn: Vec<usize> = rand::seq::index::sample(&mut rng, rest.len(), sample)
+    Picked {
+        census,
+        rest,
+        drawn: Vec::new(),
+    }
+}
+
+/// The three quarters of `sample` drawn at random (`seed`) from a [`census`]'s rest.
+pub fn draw(base: Picked, sample: usize, seed: u64) -> Picked {
+    use rand::SeedableRng;
+    if base.rest.is_empty() {
+        return base;
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let rest = base.rest;
+    let mut drawn: Vec<usize> = rand::seq::index::sample(&mut rng, rest.len(), sample - sample / 4)
         .into_iter()
         .map(|k| rest[k])
         .collect();
     drawn.sort_unstable();
     Picked {
-        census,
+        census: base.census,
         rest,
         drawn,
     }
 }
 
-/// The mean over every visible square of the relative L2 (or L1) from the judged ones:
-/// the census's sum plus the rest's from its random sample by `Figure::difference_mean`,
-/// the control x being the mean of a square's corner cells' held-out figures.
-fn stratified_mean(
-    t: &Table,
+/// The mean over every visible square of the relative L2 (or L1) from the judged ones
+/// (`y`: a judged square's figure): the census's sum plus the rest's from its random
+/// sample by `Figure::difference_mean`, the control x being the mean of a square's corner
+/// cells' held-out figures.
+pub fn stratified_mean(
+    c: &Cells,
     p: &Picked,
     y: &dyn Fn(usize) -> Option<f64>,
     l1: bool,
 ) -> Figure<StdErr> {
-    let n = t.grid.n;
+    let n = c.n;
     let x = |k: usize| {
-        let (i, j) = (k % (n - 1), k / (n - 1));
+        let (i, j) = c.square(k);
         let v: Vec<f64> = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
             .iter()
-            .filter_map(|&(a, b)| t.cells[b][a].held.and_then(|h| h.f64))
-            .map(|e| if l1 { e.l1.value } else { e.l2.value })
+            .filter_map(|&(a, b)| c.held[a + n * b])
+            .map(|h| h[usize::from(l1)])
             .collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
     };
@@ -203,6 +255,36 @@ fn stratified_mean(
     Figure::with_se(census / total + share * rest.value, share * rest.error)
 }
 
+/// Every square's albedo (the lobe at its centre; 1e-8 quadrature), which decides the
+/// population ([`VISIBLE_ALBEDO`]) and is the judge's norm.
+pub fn square_albedos<T: LtcTarget>(
+    c: &Cells,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+) -> Result<Vec<f64>> {
+    let squares: Vec<usize> = (0..c.squares()).collect();
+    crate::memo::map_items("lobe table square albedos", &squares, |&k| {
+        Ok(square_lobe(c.n, c.square(k), c.alpha_min, target)?.1)
+    })
+}
+
+/// The held-out figures (`tol`) of the squares `which`, the table interpolated at each
+/// centre as a shader reads it against the lobe there (of albedo `albedos[k]`).
+pub fn judge_squares<T: LtcTarget>(
+    c: &Cells,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    albedos: &[f64],
+    which: &[usize],
+    tol: Tolerance,
+) -> Result<Vec<Option<LobeError>>> {
+    let sh = c.shipped();
+    crate::memo::map_items("lobe table between cells", which, |&k| {
+        // the lobe again (cheap), not its albedo: the first pass has it
+        let (alpha, theta) = square_centre(c.n, c.square(k), c.alpha_min);
+        let lobe = target(alpha, theta)?;
+        Ok(square_error_of(&sh, c.square(k), &lobe, albedos[k], tol))
+    })
+}
+
 /// [`Between`] of a fitted table `t` whose lobe at (α, θ) is `target`: every square's
 /// lobe and albedo (which decides the population), then the held-out judge (`tol`) at the
 /// squares [`pick_squares`] chooses, `sample` of them at random.
@@ -212,34 +294,22 @@ pub fn measure<T: LtcTarget>(
     tol: Tolerance,
     sample: usize,
 ) -> Result<Between> {
-    let n = t.grid.n;
-    let sh = as_shipped(t);
-    let squares: Vec<(usize, usize)> = (0..n - 1)
-        .flat_map(|j| (0..n - 1).map(move |i| (i, j)))
-        .collect();
-    let albedos: Vec<f64> = crate::memo::map_items("lobe table square albedos", &squares, |&q| {
-        Ok(square_lobe(n, q, t.grid.alpha_min, target)?.1)
-    })?;
-    let visible: Vec<usize> = (0..squares.len())
+    let c = Cells::of_table(t);
+    let albedos = square_albedos(&c, target)?;
+    let visible: Vec<usize> = (0..c.squares())
         .filter(|&k| albedos[k] >= VISIBLE_ALBEDO)
         .collect();
-    let p = pick_squares(t, &visible, sample);
+    let p = pick_squares(&c, &visible, sample, BETWEEN_SEED);
     let judged: Vec<usize> = p.census.iter().chain(&p.drawn).copied().collect();
-    let errs: Vec<Option<LobeError>> =
-        crate::memo::map_items("lobe table between cells", &judged, |&k| {
-            // the lobe again (cheap), not its albedo: the first pass has it
-            let (alpha, theta) = square_centre(n, squares[k], t.grid.alpha_min);
-            let lobe = target(alpha, theta)?;
-            Ok(square_error_of(&sh, squares[k], &lobe, albedos[k], tol))
-        })?;
-    let at = |q: (usize, usize)| {
-        let (alpha, theta) = square_centre(n, q, t.grid.alpha_min);
+    let errs = judge_squares(&c, target, &albedos, &judged, tol)?;
+    let at = |k: usize| {
+        let (alpha, theta) = square_centre(c.n, c.square(k), c.alpha_min);
         (alpha, theta.to_degrees())
     };
     let mids: Vec<(Option<LobeError>, (f64, f64))> = judged
         .iter()
         .zip(&errs)
-        .map(|(&k, e)| (*e, at(squares[k])))
+        .map(|(&k, e)| (*e, at(k)))
         .collect();
     let by_square: std::collections::HashMap<usize, LobeError> = judged
         .iter()
@@ -257,11 +327,11 @@ pub fn measure<T: LtcTarget>(
     Ok(Between {
         judged: Located::of(&mids),
         visible: visible.len(),
-        left_out: squares.len() - visible.len(),
+        left_out: c.squares() - visible.len(),
         all: p.rest.is_empty(),
         census: p.census.len(),
         rest: p.rest.len(),
-        mean_l2: stratified_mean(t, &p, &y(false), false),
-        mean_l1: stratified_mean(t, &p, &y(true), true),
+        mean_l2: stratified_mean(&c, &p, &y(false), false),
+        mean_l1: stratified_mean(&c, &p, &y(true), true),
     })
 }
