@@ -189,10 +189,8 @@ fn curve<T: LtcTarget>(
         .filter(|&k| albedos[k] >= between::VISIBLE_ALBEDO)
         .collect();
     let errs = between::judge_squares(&c, target, &albedos, &visible, tol)?;
-    let mut fig: Vec<Option<[f64; 2]>> = vec![None; c.squares()];
-    for (&k, e) in visible.iter().zip(&errs) {
-        fig[k] = e.map(|e| [e.l2.value, e.l1.value]);
-    }
+    let fig = between::figures(&c, &visible, &errs);
+    let controls = [between::control(&c, false), between::control(&c, true)];
     let spread = |l1: bool| {
         crate::ltc::lobe_error::Spread::of(
             errs.iter()
@@ -212,7 +210,7 @@ fn curve<T: LtcTarget>(
     let points = pl
         .samples
         .iter()
-        .map(|&m| point(&c, &visible, &fig, exact, m, pl.redraws))
+        .map(|&m| point(&c, &visible, (&fig, &controls), exact, m, pl.redraws))
         .collect();
     let published_sample = match name {
         "ltc-ggx" => chosen.between_sample.unwrap_or(usize::MAX),
@@ -240,7 +238,7 @@ fn seed_of(r: usize) -> u64 {
 fn point(
     c: &Cells,
     visible: &[usize],
-    fig: &[Option<[f64; 2]>],
+    (fig, controls): (&[Option<[f64; 2]>], &[Vec<f64>; 2]),
     exact: [f64; 2],
     m: usize,
     redraws: usize,
@@ -249,8 +247,7 @@ fn point(
     let first = between::draw(base.clone(), m, seed_of(0));
     let judged = first.census.len() + first.drawn.len();
     let estimate = |p: &between::Picked, l1: bool| {
-        let y = |k: usize| fig[k].map(|f| f[usize::from(l1)]);
-        between::stratified_mean(c, p, &y, l1)
+        between::stratified_mean(p, fig, &controls[usize::from(l1)], l1)
     };
     let own = [false, true].map(|l1| estimate(&first, l1));
     let draws: Vec<[[f64; 2]; 2]> = (0..redraws)

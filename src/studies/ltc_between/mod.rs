@@ -223,33 +223,50 @@ pub fn draw(base: Picked, sample: usize, seed: u64) -> Picked {
     }
 }
 
-/// The mean over every visible square of the relative L2 (or L1) from the judged ones
-/// (`y`: a judged square's figure): the census's sum plus the rest's from its random
-/// sample by `Figure::difference_mean`, the control x being the mean of a square's corner
-/// cells' held-out figures.
+/// Per square, the control of [`stratified_mean`]: the mean of its corner cells' held-out
+/// relative L2 (or L1 with `l1`), over the corners that have one.
+pub fn control(c: &Cells, l1: bool) -> Vec<f64> {
+    let n = c.n;
+    (0..c.squares())
+        .map(|k| {
+            let (i, j) = c.square(k);
+            let (sum, count) = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                .iter()
+                .filter_map(|&(a, b)| c.held[a + n * b])
+                .fold((0.0, 0usize), |(s, m), h| (s + h[usize::from(l1)], m + 1));
+            sum / count.max(1) as f64
+        })
+        .collect()
+}
+
+/// Per square, the judged (relative L2, relative L1) of the squares `which` (`errs` in
+/// the same order); `None` where a square was not judged or has no figure.
+pub fn figures(c: &Cells, which: &[usize], errs: &[Option<LobeError>]) -> Vec<Option<[f64; 2]>> {
+    let mut fig = vec![None; c.squares()];
+    for (&k, e) in which.iter().zip(errs) {
+        fig[k] = e.map(|e| [e.l2.value, e.l1.value]);
+    }
+    fig
+}
+
+/// The mean over every visible square of the relative L2 (or L1 with `l1`) from the judged
+/// ones (`fig`, by square, [`figures`]): the census's sum plus the rest's from its random
+/// sample by `Figure::difference_mean`, the control `x` (by square, [`control`]) being the
+/// mean of a square's corner cells' held-out figures.
 pub fn stratified_mean(
-    c: &Cells,
     p: &Picked,
-    y: &dyn Fn(usize) -> Option<f64>,
+    fig: &[Option<[f64; 2]>],
+    x: &[f64],
     l1: bool,
 ) -> Figure<StdErr> {
-    let n = c.n;
-    let x = |k: usize| {
-        let (i, j) = c.square(k);
-        let v: Vec<f64> = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-            .iter()
-            .filter_map(|&(a, b)| c.held[a + n * b])
-            .map(|h| h[usize::from(l1)])
-            .collect();
-        v.iter().sum::<f64>() / v.len().max(1) as f64
-    };
+    let y = |k: usize| fig[k].map(|f| f[usize::from(l1)]);
     let total = (p.census.len() + p.rest.len()) as f64;
     let census: f64 = p.census.iter().filter_map(|&k| y(k)).sum();
     if p.rest.is_empty() {
         return Figure::with_se(census / total, 0.0);
     }
-    let x_mean = p.rest.iter().map(|&k| x(k)).sum::<f64>() / p.rest.len() as f64;
-    let d: Vec<f64> = p.drawn.iter().filter_map(|&k| Some(y(k)? - x(k))).collect();
+    let x_mean = p.rest.iter().map(|&k| x[k]).sum::<f64>() / p.rest.len() as f64;
+    let d: Vec<f64> = p.drawn.iter().filter_map(|&k| Some(y(k)? - x[k])).collect();
     let rest = Figure::difference_mean(x_mean, &d, p.rest.len());
     let share = p.rest.len() as f64 / total;
     Figure::with_se(census / total + share * rest.value, share * rest.error)
@@ -311,19 +328,7 @@ pub fn measure<T: LtcTarget>(
         .zip(&errs)
         .map(|(&k, e)| (*e, at(k)))
         .collect();
-    let by_square: std::collections::HashMap<usize, LobeError> = judged
-        .iter()
-        .zip(&errs)
-        .filter_map(|(&k, e)| Some((k, (*e)?)))
-        .collect();
-    let by_square = &by_square;
-    let y = |l1: bool| {
-        move |k: usize| {
-            by_square
-                .get(&k)
-                .map(|e| if l1 { e.l1.value } else { e.l2.value })
-        }
-    };
+    let fig = figures(&c, &judged, &errs);
     Ok(Between {
         judged: Located::of(&mids),
         visible: visible.len(),
@@ -331,7 +336,7 @@ pub fn measure<T: LtcTarget>(
         all: p.rest.is_empty(),
         census: p.census.len(),
         rest: p.rest.len(),
-        mean_l2: stratified_mean(&c, &p, &y(false), false),
-        mean_l1: stratified_mean(&c, &p, &y(true), true),
+        mean_l2: stratified_mean(&p, &fig, &control(&c, false), false),
+        mean_l1: stratified_mean(&p, &fig, &control(&c, true), true),
     })
 }
