@@ -188,6 +188,12 @@ fn curve<T: LtcTarget>(
     let visible: Vec<usize> = (0..c.squares())
         .filter(|&k| albedos[k] >= between::VISIBLE_ALBEDO)
         .collect();
+    if visible.is_empty() {
+        return Err(Error::InvalidArgument(format!(
+            "results/fits/{name}.json: no square's lobe has an albedo of at least {:e}: nothing to judge between cells",
+            between::VISIBLE_ALBEDO
+        )));
+    }
     let errs = between::judge_squares(&c, target, &albedos, &visible, tol)?;
     let fig = between::figures(&c, &visible, &errs);
     let controls = [between::control(&c, false), between::control(&c, true)];
@@ -204,7 +210,7 @@ fn curve<T: LtcTarget>(
             .flatten()
             .map(|f| f[usize::from(l1)])
             .sum::<f64>()
-            / visible.len().max(1) as f64
+            / visible.len() as f64
     };
     let exact = [exact(false), exact(true)];
     let points = pl
