@@ -349,6 +349,15 @@ impl Published {
     pub fn route(&self, name: &str) -> Result<GgxRoute> {
         route_of(&self.spec, &self.preset, name)
     }
+    /// The preset it was fitted at (the file `name`) and the keys `P` its spec chose there.
+    pub fn chosen<P: crate::fit::spec::Params>(
+        &self,
+        name: &str,
+    ) -> Result<(crate::integrate::Preset, P)> {
+        let at = format!("results/fits/{name}.json");
+        let preset = crate::integrate::Preset::named(&self.preset, &at)?;
+        Ok((preset, self.spec.params(preset)?))
+    }
 }
 
 /// The route `spec` names at the preset called `preset`, of the file `name`.

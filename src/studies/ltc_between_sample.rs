@@ -13,16 +13,13 @@
 //! Writes results/ltc-between-sample.{md,svg} and results/fits/ltc-between-sample.json.
 
 use crate::error::{Error, Result};
-use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset, Quad};
 use crate::io::Outputs;
-use crate::ltc::fit::Grid;
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::Lobe;
 use crate::ltc::target::{GgxTarget, LtcTarget};
 use crate::report::table::{Align, Table};
 use crate::results::between::{BetweenSample, Calibration, SampleCurve, SamplePoint};
-use crate::results::ltc::HeldCells;
 use crate::studies::ltc_between::{self as between, Cells};
 use crate::study::{Ctx, FitOutcome};
 use rayon::prelude::*;
@@ -89,15 +86,6 @@ impl crate::fit::spec::Params for Chosen {
     }
 }
 
-/// What a published table file holds that this study needs besides its table.
-#[derive(serde::Deserialize)]
-struct Published {
-    spec: FitSpec,
-    preset: String,
-    grid: Grid,
-    held_out_cells: HeldCells,
-}
-
 /// What the study computed.
 pub struct Computed {
     result: BetweenSample,
@@ -130,23 +118,19 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 
 /// The published table `name` as the sample design reads it, and its spec's choices.
 fn cells_of(results: &std::path::Path, name: &str) -> Result<(Cells, Chosen, Preset)> {
-    let table = crate::results::ltc::table(results, name)?;
-    let p: Published = crate::results::require_named(results, name)?;
+    // the table, its grid's side and every cell's L2 figure checked by the one reader
+    let (p, table, _) = crate::results::ltc::published_table(results, name)?;
+    let (preset, chosen) = p.chosen::<Chosen>(name)?;
     let n = table.n;
     let bad = |what: &str| Error::InvalidArgument(format!("results/fits/{name}.json: {what}"));
-    if p.grid.n != n || n < 2 {
-        return Err(bad(&format!(
-            "a {n}×{n} table under a grid of side {}",
-            p.grid.n
-        )));
+    if n < 2 {
+        return Err(bad(&format!("a {n}×{n} table has no square")));
     }
     let (l2, l1) = (&p.held_out_cells.l2, &p.held_out_cells.l1);
     let rows_ok = |g: &Vec<Vec<Option<[f64; 2]>>>| g.len() == n && g.iter().all(|r| r.len() == n);
     if !rows_ok(l2) || !rows_ok(l1) {
         return Err(bad(&format!("held_out_cells is not {n}×{n}")));
     }
-    let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
-    let chosen: Chosen = p.spec.params(preset)?;
     let held = (0..n * n)
         .map(|k| {
             let (i, j) = (k % n, k / n);
@@ -218,10 +202,7 @@ fn curve<T: LtcTarget>(
         .iter()
         .map(|&m| point(&c, &visible, (&fig, &controls), exact, m, pl.redraws))
         .collect();
-    let published_sample = match name {
-        "ltc-ggx" => chosen.between_sample.unwrap_or(usize::MAX),
-        _ => between::sample_at(chosen.between_sample, preset),
-    };
+    let published_sample = between::sample_for(name, chosen.between_sample, preset);
     Ok(SampleCurve {
         table: name.into(),
         sha256: crate::results::fits_sha256(results, name)?,

@@ -24,11 +24,10 @@
 //!
 //! Writes results/ltc-judge-tolerance.{md,svg} and results/fits/ltc-judge-tolerance.json.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fit::spec::FitSpec;
 use crate::integrate::{Figure, Preset, Quad};
 use crate::io::Outputs;
-use crate::ltc::fit::Grid;
 use crate::ltc::lobe_error::{judge, LobeError, Tolerance};
 use crate::ltc::lobes::Lobe;
 use crate::ltc::target::{GgxTarget, LtcTarget};
@@ -93,14 +92,6 @@ impl crate::fit::spec::Params for Chosen {
     }
 }
 
-/// What a published LTC table file holds that this study needs besides its table.
-#[derive(serde::Deserialize)]
-struct Published {
-    spec: FitSpec,
-    preset: String,
-    grid: Grid,
-}
-
 /// The tables judged: file name and lobe (`None`: GGX).
 const TABLES: [(&str, Option<Lobe>); 3] = [
     ("ltc-ggx", None),
@@ -143,17 +134,9 @@ fn curve<T: LtcTarget>(
     target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
     pl: &Plan,
 ) -> Result<JudgeCurve> {
-    let table = crate::results::ltc::table(results, name)?;
-    let p: Published = crate::results::require_named(results, name)?;
-    let n = table.n;
-    if p.grid.n != n {
-        return Err(Error::InvalidArgument(format!(
-            "results/fits/{name}.json: a {n}×{n} table under a grid of side {}",
-            p.grid.n
-        )));
-    }
-    let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
-    let chosen: Chosen = p.spec.params(preset)?;
+    let (p, table, _) = crate::results::ltc::published_table(results, name)?;
+    let (_, chosen) = p.chosen::<Chosen>(name)?;
+    let (n, grid) = (table.n, p.grid);
     let cells: Vec<(usize, usize)> = (0..n)
         .step_by(pl.every)
         .flat_map(|j| (0..n).step_by(pl.every).map(move |i| (i, j)))
@@ -170,7 +153,7 @@ fn curve<T: LtcTarget>(
                     Some(h) => std::array::from_fn(|q| h[k][q].to_f64()),
                     None => full.map(|x| half::f16::from_f64(x).to_f64()),
                 };
-                let t = target(p.grid.alpha(i), p.grid.theta(j))?;
+                let t = target(grid.alpha(i), grid.theta(j))?;
                 let inv = crate::ltc::held::precisions(full, stored);
                 Ok(judge(&t, e[4], &inv, *tol)[0])
             })

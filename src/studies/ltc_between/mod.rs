@@ -40,6 +40,21 @@ pub fn sample_at(given: Option<usize>, preset: crate::integrate::Preset) -> usiz
     }
 }
 
+/// The tables whose figures between cells judge every square unless their spec names a
+/// sample: the GGX table (see [`BETWEEN_SAMPLE`]; measured in fits/ltc-ggx.toml).
+pub const JUDGE_ALL: &[&str] = &["ltc-ggx"];
+
+/// The random squares table `table` judges at `preset` given its spec's `between_sample`
+/// (`usize::MAX`: all): the spec's number, else every square for the tables of
+/// [`JUDGE_ALL`], else [`sample_at`]. The one rule the studies and the calibration study
+/// both read.
+pub fn sample_for(table: &str, given: Option<usize>, preset: crate::integrate::Preset) -> usize {
+    match given {
+        None if JUDGE_ALL.contains(&table) => usize::MAX,
+        _ => sample_at(given, preset),
+    }
+}
+
 /// The spec check of `between_sample`: 0 would judge no square.
 pub fn check_sample(given: Option<usize>) -> std::result::Result<(), String> {
     match given {

@@ -52,9 +52,10 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// The squares judged at random between cells (`usize::MAX`: all).
-    pub fn between_sample(&self) -> usize {
-        self.between_sample.unwrap_or(usize::MAX)
+    /// The squares judged at random between cells at `preset` (`usize::MAX`: all; the
+    /// rule is `studies::ltc_between::sample_for`'s).
+    pub fn between_sample(&self, preset: crate::integrate::Preset) -> usize {
+        crate::studies::ltc_between::sample_for("ltc-ggx", self.between_sample, preset)
     }
     /// The held-out judge's tolerance: `held_out_rel` for the relative L2,
     /// `held_out_l1_rel` for the relative L1.

@@ -122,7 +122,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
         &main,
         &GgxTarget::new,
         pl.tolerance(),
-        pl.between_sample(),
+        pl.between_sample(preset),
     )?;
     let compare = crate::results::compare::read(results)?;
     let precision = precision::measure(&main);
