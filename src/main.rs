@@ -65,10 +65,11 @@ fn run_regen(
     let mut times = Vec::new();
     let ok = run_regen_timed(only, preset, fits, results, opts, &mut times)?;
     // every study of the shipped specs at the default preset, one at a time, nothing from
-    // the cache: each study's own cost, as performance.md quotes it (a quick or custom run
-    // would otherwise stand in for the default one)
+    // a cache (each study's own cost, as performance.md quotes it) or everything from it
+    // (each study's cost besides its memoised maps); a quick or custom run would otherwise
+    // stand in for the default one
     let canonical = preset == Preset::Default && shipped_specs(fits);
-    if canonical && only.is_none() && !opts.parallel && opts.cache.is_none() {
+    if canonical && only.is_none() && !opts.parallel {
         ndfbench::studies::performance::write_sequential_times(
             &times,
             start.elapsed().as_secs_f64(),

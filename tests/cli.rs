@@ -295,6 +295,13 @@ fn bench_report_refreshes_only_the_main_job_section() {
             "stages": [{"stage": "ltc-ggx", "seconds": 90.04, "cpu_s": 172.6}]}"#,
     )
     .unwrap();
+    // a warm sequential regen's: each study besides its memoised maps
+    std::fs::write(
+        target.join("regen-sequential-warm.json"),
+        r#"{"total_s": 200.0, "threads": 2, "warm": true, "cpu_s": 351.0,
+            "stages": [{"stage": "ltc-ggx", "seconds": 20.54, "reused": 3, "cpu_s": 30.2}]}"#,
+    )
+    .unwrap();
     let refresh = || {
         bin()
             .args([
@@ -318,10 +325,11 @@ fn bench_report_refreshes_only_the_main_job_section() {
     assert!(new.contains("**633 (2 threads, 1222 s of CPU)**"), "{new}");
     assert!(new.contains("**993 (2 threads)**"), "{new}");
     assert!(
-        new.contains("| ltc-ggx | 251.7 | 90.0 | — | 90.0 (173) |"),
+        new.contains("| ltc-ggx | 251.7 | 90.0 | — | 90.0 (173) | 20.5 (30) |"),
         "{new}"
     );
     assert!(new.contains("**643 (2 threads, 1202 s of CPU)**"), "{new}");
+    assert!(new.contains("**200 (2 threads, 351 s of CPU)**"), "{new}");
     std::fs::write(dir.join("performance.md"), "# Performance\n\nno section\n").unwrap();
     let out = refresh();
     assert_eq!(out.status.code(), Some(2));

@@ -7,14 +7,17 @@ use crate::error::Result;
 use crate::report::table::Table;
 use std::path::{Path, PathBuf};
 
-/// Where a sequential, uncached `regen` of every study leaves its profile: each study
-/// alone, so its CPU seconds are its own.
-pub fn sequential_times_path() -> PathBuf {
-    target_dir().join(SEQUENTIAL)
+/// Where a sequential `regen` of every study leaves its profile: each study alone, so its
+/// CPU seconds are its own. Uncached (`warm` false): what each study costs from nothing.
+/// Warm (every memoised map from the cache): what each study costs whatever its fitters
+/// cost, the floor a faster fitter cannot remove.
+pub fn sequential_times_path(warm: bool) -> PathBuf {
+    target_dir().join(if warm { SEQUENTIAL_WARM } else { SEQUENTIAL })
 }
 
 /// The kept profiles' file names under the target directory.
 const SEQUENTIAL: &str = "regen-sequential.json";
+const SEQUENTIAL_WARM: &str = "regen-sequential-warm.json";
 const COLD: &str = "main-job-cold.json";
 const WARM: &str = "main-job-warm.json";
 
@@ -23,11 +26,16 @@ fn target_dir() -> PathBuf {
     PathBuf::from(std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into()))
 }
 
-/// Keep a sequential, uncached `regen`'s profile for `bench-report` (best-effort, as
-/// [`write_main_job_times`]).
+/// Keep a sequential `regen`'s profile for `bench-report` (best-effort, as
+/// [`write_main_job_times`]): a cold run's (no memoised map from a cache: uncached, or
+/// an empty cache filled as it goes), or a warm one's (every memoised map from the
+/// cache); a run that computed some maps and found others is neither, and is not kept.
 pub fn write_sequential_times(stages: &[JobStage], total: f64) {
+    let Some(warm) = sequential_kind(stages) else {
+        return;
+    };
     let cpu = crate::progress::process_cpu_seconds();
-    keep(&sequential_times_path(), stages, total, cpu, false);
+    keep(&sequential_times_path(warm), stages, total, cpu, warm);
 }
 
 /// Write a profile (the process's CPU seconds `cpu` at its end) to `p`; a failure is
@@ -48,6 +56,18 @@ fn keep(p: &Path, stages: &[JobStage], total: f64, cpu: Option<f64>, warm: bool)
             .as_bytes(),
     ) {
         eprintln!("profile not kept ({}): {e}", p.display());
+    }
+}
+
+/// Which sequential profile a run's stages are: `Some(false)` cold (no memoised map
+/// from a cache), `Some(true)` warm (every one from it), `None` a mix (kept as neither).
+fn sequential_kind(stages: &[JobStage]) -> Option<bool> {
+    let computed = stages.iter().any(|s| s.computed > 0);
+    let reused = stages.iter().any(|s| s.reused > 0);
+    match (computed, reused) {
+        (_, false) => Some(false),
+        (false, true) => Some(true),
+        (true, true) => None,
     }
 }
 
@@ -175,7 +195,7 @@ pub struct StudyCost {
     pub seconds: f64,
     /// Its own CPU seconds (only where it ran alone).
     pub cpu_s: Option<f64>,
-    /// Run alone (a sequential uncached `regen`), or overlapping others in the parallel
+    /// Run alone (a sequential `regen` that took nothing from a cache), or overlapping others in the parallel
     /// main job.
     pub alone: bool,
 }
@@ -191,7 +211,7 @@ impl StudyCost {
     }
 }
 
-/// What `study` cost: run alone in the last sequential uncached `regen` where that profile
+/// What `study` cost: run alone in the last cold sequential `regen` where that profile
 /// is kept (its wall clock and its own CPU), else its wall clock in the last cold main
 /// job, where studies overlap and one study's time says little about its own cost.
 pub fn study_cost(study: &str) -> Option<StudyCost> {
@@ -246,8 +266,12 @@ pub(super) fn main_job_table(results: &Path) -> Result<String> {
             profile(&main_job_times_path(true)),
         ),
         (
-            "each study alone: sequential `regen`, no cache; CPU in parentheses",
-            profile(&sequential_times_path()),
+            "each study alone: sequential `regen`, nothing from a cache; CPU in parentheses",
+            profile(&sequential_times_path(false)),
+        ),
+        (
+            "each study alone, warm: sequential `regen`, every map from the cache; CPU in parentheses",
+            profile(&sequential_times_path(true)),
         ),
     ];
     if cols.iter().all(|c| c.1.is_none()) {
@@ -271,7 +295,7 @@ pub(super) fn main_job_table(results: &Path) -> Result<String> {
                 None => format!("{:.1}", s.seconds),
             })
     };
-    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). The total's CPU seconds are the process's user and system time over every thread (`getrusage`), where the profile kept them. With studies in parallel the stages overlap, so they add up to more than the total, and one study's time says little about its own cost; the last column is a sequential `regen` of every study with no cache (`target/regen-sequential.json`, the studies only, without verify and the convergence study), where each study ran alone, with the CPU seconds it used in parentheses.\n\n");
+    let mut md = String::from("\n## Main job: wall clock per stage\n\n`cargo run --release` on this machine (wall clock, not criterion). *Before*: the sequential, uncached main job (results/main-job-before.json, kept as measured). *After*: studies whose inputs are ready run at the same time on their own threads (sharing the rayon pool), and every memoised map is looked up in the cache under the hash of the code, the spec, the preset and the inputs (`target/ndfbench-cache`; `--no-cache` computes everything); *cold* is a run that computed its maps (`target/main-job-cold.json`), *warm* one that found all of them (`target/main-job-warm.json`). The total's CPU seconds are the process's user and system time over every thread (`getrusage`), where the profile kept them. With studies in parallel the stages overlap, so they add up to more than the total, and one study's time says little about its own cost; the last two columns are sequential `regen`s of every study (the studies only, without verify and the convergence study), where each study ran alone, with the CPU seconds it used in parentheses: one that took nothing from a cache (`target/regen-sequential.json`, uncached or filling an empty cache: what each study costs from nothing), one with every memoised map from the cache (`target/regen-sequential-warm.json`: what each study costs besides its memoised maps — its reports, its unmemoised measurements — which no faster fitter removes).\n\n");
     let mut t = Table::new(
         std::iter::once("stage".to_string()).chain(cols.iter().map(|(h, _)| format!("{h} (s)"))),
     );
@@ -376,6 +400,25 @@ mod tests {
         std::fs::write(&file, serde_json::to_string(&v).unwrap()).unwrap();
         assert_eq!(fits_work_line(&dir).unwrap(), "");
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A sequential run is kept as cold when no map came from a cache (uncached, or
+    /// filling an empty one), as warm when every map did, and not at all when it mixed
+    /// the two (its CPU would be neither a study's whole cost nor its floor).
+    #[test]
+    fn a_sequential_profile_is_cold_warm_or_not_kept() {
+        let st = |computed, reused| JobStage {
+            stage: "s".into(),
+            seconds: 1.0,
+            computed,
+            reused,
+            cpu_s: None,
+        };
+        assert_eq!(sequential_kind(&[]), Some(false));
+        assert_eq!(sequential_kind(&[st(0, 0), st(5, 0)]), Some(false));
+        assert_eq!(sequential_kind(&[st(0, 0), st(0, 5)]), Some(true));
+        assert_eq!(sequential_kind(&[st(5, 0), st(0, 5)]), None);
+        assert_eq!(sequential_kind(&[st(2, 3)]), None);
     }
 
     /// A study's cost comes from the sequential profile (alone, its own CPU) where that
