@@ -135,7 +135,9 @@ fn cells_of(results: &std::path::Path, name: &str) -> Result<(Cells, Chosen, Pre
         .map(|k| {
             let (i, j) = (k % n, k / n);
             match (l2[j][i], l1[j][i]) {
-                (Some(a), Some(b)) if a[0].is_finite() && b[0].is_finite() => Some([a[0], b[0]]),
+                (Some(a), Some(b)) if a[0].is_finite() && b[0].is_finite() && b[0] >= 0.0 => {
+                    Some([a[0], b[0]])
+                }
                 (None, None) => None,
                 _ => Some([f64::NAN; 2]),
             }
@@ -143,7 +145,7 @@ fn cells_of(results: &std::path::Path, name: &str) -> Result<(Cells, Chosen, Pre
         .collect::<Vec<_>>();
     if held.iter().flatten().any(|h| !h[0].is_finite()) {
         return Err(bad(
-            "a cell's held-out figures are not finite, or only one is given",
+            "a cell's held-out figures are not finite and non-negative, or only one is given",
         ));
     }
     let cells = Cells {

@@ -218,7 +218,8 @@ pub fn census(c: &Cells, visible: &[usize], sample: usize) -> Picked {
     }
 }
 
-/// The three quarters of `sample` drawn at random (`seed`) from a [`census`]'s rest.
+/// The three quarters of `sample` drawn at random (`seed`) from a [`census`]'s rest (the
+/// whole rest where they reach it: a census made for a smaller sample).
 pub fn draw(base: Picked, sample: usize, seed: u64) -> Picked {
     use rand::SeedableRng;
     if base.rest.is_empty() {
@@ -226,7 +227,8 @@ pub fn draw(base: Picked, sample: usize, seed: u64) -> Picked {
     }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let rest = base.rest;
-    let mut drawn: Vec<usize> = rand::seq::index::sample(&mut rng, rest.len(), sample - sample / 4)
+    let amount = (sample - sample / 4).min(rest.len());
+    let mut drawn: Vec<usize> = rand::seq::index::sample(&mut rng, rest.len(), amount)
         .into_iter()
         .map(|k| rest[k])
         .collect();
@@ -354,4 +356,38 @@ pub fn measure<T: LtcTarget>(
         mean_l2: stratified_mean(&p, &fig, &control(&c, false), false),
         mean_l1: stratified_mean(&p, &fig, &control(&c, true), true),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A table of n² cells whose held-out figure grows with the cell index.
+    fn cells(n: usize) -> Cells {
+        Cells {
+            n,
+            alpha_min: 1e-5,
+            entries: (0..n * n)
+                .map(|k| [1.0 + k as f64, 0.0, 0.0, 1.0, 1.0])
+                .collect(),
+            held: (0..n * n).map(|k| Some([k as f64, k as f64])).collect(),
+        }
+    }
+
+    /// `draw` is total: a census made for one sample and drawn at a larger one takes the
+    /// whole rest (no panic), at the same size the three quarters, each square once.
+    #[test]
+    fn a_draw_never_asks_for_more_than_the_rest() {
+        let c = cells(24);
+        let visible: Vec<usize> = (0..c.squares()).collect();
+        let base = census(&c, &visible, 64);
+        assert!(!base.rest.is_empty());
+        let p = draw(base.clone(), 64, 7);
+        assert_eq!(p.drawn.len(), 64 - 16);
+        let big = draw(base.clone(), 100_000, 7);
+        assert_eq!(big.drawn, base.rest);
+        let mut d = p.drawn.clone();
+        d.dedup();
+        assert_eq!(d.len(), p.drawn.len());
+    }
 }

@@ -32,6 +32,7 @@ fn target_dir() -> PathBuf {
 /// cache); a run that computed some maps and found others is neither, and is not kept.
 pub fn write_sequential_times(stages: &[JobStage], total: f64) {
     let Some(warm) = sequential_kind(stages) else {
+        eprintln!("sequential profile not kept: some maps were computed and others came from the cache (neither a study's whole cost nor its floor)");
         return;
     };
     let cpu = crate::progress::process_cpu_seconds();
