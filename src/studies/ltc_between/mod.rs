@@ -360,7 +360,7 @@ pub fn measure<T: LtcTarget>(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::studies::ltc_between::{census, draw, Cells};
 
     /// A table of n² cells whose held-out figure grows with the cell index.
     fn cells(n: usize) -> Cells {
