@@ -402,31 +402,35 @@ fn bilinear_pass_is_deterministic_at_any_thread_count_and_lowers_its_objective()
             GgxTarget::new((r * r).max(1e-3), (1.0 - tt * tt).acos()).unwrap()
         })
         .collect();
-    let lattice = Lattice {
-        n: g,
-        square_weight: 0.25,
-        before: None,
-        cells: &cells,
-        at_cells: &at_cells,
-        at_squares: &at_squares,
-    };
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| sweep(&Plain, &lattice, 8, 30, &|| {}).unwrap())
-    };
-    let (one, moved) = run(1);
-    let (two, _) = run(2);
-    assert!(one
-        .iter()
-        .flatten()
-        .zip(two.iter().flatten())
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
-    assert!(moved > 0, "the pass moved no cell");
-    // the norms are never touched (energy stays the albedo)
-    assert!(one.iter().zip(&cells).all(|(a, b)| a[4] == b[4]));
+    // on moving samples (the reference fitter's) and on fixed nodes
+    for fixed in [false, true] {
+        let lattice = Lattice {
+            n: g,
+            square_weight: 0.25,
+            before: None,
+            cells: &cells,
+            at_cells: &at_cells,
+            at_squares: &at_squares,
+            fixed,
+        };
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| sweep(&Plain, &lattice, 8, 30, &|| {}).unwrap())
+        };
+        let (one, moved) = run(1);
+        let (two, _) = run(2);
+        assert!(one
+            .iter()
+            .flatten()
+            .zip(two.iter().flatten())
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert!(moved > 0, "the pass moved no cell (fixed nodes: {fixed})");
+        // the norms are never touched (energy stays the albedo)
+        assert!(one.iter().zip(&cells).all(|(a, b)| a[4] == b[4]));
+    }
 }
 
 /// The fast route (`ltc::gauss_newton`: Levenberg–Marquardt on fixed nodes) against the
@@ -569,5 +573,76 @@ fn the_pipeline_truth_by_cubature_agrees_with_the_monte_carlo_brute_force() {
             k.name(),
             exact.sci(6, 1)
         );
+    }
+}
+
+/// A map run on the calling thread, so that the per-thread counts of
+/// `ltc::samples::target_work` see every evaluation of the bilinear pass's refits.
+struct OnThisThread;
+
+impl ndfbench::parmap::ParMap for OnThisThread {
+    fn map<T, F>(&self, _label: &str, n: usize, f: F) -> ndfbench::error::Result<Vec<T>>
+    where
+        T: serde::Serialize + serde::de::DeserializeOwned + Send,
+        F: Fn(usize) -> ndfbench::error::Result<T> + Sync,
+    {
+        (0..n).map(f).collect()
+    }
+}
+
+/// The bilinear pass of a table whose route has fixed nodes everywhere
+/// (`Method::FixedNodesAll`) measures its trials on nodes drawn once per place: the lobe is
+/// evaluated for the sets and the keep-or-revert test only. A moving-sample trial
+/// evaluates it at every LTC-half sample of each of a cell's up to five places, so over
+/// its ≤ 40 Nelder–Mead iterations the moving pass spends several times the fixed pass's
+/// evaluations (the fixed route reading the method wrongly would spend the same). Both
+/// passes keep the table's norms and give finite entries; they are other tables.
+#[test]
+fn the_bilinear_pass_on_fixed_nodes_evaluates_no_lobe_per_trial() {
+    use ndfbench::ltc::samples::target_work;
+    use ndfbench::ltc::smooth::bilinear_pass;
+    let grid = Grid {
+        n: 5,
+        alpha_min: 1e-4,
+    };
+    let moving = fit_table(
+        &Plain,
+        grid,
+        &GgxTarget::new,
+        8,
+        Metric::Cubic,
+        Method::NelderMead,
+        100,
+        ndfbench::ltc::fit::Polish::NelderMead,
+        &|| {},
+    )
+    .unwrap();
+    let mut fixed = moving.clone();
+    fixed.method = Method::FixedNodesAll;
+    let mut moved = moving.clone();
+    let pass = |t: &mut ndfbench::ltc::fit::Table| {
+        let before = target_work();
+        let p = bilinear_pass(&OnThisThread, t, &GgxTarget::new, 8).unwrap();
+        (target_work() - before, p.cells_moved)
+    };
+    let (on_moving, moved_m) = pass(&mut moved);
+    let (on_fixed, moved_f) = pass(&mut fixed);
+    assert!(moved_m > 0 && moved_f > 0, "{moved_m} {moved_f}");
+    assert!(
+        (on_fixed as f64) < 0.5 * on_moving as f64,
+        "fixed {on_fixed} against moving {on_moving} target evaluations"
+    );
+    let entries = |t: &ndfbench::ltc::fit::Table| -> Vec<[f64; 5]> {
+        t.cells
+            .iter()
+            .flatten()
+            .map(|c| [c.inv[0], c.inv[1], c.inv[2], c.inv[3], c.norm])
+            .collect()
+    };
+    let (a, b, c) = (entries(&moving), entries(&moved), entries(&fixed));
+    assert_ne!(b, c);
+    for ((x, y), z) in a.iter().zip(&b).zip(&c) {
+        assert_eq!((x[4], x[4]), (y[4], z[4]), "the pass keeps the norm");
+        assert!(y.iter().chain(z).all(|v| v.is_finite()));
     }
 }

@@ -69,7 +69,9 @@ fn each_published_route_refitted_is_its_published_table() {
             .routes
             .iter()
             .find(|(r, _)| {
-                (r.samples, r.max_iters) == (route.samples, route.max_iters) && r.fixed_nodes
+                (r.samples, r.max_iters) == (route.samples, route.max_iters)
+                    && r.fixed_nodes
+                    && !r.fixed_all
             })
             .expect("fits/ltc-work.toml's quick routes hold the published route on fixed nodes");
         assert_ne!(fixed.mean.value, same.mean.value, "{}", t.table);
@@ -81,10 +83,54 @@ fn each_published_route_refitted_is_its_published_table() {
             evals(fixed),
             evals(same)
         );
+        // fixed nodes in every stage: the L2 polish's trials evaluate no target either, so
+        // of the fixed route's evaluations (the polish's ≤ half-cap trials on moving
+        // samples, one per LTC-half sample) few remain
+        let (all, _) = t
+            .routes
+            .iter()
+            .find(|(r, _)| {
+                (r.samples, r.max_iters) == (route.samples, route.max_iters) && r.fixed_all
+            })
+            .expect("fits/ltc-work.toml's quick routes hold the published route on fixed nodes everywhere");
+        assert!(all.fixed_nodes, "{}", t.table);
+        assert_ne!(all.mean.value, fixed.mean.value, "{}", t.table);
+        assert!(
+            evals(all) < 0.7 * evals(fixed),
+            "{}: {} vs {} target evaluations per cell",
+            t.table,
+            evals(all),
+            evals(fixed)
+        );
         // the refitted draws did real work, and each is another table
         for r in &t.draws[1..] {
             assert!(r.work_per_cell.is_some_and(|x| x > 0.0), "{}", t.table);
             assert_ne!(r.mean.value, t.draws[0].mean.value, "{}", t.table);
+        }
+        // every refitted table is judged between cells (the published one in its study)
+        assert!(t.draws[0].between_l2.is_none(), "{}", t.table);
+        for r in t.draws[1..].iter().chain(t.routes.iter().map(|(r, _)| r)) {
+            let b = r
+                .between_l2
+                .expect("a refitted table's figure between cells");
+            assert!(
+                b.value.is_finite() && b.value > 0.0 && b.error >= 0.0,
+                "{}: {b:?}",
+                t.table
+            );
+        }
+        // the published route refitted is the published table: between cells too, where
+        // the table's own study keeps the figure in its file (the GGX table)
+        if t.table == "ltc-ggx" {
+            let (g, _) = ltc::published_ggx(&d).unwrap();
+            let b = same.between_l2.expect("judged between cells");
+            assert_eq!(
+                (b.value.to_bits(), b.error.to_bits()),
+                (
+                    g.between.mean_l2.value.to_bits(),
+                    g.between.mean_l2.error.to_bits()
+                )
+            );
         }
     }
     let _ = std::fs::remove_dir_all(&d);

@@ -38,7 +38,7 @@ pub use super::polish::{Polish, POLISH_ITERS};
 pub use super::samples::{
     metrics, metrics_on, FixedNodes, Nodes, Sets, TargetSamples, TRAIN_OFFSET,
 };
-pub use super::table::Grid;
+pub use super::table::{check_table_settings, Grid};
 
 type V3 = Vector3<f64>;
 
@@ -104,6 +104,17 @@ pub enum Method {
     /// once from the stage's start instead of from every trial, so a trial evaluates no
     /// target. The L2 polish after a cubic stage stays the reference's (its `Polish`).
     FixedNodes,
+    /// [`Method::FixedNodes`] in the cubic stage, and fixed nodes in a Nelder–Mead L2
+    /// polish (drawn from the cubic solution) and in the table's bilinear pass
+    /// (`ltc::smooth`, which reads the table's method): no trial evaluates the target.
+    FixedNodesAll,
+}
+
+impl Method {
+    /// Whether the cubic stage's trials are measured on fixed nodes.
+    fn fixed_stages(self) -> bool {
+        matches!(self, Method::FixedNodes | Method::FixedNodesAll)
+    }
 }
 
 impl Nodes {
@@ -112,6 +123,7 @@ impl Nodes {
         match self {
             Nodes::Moving => Method::NelderMead,
             Nodes::Fixed => Method::FixedNodes,
+            Nodes::FixedAll => Method::FixedNodesAll,
         }
     }
 }
@@ -226,7 +238,7 @@ fn optimise<T: LtcTarget + ?Sized>(
     use argmin::core::{Executor, State};
     let err = |e: argmin::core::Error| Error::InvalidArgument(format!("LTC fit: {e}"));
     Ok(match method {
-        Method::NelderMead | Method::FixedNodes => {
+        Method::NelderMead | Method::FixedNodes | Method::FixedNodesAll => {
             use argmin::solver::neldermead::NelderMead;
             let mut simplex = vec![start.clone()];
             for (k, st) in steps.iter().enumerate() {
@@ -312,7 +324,7 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
     // the fixed-node route: each stage's training and validation nodes from its start (a
     // singular start, which the warm-start chain never hands over, keeps moving samples)
     let nodes_at = |zz: &V3, p: &[f64]| -> Option<(FixedNodes, FixedNodes)> {
-        if method != Method::FixedNodes {
+        if !method.fixed_stages() {
             return None;
         }
         let (m11, m22, m13) = params_to_m(p);
@@ -385,7 +397,7 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     norm: f64,
     p: &[f64; 4],
     sets: &Sets,
-    how: Polish,
+    (how, method): (Polish, Method),
     max_iters: u64,
 ) -> Result<([f64; 4], bool)> {
     use super::gauss_newton::fit_cell_lm;
@@ -399,7 +411,12 @@ fn polish_l2<T: LtcTarget + ?Sized>(
                 p,
                 sets,
                 Metric::L2,
-                Method::NelderMead,
+                // on fixed nodes from the cubic solution where every stage has them
+                if method == Method::FixedNodesAll {
+                    Method::FixedNodes
+                } else {
+                    Method::NelderMead
+                },
                 max_iters / 2,
             )?
             .0
@@ -536,7 +553,7 @@ pub fn fit_table_drawn<T: LtcTarget>(
             // the warm-start chain carries the primary metric's solution
             p = best;
             let (q, polished) = if metric == Metric::Cubic {
-                polish_l2(&t, &zm, norm, &best, &sets, polish, max_iters)?
+                polish_l2(&t, &zm, norm, &best, &sets, (polish, method), max_iters)?
             } else {
                 (best, false)
             };
@@ -579,22 +596,4 @@ pub fn fit_table_drawn<T: LtcTarget>(
         samples_per_technique: n * n,
         cells: cols,
     })
-}
-
-/// The settings of a spec that fits an LTC table through [`fit_table`]: cells per axis
-/// `n`, the α floor, stratified samples per axis and technique, the Nelder–Mead cap per
-/// cell, and the MC samples of its polygon checks. The error names the key.
-pub fn check_table_settings(
-    n: usize,
-    alpha_min: f64,
-    samples: usize,
-    max_iters: u64,
-    mc: usize,
-) -> std::result::Result<(), String> {
-    use crate::fit::spec::within;
-    within("n", n, 2, 256)?;
-    within("alpha_min", alpha_min, 1e-6, 0.5)?;
-    within("samples", samples, 2, 128)?;
-    within("max_iters", max_iters, 1, 100_000)?;
-    within("mc", mc, 16, 1 << 24)
 }

@@ -276,7 +276,13 @@ impl Sums {
 pub enum Nodes {
     #[default]
     Moving,
+    /// The cubic stage on fixed nodes; the L2 polish and the bilinear pass on moving ones.
     Fixed,
+    /// Every trial of the fit on fixed nodes: the cubic stage's, the L2 polish's (its LTC
+    /// half drawn once from the cubic solution) and the bilinear pass's (each place's LTC
+    /// half drawn once from the table's entries there before the pass): a trial evaluates
+    /// no lobe anywhere.
+    FixedAll,
 }
 
 impl Nodes {
@@ -286,6 +292,7 @@ impl Nodes {
         match self {
             Nodes::Moving => "",
             Nodes::Fixed => "; the trials measured on fixed nodes: each stage's LTC half drawn once from the stage's start and weighted by the balance heuristic of the two techniques that drew it, so a trial evaluates no lobe (results/ltc-work.md judges it as a route against the reference fitter); the L2 polish and the bilinear pass on moving samples",
+            Nodes::FixedAll => "; every trial measured on fixed nodes (the cubic stage's from its start, the L2 polish's from the cubic solution, the bilinear pass's from the table's entries before it), each LTC half drawn once and weighted by the balance heuristic of the two techniques that drew it, so no trial evaluates the lobe (results/ltc-work.md judges it as a route against the reference fitter)",
         }
     }
 }

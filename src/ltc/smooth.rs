@@ -17,7 +17,7 @@
 //! thread count.
 
 use crate::error::{Error, Result};
-use crate::ltc::fit::{inverse_from_production, metrics_on, TargetSamples};
+use crate::ltc::fit::{inverse_from_production, metrics_on, FixedNodes, TargetSamples};
 use crate::ltc::target::LtcTarget;
 use crate::ltc::LtcDist;
 use crate::parmap::ParMap;
@@ -30,10 +30,29 @@ fn rel_l2<T: LtcTarget + ?Sized>(t: &T, inv: &[f64; 4], norm: f64, n: usize, off
 
 /// [`rel_l2`] on the target's samples `s` drawn beforehand.
 fn rel_l2_on<T: LtcTarget + ?Sized>(t: &T, s: &TargetSamples, inv: &[f64; 4], norm: f64) -> f64 {
+    rel_l2_at(t, s, None, inv, norm)
+}
+
+/// The LTC of production-form entries, `None` where singular.
+fn ltc_of(inv: &[f64; 4]) -> Option<LtcDist> {
     inverse_from_production(inv)
         .try_inverse()
         .and_then(|m| LtcDist::new(m).ok())
-        .map(|l| metrics_on(t, s, &l, norm).1)
+}
+
+/// [`rel_l2_on`], on `fixed` nodes where given (drawn from `s`, `FixedNodes`).
+fn rel_l2_at<T: LtcTarget + ?Sized>(
+    t: &T,
+    s: &TargetSamples,
+    fixed: Option<&FixedNodes>,
+    inv: &[f64; 4],
+    norm: f64,
+) -> f64 {
+    ltc_of(inv)
+        .map(|l| match fixed {
+            Some(f) => f.metrics(&l, norm).1,
+            None => metrics_on(t, s, &l, norm).1,
+        })
         .filter(|x| x.is_finite())
         .unwrap_or(f64::INFINITY)
 }
@@ -64,13 +83,19 @@ pub struct Lattice<'a, T> {
     pub cells: &'a [[f64; 5]],
     pub at_cells: &'a [T],
     pub at_squares: &'a [T],
+    /// Whether a refit's trials are measured on fixed nodes (each place's LTC half drawn
+    /// once from the entries there before the refit, `FixedNodes`) instead of on samples of
+    /// each trial: the table's route (`ltc::fit::Method::FixedNodesAll`).
+    pub fixed: bool,
 }
 
 /// The target's samples of one set (n×n, offset `off`) at cell k's places: its own lobe,
-/// then its squares in [`places`] order. Drawn once per refit of the cell.
+/// then its squares in [`places`] order. Drawn once per refit of the cell; with the fixed
+/// nodes of each place ([`Lattice::fixed`]) where asked for.
 struct PlaceSets {
     cell: TargetSamples,
     squares: Vec<TargetSamples>,
+    fixed: Option<(Option<FixedNodes>, Vec<Option<FixedNodes>>)>,
 }
 
 impl<T: LtcTarget> Lattice<'_, T> {
@@ -83,7 +108,46 @@ impl<T: LtcTarget> Lattice<'_, T> {
                 .into_iter()
                 .map(|(si, sj)| TargetSamples::new(&self.at_squares[si + (nn - 1) * sj], n, off))
                 .collect(),
+            fixed: None,
         }
+    }
+
+    /// [`Self::place_sets`] with each place's fixed nodes, their LTC half drawn from the
+    /// entries there now (a place whose entries are singular keeps moving samples).
+    fn fixed_sets(&self, k: usize, n: usize, off: f64) -> PlaceSets {
+        let mut sets = self.place_sets(k, n, off);
+        let nn = self.n;
+        let (i, j) = (k % nn, k / nn);
+        let at = |t: &T, s: &TargetSamples, e: [f64; 5]| {
+            ltc_of(&[e[0], e[1], e[2], e[3]]).map(|l| FixedNodes::new(t, s, &l))
+        };
+        let cell = at(&self.at_cells[k], &sets.cell, self.cells[k]);
+        let squares = places(i, j, nn)
+            .into_iter()
+            .zip(&sets.squares)
+            .map(|((si, sj), s)| {
+                at(
+                    &self.at_squares[si + (nn - 1) * sj],
+                    s,
+                    self.mid(si, sj, &|q| self.cells[q]),
+                )
+            })
+            .collect();
+        sets.fixed = Some((cell, squares));
+        sets
+    }
+
+    /// The entries a shader reads at the centre of square (si, sj), with `entry(q)` the
+    /// entries of cell q.
+    fn mid(&self, si: usize, sj: usize, entry: &dyn Fn(usize) -> [f64; 5]) -> [f64; 5] {
+        let nn = self.n;
+        let corners = [
+            entry(si + nn * sj),
+            entry(si + 1 + nn * sj),
+            entry(si + nn * (sj + 1)),
+            entry(si + 1 + nn * (sj + 1)),
+        ];
+        std::array::from_fn(|c| corners.iter().map(|x| x[c]).sum::<f64>() / 4.0)
     }
 
     /// Σ e² over the cell's places with cell k's entries replaced by `inv`, on the
@@ -104,25 +168,26 @@ impl<T: LtcTarget> Lattice<'_, T> {
                 .unwrap_or(1.0)
         };
         let cell = entry(k);
-        let e = rel_l2_on(
+        let fixed = |q: Option<usize>| {
+            sets.fixed.as_ref().and_then(|(c, sq)| match q {
+                None => c.as_ref(),
+                Some(q) => sq[q].as_ref(),
+            })
+        };
+        let e = rel_l2_at(
             &self.at_cells[k],
             &sets.cell,
+            fixed(None),
             &[cell[0], cell[1], cell[2], cell[3]],
             cell[4],
         );
         let mut sum = e * e * scale(self.before.map(|b| b.0[k]));
-        for ((si, sj), set) in places(i, j, nn).into_iter().zip(&sets.squares) {
-            let corners = [
-                entry(si + nn * sj),
-                entry(si + 1 + nn * sj),
-                entry(si + nn * (sj + 1)),
-                entry(si + 1 + nn * (sj + 1)),
-            ];
-            let mid: [f64; 5] =
-                std::array::from_fn(|c| corners.iter().map(|x| x[c]).sum::<f64>() / 4.0);
-            let e = rel_l2_on(
+        for (q, ((si, sj), set)) in places(i, j, nn).into_iter().zip(&sets.squares).enumerate() {
+            let mid = self.mid(si, sj, &entry);
+            let e = rel_l2_at(
                 &self.at_squares[si + (nn - 1) * sj],
                 set,
+                fixed(Some(q)),
                 &[mid[0], mid[1], mid[2], mid[3]],
                 mid[4],
             );
@@ -173,7 +238,12 @@ fn refit_cell<T: LtcTarget>(
     if !(c[0] > 0.0 && c[3] > 0.0) {
         return Ok(now);
     }
-    let train = grid.place_sets(k, n, 0.5);
+    // the trials' sets; the verdict below is on moving samples either way
+    let train = if grid.fixed {
+        grid.fixed_sets(k, n, 0.5)
+    } else {
+        grid.place_sets(k, n, 0.5)
+    };
     let q0 = vec![c[0].ln(), c[3].ln(), c[1], c[2]];
     let scale = 1e-3 * c[0].max(c[3]);
     let steps = [
@@ -210,9 +280,16 @@ fn refit_cell<T: LtcTarget>(
         grid.objective(k, &now, &val),
         grid.objective(k, &cand, &val),
     );
+    let moving;
+    let train = if grid.fixed {
+        moving = grid.place_sets(k, n, 0.5);
+        &moving
+    } else {
+        &train
+    };
     let (tn, tc) = (
-        grid.objective(k, &now, &train),
-        grid.objective(k, &cand, &train),
+        grid.objective(k, &now, train),
+        grid.objective(k, &cand, train),
     );
     Ok(if tc < tn && vc < vn { cand } else { now })
 }
@@ -279,6 +356,7 @@ pub fn sweep<T: LtcTarget>(
             cells: &cells,
             at_cells: grid.at_cells,
             at_squares: grid.at_squares,
+            fixed: grid.fixed,
         };
         // one item per cell of this colour: a pure function of the snapshot
         let label = format!("bilinear sweep {nn}², colour {colour}");
@@ -343,6 +421,8 @@ pub fn bilinear_pass<T: LtcTarget>(
         cells: &cells,
         at_cells: &at_cells,
         at_squares: &at_squares,
+        // the table's route: fixed nodes here too where every stage has them
+        fixed: main.method == fit::Method::FixedNodesAll,
     };
     let pb = crate::progress::Progress::new("ltc bilinear pass", (g * g) as u64);
     let (new, cells_moved) = sweep(pm, &lattice, n, max_iters, &|| pb.inc(1))?;

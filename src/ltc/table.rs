@@ -112,3 +112,21 @@ pub fn bilinear<const K: usize>(
         (c00[c] * (1.0 - fx) + c10[c] * fx) * (1.0 - fy) + (c01[c] * (1.0 - fx) + c11[c] * fx) * fy
     })
 }
+
+/// The settings of a spec that fits an LTC table through `ltc::fit::fit_table`: cells per axis
+/// `n`, the α floor, stratified samples per axis and technique, the Nelder–Mead cap per
+/// cell, and the MC samples of its polygon checks. The error names the key.
+pub fn check_table_settings(
+    n: usize,
+    alpha_min: f64,
+    samples: usize,
+    max_iters: u64,
+    mc: usize,
+) -> std::result::Result<(), String> {
+    use crate::fit::spec::within;
+    within("n", n, 2, 256)?;
+    within("alpha_min", alpha_min, 1e-6, 0.5)?;
+    within("samples", samples, 2, 128)?;
+    within("max_iters", max_iters, 1, 100_000)?;
+    within("mc", mc, 16, 1 << 24)
+}

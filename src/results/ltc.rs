@@ -193,8 +193,16 @@ pub struct WorkRow {
     /// (`ltc::fit::Method::FixedNodes`) rather than on samples of each trial.
     #[serde(default)]
     pub fixed_nodes: bool,
+    /// Whether the L2 polish and the bilinear pass did too (`Method::FixedNodesAll`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub fixed_all: bool,
     pub offset: f64,
     pub mean: Figure<Quad>,
+    /// The mean held-out relative L2 between cells (the table interpolated at the squares'
+    /// centres, `studies::ltc_between`, as the table's own study judges it: every square
+    /// or a sample ± its s.e.); `None` for the published table, whose study reports it.
+    #[serde(default)]
+    pub between_l2: Option<Figure<crate::integrate::StdErr>>,
     pub work_per_cell: Option<f64>,
     /// Target evaluations of the fit per cell (`ltc::samples::target_work`).
     #[serde(default)]

@@ -26,7 +26,7 @@
 
 use crate::error::{Error, Result};
 use crate::fit::spec::FitSpec;
-use crate::integrate::{Figure, Preset, Quad};
+use crate::integrate::{Figure, Preset, Quad, StdErr};
 use crate::io::Outputs;
 use crate::ltc::fit::{fit_table_drawn, Cell, Grid, Metric, Nodes, Polish, TRAIN_OFFSET};
 use crate::ltc::lobe_error::Tolerance;
@@ -53,7 +53,9 @@ pub struct Route {
     pub samples: f64,
     pub max_iters: f64,
     /// The cubic stage's nodes: "moving" (the published routes': half of them drawn from
-    /// each trial LTC) or "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`).
+    /// each trial LTC) or "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`);
+    /// "fixed-all": the L2 polish and the bilinear pass on fixed nodes too
+    /// (`Method::FixedNodesAll`).
     #[serde(default)]
     pub nodes: Nodes,
 }
@@ -104,6 +106,8 @@ impl Route {
 /// work, target evaluations and iterations per cell.
 struct Fitted {
     cells: Vec<Option<Figure<Quad>>>,
+    /// The mean relative L2 between cells (`ltc_between::measure`).
+    between: Option<Figure<StdErr>>,
     work: Option<f64>,
     target_evals: Option<f64>,
     iters: Option<f64>,
@@ -111,12 +115,13 @@ struct Fitted {
 
 /// Fit `grid` of `lobe` by the route (`samples`, `max_iters`, `polish`, the cubic
 /// stage's `nodes`) on the training draw `offset`, then the published table's steps:
-/// bilinear pass, storage, held-out judge.
+/// bilinear pass, storage, held-out judge, and the figure between cells (`between`
+/// random squares, `ltc_between::sample_for`).
 fn fit(
     lobe: Lobe,
     grid: Grid,
     (samples, max_iters, polish, nodes): (usize, u64, Polish, Nodes),
-    offset: f64,
+    (offset, between): (f64, usize),
     tol: Tolerance,
 ) -> Result<Fitted> {
     let target = move |a: f64, t: f64| lobe.target(a, t);
@@ -128,11 +133,13 @@ fn fit(
     crate::ltc::smooth::bilinear_pass(&Memo, &mut t, &target, samples)?;
     crate::ltc::storage::store_table(&Memo, &mut t, &target, samples)?;
     crate::ltc::held::judge_table(&Memo, &mut t, &target, tol)?;
+    let between = crate::studies::ltc_between::measure(&t, &target, tol, between)?.mean_l2;
     let all: Vec<&Cell> = t.cells.iter().flatten().collect();
     let per_cell =
         |f: &dyn Fn(&Cell) -> f64| all.iter().map(|c| f(c)).sum::<f64>() / all.len() as f64;
     Ok(Fitted {
         cells: all.iter().map(|c| c.l2()).collect(),
+        between: Some(between),
         work: Some(per_cell(&|c| c.work as f64)),
         target_evals: Some(per_cell(&|c| c.target_evals as f64)),
         iters: Some(per_cell(&|c| c.iters as f64)),
@@ -143,9 +150,11 @@ fn row((samples, max_iters): (usize, u64), nodes: Nodes, offset: f64, f: &Fitted
     WorkRow {
         samples,
         max_iters,
-        fixed_nodes: nodes == Nodes::Fixed,
+        fixed_nodes: nodes != Nodes::Moving,
+        fixed_all: nodes == Nodes::FixedAll,
         offset,
         mean: Figure::mean_bounded(&f.cells.iter().flatten().copied().collect::<Vec<_>>()),
+        between_l2: f.between,
         work_per_cell: f.work,
         target_evals_per_cell: f.target_evals,
         iters_per_cell: f.iters,
@@ -171,11 +180,15 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
             .flatten()
             .map(|f| f.map(|f| Figure::new(f[0], f[1])))
             .collect(),
+        between: None,
         work: None,
         target_evals: None,
         iters: None,
     };
     let (tol, at) = (route.tolerance(), (route.samples, route.max_iters));
+    // the squares the table's own study judges between cells, at its published preset
+    let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
+    let between = crate::studies::ltc_between::sample_for(name, None, preset);
     let mut draws = vec![published];
     let mut rows = vec![row(at, Nodes::Moving, TRAIN_OFFSET, &draws[0])];
     for &o in &pl.draws {
@@ -186,7 +199,7 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
             lobe,
             p.grid,
             (at.0, at.1, route.polish, Nodes::Moving),
-            o,
+            (o, between),
             tol,
         )?;
         rows.push(row(at, Nodes::Moving, o, &f));
@@ -199,6 +212,7 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
         let on = match r.nodes {
             Nodes::Moving => "",
             Nodes::Fixed => ", fixed nodes",
+            Nodes::FixedAll => ", fixed nodes in every stage",
         };
         crate::report::stage(&format!(
             "regen ltc-work: {name}, {s}² samples, ≤ {i} iterations per stage{on}"
@@ -207,7 +221,7 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
             lobe,
             p.grid,
             (s, i, route.polish, r.nodes),
-            TRAIN_OFFSET,
+            (TRAIN_OFFSET, between),
             tol,
         )?;
         let v = spread::judge(&refs, &f.cells).ok_or_else(|| {

@@ -6,7 +6,7 @@ use crate::results::ltc::{LtcWork, TableWork, WorkRow};
 
 pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
     let mut md = format!(
-        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. Target evaluations: the fit's evaluations of the BRDF lobe per cell, in millions, also a count: a moving-sample trial evaluates the lobe at each of its LTC half's samples, so the lobe (two powers and an exponential per value for the sheen, GGX's D and Λ) is most of a trial's cost. A route with fixed nodes (`ltc::fit::Method::FixedNodes`) measures the cubic stage's trials on nodes drawn once per stage — the LTC half from the stage's start, with the balance weights of the two techniques that drew them — so its trials evaluate no lobe; the L2 polish stays the published one. A route with the published settings and moving nodes is a check: its cells are the published table's, bit for bit.\n\n",
+        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. Target evaluations: the fit's evaluations of the BRDF lobe per cell, in millions, also a count: a moving-sample trial evaluates the lobe at each of its LTC half's samples, so the lobe (two powers and an exponential per value for the sheen, GGX's D and Λ) is most of a trial's cost. A route with fixed nodes (`ltc::fit::Method::FixedNodes`) measures the cubic stage's trials on nodes drawn once per stage — the LTC half from the stage's start, with the balance weights of the two techniques that drew them — so its trials evaluate no lobe; the L2 polish stays the published one. A route with fixed nodes in every stage (`Method::FixedNodesAll`) also measures the L2 polish's trials on nodes drawn once from the cubic solution, and the bilinear pass's on nodes drawn once per place from the table's entries there before the pass (the pass's keep-or-revert test stays on moving samples); the pass's evaluations are in neither count. A route with the published settings and moving nodes is a check: its cells are the published table's, bit for bit.\n\n",
         o.command,
         preset.name(),
         o.spec.name,
@@ -30,6 +30,7 @@ fn table_section(t: &TableWork) -> String {
     let mut d = MdTable::new([
         "training offset",
         "mean rel. L2",
+        "between cells: mean rel. L2",
         "work per cell (M)",
         "target evaluations per cell (M)",
         "mean iterations",
@@ -48,6 +49,7 @@ fn table_section(t: &TableWork) -> String {
         d.row([
             format!("{}", r.offset),
             r.mean.pct(3),
+            between(r),
             millions(r.work_per_cell),
             millions(r.target_evals_per_cell),
             r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
@@ -61,6 +63,17 @@ fn table_section(t: &TableWork) -> String {
     md.push('\n');
     md.push_str(&routes_table(t));
     md
+}
+
+/// A row's mean relative L2 between cells, in percent (± its s.e. where sampled).
+fn between(r: &WorkRow) -> String {
+    r.between_l2.map_or("(its study's report)".into(), |b| {
+        if b.error > 0.0 {
+            format!("{:.3} % ± {:.3}", 100.0 * b.value, 100.0 * b.error)
+        } else {
+            format!("{:.3} %", 100.0 * b.value)
+        }
+    })
 }
 
 fn millions(w: Option<f64>) -> String {
@@ -102,6 +115,7 @@ fn routes_table(t: &TableWork) -> String {
         "target evaluations per cell (M)",
         "target evaluations / reference",
         "mean rel. L2",
+        "between cells: mean rel. L2",
         "cells above",
         "sum above (points)",
         "largest (points)",
@@ -116,13 +130,19 @@ fn routes_table(t: &TableWork) -> String {
         r.row([
             format!("{}²", row.samples),
             row.max_iters.to_string(),
-            if row.fixed_nodes { "fixed" } else { "moving" }.into(),
+            match (row.fixed_nodes, row.fixed_all) {
+                (_, true) => "fixed, and in the polish and the bilinear pass",
+                (true, false) => "fixed",
+                (false, false) => "moving",
+            }
+            .into(),
             millions(row.work_per_cell),
             row.work_per_cell
                 .map_or("—".into(), |w| format!("{:.2}", w / w0)),
             millions(row.target_evals_per_cell),
             ratio(row.target_evals_per_cell, e0),
             row.mean.pct(3),
+            between(row),
             format!("{:.1}", v.candidate_above),
             format!("{:.3}", 100.0 * v.candidate_excess),
             format!("{:.3}", 100.0 * largest),
@@ -169,7 +189,11 @@ fn verdict(t: &TableWork, w0: f64) -> String {
             "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage{}, {:.2}× the reference's fit work.\n\n",
             r.samples,
             r.max_iters,
-            if r.fixed_nodes { ", fixed nodes in the cubic stage" } else { "" },
+            match (r.fixed_nodes, r.fixed_all) {
+                (_, true) => ", fixed nodes in every stage (cubic, polish, bilinear pass)",
+                (true, false) => ", fixed nodes in the cubic stage",
+                (false, false) => "",
+            },
             w(r) / w0
         ),
         None => "No cheaper route is no worse than the reference: among these routes, the published route's work is what its accuracy needs.\n\n".into(),
