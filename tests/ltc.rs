@@ -369,23 +369,8 @@ fn fit_parameters_round_trip_through_the_production_form() {
 #[test]
 fn bilinear_pass_is_deterministic_at_any_thread_count_and_lowers_its_objective() {
     use ndfbench::ltc::smooth::{sweep, Lattice};
-    let grid = Grid {
-        n: 4,
-        alpha_min: 1e-3,
-    };
-    let t = fit_table(
-        &Plain,
-        grid,
-        &GgxTarget::new,
-        8,
-        Metric::Cubic,
-        Method::NelderMead,
-        100,
-        ndfbench::ltc::fit::Polish::NelderMead,
-        &|| {},
-    )
-    .unwrap();
-    let g = grid.n;
+    let t = small_ggx_table(4, 1e-3);
+    let g = t.grid.n;
     let flat: Vec<_> = (0..g * g).map(|k| &t.cells[k / g][k % g]).collect();
     let cells: Vec<[f64; 5]> = flat
         .iter()
@@ -601,22 +586,7 @@ impl ndfbench::parmap::ParMap for OnThisThread {
 fn the_bilinear_pass_on_fixed_nodes_evaluates_no_lobe_per_trial() {
     use ndfbench::ltc::samples::target_work;
     use ndfbench::ltc::smooth::bilinear_pass;
-    let grid = Grid {
-        n: 5,
-        alpha_min: 1e-4,
-    };
-    let moving = fit_table(
-        &Plain,
-        grid,
-        &GgxTarget::new,
-        8,
-        Metric::Cubic,
-        Method::NelderMead,
-        100,
-        ndfbench::ltc::fit::Polish::NelderMead,
-        &|| {},
-    )
-    .unwrap();
+    let moving = small_ggx_table(5, 1e-4);
     let mut fixed = moving.clone();
     fixed.method = Method::FixedNodesAll;
     let mut moved = moving.clone();
@@ -645,4 +615,21 @@ fn the_bilinear_pass_on_fixed_nodes_evaluates_no_lobe_per_trial() {
         assert_eq!((x[4], x[4]), (y[4], z[4]), "the pass keeps the norm");
         assert!(y.iter().chain(z).all(|v| v.is_finite()));
     }
+}
+
+/// A small GGX table fitted by the reference route (cubic metric by Nelder–Mead, then
+/// its L2 polish): `n`×`n` cells with α ≥ `alpha_min`, 8² samples, ≤ 100 iterations.
+fn small_ggx_table(n: usize, alpha_min: f64) -> ndfbench::ltc::fit::Table {
+    fit_table(
+        &Plain,
+        Grid { n, alpha_min },
+        &GgxTarget::new,
+        8,
+        Metric::Cubic,
+        Method::NelderMead,
+        100,
+        ndfbench::ltc::fit::Polish::NelderMead,
+        &|| {},
+    )
+    .unwrap()
 }

@@ -5,6 +5,7 @@
 
 mod common;
 
+use ndfbench::ltc::fit as ltc_fit;
 use ndfbench::results::{self, ltc};
 use std::path::Path;
 
@@ -46,13 +47,19 @@ fn each_published_route_refitted_is_its_published_table() {
             .collect();
         let mean = cells.iter().map(|c| c[0]).sum::<f64>() / cells.len() as f64;
         assert_eq!(t.draws[0].mean.value, mean, "{}", t.table);
-        let (same, v) = t
-            .routes
-            .iter()
-            .find(|(r, _)| {
-                (r.samples, r.max_iters) == (route.samples, route.max_iters) && !r.fixed_nodes
-            })
-            .expect("fits/ltc-work.toml's quick routes hold the published route");
+        // the quick routes at the published settings, by their nodes
+        let at = |nodes: ltc_fit::Nodes| {
+            t.routes
+                .iter()
+                .find(|(r, _)| {
+                    (r.samples, r.max_iters) == (route.samples, route.max_iters)
+                        && r.nodes() == nodes
+                })
+                .unwrap_or_else(|| {
+                    panic!("fits/ltc-work.toml's quick routes hold the published route on {nodes:?} nodes")
+                })
+        };
+        let (same, v) = at(ltc_fit::Nodes::Moving);
         let bits = |f: ndfbench::integrate::Figure<ndfbench::integrate::Quad>| {
             (f.value.to_bits(), f.error.to_bits())
         };
@@ -65,15 +72,7 @@ fn each_published_route_refitted_is_its_published_table() {
         // the same settings on fixed nodes: another table, whose cubic-stage trials
         // evaluate no target — a moving-sample trial evaluates one per LTC-half sample, so
         // over ~100 trials a cell's target evaluations fall well below the published route's
-        let (fixed, _) = t
-            .routes
-            .iter()
-            .find(|(r, _)| {
-                (r.samples, r.max_iters) == (route.samples, route.max_iters)
-                    && r.fixed_nodes
-                    && !r.fixed_all
-            })
-            .expect("fits/ltc-work.toml's quick routes hold the published route on fixed nodes");
+        let (fixed, _) = at(ltc_fit::Nodes::Fixed);
         assert_ne!(fixed.mean.value, same.mean.value, "{}", t.table);
         let evals = |r: &ltc::WorkRow| r.target_evals_per_cell.expect("counted");
         assert!(
@@ -86,13 +85,7 @@ fn each_published_route_refitted_is_its_published_table() {
         // fixed nodes in every stage: the L2 polish's trials evaluate no target either, so
         // of the fixed route's evaluations (the polish's ≤ half-cap trials on moving
         // samples, one per LTC-half sample) few remain
-        let (all, _) = t
-            .routes
-            .iter()
-            .find(|(r, _)| {
-                (r.samples, r.max_iters) == (route.samples, route.max_iters) && r.fixed_all
-            })
-            .expect("fits/ltc-work.toml's quick routes hold the published route on fixed nodes everywhere");
+        let (all, _) = at(ltc_fit::Nodes::FixedAll);
         assert!(all.fixed_nodes, "{}", t.table);
         assert_ne!(all.mean.value, fixed.mean.value, "{}", t.table);
         assert!(

@@ -238,7 +238,7 @@ fn refit_cell<T: LtcTarget>(
     if !(c[0] > 0.0 && c[3] > 0.0) {
         return Ok(now);
     }
-    // the trials' sets; the verdict below is on moving samples either way
+    // the trials' sets; the verdict below is on their moving samples either way
     let train = if grid.fixed {
         grid.fixed_sets(k, n, 0.5)
     } else {
@@ -280,16 +280,14 @@ fn refit_cell<T: LtcTarget>(
         grid.objective(k, &now, &val),
         grid.objective(k, &cand, &val),
     );
-    let moving;
-    let train = if grid.fixed {
-        moving = grid.place_sets(k, n, 0.5);
-        &moving
-    } else {
-        &train
+    // the same training sets on their moving samples: without the fixed nodes
+    let train = PlaceSets {
+        fixed: None,
+        ..train
     };
     let (tn, tc) = (
-        grid.objective(k, &now, train),
-        grid.objective(k, &cand, train),
+        grid.objective(k, &now, &train),
+        grid.objective(k, &cand, &train),
     );
     Ok(if tc < tn && vc < vn { cand } else { now })
 }

@@ -210,6 +210,18 @@ pub struct WorkRow {
     pub iters_per_cell: Option<f64>,
 }
 
+impl WorkRow {
+    /// The route's nodes, from the two flags the file keeps.
+    pub fn nodes(&self) -> crate::ltc::fit::Nodes {
+        use crate::ltc::fit::Nodes;
+        match (self.fixed_nodes, self.fixed_all) {
+            (_, true) => Nodes::FixedAll,
+            (true, false) => Nodes::Fixed,
+            (false, false) => Nodes::Moving,
+        }
+    }
+}
+
 /// results/fits/ltc-judge-tolerance.json (on request): the held-out judge's accuracy
 /// against its work, per published table, at each relative tolerance.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -1,6 +1,7 @@
 //! results/ltc-work.md: per table, the reference's spread and the cheaper routes against it.
 
 use crate::integrate::Preset;
+use crate::ltc::fit::Nodes;
 use crate::report::table::Table as MdTable;
 use crate::results::ltc::{LtcWork, TableWork, WorkRow};
 
@@ -130,10 +131,10 @@ fn routes_table(t: &TableWork) -> String {
         r.row([
             format!("{}²", row.samples),
             row.max_iters.to_string(),
-            match (row.fixed_nodes, row.fixed_all) {
-                (_, true) => "fixed, and in the polish and the bilinear pass",
-                (true, false) => "fixed",
-                (false, false) => "moving",
+            match row.nodes() {
+                Nodes::FixedAll => "fixed, and in the polish and the bilinear pass",
+                Nodes::Fixed => "fixed",
+                Nodes::Moving => "moving",
             }
             .into(),
             millions(row.work_per_cell),
@@ -189,10 +190,10 @@ fn verdict(t: &TableWork, w0: f64) -> String {
             "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage{}, {:.2}× the reference's fit work.\n\n",
             r.samples,
             r.max_iters,
-            match (r.fixed_nodes, r.fixed_all) {
-                (_, true) => ", fixed nodes in every stage (cubic, polish, bilinear pass)",
-                (true, false) => ", fixed nodes in the cubic stage",
-                (false, false) => "",
+            match r.nodes() {
+                Nodes::FixedAll => ", fixed nodes in every stage (cubic, polish, bilinear pass)",
+                Nodes::Fixed => ", fixed nodes in the cubic stage",
+                Nodes::Moving => "",
             },
             w(r) / w0
         ),
