@@ -31,10 +31,13 @@ use crate::parmap::ParMap;
 use nalgebra::Vector3;
 use serde::Serialize;
 
+pub use super::objective::Metric;
+use super::objective::Objective;
 pub use super::params::{
     inverse_from_production, matrix, params_from_production, params_to_m, production_inverse, turn,
 };
 pub use super::polish::{Polish, POLISH_ITERS};
+use super::polish::{FIXED_POLISH_AGREEMENT, FIXED_POLISH_CAPTURES, FIXED_POLISH_SCALE};
 pub use super::samples::{
     metrics, metrics_on, FixedNodes, Nodes, Sets, TargetSamples, TRAIN_OFFSET,
 };
@@ -85,13 +88,6 @@ impl Cell {
     }
 }
 
-/// Which metric drives the fit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum Metric {
-    Cubic,
-    L2,
-}
-
 /// Which optimiser.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum Method {
@@ -125,103 +121,6 @@ impl Nodes {
             Nodes::Fixed => Method::FixedNodes,
             Nodes::FixedAll => Method::FixedNodesAll,
         }
-    }
-}
-
-/// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,
-/// m13/m11[, φ]) against the target, on the training set (offset 0.5, n×n) or the
-/// validation set (offset 0.37, (n + 7)²). ∞ for non-finite parameters or a singular M.
-struct Objective<'a, T: ?Sized> {
-    t: &'a T,
-    z: V3,
-    norm: f64,
-    /// The target's samples of the set (training or validation).
-    set: &'a TargetSamples,
-    metric: Metric,
-    /// Fixed nodes in place of `set`'s moving ones (`FixedNodes`).
-    fixed: Option<&'a FixedNodes>,
-}
-
-impl<'a, T: LtcTarget + ?Sized> Objective<'a, T> {
-    /// On the training or the validation set of `sets`; on the matching one of a stage's
-    /// fixed `nodes` (training, validation) where given.
-    fn on(
-        t: &'a T,
-        z: V3,
-        norm: f64,
-        metric: Metric,
-        sets: &'a Sets,
-        nodes: Option<&'a (FixedNodes, FixedNodes)>,
-        validation: bool,
-    ) -> Self {
-        Objective {
-            t,
-            z,
-            norm,
-            set: if validation { &sets.val } else { &sets.train },
-            metric,
-            fixed: nodes.map(|n| if validation { &n.1 } else { &n.0 }),
-        }
-    }
-
-    fn value(&self, p: &[f64]) -> f64 {
-        if p.iter().any(|x| !x.is_finite()) {
-            return f64::INFINITY;
-        }
-        let (m11, m22, m13) = params_to_m(p);
-        let z = if p.len() > 3 {
-            turn(&self.z, p[3].clamp(-0.5, 0.5))
-        } else {
-            self.z
-        };
-        match LtcDist::new(matrix(m11, m22, m13, &z)) {
-            Ok(ltc) => {
-                let (c, l2) = match self.fixed {
-                    Some(fx) => fx.metrics(&ltc, self.norm),
-                    None => metrics_on(self.t, self.set, &ltc, self.norm),
-                };
-                if self.metric == Metric::Cubic {
-                    c
-                } else {
-                    l2
-                }
-            }
-            Err(_) => f64::INFINITY,
-        }
-    }
-    /// The value the optimisers see: finite (1e30 stands in for ∞).
-    fn bounded(&self, p: &[f64]) -> f64 {
-        let v = self.value(p);
-        if v.is_finite() {
-            v
-        } else {
-            1e30
-        }
-    }
-}
-
-impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, p: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
-        Ok(self.bounded(p))
-    }
-}
-
-impl<T: LtcTarget + ?Sized> argmin::core::Gradient for Objective<'_, T> {
-    type Param = Vec<f64>;
-    type Gradient = Vec<f64>;
-    /// Central differences, step 1e-5.
-    fn gradient(&self, p: &Vec<f64>) -> std::result::Result<Vec<f64>, argmin::core::Error> {
-        let h = 1e-5;
-        Ok((0..p.len())
-            .map(|k| {
-                let (mut a, mut b) = (p.clone(), p.clone());
-                a[k] += h;
-                b[k] -= h;
-                (self.bounded(&a) - self.bounded(&b)) / (2.0 * h)
-            })
-            .collect())
     }
 }
 
@@ -391,7 +290,7 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
 /// The L2 polish of a cell fitted under the cubic metric, by `how`, from that solution
 /// `p`. Returns the parameters and whether the polish was kept.
 #[allow(clippy::too_many_arguments)]
-fn polish_l2<T: LtcTarget + ?Sized>(
+pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
     t: &T,
     z: &V3,
     norm: f64,
@@ -403,6 +302,9 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     use super::gauss_newton::fit_cell_lm;
     let n = sets.n();
     let q = match how {
+        Polish::NelderMead if method == Method::FixedNodesAll => {
+            fixed_polish(t, z, norm, p, sets, max_iters / 2)?
+        }
         Polish::NelderMead => {
             fit_cell_on(
                 t,
@@ -411,12 +313,7 @@ fn polish_l2<T: LtcTarget + ?Sized>(
                 p,
                 sets,
                 Metric::L2,
-                // on fixed nodes from the cubic solution where every stage has them
-                if method == Method::FixedNodesAll {
-                    Method::FixedNodes
-                } else {
-                    Method::NelderMead
-                },
+                Method::NelderMead,
                 max_iters / 2,
             )?
             .0
@@ -442,6 +339,62 @@ fn polish_l2<T: LtcTarget + ?Sized>(
     } else {
         Ok((*p, false))
     }
+}
+
+/// The Nelder–Mead polish on fixed nodes from the cubic solution `p`
+/// ([`FIXED_POLISH_SCALE`]× the sets' nodes per axis, the training draw's offset), done
+/// again on the moving samples of `sets` where its result fails either check: the fixed
+/// and the moving estimate of its relative L2 agree ([`FIXED_POLISH_AGREEMENT`]), and it
+/// captures the lobe ([`FIXED_POLISH_CAPTURES`]).
+pub(super) fn fixed_polish<T: LtcTarget + ?Sized>(
+    t: &T,
+    z: &V3,
+    norm: f64,
+    p: &[f64; 4],
+    sets: &Sets,
+    max_iters: u64,
+) -> Result<[f64; 4]> {
+    let wide = Sets::drawn(t, FIXED_POLISH_SCALE * sets.n(), sets.train.offset());
+    let q = fit_cell_on(
+        t,
+        z,
+        norm,
+        p,
+        &wide,
+        Metric::L2,
+        Method::FixedNodes,
+        max_iters,
+    )?
+    .0;
+    let ltc = |p: &[f64; 4]| {
+        let (m11, m22, m13) = params_to_m(p);
+        LtcDist::new(matrix(m11, m22, m13, &turn(z, p[3].clamp(-0.5, 0.5)))).ok()
+    };
+    let holds = match (ltc(p), ltc(&q)) {
+        (Some(from), Some(to)) => {
+            let fixed = FixedNodes::new(t, &sets.val, &from).metrics(&to, norm).1;
+            let moving = metrics_on(t, &sets.val, &to, norm).1;
+            let r = fixed / moving;
+            r.is_finite()
+                && (1.0 / FIXED_POLISH_AGREEMENT..=FIXED_POLISH_AGREEMENT).contains(&r)
+                && moving < FIXED_POLISH_CAPTURES
+        }
+        _ => false,
+    };
+    if holds {
+        return Ok(q);
+    }
+    Ok(fit_cell_on(
+        t,
+        z,
+        norm,
+        p,
+        sets,
+        Metric::L2,
+        Method::NelderMead,
+        max_iters,
+    )?
+    .0)
 }
 
 /// Both metrics of a production-form cell (a, b, c, d) with amplitude `norm` against the

@@ -41,6 +41,7 @@ pub mod hemisphere;
 pub mod lobe_error;
 pub mod lobe_nodes;
 pub mod lobes;
+pub mod objective;
 pub mod params;
 pub mod pipeline;
 pub mod polish;

@@ -47,6 +47,8 @@ pub fn work() -> u64 {
 /// drawing them afresh.
 pub struct TargetSamples {
     n: usize,
+    /// The strata offset it was drawn with.
+    off: f64,
     /// Per (i, j): the sample with (f, density), or `None` below the horizon.
     pts: Vec<Option<(V3, f64, f64)>>,
     /// Per (i, j): the clamped-cosine sample of the same uniforms, which every trial LTC
@@ -77,7 +79,11 @@ impl TargetSamples {
             }
         }
         count_targets(n * n);
-        TargetSamples { n, pts, cos }
+        TargetSamples { n, off, pts, cos }
+    }
+    /// The strata offset it was drawn with.
+    pub fn offset(&self) -> f64 {
+        self.off
     }
 }
 
@@ -279,9 +285,10 @@ pub enum Nodes {
     /// The cubic stage on fixed nodes; the L2 polish and the bilinear pass on moving ones.
     Fixed,
     /// Every trial of the fit on fixed nodes: the cubic stage's, the L2 polish's (its LTC
-    /// half drawn once from the cubic solution) and the bilinear pass's (each place's LTC
-    /// half drawn once from the table's entries there before the pass): a trial evaluates
-    /// no lobe anywhere.
+    /// half drawn once from the cubic solution, `ltc::polish::FIXED_POLISH_SCALE`× the
+    /// nodes per axis; polished again on moving samples where the result fails its checks)
+    /// and the bilinear pass's (each place's LTC half drawn once from the table's entries
+    /// there before the pass): no trial but those of a repeated polish evaluates the lobe.
     FixedAll,
 }
 
@@ -292,7 +299,7 @@ impl Nodes {
         match self {
             Nodes::Moving => "",
             Nodes::Fixed => "; the trials measured on fixed nodes: each stage's LTC half drawn once from the stage's start and weighted by the balance heuristic of the two techniques that drew it, so a trial evaluates no lobe (results/ltc-work.md judges it as a route against the reference fitter); the L2 polish and the bilinear pass on moving samples",
-            Nodes::FixedAll => "; every trial measured on fixed nodes (the cubic stage's from its start, the L2 polish's from the cubic solution, the bilinear pass's from the table's entries before it), each LTC half drawn once and weighted by the balance heuristic of the two techniques that drew it, so no trial evaluates the lobe (results/ltc-work.md judges it as a route against the reference fitter)",
+            Nodes::FixedAll => "; every trial measured on fixed nodes (the cubic stage's from its start, the L2 polish's from the cubic solution, at twice the nodes per axis, with a moving-sample polish where its result fails a check; the bilinear pass's from the table's entries before it), each LTC half drawn once and weighted by the balance heuristic of the two techniques that drew it, so no trial evaluates the lobe (results/ltc-work.md judges it as a route against the reference fitter)",
         }
     }
 }

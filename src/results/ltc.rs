@@ -203,6 +203,10 @@ pub struct WorkRow {
     /// or a sample ± its s.e.); `None` for the published table, whose study reports it.
     #[serde(default)]
     pub between_l2: Option<Figure<crate::integrate::StdErr>>,
+    /// The judged squares' mean integral bar (the held-out integrals' own error, which a
+    /// census's zero s.e. leaves out); `None` where not stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub between_bar: Option<f64>,
     pub work_per_cell: Option<f64>,
     /// Target evaluations of the fit per cell (`ltc::samples::target_work`).
     #[serde(default)]

@@ -108,6 +108,8 @@ struct Fitted {
     cells: Vec<Option<Figure<Quad>>>,
     /// The mean relative L2 between cells (`ltc_between::measure`).
     between: Option<Figure<StdErr>>,
+    /// The judged squares' mean integral bar.
+    between_bar: Option<f64>,
     work: Option<f64>,
     target_evals: Option<f64>,
     iters: Option<f64>,
@@ -133,13 +135,14 @@ fn fit(
     crate::ltc::smooth::bilinear_pass(&Memo, &mut t, &target, samples)?;
     crate::ltc::storage::store_table(&Memo, &mut t, &target, samples)?;
     crate::ltc::held::judge_table(&Memo, &mut t, &target, tol)?;
-    let between = crate::studies::ltc_between::measure(&t, &target, tol, between)?.mean_l2;
+    let between = crate::studies::ltc_between::measure(&t, &target, tol, between)?;
     let all: Vec<&Cell> = t.cells.iter().flatten().collect();
     let per_cell =
         |f: &dyn Fn(&Cell) -> f64| all.iter().map(|c| f(c)).sum::<f64>() / all.len() as f64;
     Ok(Fitted {
         cells: all.iter().map(|c| c.l2()).collect(),
-        between: Some(between),
+        between: Some(between.mean_l2),
+        between_bar: Some(between.judged.l2.mean.error),
         work: Some(per_cell(&|c| c.work as f64)),
         target_evals: Some(per_cell(&|c| c.target_evals as f64)),
         iters: Some(per_cell(&|c| c.iters as f64)),
@@ -155,6 +158,7 @@ fn row((samples, max_iters): (usize, u64), nodes: Nodes, offset: f64, f: &Fitted
         offset,
         mean: Figure::mean_bounded(&f.cells.iter().flatten().copied().collect::<Vec<_>>()),
         between_l2: f.between,
+        between_bar: f.between_bar,
         work_per_cell: f.work,
         target_evals_per_cell: f.target_evals,
         iters_per_cell: f.iters,
@@ -181,6 +185,7 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
             .map(|f| f.map(|f| Figure::new(f[0], f[1])))
             .collect(),
         between: None,
+        between_bar: None,
         work: None,
         target_evals: None,
         iters: None,
