@@ -32,7 +32,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 pub use super::objective::Metric;
-use super::objective::Objective;
+use super::objective::{ltc_at, Objective};
 pub use super::params::{
     inverse_from_production, matrix, params_from_production, params_to_m, production_inverse, turn,
 };
@@ -226,13 +226,7 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
         if !method.fixed_stages() {
             return None;
         }
-        let (m11, m22, m13) = params_to_m(p);
-        let zt = if p.len() > 3 {
-            turn(zz, p[3].clamp(-0.5, 0.5))
-        } else {
-            *zz
-        };
-        let start = LtcDist::new(matrix(m11, m22, m13, &zt)).ok()?;
+        let start = ltc_at(zz, p)?;
         Some((
             FixedNodes::new(t, &sets.train, &start),
             FixedNodes::new(t, &sets.val, &start),
@@ -288,7 +282,10 @@ fn fit_cell_on<T: LtcTarget + ?Sized>(
 }
 
 /// The L2 polish of a cell fitted under the cubic metric, by `how`, from that solution
-/// `p`. Returns the parameters and whether the polish was kept.
+/// `p`. Returns the parameters and whether the polish was kept: where it lowers the
+/// validation set's relative L2 (moving samples). On the route with fixed nodes in every
+/// stage, Nelder–Mead runs on fixed nodes ([`fixed_polish`]) and again on moving samples
+/// where its result fails [`fixed_polish_holds`].
 #[allow(clippy::too_many_arguments)]
 pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
     t: &T,
@@ -301,31 +298,6 @@ pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
 ) -> Result<([f64; 4], bool)> {
     use super::gauss_newton::fit_cell_lm;
     let n = sets.n();
-    let q = match how {
-        Polish::NelderMead if method == Method::FixedNodesAll => {
-            fixed_polish(t, z, norm, p, sets, max_iters / 2)?
-        }
-        Polish::NelderMead => {
-            fit_cell_on(
-                t,
-                z,
-                norm,
-                p,
-                sets,
-                Metric::L2,
-                Method::NelderMead,
-                max_iters / 2,
-            )?
-            .0
-        }
-        Polish::LevenbergMarquardt | Polish::LevenbergMarquardtTurnHeld => {
-            let held = how == Polish::LevenbergMarquardtTurnHeld;
-            let mut q = fit_cell_lm(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
-            // the route evaluates φ clamped as the objective does; store it so
-            q[3] = q[3].clamp(-0.5, 0.5);
-            q
-        }
-    };
     let val = Objective {
         t,
         z: *z,
@@ -334,6 +306,28 @@ pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
         metric: Metric::L2,
         fixed: None,
     };
+    let moving = || -> Result<[f64; 4]> {
+        let l2 = Metric::L2;
+        Ok(fit_cell_on(t, z, norm, p, sets, l2, Method::NelderMead, max_iters / 2)?.0)
+    };
+    let q = match how {
+        Polish::NelderMead if method == Method::FixedNodesAll => {
+            let q = fixed_polish(t, z, norm, p, sets, max_iters / 2)?;
+            if fixed_polish_holds(t, z, norm, (p, &q, val.value(&q)), sets) {
+                q
+            } else {
+                moving()?
+            }
+        }
+        Polish::NelderMead => moving()?,
+        Polish::LevenbergMarquardt | Polish::LevenbergMarquardtTurnHeld => {
+            let held = how == Polish::LevenbergMarquardtTurnHeld;
+            let mut q = fit_cell_lm(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
+            // the route evaluates φ clamped as the objective does; store it so
+            q[3] = q[3].clamp(-0.5, 0.5);
+            q
+        }
+    };
     if q.iter().all(|x| x.is_finite()) && val.value(&q) < val.value(p) {
         Ok((q, true))
     } else {
@@ -341,12 +335,9 @@ pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
     }
 }
 
-/// The Nelder–Mead polish on fixed nodes from the cubic solution `p`
-/// ([`FIXED_POLISH_SCALE`]× the sets' nodes per axis, the training draw's offset), done
-/// again on the moving samples of `sets` where its result fails either check: the fixed
-/// and the moving estimate of its relative L2 agree ([`FIXED_POLISH_AGREEMENT`]), and it
-/// captures the lobe ([`FIXED_POLISH_CAPTURES`]).
-pub(super) fn fixed_polish<T: LtcTarget + ?Sized>(
+/// The Nelder–Mead polish on fixed nodes from the cubic solution `p`:
+/// [`FIXED_POLISH_SCALE`]× the sets' nodes per axis, at the training draw's offset.
+fn fixed_polish<T: LtcTarget + ?Sized>(
     t: &T,
     z: &V3,
     norm: f64,
@@ -355,46 +346,28 @@ pub(super) fn fixed_polish<T: LtcTarget + ?Sized>(
     max_iters: u64,
 ) -> Result<[f64; 4]> {
     let wide = Sets::drawn(t, FIXED_POLISH_SCALE * sets.n(), sets.train.offset());
-    let q = fit_cell_on(
-        t,
-        z,
-        norm,
-        p,
-        &wide,
-        Metric::L2,
-        Method::FixedNodes,
-        max_iters,
-    )?
-    .0;
-    let ltc = |p: &[f64; 4]| {
-        let (m11, m22, m13) = params_to_m(p);
-        LtcDist::new(matrix(m11, m22, m13, &turn(z, p[3].clamp(-0.5, 0.5)))).ok()
+    let l2 = Metric::L2;
+    Ok(fit_cell_on(t, z, norm, p, &wide, l2, Method::FixedNodes, max_iters)?.0)
+}
+
+/// Whether a fixed-node polish from `p` to `q` (whose relative L2 on the moving samples of
+/// the validation set is `moving`) passes both checks: the estimate on fixed nodes drawn
+/// from `p` agrees with `moving` ([`FIXED_POLISH_AGREEMENT`]), and `q` captures the lobe
+/// ([`FIXED_POLISH_CAPTURES`]).
+fn fixed_polish_holds<T: LtcTarget + ?Sized>(
+    t: &T,
+    z: &V3,
+    norm: f64,
+    (p, q, moving): (&[f64; 4], &[f64; 4], f64),
+    sets: &Sets,
+) -> bool {
+    let (Some(from), Some(to)) = (ltc_at(z, p), ltc_at(z, q)) else {
+        return false;
     };
-    let holds = match (ltc(p), ltc(&q)) {
-        (Some(from), Some(to)) => {
-            let fixed = FixedNodes::new(t, &sets.val, &from).metrics(&to, norm).1;
-            let moving = metrics_on(t, &sets.val, &to, norm).1;
-            let r = fixed / moving;
-            r.is_finite()
-                && (1.0 / FIXED_POLISH_AGREEMENT..=FIXED_POLISH_AGREEMENT).contains(&r)
-                && moving < FIXED_POLISH_CAPTURES
-        }
-        _ => false,
-    };
-    if holds {
-        return Ok(q);
-    }
-    Ok(fit_cell_on(
-        t,
-        z,
-        norm,
-        p,
-        sets,
-        Metric::L2,
-        Method::NelderMead,
-        max_iters,
-    )?
-    .0)
+    let r = FixedNodes::new(t, &sets.val, &from).metrics(&to, norm).1 / moving;
+    r.is_finite()
+        && (1.0 / FIXED_POLISH_AGREEMENT..=FIXED_POLISH_AGREEMENT).contains(&r)
+        && moving < FIXED_POLISH_CAPTURES
 }
 
 /// Both metrics of a production-form cell (a, b, c, d) with amplitude `norm` against the

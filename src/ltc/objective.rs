@@ -18,6 +18,18 @@ pub enum Metric {
     L2,
 }
 
+/// The LTC of parameters p = (ln m11, ln m22, m13/m11[, φ]) about the axis `z` turned by
+/// φ (clamped to ±0.5, as the fit evaluates it); `None` where M is singular.
+pub fn ltc_at(z: &V3, p: &[f64]) -> Option<LtcDist> {
+    let (m11, m22, m13) = params_to_m(p);
+    let z = if p.len() > 3 {
+        turn(z, p[3].clamp(-0.5, 0.5))
+    } else {
+        *z
+    };
+    LtcDist::new(matrix(m11, m22, m13, &z)).ok()
+}
+
 /// The fit objective: one metric of the LTC with parameters p = (ln m11, ln m22,
 /// m13/m11[, φ]) against the target, on the training set (offset 0.5, n×n) or the
 /// validation set (offset 0.37, (n + 7)²). ∞ for non-finite parameters or a singular M.
@@ -58,14 +70,8 @@ impl<'a, T: LtcTarget + ?Sized> Objective<'a, T> {
         if p.iter().any(|x| !x.is_finite()) {
             return f64::INFINITY;
         }
-        let (m11, m22, m13) = params_to_m(p);
-        let z = if p.len() > 3 {
-            turn(&self.z, p[3].clamp(-0.5, 0.5))
-        } else {
-            self.z
-        };
-        match LtcDist::new(matrix(m11, m22, m13, &z)) {
-            Ok(ltc) => {
+        match ltc_at(&self.z, p) {
+            Some(ltc) => {
                 let (c, l2) = match self.fixed {
                     Some(fx) => fx.metrics(&ltc, self.norm),
                     None => metrics_on(self.t, self.set, &ltc, self.norm),
@@ -76,7 +82,7 @@ impl<'a, T: LtcTarget + ?Sized> Objective<'a, T> {
                     l2
                 }
             }
-            Err(_) => f64::INFINITY,
+            None => f64::INFINITY,
         }
     }
     /// The value the optimisers see: finite (1e30 stands in for ∞).
