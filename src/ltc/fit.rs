@@ -310,25 +310,27 @@ pub(super) fn polish_l2<T: LtcTarget + ?Sized>(
         let l2 = Metric::L2;
         Ok(fit_cell_on(t, z, norm, p, sets, l2, Method::NelderMead, max_iters / 2)?.0)
     };
-    let q = match how {
+    // the polished lobe's relative L2 on the validation set, where the route measured it
+    let (q, at_q) = match how {
         Polish::NelderMead if method == Method::FixedNodesAll => {
             let q = fixed_polish(t, z, norm, p, sets, max_iters / 2)?;
-            if fixed_polish_holds(t, z, norm, (p, &q, val.value(&q)), sets) {
-                q
+            let at_q = val.value(&q);
+            if fixed_polish_holds(t, z, norm, (p, &q, at_q), sets) {
+                (q, Some(at_q))
             } else {
-                moving()?
+                (moving()?, None)
             }
         }
-        Polish::NelderMead => moving()?,
+        Polish::NelderMead => (moving()?, None),
         Polish::LevenbergMarquardt | Polish::LevenbergMarquardtTurnHeld => {
             let held = how == Polish::LevenbergMarquardtTurnHeld;
             let mut q = fit_cell_lm(t, z, norm, p, 2 * n, POLISH_ITERS, held)?.params;
             // the route evaluates φ clamped as the objective does; store it so
             q[3] = q[3].clamp(-0.5, 0.5);
-            q
+            (q, None)
         }
     };
-    if q.iter().all(|x| x.is_finite()) && val.value(&q) < val.value(p) {
+    if q.iter().all(|x| x.is_finite()) && at_q.unwrap_or_else(|| val.value(&q)) < val.value(p) {
         Ok((q, true))
     } else {
         Ok((*p, false))

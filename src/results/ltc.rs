@@ -176,7 +176,12 @@ pub struct TableWork {
     pub table_fingerprint: String,
     /// The published route's polish, in words.
     pub polish: String,
-    /// The reference's draws, the published one first.
+    /// The published route's nodes (absent: moving samples, the reference fitter's). On
+    /// any other, the first draw is the reference refitted at the published offset, and
+    /// the published table is the route at the published settings on these nodes.
+    #[serde(default)]
+    pub published_nodes: crate::ltc::fit::Nodes,
+    /// The reference's draws (moving samples), the one at the published offset first.
     pub draws: Vec<WorkRow>,
     /// Each cheaper route with its verdict.
     pub routes: Vec<(WorkRow, crate::ltc::spread::Verdict)>,

@@ -4,9 +4,11 @@
 //! For each table the main job fits by Nelder–Mead (GGX; the sheen lobes of Estevez &
 //! Kulla and of Neubelt), read from its published file:
 //!
-//! - **The reference's spread.** The published route (its spec's samples, iteration cap
-//!   and polish) is refitted on other draws of its training samples (`draws`: the strata
-//!   offset, `ltc::fit::fit_table_drawn`; the published table is the draw at 0.5), each
+//! - **The reference's spread.** The reference route (the published spec's samples,
+//!   iteration cap and polish, with the reference fitter's trials on moving samples) is
+//!   refitted on other draws of its training samples (`draws`: the strata offset,
+//!   `ltc::fit::fit_table_drawn`; a table published on moving samples is the draw at 0.5,
+//!   one published on fixed nodes is a route, and the reference is refitted at 0.5), each
 //!   through the same bilinear pass, binary16 storage and held-out integrals
 //!   (`ltc::held::judge_table`, at the published tolerance).
 //! - **Cheaper routes** (`routes`: the published samples per axis and iteration cap each
@@ -169,14 +171,9 @@ fn row((samples, max_iters): (usize, u64), nodes: Nodes, offset: f64, f: &Fitted
 fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result<TableWork> {
     let (p, fingerprint) = crate::results::ltc::published(results, name)?;
     let route = p.route(name)?;
-    // the published table is the reference's draw at the published offset: the study
-    // judges routes against the reference fitter's moving samples
-    if route.nodes != Nodes::Moving {
-        return Err(Error::InvalidArgument(format!(
-            "ltc-work: results/fits/{name}.json was fitted with nodes = \"fixed\"; the study takes the published table as the reference fitter's draw, which measures its trials on moving samples"
-        )));
-    }
-    let published = Fitted {
+    // the reference fitter measures its trials on moving samples: where the published
+    // route does too, the published table is its draw at the published offset
+    let published = (route.nodes == Nodes::Moving).then(|| Fitted {
         cells: p
             .held_out_cells
             .l2
@@ -189,16 +186,17 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
         work: None,
         target_evals: None,
         iters: None,
-    };
+    });
     let (tol, at) = (route.tolerance(), (route.samples, route.max_iters));
     // the squares the table's own study judges between cells, at its published preset
     let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
     let between = crate::studies::ltc_between::sample_for(name, None, preset);
-    let mut draws = vec![published];
-    let mut rows = vec![row(at, Nodes::Moving, TRAIN_OFFSET, &draws[0])];
-    for &o in &pl.draws {
+    let (mut draws, mut rows) = (Vec::new(), Vec::new());
+    // the published table, or the reference refitted at its offset, then the other draws
+    let offsets = published.is_none().then_some(TRAIN_OFFSET);
+    for o in offsets.into_iter().chain(pl.draws.iter().copied()) {
         crate::report::stage(&format!(
-            "regen ltc-work: {name}, the published route on the training draw at offset {o}"
+            "regen ltc-work: {name}, the reference route on the training draw at offset {o}"
         ));
         let f = fit(
             lobe,
@@ -209,6 +207,10 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
         )?;
         rows.push(row(at, Nodes::Moving, o, &f));
         draws.push(f);
+    }
+    if let Some(f) = published {
+        rows.insert(0, row(at, Nodes::Moving, TRAIN_OFFSET, &f));
+        draws.insert(0, f);
     }
     let refs: Vec<&spread::Cells> = draws.iter().map(|d| d.cells.as_slice()).collect();
     let mut routes = Vec::with_capacity(pl.routes.len());
@@ -238,6 +240,7 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
         table: name.into(),
         table_fingerprint: fingerprint,
         polish: route.polish.describe(route.samples),
+        published_nodes: route.nodes,
         draws: rows,
         routes,
     })

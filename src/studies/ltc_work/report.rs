@@ -7,7 +7,7 @@ use crate::results::ltc::{LtcWork, TableWork, WorkRow};
 
 pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
     let mut md = format!(
-        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits that route on other draws of its training samples (the strata offset; the published table is the draw at 0.5: the same work, another draw), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. Target evaluations: the fit's evaluations of the BRDF lobe per cell, in millions, also a count: a moving-sample trial evaluates the lobe at each of its LTC half's samples, so the lobe (two powers and an exponential per value for the sheen, GGX's D and Λ) is most of a trial's cost. A route with fixed nodes (`ltc::fit::Method::FixedNodes`) measures the cubic stage's trials on nodes drawn once per stage — the LTC half from the stage's start, with the balance weights of the two techniques that drew them — so its trials evaluate no lobe; the L2 polish stays the published one. A route with fixed nodes in every stage (`Method::FixedNodesAll`) also measures the L2 polish's trials on nodes drawn once from the cubic solution, twice as many per axis as the cubic stage's (`ltc::polish::FIXED_POLISH_SCALE`; a cell whose polished lobe the fixed and the moving estimate disagree on by more than 1.2×, or that captures nothing, relative L2 ≥ 0.9, is polished again on moving samples), and the bilinear pass's on nodes drawn once per place from the table's entries there before the pass (the pass's keep-or-revert test stays on moving samples); the pass's evaluations are in neither count. A route with the published settings and moving nodes is a check: its cells are the published table's, bit for bit.\n\n",
+        "# LTC tables: accuracy against fitting work\n\nWritten by `{}` (preset {}) from `fits/{}.toml`, on request (the main job leaves it out). For each LTC table the main job fits by Nelder–Mead, it reads the published table and its route, refits the reference (the route's settings with the reference fitter's trials on moving samples) on other draws of its training samples (the strata offset; a table published on moving samples is the draw at 0.5: the same work, another draw; one published on fixed nodes is a route below, and the reference is refitted at 0.5 too), and fits cheaper routes; every table goes through the same bilinear pass, binary16 storage and held-out integrals (relative L2 of the f64 cell, ± its bar). The diffuse table is left out: its route is already cut to 20 iterations with a Levenberg–Marquardt polish, whose evaluations the work count does not see.\n\n**The rule** (`ltc::spread`). The judge's bars (~1e-5 relative) measure the integrals, not the fit: a draw of the same route moves hundreds of cells by far more, both ways. So each draw is set against the envelope of the others (their largest error per cell), and counts the cells where it lands above that envelope beyond both bars, their sum and largest difference, and the cells where it lands below the others' smallest. The surplus is a draw's cells above less its cells below: a fresh draw is as often below the others as above, so a route a little worse almost everywhere shows as a surplus. A route is set against the same envelopes, one per left-out draw, and its statistics are the means over them. It is **no worse** when its cells above, sum above, surplus and mean rel. L2 (less its bar) are each within the one-sided 95 % prediction bound of the draws' own (mean + t₀.₉₅·s·√(1 + 1/R) over the R draws, Student's t with R − 1 degrees of freedom): a fresh draw fails each bound about one time in twenty. Work: the fit's trial-LTC sample evaluations per cell (cubic stages and polish), in millions; a count, not a clock. Target evaluations: the fit's evaluations of the BRDF lobe per cell, in millions, also a count: a moving-sample trial evaluates the lobe at each of its LTC half's samples, so the lobe (two powers and an exponential per value for the sheen, GGX's D and Λ) is most of a trial's cost. A route with fixed nodes (`ltc::fit::Method::FixedNodes`) measures the cubic stage's trials on nodes drawn once per stage — the LTC half from the stage's start, with the balance weights of the two techniques that drew them — so its trials evaluate no lobe; the L2 polish stays the published one. A route with fixed nodes in every stage (`Method::FixedNodesAll`) also measures the L2 polish's trials on nodes drawn once from the cubic solution, twice as many per axis as the cubic stage's (`ltc::polish::FIXED_POLISH_SCALE`; a cell whose polished lobe the fixed and the moving estimate disagree on by more than 1.2×, or that captures nothing, relative L2 ≥ 0.9, is polished again on moving samples), and the bilinear pass's on nodes drawn once per place from the table's entries there before the pass (the pass's keep-or-revert test stays on moving samples); the pass's evaluations are in neither count. A route with the reference's settings and moving nodes is a check: its cells are the first draw's, bit for bit; and where the table was published on fixed nodes, the route with its settings on those nodes is the published table. The cheapest route no worse is ranked by target evaluations, which a fit's CPU time follows (a fixed-node trial evaluates no lobe; its trial-LTC evaluations are cheap).\n\n",
         o.command,
         preset.name(),
         o.spec.name,
@@ -20,13 +20,28 @@ pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
 
 fn table_section(t: &TableWork) -> String {
     let d0 = &t.draws[0];
+    let published = match t.published_nodes {
+        Nodes::Moving => "The published route is the reference's".to_string(),
+        n => format!(
+            "The published table (fingerprint {}) is the route below at these settings with {}; the reference is refitted at the published offset 0.5 (the first draw)",
+            &t.table_fingerprint[..t.table_fingerprint.len().min(16)],
+            nodes_words(n)
+        ),
+    };
     let mut md = format!(
-        "## {}\n\nThe published route: {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {} (table fingerprint {}).\n\n",
+        "## {}\n\nThe reference route (the reference fitter, trials on moving samples): {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {}. {}{}.\n\n",
         t.table,
         d0.samples,
         d0.max_iters,
         t.polish,
-        &t.table_fingerprint[..t.table_fingerprint.len().min(16)]
+        published,
+        match t.published_nodes {
+            Nodes::Moving => format!(
+                " (table fingerprint {})",
+                &t.table_fingerprint[..t.table_fingerprint.len().min(16)]
+            ),
+            _ => String::new(),
+        }
     );
     let mut d = MdTable::new([
         "training offset",
@@ -132,12 +147,19 @@ fn routes_table(t: &TableWork) -> String {
         r.row([
             format!("{}²", row.samples),
             row.max_iters.to_string(),
-            match row.nodes() {
-                Nodes::FixedAll => "fixed, and in the polish and the bilinear pass",
-                Nodes::Fixed => "fixed",
-                Nodes::Moving => "moving",
-            }
-            .into(),
+            format!(
+                "{}{}",
+                match row.nodes() {
+                    Nodes::FixedAll => "fixed, and in the polish and the bilinear pass",
+                    Nodes::Fixed => "fixed",
+                    Nodes::Moving => "moving",
+                },
+                if published_row(t, row) {
+                    " (the published table)"
+                } else {
+                    ""
+                }
+            ),
             millions(row.work_per_cell),
             row.work_per_cell
                 .map_or("—".into(), |w| format!("{:.2}", w / w0)),
@@ -165,12 +187,32 @@ fn routes_table(t: &TableWork) -> String {
             v.surplus_bound,
         ));
     }
-    md.push_str(&verdict(t, w0));
+    md.push_str(&verdict(t, e0));
     md
 }
 
-/// The cheapest route no worse than the reference, in a sentence.
-fn verdict(t: &TableWork, w0: f64) -> String {
+/// Whether a route is the published table's: the published settings on its nodes, where
+/// those are not the reference's moving samples.
+fn published_row(t: &TableWork, r: &WorkRow) -> bool {
+    let d0 = &t.draws[0];
+    t.published_nodes != Nodes::Moving
+        && r.nodes() == t.published_nodes
+        && (r.samples, r.max_iters) == (d0.samples, d0.max_iters)
+}
+
+/// A route's nodes in words, after "with".
+fn nodes_words(n: Nodes) -> &'static str {
+    match n {
+        Nodes::FixedAll => "fixed nodes in every stage (cubic, polish, bilinear pass)",
+        Nodes::Fixed => "fixed nodes in the cubic stage",
+        Nodes::Moving => "moving samples",
+    }
+}
+
+/// The cheapest route no worse than the reference, in a sentence. Cheapest by target
+/// evaluations per cell: a fixed-node trial evaluates no lobe, so the lobe's evaluations,
+/// not the trial LTC's, are what a fit's CPU time follows.
+fn verdict(t: &TableWork, e0: f64) -> String {
     let d0 = &t.draws[0];
     // cheaper by its settings: no more samples or iterations than the published route,
     // and fewer of one or fixed nodes (the published route itself is a check, not a
@@ -180,23 +222,24 @@ fn verdict(t: &TableWork, w0: f64) -> String {
             && r.max_iters <= d0.max_iters
             && ((r.samples, r.max_iters) != (d0.samples, d0.max_iters) || r.fixed_nodes)
     };
-    let w = |r: &WorkRow| r.work_per_cell.unwrap_or(f64::INFINITY);
+    let e = |r: &WorkRow| r.target_evals_per_cell.unwrap_or(f64::INFINITY);
     let cheapest = t
         .routes
         .iter()
         .filter(|(r, v)| v.no_worse && cheaper(r))
-        .min_by(|a, b| w(&a.0).total_cmp(&w(&b.0)));
+        .min_by(|a, b| e(&a.0).total_cmp(&e(&b.0)));
     match cheapest {
         Some((r, _)) => format!(
-            "The cheapest route no worse than the reference: {}² samples, ≤ {} iterations per stage{}, {:.2}× the reference's fit work.\n\n",
+            "The cheapest route no worse than the reference, by target evaluations: {}² samples, ≤ {} iterations per stage, with {}, {:.2}× the reference's target evaluations{}.\n\n",
             r.samples,
             r.max_iters,
-            match r.nodes() {
-                Nodes::FixedAll => ", fixed nodes in every stage (cubic, polish, bilinear pass)",
-                Nodes::Fixed => ", fixed nodes in the cubic stage",
-                Nodes::Moving => "",
-            },
-            w(r) / w0
+            nodes_words(r.nodes()),
+            e(r) / e0,
+            if published_row(t, r) {
+                " (the published table)"
+            } else {
+                ""
+            }
         ),
         None => "No cheaper route is no worse than the reference: among these routes, the published route's work is what its accuracy needs.\n\n".into(),
     }

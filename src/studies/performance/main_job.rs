@@ -341,7 +341,7 @@ fn cpu_model() -> String {
 
 /// Whether the LTC fits do more work than their accuracy needs, from the on-request
 /// `ltc-work` study (results/fits/ltc-work.json), when it has run: per table, its cheaper
-/// routes and how many are no worse than the published route's own spread. A file that
+/// routes and how many are no worse than the reference route's own spread. A file that
 /// does not read as its type is an error; a table without its published draw is left out.
 fn fits_work_line(results: &Path) -> Result<String> {
     let Some(w) = crate::results::read::<crate::results::ltc::LtcWork>(results)? else {
@@ -366,7 +366,7 @@ fn fits_work_line(results: &Path) -> Result<String> {
         return Ok(String::new());
     }
     Ok(format!(
-        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each published route on {refitted} other draws of its training samples and judges cheaper routes (fewer samples, lower caps, or the cubic stage on fixed nodes, whose trials evaluate no target) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
+        "\nCan the LTC fits do less work? results/ltc-work.md (on request, preset {}) refits each table's reference route (its published settings on moving samples) on {refitted} other draws of its training samples and judges cheaper routes (fewer samples, lower caps, or trials on fixed nodes, which evaluate no target) against that spread, each statistic within its one-sided 95 % prediction bound: {}.\n",
         w.preset,
         parts.join("; ")
     ))
