@@ -26,29 +26,38 @@ fn gamma(p: &[f64; 6], l: &Vector3<f64>) -> f64 {
 
 /// Relative L2 √(∫(f − g)²/∫f²) over the whole sphere of each candidate g (an LTC puts
 /// some of its mass below the horizon, where the lobe has none: the judge counts it), by
-/// the product midpoint rule with `k` × 2k nodes in (θ, φ).
+/// the product midpoint rule with `k` × 2k nodes in (s, φ), where each hemisphere's polar
+/// angle is graded towards the horizon, θ = π/2 · (1 − (1 − s)²) above it and mirrored
+/// below: a grazing view's sheen lobe and its LTC hold a sliver at the horizon that the
+/// uniform rule in θ resolves only slowly (on the fixed-all sheen table at α = 0.16,
+/// θ = 90°, the uniform rule gave 0.51096, 0.51078, 0.51047, 0.51018 at 128 to 1024 rows,
+/// this one 0.509705, 0.509727, 0.509726, 0.509726; the study: 0.50971 ± 0.00036).
 fn rel_l2(
     f: &dyn Fn(&Vector3<f64>) -> f64,
     gs: &[&dyn Fn(&Vector3<f64>) -> f64],
     k: usize,
 ) -> Vec<f64> {
-    let (dt, dp) = (
-        std::f64::consts::PI / k as f64,
-        std::f64::consts::PI / k as f64,
-    );
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let h = k / 2;
+    let (ds, dp) = (1.0 / h as f64, PI / k as f64);
     let mut ff = 0.0;
     let mut dd = vec![0.0; gs.len()];
-    for a in 0..k {
-        let th = (a as f64 + 0.5) * dt;
-        let w = th.sin() * dt * dp;
-        for b in 0..2 * k {
-            let ph = (b as f64 + 0.5) * dp;
-            let l = Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-            let fv = f(&l);
-            ff += fv * fv * w;
-            for (d, g) in dd.iter_mut().zip(gs) {
-                let e = fv - g(&l);
-                *d += e * e * w;
+    for upper in [true, false] {
+        for a in 0..h {
+            let s = (a as f64 + 0.5) * ds;
+            let x = FRAC_PI_2 * (1.0 - (1.0 - s) * (1.0 - s));
+            let th = if upper { x } else { PI - x };
+            // dθ = π/2 · 2(1 − s) ds
+            let w = th.sin() * PI * (1.0 - s) * ds * dp;
+            for b in 0..2 * k {
+                let ph = (b as f64 + 0.5) * dp;
+                let l = Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+                let fv = f(&l);
+                ff += fv * fv * w;
+                for (d, g) in dd.iter_mut().zip(gs) {
+                    let e = fv - g(&l);
+                    *d += e * e * w;
+                }
             }
         }
     }
@@ -59,7 +68,7 @@ fn rel_l2(
 /// 8×8 tables, then the cross study judges them): per family, every cell's relative L2
 /// of the variant's table against the main lobe, of the main table against the variant's
 /// lobe, and of the clamped cosine with weight 1 and with the main table's norm against
-/// the main lobe, by the midpoint rule at two resolutions. The study's mean and largest
+/// the main lobe, by a midpoint rule graded towards the horizon at two resolutions. The study's mean and largest
 /// must agree with them within the study's bar plus the quadrature's own change between
 /// the two resolutions, and the largest must be where the study says. Swapping a table,
 /// a lobe or a weight moves the figures by far more than that.
@@ -181,11 +190,13 @@ fn every_cross_figure_is_the_named_table_against_the_named_lobe() {
                 best.0[q]
             );
             // where the study puts its largest: a cell whose figure is the largest within
-            // the bars (two cells may be that close)
+            // the bars (two cells may be that close); a place names every cell there (the
+            // smoothest columns share α = alpha_min), so the largest of them
             let at = got.at.expect("a largest figure has a place");
             let there = cells
                 .iter()
-                .find(|c| (c.2 .0 - at.0).abs() < 1e-12 && (c.2 .1 - at.1).abs() < 1e-9)
+                .filter(|c| (c.2 .0 - at.0).abs() < 1e-12 && (c.2 .1 - at.1).abs() < 1e-9)
+                .max_by(|a, b| a.0[q].total_cmp(&b.0[q]))
                 .expect("the largest is at a cell of the grid");
             let slack = got.l2.max.error + quad_max + (there.0[q] - there.1[q]).abs();
             assert!(

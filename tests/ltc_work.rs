@@ -9,6 +9,20 @@ use ndfbench::ltc::fit as ltc_fit;
 use ndfbench::results::{self, ltc};
 use std::path::Path;
 
+/// The mean held-out relative L2 of a published table's cells, as its file holds them.
+fn published_mean(results: &Path, name: &str) -> f64 {
+    let (p, _) = ltc::published(results, name).unwrap();
+    let c: Vec<f64> = p
+        .held_out_cells
+        .l2
+        .iter()
+        .flatten()
+        .flatten()
+        .map(|c| c[0])
+        .collect();
+    c.iter().sum::<f64>() / c.len() as f64
+}
+
 /// At the quick preset, in a scratch results folder: the GGX and sheen studies publish
 /// their 8×8 tables, then the work study refits them. For each table, its route with the
 /// published settings and nodes goes through fit, bilinear pass, storage and judge on the
@@ -37,16 +51,8 @@ fn each_published_route_refitted_is_its_published_table() {
         let (p, fingerprint) = ltc::published(&d, &t.table).unwrap();
         assert_eq!(t.table_fingerprint, fingerprint, "{}", t.table);
         let route = p.route(&t.table).unwrap();
-        // the published draw is the file's own figures
-        let cells: Vec<[f64; 2]> = p
-            .held_out_cells
-            .l2
-            .iter()
-            .flatten()
-            .flatten()
-            .copied()
-            .collect();
-        let mean = cells.iter().map(|c| c[0]).sum::<f64>() / cells.len() as f64;
+        // the published table's own figures
+        let mean = published_mean(&d, &t.table);
         assert_eq!(t.published_nodes, route.nodes, "{}", t.table);
         // the quick routes at the published settings, by their nodes
         let at = |nodes: ltc_fit::Nodes| {
@@ -204,15 +210,7 @@ fn the_nodes_key_chooses_the_route_and_the_work_study_judges_a_fixed_table_as_a_
     std::fs::write(&spec, &text).unwrap();
     common::assert_success(&fit_ggx());
     let moving = ltc::table(&d, "ltc-ggx").unwrap();
-    let (p, _) = ltc::published(&d, "ltc-ggx").unwrap();
-    let moving_cells: Vec<f64> = p
-        .held_out_cells
-        .l2
-        .iter()
-        .flatten()
-        .flatten()
-        .map(|c| c[0])
-        .collect();
+    let moving_mean = published_mean(&d, "ltc-ggx");
     let md = std::fs::read_to_string(d.join("ltc-ggx.md")).unwrap();
     assert!(!md.contains("fixed nodes"), "the moving route's report");
     std::fs::write(&spec, with("\"fixed\"")).unwrap();
@@ -225,19 +223,7 @@ fn the_nodes_key_chooses_the_route_and_the_work_study_judges_a_fixed_table_as_a_
         "the fixed route's report"
     );
     // the work study: the reference refitted, the published table a route
-    let mean = |name: &str| {
-        let (p, _) = ltc::published(&d, name).unwrap();
-        let c: Vec<f64> = p
-            .held_out_cells
-            .l2
-            .iter()
-            .flatten()
-            .flatten()
-            .map(|c| c[0])
-            .collect();
-        c.iter().sum::<f64>() / c.len() as f64
-    };
-    let fixed_mean = mean("ltc-ggx");
+    let fixed_mean = published_mean(&d, "ltc-ggx");
     common::assert_success(&run(&[
         "--only",
         "ltc-work",
@@ -252,7 +238,6 @@ fn the_nodes_key_chooses_the_route_and_the_work_study_judges_a_fixed_table_as_a_
     assert_eq!(g.table, "ltc-ggx");
     assert_eq!(g.published_nodes, ltc_fit::Nodes::Fixed);
     assert_eq!(g.table_fingerprint, fixed.fingerprint());
-    let moving_mean = moving_cells.iter().sum::<f64>() / moving_cells.len() as f64;
     assert_eq!(g.draws[0].mean.value, moving_mean);
     assert!(g.draws[0].work_per_cell.is_some_and(|x| x > 0.0));
     let (r, _) = g
