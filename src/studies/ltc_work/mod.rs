@@ -275,7 +275,7 @@ pub fn compute(c: &Ctx) -> Result<Computed> {
 impl crate::study::Computed for Computed {
     fn render(&self, set: &mut Outputs, results: &std::path::Path) -> Result<()> {
         set.put(
-            &results.join(format!("{}.md", self.spec.name)),
+            results.join(format!("{}.md", self.spec.name)),
             report::markdown(&self.out, self.preset).as_bytes(),
         );
         crate::results::put(set, results, &self.out)
