@@ -253,5 +253,26 @@ fn the_nodes_key_chooses_the_route_and_the_work_study_judges_a_fixed_table_as_a_
     assert_ne!(fixed_mean, moving_mean);
     let md = std::fs::read_to_string(d.join("ltc-work.md")).unwrap();
     assert!(md.contains("(the published table)"), "{md}");
+    // a plan without the published table's route is refused before any fit: the table
+    // would go unjudged (exit 2, one line naming the file and the nodes)
+    let plan = fits.join("ltc-work.toml");
+    let plan_text = std::fs::read_to_string(&plan).unwrap();
+    let quick_fixed = "  { samples = 1.0, max_iters = 1.0, nodes = \"fixed\" },\n";
+    let k = plan_text
+        .rfind(quick_fixed)
+        .expect("the quick plan's fixed route");
+    let mut without = plan_text.clone();
+    without.replace_range(k..k + quick_fixed.len(), "");
+    std::fs::write(&plan, without).unwrap();
+    let out = run(&["--only", "ltc-work", "--preset", "quick", "--no-cache"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let last = err.trim_end().lines().last().unwrap_or_default();
+    assert!(
+        last.contains("results/fits/ltc-ggx.json")
+            && last.contains("\"fixed\"")
+            && last.contains("unjudged"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -188,6 +188,20 @@ fn table(results: &std::path::Path, name: &str, lobe: Lobe, pl: &Plan) -> Result
         iters: None,
     });
     let (tol, at) = (route.tolerance(), (route.samples, route.max_iters));
+    // a table published on fixed nodes is judged as a route: without it among the plan's
+    // routes, the study would leave the published table unjudged
+    if route.nodes != Nodes::Moving
+        && !pl
+            .routes
+            .iter()
+            .any(|r| r.nodes == route.nodes && r.of(at.0, at.1) == at)
+    {
+        // the spec's spelling ("fixed", "fixed-all")
+        let nodes = serde_json::to_string(&route.nodes).unwrap_or_default();
+        return Err(Error::InvalidArgument(format!(
+            "ltc-work: results/fits/{name}.json was fitted with nodes = {nodes} and fits/ltc-work.toml has no route at its settings on those nodes ({{ samples = 1.0, max_iters = 1.0, nodes = {nodes} }}): the published table would go unjudged"
+        )));
+    }
     // the squares the table's own study judges between cells, at its published preset
     let preset = Preset::named(&p.preset, &format!("results/fits/{name}.json"))?;
     let between = crate::studies::ltc_between::sample_for(name, None, preset);

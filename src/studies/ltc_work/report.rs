@@ -20,28 +20,19 @@ pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
 
 fn table_section(t: &TableWork) -> String {
     let d0 = &t.draws[0];
+    let fingerprint = &t.table_fingerprint[..t.table_fingerprint.len().min(16)];
     let published = match t.published_nodes {
-        Nodes::Moving => "The published route is the reference's".to_string(),
+        Nodes::Moving => format!(
+            "The published route is the reference's (table fingerprint {fingerprint})"
+        ),
         n => format!(
-            "The published table (fingerprint {}) is the route below at these settings with {}; the reference is refitted at the published offset 0.5 (the first draw)",
-            &t.table_fingerprint[..t.table_fingerprint.len().min(16)],
+            "The published table (fingerprint {fingerprint}) is the route below at these settings with {}; the reference is refitted at the published offset 0.5 (the first draw)",
             nodes_words(n)
         ),
     };
     let mut md = format!(
-        "## {}\n\nThe reference route (the reference fitter, trials on moving samples): {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {}. {}{}.\n\n",
-        t.table,
-        d0.samples,
-        d0.max_iters,
-        t.polish,
-        published,
-        match t.published_nodes {
-            Nodes::Moving => format!(
-                " (table fingerprint {})",
-                &t.table_fingerprint[..t.table_fingerprint.len().min(16)]
-            ),
-            _ => String::new(),
-        }
+        "## {}\n\nThe reference route (the reference fitter, trials on moving samples): {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {}. {published}.\n\n",
+        t.table, d0.samples, d0.max_iters, t.polish,
     );
     let mut d = MdTable::new([
         "training offset",
@@ -214,9 +205,9 @@ fn nodes_words(n: Nodes) -> &'static str {
 /// not the trial LTC's, are what a fit's CPU time follows.
 fn verdict(t: &TableWork, e0: f64) -> String {
     let d0 = &t.draws[0];
-    // cheaper by its settings: no more samples or iterations than the published route,
-    // and fewer of one or fixed nodes (the published route itself is a check, not a
-    // candidate)
+    // cheaper by its settings: no more samples or iterations than the reference route,
+    // and fewer of one or fixed nodes (the reference's own settings on moving samples are
+    // a check, not a candidate)
     let cheaper = |r: &WorkRow| {
         r.samples <= d0.samples
             && r.max_iters <= d0.max_iters
@@ -241,6 +232,28 @@ fn verdict(t: &TableWork, e0: f64) -> String {
                 ""
             }
         ),
-        None => "No cheaper route is no worse than the reference: among these routes, the published route's work is what its accuracy needs.\n\n".into(),
+        None => "No cheaper route is no worse than the reference: among these routes, the reference route's work is what its accuracy needs.\n\n".into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::integrate::Preset;
+    use crate::results::ltc::LtcWork;
+    use std::path::Path;
+
+    /// results/ltc-work.md is its JSON rendered by this code: a renderer changed without
+    /// the (35-minute) rerun leaves the committed report stale, and this fails.
+    #[test]
+    fn the_committed_report_is_its_file_rendered() {
+        let w = crate::results::read::<LtcWork>(Path::new("results"))
+            .unwrap()
+            .expect("results/fits/ltc-work.json");
+        let preset = Preset::named(&w.preset, "results/fits/ltc-work.json").unwrap();
+        let md = std::fs::read_to_string("results/ltc-work.md").unwrap();
+        assert!(
+            super::markdown(&w, preset) == md,
+            "results/ltc-work.md is not results/fits/ltc-work.json rendered now (regen --only ltc-work)"
+        );
     }
 }
