@@ -569,6 +569,7 @@ fn ltc(c: &mut Criterion) {
         });
     }
     g.finish();
+    ltc_columns(c);
     // one pixel = one quad through one LTC; 256 random (M⁻¹, quad) pairs from the kernel
     // benchmark inputs, time per pixel = time / 256
     let d = ndfbench::kernels::bench_inputs(256);
@@ -765,6 +766,46 @@ fn tensor_wave(c: &mut Criterion) {
             BenchmarkId::new("window: Eq 3 FFT + 64² binning", m),
             |b| b.iter(one),
         );
+    }
+    g.finish();
+}
+
+/// One θ column of the 64² GGX table per fitting route, as the table fits it
+/// (`ltc::fit::fit_column`: each cell warm-started from its rougher neighbour, with its
+/// moments, albedo, cubic stage, L2 polish and rounded storage; 24² samples, ≤ 400
+/// iterations per stage): the cost per cell of each route the work study judges. The
+/// parameter is the column's cell count; the table's bilinear pass is not in it.
+fn ltc_columns(c: &mut Criterion) {
+    use ndfbench::ltc::fit::{fit_column, Grid, Method, Metric, Polish, TRAIN_OFFSET};
+    use ndfbench::ltc::target::GgxTarget;
+    let grid = Grid {
+        n: 64,
+        alpha_min: 1e-5,
+    };
+    let mut g = c.benchmark_group("ltc-fit-column");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(5));
+    // t = √(1 − cos θ) = j/63: θ ≈ 42° and ≈ 85°
+    for j in [32usize, 60] {
+        let deg = grid.theta(j).to_degrees().round();
+        for (route, method) in [
+            ("reference (moving samples)", Method::NelderMead),
+            ("fixed nodes, cubic stage", Method::FixedNodes),
+            ("fixed nodes, every stage", Method::FixedNodesAll),
+        ] {
+            let plan = (Metric::Cubic, method, 400, Polish::NelderMead);
+            g.bench_with_input(
+                BenchmarkId::new(format!("{route}, θ {deg}°"), grid.n),
+                &j,
+                |b, &j| {
+                    b.iter(|| {
+                        fit_column(grid, j, &GgxTarget::new, 24, plan, TRAIN_OFFSET, &|| {})
+                            .unwrap()
+                    })
+                },
+            );
+        }
     }
     g.finish();
 }

@@ -314,21 +314,32 @@ fn run_batch(cmd: &Cmd, cli: &Cli) -> Result<bool, ndfbench::Error> {
     }
 }
 
-/// `bench-report`: results/performance.md from criterion's output (or only its main-job
-/// section), then the example scenes, which quote its costs.
+/// Which part of results/performance.md a `bench-report` writes: all of it, or one
+/// section of the existing page.
+#[derive(Clone, Copy)]
+enum ReportOnly {
+    All,
+    MainJob,
+    Compact,
+    LtcFit,
+}
+
+/// `bench-report`: results/performance.md from criterion's output (or only one of its
+/// sections), then the example scenes, which quote its costs.
 fn run_bench_report(
     criterion: &std::path::Path,
-    (main_job_only, compact_only): (bool, bool),
+    only: ReportOnly,
     results: &std::path::Path,
 ) -> Result<bool, ndfbench::Error> {
     use ndfbench::studies::performance as perf;
     let s = in_set(
         "performance",
         &results_manifest(results, "performance"),
-        |set| match (main_job_only, compact_only) {
-            (true, _) => perf::refresh_main_job(set, results),
-            (_, true) => perf::refresh_compact(set, criterion, results),
-            _ => perf::run(set, criterion, results),
+        |set| match only {
+            ReportOnly::MainJob => perf::refresh_main_job(set, results),
+            ReportOnly::Compact => perf::refresh_compact(set, criterion, results),
+            ReportOnly::LtcFit => perf::refresh_ltc_fit(set, criterion, results),
+            ReportOnly::All => perf::run(set, criterion, results),
         },
     )?;
     println!("{s}");
@@ -467,7 +478,16 @@ fn main() -> ExitCode {
             ref criterion,
             main_job_only,
             compact_only,
-        }) => run_bench_report(criterion, (main_job_only, compact_only), &cli.results),
+            ltc_fit_only,
+        }) => {
+            let only = match (main_job_only, compact_only, ltc_fit_only) {
+                (true, _, _) => ReportOnly::MainJob,
+                (_, true, _) => ReportOnly::Compact,
+                (_, _, true) => ReportOnly::LtcFit,
+                _ => ReportOnly::All,
+            };
+            run_bench_report(criterion, only, &cli.results)
+        }
     };
     match res {
         Ok(true) => ExitCode::SUCCESS,

@@ -49,7 +49,7 @@ pub enum Cmd {
     /// fit's diagnostics — optimiser variants, the floor of a single LTC, the route
     /// against the reference route — run on request, `--only ltc-ggx-optimisers`; the cost of shading a sheen or diffuse lobe with
     /// the other lobe's table or with Lambert, on request, `--only ltc-lobe-cross`; the LTC tables' accuracy against fitting work, cheaper routes
-    /// judged against each published route's own spread over training draws, `--only ltc-work`; every cell's held-out figures are judged as exact integrals,
+    /// judged against each published route's own spread over training draws, `--only ltc-work`, and the anisotropic table's, `--only ltc-aniso-work`; every cell's held-out figures are judged as exact integrals,
     /// to the tolerance each table's spec chooses from the curve of `--only ltc-judge-tolerance`, on request;
     /// the error between cells over every square, the GGX table judging all, the sheen and diffuse a calibrated sample whose size
     /// comes from the curve of `--only ltc-between-sample`, on request;
@@ -441,18 +441,25 @@ pub enum Cmd {
     /// section of an existing `results/performance.md` from
     /// `target/main-job-{cold,warm}.json` (the criterion tables stay as measured);
     /// `--compact-only` its compact LTC tables' section and results/ltc-compact-cost.svg,
-    /// from criterion's `ltc-compact` group and results/fits/ltc-compact.json.
+    /// from criterion's `ltc-compact` group and results/fits/ltc-compact.json;
+    /// `--ltc-fit-only` its LTC fitting and polygon section, from criterion's `ltc-fit-*`
+    /// and `ltc-polygon` groups.
     BenchReport {
         /// criterion output directory
         #[arg(long, default_value = "target/criterion")]
         criterion: PathBuf,
         /// refresh only the main job's wall-clock section (no benches needed)
-        #[arg(long, conflicts_with = "compact_only")]
+        #[arg(long, conflicts_with_all = ["compact_only", "ltc_fit_only"])]
         main_job_only: bool,
         /// refresh only the compact LTC tables' section and its plot, from criterion's
         /// ltc-compact group (`cargo bench --bench deliverables -- ltc-compact`)
-        #[arg(long)]
+        #[arg(long, conflicts_with = "ltc_fit_only")]
         compact_only: bool,
+        /// refresh only the LTC fitting and polygon section, from criterion's
+        /// ltc-fit-cell, ltc-fit-column and ltc-polygon groups (`cargo bench --bench
+        /// engines -- ltc-`)
+        #[arg(long)]
+        ltc_fit_only: bool,
     },
 }
 

@@ -19,7 +19,8 @@
 //! φ + π/2). So φ ∈ [0, π/2] covers every case, and (α_y, α_x, π/2 − φ) =
 //! S·(α_x, α_y, φ)·S.
 
-use super::fit::TargetSamples;
+use super::fit::{FixedNodes, Nodes, TargetSamples};
+use super::polish::FIXED_POLISH_SCALE;
 use super::target::LtcTarget;
 use super::LtcDist;
 use crate::error::{Error, Result};
@@ -187,9 +188,7 @@ pub fn rel_l2<T: LtcTarget + ?Sized>(t: &T, p: &Inv7, norm: f64, n: usize, off: 
 
 /// [`rel_l2`] on the target's samples `s` drawn beforehand.
 fn rel_l2_on<T: LtcTarget + ?Sized>(t: &T, s: &TargetSamples, p: &Inv7, norm: f64) -> f64 {
-    inverse_of(p)
-        .try_inverse()
-        .and_then(|m| LtcDist::new(m).ok())
+    ltc_of(p)
         .map(|l| super::fit::metrics_on(t, s, &l, norm).1)
         .filter(|x| x.is_finite())
         .unwrap_or(f64::INFINITY)
@@ -210,12 +209,18 @@ fn from_q(q: &[f64], p0: &Inv7) -> Inv7 {
     ]
 }
 
+/// What a trial is measured on: the training set's moving samples (the LTC half drawn
+/// from each trial) or nodes drawn once from the start (`FixedNodes`).
+enum Trials<'a> {
+    Moving(&'a TargetSamples),
+    Fixed(&'a FixedNodes),
+}
+
 struct Objective<'a, T: ?Sized> {
     t: &'a T,
     p0: Inv7,
     norm: f64,
-    /// The target's half of the training set (n×n, offset ½).
-    train: &'a TargetSamples,
+    train: Trials<'a>,
 }
 
 impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
@@ -225,20 +230,116 @@ impl<T: LtcTarget + ?Sized> argmin::core::CostFunction for Objective<'_, T> {
         if q.iter().any(|x| !x.is_finite()) {
             return Ok(1e30);
         }
-        let v = rel_l2_on(self.t, self.train, &from_q(q, &self.p0), self.norm);
+        let p = from_q(q, &self.p0);
+        let v = match self.train {
+            Trials::Moving(s) => rel_l2_on(self.t, s, &p, self.norm),
+            Trials::Fixed(nodes) => ltc_of(&p)
+                .map(|l| nodes.metrics(&l, self.norm).1)
+                .filter(|x| x.is_finite())
+                .unwrap_or(f64::INFINITY),
+        };
         Ok(if v.is_finite() { v } else { 1e30 })
     }
+}
+
+/// The LTC of a production inverse (`None` where singular).
+fn ltc_of(p: &Inv7) -> Option<LtcDist> {
+    inverse_of(p)
+        .try_inverse()
+        .and_then(|m| LtcDist::new(m).ok())
+}
+
+/// How one anisotropic cell is fitted: stratified samples per axis and technique, the
+/// Nelder–Mead cap, what the trials are measured on, and the training set's strata
+/// offset (`ltc::samples::Sets::drawn`; the published tables' is `TRAIN_OFFSET`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Route {
+    pub samples: usize,
+    pub iters: u64,
+    /// `Nodes::Moving`: each trial draws the LTC half of its samples (the reference);
+    /// `Nodes::Fixed`: the trials are measured on nodes drawn once from the start,
+    /// `ltc::polish::FIXED_POLISH_SCALE`× the samples per axis, and the cell is fitted
+    /// again on moving samples where the result fails `ltc::polish::fixed_fit_holds`.
+    /// The fit has one stage, so `Nodes::FixedAll` is `Nodes::Fixed`.
+    pub nodes: Nodes,
+    pub train: f64,
 }
 
 /// Fit one cell's production inverse by Nelder–Mead (argmin) on the relative L2 (n×n
 /// stratified samples per technique, offset ½) from `start` (the isotropic table's entries
 /// at √(α_x α_y), say), kept only if a separate validation set ((n + 7)², offset 0.37)
-/// agrees; returns the inverse and the iterations.
+/// agrees; returns the inverse and the iterations. The reference route of
+/// [`fit_cell_route`].
 pub fn fit_cell<T: LtcTarget + ?Sized>(
     t: &T,
     start: &Inv7,
     norm: f64,
     n: usize,
+    max_iters: u64,
+) -> Result<(Inv7, u64)> {
+    let route = Route {
+        samples: n,
+        iters: max_iters,
+        nodes: Nodes::Moving,
+        train: super::fit::TRAIN_OFFSET,
+    };
+    fit_cell_route(t, start, norm, route)
+}
+
+/// [`fit_cell`] by `route`: the same Nelder–Mead from `start` on the training set drawn at
+/// `route.train`, its trials on moving samples or on fixed nodes, kept only where the
+/// validation set's relative L2 (moving samples) is below the start's. A singular start
+/// keeps moving samples.
+pub fn fit_cell_route<T: LtcTarget + ?Sized>(
+    t: &T,
+    start: &Inv7,
+    norm: f64,
+    route: Route,
+) -> Result<(Inv7, u64)> {
+    let sets = super::fit::Sets::drawn(t, route.samples, route.train);
+    let val = |p: &Inv7| rel_l2_on(t, &sets.val, p, norm);
+    let moving = || nelder_mead(t, start, norm, Trials::Moving(&sets.train), route.iters);
+    // the fixed route's result, with its validation figure, where it holds
+    let fixed = match (route.nodes, ltc_of(start)) {
+        (Nodes::Moving, _) | (_, None) => None,
+        (Nodes::Fixed | Nodes::FixedAll, Some(from)) => {
+            let wide = TargetSamples::new(t, FIXED_POLISH_SCALE * route.samples, route.train);
+            let nodes = FixedNodes::new(t, &wide, &from);
+            let (p, it) = nelder_mead(t, start, norm, Trials::Fixed(&nodes), route.iters)?;
+            let at_p = val(&p);
+            let holds = ltc_of(&p).is_some_and(|to| {
+                super::polish::fixed_fit_holds(t, &sets.val, (&from, &to), norm, at_p)
+            });
+            Some((p, it, at_p, holds))
+        }
+    };
+    let (p, iters, at_p) = match fixed {
+        Some((p, it, at_p, true)) => (p, it, Some(at_p)),
+        Some((_, it, _, false)) => {
+            let (p, more) = moving()?;
+            (p, it + more, None)
+        }
+        None => {
+            let (p, it) = moving()?;
+            (p, it, None)
+        }
+    };
+    Ok(
+        if p.iter().all(|x| x.is_finite()) && at_p.unwrap_or_else(|| val(&p)) < val(start) {
+            (p, iters)
+        } else {
+            (*start, iters)
+        },
+    )
+}
+
+/// Nelder–Mead (argmin) from `start` on the trials' relative L2; the best parameters as a
+/// production inverse and the iterations.
+fn nelder_mead<T: LtcTarget + ?Sized>(
+    t: &T,
+    start: &Inv7,
+    norm: f64,
+    train: Trials<'_>,
     max_iters: u64,
 ) -> Result<(Inv7, u64)> {
     use argmin::core::{Executor, State};
@@ -263,12 +364,11 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
     let solver = NelderMead::new(simplex)
         .with_sd_tolerance(1e-10)
         .map_err(err)?;
-    let sets = super::fit::Sets::new(t, n);
     let obj = Objective {
         t,
         p0: *start,
         norm,
-        train: &sets.train,
+        train,
     };
     let res = Executor::new(obj, solver)
         .configure(|s| s.max_iters(max_iters))
@@ -276,11 +376,5 @@ pub fn fit_cell<T: LtcTarget + ?Sized>(
         .map_err(err)?;
     let iters = res.state().get_iter();
     let q = res.state().get_best_param().cloned().unwrap_or(q0);
-    let p = from_q(&q, start);
-    let val = |p: &Inv7| rel_l2_on(t, &sets.val, p, norm);
-    Ok(if p.iter().all(|x| x.is_finite()) && val(&p) < val(start) {
-        (p, iters)
-    } else {
-        (*start, iters)
-    })
+    Ok((from_q(&q, start), iters))
 }

@@ -86,6 +86,19 @@ pub fn reduce_phi(phi: f64) -> (f64, bool) {
 }
 
 impl AnisoTable {
+    /// The FNV-1a hash of the grid's sides and every entry's bits, in hex: which table a
+    /// study read.
+    pub fn fingerprint(&self) -> String {
+        let g = self.grid;
+        let mut bytes = Vec::new();
+        for n in [g.n_r, g.n_phi, g.n_t] {
+            bytes.extend_from_slice(&(n as u64).to_le_bytes());
+        }
+        for v in self.cells.iter().flatten() {
+            bytes.extend_from_slice(&v.to_bits().to_le_bytes());
+        }
+        format!("{:016x}", crate::io::fnv1a(&bytes))
+    }
     /// The table looked up as a shader does at (α_x, α_y, φ, cos θ): φ reduced by the
     /// symmetries, the four neighbours of every coordinate blended multilinearly (the
     /// texture sampler's bilinear step in (r_x, t) and the lookup's own in (r_y, φ)),

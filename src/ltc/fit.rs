@@ -36,8 +36,8 @@ use super::objective::{ltc_at, Objective};
 pub use super::params::{
     inverse_from_production, matrix, params_from_production, params_to_m, production_inverse, turn,
 };
+use super::polish::FIXED_POLISH_SCALE;
 pub use super::polish::{Polish, POLISH_ITERS};
-use super::polish::{FIXED_POLISH_AGREEMENT, FIXED_POLISH_CAPTURES, FIXED_POLISH_SCALE};
 pub use super::samples::{
     metrics, metrics_on, FixedNodes, Nodes, Sets, TargetSamples, TRAIN_OFFSET,
 };
@@ -354,8 +354,8 @@ fn fixed_polish<T: LtcTarget + ?Sized>(
 
 /// Whether a fixed-node polish from `p` to `q` (whose relative L2 on the moving samples of
 /// the validation set is `moving`) passes both checks: the estimate on fixed nodes drawn
-/// from `p` agrees with `moving` ([`FIXED_POLISH_AGREEMENT`]), and `q` captures the lobe
-/// ([`FIXED_POLISH_CAPTURES`]).
+/// from `p` agrees with `moving`, and `q` captures the lobe
+/// (`ltc::polish::fixed_fit_holds`).
 fn fixed_polish_holds<T: LtcTarget + ?Sized>(
     t: &T,
     z: &V3,
@@ -366,10 +366,7 @@ fn fixed_polish_holds<T: LtcTarget + ?Sized>(
     let (Some(from), Some(to)) = (ltc_at(z, p), ltc_at(z, q)) else {
         return false;
     };
-    let r = FixedNodes::new(t, &sets.val, &from).metrics(&to, norm).1 / moving;
-    r.is_finite()
-        && (1.0 / FIXED_POLISH_AGREEMENT..=FIXED_POLISH_AGREEMENT).contains(&r)
-        && moving < FIXED_POLISH_CAPTURES
+    super::polish::fixed_fit_holds(t, &sets.val, (&from, &to), norm, moving)
 }
 
 /// Both metrics of a production-form cell (a, b, c, d) with amplitude `norm` against the
@@ -441,7 +438,7 @@ pub fn fit_table_drawn<T: LtcTarget>(
     train: f64,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Table> {
-    let (metric, method, max_iters, polish) = route;
+    let (metric, method, _, polish) = route;
     // one θ column per item of the caller's map
     let label = if train == TRAIN_OFFSET {
         format!(
@@ -454,67 +451,8 @@ pub fn fit_table_drawn<T: LtcTarget>(
             grid.n
         )
     };
-    let cols: Vec<Vec<Cell>> = pm.map(&label, grid.n, |j| -> Result<Vec<Cell>> {
-        let theta = grid.theta(j);
-        let mut col = Vec::with_capacity(grid.n);
-        let mut p = [0.0f64; 4];
-        for i in (0..grid.n).rev() {
-            let alpha = grid.alpha(i);
-            let t = target(alpha, theta)?;
-            let (_, _, _, zm) = t.moments(32);
-            let (norm, norm_se, fresnel) = t.albedo(ALBEDO_TOL);
-            if i == grid.n - 1 {
-                p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
-            } else {
-                // keep the ratios to α and the frame turn of the rougher neighbour
-                // (a continuation: neighbouring cells stay in the same basin, so the
-                // table stays smooth enough to interpolate)
-                let prev = grid.alpha(i + 1);
-                p[0] += (alpha / prev).ln();
-                p[1] += (alpha / prev).ln();
-                // the best axis approaches the mean direction as the lobe narrows
-                p[3] *= alpha / prev;
-            }
-            let sets = Sets::drawn(&t, n, train);
-            let (work0, evals0) = (super::samples::work(), super::samples::target_work());
-            let (best, iters) = fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?;
-            // the warm-start chain carries the primary metric's solution
-            p = best;
-            let (q, polished) = if metric == Metric::Cubic {
-                polish_l2(&t, &zm, norm, &best, &sets, (polish, method), max_iters)?
-            } else {
-                (best, false)
-            };
-            let z = turn(&zm, q[3]);
-            let (m11, m22, m13) = params_to_m(&q);
-            let m = matrix(m11, m22, m13, &z);
-            LtcDist::new(m)?;
-            let inv = production_inverse(&m)?;
-            col.push(Cell {
-                alpha,
-                theta,
-                m11,
-                m22,
-                m13,
-                z_dir: [z.x, z.z],
-                turn: q[3],
-                norm,
-                norm_se,
-                fresnel,
-                inv,
-                held: None,
-                iters,
-                work: super::samples::work() - work0,
-                target_evals: super::samples::target_work() - evals0,
-                // round to nearest; a study may choose better (`ltc::storage`)
-                half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
-                    .map(|x| half::f16::from_f64(x).to_f64()),
-                polished,
-            });
-            progress();
-        }
-        col.reverse();
-        Ok(col)
+    let cols: Vec<Vec<Cell>> = pm.map(&label, grid.n, |j| {
+        fit_column(grid, j, target, n, route, train, progress)
     })?;
     Ok(Table {
         grid,
@@ -524,4 +462,81 @@ pub fn fit_table_drawn<T: LtcTarget>(
         samples_per_technique: n * n,
         cells: cols,
     })
+}
+
+/// One θ column `j` of [`fit_table_drawn`], as the table fits it: α from rough to smooth,
+/// each cell from its rougher neighbour's solution (the first from the isotropic
+/// M = diag(α, α, 1)), with its moments, albedo, cubic stage, L2 polish and rounded
+/// storage; `progress` after each cell. `route` is (metric, method, iteration cap,
+/// polish); every cell's training set is drawn at stratum offset `train`. The table's
+/// bilinear pass and its chosen binary16 storage come after, over the whole table.
+pub fn fit_column<T: LtcTarget>(
+    grid: Grid,
+    j: usize,
+    target: &(dyn Fn(f64, f64) -> Result<T> + Sync),
+    n: usize,
+    (metric, method, max_iters, polish): (Metric, Method, u64, Polish),
+    train: f64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<Cell>> {
+    let theta = grid.theta(j);
+    let mut col = Vec::with_capacity(grid.n);
+    let mut p = [0.0f64; 4];
+    for i in (0..grid.n).rev() {
+        let alpha = grid.alpha(i);
+        let t = target(alpha, theta)?;
+        let (_, _, _, zm) = t.moments(32);
+        let (norm, norm_se, fresnel) = t.albedo(ALBEDO_TOL);
+        if i == grid.n - 1 {
+            p = [alpha.ln(), alpha.ln(), 0.0, 0.0];
+        } else {
+            // keep the ratios to α and the frame turn of the rougher neighbour
+            // (a continuation: neighbouring cells stay in the same basin, so the
+            // table stays smooth enough to interpolate)
+            let prev = grid.alpha(i + 1);
+            p[0] += (alpha / prev).ln();
+            p[1] += (alpha / prev).ln();
+            // the best axis approaches the mean direction as the lobe narrows
+            p[3] *= alpha / prev;
+        }
+        let sets = Sets::drawn(&t, n, train);
+        let (work0, evals0) = (super::samples::work(), super::samples::target_work());
+        let (best, iters) = fit_cell_on(&t, &zm, norm, &p, &sets, metric, method, max_iters)?;
+        // the warm-start chain carries the primary metric's solution
+        p = best;
+        let (q, polished) = if metric == Metric::Cubic {
+            polish_l2(&t, &zm, norm, &best, &sets, (polish, method), max_iters)?
+        } else {
+            (best, false)
+        };
+        let z = turn(&zm, q[3]);
+        let (m11, m22, m13) = params_to_m(&q);
+        let m = matrix(m11, m22, m13, &z);
+        LtcDist::new(m)?;
+        let inv = production_inverse(&m)?;
+        col.push(Cell {
+            alpha,
+            theta,
+            m11,
+            m22,
+            m13,
+            z_dir: [z.x, z.z],
+            turn: q[3],
+            norm,
+            norm_se,
+            fresnel,
+            inv,
+            held: None,
+            iters,
+            work: super::samples::work() - work0,
+            target_evals: super::samples::target_work() - evals0,
+            // round to nearest; a study may choose better (`ltc::storage`)
+            half: [inv[0], inv[1], inv[2], inv[3], norm, fresnel]
+                .map(|x| half::f16::from_f64(x).to_f64()),
+            polished,
+        });
+        progress();
+    }
+    col.reverse();
+    Ok(col)
 }

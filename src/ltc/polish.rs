@@ -3,6 +3,9 @@
 //! (Nelder–Mead on its objective: moving samples, or fixed nodes on the route with fixed
 //! nodes in every stage) or `ltc::gauss_newton` (Levenberg–Marquardt on fixed nodes).
 
+use super::samples::{FixedNodes, TargetSamples};
+use super::target::LtcTarget;
+use super::LtcDist;
 use serde::Serialize;
 
 /// How a cell fitted under the cubic metric is polished under the relative L2 (the
@@ -67,6 +70,25 @@ pub const FIXED_POLISH_AGREEMENT: f64 = 1.2;
 /// cubic stage into a basin worse than the zero lobe, and nodes drawn from there can miss
 /// the ring; the moving polish, whose samples follow each trial, finds it (9.7 % there).
 pub const FIXED_POLISH_CAPTURES: f64 = 0.9;
+
+/// Whether a fit on fixed nodes drawn from `from` that ended at `to` holds, by the two
+/// checks of [`FIXED_POLISH_AGREEMENT`] and [`FIXED_POLISH_CAPTURES`]: the estimate of
+/// `to`'s relative L2 on the validation set's nodes drawn from `from` agrees with
+/// `moving`, its estimate on the validation set's moving samples, and `moving` shows a
+/// captured lobe. The table's fixed-node polish and the anisotropic cells' fixed-node fit
+/// both ask it.
+pub(crate) fn fixed_fit_holds<T: LtcTarget + ?Sized>(
+    t: &T,
+    val: &TargetSamples,
+    (from, to): (&LtcDist, &LtcDist),
+    norm: f64,
+    moving: f64,
+) -> bool {
+    let r = FixedNodes::new(t, val, from).metrics(to, norm).1 / moving;
+    r.is_finite()
+        && (1.0 / FIXED_POLISH_AGREEMENT..=FIXED_POLISH_AGREEMENT).contains(&r)
+        && moving < FIXED_POLISH_CAPTURES
+}
 
 #[cfg(test)]
 mod tests {

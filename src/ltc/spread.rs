@@ -161,6 +161,53 @@ pub fn judge(draws: &[&Cells], candidate: &Cells) -> Option<Verdict> {
     })
 }
 
+/// One cheaper route of a work study, as factors on the published route: samples per
+/// axis (rounded, at least 2) and the Nelder–Mead cap (rounded, at least 1), and what its
+/// trials are measured on.
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Route {
+    pub samples: f64,
+    pub max_iters: f64,
+    /// "moving" (the reference fitter's: half of the samples drawn from each trial LTC),
+    /// "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`), "fixed-all" (every
+    /// stage of a table's fit, `Method::FixedNodesAll`).
+    #[serde(default)]
+    pub nodes: crate::ltc::fit::Nodes,
+}
+
+impl Route {
+    /// The route's (samples, cap) from the published (samples, cap).
+    pub fn of(&self, samples: usize, max_iters: u64) -> (usize, u64) {
+        (
+            ((samples as f64 * self.samples).round() as usize).max(2),
+            ((max_iters as f64 * self.max_iters).round() as u64).max(1),
+        )
+    }
+}
+
+/// A work study's plan as its spec gives it: the reference's other training draws (strata
+/// offsets in [0, 1), distinct, none the published `TRAIN_OFFSET`; 2 to 8 of them, so the
+/// rule sees 3 to 9 draws) and 1 to 12 routes, each factor in range.
+pub fn check_plan(draws: &[f64], routes: &[Route]) -> std::result::Result<(), String> {
+    use crate::fit::spec::within;
+    use crate::ltc::fit::TRAIN_OFFSET;
+    within("draws (its length)", draws.len(), 2, 8)?;
+    within("routes (its length)", routes.len(), 1, 12)?;
+    for (k, &o) in draws.iter().enumerate() {
+        if !(0.0..1.0).contains(&o) || o == TRAIN_OFFSET || draws[..k].contains(&o) {
+            return Err(format!(
+                "draws = {draws:?}: each offset in [0, 1), distinct, and not the published {TRAIN_OFFSET}"
+            ));
+        }
+    }
+    for r in routes {
+        within("samples (a factor)", r.samples, 0.05, 1.0)?;
+        within("max_iters (a factor)", r.max_iters, 0.01, 1.0)?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,6 +26,22 @@ impl super::ResultFile for Aniso {
     const NAME: &'static str = super::names::LTC_ANISO;
 }
 
+/// results/fits/ltc-aniso-work.json (on request): the anisotropic table's accuracy
+/// against its fitting work — the reference route's draws and the routes judged against
+/// their spread (`ltc::spread`), in the LTC work study's shape. Its fingerprint is the
+/// published table's (`AnisoTable::fingerprint`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct AnisoWork {
+    pub spec: FitSpec,
+    pub command: String,
+    pub preset: String,
+    pub work: super::ltc::TableWork,
+}
+
+impl super::ResultFile for AnisoWork {
+    const NAME: &'static str = super::names::LTC_ANISO_WORK;
+}
+
 /// (mean ± s.e., max) of a set of errors.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct MeanMax {

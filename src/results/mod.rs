@@ -199,6 +199,7 @@ pub fn put_report<T: ResultFile>(
 pub mod names {
     pub const FILTERS: &str = "filters";
     pub const LTC_ANISO: &str = "ltc-aniso";
+    pub const LTC_ANISO_WORK: &str = "ltc-aniso-work";
     pub const LTC_COMPACT: &str = "ltc-compact";
     pub const RENDER: &str = "render";
     pub const RENDER_TRUTH_WORK: &str = "render-truth-work";

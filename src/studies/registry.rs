@@ -28,6 +28,7 @@ pub static STUDIES: &[&dyn Study] = &[
     &tensor_wave::TensorWave,
     &visibility::Visibility,
     &ltc_aniso::LtcAniso,
+    &ltc_aniso::LtcAnisoWork,
     &ltc_optimisers::LtcGgxOptimisers,
     &ltc_lobe_cross::LtcLobeCross,
     &ltc_work::LtcWorkStudy,

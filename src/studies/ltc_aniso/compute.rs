@@ -2,15 +2,22 @@
 //! isotropic table's stretched start, the cases between cells and the polygon rows.
 
 use crate::error::{Error, Result};
-use crate::ltc::aniso::{fit_cell, mirror_y, rel_l2, AnisoGgxTarget, Inv7};
+use crate::ltc::aniso::{fit_cell_route, mirror_y, rel_l2, AnisoGgxTarget, Inv7, Route};
 use crate::ltc::aniso_table::{AnisoCell, AnisoGrid, AnisoTable};
+use crate::ltc::fit::Nodes;
 use crate::ltc::table::FittedTable;
 use crate::ltc::target::LtcTarget;
 
+#[derive(Clone)]
 pub(crate) struct Plan {
     pub grid: AnisoGrid,
     pub samples: usize,
     pub iters: u64,
+    /// What each fit's trials are measured on (`ltc::aniso::Route`).
+    pub nodes: Nodes,
+    /// The training set's strata offset (`ltc::fit::TRAIN_OFFSET` for the published
+    /// table; the work study draws others).
+    pub train: f64,
     /// Nodes of each design-study line.
     pub line: usize,
     /// Random cases between cells.
@@ -37,6 +44,11 @@ pub struct Params {
     pub samples: usize,
     /// Nelder–Mead iteration cap per start.
     pub iters: u64,
+    /// What the trials are measured on: "moving" (absent: the reference fitter's samples,
+    /// the LTC half drawn from each trial) or "fixed" (nodes drawn once from each start,
+    /// `ltc::aniso::Route`).
+    #[serde(default)]
+    pub nodes: Nodes,
     /// Nodes of each design-study line.
     pub line: usize,
     /// Random cases between cells.
@@ -61,6 +73,11 @@ impl crate::fit::spec::Params for Params {
         within("line", self.line, 2, 1_000)?;
         within("cases", self.cases, 1, 100_000)?;
         within("mc", self.mc, 16, 1 << 24)?;
+        if self.nodes == Nodes::FixedAll {
+            return Err(
+                "nodes = \"fixed-all\": the anisotropic fit has one stage; say \"fixed\"".into(),
+            );
+        }
         crate::ltc::lobe_error::Tolerance::check_relative(self.held_out_rel)?;
         crate::ltc::lobe_error::Tolerance::check_relative_l1(self.held_out_l1_rel)
     }
@@ -77,6 +94,8 @@ impl Params {
             },
             samples: self.samples,
             iters: self.iters,
+            nodes: self.nodes,
+            train: crate::ltc::fit::TRAIN_OFFSET,
             line: self.line,
             cases: self.cases,
             mc: self.mc,
@@ -84,6 +103,18 @@ impl Params {
                 self.held_out_rel,
                 self.held_out_l1_rel,
             ),
+        }
+    }
+}
+
+impl Plan {
+    /// How each cell is fitted.
+    pub(crate) fn route(&self) -> Route {
+        Route {
+            samples: self.samples,
+            iters: self.iters,
+            nodes: self.nodes,
+            train: self.train,
         }
     }
 }
@@ -108,6 +139,13 @@ pub struct Fitted {
     /// The largest error bar of this case's held-out figures.
     pub bar: f64,
     pub iters: u64,
+    /// Trial-LTC sample evaluations of the case's fits from every start
+    /// (`ltc::samples::work`), and their target evaluations (`ltc::samples::target_work`):
+    /// counts, the work study's measure of cost.
+    #[serde(default)]
+    pub work: u64,
+    #[serde(default)]
+    pub target_evals: u64,
 }
 
 /// The held-out figures (`ltc::lobe_error`) of production inverses with their norms
@@ -174,15 +212,18 @@ pub(crate) fn fit_case(iso: &FittedTable, c: Case, pl: &Plan) -> Result<Fitted> 
         starts.insert(1, st);
     }
     let val = |p: &Inv7| rel_l2(&t, p, norm, pl.samples + 7, 0.37);
+    use crate::ltc::samples::{target_work, work};
+    let (work0, evals0) = (work(), target_work());
     let mut best: Option<(Inv7, u64, f64)> = None;
     for s in &starts {
-        let (p, it) = fit_cell(&t, s, norm, pl.samples, pl.iters)?;
+        let (p, it) = fit_cell_route(&t, s, norm, pl.route())?;
         let v = val(&p);
         if best.as_ref().is_none_or(|b| v < b.2) {
             best = Some((p, it, v));
         }
     }
     let (inv, iters, _) = best.expect("at least one start");
+    let (work, target_evals) = (work() - work0, target_work() - evals0);
     let (l2, l1, bar) = held_out(
         &t,
         norm,
@@ -200,6 +241,8 @@ pub(crate) fn fit_case(iso: &FittedTable, c: Case, pl: &Plan) -> Result<Fitted> 
         err_iso_max: l2[2],
         bar,
         iters,
+        work,
+        target_evals,
     })
 }
 

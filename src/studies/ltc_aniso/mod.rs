@@ -7,7 +7,9 @@
 //! resolution costs, and the error predicted for other table sizes); the shipped table
 //! at random cases between its cells, in f64 and binary16, against what engines do today
 //! (the isotropic table at √(α_x α_y) or at max(α_x, α_y)). `compute` fits, `design`
-//! runs the design study, `summary` aggregates; `report` formats only.
+//! runs the design study, `summary` aggregates; `report` formats only. `work` is a study
+//! of its own, run on request (`ltc-aniso-work`): the route's accuracy against its
+//! fitting work, formatted by `work_report`.
 //!
 //! The grid is `n_r`×`n_r`×`n_phi`×`n_t` in (√α_x, √α_y, φ ∈ [0, π/2], √(1 − cos θ)),
 //! α = max(r², `alpha_min`); φ ∈ [0, π/2] and α_x ≥ α_y by symmetry. Each cell: M⁻¹ ∝
@@ -29,6 +31,8 @@ mod compute;
 mod design;
 mod report;
 mod summary;
+pub mod work;
+mod work_report;
 
 use compute::{between, fit_table, polygons};
 pub use compute::{Between, Case, Fitted, PolygonRow};
@@ -124,4 +128,10 @@ crate::study::study! {
     /// The anisotropic LTC study; its fits start from the isotropic GGX table, as the registry
     /// holds it.
     LtcAniso = "ltc-aniso", after ["ltc-ggx"], on request false, params compute::Params, computes compute
+}
+
+crate::study::study! {
+    /// The anisotropic table's accuracy against its fitting work (`work`), on request; it
+    /// shares this module's unit, so its cache key follows the table's code.
+    LtcAnisoWork = "ltc-aniso-work", after ["ltc-ggx", "ltc-aniso"], on request true, params work::WorkPlan, computes work::compute
 }

@@ -33,7 +33,7 @@ use crate::io::Outputs;
 use crate::ltc::fit::{fit_table_drawn, Cell, Grid, Metric, Nodes, Polish, TRAIN_OFFSET};
 use crate::ltc::lobe_error::Tolerance;
 use crate::ltc::lobes::Lobe;
-use crate::ltc::spread;
+use crate::ltc::spread::{self, Route};
 use crate::memo::Memo;
 use crate::results::ltc::{LtcWork, TableWork, WorkRow};
 use crate::study::{Ctx, FitOutcome};
@@ -46,21 +46,6 @@ const TABLES: [(&str, Lobe); 3] = [
     ("ltc-sheen", Lobe::SheenEstevezKulla),
     ("ltc-sheen-neubelt", Lobe::SheenNeubelt),
 ];
-
-/// One cheaper route, as factors on the published route: samples per axis (rounded, at
-/// least 2) and the Nelder–Mead cap per stage (rounded, at least 1).
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Route {
-    pub samples: f64,
-    pub max_iters: f64,
-    /// The cubic stage's nodes: "moving" (the published routes': half of them drawn from
-    /// each trial LTC) or "fixed" (drawn once per stage, `ltc::fit::Method::FixedNodes`);
-    /// "fixed-all": the L2 polish and the bilinear pass on fixed nodes too
-    /// (`Method::FixedNodesAll`).
-    #[serde(default)]
-    pub nodes: Nodes,
-}
 
 /// What fits/ltc-work.toml sets.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -75,32 +60,7 @@ pub struct Plan {
 
 impl crate::fit::spec::Params for Plan {
     fn check(&self) -> std::result::Result<(), String> {
-        use crate::fit::spec::within;
-        within("draws (its length)", self.draws.len(), 2, 8)?;
-        within("routes (its length)", self.routes.len(), 1, 12)?;
-        for (k, &o) in self.draws.iter().enumerate() {
-            if !(0.0..1.0).contains(&o) || o == TRAIN_OFFSET || self.draws[..k].contains(&o) {
-                return Err(format!(
-                    "draws = {:?}: each offset in [0, 1), distinct, and not the published {TRAIN_OFFSET}",
-                    self.draws
-                ));
-            }
-        }
-        for r in &self.routes {
-            within("samples (a factor)", r.samples, 0.05, 1.0)?;
-            within("max_iters (a factor)", r.max_iters, 0.01, 1.0)?;
-        }
-        Ok(())
-    }
-}
-
-impl Route {
-    /// The route's (samples, cap) from the published (samples, cap).
-    fn of(&self, samples: usize, max_iters: u64) -> (usize, u64) {
-        (
-            ((samples as f64 * self.samples).round() as usize).max(2),
-            ((max_iters as f64 * self.max_iters).round() as u64).max(1),
-        )
+        spread::check_plan(&self.draws, &self.routes)
     }
 }
 

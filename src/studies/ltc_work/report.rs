@@ -56,9 +56,9 @@ fn table_section(t: &TableWork) -> String {
         d.row([
             format!("{}", r.offset),
             r.mean.pct(3),
-            between(r),
-            millions(r.work_per_cell),
-            millions(r.target_evals_per_cell),
+            r.between_shown(),
+            WorkRow::millions(r.work_per_cell),
+            WorkRow::millions(r.target_evals_per_cell),
             r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
             e.above.to_string(),
             format!("{:.3}", 100.0 * e.excess),
@@ -70,24 +70,6 @@ fn table_section(t: &TableWork) -> String {
     md.push('\n');
     md.push_str(&routes_table(t));
     md
-}
-
-/// A row's mean relative L2 between cells, in percent: ± its s.e. where sampled, ± the
-/// judged integrals' mean bar where every square was judged (a census has no s.e.).
-fn between(r: &WorkRow) -> String {
-    r.between_l2.map_or("(its study's report)".into(), |b| {
-        match (b.error > 0.0, r.between_bar) {
-            (true, _) => format!("{:.3} % ± {:.3} (s.e.)", 100.0 * b.value, 100.0 * b.error),
-            (false, Some(q)) => format!("{:.3} ± {:.3} %", 100.0 * b.value, 100.0 * q),
-            (false, None) => format!("{:.3} %", 100.0 * b.value),
-        }
-    })
-}
-
-fn millions(w: Option<f64>) -> String {
-    w.map_or("(published, not refitted)".into(), |w| {
-        format!("{:.3}", w / 1e6)
-    })
 }
 
 /// The reference route's work per cell: the mean over its refitted draws.
@@ -151,13 +133,13 @@ fn routes_table(t: &TableWork) -> String {
                     ""
                 }
             ),
-            millions(row.work_per_cell),
+            WorkRow::millions(row.work_per_cell),
             row.work_per_cell
                 .map_or("—".into(), |w| format!("{:.2}", w / w0)),
-            millions(row.target_evals_per_cell),
+            WorkRow::millions(row.target_evals_per_cell),
             ratio(row.target_evals_per_cell, e0),
             row.mean.pct(3),
-            between(row),
+            row.between_shown(),
             format!("{:.1}", v.candidate_above),
             format!("{:.3}", 100.0 * v.candidate_excess),
             format!("{:.3}", 100.0 * largest),

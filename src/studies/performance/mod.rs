@@ -50,6 +50,26 @@ pub fn refresh_compact(
     section::replace_section(set, results, compact::HEAD, &section)
 }
 
+/// Replace only the LTC fitting and polygon section of an existing
+/// results/performance.md from criterion's `ltc-fit-cell`, `ltc-fit-column` and
+/// `ltc-polygon` groups (`cargo bench --bench engines -- ltc-`), without the rest of the
+/// benches. Without any of those groups' results, an error.
+pub fn refresh_ltc_fit(
+    set: &mut crate::io::Outputs,
+    criterion: &Path,
+    results: &Path,
+) -> Result<String> {
+    let timed = read_criterion(criterion)?;
+    let section = ltc_table(&timed, results)?;
+    if section.is_empty() {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "bench-report --ltc-fit-only: needs criterion's ltc-fit-cell, ltc-fit-column or ltc-polygon group under {} (cargo bench --bench engines -- ltc-)",
+            criterion.display()
+        )));
+    }
+    section::replace_section(set, results, tables::LTC_HEAD, &section)
+}
+
 /// results/performance.md (and costs.json, the plots) into `set`.
 pub fn run(set: &mut crate::io::Outputs, criterion: &Path, results: &Path) -> Result<String> {
     let timed = read_criterion(criterion)?;

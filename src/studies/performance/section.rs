@@ -1,5 +1,5 @@
 //! Replacing one section of an existing results/performance.md (`bench-report
-//! --main-job-only`, `--compact-only`): the rest of the page kept byte for byte.
+//! --main-job-only`, `--compact-only`, `--ltc-fit-only`): the rest of the page kept byte for byte.
 
 use crate::error::Result;
 use std::path::Path;

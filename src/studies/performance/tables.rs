@@ -45,10 +45,14 @@ pub(super) fn alpha_me_table(timed: &[Timed], results: &Path) -> crate::error::R
 /// table on the machine this workbench's benches run on.
 const LTC_CODE_MS_PER_CELL: f64 = 37.0;
 
+/// The LTC fitting section's heading (`bench-report --ltc-fit-only` replaces it).
+pub(super) const LTC_HEAD: &str = "\n## LTC fitting and polygon integration";
+
 pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result<String> {
     let fits: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-fit-cell").collect();
     let polys: Vec<&Timed> = timed.iter().filter(|t| t.group == "ltc-polygon").collect();
-    if fits.is_empty() && polys.is_empty() {
+    let columns = timed.iter().any(|t| t.group == "ltc-fit-column");
+    if fits.is_empty() && polys.is_empty() && !columns {
         return Ok(String::new());
     }
     let v: Option<crate::results::ltc::Summary> =
@@ -60,7 +64,8 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
             .find(|e| e.form == form)
             .map(|e| e.max_rel)
     };
-    let mut md = String::from("\n## LTC fitting and polygon integration\n\n");
+    let mut md = String::from(LTC_HEAD);
+    md.push_str("\n\n");
     if let Some(held) = v.as_ref().map(|v| &v.held_out) {
         md.push_str(&format!(
             "The whole GGX table: {} for the ltc-ggx study on this machine (table, bilinear pass, held-out judging, reports; alone: a sequential uncached `regen`, see the main job's section), for a held-out relative L2 of mean {}, max {} (results/ltc-ggx.md).\n\n",
@@ -93,8 +98,9 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     }
     md.push_str(&table.to_string());
     md.push_str(&format!(
-        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded on this machine over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval; it warm-starts each cell from its neighbour). The cells above start cold from (ln α, ln α, 0, 0), which a table cell does not: it starts from its neighbour's fit.\n"
+        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval, on the host of that day; it warm-starts each cell from its neighbour). Hosts differ: the same criterion benches have run up to 1.45× slower on one host than on another, so a ratio is only as good as that anchor. The cells above start cold from (ln α, ln α, 0, 0), which a table cell does not: it starts from its neighbour's fit.\n"
     ));
+    md.push_str(&ltc_column_table(timed));
     md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n");
     let mut table = Table::new([
         "edge form",
@@ -126,6 +132,66 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
         md.push_str(&format!("\nThe f32 shading kernel (`ltc_quad`: rational edges, no clipping, clipped-sphere horizon) is in the kernel table above; its horizon approximation costs {:.1} % energy-weighted over the same inputs.\n", 100.0 * h));
     }
     Ok(md)
+}
+
+/// One θ column of the GGX table per fitting route (bench `ltc-fit-column`, whose
+/// parameter is the column's cell count): criterion's time per column ÷ its cells, next to
+/// ltc_code's fitLTC per cell and the whole study's CPU per table cell.
+fn ltc_column_table(timed: &[Timed]) -> String {
+    let mut cols: Vec<&Timed> = timed
+        .iter()
+        .filter(|t| t.group == "ltc-fit-column")
+        .collect();
+    // by column, then the reference first and the routes as they cut its work
+    let order = |f: &str| {
+        let (route, theta) = f.rsplit_once(", θ ").unwrap_or((f, ""));
+        let k = ["reference", "fixed nodes, cubic", "fixed nodes, every"]
+            .iter()
+            .position(|p| route.starts_with(p));
+        (theta.trim_end_matches('°').parse::<f64>().unwrap_or(0.0), k)
+    };
+    cols.sort_by(|a, b| {
+        let (x, y) = (order(&a.function), order(&b.function));
+        x.0.total_cmp(&y.0).then(x.1.cmp(&y.1))
+    });
+    let Some(cells) = cols.first().and_then(|t| t.param.parse::<f64>().ok()) else {
+        return String::new();
+    };
+    let mut md = format!(
+        "\nOne whole column of the 64² table per route, as the table fits it (`ltc::fit::fit_column`: {cells:.0} cells from rough to smooth, each warm-started from its rougher neighbour, with its moments, albedo, cubic stage, L2 polish and rounded storage; 24² samples per technique, ≤ 400 iterations per stage), one thread; per cell = criterion's time per column ÷ {cells:.0}. Not in it: the table's bilinear pass and chosen binary16 storage, its held-out judge and reports.\n\n"
+    );
+    let mut table = Table::new([
+        "route, θ of the column",
+        "per cell (95 % CI)",
+        "÷ ltc_code's fitLTC per cell",
+    ]);
+    for t in &cols {
+        let per = |ns: f64| ns / 1e6 / cells;
+        table.row([
+            t.function.clone(),
+            format!(
+                "{:.2} ms ({:.2}–{:.2})",
+                per(t.mean_ns),
+                per(t.lo_ns),
+                per(t.hi_ns)
+            ),
+            format!(
+                "{:.2}× ({:.2}–{:.2})",
+                per(t.mean_ns) / LTC_CODE_MS_PER_CELL,
+                per(t.lo_ns) / LTC_CODE_MS_PER_CELL,
+                per(t.hi_ns) / LTC_CODE_MS_PER_CELL
+            ),
+        ]);
+    }
+    md.push_str(&table.to_string());
+    if let Some(cpu) = super::main_job::study_cost("ltc-ggx").and_then(|c| c.cpu_s) {
+        md.push_str(&format!(
+            "\nThe whole ltc-ggx study, everything included (the table's fit, bilinear pass and storage, the held-out judge, the between-cell figures, every other section of results/ltc-ggx.md), took {cpu:.0} s of CPU alone: {:.1} ms per table cell ({:.2}× fitLTC's).\n",
+            1e3 * cpu / (cells * cells),
+            1e3 * cpu / (cells * cells) / LTC_CODE_MS_PER_CELL
+        ));
+    }
+    md
 }
 
 /// Seed 002 range queries: time against box size, O(R) SAT vs the naive sum, and one
