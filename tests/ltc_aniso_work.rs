@@ -8,6 +8,12 @@ mod common;
 use ndfbench::results::{self, ltc_aniso};
 use std::path::Path;
 
+/// `regen --only STUDY --preset quick --no-cache` on the specs of `fits`, into `results`.
+fn quick(fits: &Path, results: &Path, study: &str) -> std::process::Output {
+    let args = ["--only", study, "--preset", "quick", "--no-cache"];
+    common::regen_in(fits, results, &args).output().unwrap()
+}
+
 /// At the quick preset, in a scratch results folder: the GGX and anisotropic studies
 /// publish their tables, then the work study refits. Its first draw (the reference route
 /// at the published offset) goes through the work study's own code path and must give
@@ -18,20 +24,7 @@ use std::path::Path;
 #[test]
 fn the_reference_at_the_published_offset_is_the_published_table() {
     let d = common::scratch("ltc-aniso-work", "quick");
-    let out = common::regen_in(
-        Path::new("fits"),
-        &d,
-        &[
-            "--only",
-            "ltc-aniso-work",
-            "--preset",
-            "quick",
-            "--no-cache",
-        ],
-    )
-    .output()
-    .unwrap();
-    common::assert_success(&out);
+    common::assert_success(&quick(Path::new("fits"), &d, "ltc-aniso-work"));
     let w = results::read::<ltc_aniso::AnisoWork>(&d)
         .unwrap()
         .expect("ltc-aniso-work.json");
@@ -99,13 +92,7 @@ fn an_unjudged_published_route_and_a_route_that_does_not_exist_are_refused() {
     let results = d.join("results");
     std::fs::create_dir_all(&results).unwrap();
     with_nodes("fixed-all");
-    let out = common::regen_in(
-        &fits,
-        &results,
-        &["--only", "ltc-aniso", "--preset", "quick", "--no-cache"],
-    )
-    .output()
-    .unwrap();
+    let out = quick(&fits, &results, "ltc-aniso");
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     let last = err.trim_end().lines().last().unwrap_or_default();
@@ -118,19 +105,7 @@ fn an_unjudged_published_route_and_a_route_that_does_not_exist_are_refused() {
         .collect::<Vec<_>>()
         .join("\n");
     std::fs::write(fits.join("ltc-aniso-work.toml"), moving_only).unwrap();
-    let out = common::regen_in(
-        &fits,
-        &results,
-        &[
-            "--only",
-            "ltc-aniso-work",
-            "--preset",
-            "quick",
-            "--no-cache",
-        ],
-    )
-    .output()
-    .unwrap();
+    let out = quick(&fits, &results, "ltc-aniso-work");
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     let last = err.trim_end().lines().last().unwrap_or_default();

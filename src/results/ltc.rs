@@ -221,22 +221,6 @@ pub struct WorkRow {
 }
 
 impl WorkRow {
-    /// The mean relative L2 between cells in percent, for a report: ± its s.e. where
-    /// sampled, ± the judged squares' mean bar where all were (a census has no s.e.).
-    pub fn between_shown(&self) -> String {
-        let Some(b) = self.between_l2 else {
-            return "(its study's report)".into();
-        };
-        match (b.error > 0.0, self.between_bar) {
-            (true, _) => format!("{:.3} % ± {:.3} (s.e.)", 100.0 * b.value, 100.0 * b.error),
-            (false, Some(q)) => format!("{:.3} ± {:.3} %", 100.0 * b.value, 100.0 * q),
-            (false, None) => format!("{:.3} %", 100.0 * b.value),
-        }
-    }
-    /// A count per cell in millions (none: a published table, read and not refitted).
-    pub fn millions(w: Option<f64>) -> String {
-        w.map_or("(published, not refitted)".into(), |w| format!("{:.3}", w / 1e6))
-    }
     /// The route's nodes, from the two flags the file keeps.
     pub fn nodes(&self) -> crate::ltc::fit::Nodes {
         use crate::ltc::fit::Nodes;

@@ -20,6 +20,7 @@ pub mod ltc_lobe_cross;
 pub mod ltc_lobes;
 pub mod ltc_optimisers;
 pub mod ltc_work;
+pub mod ltc_work_tables;
 pub mod multiscale_alpha_me;
 pub mod multiscale_convolution;
 pub mod performance;

@@ -6,6 +6,9 @@ use crate::ltc::fit::Nodes;
 use crate::report::table::Table as MdTable;
 use crate::results::ltc::WorkRow;
 use crate::results::ltc_aniso::AnisoWork;
+use crate::studies::ltc_work_tables::{
+    bounds, draws_table, ratio, reference_counts, route_cells, route_headers,
+};
 
 pub(super) fn markdown(o: &AnisoWork, preset: Preset) -> String {
     let w = &o.work;
@@ -21,39 +24,7 @@ pub(super) fn markdown(o: &AnisoWork, preset: Preset) -> String {
             _ => "; the published table, fitted on fixed nodes, is the route below at its settings on those nodes",
         },
     );
-    let mut d = MdTable::new([
-        "training offset",
-        "mean rel. L2 (fitted cells)",
-        "between cells: mean rel. L2",
-        "work per cell (M)",
-        "target evaluations per cell (M)",
-        "mean iterations",
-        "cells above the others",
-        "sum above (points)",
-        "largest (points)",
-        "cells below the others",
-    ]);
-    let leave_out = w
-        .routes
-        .first()
-        .map(|r| r.1.reference.clone())
-        .unwrap_or_default();
-    for (k, r) in w.draws.iter().enumerate() {
-        let e = leave_out.get(k).copied().unwrap_or_default();
-        d.row([
-            format!("{}", r.offset),
-            r.mean.pct(3),
-            r.between_shown(),
-            WorkRow::millions(r.work_per_cell),
-            WorkRow::millions(r.target_evals_per_cell),
-            r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
-            e.above.to_string(),
-            format!("{:.3}", 100.0 * e.excess),
-            format!("{:.3}", 100.0 * e.largest),
-            e.below.to_string(),
-        ]);
-    }
-    md.push_str(&d.to_string());
+    md.push_str(&draws_table(w, "mean rel. L2 (fitted cells)"));
     md.push('\n');
     md.push_str(&routes(o));
     md
@@ -61,87 +32,32 @@ pub(super) fn markdown(o: &AnisoWork, preset: Preset) -> String {
 
 fn routes(o: &AnisoWork) -> String {
     let w = &o.work;
-    let mean_of = |f: &dyn Fn(&WorkRow) -> Option<f64>| {
-        let v: Vec<f64> = w.draws.iter().filter_map(f).collect();
-        v.iter().sum::<f64>() / v.len().max(1) as f64
-    };
-    let (w0, e0) = (
-        mean_of(&|r| r.work_per_cell),
-        mean_of(&|r| r.target_evals_per_cell),
-    );
-    let ratio = |x: Option<f64>, of: f64| {
-        x.filter(|_| of > 0.0)
-            .map_or("—".into(), |x| format!("{:.2}", x / of))
-    };
+    let (w0, e0) = reference_counts(w);
     let d0 = &w.draws[0];
     let published = |r: &WorkRow| {
         w.published_nodes != Nodes::Moving
             && r.nodes() != Nodes::Moving
             && (r.samples, r.max_iters) == (d0.samples, d0.max_iters)
     };
-    let mut t = MdTable::new([
-        "samples",
-        "cap",
-        "nodes",
-        "work per cell (M)",
-        "work / reference",
-        "target evaluations per cell (M)",
-        "target evaluations / reference",
-        "mean rel. L2 (fitted cells)",
-        "between cells: mean rel. L2",
-        "cells above",
-        "sum above (points)",
-        "largest (points)",
-        "cells below",
-        "surplus above",
-        "no worse",
-    ]);
+    let mut t = MdTable::new(route_headers("nodes", "mean rel. L2 (fitted cells)"));
     for (row, v) in &w.routes {
-        let largest = v.candidate.iter().map(|e| e.largest).fold(0.0, f64::max);
-        let below =
-            v.candidate.iter().map(|e| e.below as f64).sum::<f64>() / v.candidate.len() as f64;
-        t.row([
-            format!("{}²", row.samples),
-            row.max_iters.to_string(),
-            format!(
-                "{}{}",
-                if row.nodes() == Nodes::Moving {
-                    "moving"
-                } else {
-                    "fixed"
-                },
-                if published(row) {
-                    " (the published table)"
-                } else {
-                    ""
-                }
-            ),
-            WorkRow::millions(row.work_per_cell),
-            ratio(row.work_per_cell, w0),
-            WorkRow::millions(row.target_evals_per_cell),
-            ratio(row.target_evals_per_cell, e0),
-            row.mean.pct(3),
-            row.between_shown(),
-            format!("{:.1}", v.candidate_above),
-            format!("{:.3}", 100.0 * v.candidate_excess),
-            format!("{:.3}", 100.0 * largest),
-            format!("{below:.1}"),
-            format!("{:.1}", v.candidate_surplus),
-            if v.no_worse { "yes" } else { "no" }.into(),
-        ]);
+        let nodes = format!(
+            "{}{}",
+            if row.nodes() == Nodes::Moving {
+                "moving"
+            } else {
+                "fixed"
+            },
+            if published(row) {
+                " (the published table)"
+            } else {
+                ""
+            }
+        );
+        t.row(route_cells(row, v, nodes, (w0, e0)));
     }
     let mut md = t.to_string();
-    if let Some((_, v)) = w.routes.first() {
-        md.push_str(&format!(
-            "\nBounds (one-sided 95 % prediction from the {} draws, over {} fitted cells): mean rel. L2 ≤ {:.3} %, cells above ≤ {:.1}, sum above ≤ {:.3} points, surplus above ≤ {:.1}. ",
-            v.reference.len(),
-            v.cells,
-            100.0 * v.mean_bound,
-            v.above_bound,
-            100.0 * v.excess_bound,
-            v.surplus_bound,
-        ));
-    }
+    md.push_str(&bounds(w, "fitted cells"));
     let cheapest = w
         .routes
         .iter()

@@ -4,6 +4,9 @@ use crate::integrate::Preset;
 use crate::ltc::fit::Nodes;
 use crate::report::table::Table as MdTable;
 use crate::results::ltc::{LtcWork, TableWork, WorkRow};
+use crate::studies::ltc_work_tables::{
+    bounds, draws_table, reference_counts, route_cells, route_headers,
+};
 
 pub(super) fn markdown(o: &LtcWork, preset: Preset) -> String {
     let mut md = format!(
@@ -34,133 +37,34 @@ fn table_section(t: &TableWork) -> String {
         "## {}\n\nThe reference route (the reference fitter, trials on moving samples): {}² stratified samples per technique, Nelder–Mead ≤ {} iterations per stage on the cubic metric, then {}. {published}.\n\n",
         t.table, d0.samples, d0.max_iters, t.polish,
     );
-    let mut d = MdTable::new([
-        "training offset",
-        "mean rel. L2",
-        "between cells: mean rel. L2",
-        "work per cell (M)",
-        "target evaluations per cell (M)",
-        "mean iterations",
-        "cells above the others",
-        "sum above (points)",
-        "largest (points)",
-        "cells below the others",
-    ]);
-    let leave_out = t
-        .routes
-        .first()
-        .map(|r| r.1.reference.clone())
-        .unwrap_or_default();
-    for (k, r) in t.draws.iter().enumerate() {
-        let e = leave_out.get(k).copied().unwrap_or_default();
-        d.row([
-            format!("{}", r.offset),
-            r.mean.pct(3),
-            r.between_shown(),
-            WorkRow::millions(r.work_per_cell),
-            WorkRow::millions(r.target_evals_per_cell),
-            r.iters_per_cell.map_or("—".into(), |i| format!("{i:.0}")),
-            e.above.to_string(),
-            format!("{:.3}", 100.0 * e.excess),
-            format!("{:.3}", 100.0 * e.largest),
-            e.below.to_string(),
-        ]);
-    }
-    md.push_str(&d.to_string());
+    md.push_str(&draws_table(t, "mean rel. L2"));
     md.push('\n');
     md.push_str(&routes_table(t));
     md
 }
 
-/// The reference route's work per cell: the mean over its refitted draws.
-fn reference_work(t: &TableWork) -> f64 {
-    let w: Vec<f64> = t.draws.iter().filter_map(|d| d.work_per_cell).collect();
-    w.iter().sum::<f64>() / w.len() as f64
-}
-
-/// The reference route's target evaluations per cell: the mean over its refitted draws.
-fn reference_target_evals(t: &TableWork) -> f64 {
-    let w: Vec<f64> = t
-        .draws
-        .iter()
-        .filter_map(|d| d.target_evals_per_cell)
-        .collect();
-    w.iter().sum::<f64>() / w.len() as f64
-}
-
-fn ratio(x: Option<f64>, of: f64) -> String {
-    x.filter(|_| of > 0.0)
-        .map_or("—".into(), |x| format!("{:.2}", x / of))
-}
-
 fn routes_table(t: &TableWork) -> String {
-    let w0 = reference_work(t);
-    let e0 = reference_target_evals(t);
-    let mut r = MdTable::new([
-        "samples",
-        "cap",
-        "cubic stage's nodes",
-        "work per cell (M)",
-        "work / reference",
-        "target evaluations per cell (M)",
-        "target evaluations / reference",
-        "mean rel. L2",
-        "between cells: mean rel. L2",
-        "cells above",
-        "sum above (points)",
-        "largest (points)",
-        "cells below",
-        "surplus above",
-        "no worse",
-    ]);
+    let counts = reference_counts(t);
+    let mut r = MdTable::new(route_headers("cubic stage's nodes", "mean rel. L2"));
     for (row, v) in &t.routes {
-        let largest = v.candidate.iter().map(|e| e.largest).fold(0.0, f64::max);
-        let below =
-            v.candidate.iter().map(|e| e.below as f64).sum::<f64>() / v.candidate.len() as f64;
-        r.row([
-            format!("{}²", row.samples),
-            row.max_iters.to_string(),
-            format!(
-                "{}{}",
-                match row.nodes() {
-                    Nodes::FixedAll => "fixed, and in the polish and the bilinear pass",
-                    Nodes::Fixed => "fixed",
-                    Nodes::Moving => "moving",
-                },
-                if published_row(t, row) {
-                    " (the published table)"
-                } else {
-                    ""
-                }
-            ),
-            WorkRow::millions(row.work_per_cell),
-            row.work_per_cell
-                .map_or("—".into(), |w| format!("{:.2}", w / w0)),
-            WorkRow::millions(row.target_evals_per_cell),
-            ratio(row.target_evals_per_cell, e0),
-            row.mean.pct(3),
-            row.between_shown(),
-            format!("{:.1}", v.candidate_above),
-            format!("{:.3}", 100.0 * v.candidate_excess),
-            format!("{:.3}", 100.0 * largest),
-            format!("{below:.1}"),
-            format!("{:.1}", v.candidate_surplus),
-            if v.no_worse { "yes" } else { "no" }.into(),
-        ]);
+        let nodes = format!(
+            "{}{}",
+            match row.nodes() {
+                Nodes::FixedAll => "fixed, and in the polish and the bilinear pass",
+                Nodes::Fixed => "fixed",
+                Nodes::Moving => "moving",
+            },
+            if published_row(t, row) {
+                " (the published table)"
+            } else {
+                ""
+            }
+        );
+        r.row(route_cells(row, v, nodes, counts));
     }
     let mut md = r.to_string();
-    if let Some((_, v)) = t.routes.first() {
-        md.push_str(&format!(
-            "\nBounds (one-sided 95 % prediction from the {} draws, over {} cells): mean rel. L2 ≤ {:.3} %, cells above ≤ {:.1}, sum above ≤ {:.3} points, surplus above ≤ {:.1}. ",
-            v.reference.len(),
-            v.cells,
-            100.0 * v.mean_bound,
-            v.above_bound,
-            100.0 * v.excess_bound,
-            v.surplus_bound,
-        ));
-    }
-    md.push_str(&verdict(t, e0));
+    md.push_str(&bounds(t, "cells"));
+    md.push_str(&verdict(t, counts.1));
     md
 }
 
