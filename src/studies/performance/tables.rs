@@ -98,7 +98,7 @@ pub(super) fn ltc_table(timed: &[Timed], results: &Path) -> crate::error::Result
     }
     md.push_str(&table.to_string());
     md.push_str(&format!(
-        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval, on the host of that day; it warm-starts each cell from its neighbour). Hosts differ: the same criterion benches have run up to 1.45× slower on one host than on another, so a ratio is only as good as that anchor. The cells above start cold from (ln α, ln α, 0, 0), which a table cell does not: it starts from its neighbour's fit.\n"
+        "\nThe anchor: selfshadow/ltc_code's fitLTC (Nelder–Mead on 2×32² samples, f32), run single-threaded over the same 64×64 GGX grid, took 150 s of CPU for the table, {LTC_CODE_MS_PER_CELL} ms per cell (one measurement, no interval, on the host of that day; it warm-starts each cell from its neighbour). Hosts differ (compare this page's cell rows with an earlier run of it), so a ratio is only as good as that anchor. The cells above start cold from (ln α, ln α, 0, 0), which a table cell does not: it starts from its neighbour's fit.\n"
     ));
     md.push_str(&ltc_column_table(timed));
     md.push_str("\nOne pixel: a quad light through one LTC (f64, clipped to the horizon), 256 pixels per iteration from the kernel benchmark inputs. Error: max relative error of the edge factor θ/sin θ over x = cos θ ∈ [−1, 0.999999] (results/ltc-ggx.md; the exact form is the reference, 2e-16 against the closed-form rectangle).\n\n");
@@ -154,7 +154,13 @@ fn ltc_column_table(timed: &[Timed]) -> String {
         let (x, y) = (order(&a.function), order(&b.function));
         x.0.total_cmp(&y.0).then(x.1.cmp(&y.1))
     });
-    let Some(cells) = cols.first().and_then(|t| t.param.parse::<f64>().ok()) else {
+    // the column's cell count, from the bench's parameter: none, or not a positive
+    // count, and there is no per-cell figure to give
+    let Some(cells) = cols
+        .first()
+        .and_then(|t| t.param.parse::<f64>().ok())
+        .filter(|c| c.is_finite() && *c >= 1.0)
+    else {
         return String::new();
     };
     let mut md = format!(
